@@ -1,0 +1,23 @@
+/* fricgen C runtime: hidden-layer kernels of the Extreme Learning Machine, eq. (7).
+ * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by `fricgen emit`. */
+#ifndef FRIC_KERNEL_H
+#define FRIC_KERNEL_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* sum_k beta[k] * act(w[k] * x + b[k]) for k = 0 .. n-1, accumulated in order k = 0, 1, ...
+ * Each product and sum is rounded to float; the Python twin mirrors this order exactly. */
+float fric_elm_sigmoid_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+float fric_elm_sine_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+float fric_elm_rbf_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+float fric_elm_multiquadric_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FRIC_KERNEL_H */

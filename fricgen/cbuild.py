@@ -1,0 +1,50 @@
+"""Compile emitted C with cffi and load it, for parity checks (tests, demo, simulate)."""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import tempfile
+from pathlib import Path
+from typing import Iterable, Optional, Union
+
+#: Flags of the cffi builds: C99 without floating-point contraction, as the parity proofs assume.
+CFLAGS = ["-std=c99", "-O2", "-ffp-contract=off"]
+#: The strict warning set the emitted code must pass without a single warning.
+STRICT_WARNINGS = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfloat-conversion",
+                   "-Wconversion", "-Wshadow", "-Werror"]
+
+
+def model_cdef(name: str) -> str:
+    """The cffi declarations of an emitted model's API."""
+    return f"float {name}_force(float v);\nfloat {name}_aim(float x);\n"
+
+
+def build(folder: Union[str, Path], header: str, cdef: str, sources: Optional[Iterable[Path]] = None,
+          build_dir: Optional[Union[str, Path]] = None):
+    """Compile every .c file in ``folder`` into a cffi extension; return its ``lib``.
+
+    ``header`` is the file the wrapper includes; ``cdef`` declares what Python may call.
+    """
+    import cffi
+
+    folder = Path(folder).resolve()
+    sources = sorted(folder.glob("*.c")) if sources is None else [Path(s) for s in sources]
+    digest = hashlib.sha256(cdef.encode())
+    for src in sorted(sources) + sorted(folder.glob("*.h")):
+        digest.update(src.name.encode() + src.read_bytes())
+    module = f"_fricgen_{digest.hexdigest()[:16]}"
+    build_dir = Path(tempfile.mkdtemp(prefix="fricgen_cffi_") if build_dir is None else build_dir)
+    ffi = cffi.FFI()
+    ffi.cdef(cdef)
+    ffi.set_source(module, f'#include "{header}"', sources=[str(s) for s in sources],
+                   include_dirs=[str(folder)], extra_compile_args=CFLAGS, libraries=["m"])
+    so_path = ffi.compile(tmpdir=str(build_dir), verbose=False)
+    spec = importlib.util.spec_from_file_location(module, so_path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod.lib
+
+
+def build_model(folder: Union[str, Path], name: str, build_dir=None):
+    """Compile an emitted model folder and return the cffi ``lib`` with NAME_force, NAME_aim."""
+    return build(folder, f"{name}.h", model_cdef(name), build_dir=build_dir)

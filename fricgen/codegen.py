@@ -1,0 +1,106 @@
+"""Render a FrictionModel as fixed-size C (templates/ + c_runtime/), eq. (3) and eq. (7)."""
+from __future__ import annotations
+
+import shutil
+import tempfile
+from importlib import resources
+from pathlib import Path
+from typing import Dict, Iterable, Optional, Union
+
+import jinja2
+import numpy as np
+
+from . import __version__
+from .elm import ElmNetwork
+from .files import write_all_atomic
+from .model import FORMAT_VERSION, FrictionModel, ModelError, check_c_identifier
+
+#: Runtime files every emitted model needs beside NAME.h and NAME.c.
+RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+
+
+def resource_dir(kind: str) -> Path:
+    """The folder of the shipped ``templates`` or ``c_runtime`` files (installed or source tree)."""
+    try:
+        found = resources.files(f"fricgen.{kind}")
+        path = Path(str(found))
+        if path.is_dir():
+            return path
+    except (ModuleNotFoundError, TypeError):
+        pass
+    path = Path(__file__).resolve().parent.parent / kind
+    if not path.is_dir():
+        raise FileNotFoundError(f"fricgen {kind} folder not found (broken install?)")
+    return path
+
+
+def c_float(value: float) -> str:
+    """A C float literal that round-trips the float32 rounding of ``value`` exactly (9 digits)."""
+    f = np.float32(value)
+    if not np.isfinite(f):
+        raise ModelError(f"value {value!r} is not representable as a finite float")
+    text = f"{float(f):.9g}"
+    if not any(c in text for c in ".en"):
+        text += ".0"
+    elif "e" in text and "." not in text.split("e")[0]:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}.0e{exponent}"
+    return text + "f"
+
+
+def c_array(values: Iterable[float], per_line: int = 4) -> str:
+    items = [c_float(v) for v in values]
+    lines = [", ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
+    return ",\n".join("    " + line for line in lines)
+
+
+def _environment() -> jinja2.Environment:
+    return jinja2.Environment(loader=jinja2.FileSystemLoader(str(resource_dir("templates"))),
+                              undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
+                              autoescape=False)
+
+
+def template_context(model: FrictionModel, name: str) -> dict:
+    """Everything the templates need, every number already a checked C literal."""
+    check_c_identifier(name, "name")
+    net = model.aim
+    if not isinstance(net, ElmNetwork):
+        raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
+    return {
+        "name": name, "NAME": name.upper(), "GUARD": f"{name.upper()}_H",
+        "fricgen_version": __version__, "format_version": FORMAT_VERSION,
+        "model_hash": model.model_hash, "n_hidden": net.n_hidden, "activation": net.activation,
+        "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
+        "output_weights": c_array(net.output_weights),
+        "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
+        "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
+    }
+
+
+def render(model: FrictionModel, name: Optional[str] = None) -> Dict[str, str]:
+    """All files of the emitted folder, by file name: NAME.h, NAME.c and the runtime."""
+    name = model.name if name is None else name
+    env = _environment()
+    ctx = template_context(model, name)
+    files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
+             f"{name}.c": env.get_template("model.c.j2").render(ctx)}
+    runtime = resource_dir("c_runtime")
+    for fname in RUNTIME_FILES:
+        files[fname] = (runtime / fname).read_text()
+    return files
+
+
+def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None) -> Dict[str, Path]:
+    """Render everything first, then write each file atomically into ``out_dir``."""
+    return write_all_atomic(out_dir, render(model, name))
+
+
+def emit_to_temp(model: FrictionModel, name: Optional[str] = None) -> Path:
+    """Emit into a new temporary folder (the caller removes it with ``shutil.rmtree``)."""
+    folder = Path(tempfile.mkdtemp(prefix="fricgen_"))
+    try:
+        emit(model, folder, name)
+    except BaseException:
+        shutil.rmtree(folder, ignore_errors=True)
+        raise
+    return folder
