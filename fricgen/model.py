@@ -19,6 +19,7 @@ from . import __version__
 from .data import Scaling
 from .elm import ACTIVATIONS, ElmNetwork
 from .files import write_atomic
+from .fuzzy import MF_KINDS, AnfisNetwork
 
 FORMAT = "fricgen-model"
 FORMAT_VERSION = 1
@@ -80,8 +81,26 @@ def _elm_from_dict(d: dict) -> ElmNetwork:
     return ElmNetwork(activation, w, b, beta)
 
 
+def _anfis_from_dict(d: dict) -> AnfisNetwork:
+    mf = d.get("mf")
+    if mf not in MF_KINDS:
+        raise ModelError(f"aim.mf must be one of {list(MF_KINDS)}, got {mf!r}"[:200])
+    keys = ["centers", "widths"] + (["exponents"] if mf == "bell" else []) + ["slopes", "intercepts"]
+    if mf == "gauss" and "exponents" in d:
+        raise ModelError("aim.exponents: gauss membership functions take no exponents")
+    vectors = {k: _vector(d, k, "aim") for k in keys}
+    if len({v.size for v in vectors.values()}) != 1:
+        raise ModelError(f"aim: {', '.join(keys)} have lengths "
+                         f"{', '.join(str(v.size) for v in vectors.values())}; they must be equal")
+    for k in ("widths", "exponents"):
+        if k in vectors and not np.all(vectors[k] > 0):
+            raise ModelError(f"aim.{k} must all be > 0, got {float(vectors[k].min())}")
+    return AnfisNetwork(mf, vectors["centers"], vectors["widths"], vectors.get("exponents"),
+                        vectors["slopes"], vectors["intercepts"])
+
+
 #: Readers of the AIM kinds model.json may hold, by ``aim.kind``.
-AIM_READERS: Dict[str, Callable[[dict], Any]] = {"elm": _elm_from_dict}
+AIM_READERS: Dict[str, Callable[[dict], Any]] = {"elm": _elm_from_dict, "anfis": _anfis_from_dict}
 
 
 @dataclass(frozen=True)
