@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import shutil
 import tempfile
-from importlib import resources
 from pathlib import Path
 from typing import Dict, Iterable, Optional, Union
 
@@ -20,23 +19,22 @@ RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
 
 
 def resource_dir(kind: str) -> Path:
-    """The folder of the shipped ``templates`` or ``c_runtime`` files (installed or source tree)."""
-    try:
-        found = resources.files(f"fricgen.{kind}")
-        path = Path(str(found))
+    """The folder of the shipped ``templates`` or ``c_runtime`` files.
+
+    A wheel installs them inside the package (``fricgen/templates``); a source checkout keeps
+    them at the top of the repository, beside ``fricgen/``.
+    """
+    package = Path(__file__).resolve().parent
+    for path in (package / kind, package.parent / kind):
         if path.is_dir():
             return path
-    except (ModuleNotFoundError, TypeError):
-        pass
-    path = Path(__file__).resolve().parent.parent / kind
-    if not path.is_dir():
-        raise FileNotFoundError(f"fricgen {kind} folder not found (broken install?)")
-    return path
+    raise FileNotFoundError(f"fricgen {kind} folder not found beside {package} (broken install?)")
 
 
 def c_float(value: float) -> str:
     """A C float literal that round-trips the float32 rounding of ``value`` exactly (9 digits)."""
-    f = np.float32(value)
+    with np.errstate(over="ignore"):
+        f = np.float32(value)
     if not np.isfinite(f):
         raise ModelError(f"value {value!r} is not representable as a finite float")
     text = f"{float(f):.9g}"

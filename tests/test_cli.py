@@ -1,0 +1,139 @@
+"""The command line as a user meets it: the documented workflow and every bad input."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.model import FrictionModel
+
+
+@pytest.fixture(scope="module")
+def sweep_csv(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cli") / "sweep.csv"
+    assert main(["synth", "--preset", "paper3", "-o", str(path), "--both-signs"]) == 0
+    return path
+
+
+@pytest.fixture(scope="module")
+def model_json(sweep_csv):
+    path = sweep_csv.parent / "model.json"
+    assert main(["train", str(sweep_csv), "-o", str(path), "--vs-max", "0.02"]) == 0
+    return path
+
+
+def test_train_writes_a_valid_model_and_reports(sweep_csv, tmp_path, capsys):
+    out = tmp_path / "m.json"
+    assert main(["train", str(sweep_csv), "-o", str(out), "--vs-max", "0.02", "--name", "axis1"]) == 0
+    report = capsys.readouterr().out
+    assert "v_sat = 0.06 m/s" in report and "||beta||" in report and "E_train" in report
+    model = FrictionModel.load(out)
+    assert model.name == "axis1" and model.v_sat == pytest.approx(0.06)
+
+
+def test_train_without_vs_max_says_it_estimated(sweep_csv, tmp_path, capsys):
+    assert main(["train", str(sweep_csv), "-o", str(tmp_path / "m.json")]) == 0
+    assert "estimated from the data" in capsys.readouterr().out
+
+
+def test_eval_prints_one_force_per_line(model_json, monkeypatch, capsys):
+    import io
+    monkeypatch.setattr(sys, "stdin", io.StringIO("0\n0.01\n\n-0.01\n2.5\n"))
+    assert main(["eval", str(model_json)]) == 0
+    forces = [float(line) for line in capsys.readouterr().out.split()]
+    expected = FrictionModel.load(model_json).force(np.array([0, 0.01, -0.01, 2.5]))
+    assert forces == pytest.approx(expected.tolist(), rel=1e-15)
+
+
+def test_emit_writes_a_self_contained_folder(model_json, tmp_path):
+    assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == ["fm.c", "fm.h", "fric_kernel.c", "fric_kernel.h"]
+
+
+def test_console_script_runs(model_json, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "fricgen.cli", "eval", str(model_json)],
+                          input="0.02\n", capture_output=True, text=True)
+    assert proc.returncode == 0
+    assert float(proc.stdout) == pytest.approx(float(FrictionModel.load(model_json).force(0.02)))
+
+
+def _bad_csv(tmp_path, body):
+    p = tmp_path / "bad.csv"
+    p.write_text(body)
+    return p
+
+
+def _assert_refused(capsys, argv, message, output):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("fricgen: error:") and "\n" not in err and message in err, err
+    assert not output.exists()
+
+
+@pytest.mark.parametrize("body, message", [
+    ("v,f\n" + "0.01,nan\n" * 30, "NaN"),
+    ("v,f\n" + "0.01,inf\n" * 30, "NaN or infinite"),
+    ("v,f\n" + "0.01,1.0x\n" * 30, "non-numeric"),
+    ("v\n" + "0.01\n" * 30, "missing column 'f'"),
+    ("v,f\n" + "0.01,1\n" * 10, "need at least 20"),
+    ("v,f\n" + "".join(f"{0.001 * k},{10 + k}\n" for k in range(40)), "no high-speed data"),
+])
+def test_train_refuses_bad_sweeps(tmp_path, capsys, body, message):
+    out = tmp_path / "model.json"
+    _assert_refused(capsys, ["train", str(_bad_csv(tmp_path, body)), "-o", str(out), "--vs-max", "0.02"],
+                    message, out)
+
+
+@pytest.mark.parametrize("vs_max", ["0", "-0.02"])
+def test_train_refuses_non_positive_vs_max(sweep_csv, tmp_path, capsys, vs_max):
+    out = tmp_path / "model.json"
+    _assert_refused(capsys, ["train", str(sweep_csv), "-o", str(out), f"--vs-max={vs_max}"],
+                    "vs_max must be > 0", out)
+
+
+def test_train_refuses_missing_file(tmp_path, capsys):
+    out = tmp_path / "model.json"
+    _assert_refused(capsys, ["train", str(tmp_path / "nope.csv"), "-o", str(out)], "nope.csv", out)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.pop("scaling"), "scaling"),
+    (lambda d: d["aim"]["biases"].pop(), "lengths"),
+    (lambda d: d.__setitem__("viscous", float("nan")), "finite"),
+    (lambda d: d.__setitem__("format_version", 7), "format_version"),
+    (lambda d: d.__setitem__("name", "fm; evil()"), "C identifier"),
+])
+def test_emit_refuses_bad_models(model_json, tmp_path, capsys, edit, message):
+    d = json.loads(model_json.read_text())
+    edit(d)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(d))
+    out = tmp_path / "out"
+    _assert_refused(capsys, ["emit", str(bad), "-o", str(out)], message, out)
+
+
+def test_emit_refuses_hostile_name_option(model_json, tmp_path, capsys):
+    out = tmp_path / "out"
+    _assert_refused(capsys, ["emit", str(model_json), "-o", str(out), "--name", "a b"], "C identifier", out)
+
+
+def test_eval_refuses_non_numbers(model_json, monkeypatch, capsys, tmp_path):
+    import io
+    monkeypatch.setattr(sys, "stdin", io.StringIO("0.1\nfast\n"))
+    assert main(["eval", str(model_json)]) == 2
+    captured = capsys.readouterr()
+    assert "line 2: not a number" in captured.err and captured.out == ""
+
+
+def test_demo_reports_paper_comparison_and_measured_parity(tmp_path, capsys):
+    assert main(["demo", "--seeds", "2", "--out", str(tmp_path / "demo")]) == 0
+    out = capsys.readouterr().out
+    for label in ("elm_standard", "elm_enlarged", "elm_enlarged_regularized", "fricgen default"):
+        assert label in out
+    line = next(l for l in out.splitlines() if l.startswith("C parity"))
+    rel = float(line.rsplit("=", 1)[1])
+    assert rel <= 1e-5
+    assert (tmp_path / "demo" / "fm.c").exists()

@@ -1,0 +1,125 @@
+"""Emitted C: exact literals, strict-warning builds, and parity with Python through cffi."""
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import fit_model
+from fricgen import codegen, parity
+from fricgen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.elm import ACTIVATIONS
+from fricgen.model import ModelError
+from fricgen.twin import force_f32
+
+EPS32 = float(np.finfo(np.float32).eps)
+CC = shutil.which("gcc") or shutil.which("cc")
+needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+#: The model kinds of the parity proof: scheme x solver, over M in {1, 6, 10, 50}.
+KINDS = {
+    "standard": dict(scheme="standard", solver="pinv"),
+    "enlarged": dict(scheme="enlarged", solver="pinv"),
+    "regularized": dict(scheme="enlarged", solver="ridge", C=1e5),
+    "loo": dict(scheme="enlarged", solver="loo"),
+}
+SIZES = (1, 6, 10, 50)
+
+
+def test_float_literals_round_trip_exactly():
+    rng = np.random.default_rng(0)
+    values = np.concatenate([rng.normal(size=2000) * 10.0 ** rng.integers(-30, 30, 2000),
+                             [0.0, 1.0, -2.0, 1e10, 3.4e38, 1e-40, 0.1, 16.6666667]])
+    for v in values.astype(np.float32):
+        text = codegen.c_float(v)
+        assert text.endswith("f") and re.fullmatch(r"-?\d+\.\d*(e[+-]\d+)?f|-?\d+\.\d+f|-?\d\.\d*e[+-]\d+f", text), text
+        assert np.float32(float(text[:-1])) == v
+
+
+def test_float_overflow_is_refused():
+    with pytest.raises(ModelError, match="not representable"):
+        codegen.c_float(1e39)
+
+
+def test_generated_files_follow_the_firmware_rules(default_model):
+    files = codegen.render(default_model, "fm")
+    assert set(files) == {"fm.h", "fm.c", "fric_kernel.h", "fric_kernel.c"}
+    c, h = files["fm.c"], files["fm.h"]
+    n = default_model.aim.n_hidden
+    assert f"#define FM_N_HIDDEN {n}" in h and "#ifndef FM_H" in h
+    assert f'#define FM_MODEL_HASH "{default_model.model_hash}"' in h
+    assert "#define FM_FORMAT_VERSION 1" in h and '#define FM_FRICGEN_VERSION "' in h
+    assert c.count("static const float") == 6
+    everything = "\n".join(files.values())
+    for banned in ("malloc", "stdio", "printf", "double"):
+        assert banned not in everything
+    assert default_model.model_hash in c
+
+
+def test_hostile_emit_name_never_reaches_the_output(default_model, tmp_path):
+    with pytest.raises(ModelError, match="C identifier"):
+        codegen.emit(default_model, tmp_path / "out", "x;system(1)")
+    assert not (tmp_path / "out").exists()
+
+
+@needs_cc
+@pytest.mark.parametrize("activation", sorted(ACTIVATIONS))
+def test_emitted_c_builds_without_a_single_warning(bench, tmp_path, activation):
+    model = fit_model(bench, n_hidden=10, activation=activation, scheme="standard", solver="loo")
+    codegen.emit(model, tmp_path, "fm")
+    for src in ("fm.c", "fric_kernel.c"):
+        proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", src, "-o", "/dev/null"],
+                              cwd=tmp_path, capture_output=True, text=True)
+        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+
+
+def _twin_tolerance(model, v):
+    """Bound on |C - twin| per velocity.
+
+    The twin performs the same float32 operations in the same order as the C code; only the libm
+    results (expf, sinf, sqrtf) may differ, by at most 1 ULP each. Perturbing each of the n
+    summed terms by 1 ULP changes a float sum by at most gamma_{n+2} * sum |terms| (Higham's
+    bound for recursive summation, with the two further roundings of the scaling and of B v).
+    """
+    net = model.aim
+    x = model.network_input(v)
+    terms = np.abs(net.hidden(x) * net.output_weights).sum(axis=1) / model.scaling.k_out
+    gamma = (net.n_hidden + 3) * EPS32
+    return gamma * (terms + np.abs(model.viscous * v)) + 1e-30
+
+
+@needs_cc
+@pytest.mark.parametrize("kind", sorted(KINDS))
+@pytest.mark.parametrize("n_hidden", SIZES)
+def test_c_matches_float32_twin_and_float64_model(bench, tmp_path, kind, n_hidden):
+    model = fit_model(bench, n_hidden=n_hidden, **KINDS[kind])
+    codegen.emit(model, tmp_path, "fm")
+    lib = build_model(tmp_path, "fm", build_dir=tmp_path / "build")
+    v = parity.parity_velocities(model.v_sat)
+    assert v.size >= 10_000
+    c = parity.c_forces(lib, "fm", v).astype(float)
+    twin = force_f32(model, v).astype(float)
+    assert np.all(np.abs(c - twin) <= _twin_tolerance(model, v.astype(float)))
+    assert np.mean(c == twin) > 0.99          # almost always bit-equal
+    exact = model.force(v.astype(float))
+    beta_l1 = np.abs(model.aim.output_weights).sum()
+    if beta_l1 <= 100:
+        # float32-friendly output weights: within 1e-5 of max |F| of the float64 model
+        assert np.max(np.abs(c - exact)) <= 1e-5 * np.max(np.abs(exact))
+    else:
+        # huge output weights (pinv on an ill-conditioned H): float32 cancellation error grows as
+        # eps32 * ||beta||_1 / K_out; the C code is still within that honest bound
+        bound = 4 * n_hidden * EPS32 * beta_l1 / model.scaling.k_out + 1e-5 * np.max(np.abs(exact))
+        assert np.max(np.abs(c - exact)) <= bound
+
+
+@needs_cc
+def test_c_api_edges(default_model, tmp_path):
+    codegen.emit(default_model, tmp_path, "fm")
+    lib = build_model(tmp_path, "fm", build_dir=tmp_path / "build")
+    assert lib.fm_force(0.0) == 0.0
+    assert lib.fm_force(-0.01) == -lib.fm_force(0.01)
+    x = np.linspace(0, 1, 11)
+    aim = np.array([lib.fm_aim(float(xi)) for xi in x])
+    assert np.allclose(aim, default_model.aim(x), atol=1e-5)

@@ -1,0 +1,102 @@
+import numpy as np
+import pytest
+
+from fricgen.data import (DataError, Sweep, estimate_vs_max, identify_viscous, prepare,
+                          read_sweep_csv, sweep_csv_text, synthesize_benchmark)
+
+
+def test_benchmark_follows_section_2(bench, paper_friction):
+    v_sat = 0.06
+    train_low = bench.train.v[bench.train.v <= v_sat]
+    assert train_low.size == 200 and train_low.min() >= 0
+    assert np.all(np.abs(bench.train.f - paper_friction(bench.train.v)) <= 0.5)
+    assert bench.test.v.size == 200 and bench.test.v.max() <= v_sat
+    assert np.all(np.abs(bench.test.f - paper_friction(bench.test.v)) <= 0.5)
+    assert np.allclose(bench.theory.v, np.linspace(0, v_sat, 500))
+    # theory is noise free, with the right-hand limit at v = 0
+    assert bench.theory.f[0] == pytest.approx(44.0)
+    assert np.allclose(bench.theory.f[1:], paper_friction(bench.theory.v[1:]))
+
+
+def test_training_set_has_the_two_added_points(bench, paper_friction):
+    d = bench.dataset
+    assert d.x.size == 202
+    slowest = np.sort(bench.train.v)[:4]
+    f_slowest = bench.train.f[np.argsort(bench.train.v)[:4]]
+    assert d.x[0] == 0.0
+    assert d.t[0] == pytest.approx(d.scaling.k_out * f_slowest.mean())
+    assert slowest.max() < 0.06
+    assert d.x[-1] == pytest.approx(1.0)
+    f_sat = float(paper_friction(0.06))
+    assert d.t[-1] == pytest.approx(d.scaling.k_out * (f_sat - d.viscous * 0.06))
+
+
+def test_normalization_defaults(bench):
+    d = bench.dataset
+    assert d.scaling.k_in == pytest.approx(1 / 0.06)
+    assert d.t.max() == pytest.approx(1.0)
+    assert 0 <= d.x.min() and d.x.max() == pytest.approx(1.0)
+
+
+def test_viscous_identification_recovers_B(bench):
+    # 100 high-speed points with +-0.5 N noise: the slope is known to about 0.5 N s/m
+    assert bench.dataset.viscous == pytest.approx(57.5, abs=1.0)
+    v = np.linspace(1, 2, 50)
+    B, f0 = identify_viscous(Sweep(v, 3.0 + 7.0 * v))
+    assert (B, f0) == pytest.approx((7.0, 3.0))
+
+
+def test_negative_velocities_fold_onto_the_same_model(bench):
+    flip = np.arange(len(bench.train)) % 2 == 0
+    mirrored = Sweep(np.where(flip, -bench.train.v, bench.train.v),
+                     np.where(flip, -bench.train.f, bench.train.f))
+    a = prepare(bench.train, vs_max=0.02)
+    b = prepare(mirrored, vs_max=0.02)
+    assert np.allclose(np.sort(a.x), np.sort(b.x)) and np.allclose(np.sort(a.t), np.sort(b.t))
+    assert a.viscous == pytest.approx(b.viscous)
+
+
+def test_vs_max_estimate_is_near_the_truth(paper_friction):
+    for seed in range(3):
+        b = synthesize_benchmark(paper_friction, seed=seed)
+        est = estimate_vs_max(b.train.folded())
+        assert 0.01 <= est <= 0.04
+        assert prepare(b.train).vs_max_estimated
+
+
+def test_csv_round_trip(tmp_path, bench):
+    path = tmp_path / "sweep.csv"
+    path.write_text(sweep_csv_text(bench.train))
+    back = read_sweep_csv(path)
+    assert np.array_equal(back.v, bench.train.v) and np.array_equal(back.f, bench.train.f)
+
+
+def _csv(tmp_path, text):
+    p = tmp_path / "bad.csv"
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize("body, message", [
+    ("v,f\n" + "0.1,nan\n" * 30, "NaN or infinite"),
+    ("v,f\n" + "0.1,inf\n" * 30, "NaN or infinite"),
+    ("v,f\n" + "0.1,abc\n" * 30, "non-numeric"),
+    ("v,g\n" + "0.1,1\n" * 30, "missing column 'f'"),
+    ("v,f\n" + "0.1,1\n" * 5, "need at least 20"),
+    ("", "empty file"),
+])
+def test_bad_sweep_csv_is_named(tmp_path, body, message):
+    with pytest.raises(DataError, match=message):
+        read_sweep_csv(_csv(tmp_path, body))
+
+
+def test_no_high_speed_data_is_refused(bench):
+    low = Sweep(bench.train.v[bench.train.v <= 0.06], bench.train.f[bench.train.v <= 0.06])
+    with pytest.raises(DataError, match="no high-speed data for B"):
+        prepare(low, vs_max=0.02)
+
+
+@pytest.mark.parametrize("vs_max", [0.0, -0.02, float("nan")])
+def test_non_positive_vs_max_is_refused(bench, vs_max):
+    with pytest.raises(DataError, match="vs_max must be > 0"):
+        prepare(bench.train, vs_max=vs_max)

@@ -1,0 +1,134 @@
+import numpy as np
+import pytest
+
+from fricgen.elm import (ACTIVATIONS, ELMRegressor, EnlargedScheme, LeaveOneOut, SVD,
+                         StandardScheme, hidden_matrix, log10_cond, loo_residuals)
+
+
+@pytest.fixture(scope="module")
+def xt(bench):
+    return bench.dataset.x, bench.dataset.t
+
+
+def _sigmoid(z):
+    return 1 / (1 + np.exp(-z))
+
+
+def test_pinv_solution_is_eq_13(xt):
+    x, t = xt
+    elm = ELMRegressor(n_hidden=8, scheme="standard", solver="pinv", random_state=1).fit(x, t)
+    H = hidden_matrix("sigmoid", x, elm.input_weights_, elm.biases_)
+    assert np.allclose(elm.beta_, np.linalg.pinv(H) @ t, rtol=1e-6, atol=1e-6 * np.abs(elm.beta_).max())
+    assert np.isinf(elm.C_)
+
+
+def test_ridge_solution_is_eq_15(xt):
+    x, t = xt
+    C = 1e3
+    elm = ELMRegressor(n_hidden=12, solver="ridge", C=C, random_state=2).fit(x, t)
+    H = hidden_matrix("sigmoid", x, elm.input_weights_, elm.biases_)
+    expected = np.linalg.solve(np.eye(12) / C + H.T @ H, H.T @ t)
+    assert np.allclose(elm.beta_, expected, rtol=1e-8, atol=1e-10)
+
+
+@pytest.mark.parametrize("C", [1e-1, 1e2, 1e6])
+def test_closed_form_loo_equals_brute_force(xt, C):
+    x, t = xt
+    rng = np.random.default_rng(3)
+    w, b = EnlargedScheme().draw(10, rng)
+    H = hidden_matrix("sigmoid", x, w, b)
+    fast = loo_residuals(SVD.of(H), t, C)
+    brute = np.empty_like(t)
+    for i in range(t.size):
+        keep = np.arange(t.size) != i
+        beta = np.linalg.solve(np.eye(10) / C + H[keep].T @ H[keep], H[keep].T @ t[keep])
+        brute[i] = t[i] - H[i] @ beta
+    assert np.allclose(fast, brute, rtol=1e-6, atol=1e-9)
+
+
+def test_loo_solver_minimizes_press_within_the_beta_bound(xt):
+    x, t = xt
+    solver = LeaveOneOut(max_beta_l1=50.0)
+    elm = ELMRegressor(n_hidden=30, solver=solver, random_state=4).fit(x, t)
+    assert np.abs(elm.beta_).sum() <= 50.0
+    svd = SVD.of(hidden_matrix("sigmoid", x, elm.input_weights_, elm.biases_))
+    press = {C: np.mean(loo_residuals(svd, t, C) ** 2) for C in solver.C_grid
+             if np.abs(svd.solve(t, C)).sum() <= 50.0}
+    assert elm.C_ == min(press, key=press.get)
+
+
+def test_cond_from_singular_values_matches_numpy_when_well_conditioned():
+    H = np.random.default_rng(5).normal(size=(50, 4))
+    assert log10_cond(np.linalg.svd(H, compute_uv=False)) == pytest.approx(
+        np.log10(np.linalg.cond(H.T @ H)), rel=1e-9)
+    C = 10.0
+    assert log10_cond(np.linalg.svd(H, compute_uv=False), C) == pytest.approx(
+        np.log10(np.linalg.cond(np.eye(4) / C + H.T @ H)), rel=1e-9)
+
+
+def test_cond_goes_beyond_where_numpy_saturates(xt):
+    x, t = xt
+    elm = ELMRegressor(n_hidden=30, scheme="standard", solver="pinv", random_state=0).fit(x, t)
+    # standard ELM with 30 neurons: cond(H^T H) far beyond 1e16 (numpy's cond of H^T H saturates)
+    assert elm.log10_cond_ > 20
+    assert log10_cond(np.array([1.0, 0.5]), n_hidden=3) == np.inf
+
+
+def test_enlarged_scheme_satisfies_eq_16():
+    s = EnlargedScheme(w_max=10.0, r1=0.1, r2=0.9)
+    w, b = s.draw(5000, np.random.default_rng(6))
+    assert np.all(np.abs(w) <= 10.0)
+    h0, h1 = _sigmoid(b), _sigmoid(w + b)
+    up = w > 0
+    assert np.all(h0[up] <= 0.1 + 1e-12) and np.all(h1[up] >= 0.9 - 1e-12)
+    assert np.all(h1[~up] <= 0.1 + 1e-12) and np.all(h0[~up] >= 0.9 - 1e-12)
+    assert 0.4 < up.mean() < 0.6
+
+
+def test_standard_scheme_draws_in_unit_box():
+    w, b = StandardScheme().draw(1000, np.random.default_rng(7))
+    assert np.all(np.abs(w) <= 1) and np.all(np.abs(b) <= 1)
+
+
+def test_same_seed_same_bits_other_seed_other_model(xt):
+    x, t = xt
+    a = ELMRegressor(random_state=11).fit(x, t)
+    b = ELMRegressor(random_state=11).fit(x, t)
+    c = ELMRegressor(random_state=12).fit(x, t)
+    assert np.array_equal(a.beta_, b.beta_) and np.array_equal(a.biases_, b.biases_)
+    assert not np.array_equal(a.beta_, c.beta_)
+
+
+@pytest.mark.parametrize("activation", sorted(ACTIVATIONS))
+def test_every_activation_fits_far_better_than_a_constant(xt, activation):
+    x, t = xt
+    elm = ELMRegressor(n_hidden=20, activation=activation, scheme="standard", solver="loo",
+                       random_state=0).fit(x, t)
+    resid = np.sqrt(np.mean((elm.predict(x) - t) ** 2))
+    assert resid < 0.5 * np.std(t)
+
+
+def test_default_model_is_accurate_and_float32_friendly(bench, default_model):
+    e = bench.errors(default_model.aim)
+    # noise is uniform +-0.5 N (std 0.29 N); the noise-free curve must be matched far better
+    assert e["e_ttest_newton"] < 0.2
+    assert np.abs(default_model.aim.output_weights).sum() <= 100
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(n_hidden=0), "n_hidden must be a positive integer"),
+    (dict(activation="relu"), "activation must be one of"),
+    (dict(solver="ridge"), "solver 'ridge' needs C"),
+    (dict(solver="lasso"), "solver must be one of"),
+    (dict(scheme="wide"), "scheme must be one of"),
+])
+def test_bad_parameters_are_named(xt, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        ELMRegressor(**kwargs).fit(*xt)
+
+
+def test_bad_scheme_parameters_are_named():
+    with pytest.raises(ValueError, match="need 0 < r1 < r2 < 1"):
+        EnlargedScheme(r1=0.9, r2=0.1)
+    with pytest.raises(ValueError, match="w_max=2 too small"):
+        EnlargedScheme(w_max=2)
