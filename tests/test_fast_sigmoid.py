@@ -1,0 +1,81 @@
+"""The fast sigmoid (--activation-impl fast): derived error bound, exact C parity, no libm."""
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen import cbuild, codegen, fast_sigmoid as fs
+from fricgen.parity import c_forces, parity_velocities
+from fricgen.twin import force_f32
+
+f32 = np.float32
+SPECIALS = np.array([0.0, -0.0, 1e-45, -1e-45, 1e-38, 1.0, -1.0, 41.5, -41.5, 41.6, -41.6, 88.0,
+                     -88.0, 1e30, -1e30, 3.4e38, -3.4e38, np.inf, -np.inf, np.nan], dtype=f32)
+
+
+def probe_inputs(n_random=1_000_000):
+    """Random z over the whole useful range, a dense grid near 0, and the special values."""
+    rng = np.random.default_rng(7)
+    return np.concatenate([rng.uniform(-45, 45, n_random).astype(f32),
+                           np.linspace(-4, 4, 400_001, dtype=f32), SPECIALS])
+
+
+def test_fast_sigmoid_error_stays_within_derived_bound():
+    z = probe_inputs()
+    finite = np.isfinite(z)
+    err = np.abs(fs.sigmoid_fast_f32(z[finite]) - fs.sigmoid_exact(z[finite]))
+    bound = fs.error_bound()
+    assert bound < 2.5e-7, bound          # the figure documented in fric_fast.h and README
+    assert err.max() <= bound, (err.max(), z[finite][err.argmax()])
+    assert err.max() > 0.0                # the probe does exercise the approximation
+
+
+def test_fast_sigmoid_defined_for_nan_and_infinities():
+    out = fs.sigmoid_fast_f32(np.array([np.nan, np.inf, -np.inf, 0.0], dtype=f32))
+    assert out[0] == 1.0 and out[1] == 1.0 and out[3] == 0.5
+    assert 0.0 < out[2] < 1e-18
+    z = probe_inputs(10_000)
+    y = fs.sigmoid_fast_f32(z)
+    assert np.all((y >= 0.0) & (y <= 1.0))
+
+
+@pytest.fixture(scope="module")
+def fast_lib(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fast_rt")
+    for fname in ("fric_fast.h", "fric_fast.c"):
+        shutil.copy(codegen.resource_dir("c_runtime") / fname, folder / fname)
+    return cbuild.build(folder, "fric_fast.h", "float fric_sigmoid_fast_f32(float z);",
+                        build_dir=folder / "build")
+
+
+def test_c_fast_sigmoid_is_bit_equal_to_twin(fast_lib):
+    z = np.concatenate([np.random.default_rng(3).uniform(-50, 50, 100_000).astype(f32), SPECIALS])
+    c = np.array([fast_lib.fric_sigmoid_fast_f32(float(v)) for v in z], dtype=f32)
+    twin = fs.sigmoid_fast_f32(z)
+    assert np.array_equal(c.view(np.uint32), twin.view(np.uint32))
+
+
+def test_emitted_fast_model_matches_twin_exactly_and_float64_within_bound(default_model, tmp_path):
+    codegen.emit(default_model, tmp_path, "fm", activation_impl="fast")
+    assert not (tmp_path / "fric_kernel.c").exists()
+    lib = cbuild.build_model(tmp_path, "fm", build_dir=tmp_path / "build")
+    v = parity_velocities(default_model.v_sat)
+    c = c_forces(lib, "fm", v)
+    assert np.array_equal(c, force_f32(default_model, v, "fast"))
+    beta_l1 = np.abs(default_model.aim.output_weights).sum()
+    # sigmoid error times ||beta||_1, plus float32 rounding of the sum (libm-grade), in newtons
+    bound = (beta_l1 * fs.error_bound() + 64 * np.finfo(f32).eps * beta_l1) / default_model.scaling.k_out
+    err = np.abs(c.astype(float) - default_model.force(v.astype(float)))
+    inside = np.abs(v) <= 2 * default_model.v_sat
+    assert err[inside].max() <= bound, (err[inside].max(), bound)
+
+
+def test_fast_runtime_links_no_libm(tmp_path):
+    src = codegen.resource_dir("c_runtime") / "fric_fast.c"
+    assert "math.h" not in src.read_text()
+    obj = tmp_path / "fric_fast.o"
+    subprocess.run(["cc", "-std=c99", "-O2", "-c", str(src), "-o", str(obj)] + cbuild.STRICT_WARNINGS,
+                   check=True)
+    undefined = subprocess.run(["nm", "-u", str(obj)], capture_output=True, text=True, check=True).stdout
+    assert undefined.split() == [], undefined
