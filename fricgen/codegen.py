@@ -72,25 +72,47 @@ def template_context(model: FrictionModel, name: str) -> dict:
         "output_weights": c_array(net.output_weights),
         "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
         "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
+        "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
     }
 
 
-def render(model: FrictionModel, name: Optional[str] = None) -> Dict[str, str]:
+#: ``--activation-impl``: libm's expf (the default) or the fast sigmoid without libm (fric_fast.c).
+ACTIVATION_IMPLS = ("libm", "fast")
+#: ``--dtype``: float, or the fixed-point models of fricgen.fixedpoint (no FPU needed).
+DTYPES = ("float", "q15", "q31")
+
+
+def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
+           dtype: str = "float") -> Dict[str, str]:
     """All files of the emitted folder, by file name: NAME.h, NAME.c and the runtime."""
     name = model.name if name is None else name
+    if activation_impl not in ACTIVATION_IMPLS:
+        raise ModelError(f"activation_impl must be one of {list(ACTIVATION_IMPLS)}, got {activation_impl!r}")
+    if dtype not in DTYPES:
+        raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
+    if dtype != "float":
+        from .fixedpoint import render_fixed
+        return render_fixed(model, name, dtype)
     env = _environment()
     ctx = template_context(model, name)
+    runtime_files = RUNTIME_FILES
+    if activation_impl == "fast":
+        if ctx["activation"] != "sigmoid":
+            raise ModelError(f"--activation-impl fast covers the sigmoid only, this model uses {ctx['activation']!r}")
+        ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h")
+        runtime_files = ("fric_fast.h", "fric_fast.c")
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}
     runtime = resource_dir("c_runtime")
-    for fname in RUNTIME_FILES:
+    for fname in runtime_files:
         files[fname] = (runtime / fname).read_text()
     return files
 
 
-def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None) -> Dict[str, Path]:
+def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
+         activation_impl: str = "libm", dtype: str = "float") -> Dict[str, Path]:
     """Render everything first, then write each file atomically into ``out_dir``."""
-    return write_all_atomic(out_dir, render(model, name))
+    return write_all_atomic(out_dir, render(model, name, activation_impl, dtype))
 
 
 def emit_to_temp(model: FrictionModel, name: Optional[str] = None) -> Path:

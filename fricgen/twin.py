@@ -44,12 +44,18 @@ def aim_f32(net: ElmNetwork, x) -> np.ndarray:
     return acc
 
 
-def force_f32(model: FrictionModel, v) -> np.ndarray:
-    """Mirror of the emitted ``NAME_force`` (eq. 3) in float32."""
+def force_f32(model: FrictionModel, v, activation_impl: str = "libm") -> np.ndarray:
+    """Mirror of the emitted ``NAME_force`` (eq. 3) in float32; ``activation_impl`` as in emit."""
+    if activation_impl == "fast":
+        from .fast_sigmoid import aim_fast_f32 as aim_twin
+    elif activation_impl == "libm":
+        aim_twin = aim_f32
+    else:
+        raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
     v = np.asarray(v, dtype=f32)
     speed = np.abs(v)
     v_sat = f32(model.v_sat)
     x = f32(model.scaling.k_in) * np.where(speed < v_sat, speed, v_sat)
-    stribeck = aim_f32(model.aim, x) * f32(1.0 / model.scaling.k_out)
+    stribeck = aim_twin(model.aim, x) * f32(1.0 / model.scaling.k_out)
     signed = np.where(v > 0, stribeck, np.where(v < 0, -stribeck, f32(0.0)))
     return signed + f32(model.viscous) * v
