@@ -16,7 +16,7 @@ import numpy as np
 
 from . import __version__
 from .data import DataError, prepare, read_sweep_csv, sweep_csv_text, synthesize_benchmark
-from .elm import ACTIVATIONS, DEFAULT_ELM, SCHEMES, SOLVERS, ELMRegressor, EnlargedScheme
+from .elm import ACTIVATIONS, DEFAULT_ELM, SCHEMES, SOLVERS, ELMRegressor, EnlargedScheme, default_elm
 from .files import write_atomic
 from .friction import PRESETS, SHAPES, preset
 from .model import FrictionModel, ModelError, check_c_identifier
@@ -57,7 +57,25 @@ def cmd_synth(args) -> int:
 # ----------------------------------------------------------------------------- train
 
 
-def _estimator(args) -> ELMRegressor:
+#: Options of an explicitly configured ELM (``--method elm``), with their defaults.
+_ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
+                "scheme": "enlarged", "w_max": DEFAULT_ELM["scheme"].w_max,
+                "solver": DEFAULT_ELM["solver"], "C": None}
+
+
+def _estimator(args):
+    """The automatic ELM (default), or the ELM the explicit options describe (``--method elm``,
+    implied by any of --neurons/--activation/--scheme/--w-max/--solver/--C)."""
+    given = [k for k in _ELM_OPTIONS if getattr(args, k) is not None]
+    flags = ", ".join("--" + k.replace("_", "-") for k in given)
+    args.method = args.method or ("elm" if given else "auto")
+    if args.method == "auto":
+        if given:
+            raise UsageError(f"{flags} configure --method elm, not --method auto")
+        return default_elm(args.seed)
+    for k, default in _ELM_OPTIONS.items():
+        if getattr(args, k) is None:
+            setattr(args, k, default)
     if args.solver == "ridge" and args.C is None:
         raise UsageError("--solver ridge needs --C")
     scheme = EnlargedScheme(w_max=args.w_max) if args.scheme == "enlarged" else args.scheme
@@ -88,10 +106,13 @@ def cmd_train(args) -> int:
     dataset = prepare(sweep, vs_max=args.vs_max)
     estimator = _estimator(args)
     name = check_c_identifier(args.name, "--name")
+    options = {"scheme": "auto"} if args.method == "auto" else {
+        "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
     model = FrictionModel.fit(dataset, estimator, name=name, training={
-        "scheme": args.scheme, "w_max": args.w_max, "activation": args.activation, "solver": args.solver,
-        "n_hidden": args.neurons, "seed": args.seed, "source": Path(args.sweep).name,
+        "method": args.method, **options, "activation": estimator.activation,
+        "seed": args.seed, "source": Path(args.sweep).name,
         "vs_max_estimated": dataset.vs_max_estimated})
+    model.training["n_hidden"] = estimator.n_hidden
     model.training["C"] = estimator.C_
     e_train = float(np.sqrt(np.mean((estimator.predict(dataset.x) - dataset.t) ** 2)))
     errors = {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
@@ -159,12 +180,13 @@ def cmd_demo(args) -> int:
 
     seeds = range(args.seeds)
     _say(f"paper benchmark (Table 1, 3 sources), {args.seeds} seeds")
-    configs = dict(paper.HEADLINE_ELMS)
-    configs["fricgen default"] = dict(DEFAULT_ELM)
+    makers = {label: (lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg))
+              for label, cfg in paper.HEADLINE_ELMS.items()}
+    makers["fricgen default (auto)"] = default_elm
     print(f"{'model':28s} {'E_train':>8s} {'E_test':>8s} {'E_Ttest':>8s} {'E_Ttest N':>10s} "
           f"{'median N':>9s} {'||beta||':>10s} {'log10cond':>9s}   paper [E_train, E_test, E_Ttest]")
-    for label, cfg in configs.items():
-        means, median_n = _mean_errors(lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg), seeds)
+    for label, make in makers.items():
+        means, median_n = _mean_errors(make, seeds)
         reported = paper.REPORTED.get(label)
         ref = f"[{', '.join(f'{r:.4f}' for r in reported)}]" if reported else "-"
         print(f"{label:28s} {means[0]:8.4f} {means[1]:8.4f} {means[2]:8.4f} {means[3]:10.4f} "
@@ -172,7 +194,7 @@ def cmd_demo(args) -> int:
     print("(normalized errors depend on the unspecified K_out; compare ratios and newtons)")
 
     bench = synthesize_benchmark(preset("paper3"), seed=0)
-    model = FrictionModel.fit(bench.dataset, ELMRegressor(random_state=0, **DEFAULT_ELM), name="fm")
+    model = FrictionModel.fit(bench.dataset, default_elm(0), name="fm")
     out = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
     try:
         emit(model, out, "fm")
@@ -215,12 +237,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", default="model.json")
     p.add_argument("--vs-max", type=float, help="bound on the Stribeck velocities, m/s "
                    "(default: estimated from the data)")
-    p.add_argument("--neurons", type=int, default=DEFAULT_ELM["n_hidden"])
-    p.add_argument("--activation", choices=sorted(ACTIVATIONS), default=DEFAULT_ELM["activation"])
-    p.add_argument("--scheme", choices=sorted(SCHEMES), default="enlarged")
-    p.add_argument("--w-max", type=_positive, default=DEFAULT_ELM["scheme"].w_max,
-                   help="input-weight range of the enlarged scheme, eq. (16)-(17)")
-    p.add_argument("--solver", choices=sorted(SOLVERS), default=DEFAULT_ELM["solver"])
+    p.add_argument("--method", choices=["auto", "elm"],
+                   help="auto: units, M and C chosen by leave-one-out (default); elm: the ELM "
+                   "the options below describe (default when any of them is given)")
+    p.add_argument("--neurons", type=int, help=f"(elm) default {_ELM_OPTIONS['neurons']}")
+    p.add_argument("--activation", choices=sorted(ACTIVATIONS),
+                   help=f"(elm) default {_ELM_OPTIONS['activation']}")
+    p.add_argument("--scheme", choices=sorted(SCHEMES), help="(elm) default enlarged")
+    p.add_argument("--w-max", type=_positive, help="(elm) input-weight range of the enlarged "
+                   f"scheme, eq. (16)-(17), default {_ELM_OPTIONS['w_max']:g}")
+    p.add_argument("--solver", choices=sorted(SOLVERS), help=f"(elm) default {_ELM_OPTIONS['solver']}")
     p.add_argument("--C", type=_positive, help="regularization C of eq. (15) for --solver ridge")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--name", default="fric_model", help="model name (a C identifier)")

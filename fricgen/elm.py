@@ -330,11 +330,15 @@ class ELMRegressor:
         return log10_cond(self.singular_values_, n_hidden=int(self.n_hidden))
 
 
-#: fricgen's default ELM for ``fricgen train``: 40 sigmoids of enlarged variability with input
-#: weights up to 30 (steep enough for the Stribeck drop), C by leave-one-out with ||beta||_1 <= 100.
+#: Defaults of an explicitly configured ELM (``fricgen train --method elm``): 40 sigmoids of
+#: enlarged variability with input weights up to 30 (steep enough for the Stribeck drop), C by
+#: leave-one-out with ||beta||_1 <= 100.
 DEFAULT_ELM = dict(n_hidden=40, activation="sigmoid", scheme=EnlargedScheme(w_max=30.0), solver="loo")
 
 
-def default_elm(random_state=0) -> ELMRegressor:
-    """The estimator ``fricgen train`` uses unless told otherwise."""
-    return ELMRegressor(random_state=random_state, **DEFAULT_ELM)
+def default_elm(random_state=0):
+    """The estimator ``fricgen train`` uses unless told otherwise: the automatic ELM
+    (``fricgen.auto.AutoELMRegressor``), which chooses its units, M and C by leave-one-out."""
+    from .auto import AutoELMRegressor
+
+    return AutoELMRegressor(random_state=random_state)
