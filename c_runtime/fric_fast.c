@@ -1,55 +1,77 @@
-/* fricgen C runtime: the fast sigmoid of eq. (8) and its ELM kernel, eq. (7). No libm. */
+/* fricgen C runtime: the fast sigmoid of eq. (8) and its ELM kernel, eq. (7). No libm.
+ *
+ * sigma(z) = 1 / (1 + e), e = exp(-z) = 2^t with t = -z log2(e). t is split without any
+ * float-to-int conversion: adding FRIC_FAST_ROUND (1.5 * 2^23) rounds t to the nearest integer
+ * n, which then sits in the low mantissa bits of the sum; f = t - n lies in [-1/2, 1/2] and is
+ * exact. 2^f comes from a degree-5 polynomial (Horner), and the factor 2^n is added to its
+ * float exponent field: (bits of the sum) << 23 equals n << 23 modulo 2^32. Valid, and exact as
+ * described, for |t| <= 125 (|z| <= 86): the kernel clamps x so that every z stays inside. */
 #include "fric_fast.h"
 
 #include <stdint.h>
 
-#define FRIC_FAST_LOG2E 1.44269502f /* float32 rounding of log2(e) */
-#define FRIC_FAST_T_MAX 60.0f        /* 2^-60 < 1e-18: beyond, sigma is 1 to float precision */
+#if defined(__GNUC__)
+#define FRIC_FAST_INLINE static inline __attribute__((always_inline))
+#else
+#define FRIC_FAST_INLINE static inline
+#endif
 
-/* 2^-f on [0, 1): near-minimax for relative error (7.5e-8), coefficients rounded to float. */
-#define FRIC_FAST_P0 0.999999940f
-#define FRIC_FAST_P1 -0.693142235f
-#define FRIC_FAST_P2 0.240172192f
-#define FRIC_FAST_P3 -0.0552797206f
-#define FRIC_FAST_P4 0.00918861106f
-#define FRIC_FAST_P5 -0.000938788173f
+#define FRIC_FAST_NEG_LOG2E -1.44269502f /* float32 rounding of -log2(e) */
+#define FRIC_FAST_ROUND 12582912.0f      /* 1.5 * 2^23: t + this rounds t to an integer */
+#define FRIC_FAST_Z_MAX 86.0f            /* |z| <= 86 keeps |t| <= 125: e stays a normal float */
+
+/* 2^f on [-1/2, 1/2]: relative minimax (7.5e-8), coefficients rounded to float. */
+#define FRIC_FAST_P0 1.00000012f
+#define FRIC_FAST_P1 0.693146944f
+#define FRIC_FAST_P2 0.240221202f
+#define FRIC_FAST_P3 0.0555071309f
+#define FRIC_FAST_P4 0.00967554096f
+#define FRIC_FAST_P5 0.00132764725f
 
 typedef union {
     float f;
     uint32_t u;
 } fric_fast_bits;
 
-static float fric_sigmoid_fast_inline(float z)
+/* Requires |z| <= FRIC_FAST_Z_MAX (callers guarantee it). */
+FRIC_FAST_INLINE float fric_sigmoid_fast_core(float z)
 {
-    const float a = z < 0.0f ? -z : z;
-    float t = a * FRIC_FAST_LOG2E;
-    int32_t n;
-    float f;
-    float p;
+    const float t = z * FRIC_FAST_NEG_LOG2E;
+    fric_fast_bits rounded;
     fric_fast_bits e;
-    if (!(t < FRIC_FAST_T_MAX)) { /* also NaN: keeps the conversion below defined */
-        t = FRIC_FAST_T_MAX;
-    }
-    n = (int32_t)t; /* floor, t >= 0 */
-    f = t - (float)n;
-    p = FRIC_FAST_P0 + f * (FRIC_FAST_P1 + f * (FRIC_FAST_P2 + f * (FRIC_FAST_P3
-        + f * (FRIC_FAST_P4 + f * FRIC_FAST_P5))));
-    e.f = p; /* p in (0.49, 1): a normal float; minus n <= 60 octaves stays normal */
-    e.u -= (uint32_t)n << 23;
-    return (z < 0.0f ? e.f : 1.0f) / (1.0f + e.f);
+    float f;
+    rounded.f = t + FRIC_FAST_ROUND;
+    f = t - (rounded.f - FRIC_FAST_ROUND);
+    e.f = FRIC_FAST_P0 + f * (FRIC_FAST_P1 + f * (FRIC_FAST_P2 + f * (FRIC_FAST_P3
+          + f * (FRIC_FAST_P4 + f * FRIC_FAST_P5))));
+    e.u += rounded.u << 23;
+    return 1.0f / (1.0f + e.f);
 }
 
 float fric_sigmoid_fast_f32(float z)
 {
-    return fric_sigmoid_fast_inline(z);
+    if (z != z) {
+        return z;
+    }
+    if (z < -FRIC_FAST_Z_MAX) {
+        z = -FRIC_FAST_Z_MAX;
+    } else if (z > FRIC_FAST_Z_MAX) {
+        z = FRIC_FAST_Z_MAX;
+    }
+    return fric_sigmoid_fast_core(z);
 }
 
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x)
 {
     float acc = 0.0f;
     size_t k;
+    if (!(x > 0.0f)) { /* also NaN */
+        x = 0.0f;
+    } else if (x > FRIC_FAST_X_MAX) {
+        x = FRIC_FAST_X_MAX;
+    }
     for (k = 0; k < n; ++k) {
-        acc += beta[k] * fric_sigmoid_fast_inline(w[k] * x + b[k]);
+        acc += beta[k] * fric_sigmoid_fast_core(w[k] * x + b[k]);
     }
     return acc;
 }

@@ -10,16 +10,19 @@
 extern "C" {
 #endif
 
-/* The fast sigmoid of eq. (8): 1 / (1 + e) with e = 2^-t, t = |z| log2(e), evaluated as
- * 2^-floor(t) (exponent arithmetic) times a degree-5 polynomial of 2^-frac(t); no libm call.
- * |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 2.2e-7 for every float z (the bound derived in
- * fricgen.fast_sigmoid, enforced by tests/test_fast_sigmoid.py; measured max 1.2e-7). |z| >= 41.6 (t >= 60) is
- * evaluated at t = 60: the result is 1 or 2^-60 / (1 + 2^-60). NaN is evaluated as t = 60 too
- * and gives 1.0f. Finite in, finite out, in [0, 1]. */
+/* The kernel clamps its input x to [0, FRIC_FAST_X_MAX] (NaN -> 0): the network's domain is
+ * [0, 1] (eq. 3 saturates it) and `fricgen emit` checks that every |w_k| X_MAX + |b_k| <= 86. */
+#define FRIC_FAST_X_MAX 1.0009765625f
+
+/* The fast sigmoid of eq. (8): 1 / (1 + 2^t), t = -z log2(e), 2^t from exponent arithmetic and
+ * a degree-5 polynomial; no libm call. For every float z:
+ * |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 2.0e-7 (the bound derived in
+ * fricgen.fast_sigmoid, enforced by tests/test_fast_sigmoid.py). z is clamped to [-86, 86]
+ * (so -inf -> 4.5e-38, +inf -> 1); NaN returns NaN. */
 float fric_sigmoid_fast_f32(float z);
 
-/* sum_k beta[k] * fric_sigmoid_fast_f32(w[k] * x + b[k]), k = 0, 1, ..., each operation
- * rounded to float in this order; fricgen.fast_sigmoid mirrors it exactly. */
+/* sum_k beta[k] * sigma_fast(w[k] * x + b[k]), k = 0, 1, ..., x clamped as above; each float
+ * operation rounded in this order; fricgen.fast_sigmoid mirrors it exactly. */
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 
 #ifdef __cplusplus

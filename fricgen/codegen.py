@@ -16,6 +16,8 @@ from .model import FORMAT_VERSION, FrictionModel, ModelError, check_c_identifier
 
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
 RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+#: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
+CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
 
 
 def resource_dir(kind: str) -> Path:
@@ -97,14 +99,14 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     ctx = template_context(model, name)
     runtime_files = RUNTIME_FILES
     if activation_impl == "fast":
-        if ctx["activation"] != "sigmoid":
-            raise ModelError(f"--activation-impl fast covers the sigmoid only, this model uses {ctx['activation']!r}")
+        from .fast_sigmoid import check_fast_model
+        check_fast_model(model)
         ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h")
         runtime_files = ("fric_fast.h", "fric_fast.c")
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}
     runtime = resource_dir("c_runtime")
-    for fname in runtime_files:
+    for fname in runtime_files + CONTROLLER_FILES:
         files[fname] = (runtime / fname).read_text()
     return files
 
