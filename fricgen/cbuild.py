@@ -21,9 +21,18 @@ def model_cdef(name: str) -> str:
 
 def build(folder: Union[str, Path], header: str, cdef: str, sources: Optional[Iterable[Path]] = None,
           build_dir: Optional[Union[str, Path]] = None):
-    """Compile every .c file in ``folder`` into a cffi extension; return its ``lib``.
+    """Compile every .c file in ``folder`` into a cffi extension; return its ``lib``
+    (``build_module`` returns the module, with its ``ffi`` beside ``lib``)."""
+    return build_module(folder, header, cdef, sources, build_dir).lib
 
-    ``header`` is the file the wrapper includes; ``cdef`` declares what Python may call.
+
+def build_module(folder: Union[str, Path], header, cdef: str,
+                 sources: Optional[Iterable[Path]] = None,
+                 build_dir: Optional[Union[str, Path]] = None):
+    """Compile every .c file in ``folder`` into a cffi extension; return the module.
+
+    ``header`` is the file (or a sequence of files) the wrapper includes; ``cdef`` declares what
+    Python may call.
     """
     import cffi
 
@@ -36,13 +45,15 @@ def build(folder: Union[str, Path], header: str, cdef: str, sources: Optional[It
     build_dir = Path(tempfile.mkdtemp(prefix="fricgen_cffi_") if build_dir is None else build_dir)
     ffi = cffi.FFI()
     ffi.cdef(cdef)
-    ffi.set_source(module, f'#include "{header}"', sources=[str(s) for s in sources],
-                   include_dirs=[str(folder)], extra_compile_args=CFLAGS, libraries=["m"])
+    headers = [header] if isinstance(header, str) else list(header)
+    ffi.set_source(module, "".join(f'#include "{h}"\n' for h in headers),
+                   sources=[str(s) for s in sources], include_dirs=[str(folder)],
+                   extra_compile_args=CFLAGS, libraries=["m"])
     so_path = ffi.compile(tmpdir=str(build_dir), verbose=False)
     spec = importlib.util.spec_from_file_location(module, so_path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    return mod.lib
+    return mod
 
 
 def build_model(folder: Union[str, Path], name: str, build_dir=None):

@@ -21,6 +21,7 @@ from .files import write_atomic
 from .friction import PRESETS, SHAPES, preset
 from .model import FrictionModel, ModelError, check_c_identifier
 from . import paper
+from . import simulate_cmd
 
 
 class UsageError(ValueError):
@@ -261,6 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="output folder")
     p.add_argument("--name", help="C name prefix (default: the model's name)")
     p.set_defaults(run=cmd_emit)
+    simulate_cmd.register(sub)
     return parser
 
 

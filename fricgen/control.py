@@ -1,0 +1,206 @@
+"""Adaptive backstepping position control with friction compensation (section 6).
+
+With e1 = x_d - x, the virtual control v_d = x_d' + k1 e1 (eq. 3), e2 = v_d - v (eq. 5) and
+v_d' = x_d'' + k1 (-k1 e1 + e2) (eq. 7), the current is
+
+    i = D_hat + k2 e2 + e1,   D_hat = A_hat^T xi                          (eqs. 28, 9)
+    A_hat = [m_o_hat, k_hat],  xi = [v_d', F_Fm(v) / phi_N]               (eq. 10)
+
+where F_Fm is the friction model used for compensation and phi_N the nominal force constant.
+D = m_o v_d' + F_friction / phi (m_o = m / phi) is what the current must supply; the paper's
+eq. (8) prints a minus sign before the friction term, but eq. (18) (m v' = phi i - F) gives the
+plus sign used here, so k_hat tends to phi_N / phi > 0 when F_Fm matches the true friction.
+The adaptation laws of eq. (12) (cited as 31a-c) are
+
+    (a) A' = e2 Gamma xi
+    (b) A' = e2 Gamma xi - delta Gamma A
+    (c) A' = e2 Gamma xi - delta sqrt(e1^2 + e2^2) Gamma A,
+
+integrated with a forward Euler step of the sampling time Ts, as firmware does. The Lyapunov
+function (11) proves e1, e2 uniformly ultimately bounded for k1 > 0, k2 > 1/2 (eq. 14).
+
+The controller computes in float64, or in float32 (``dtype="float32"``), then it is the exact
+Python twin of ``fric_ctrl_step`` in ``c_runtime/fric_ctrl.c``: the same operations in the same
+order, each rounded to float.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable, Optional, Tuple
+
+import numpy as np
+
+#: The adaptation laws of eq. (12) (a, b, c), by name; the value is the C enum FRIC_CTRL_LAW_*.
+LAWS = {"a": 0, "b": 1, "c": 2}
+
+
+def gamma_matrix(gamma) -> np.ndarray:
+    """Gamma of eq. (11) as a 2x2 array from a scalar, a diagonal (2 values) or a 2x2 matrix;
+    it must be symmetric positive definite."""
+    g = np.asarray(gamma, dtype=float)
+    if g.ndim == 0:
+        g = g * np.eye(2)
+    elif g.shape == (2,):
+        g = np.diag(g)
+    if g.shape != (2, 2):
+        raise ValueError(f"gamma must be a scalar, 2 values or a 2x2 matrix, got shape {g.shape}")
+    if not np.all(np.isfinite(g)):
+        raise ValueError(f"gamma must be finite, got {g.tolist()}")
+    if g[0, 1] != g[1, 0]:
+        raise ValueError(f"gamma must be symmetric, got {g.tolist()}")
+    if np.linalg.eigvalsh(g).min() <= 0:
+        raise ValueError(f"gamma must be positive definite, got {g.tolist()}")
+    return g
+
+
+def _check(name: str, value, low: float, strict: bool = True) -> float:
+    value = float(value)
+    ok = np.isfinite(value) and (value > low if strict else value >= low)
+    if not ok:
+        raise ValueError(f"{name} must be {'>' if strict else '>='} {low:g}, got {value}")
+    return value
+
+
+class AdaptiveBackstepping:
+    """The controller of section 6 (eqs. 3-12, 28) sampled at ``ts`` seconds.
+
+    Parameters (defaults tuned for the default ``LinearAxis``: 2 kg, ~20 N/A, 10 A):
+    compensation: None (xi_2 = 0, no friction model) or a callable F_Fm(v) in newtons, e.g. a
+        ``FrictionModel`` or the true ``MultisourceFriction`` ("exact" compensation).
+    law: adaptation law "a", "b" or "c" of eq. (12).
+    k1 (1/s), k2 (A s/m): backstepping gains, eq. (3) and (28); k1 > 0, k2 > 1/2 (eq. 14).
+    gamma: Gamma of eq. (11): scalar, diagonal or 2x2 symmetric positive definite.
+    delta: leakage of laws (b) and (c), >= 0 (unused by law a).
+    ts: sampling time, s. phi_n: nominal force constant phi_N, N/A. i_max: current limit, A.
+    a0: initial [m_o_hat, k_hat] (m_o in kg A/N, k dimensionless).
+    dtype: "float64", or "float32" for the twin of the C controller.
+    friction_input: "v" evaluates F_Fm at the measured velocity (eq. 10), "vd" at the virtual
+        control v_d (eq. 3), which keeps compensating while the axis sticks at a reversal.
+
+    After ``reset()``: ``a_`` (the adaptive parameters), and after each ``step``: ``e1_``,
+    ``e2_``, ``i_``.
+    """
+
+    def __init__(self, compensation: Optional[Callable] = None, law: str = "c", k1: float = 80.0,
+                 k2: float = 40.0, gamma=(1.0, 20.0), delta: float = 0.005, ts: float = 1e-3,
+                 phi_n: float = 20.0, i_max: float = 10.0, a0: Tuple[float, float] = (0.1, 1.0),
+                 dtype: str = "float64", friction_input: str = "v"):
+        self.friction_input = friction_input
+        self.compensation = compensation
+        self.law = law
+        self.k1 = k1
+        self.k2 = k2
+        self.gamma = gamma
+        self.delta = delta
+        self.ts = ts
+        self.phi_n = phi_n
+        self.i_max = i_max
+        self.a0 = a0
+        self.dtype = dtype
+
+    _PARAMS = ("compensation", "law", "k1", "k2", "gamma", "delta", "ts", "phi_n", "i_max", "a0",
+               "dtype", "friction_input")
+
+    def get_params(self) -> dict:
+        """The constructor parameters, by name."""
+        return {k: getattr(self, k) for k in self._PARAMS}
+
+    def clone(self, **changes) -> "AdaptiveBackstepping":
+        """A new, unreset controller with the same parameters except ``changes``."""
+        return type(self)(**{**self.get_params(), **changes})
+
+    def validate(self) -> "AdaptiveBackstepping":
+        """Check every parameter; raise ValueError naming the first bad one."""
+        if self.law not in LAWS:
+            raise ValueError(f"law must be one of {sorted(LAWS)}, got {self.law!r}")
+        _check("k1", self.k1, 0.0)
+        _check("k2", self.k2, 0.5)
+        gamma_matrix(self.gamma)
+        _check("delta", self.delta, 0.0, strict=False)
+        _check("ts", self.ts, 0.0)
+        _check("phi_n", self.phi_n, 0.0)
+        _check("i_max", self.i_max, 0.0)
+        a0 = np.asarray(self.a0, dtype=float)
+        if a0.shape != (2,) or not np.all(np.isfinite(a0)):
+            raise ValueError(f"a0 must be 2 finite numbers [m_o_hat, k_hat], got {self.a0!r}")
+        if self.compensation is not None and not callable(self.compensation):
+            raise ValueError(f"compensation must be None or a callable F(v), "
+                             f"got {type(self.compensation).__name__}")
+        if self.friction_input not in ("v", "vd"):
+            raise ValueError(f"friction_input must be 'v' or 'vd', got {self.friction_input!r}")
+        if self.dtype not in ("float64", "float32"):
+            raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
+        return self
+
+    def reset(self) -> "AdaptiveBackstepping":
+        """Validate, then set the adaptive parameters to ``a0`` (the C ``fric_ctrl_init``)."""
+        self.validate()
+        f = float if self.dtype == "float64" else np.float32
+        self._f = f
+        self._sqrt = math.sqrt if f is float else np.sqrt
+        g = gamma_matrix(self.gamma)
+        self._g = tuple(f(x) for x in g.ravel())
+        self._k1, self._k2, self._delta, self._ts, self._phi_n, self._i_max = (
+            f(p) for p in (self.k1, self.k2, self.delta, self.ts, self.phi_n, self.i_max))
+        self._law = LAWS[self.law]
+        self.a_ = [f(a) for a in self.a0]
+        self.e1_ = self.e2_ = self.i_ = f(0.0)
+        return self
+
+    def friction_force(self, v) -> float:
+        """F_Fm(v) of eq. (10) in the controller's precision (0 without compensation)."""
+        if self.compensation is None:
+            return self._f(0.0)
+        return self._f(np.asarray(self.compensation(v)).reshape(()))
+
+    def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
+        """One sample: measured x, v and the reference; returns the current i, updates A_hat."""
+        f = self._f
+        x, v, xd, xd_dot, xd_ddot = f(x), f(v), f(xd), f(xd_dot), f(xd_ddot)
+        u = self.friction_velocity(x, v, xd, xd_dot)
+        return self.step_with_force(x, v, xd, xd_dot, xd_ddot, self.friction_force(u))
+
+    def friction_velocity(self, x, v, xd, xd_dot):
+        """Where F_Fm is evaluated: the measured v (eq. 10), or v_d = x_d' + k1 (x_d - x) with
+        ``friction_input="vd"`` (compensation that keeps acting while the axis sticks)."""
+        if self.friction_input == "vd":
+            return xd_dot + self._k1 * (xd - x)
+        return v
+
+    def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
+        """``step`` with the compensation force F_Fm(v) given (the C ``fric_ctrl_step``)."""
+        f = self._f
+        k1, k2 = self._k1, self._k2
+        g00, g01, g10, g11 = self._g
+        a0, a1 = self.a_
+        e1 = f(xd) - f(x)                                   # tracking error
+        vd = f(xd_dot) + k1 * e1                            # eq. (3)
+        e2 = vd - f(v)                                      # eq. (5)
+        vd_dot = f(xd_ddot) + k1 * (e2 - k1 * e1)           # eq. (7)
+        xi0 = vd_dot                                        # eq. (10)
+        xi1 = f(friction) / self._phi_n
+        d_hat = a0 * xi0 + a1 * xi1                         # eq. (9)
+        i = d_hat + k2 * e2 + e1                            # eq. (28)
+        if i > self._i_max:
+            i = self._i_max
+        elif i < -self._i_max:
+            i = -self._i_max
+        if self._law == 0:
+            sigma = f(0.0)
+        elif self._law == 1:
+            sigma = self._delta
+        else:
+            sigma = self._delta * self._sqrt(e1 * e1 + e2 * e2)
+        g_xi0 = g00 * xi0 + g01 * xi1                       # eq. (12): Gamma xi, Gamma A
+        g_xi1 = g10 * xi0 + g11 * xi1
+        g_a0 = g00 * a0 + g01 * a1
+        g_a1 = g10 * a0 + g11 * a1
+        self.a_ = [a0 + self._ts * (e2 * g_xi0 - sigma * g_a0),
+                   a1 + self._ts * (e2 * g_xi1 - sigma * g_a1)]
+        self.e1_, self.e2_, self.i_ = e1, e2, i
+        return i
+
+    @property
+    def adaptive_parameters(self) -> Tuple[float, float]:
+        """(m_o_hat, k_hat) as floats."""
+        return float(self.a_[0]), float(self.a_[1])
