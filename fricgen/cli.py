@@ -20,7 +20,7 @@ from .elm import ACTIVATIONS, DEFAULT_ELM, SCHEMES, SOLVERS, ELMRegressor, Enlar
 from .files import write_atomic
 from .friction import PRESETS, SHAPES, preset
 from .model import FrictionModel, ModelError, check_c_identifier
-from . import paper
+from . import paper, reproduce
 from . import simulate_cmd
 
 
@@ -252,6 +252,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--name", default="fric_model", help="model name (a C identifier)")
     p.set_defaults(run=cmd_train)
+
+    reproduce.register(sub)
 
     p = sub.add_parser("eval", help="forces (N) for velocities read from stdin, one per line")
     p.add_argument("model")
