@@ -155,7 +155,7 @@ def cmd_emit(args) -> int:
 
     model = FrictionModel.load(args.model)
     name = check_c_identifier(args.name if args.name else model.name, "--name")
-    written = emit(model, args.output, name)
+    written = emit(model, args.output, name, activation_impl=args.activation_impl, dtype=args.dtype)
     _say(f"wrote {', '.join(sorted(written))} to {args.output} (model {model.model_hash})")
     return 0
 
@@ -263,6 +263,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("model")
     p.add_argument("-o", "--output", required=True, help="output folder")
     p.add_argument("--name", help="C name prefix (default: the model's name)")
+    p.add_argument("--activation-impl", choices=["libm", "fast"], default="libm",
+                   help="sigmoid through libm's expf, or the fast one without libm (error <= 2.0e-7)")
+    p.add_argument("--dtype", choices=["float", "q15", "q31"], default="float",
+                   help="float, or integer-only fixed point for MCUs without FPU")
     p.set_defaults(run=cmd_emit)
     simulate_cmd.register(sub)
     return parser
