@@ -7,13 +7,14 @@ from pathlib import Path
 from typing import Dict, Union
 
 
-def write_atomic(path: Union[str, Path], text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename."""
+def write_atomic(path: Union[str, Path], text: Union[str, bytes]) -> Path:
+    """Write ``text`` (str, or bytes for binary files) to ``path`` through a temporary file in
+    the same folder and a rename."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        with os.fdopen(fd, "w") as fh:
+        with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as fh:
             fh.write(text)
         os.replace(tmp, path)
     except BaseException:
@@ -23,6 +24,6 @@ def write_atomic(path: Union[str, Path], text: str) -> Path:
     return path
 
 
-def write_all_atomic(folder: Union[str, Path], files: Dict[str, str]) -> Dict[str, Path]:
+def write_all_atomic(folder: Union[str, Path], files: Dict[str, Union[str, bytes]]) -> Dict[str, Path]:
     """Write several files (all content already rendered) into ``folder``, each atomically."""
     return {name: write_atomic(Path(folder) / name, text) for name, text in files.items()}
