@@ -110,7 +110,8 @@ def link(objects: Iterable[Path], target_name: str, elf: Union[str, Path], gc_se
 
 def build_firmware(model_dir: Union[str, Path], config_h: str, target_name: str,
                    out_dir: Union[str, Path], extra_sources: Sequence[Union[str, Path]] = (),
-                   strict_model: bool = True, gc_sections: bool = True) -> Path:
+                   strict_model: bool = True, gc_sections: bool = True,
+                   include_dirs: Sequence[Union[str, Path]] = ()) -> Path:
     """The firmware ELF: harness + startup + every .c of ``model_dir`` (+ ``extra_sources``).
 
     ``config_h`` is the text of fw_config.h (see ``config_float``); the model's own files are
@@ -119,7 +120,7 @@ def build_firmware(model_dir: Union[str, Path], config_h: str, target_name: str,
     fw, out_dir, model_dir = firmware_dir(), Path(out_dir), Path(model_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "fw_config.h").write_text(config_h)
-    incs = [out_dir, model_dir, fw]
+    incs = [out_dir, model_dir, fw] + [Path(d) for d in include_dirs]
     objs = compile_objects(sorted(model_dir.glob("*.c")), target_name, out_dir / "model", incs, strict_model)
     objs += compile_objects(list(extra_sources), target_name, out_dir / "extra", incs, strict=False)
     objs += compile_objects([fw / "startup.c", fw / "fw_main.c"], target_name, out_dir / "fw", incs,
