@@ -13,6 +13,7 @@ from . import __version__
 from .elm import ElmNetwork
 from .files import write_all_atomic
 from .model import FORMAT_VERSION, FrictionModel, ModelError, check_c_identifier
+from .effects import c_context as effects_c_context
 
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
 RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
@@ -75,6 +76,7 @@ def template_context(model: FrictionModel, name: str) -> dict:
         "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
         "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
         "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
+        **effects_c_context(model),  # effects, effects_not_in_c: NAME_force_xv
     }
 
 

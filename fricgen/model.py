@@ -183,11 +183,8 @@ class FrictionModel:
         v_sat = _number(d, "v_sat", "model", positive=True)
         if d.get("symmetric", True) is not True:
             raise ModelError("symmetric must be true: format version 1 holds symmetric models only")
-        effects = d.get("effects", [])
-        if not isinstance(effects, list):
-            raise ModelError("effects must be a list")
-        if effects:
-            raise ModelError(f"effects: unknown effect {effects[0]!r}"[:200])
+        from .effects import validate_effects  # the effect library builds on this module
+        effects = validate_effects(d.get("effects", []))
         training = d.get("training", {})
         if not isinstance(training, dict):
             raise ModelError("training must be an object")
