@@ -22,6 +22,7 @@ from .friction import PRESETS, SHAPES, preset
 from .model import FrictionModel, ModelError, check_c_identifier
 from . import paper, reproduce
 from . import simulate_cmd
+from . import diagnose_report, logsynth
 
 
 class UsageError(ValueError):
@@ -269,6 +270,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="float, or integer-only fixed point for MCUs without FPU")
     p.set_defaults(run=cmd_emit)
     simulate_cmd.register(sub)
+    diagnose_report.register(sub)
+    logsynth.register(sub)
     return parser
 
 

@@ -9,7 +9,8 @@ advance together in one vectorized loop.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+import sys
+from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence
 
 import numpy as np
@@ -214,3 +215,34 @@ def synthesize_logs(specs: Sequence[LogSpec], model: Optional[FrictionModel] = N
 def synthesize_log(spec: LogSpec, model: Optional[FrictionModel] = None) -> MotionLog:
     """One log of ``synthesize_logs``."""
     return synthesize_logs([spec], model)[0]
+
+
+def cmd_synth_log(args) -> int:
+    from .data import DataError
+    from .files import write_atomic
+    from .motionlog import log_csv_text
+
+    try:
+        spec = LogSpec(effect=args.effect, magnitude=args.magnitude, seed=args.seed,
+                       duration=args.duration, noise=args.noise)
+    except ValueError as exc:
+        raise DataError(str(exc)) from None
+    write_atomic(args.output, log_csv_text(synthesize_log(spec)))
+    truth = ", ".join(f"{k} = {v:g}" for k, v in truth_parameters(spec).items()) or "-"
+    print(f"wrote {args.output}: {spec.duration:g} s at {spec.sample_rate:g} Hz, hidden effect "
+          f"{spec.effect} ({truth}); nominal mass {spec.mass:g} kg, force constant "
+          f"{spec.force_constant:g} N/A", file=sys.stderr)
+    return 0
+
+
+def register(sub) -> None:
+    """Add the ``synth-log`` subcommand (a log to try ``fricgen diagnose`` on)."""
+    p = sub.add_parser("synth-log", help="write a closed-loop motion log (t,x,v,i) of the paper's "
+                                         "friction with one hidden effect")
+    p.add_argument("--effect", choices=HIDDEN_EFFECTS, default="none")
+    p.add_argument("--magnitude", type=float, default=1.0, help="scale of the effect's reference size")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--duration", type=float, default=12.0, help="seconds (1 kHz samples)")
+    p.add_argument("--noise", type=float, default=1.0, help="sensor noise scale")
+    p.add_argument("-o", "--output", required=True)
+    p.set_defaults(run=cmd_synth_log)
