@@ -42,8 +42,8 @@ class SineSumTrajectory:
         return (((a / w) * (1.0 - c)).sum(-1), (a * s).sum(-1), ((a * w) * c).sum(-1))
 
 
-def reversing(v_low: float = 0.02, v_high: float = 0.2, period: float = 1.0,
-              cycles: int = 4) -> SineSumTrajectory:
+def reversing(v_low: float = 0.02, v_high: float = 0.2, period: float = 0.5,
+              cycles: int = 8) -> SineSumTrajectory:
     """Back-and-forth motion whose peak speed swings between ``v_low`` and ``v_high``.
 
     x_d'(t) = V(t) sin(w t) with w = 2 pi / period and the envelope

@@ -1,0 +1,115 @@
+"""The C controller c_runtime/fric_ctrl.c: strict build, parameter checks, closed-loop parity.
+
+Parity tolerances. The C controller and its float32 twin (``AdaptiveBackstepping(dtype=
+"float32")`` with ``fricgen.twin.force_f32``) perform the same IEEE float operations in the same
+order, so they agree bit for bit except where libm's expf differs from the correctly rounded
+value (at most 1 ULP per activation, see fricgen.twin): the model force then differs by ~1e-6 N,
+the current by ~1e-7 A at single samples, and the closed loop (contracting: the gains pull x
+towards x_d) keeps the position difference below phi/m * di * Ts^2 per sample, ~1e-11 m. We
+allow 1e-8 m. Against the float64 controller the difference is float32 rounding of the inputs:
+|x| <= 0.1 m is held to ~6e-9 m, which the gains turn into ~1e-5 A of current noise; the loop
+filters that to < 1e-8 m of position. We allow 1e-7 m and 1e-5 relative on rms(e1).
+"""
+import json
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen.cbuild import CFLAGS, STRICT_WARNINGS
+from fricgen.cli import main
+from fricgen.codegen import CONTROLLER_FILES, emit
+from fricgen.control import LAWS, AdaptiveBackstepping
+from fricgen.control_c import CController, build_controller, float32_twin
+from fricgen.plant import LinearAxis
+from fricgen.simulation import simulate
+
+CC = shutil.which("cc") or shutil.which("gcc")
+pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+
+@pytest.fixture(scope="module")
+def ctrl_module(default_model):
+    return build_controller({"fm": default_model})
+
+
+def test_emit_copies_the_controller_and_the_folder_builds_warning_free(default_model, tmp_path):
+    written = emit(default_model, tmp_path, "fm")
+    assert set(CONTROLLER_FILES) <= set(written)
+    sources = sorted(str(p) for p in tmp_path.glob("*.c"))
+    result = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, "-c", *sources],
+                            cwd=tmp_path, capture_output=True, text=True)
+    assert result.returncode == 0 and result.stderr == "", result.stderr
+
+
+def test_c_default_parameters_are_the_python_defaults(ctrl_module):
+    ffi, lib = ctrl_module.ffi, ctrl_module.lib
+    p = ffi.new("fric_ctrl_params_t *")
+    lib.fric_ctrl_default_params(p)
+    c_params = CController(ctrl_module, AdaptiveBackstepping()).params()
+    for field in ("k1", "k2", "delta", "ts", "phi_n", "i_max", "m_o_hat0", "k_hat0", "law",
+                  "friction_at"):
+        assert getattr(p, field) == getattr(c_params, field), field
+    assert list(p.gamma) == list(c_params.gamma)
+
+
+@pytest.mark.parametrize("field, value", [
+    ("k1", 0.0), ("k2", 0.5), ("ts", 0.0), ("ts", float("nan")), ("delta", -1.0),
+    ("phi_n", 0.0), ("i_max", float("inf")), ("law", 3), ("friction_at", 2), ("k_hat0", float("nan")),
+])
+def test_c_init_rejects_each_bad_parameter(ctrl_module, field, value):
+    ffi, lib = ctrl_module.ffi, ctrl_module.lib
+    p = ffi.new("fric_ctrl_params_t *")
+    lib.fric_ctrl_default_params(p)
+    c = ffi.new("fric_ctrl_t *")
+    assert lib.fric_ctrl_init(c, p) == 0
+    setattr(p, field, value)
+    assert lib.fric_ctrl_init(c, p) == -2
+
+
+@pytest.mark.parametrize("gamma", [(1.0, 2.0, 2.0, 1.0), (1.0, 0.1, 0.0, 1.0), (-1.0, 0.0, 0.0, 1.0)])
+def test_c_init_rejects_gamma_that_is_not_symmetric_positive_definite(ctrl_module, gamma):
+    ffi, lib = ctrl_module.ffi, ctrl_module.lib
+    p = ffi.new("fric_ctrl_params_t *")
+    lib.fric_ctrl_default_params(p)
+    p.gamma = list(gamma)
+    assert lib.fric_ctrl_init(ffi.new("fric_ctrl_t *"), p) == -2
+    assert lib.fric_ctrl_init(ffi.NULL, p) == -1
+
+
+@pytest.mark.parametrize("law, friction_input", [("a", "v"), ("b", "v"), ("c", "v"), ("c", "vd")])
+def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, default_model,
+                                                                 law, friction_input):
+    axis = LinearAxis()
+    settings = AdaptiveBackstepping(compensation=default_model, law=law,
+                                    friction_input=friction_input)
+    c_run, twin_run, py_run = simulate(
+        axis, [CController(ctrl_module, settings, "fm_force"), float32_twin(settings, default_model),
+               settings], duration=2.0, substeps=4)
+    assert c_run.finite and twin_run.finite
+    assert np.max(np.abs(c_run.x - twin_run.x)) <= 1e-8
+    assert np.max(np.abs(c_run.k_hat - twin_run.k_hat)) <= 1e-5
+    assert np.max(np.abs(c_run.x - py_run.x)) <= 1e-7
+    c_m, py_m = c_run.metrics(), py_run.metrics()
+    assert c_m["rms_e1"] == pytest.approx(py_m["rms_e1"], rel=1e-5)
+    assert c_m["k_hat"] == pytest.approx(py_m["k_hat"], rel=1e-4)
+
+
+def test_c_step_with_the_force_as_argument_equals_the_function_pointer(ctrl_module, default_model):
+    axis = LinearAxis()
+    settings = AdaptiveBackstepping(compensation=default_model, law="c")
+    ptr, arg = simulate(axis, [CController(ctrl_module, settings, "fm_force"),
+                               CController(ctrl_module, settings.clone(
+                                   compensation=lambda v: ctrl_module.lib.fm_force(float(v))))],
+                        duration=0.5, substeps=2)
+    assert np.array_equal(ptr.x, arg.x) and np.array_equal(ptr.i, arg.i)
+
+
+def test_cli_simulate_c_backend_runs_the_emitted_model_in_c(capsys):
+    assert main(["simulate", "--backend", "c", "--json", "--duration", "0.3"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["backend"] == "c"
+    assert report["variants"]["elm"]["friction_in"] == "c"
+    assert report["variants"]["exact"]["friction_in"] == "python"
+    assert all(m["finite"] for m in report["variants"].values())
