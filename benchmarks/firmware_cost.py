@@ -43,9 +43,20 @@ def train(m: int) -> FrictionModel:
     return FrictionModel.fit(bench.dataset, est, name="fm")
 
 
+def import_emlearn():
+    """emlearn, imported without its global ``numpy.seterr(all='raise')`` (emlearn/bayes.py)."""
+    saved = np.geterr()
+    try:
+        import emlearn
+        from emlearn import net  # noqa: F401
+    finally:
+        np.seterr(**saved)
+    return emlearn
+
+
 def emlearn_sources(model: FrictionModel, folder: Path) -> None:
     """emlearn's 'loadable' C for the same network, and eq. (3) around it as ``eml_fm_force``."""
-    from emlearn import net
+    net = import_emlearn().net
 
     a = model.aim
     code = net.c_generate_net_loadable(
@@ -97,9 +108,8 @@ def measure(model: FrictionModel, impl: str, target: str, tmp: Path, bases: dict
         base = bases[(ctype, target)]
     else:
         if impl == "emlearn":
-            import emlearn
             emlearn_sources(model, src)
-            extra_inc = [emlearn.includedir]
+            extra_inc = [import_emlearn().includedir]
             cfg = fw.config_float("eml_fm.h", "eml_fm_force", v, N_BENCH[target])
         else:
             codegen.emit(model, src, "fm", activation_impl=impl.split("-")[1])
