@@ -68,3 +68,17 @@ def test_instruction_count_is_deterministic_and_counts_the_model(model10, tmp_pa
     first, second = fw.count_instructions(elf, "cortex-m4f"), fw.count_instructions(elf, "cortex-m4f")
     assert first == second
     assert first.get("fric_elm_sigmoid_fast_f32", 0) > 4 * 10 * 10  # 4 calls x 10 neurons
+
+
+@pytest.mark.parametrize("dtype", ["q15", "q31"])
+def test_emulated_fixed_point_model_is_lsb_equal_to_integer_twin_on_m0plus(model10, dtype, tmp_path):
+    from fricgen import fixedpoint as fx
+    spec = fx.FixedSpec.of(model10, dtype)
+    ctype = "int16_t" if dtype == "q15" else "int32_t"
+    v_q = fx.to_fixed(velocities(model10), spec.f_v, spec.bits)
+    codegen.emit(model10, tmp_path / "model", "fm", dtype=dtype)
+    cfg = fw.config_int("fm.h", f"fm_force_{dtype}", ctype, v_q, n_bench=1)
+    elf = fw.build_firmware(tmp_path / "model", cfg, "cortex-m0plus", tmp_path / "build")
+    assert {"expf", "__aeabi_fadd", "__aeabi_fmul"}.isdisjoint(fw.symbols(elf))  # integers only
+    out = fw.parse_int_bits(fw.run(elf, "cortex-m0plus"))
+    assert np.array_equal(out, fx.force_q(spec, v_q))
