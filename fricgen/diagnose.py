@@ -288,7 +288,7 @@ class Diagnoser:
     ``candidates`` effect names to consider (default: all), ``substeps`` per sample.
     """
 
-    def __init__(self, window: float = 0.021, holdout: float = 0.3, horizon: float = 0.05,
+    def __init__(self, window: float = 0.021, holdout: float = 0.3, horizon: float = 0.02,
                  folds: int = 5, penalty: float = 10.0, candidates: Optional[Sequence[str]] = None,
                  substeps: int = 10):
         self.window, self.holdout, self.horizon = window, holdout, horizon

@@ -434,23 +434,27 @@ class FrictionalLag(Effect):
 
 @dataclass(frozen=True)
 class ThermalDrift(Effect):
-    """The friction level drifts with time: rate (t - t0) F(v)."""
+    """The friction level drifts with time: (offset + rate (t - t0)) F(v).
+
+    ``offset`` is the relative level change at t0 (the start of the log); it keeps a constant
+    level error of the model out of the estimate of ``rate``."""
 
     rate: float
+    offset: float
     t0: float
     name: ClassVar[str] = "thermal_drift"
     fixed: ClassVar[Tuple[str, ...]] = ("t0",)
 
     def force(self, sig):
-        return self.rate * (np.asarray(sig.t) - self.t0) * sig.friction
+        return (self.offset + self.rate * (np.asarray(sig.t) - self.t0)) * sig.friction
 
     @classmethod
     def fit(cls, problem, rows):
         sig = problem.signals
         t0 = float(sig.t[0])
-        (rate,), _ = _lstsq(problem.at_rows(((sig.t - t0) * sig.friction)[:, None], rows),
-                            problem.target[rows])
-        return cls(rate=float(rate), t0=t0)
+        basis = np.column_stack([(sig.t - t0) * sig.friction, sig.friction])
+        (rate, offset), _ = _lstsq(problem.at_rows(basis, rows), problem.target[rows])
+        return cls(rate=float(rate), offset=float(offset), t0=t0)
 
 
 #: The effect library, by the exact names of the diagnosis vocabulary.

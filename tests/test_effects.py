@@ -24,7 +24,7 @@ XV_EFFECTS = [PositionRipple(amplitude=2.5, period=0.0123, phase=1.1),
               ExtraFrictionSource(fc=1.0, fs=3.0, vs=0.01, B=0.0, shape="exponential"),
               ExtraFrictionSource(fc=0.5, fs=1.5, vs=0.02, B=-1.0, shape="rational")]
 OTHER_EFFECTS = [InertiaMismatch(mass=5.2, nominal_mass=4.0), FrictionalLag(tau=0.02),
-                 ThermalDrift(rate=0.02, t0=0.0)]
+                 ThermalDrift(rate=0.02, offset=0.01, t0=0.0)]
 
 
 @pytest.fixture(scope="module")
@@ -86,7 +86,7 @@ def test_effect_forces_follow_their_definitions(default_model):
     np.testing.assert_allclose(XV_EFFECTS[0].force(sig), 2.5 * np.sin(2 * np.pi * x / 0.0123 + 1.1))
     np.testing.assert_allclose(XV_EFFECTS[1].force(sig), np.where(v > 0, -0.05, 0.2) * F)
     np.testing.assert_allclose(OTHER_EFFECTS[0].force(sig), 1.2 * 2.0)
-    np.testing.assert_allclose(OTHER_EFFECTS[2].force(sig), 0.02 * 10.0 * F)
+    np.testing.assert_allclose(OTHER_EFFECTS[2].force(sig), (0.01 + 0.02 * 10.0) * F)
     total = force_xv(with_effects(default_model, XV_EFFECTS[:3]), v, x)
     np.testing.assert_allclose(total, F + sum(e.force(sig) for e in XV_EFFECTS[:3]))
 

@@ -1,0 +1,130 @@
+"""fricgen diagnose on logs with exactly one hidden effect (or none): the right name, the
+parameters within stated tolerances, and the held-out gap at least halved.
+
+One vectorized simulation makes every log (9 cases x 4 settings of seed, magnitude, noise).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from fricgen.diagnose import Diagnoser, diagnose
+from fricgen.effects import EFFECTS, ExtraFrictionSource, Signals
+from fricgen.logsynth import HIDDEN_EFFECTS, LogSpec, nominal_model, synthesize_logs, truth_parameters
+
+#: (seed, magnitude, noise scale): the reference size twice, a large effect under twice the
+#: sensor noise, a half-size effect under half the noise.
+SETTINGS = [(0, 1.0, 1.0), (1, 1.0, 1.0), (2, 2.0, 2.0), (3, 0.5, 0.5)]
+CASES = [(e, s, m, n) for (s, m, n) in SETTINGS for e in HIDDEN_EFFECTS]
+DURATION = 10.0
+
+
+@pytest.fixture(scope="module")
+def model():
+    return nominal_model()
+
+
+@pytest.fixture(scope="module")
+def results(model):
+    specs = [LogSpec(effect=e, seed=s, magnitude=m, noise=n, duration=DURATION) for e, s, m, n in CASES]
+    logs = synthesize_logs(specs, model)
+    return {case: (spec, log, diagnose(log, model, spec.mass, spec.force_constant))
+            for case, spec, log in zip(CASES, specs, logs)}
+
+
+def _ids():
+    return [f"{e}-seed{s}-mag{m:g}-noise{n:g}" for e, s, m, n in CASES]
+
+
+@pytest.mark.parametrize("case", CASES, ids=_ids())
+def test_the_hidden_effect_is_named(results, case):
+    spec, log, d = results[case]
+    assert d.effect_ == spec.effect, [(c.effect, round(c.score, 1)) for c in d.candidates_[:3]]
+    assert 0.5 < d.confidence_ <= 1.0
+    assert d.summary()["candidates"][0]["effect"] == spec.effect
+
+
+def _relative_error(fit, truth, scale):
+    return abs(fit - truth) / scale
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if c[0] != "none"], ids=[i for i, c in zip(_ids(), CASES) if c[0] != "none"])
+def test_parameters_are_recovered_within_tolerance(results, case, model):
+    spec, log, d = results[case]
+    fit, truth = d.parameters(), truth_parameters(spec)
+    e = spec.effect
+    if e == "position_ripple":
+        assert _relative_error(fit["amplitude"], truth["amplitude"], truth["amplitude"]) < 0.10
+        assert _relative_error(fit["period"], truth["period"], truth["period"]) < 0.01
+        assert abs((fit["phase"] - truth["phase"] + math.pi) % (2 * math.pi) - math.pi) < 0.15
+    elif e == "direction_asymmetry":
+        assert abs(fit["gain_negative"] - truth["gain_negative"]) < 0.1 * truth["gain_negative"] + 0.01
+        assert abs(fit["gain_positive"]) < 0.01
+    elif e == "constant_load":
+        assert _relative_error(fit["load"], truth["load"], truth["load"]) < 0.05
+    elif e == "inertia_mismatch":        # within 15 % of the mass error
+        assert _relative_error(fit["mass"], truth["mass"], truth["mass"] - spec.mass) < 0.15
+    elif e == "force_constant_mismatch":  # within 10 % of the force-constant error
+        assert _relative_error(fit["force_constant"], truth["force_constant"],
+                               truth["force_constant"] - spec.force_constant) < 0.10
+    elif e == "extra_friction_source":   # the source's force curve within 10 %, vs within 25 %
+        v = np.linspace(0.005, 0.2, 200)
+        sig = Signals(model, v=v)
+        got = ExtraFrictionSource(**fit).force(sig)
+        want = ExtraFrictionSource(**truth).force(sig)
+        assert np.sqrt(np.mean((got - want) ** 2)) < 0.1 * np.sqrt(np.mean(want ** 2))
+        assert _relative_error(fit["vs"], truth["vs"], truth["vs"]) < 0.25
+    elif e == "frictional_lag":
+        assert _relative_error(fit["tau"], truth["tau"], truth["tau"]) < 0.15
+    elif e == "thermal_drift":
+        assert _relative_error(fit["rate"], truth["rate"], truth["rate"]) < 0.10
+    else:
+        pytest.fail(f"no tolerance stated for {e}")
+
+
+@pytest.mark.parametrize("case", CASES, ids=_ids())
+def test_the_held_out_gap_is_at_least_halved(results, case):
+    spec, log, d = results[case]
+    if spec.effect == "none":           # nothing added, no change claimed
+        assert d.gap_after_ == d.gap_before_ and d.fitted_ is None and d.parameters() == {}
+        assert d.model_.effects == ()
+    else:
+        assert d.gap_after_ <= 0.5 * d.gap_before_, (d.gap_before_, d.gap_after_)
+        assert d.force_gap_after_ < d.force_gap_before_
+        assert [x["effect"] for x in d.model_.effects] == [spec.effect]
+
+
+def test_where_points_at_the_effect(results):
+    """The localization names the axis each effect lives on (reference magnitude, seed 0)."""
+    expect = {"position_ripple": "position, periodic", "thermal_drift": "time, friction level",
+              "direction_asymmetry": "direction of motion", "extra_friction_source": "speed"}
+    for effect, axis in expect.items():
+        spec, log, d = results[(effect, 0, 1.0, 1.0)]
+        assert d.where_.startswith(axis), d.where_
+    assert d.localization_[0]["share"] > 0.5
+    spec, log, d = results[("none", 0, 1.0, 1.0)]
+    assert d.where_.startswith("nowhere"), d.where_
+
+
+def test_a_second_diagnosis_of_the_augmented_model_finds_nothing_more(results, model):
+    spec, log, d = results[("position_ripple", 0, 1.0, 1.0)]
+    again = diagnose(log, d.model_, spec.mass, spec.force_constant)
+    assert again.effect_ == "none"
+    assert again.gap_before_ == pytest.approx(d.gap_after_, rel=1e-9)
+
+
+def test_summary_has_the_documented_keys(results):
+    spec, log, d = results[("constant_load", 0, 1.0, 1.0)]
+    s = d.summary()
+    assert list(s) == ["effect", "confidence", "parameters", "where", "gap_before", "gap_after",
+                       "gap_metric", "candidates"]
+    assert {c["effect"] for c in s["candidates"]} == set(HIDDEN_EFFECTS)
+    assert set(EFFECTS) | {"none"} == set(HIDDEN_EFFECTS)
+
+
+def test_invalid_settings_are_refused(results):
+    spec, log, d = results[("none", 0, 1.0, 1.0)]
+    with pytest.raises(ValueError, match="holdout"):
+        Diagnoser(holdout=0.9).fit(log, d.problem_.signals.model, 4.0, 20.0)
+    with pytest.raises(ValueError, match="candidates"):
+        Diagnoser(candidates=["gremlins"]).fit(log, d.problem_.signals.model, 4.0, 20.0)
