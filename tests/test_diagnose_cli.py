@@ -1,0 +1,108 @@
+"""fricgen diagnose / synth-log on the command line: outputs, --json, and unusable input
+refused with one line, exit code 2 and nothing written."""
+import json
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.logsynth import LogSpec, nominal_model, synthesize_log
+from fricgen.motionlog import log_csv_text, read_log_csv
+
+ARGS = ["--mass", "4", "--force-constant", "20"]
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("diag")
+    model = nominal_model()
+    model.save(folder / "model.json")
+    log = synthesize_log(LogSpec(effect="constant_load", duration=6.0), model)
+    (folder / "log.csv").write_text(log_csv_text(log))
+    return folder, log
+
+
+def test_diagnose_writes_model_report_plots_and_prints_json(files, capsys):
+    folder, _ = files
+    out = folder / "out"
+    assert main(["diagnose", str(folder / "log.csv"), "--model", str(folder / "model.json"), *ARGS,
+                 "--out", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["effect"] == "constant_load"
+    assert summary["parameters"]["load"] == pytest.approx(5.0, rel=0.05)
+    assert summary["gap_after"] <= 0.5 * summary["gap_before"]
+    model = json.loads((out / "model.json").read_text())
+    assert model["effects"][0]["effect"] == "constant_load"
+    report = (out / "report.md").read_text()
+    assert "constant_load" in report and "Gap on the held-out part" in report
+    pytest.importorskip("matplotlib")
+    for png in ("residuals.png", "velocity.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_augmented_model_emits_force_xv(files, tmp_path):
+    folder, _ = files
+    out = tmp_path / "d"
+    assert main(["diagnose", str(folder / "log.csv"), "--model", str(folder / "model.json"), *ARGS,
+                 "--out", str(out)]) == 0
+    assert main(["emit", str(out / "model.json"), "-o", str(tmp_path / "c"), "--name", "ax"]) == 0
+    assert "float ax_force_xv(float v, float x);" in (tmp_path / "c" / "ax.h").read_text()
+
+
+def test_synth_log_writes_a_readable_log(tmp_path):
+    path = tmp_path / "log.csv"
+    assert main(["synth-log", "--effect", "position_ripple", "--duration", "1.5", "-o", str(path)]) == 0
+    log = read_log_csv(path)
+    assert len(log) == 1501 and "x_d" in log.extra
+
+
+def _log_text(log, mutate):
+    cols = {"t": log.t.copy(), "x": log.x.copy(), "v": log.v.copy(), "i": log.i.copy()}
+    mutate(cols)
+    names = list(cols)
+    rows = zip(*(cols[k].tolist() for k in names))
+    return ",".join(names) + "\n" + "".join(",".join(repr(c) for c in r) + "\n" for r in rows)
+
+
+def _bad_inputs():
+    def drop_i(c): del c["i"]
+    def nan_v(c): c["v"][100] = float("nan")
+    def jitter_t(c): c["t"][500:] += 0.0004
+    def short(c):
+        for k in c: c[k] = c[k][:400]
+    def still(c):
+        c["v"][:] = 0.0
+    yield "missing column", drop_i, ARGS, "missing column"
+    yield "NaN", nan_v, ARGS, "NaN"
+    yield "non-uniform", jitter_t, ARGS, "not uniformly sampled"
+    yield "too short", short, ARGS, "need at least"
+    yield "no motion", still, ARGS, "too few moving samples"
+    yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass must be a positive number"
+    yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant must be"
+    yield "text mass", None, ["--mass", "heavy", "--force-constant", "20"], "--mass must be"
+    yield "nan phi", None, ["--mass", "4", "--force-constant", "nan"], "--force-constant must be"
+
+
+@pytest.mark.parametrize("label, mutate, args, message", list(_bad_inputs()), ids=[b[0] for b in _bad_inputs()])
+def test_unusable_input_exits_2_with_one_line_and_writes_nothing(files, tmp_path, capsys, label, mutate,
+                                                                  args, message):
+    folder, log = files
+    path = tmp_path / "bad.csv"
+    path.write_text(_log_text(log, mutate or (lambda c: None)))
+    out = tmp_path / "out"
+    code = main(["diagnose", str(path), "--model", str(folder / "model.json"), *args, "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.startswith("fricgen: error: ") and err.count("\n") == 1 and message in err, err
+    assert not out.exists()
+
+
+def test_a_broken_model_is_refused_before_anything_is_written(files, tmp_path, capsys):
+    folder, _ = files
+    bad = tmp_path / "model.json"
+    d = json.loads((folder / "model.json").read_text())
+    d["effects"] = [{"effect": "gremlins", "parameters": {}}]
+    bad.write_text(json.dumps(d))
+    code = main(["diagnose", str(folder / "log.csv"), "--model", str(bad), *ARGS, "--out", str(tmp_path / "o")])
+    assert code == 2 and "unknown effect" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
