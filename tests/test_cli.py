@@ -49,8 +49,9 @@ def test_eval_prints_one_force_per_line(model_json, monkeypatch, capsys):
 
 def test_emit_writes_a_self_contained_folder(model_json, tmp_path):
     assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0
+    from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES
     names = sorted(p.name for p in (tmp_path / "out").iterdir())
-    assert names == ["fm.c", "fm.h", "fric_kernel.c", "fric_kernel.h"]
+    assert names == sorted(["fm.c", "fm.h", *RUNTIME_FILES, *CONTROLLER_FILES])
 
 
 def test_console_script_runs(model_json, tmp_path):

@@ -44,7 +44,7 @@ def test_float_overflow_is_refused():
 
 def test_generated_files_follow_the_firmware_rules(default_model):
     files = codegen.render(default_model, "fm")
-    assert set(files) == {"fm.h", "fm.c", "fric_kernel.h", "fric_kernel.c"}
+    assert set(files) == {"fm.h", "fm.c", *codegen.RUNTIME_FILES, *codegen.CONTROLLER_FILES}
     c, h = files["fm.c"], files["fm.h"]
     n = default_model.aim.n_hidden
     assert f"#define FM_N_HIDDEN {n}" in h and "#ifndef FM_H" in h
