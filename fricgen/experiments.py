@@ -8,6 +8,9 @@ in parallel (``concurrent.futures``) and aggregates means (and medians of E_Ttes
 """
 from __future__ import annotations
 
+import contextlib
+import multiprocessing
+import os
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Callable, Dict, List, Optional
@@ -243,9 +246,26 @@ def summary(result: dict) -> dict:
             "best_paper_elm_over_auto": _ratio(med[best_elm], med["elm_auto"])}
 
 
+@contextlib.contextmanager
+def _single_threaded_blas():
+    """Workers spawned inside inherit one BLAS thread each: the matrices are small (202 x M),
+    and BLAS threads of parallel workers on a shared machine slow each SVD down 2-20x."""
+    keys = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+    saved = {k: os.environ.get(k) for k in keys}
+    os.environ.update({k: "1" for k in keys})
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
 def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
               progress: Callable[[str], None] = lambda msg: None, shape: str = "gauss") -> dict:
-    """Run every experiment over ``seeds`` seeds with ``jobs`` processes; the results dict."""
+    """Run every experiment over ``seeds`` seeds in ``jobs`` worker processes; the results dict."""
     if int(seeds) != seeds or seeds < 1:
         raise ValueError(f"seeds must be a positive integer, got {seeds}")
     if int(jobs) != jobs or jobs < 1:
@@ -253,16 +273,12 @@ def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
     plan = Plan(quick)
     start = time.perf_counter()
     outs = []
-    if jobs == 1:
-        for s in range(seeds):
-            outs.append(run_seed(s, quick, shape))
-            progress(f"seed {s + 1}/{seeds} done ({time.perf_counter() - start:.1f} s)")
-    else:
-        with ProcessPoolExecutor(max_workers=int(jobs)) as pool:
-            futures = [pool.submit(run_seed, s, quick, shape) for s in range(seeds)]
-            for n, fut in enumerate(as_completed(futures), start=1):
-                outs.append(fut.result())
-                progress(f"{n}/{seeds} seeds done ({time.perf_counter() - start:.1f} s)")
+    with _single_threaded_blas(), ProcessPoolExecutor(
+            max_workers=int(jobs), mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = [pool.submit(run_seed, s, quick, shape) for s in range(seeds)]
+        for n, fut in enumerate(as_completed(futures), start=1):
+            outs.append(fut.result())
+            progress(f"{n}/{seeds} seeds done ({time.perf_counter() - start:.1f} s)")
     result = {"benchmark": {"preset": "paper3", "shape": shape, "seeds": int(seeds), "quick": bool(quick),
                             "n_train": 200, "n_test": 200, "n_theory": 500, "noise": 0.5,
                             "anfis_epochs": plan.anfis_epochs, "pso_iterations": plan.pso_iterations,
