@@ -115,21 +115,26 @@ def simulate(axis: LinearAxis, controllers: Sequence, trajectory=None,
 # ----------------------------------------------------------------------------- variants
 
 
-def default_model(name: str = "fric_model") -> FrictionModel:
+def paper_benchmark():
+    """The paper benchmark the built-in variants are trained on (Table 1, seed 0)."""
+    return synthesize_benchmark(preset("paper3"), seed=0)
+
+
+def default_model(name: str = "fric_model", bench=None) -> FrictionModel:
     """fricgen's default model trained on the paper benchmark (Table 1, seed 0)."""
-    bench = synthesize_benchmark(preset("paper3"), seed=0)
+    bench = paper_benchmark() if bench is None else bench
     return FrictionModel.fit(bench.dataset, default_elm(0), name=name,
                              training={"source": "paper3 benchmark, seed 0"})
 
 
-def fuzzy_model(name: str = "fuzzy_model") -> Optional[FrictionModel]:
+def fuzzy_model(name: str = "fuzzy_model", bench=None) -> Optional[FrictionModel]:
     """The paper's fuzzy baseline (ANFIS, 4 bell MFs) on the paper benchmark, or None when
     ``fricgen.fuzzy`` is not available."""
     try:
         from .fuzzy import AnfisRegressor
     except ImportError:
         return None
-    bench = synthesize_benchmark(preset("paper3"), seed=0)
+    bench = paper_benchmark() if bench is None else bench
     return FrictionModel.fit(bench.dataset, AnfisRegressor(n_mfs=4, mf="bell"), name=name)
 
 
@@ -139,9 +144,10 @@ def compensations(axis: LinearAxis, model: Optional[FrictionModel] = None,
     ``model`` as "elm" (default model) or under its own name, plus "fuzzy" when available."""
     variants: Dict[str, Optional[object]] = {"none": None, "exact": axis.friction}
     if model is None:
-        variants["elm"] = default_model()
+        bench = paper_benchmark()
+        variants["elm"] = default_model(bench=bench)
         if with_fuzzy:
-            fuzzy = fuzzy_model()
+            fuzzy = fuzzy_model(bench=bench)
             if fuzzy is not None:
                 variants["fuzzy"] = fuzzy
     else:
