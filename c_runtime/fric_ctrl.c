@@ -42,9 +42,8 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
         || !(p->phi_n > 0.0f) || !(p->i_max > 0.0f)) {
         return 0;
     }
-    /* Gamma symmetric positive definite: g00 > 0 and det > 0 (computed in double) */
-    if (g[1] != g[2] || !(g[0] > 0.0f)
-        || !((double)g[0] * (double)g[3] - (double)g[1] * (double)g[2] > 0.0)) {
+    /* Gamma symmetric positive definite: g00 > 0 and det = g00 g11 - g01^2 > 0 */
+    if (g[1] != g[2] || !(g[0] > 0.0f) || !(g[0] * g[3] > g[1] * g[2])) {
         return 0;
     }
     if (p->law != FRIC_CTRL_LAW_A && p->law != FRIC_CTRL_LAW_B && p->law != FRIC_CTRL_LAW_C) {
