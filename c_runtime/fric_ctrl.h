@@ -17,7 +17,9 @@
  *   every ts:  i = fric_ctrl_step_fn(&c, x, v, xd, xd_dot, xd_ddot, NAME_force);
  * or, with the force computed elsewhere:
  *              i = fric_ctrl_step(&c, x, v, xd, xd_dot, xd_ddot, NAME_force(v));
- * Units: m, m/s, m/s^2, s, N, A. The returned current is to be held until the next sample. */
+ * Units: m, m/s, m/s^2, s, N, A. The returned current is to be held until the next sample.
+ * Finite inputs give a current within [-i_max, i_max]; a NaN input makes the current and the
+ * adaptive parameters NaN (check the inputs, or call fric_ctrl_init again to recover). */
 #ifndef FRIC_CTRL_H
 #define FRIC_CTRL_H
 
