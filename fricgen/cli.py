@@ -184,6 +184,7 @@ def cmd_demo(args) -> int:
     _say(f"paper benchmark (Table 1, 3 sources), {args.seeds} seeds")
     makers = {label: (lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg))
               for label, cfg in paper.HEADLINE_ELMS.items()}
+    makers["elm_loo (M=40, C by LOO)"] = lambda s: ELMRegressor(random_state=s, **DEFAULT_ELM)
     makers["fricgen default (auto)"] = default_elm
     print(f"{'model':28s} {'E_train':>8s} {'E_test':>8s} {'E_Ttest':>8s} {'E_Ttest N':>10s} "
           f"{'median N':>9s} {'||beta||':>10s} {'log10cond':>9s}   paper [E_train, E_test, E_Ttest]")
