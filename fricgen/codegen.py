@@ -76,6 +76,7 @@ def template_context(model: FrictionModel, name: str) -> dict:
         "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
         "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
         "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
+        "tables_note": "",  # a comment above the tables when they are not plain w and b
         **effects_c_context(model),  # effects, effects_not_in_c: NAME_force_xv
     }
 
@@ -95,15 +96,21 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     if dtype not in DTYPES:
         raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
     if dtype != "float":
+        if model.effects:
+            raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
+                             f"{len(model.effects)} (emit it with --dtype float)")
         from .fixedpoint import render_fixed
         return render_fixed(model, name, dtype)
     env = _environment()
     ctx = template_context(model, name)
     runtime_files = RUNTIME_FILES
     if activation_impl == "fast":
-        from .fast_sigmoid import check_fast_model
+        from .fast_sigmoid import check_fast_model, fast_tables
         check_fast_model(model)
-        ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h")
+        w, b, _ = fast_tables(model.aim)  # t = w' x + b' = -log2(e) (w x + b), see fric_fast.h
+        ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h",
+                   input_weights=c_array(w), biases=c_array(b),
+                   tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
         runtime_files = ("fric_fast.h", "fric_fast.c")
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}

@@ -47,6 +47,9 @@ def test_the_augmented_model_emits_force_xv(files, tmp_path):
                  "--out", str(out)]) == 0
     assert main(["emit", str(out / "model.json"), "-o", str(tmp_path / "c"), "--name", "ax"]) == 0
     assert "float ax_force_xv(float v, float x);" in (tmp_path / "c" / "ax.h").read_text()
+    # fixed point does not carry effects: refused with one line, nothing written
+    assert main(["emit", str(out / "model.json"), "-o", str(tmp_path / "q"), "--dtype", "q31"]) == 2
+    assert not (tmp_path / "q").exists()
 
 
 def test_synth_log_writes_a_readable_log(tmp_path):
