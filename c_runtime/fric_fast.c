@@ -3,9 +3,11 @@
  * sigma(z) = 1 / (1 + e), e = exp(-z) = 2^t with t = -z log2(e). t is split without any
  * float-to-int conversion: adding FRIC_FAST_ROUND (1.5 * 2^23) rounds t to the nearest integer
  * n, which then sits in the low mantissa bits of the sum; f = t - n lies in [-1/2, 1/2] and is
- * exact. 2^f comes from a degree-5 polynomial (Horner), and the factor 2^n is added to its
+ * exact. 2^f comes from a degree-4 polynomial (Horner), and the factor 2^n is added to its
  * float exponent field: (bits of the sum) << 23 equals n << 23 modulo 2^32. Valid, and exact as
- * described, for |t| <= 125 (|z| <= 86): the kernel clamps x so that every z stays inside. */
+ * described, for |t| <= 125. fric_sigmoid_fast_f32 clamps |z| <= 86 (|t| <= 125); the kernel
+ * takes tables pre-multiplied by -log2(e), so t = w x + b directly, and clamps x so that every
+ * |t| stays inside (`fricgen emit` checks the tables). */
 #include "fric_fast.h"
 
 #include <stdint.h>
@@ -20,32 +22,32 @@
 #define FRIC_FAST_ROUND 12582912.0f      /* 1.5 * 2^23: t + this rounds t to an integer */
 #define FRIC_FAST_Z_MAX 86.0f            /* |z| <= 86 keeps |t| <= 125: e stays a normal float */
 
-/* 2^f on [-1/2, 1/2]: relative minimax (7.5e-8), coefficients rounded to float. */
-#define FRIC_FAST_P0 1.00000012f
-#define FRIC_FAST_P1 0.693146944f
-#define FRIC_FAST_P2 0.240221202f
-#define FRIC_FAST_P3 0.0555071309f
-#define FRIC_FAST_P4 0.00967554096f
-#define FRIC_FAST_P5 0.00132764725f
+/* 2^f on [-1/2, 1/2]: relative minimax of degree 4 with P(0) = 1 (2.8e-6), coefficients rounded
+ * to float (fricgen.fast_sigmoid.minimax_exp2 rederives them). P0 = 1 keeps 2^n exact at integer
+ * t and sigma(0) = 1/2. */
+#define FRIC_FAST_P0 1.0f
+#define FRIC_FAST_P1 0.693124175f
+#define FRIC_FAST_P2 0.240240991f
+#define FRIC_FAST_P3 0.0559064262f
+#define FRIC_FAST_P4 0.00958285294f
 
 typedef union {
     float f;
     uint32_t u;
 } fric_fast_bits;
 
-/* Requires |z| <= FRIC_FAST_Z_MAX (callers guarantee it). */
-FRIC_FAST_INLINE float fric_sigmoid_fast_core(float z)
+/* 1 + 2^t. Requires |t| <= 125 (callers guarantee it). */
+FRIC_FAST_INLINE float fric_fast_one_plus_exp2(float t)
 {
-    const float t = z * FRIC_FAST_NEG_LOG2E;
     fric_fast_bits rounded;
     fric_fast_bits e;
     float f;
     rounded.f = t + FRIC_FAST_ROUND;
     f = t - (rounded.f - FRIC_FAST_ROUND);
     e.f = FRIC_FAST_P0 + f * (FRIC_FAST_P1 + f * (FRIC_FAST_P2 + f * (FRIC_FAST_P3
-          + f * (FRIC_FAST_P4 + f * FRIC_FAST_P5))));
+          + f * FRIC_FAST_P4)));
     e.u += rounded.u << 23;
-    return 1.0f / (1.0f + e.f);
+    return 1.0f + e.f;
 }
 
 float fric_sigmoid_fast_f32(float z)
@@ -58,7 +60,7 @@ float fric_sigmoid_fast_f32(float z)
     } else if (z > FRIC_FAST_Z_MAX) {
         z = FRIC_FAST_Z_MAX;
     }
-    return fric_sigmoid_fast_core(z);
+    return 1.0f / fric_fast_one_plus_exp2(z * FRIC_FAST_NEG_LOG2E);
 }
 
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x)
@@ -71,7 +73,7 @@ float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *bet
         x = FRIC_FAST_X_MAX;
     }
     for (k = 0; k < n; ++k) {
-        acc += beta[k] * fric_sigmoid_fast_core(w[k] * x + b[k]);
+        acc += beta[k] / fric_fast_one_plus_exp2(w[k] * x + b[k]); /* w, b times -log2(e) */
     }
     return acc;
 }

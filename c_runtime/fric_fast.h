@@ -11,18 +11,22 @@ extern "C" {
 #endif
 
 /* The kernel clamps its input x to [0, FRIC_FAST_X_MAX] (NaN -> 0): the network's domain is
- * [0, 1] (eq. 3 saturates it) and `fricgen emit` checks that every |w_k| X_MAX + |b_k| <= 86. */
+ * [0, 1] (eq. 3 saturates it) and `fricgen emit` checks that every |w[k] x + b[k]| <= 125 there
+ * (the pre-multiplied tables below). */
 #define FRIC_FAST_X_MAX 1.0009765625f
 
 /* The fast sigmoid of eq. (8): 1 / (1 + 2^t), t = -z log2(e), 2^t from exponent arithmetic and
- * a degree-5 polynomial; no libm call. For every float z:
- * |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 2.0e-7 (the bound derived in
+ * a degree-4 polynomial; no libm call. For every float z:
+ * |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 8.7e-7 (the bound derived in
  * fricgen.fast_sigmoid, enforced by tests/test_fast_sigmoid.py). z is clamped to [-86, 86]
  * (so -inf -> 4.5e-38, +inf -> 1); NaN returns NaN. */
 float fric_sigmoid_fast_f32(float z);
 
-/* sum_k beta[k] * sigma_fast(w[k] * x + b[k]), k = 0, 1, ..., x clamped as above; each float
- * operation rounded in this order; fricgen.fast_sigmoid mirrors it exactly. */
+/* sum_k beta[k] / (1 + 2^t_k), t_k = w[k] * x + b[k], k = 0, 1, ..., x clamped as above. The
+ * tables are pre-multiplied: w[k] = -log2(e) w_k, b[k] = -log2(e) b_k for the network's w_k, b_k
+ * (emit rounds each product once to float), so t_k = -log2(e) z_k and each term is within
+ * 8.5e-7 |beta[k]| of beta[k] / (1 + 2^t_k) for the float t_k formed. Each float operation is
+ * rounded in this order; fricgen.fast_sigmoid mirrors it exactly. */
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 
 #ifdef __cplusplus
