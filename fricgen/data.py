@@ -5,7 +5,7 @@ import csv
 import io
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional, Tuple, Union
+from typing import Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -53,37 +53,60 @@ class Sweep:
         return Sweep(np.concatenate([self.v, other.v]), np.concatenate([self.f, other.f]))
 
 
-def read_sweep_csv(path: Union[str, Path]) -> Sweep:
-    """Read a CSV with a header naming columns ``v`` and ``f`` (SI units; other columns ignored)."""
-    text = Path(path).read_text()
-    rows = list(csv.reader(io.StringIO(text)))
+def read_table_csv(path: Union[str, Path], required: Sequence[str],
+                   keep_extra: bool = False) -> Dict[str, np.ndarray]:
+    """Read a numeric CSV whose header names (at least) the ``required`` columns.
+
+    Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
+    others. Blank lines are skipped; a missing column or a non-numeric cell raises ``DataError``
+    naming the file and line. Finiteness and lengths are for the caller to judge.
+    """
+    rows = list(csv.reader(io.StringIO(Path(path).read_text())))
     if not rows:
         raise DataError(f"{path}: empty file")
     header = [h.strip().lower() for h in rows[0]]
-    for col in ("v", "f"):
-        if col not in header:
-            raise DataError(f"{path}: missing column {col!r} (header is {','.join(header)})")
-    iv, jf = header.index("v"), header.index("f")
-    v, f = [], []
+    missing = [c for c in required if c not in header]
+    if missing:
+        raise DataError(f"{path}: missing column {', '.join(repr(c) for c in missing)} "
+                        f"(header is {','.join(header)[:80]})")
+    wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
+    data = []
     for n, row in enumerate(rows[1:], start=2):
         if not any(c.strip() for c in row):
             continue
         try:
-            v.append(float(row[iv]))
-            f.append(float(row[jf]))
+            data.append([float(row[k]) for k in wanted])
         except (ValueError, IndexError):
-            raise DataError(f"{path}: line {n}: non-numeric or missing cell in {row!r}") from None
-        if not (np.isfinite(v[-1]) and np.isfinite(f[-1])):
-            raise DataError(f"{path}: line {n}: NaN or infinite value")
-    if len(v) < MIN_ROWS:
-        raise DataError(f"{path}: {len(v)} data rows, need at least {MIN_ROWS}")
-    return Sweep(np.array(v), np.array(f))
+            raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
+                            f"{','.join(row)[:80]!r}") from None
+    table = np.array(data, dtype=float).reshape(len(data), len(wanted))
+    return {header[k]: table[:, j] for j, k in enumerate(wanted)}
+
+
+def table_csv_text(columns: Dict[str, np.ndarray]) -> str:
+    """CSV text of named columns (in the given order), floats written to round-trip."""
+    names = list(columns)
+    lines = [",".join(names)]
+    lines += [",".join(repr(float(c)) for c in row)
+              for row in zip(*(np.asarray(columns[k]).tolist() for k in names))]
+    return "\n".join(lines) + "\n"
+
+
+def read_sweep_csv(path: Union[str, Path]) -> Sweep:
+    """Read a CSV with a header naming columns ``v`` and ``f`` (SI units; other columns ignored)."""
+    cols = read_table_csv(path, ("v", "f"))
+    v, f = cols["v"], cols["f"]
+    bad = ~(np.isfinite(v) & np.isfinite(f))
+    if bad.any():
+        raise DataError(f"{path}: data row {int(np.flatnonzero(bad)[0]) + 1}: NaN or infinite value")
+    if v.size < MIN_ROWS:
+        raise DataError(f"{path}: {v.size} data rows, need at least {MIN_ROWS}")
+    return Sweep(v, f)
 
 
 def sweep_csv_text(sweep: Sweep) -> str:
     """The CSV text of a sweep, columns v,f, floats written to round-trip."""
-    lines = ["v,f"] + [f"{a!r},{b!r}" for a, b in zip(sweep.v.tolist(), sweep.f.tolist())]
-    return "\n".join(lines) + "\n"
+    return table_csv_text({"v": sweep.v, "f": sweep.f})
 
 
 def identify_viscous(high: Sweep) -> Tuple[float, float]:

@@ -6,15 +6,13 @@ line that names the problem.
 """
 from __future__ import annotations
 
-import csv
-import io
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Union
 
 import numpy as np
 
-from .data import DataError
+from .data import DataError, read_table_csv, table_csv_text
 
 #: The columns every log must have.
 COLUMNS = ("t", "x", "v", "i")
@@ -67,29 +65,7 @@ class MotionLog:
 
 def read_log_csv(path: Union[str, Path]) -> MotionLog:
     """Read a log CSV whose header names at least t, x, v, i (other columns are kept as extra)."""
-    text = Path(path).read_text()
-    rows = list(csv.reader(io.StringIO(text)))
-    if not rows:
-        raise DataError(f"{path}: empty file")
-    header = [h.strip().lower() for h in rows[0]]
-    missing = [c for c in COLUMNS if c not in header]
-    if missing:
-        raise DataError(f"{path}: missing column(s) {', '.join(missing)} "
-                        f"(header is {','.join(header)[:80]})")
-    data = []
-    for n, row in enumerate(rows[1:], start=2):
-        if not any(c.strip() for c in row):
-            continue
-        if len(row) != len(header):
-            raise DataError(f"{path}: line {n}: {len(row)} cells, header has {len(header)}")
-        try:
-            data.append([float(c) for c in row])
-        except ValueError:
-            raise DataError(f"{path}: line {n}: non-numeric cell in {','.join(row)[:80]!r}") from None
-    if not data:
-        raise DataError(f"{path}: no data rows")
-    table = np.array(data, dtype=float)
-    columns = {h: table[:, k] for k, h in enumerate(header)}
+    columns = read_table_csv(path, COLUMNS, keep_extra=True)
     try:
         return MotionLog(**{c: columns[c] for c in COLUMNS},
                          extra={h: a for h, a in columns.items() if h not in COLUMNS})
@@ -99,8 +75,6 @@ def read_log_csv(path: Union[str, Path]) -> MotionLog:
 
 def log_csv_text(log: MotionLog) -> str:
     """The CSV text of a log: t, x, v, i and then the extra columns, floats written to round-trip."""
-    names = list(COLUMNS) + sorted(log.extra)
-    cols = [getattr(log, c) for c in COLUMNS] + [log.extra[k] for k in sorted(log.extra)]
-    lines = [",".join(names)]
-    lines += [",".join(repr(float(c)) for c in row) for row in zip(*(a.tolist() for a in cols))]
-    return "\n".join(lines) + "\n"
+    columns = {c: getattr(log, c) for c in COLUMNS}
+    columns.update({k: log.extra[k] for k in sorted(log.extra)})
+    return table_csv_text(columns)
