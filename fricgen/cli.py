@@ -1,4 +1,4 @@
-"""The ``fricgen`` command line: demo, synth, train, eval, emit.
+"""fricgen: train friction models, emit them as C, simulate, reproduce the paper, diagnose.
 
 Every command reports bad input as one line ``fricgen: error: ...`` on stderr, exits with code
 2, and leaves no output file behind.
