@@ -117,13 +117,15 @@ class CController:
         return float(self._c.m_o_hat), float(self._c.k_hat)
 
 
-def float32_twin(settings: AdaptiveBackstepping, model: Optional[FrictionModel] = None
-                 ) -> AdaptiveBackstepping:
+def float32_twin(settings: AdaptiveBackstepping, model: Optional[FrictionModel] = None,
+                 activation_impl: str = "libm") -> AdaptiveBackstepping:
     """The float32 Python twin of ``CController(module, settings, "NAME_force")``: the controller
-    in float32 with the model evaluated as the emitted ``NAME_force`` (``fricgen.twin``)."""
+    in float32 with the model evaluated as the emitted ``NAME_force`` (``fricgen.twin``;
+    ``activation_impl`` as given to ``emit``)."""
     if model is None:
         return settings.clone(dtype="float32")
-    return settings.clone(dtype="float32", compensation=lambda v: force_f32(model, v))
+    return settings.clone(dtype="float32",
+                          compensation=lambda v: force_f32(model, v, activation_impl))
 
 
 def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveBackstepping,

@@ -111,18 +111,19 @@ def link(objects: Iterable[Path], target_name: str, elf: Union[str, Path], gc_se
 def build_firmware(model_dir: Union[str, Path], config_h: str, target_name: str,
                    out_dir: Union[str, Path], extra_sources: Sequence[Union[str, Path]] = (),
                    strict_model: bool = True, gc_sections: bool = True,
-                   include_dirs: Sequence[Union[str, Path]] = ()) -> Path:
+                   include_dirs: Sequence[Union[str, Path]] = (), strict_extra: bool = False) -> Path:
     """The firmware ELF: harness + startup + every .c of ``model_dir`` (+ ``extra_sources``).
 
     ``config_h`` is the text of fw_config.h (see ``config_float``); the model's own files are
-    compiled with the strict warning set.
+    compiled with the strict warning set, ``extra_sources`` too with ``strict_extra``.
     """
     fw, out_dir, model_dir = firmware_dir(), Path(out_dir), Path(model_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "fw_config.h").write_text(config_h)
     incs = [out_dir, model_dir, fw] + [Path(d) for d in include_dirs]
     objs = compile_objects(sorted(model_dir.glob("*.c")), target_name, out_dir / "model", incs, strict_model)
-    objs += compile_objects(list(extra_sources), target_name, out_dir / "extra", incs, strict=False)
+    objs += compile_objects(list(extra_sources), target_name, out_dir / "extra", incs,
+                            strict=strict_extra)
     objs += compile_objects([fw / "startup.c", fw / "fw_main.c"], target_name, out_dir / "fw", incs,
                             strict=False)
     return link(objs, target_name, out_dir / "fw.elf", gc_sections)
@@ -234,3 +235,128 @@ def parse_float_bits(lines: Iterable[str]) -> np.ndarray:
 
 def parse_int_bits(lines: Iterable[str]) -> np.ndarray:
     return np.array([int(s, 16) for s in lines], dtype=np.uint32).view(np.int32).astype(np.int64)
+
+
+# ----------------------------------------------------------------------------- closed loop
+
+
+@dataclass(frozen=True)
+class Float32Plant:
+    """Float32 twin of ``examples/firmware/fw_plant.c``: x' = v, m v' = phi i - F(v), the
+    current limited to [-i_max, i_max], semi-implicit Euler in ``substeps`` steps per sample,
+    F(v) = (f_c + (f_s - f_c) v_s^2 / (v_s^2 + v^2)) v / (|v| + v_eps) + viscous v (no libm).
+    The defaults resemble the paper's benchmark axis (2 kg, 18 N/A, 15 N Coulomb and 44 N
+    breakaway friction, 57.5 N s/m); the stiffest slope, f_s / v_eps + viscous ~ 8.9e3 N s/m,
+    keeps h slope / m below 1 at Ts = 1 ms with 5 substeps (stable explicit velocity update)."""
+
+    mass: float = 2.0
+    phi: float = 18.0
+    i_max: float = 10.0
+    f_c: float = 15.0
+    f_s: float = 44.0
+    v_s: float = 0.01
+    v_eps: float = 0.005
+    viscous: float = 57.5
+    substeps: int = 5
+
+    _FLOATS = ("mass", "phi", "i_max", "f_c", "f_s", "v_s", "v_eps", "viscous")
+
+    def friction(self, v):
+        f = np.float32
+        v = f(v)
+        speed = -v if v < 0 else v
+        vs2 = f(self.v_s) * f(self.v_s)
+        level = f(self.f_c) + (f(self.f_s) - f(self.f_c)) * (vs2 / (vs2 + v * v))
+        return level * (v / (speed + f(self.v_eps))) + f(self.viscous) * v
+
+    def advance(self, x, v, i, ts):
+        """(x, v) after ``ts`` seconds with the current ``i`` held, as ``fw_plant_advance``."""
+        f = np.float32
+        x, v, i = f(x), f(v), f(i)
+        h = f(ts) / f(self.substeps)
+        i_max = f(self.i_max)
+        if i > i_max:
+            i = i_max
+        elif i < -i_max:
+            i = -i_max
+        thrust = f(self.phi) * i
+        for _ in range(self.substeps):
+            a = (thrust - self.friction(v)) / f(self.mass)
+            v = v + h * a
+            x = x + h * v
+        return x, v
+
+    def c_initializer(self) -> str:
+        items = [f".{k} = {c_float(getattr(self, k))}" for k in self._FLOATS]
+        return "{" + ", ".join(items + [f".substeps = {int(self.substeps)}"]) + "}"
+
+
+#: Columns of a closed-loop run, one row per sample (``closed_loop_f32``, ``parse_closed_loop``).
+LOOP_COLUMNS = ("x", "v", "i", "m_o_hat", "k_hat")
+
+
+def plant_sources() -> List[Path]:
+    """The C sources of the closed-loop run (``fw_plant.c``), for ``build_firmware``."""
+    return [firmware_dir() / "fw_plant.c"]
+
+
+def _ctrl_initializer(settings) -> str:
+    from .control import LAWS, gamma_matrix
+
+    s = settings.validate()
+    g = ", ".join(c_float(x) for x in gamma_matrix(s.gamma).ravel())
+    fields = [f".k1 = {c_float(s.k1)}", f".k2 = {c_float(s.k2)}", f".gamma = {{{g}}}",
+              f".delta = {c_float(s.delta)}", f".ts = {c_float(s.ts)}",
+              f".phi_n = {c_float(s.phi_n)}", f".i_max = {c_float(s.i_max)}",
+              f".m_o_hat0 = {c_float(s.a0[0])}", f".k_hat0 = {c_float(s.a0[1])}",
+              f".law = {LAWS[s.law]}", f".friction_at = {1 if s.friction_input == 'vd' else 0}"]
+    return "{" + ", ".join(fields) + "}"
+
+
+def config_closed_loop(settings, plant: Float32Plant, reference, friction_fn: Optional[str]) -> str:
+    """The ``extra`` text of fw_config.h for a closed-loop run (``FW_EXTRA()`` calls
+    ``fw_closed_loop_run``): controller parameters from ``settings`` (an
+    ``AdaptiveBackstepping``), the plant, the reference rows (x_d, x_d', x_d'') as float32
+    arrays, and the compensation ``friction_fn`` (a C function name, or None)."""
+    ref = np.asarray(reference, dtype=np.float32)
+    if ref.ndim != 2 or ref.shape[1] != 3 or ref.shape[0] == 0:
+        raise ValueError(f"reference must have shape (n, 3), got {ref.shape}")
+    n = ref.shape[0]
+    arrays = "\n".join(
+        f"static const float fw_ref_{name}[{n}] = {{\n{_c_array((c_float(v) for v in ref[:, j]), 6)}\n}};"
+        for j, name in enumerate(("xd", "xd_dot", "xd_ddot")))
+    return f"""#include "fw_plant.h"
+{arrays}
+static const fw_loop_t fw_loop = {{
+    {plant.c_initializer()},
+    {_ctrl_initializer(settings)},
+    {friction_fn or "0"}, {n}u, fw_ref_xd, fw_ref_xd_dot, fw_ref_xd_ddot
+}};
+#define FW_EXTRA() ((void)fw_closed_loop_run(&fw_loop))
+"""
+
+
+def closed_loop_f32(controller, plant: Float32Plant, reference) -> np.ndarray:
+    """The Python twin of ``fw_closed_loop_run``: ``controller`` (a float32
+    ``AdaptiveBackstepping``, e.g. ``control_c.float32_twin``) against ``plant`` from rest,
+    one row (``LOOP_COLUMNS``) per reference sample, float32."""
+    ref = np.asarray(reference, dtype=np.float32)
+    ctrl = controller.reset()
+    ts = np.float32(ctrl.ts)
+    x = v = np.float32(0.0)
+    rows = np.empty((ref.shape[0], len(LOOP_COLUMNS)), dtype=np.float32)
+    with np.errstate(all="ignore"):
+        for k, (xd, xd1, xd2) in enumerate(ref):
+            i = ctrl.step(x, v, xd, xd1, xd2)
+            rows[k] = (x, v, i, ctrl.a_[0], ctrl.a_[1])
+            x, v = plant.advance(x, v, i, ts)
+    return rows
+
+
+def parse_closed_loop(lines: Iterable[str]) -> np.ndarray:
+    """The rows a closed-loop run printed ("cl X V I M K"), float32, shape (n, 5)."""
+    rows = [line.split()[1:] for line in lines if line.startswith("cl ")]
+    if any(r == ["init-failed"] for r in rows):
+        raise FirmwareError("fric_ctrl_init rejected the closed-loop parameters")
+    bits = np.array([[int(w, 16) for w in r] for r in rows], dtype=np.uint32).reshape(-1, len(LOOP_COLUMNS))
+    return bits.view(np.float32)
