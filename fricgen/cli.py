@@ -6,7 +6,6 @@ Every command reports bad input as one line ``fricgen: error: ...`` on stderr, e
 from __future__ import annotations
 
 import argparse
-import json
 import shutil
 import sys
 import tempfile
@@ -17,6 +16,7 @@ import numpy as np
 from . import __version__
 from .data import DataError, prepare, read_sweep_csv, sweep_csv_text, synthesize_benchmark
 from .elm import ACTIVATIONS, DEFAULT_ELM, SCHEMES, SOLVERS, ELMRegressor, EnlargedScheme, default_elm
+from .codegen import ACTIVATION_IMPLS, DTYPES
 from .files import write_atomic
 from .friction import PRESETS, SHAPES, preset
 from .model import FrictionModel, ModelError, check_c_identifier
@@ -265,9 +265,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("model")
     p.add_argument("-o", "--output", required=True, help="output folder")
     p.add_argument("--name", help="C name prefix (default: the model's name)")
-    p.add_argument("--activation-impl", choices=["libm", "fast"], default="libm",
+    p.add_argument("--activation-impl", choices=ACTIVATION_IMPLS, default="libm",
                    help="sigmoid through libm's expf, or the fast one without libm (error <= 8.7e-7)")
-    p.add_argument("--dtype", choices=["float", "q15", "q31"], default="float",
+    p.add_argument("--dtype", choices=DTYPES, default="float",
                    help="float, or integer-only fixed point for MCUs without FPU")
     p.set_defaults(run=cmd_emit)
     simulate_cmd.register(sub)

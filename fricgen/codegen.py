@@ -1,8 +1,6 @@
 """Render a FrictionModel as fixed-size C (templates/ + c_runtime/), eq. (3) and eq. (7)."""
 from __future__ import annotations
 
-import shutil
-import tempfile
 from pathlib import Path
 from typing import Dict, Iterable, Optional, Union
 
@@ -49,28 +47,40 @@ def c_float(value: float) -> str:
     return text + "f"
 
 
-def c_array(values: Iterable[float], per_line: int = 4) -> str:
-    items = [c_float(v) for v in values]
+def c_list(items: Iterable[str], per_line: int) -> str:
+    """Body of a C array initializer: the literals ``items``, ``per_line`` to an indented line."""
+    items = list(items)
     lines = [", ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
     return ",\n".join("    " + line for line in lines)
 
 
-def _environment() -> jinja2.Environment:
+def c_array(values: Iterable[float], per_line: int = 4) -> str:
+    """A float table's initializer body, every value an exact float literal."""
+    return c_list((c_float(v) for v in values), per_line)
+
+
+def template_environment() -> jinja2.Environment:
     return jinja2.Environment(loader=jinja2.FileSystemLoader(str(resource_dir("templates"))),
                               undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
                               autoescape=False)
 
 
+def identity_context(model: FrictionModel, name: str) -> dict:
+    """What every generated file states about itself: its name, guard, generator and model."""
+    check_c_identifier(name, "name")
+    return {"name": name, "NAME": name.upper(), "GUARD": f"{name.upper()}_H",
+            "fricgen_version": __version__, "format_version": FORMAT_VERSION,
+            "model_hash": model.model_hash}
+
+
 def template_context(model: FrictionModel, name: str) -> dict:
     """Everything the templates need, every number already a checked C literal."""
-    check_c_identifier(name, "name")
+    ident = identity_context(model, name)
     net = model.aim
     if not isinstance(net, ElmNetwork):
         raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
     return {
-        "name": name, "NAME": name.upper(), "GUARD": f"{name.upper()}_H",
-        "fricgen_version": __version__, "format_version": FORMAT_VERSION,
-        "model_hash": model.model_hash, "n_hidden": net.n_hidden, "activation": net.activation,
+        **ident, "n_hidden": net.n_hidden, "activation": net.activation,
         "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
         "output_weights": c_array(net.output_weights),
         "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
@@ -101,7 +111,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
                              f"{len(model.effects)} (emit it with --dtype float)")
         from .fixedpoint import render_fixed
         return render_fixed(model, name, dtype)
-    env = _environment()
+    env = template_environment()
     ctx = template_context(model, name)
     runtime_files = RUNTIME_FILES
     if activation_impl == "fast":
@@ -125,13 +135,3 @@ def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = 
     """Render everything first, then write each file atomically into ``out_dir``."""
     return write_all_atomic(out_dir, render(model, name, activation_impl, dtype))
 
-
-def emit_to_temp(model: FrictionModel, name: Optional[str] = None) -> Path:
-    """Emit into a new temporary folder (the caller removes it with ``shutil.rmtree``)."""
-    folder = Path(tempfile.mkdtemp(prefix="fricgen_"))
-    try:
-        emit(model, folder, name)
-    except BaseException:
-        shutil.rmtree(folder, ignore_errors=True)
-        raise
-    return folder

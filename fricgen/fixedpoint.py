@@ -21,13 +21,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, Tuple
+from typing import Dict
 
 import numpy as np
 
-from . import __version__
+from .codegen import template_environment, c_list, identity_context
 from .elm import ElmNetwork
-from .model import FORMAT_VERSION, FrictionModel, ModelError, check_c_identifier
+from .model import FrictionModel, ModelError
 
 #: Per dtype: storage bits B, sigmoid polynomial degree D, segment width 2^-HS, table end ZS.
 DTYPE_PARAMS = {"q15": dict(bits=16, degree=2, hs=2, zs=12), "q31": dict(bits=32, degree=4, hs=1, zs=24)}
@@ -234,17 +234,13 @@ def sigmoid_table_error(spec: FixedSpec) -> float:
 
 
 def _c_int_array(values, per_line: int = 8) -> str:
-    items = [str(int(v)) for v in np.asarray(values).ravel()]
-    lines = [", ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
-    return ",\n".join("    " + line for line in lines)
+    return c_list((str(int(v)) for v in np.asarray(values).ravel()), per_line)
 
 
 def render_fixed(model: FrictionModel, name: str, dtype: str,
                  max_rel_error: float = 0.025) -> Dict[str, str]:
     """NAME.h and NAME.c of the fixed-point model (no runtime files, no float, no libm)."""
-    from .codegen import _environment
-
-    check_c_identifier(name, "name")
+    ident = identity_context(model, name)
     spec = FixedSpec.of(model, dtype)
     bound = error_bound(spec, model)
     f_range = 2.0 ** (spec.bits - 1 - spec.f_f)
@@ -254,9 +250,7 @@ def render_fixed(model: FrictionModel, name: str, dtype: str,
                          f"{np.abs(model.aim.output_weights).sum():.3g}; train with solver 'loo')")
     st, wt = ("int16_t", "int32_t") if spec.bits == 16 else ("int32_t", "int64_t")
     ctx = {
-        "name": name, "NAME": name.upper(), "GUARD": f"{name.upper()}_H", "dtype": dtype,
-        "fricgen_version": __version__, "format_version": FORMAT_VERSION,
-        "model_hash": model.model_hash, "n_hidden": spec.w.size, "bits": spec.bits,
+        **ident, "dtype": dtype, "n_hidden": spec.w.size, "bits": spec.bits,
         "stype": st, "wtype": wt, "f_v": spec.f_v, "f_f": spec.f_f, "error_bound": f"{bound:.3g}",
         "v_range": 2.0 ** (spec.bits - 1 - spec.f_v), "f_range": f_range,
         "w": _c_int_array(spec.w), "b": _c_int_array(spec.b), "beta": _c_int_array(spec.beta),
@@ -274,7 +268,7 @@ def render_fixed(model: FrictionModel, name: str, dtype: str,
     if ctx["aim_shift"] < 1 or ctx["zw_shift"] < 1:
         raise ModelError(f"{dtype}: the network's scales leave no rounding headroom (aim shift "
                          f"{ctx['aim_shift']}, z shift {ctx['zw_shift']})")
-    env = _environment()
+    env = template_environment()
     return {f"{name}.h": env.get_template("model_fixed.h.j2").render(ctx),
             f"{name}.c": env.get_template("model_fixed.c.j2").render(ctx)}
 
