@@ -22,6 +22,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .data import rmse
 from .elm import SVD, ElmNetwork, LeaveOneOut, hidden_matrix, log10_cond, loo_residuals
 
 
@@ -134,7 +135,7 @@ class AutoELMRegressor:
         self.member_C_ = np.array(Cs)
         self.C_ = float(np.median(self.member_C_))
         self.member_sizes_ = np.array(sizes)
-        self.loo_rmse_ = float(np.sqrt(np.mean(loo ** 2)))
+        self.loo_rmse_ = rmse(loo, 0.0)
         self.log10_cond_ = float(max(conds))
         self.fit_seconds_ = time.perf_counter() - start
         return self

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .data import DataError, prepare, read_sweep_csv, sweep_csv_text, synthesize_benchmark
+from .data import DataError, prepare, read_sweep_csv, rmse, sweep_csv_text, synthesize_benchmark
 from .elm import ACTIVATIONS, DEFAULT_ELM, SCHEMES, SOLVERS, ELMRegressor, EnlargedScheme, default_elm
 from .codegen import ACTIVATION_IMPLS, DTYPES
 from .files import write_atomic
@@ -116,7 +116,7 @@ def cmd_train(args) -> int:
         "vs_max_estimated": dataset.vs_max_estimated})
     model.training["n_hidden"] = estimator.n_hidden
     model.training["C"] = estimator.C_
-    e_train = float(np.sqrt(np.mean((estimator.predict(dataset.x) - dataset.t) ** 2)))
+    e_train = rmse(estimator.predict(dataset.x), dataset.t)
     errors = {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
               "e_loo": estimator.loo_rmse_, "e_loo_newton": estimator.loo_rmse_ / dataset.scaling.k_out}
     model.training["metrics"] = errors

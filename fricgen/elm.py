@@ -11,6 +11,8 @@ from typing import Callable, Dict, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .data import rmse
+
 
 def _sigmoid(z):
     return 1.0 / (1.0 + np.exp(-z))
@@ -312,7 +314,7 @@ class ELMRegressor:
         self.beta_ = svd.solve(t, self.C_)
         self.input_weights_, self.biases_ = w, b
         self.singular_values_ = svd.s
-        self.loo_rmse_ = float(np.sqrt(np.mean(loo_residuals(svd, t, self.C_) ** 2)))
+        self.loo_rmse_ = rmse(loo_residuals(svd, t, self.C_), 0.0)
         self.network_ = ElmNetwork(self.activation, w, b, self.beta_)
         return self
 

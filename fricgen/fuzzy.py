@@ -16,6 +16,8 @@ from typing import Optional
 
 import numpy as np
 
+from .data import rmse
+
 MF_KINDS = ("bell", "gauss")
 _TINY = 1e-12
 
@@ -191,11 +193,10 @@ class AnfisRegressor:
             f = x[:, None] * net.slopes + net.intercepts
             y = np.sum(mu / S[:, None] * f, axis=1)
             err = y - t
-            rmse = float(np.sqrt(np.mean(err ** 2)))
-            history.append(rmse)
+            history.append(rmse(y, t))
             steps.append(step)
-            if rmse < best_err:
-                best, best_err, best_epoch = net, rmse, epoch
+            if history[-1] < best_err:
+                best, best_err, best_epoch = net, history[-1], epoch
             if epoch == int(self.epochs) - 1:
                 break
             step = self._adapt_step(step, history)
