@@ -6,11 +6,11 @@ Run: python benchmarks/auto_vs_oracle.py   (about 1 min on one core)
 """
 import numpy as np
 
-from fricgen.auto import AutoELMRegressor
+from fricgen.fit.auto import AutoELMRegressor
 from fricgen.data import synthesize_benchmark
-from fricgen.elm import DEFAULT_ELM, ELMRegressor
+from fricgen.fit import DEFAULT_ELM, ELMRegressor
 from fricgen.friction import preset
-from fricgen.oracle import OracleRegressor
+from fricgen.fit.oracle import OracleRegressor
 
 print(f"{'shape':12s} {'seeds':>9s} {'auto N':>8s} {'oracle N':>9s} {'auto/oracle':>11s} "
       f"{'elm(40) N':>10s} {'units':>6s}")

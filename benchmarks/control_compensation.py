@@ -18,15 +18,15 @@ import time
 
 import numpy as np
 
-from fricgen.control import AdaptiveBackstepping
-from fricgen.control_c import CController, build_controller, c_controllers, float32_twin
+from fricgen.control.backstepping import AdaptiveBackstepping
+from fricgen.control.c_controller import CController, build_controller, c_controllers, float32_twin
 from fricgen.data import synthesize_benchmark
-from fricgen.elm import ELMRegressor
+from fricgen.fit.elm import ELMRegressor
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
-from fricgen.plant import LinearAxis
-from fricgen.simulation import compensations, simulate
-from fricgen.twin import force_f32
+from fricgen.sim.plant import LinearAxis
+from fricgen.control.loop import compensations, simulate
+from fricgen.codegen.twin import force_f32
 
 #: A run is stable when it stays finite and max |e1| over its second half stays below this
 #: (m): 3x the uncompensated error at Ts = 1 ms; a limit cycle reaches ~15 mm.

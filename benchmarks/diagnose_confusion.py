@@ -17,8 +17,8 @@ import time
 
 import numpy as np
 
-from fricgen.diagnose import diagnose
-from fricgen.logsynth import HIDDEN_EFFECTS, LogSpec, nominal_model, synthesize_logs
+from fricgen.diagnose.diagnoser import diagnose
+from fricgen.sim.logsynth import HIDDEN_EFFECTS, LogSpec, nominal_model, synthesize_logs
 
 SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "asym",
          "constant_load": "load", "inertia_mismatch": "mass", "force_constant_mismatch": "phi",

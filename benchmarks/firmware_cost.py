@@ -26,10 +26,12 @@ from pathlib import Path
 
 import numpy as np
 
-from fricgen import codegen, firmware as fw, fixedpoint as fx
-from fricgen.codegen import c_float
+from fricgen import codegen
+from fricgen.codegen import fixedpoint as fx
+from fricgen.firmware import build as fw
+from fricgen.c_literal import c_float
 from fricgen.data import synthesize_benchmark
-from fricgen.elm import ELMRegressor, EnlargedScheme
+from fricgen.fit.elm import ELMRegressor, EnlargedScheme
 from fricgen.friction import preset
 from fricgen.model import FrictionModel, ModelError
 

@@ -16,24 +16,19 @@ from typing import Any, Callable, Dict, Tuple, Union
 import numpy as np
 
 from . import __version__
-from .data import Scaling
-from .elm import ACTIVATIONS, ElmNetwork
-from .files import write_atomic
-from .fuzzy import MF_KINDS, AnfisNetwork
+from ._io import write_atomic
+from ._validate import MAX_HIDDEN, json_number
+from .effects import validate_effects
+from .errors import ModelError
+from .networks import network_from_dict
 
 FORMAT = "fricgen-model"
 FORMAT_VERSION = 1
-#: The largest hidden layer model.json may declare (fixed-size C tables).
-MAX_HIDDEN = 4096
 
 _C_KEYWORDS = frozenset("""auto break case char const continue default do double else enum extern
 float for goto if inline int long register restrict return short signed sizeof static struct
 switch typedef union unsigned void volatile while _Bool _Complex _Imaginary""".split())
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,62}\Z")
-
-
-class ModelError(ValueError):
-    """An invalid model.json; the message names the offending field."""
 
 
 def check_c_identifier(name: Any, what: str = "name") -> str:
@@ -45,62 +40,12 @@ def check_c_identifier(name: Any, what: str = "name") -> str:
     return name
 
 
-def _number(d: dict, key: str, where: str, positive: bool = False) -> float:
-    if key not in d:
-        raise ModelError(f"{where}: missing field {key!r}")
-    value = d[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ModelError(f"{where}.{key} must be a number, got {type(value).__name__}")
-    if not math.isfinite(value):
-        raise ModelError(f"{where}.{key} must be finite, got {value}")
-    if positive and value <= 0:
-        raise ModelError(f"{where}.{key} must be > 0, got {value}")
-    return float(value)
+@dataclass(frozen=True)
+class Scaling:
+    """Normalization of eq. (9): x = K_in v, t = K_out (F - B v)."""
 
-
-def _vector(d: dict, key: str, where: str) -> np.ndarray:
-    if key not in d:
-        raise ModelError(f"{where}: missing field {key!r}")
-    value = d[key]
-    if not isinstance(value, list) or not 1 <= len(value) <= MAX_HIDDEN:
-        raise ModelError(f"{where}.{key} must be a list of 1 to {MAX_HIDDEN} numbers")
-    for i, item in enumerate(value):
-        if isinstance(item, bool) or not isinstance(item, (int, float)) or not math.isfinite(item):
-            raise ModelError(f"{where}.{key}[{i}] must be a finite number, got {item!r}"[:200])
-    return np.asarray(value, dtype=float)
-
-
-def _elm_from_dict(d: dict) -> ElmNetwork:
-    activation = d.get("activation")
-    if activation not in ACTIVATIONS:
-        raise ModelError(f"aim.activation must be one of {sorted(ACTIVATIONS)}, got {activation!r}"[:200])
-    w, b, beta = (_vector(d, k, "aim") for k in ("input_weights", "biases", "output_weights"))
-    if not w.size == b.size == beta.size:
-        raise ModelError(f"aim: input_weights, biases, output_weights have lengths "
-                         f"{w.size}, {b.size}, {beta.size}; they must be equal")
-    return ElmNetwork(activation, w, b, beta)
-
-
-def _anfis_from_dict(d: dict) -> AnfisNetwork:
-    mf = d.get("mf")
-    if mf not in MF_KINDS:
-        raise ModelError(f"aim.mf must be one of {list(MF_KINDS)}, got {mf!r}"[:200])
-    keys = ["centers", "widths"] + (["exponents"] if mf == "bell" else []) + ["slopes", "intercepts"]
-    if mf == "gauss" and "exponents" in d:
-        raise ModelError("aim.exponents: gauss membership functions take no exponents")
-    vectors = {k: _vector(d, k, "aim") for k in keys}
-    if len({v.size for v in vectors.values()}) != 1:
-        raise ModelError(f"aim: {', '.join(keys)} have lengths "
-                         f"{', '.join(str(v.size) for v in vectors.values())}; they must be equal")
-    for k in ("widths", "exponents"):
-        if k in vectors and not np.all(vectors[k] > 0):
-            raise ModelError(f"aim.{k} must all be > 0, got {float(vectors[k].min())}")
-    return AnfisNetwork(mf, vectors["centers"], vectors["widths"], vectors.get("exponents"),
-                        vectors["slopes"], vectors["intercepts"])
-
-
-#: Readers of the AIM kinds model.json may hold, by ``aim.kind``.
-AIM_READERS: Dict[str, Callable[[dict], Any]] = {"elm": _elm_from_dict, "anfis": _anfis_from_dict}
+    k_in: float
+    k_out: float
 
 
 @dataclass(frozen=True)
@@ -168,22 +113,16 @@ class FrictionModel:
             raise ModelError(f"unknown format_version {d.get('format_version')!r}; "
                              f"this fricgen reads version {FORMAT_VERSION}"[:200])
         name = check_c_identifier(d.get("name"))
-        aim = d.get("aim")
-        if not isinstance(aim, dict):
-            raise ModelError("missing or invalid field 'aim' (an object)")
-        if aim.get("kind") not in AIM_READERS:
-            raise ModelError(f"aim.kind must be one of {sorted(AIM_READERS)}, got {aim.get('kind')!r}"[:200])
-        network = AIM_READERS[aim["kind"]](aim)
+        network = network_from_dict(d.get("aim"))
         scaling = d.get("scaling")
         if not isinstance(scaling, dict):
             raise ModelError("missing or invalid field 'scaling' (an object)")
-        k_in = _number(scaling, "k_in", "scaling", positive=True)
-        k_out = _number(scaling, "k_out", "scaling", positive=True)
-        viscous = _number(d, "viscous", "model")
-        v_sat = _number(d, "v_sat", "model", positive=True)
+        k_in = json_number(scaling, "k_in", "scaling", positive=True)
+        k_out = json_number(scaling, "k_out", "scaling", positive=True)
+        viscous = json_number(d, "viscous", "model")
+        v_sat = json_number(d, "v_sat", "model", positive=True)
         if d.get("symmetric", True) is not True:
             raise ModelError("symmetric must be true: format version 1 holds symmetric models only")
-        from .effects import validate_effects  # the effect library builds on this module
         effects = validate_effects(d.get("effects", []))
         training = d.get("training", {})
         if not isinstance(training, dict):

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from fricgen.data import synthesize_benchmark
-from fricgen.elm import ELMRegressor, default_elm
+from fricgen.fit import ELMRegressor, default_estimator as default_elm
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
 

@@ -2,12 +2,15 @@
 import numpy as np
 import pytest
 
-from fricgen.auto import AutoELMRegressor, forward_selection, sigmoid_dictionary
-from fricgen.data import rmse, synthesize_benchmark
-from fricgen.elm import SVD, ELMRegressor, default_elm, hidden_matrix, loo_residuals
+from fricgen.fit.auto import AutoELMRegressor, forward_selection, sigmoid_dictionary
+from fricgen.data import synthesize_benchmark
+from fricgen.metrics import rmse
+from fricgen.fit import ELMRegressor, default_estimator as default_elm
+from fricgen.fit.elm import SVD, loo_residuals
+from fricgen.networks.elm import hidden_matrix
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
-from fricgen.paper import HEADLINE_ELMS
+from fricgen.paper.reported import HEADLINE_ELMS
 
 
 def _brute_force_loo(H, t, C):

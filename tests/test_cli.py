@@ -47,10 +47,14 @@ def test_eval_prints_one_force_per_line(model_json, monkeypatch, capsys):
     assert forces == pytest.approx(expected.tolist(), rel=1e-15)
 
 
-def test_emit_writes_a_self_contained_folder(model_json, tmp_path):
-    assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0
+def test_emit_writes_a_self_contained_folder_and_the_controller_only_when_asked(model_json, tmp_path):
     from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES
+    assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0
     names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == sorted(["fm.c", "fm.h", *RUNTIME_FILES])
+    assert main(["emit", str(model_json), "-o", str(tmp_path / "ctrl"), "--name", "fm",
+                 "--with-controller"]) == 0
+    names = sorted(p.name for p in (tmp_path / "ctrl").iterdir())
     assert names == sorted(["fm.c", "fm.h", *RUNTIME_FILES, *CONTROLLER_FILES])
 
 
@@ -92,7 +96,7 @@ def test_train_refuses_bad_sweeps(tmp_path, capsys, body, message):
 def test_train_refuses_non_positive_vs_max(sweep_csv, tmp_path, capsys, vs_max):
     out = tmp_path / "model.json"
     _assert_refused(capsys, ["train", str(sweep_csv), "-o", str(out), f"--vs-max={vs_max}"],
-                    "vs_max must be > 0", out)
+                    "--vs-max: must be > 0", out)
 
 
 def test_train_refuses_missing_file(tmp_path, capsys):

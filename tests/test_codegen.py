@@ -7,11 +7,13 @@ import numpy as np
 import pytest
 
 from conftest import fit_model
-from fricgen import codegen, parity
-from fricgen.cbuild import STRICT_WARNINGS, build_model
-from fricgen.elm import ACTIVATIONS
+from fricgen import codegen
+from fricgen.c_literal import c_float
+from fricgen.codegen import parity
+from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.networks.elm import ACTIVATIONS
 from fricgen.model import ModelError
-from fricgen.twin import force_f32
+from fricgen.codegen.twin import force_f32
 
 EPS32 = float(np.finfo(np.float32).eps)
 CC = shutil.which("gcc") or shutil.which("cc")
@@ -32,18 +34,18 @@ def test_float_literals_round_trip_exactly():
     values = np.concatenate([rng.normal(size=2000) * 10.0 ** rng.integers(-30, 30, 2000),
                              [0.0, 1.0, -2.0, 1e10, 3.4e38, 1e-40, 0.1, 16.6666667]])
     for v in values.astype(np.float32):
-        text = codegen.c_float(v)
+        text = c_float(v)
         assert text.endswith("f") and re.fullmatch(r"-?\d+\.\d*(e[+-]\d+)?f|-?\d+\.\d+f|-?\d\.\d*e[+-]\d+f", text), text
         assert np.float32(float(text[:-1])) == v
 
 
 def test_float_overflow_is_refused():
     with pytest.raises(ModelError, match="not representable"):
-        codegen.c_float(1e39)
+        c_float(1e39)
 
 
 def test_generated_files_follow_the_firmware_rules(default_model):
-    files = codegen.render(default_model, "fm")
+    files = codegen.render(default_model, "fm", with_controller=True)
     assert set(files) == {"fm.h", "fm.c", *codegen.RUNTIME_FILES, *codegen.CONTROLLER_FILES}
     c, h = files["fm.c"], files["fm.h"]
     n = default_model.aim.n_hidden

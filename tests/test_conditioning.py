@@ -2,8 +2,9 @@
 import numpy as np
 import pytest
 
-from fricgen.conditioning import ConditionedELMRegressor, ParticleSwarm, batched_log10_cond
-from fricgen.elm import SVD, hidden_matrix, log10_cond
+from fricgen.fit.conditioning import ConditionedELMRegressor, ParticleSwarm, batched_log10_cond
+from fricgen.fit.elm import SVD, log10_cond
+from fricgen.networks.elm import hidden_matrix
 
 
 def test_constriction_coefficient_is_clerc_value():

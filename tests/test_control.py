@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from fricgen.cli import main
-from fricgen.control import AdaptiveBackstepping, gamma_matrix
+from fricgen.control.backstepping import AdaptiveBackstepping, gamma_matrix
 from fricgen.friction import multisource
-from fricgen.plant import LinearAxis
-from fricgen.simulation import compare, simulate
-from fricgen.trajectory import SineSumTrajectory, reversing
+from fricgen.sim.plant import LinearAxis
+from fricgen.control.loop import compare, simulate
+from fricgen.sim.trajectory import SineSumTrajectory, reversing
 
 
 # ----------------------------------------------------------------------------- trajectory

@@ -17,13 +17,13 @@ import subprocess
 import numpy as np
 import pytest
 
-from fricgen.cbuild import CFLAGS, STRICT_WARNINGS
+from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, emit
-from fricgen.control import LAWS, AdaptiveBackstepping
-from fricgen.control_c import CController, build_controller, float32_twin
-from fricgen.plant import LinearAxis
-from fricgen.simulation import simulate
+from fricgen.control.backstepping import LAWS, AdaptiveBackstepping
+from fricgen.control.c_controller import CController, build_controller, float32_twin
+from fricgen.sim.plant import LinearAxis
+from fricgen.control.loop import simulate
 
 CC = shutil.which("cc") or shutil.which("gcc")
 pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
@@ -35,7 +35,7 @@ def ctrl_module(default_model):
 
 
 def test_emit_copies_the_controller_and_the_folder_builds_warning_free(default_model, tmp_path):
-    written = emit(default_model, tmp_path, "fm")
+    written = emit(default_model, tmp_path, "fm", with_controller=True)
     assert set(CONTROLLER_FILES) <= set(written)
     sources = sorted(str(p) for p in tmp_path.glob("*.c"))
     result = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, "-c", *sources],

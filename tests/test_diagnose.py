@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from fricgen.diagnose import Diagnoser, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, diagnose
 from fricgen.effects import EFFECTS, ExtraFrictionSource, Signals
-from fricgen.logsynth import HIDDEN_EFFECTS, LogSpec, nominal_model, synthesize_logs, truth_parameters
+from fricgen.sim.logsynth import HIDDEN_EFFECTS, LogSpec, nominal_model, synthesize_logs, truth_parameters
 
 #: (seed, magnitude, noise scale): the reference size twice, a large effect under twice the
 #: sensor noise, a half-size effect under half the noise.

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from fricgen.cli import main
-from fricgen.logsynth import LogSpec, nominal_model, synthesize_log
-from fricgen.motionlog import log_csv_text, read_log_csv
+from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
+from fricgen.data.motionlog import log_csv_text, read_log_csv
 
 ARGS = ["--mass", "4", "--force-constant", "20"]
 
@@ -80,10 +80,10 @@ def _bad_inputs():
     yield "non-uniform", jitter_t, ARGS, "not uniformly sampled"
     yield "too short", short, ARGS, "need at least"
     yield "no motion", still, ARGS, "too few moving samples"
-    yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass must be a positive number"
-    yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant must be"
-    yield "text mass", None, ["--mass", "heavy", "--force-constant", "20"], "--mass must be"
-    yield "nan phi", None, ["--mass", "4", "--force-constant", "nan"], "--force-constant must be"
+    yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass: must be"
+    yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant: must be"
+    yield "text mass", None, ["--mass", "heavy", "--force-constant", "20"], "--mass: must be"
+    yield "nan phi", None, ["--mass", "4", "--force-constant", "nan"], "--force-constant: must be"
 
 
 @pytest.mark.parametrize("label, mutate, args, message", list(_bad_inputs()), ids=[b[0] for b in _bad_inputs()])

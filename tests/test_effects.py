@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 from fricgen import codegen
-from fricgen.cbuild import STRICT_WARNINGS, build
+from fricgen.codegen.cbuild import STRICT_WARNINGS, build
 from fricgen.effects import (EFFECTS, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
                              FrictionalLag, InertiaMismatch, PositionRipple, Signals, ThermalDrift,
-                             force_xv, force_xv_f32, with_effects)
+                             force_xv, with_effects)
+from fricgen.codegen.twin import force_xv_f32
 from fricgen.model import FrictionModel, ModelError
 
 CC = shutil.which("gcc") or shutil.which("cc")

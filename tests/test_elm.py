@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from fricgen.elm import (ACTIVATIONS, ELMRegressor, EnlargedScheme, LeaveOneOut, SVD,
+from fricgen.networks.elm import ACTIVATIONS, hidden_matrix
+from fricgen.fit.elm import (ELMRegressor, EnlargedScheme, LeaveOneOut, SVD,
                          StandardScheme, hidden_matrix, log10_cond, loo_residuals)
 
 

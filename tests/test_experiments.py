@@ -6,11 +6,11 @@ import pytest
 
 from fricgen.cli import main
 from fricgen.data import synthesize_benchmark
-from fricgen.elm import ELMRegressor
-from fricgen.experiments import HEADLINE
-from fricgen.figures import FIGURES
+from fricgen.fit.elm import ELMRegressor
+from fricgen.paper.experiments import HEADLINE
+from fricgen.paper.figures import FIGURES
 from fricgen.friction import preset
-from fricgen.fuzzy import AnfisRegressor
+from fricgen.fit.anfis import AnfisRegressor
 
 METHODS = ["fuzzy_bell4", "fuzzy_gauss4", "elm_standard", "elm_regularized", "elm_enlarged",
            "elm_enlarged_regularized", "elm_conditioned", "elm_auto", "oracle"]

@@ -5,9 +5,12 @@ import subprocess
 import numpy as np
 import pytest
 
-from fricgen import cbuild, codegen, fast_sigmoid as fs
-from fricgen.parity import c_forces, parity_velocities
-from fricgen.twin import force_f32
+from fricgen import codegen
+from fricgen._io import resource_dir
+from fricgen.c_literal import c_array
+from fricgen.codegen import cbuild, fast_sigmoid as fs
+from fricgen.codegen.parity import c_forces, parity_velocities
+from fricgen.codegen.twin import force_f32
 
 f32 = np.float32
 SPECIALS = np.array([0.0, -0.0, 1e-45, -1e-45, 1e-38, 1.0, -1.0, 41.5, -41.5, 41.6, -41.6, 88.0,
@@ -43,7 +46,7 @@ def test_fast_sigmoid_defined_for_nan_and_infinities():
 
 def test_fast_emit_refuses_neurons_beyond_the_kernel_range(default_model):
     import dataclasses
-    from fricgen.elm import ElmNetwork
+    from fricgen.fit.elm import ElmNetwork
     from fricgen.model import ModelError
     net = default_model.aim
     steep = ElmNetwork("sigmoid", net.input_weights * 0 + 90.0, net.biases, net.output_weights)
@@ -60,7 +63,7 @@ def test_c_coefficients_are_the_rederived_minimax_rounded_to_float():
 def fast_lib(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fast_rt")
     for fname in ("fric_fast.h", "fric_fast.c"):
-        shutil.copy(codegen.resource_dir("c_runtime") / fname, folder / fname)
+        shutil.copy(resource_dir("c_runtime") / fname, folder / fname)
     return cbuild.build(folder, "fric_fast.h", "float fric_sigmoid_fast_f32(float z);",
                         build_dir=folder / "build")
 
@@ -89,7 +92,7 @@ def test_emitted_fast_model_matches_twin_exactly_and_float64_within_bound(defaul
 
 
 def test_fast_runtime_links_no_libm(tmp_path):
-    src = codegen.resource_dir("c_runtime") / "fric_fast.c"
+    src = resource_dir("c_runtime") / "fric_fast.c"
     assert "math.h" not in src.read_text()
     obj = tmp_path / "fric_fast.o"
     subprocess.run(["cc", "-std=c99", "-O2", "-c", str(src), "-o", str(obj)] + cbuild.STRICT_WARNINGS,
@@ -114,4 +117,4 @@ def test_fast_tables_are_premultiplied_once_in_float64(default_model):
     assert np.array_equal(w, (-fs.LOG2E * default_model.aim.input_weights).astype(f32))
     assert np.array_equal(b, (-fs.LOG2E * default_model.aim.biases).astype(f32))
     text = codegen.render(default_model, "fm", activation_impl="fast")["fm.c"]
-    assert codegen.c_array(w) in text and codegen.c_array(b) in text
+    assert c_array(w) in text and c_array(b) in text

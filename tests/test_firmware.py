@@ -2,10 +2,11 @@
 import numpy as np
 import pytest
 
-from fricgen import codegen, firmware as fw
-from fricgen.elm import ELMRegressor, EnlargedScheme
+from fricgen import codegen
+from fricgen.firmware import build as fw
+from fricgen.fit.elm import ELMRegressor, EnlargedScheme
 from fricgen.model import FrictionModel
-from fricgen.twin import force_f32
+from fricgen.codegen.twin import force_f32
 
 pytestmark = pytest.mark.skipif(fw.missing_tools() is not None,
                                 reason=f"cross toolchain or QEMU absent: {fw.missing_tools()}")
@@ -24,7 +25,7 @@ def velocities(model, n=101):
 
 def build(model, impl, target, tmp_path, inputs, gc_sections=True):
     out = tmp_path / f"{impl}_{target}"
-    codegen.emit(model, out / "model", "fm", activation_impl=impl)
+    codegen.emit(model, out / "model", "fm", activation_impl=impl, with_controller=True)
     cfg = fw.config_float("fm.h", "fm_force", inputs, n_bench=4)
     return fw.build_firmware(out / "model", cfg, target, out / "build", gc_sections=gc_sections)
 
@@ -72,7 +73,7 @@ def test_instruction_count_is_deterministic_and_counts_the_model(model10, tmp_pa
 
 @pytest.mark.parametrize("dtype", ["q15", "q31"])
 def test_emulated_fixed_point_model_is_lsb_equal_to_integer_twin_on_m0plus(model10, dtype, tmp_path):
-    from fricgen import fixedpoint as fx
+    from fricgen.codegen import fixedpoint as fx
     spec = fx.FixedSpec.of(model10, dtype)
     ctype = "int16_t" if dtype == "q15" else "int32_t"
     v_q = fx.to_fixed(velocities(model10), spec.f_v, spec.bits)
@@ -101,15 +102,15 @@ N_LOOP = 2000
 
 
 def run_closed_loop(model, impl, target, tmp_path):
-    from fricgen.control import AdaptiveBackstepping
-    from fricgen.control_c import float32_twin
-    from fricgen.trajectory import reversing, sampled
+    from fricgen.control.backstepping import AdaptiveBackstepping
+    from fricgen.control.c_controller import float32_twin
+    from fricgen.sim.trajectory import reversing, sampled
 
     settings = AdaptiveBackstepping(compensation=model, law="c")
     plant = fw.Float32Plant()
     ref = sampled(reversing(), np.arange(N_LOOP) * settings.ts).astype(np.float32)
     out = tmp_path / f"loop_{impl}_{target}"
-    codegen.emit(model, out / "model", "fm", activation_impl=impl)
+    codegen.emit(model, out / "model", "fm", activation_impl=impl, with_controller=True)
     cfg = fw.config_float("fm.h", "fm_force", [0.0],
                           extra=fw.config_closed_loop(settings, plant, ref, "fm_force"))
     elf = fw.build_firmware(out / "model", cfg, target, out / "build",

@@ -4,8 +4,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from fricgen import cbuild, codegen, fixedpoint as fx
-from fricgen.elm import ELMRegressor, EnlargedScheme
+from fricgen import codegen
+from fricgen.codegen import cbuild, fixedpoint as fx
+from fricgen.fit.elm import ELMRegressor, EnlargedScheme
 from fricgen.model import FrictionModel, ModelError
 
 CTYPE = {"q15": "int16_t", "q31": "int32_t"}

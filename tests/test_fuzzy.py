@@ -4,7 +4,8 @@ import json
 import numpy as np
 import pytest
 
-from fricgen.fuzzy import AnfisNetwork, AnfisRegressor, genfis1
+from fricgen.fit.anfis import AnfisRegressor, genfis1
+from fricgen.networks.anfis import AnfisNetwork
 from fricgen.model import FrictionModel, ModelError
 
 

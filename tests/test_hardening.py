@@ -12,7 +12,7 @@ import subprocess
 import pytest
 
 from fricgen import codegen
-from fricgen.elm import ELMRegressor, EnlargedScheme
+from fricgen.fit.elm import ELMRegressor, EnlargedScheme
 from fricgen.model import FrictionModel
 
 SAN = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer", "-g"]

@@ -1,0 +1,76 @@
+"""Validation helpers shared by every boundary: one message shape, ``NAME must be ..., got X``."""
+from __future__ import annotations
+
+import math
+from typing import Type
+
+import numpy as np
+
+from .errors import ModelError
+
+#: The largest hidden layer (or rule base) a model may hold: fixed-size C tables.
+MAX_HIDDEN = 4096
+
+
+def _is_number(value) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+
+
+def positive(name: str, value, error: Type[Exception] = ValueError) -> float:
+    """``value`` as a float if it is a finite number > 0, else ``error`` naming ``name``."""
+    if not (_is_number(value) and math.isfinite(value) and value > 0):
+        raise error(f"{name} must be > 0, got {value!r}"[:200])
+    return float(value)
+
+
+def finite(name: str, value, error: Type[Exception] = ValueError) -> float:
+    """``value`` as a float if it is a finite number, else ``error`` naming ``name``."""
+    if not (_is_number(value) and math.isfinite(value)):
+        raise error(f"{name} must be finite, got {value!r}"[:200])
+    return float(value)
+
+
+def integer(name: str, value, minimum: int = 1, error: Type[Exception] = ValueError) -> int:
+    """``value`` as an int if it is an integer >= ``minimum``, else ``error`` naming ``name``."""
+    if not (_is_number(value) and math.isfinite(value) and int(value) == value and value >= minimum):
+        raise error(f"{name} must be an integer >= {minimum}, got {value!r}"[:200])
+    return int(value)
+
+
+# ----------------------------------------------------------------------------- JSON fields
+
+
+def json_number(d: dict, key: str, where: str, positive: bool = False) -> float:
+    """``d[key]``, a finite JSON number (> 0 with ``positive``), else ``ModelError``."""
+    if key not in d:
+        raise ModelError(f"{where}: missing field {key!r}")
+    value = d[key]
+    if not _is_number(value):
+        raise ModelError(f"{where}.{key} must be a number, got {type(value).__name__}")
+    if not math.isfinite(value):
+        raise ModelError(f"{where}.{key} must be finite, got {value}")
+    if positive and value <= 0:
+        raise ModelError(f"{where}.{key} must be > 0, got {value}")
+    return float(value)
+
+
+def json_vector(d: dict, key: str, where: str, positive: bool = False) -> np.ndarray:
+    """``d[key]``, a list of 1 to MAX_HIDDEN finite JSON numbers, else ``ModelError``."""
+    if key not in d:
+        raise ModelError(f"{where}: missing field {key!r}")
+    value = d[key]
+    if not isinstance(value, list) or not 1 <= len(value) <= MAX_HIDDEN:
+        raise ModelError(f"{where}.{key} must be a list of 1 to {MAX_HIDDEN} numbers")
+    for i, item in enumerate(value):
+        if not _is_number(item) or not math.isfinite(item):
+            raise ModelError(f"{where}.{key}[{i}] must be a finite number, got {item!r}"[:200])
+        if positive and item <= 0:
+            raise ModelError(f"{where}.{key} must all be > 0, got {item}")
+    return np.asarray(value, dtype=float)
+
+
+def json_equal_lengths(where: str, vectors: dict) -> None:
+    """``ModelError`` unless the named vectors have one length."""
+    if len({v.size for v in vectors.values()}) != 1:
+        raise ModelError(f"{where}: {', '.join(vectors)} have lengths "
+                         f"{', '.join(str(v.size) for v in vectors.values())}; they must be equal")

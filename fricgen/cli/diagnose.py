@@ -1,0 +1,46 @@
+"""``fricgen diagnose LOG --model M``: name what a friction model misses in a measured log."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from .._io import write_all_atomic
+from ..data import read_log_csv
+from ..diagnose.diagnoser import Diagnoser
+from ..diagnose.report import format_value, render_files
+from ..model import FrictionModel
+from .common import add_json, add_model, add_output, positive_float, say
+
+HELP = "name the effect a model misses in a measured log (t,x,v,i), add it, show the gap shrink"
+
+
+def register(sub) -> None:
+    p = sub.add_parser("diagnose", help=HELP, description=HELP)
+    p.add_argument("log", help="measured log CSV with columns t, x, v, i (uniformly sampled)")
+    add_model(p)
+    p.add_argument("--mass", required=True, type=positive_float, help="nominal moving mass m, kg")
+    p.add_argument("--force-constant", required=True, type=positive_float,
+                   help="nominal force constant phi, N/A")
+    add_output(p, "folder for model.json, report.md and plots")
+    add_json(p, "print the summary as one JSON object")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    model = FrictionModel.load(args.model)
+    log = read_log_csv(args.log)
+    d = Diagnoser().fit(log, model, args.mass, args.force_constant)
+    files = render_files(d, log, Path(args.log).name)
+    write_all_atomic(args.output, files)
+    if args.json:
+        print(json.dumps(d.summary()))
+    else:
+        print(f"effect     {d.effect_} (confidence {d.confidence_:.2f})")
+        if d.fitted_ is not None:
+            print("parameters " + ", ".join(f"{k} = {format_value(v)}" for k, v in d.parameters().items()))
+        print(f"where      {d.where_}")
+        print(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
+    if not any(name.endswith(".png") for name in files):
+        say("fricgen: matplotlib not installed; no plots written")
+    say(f"wrote {', '.join(sorted(files))} to {args.output}")
+    return 0

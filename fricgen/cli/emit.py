@@ -1,0 +1,31 @@
+"""``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder."""
+from __future__ import annotations
+
+from ..codegen import ACTIVATION_IMPLS, DTYPES, emit
+from ..model import FrictionModel, check_c_identifier
+from .common import add_output, say
+
+HELP = "write NAME.h, NAME.c and the C runtime into a folder"
+
+
+def register(sub) -> None:
+    p = sub.add_parser("emit", help=HELP, description=HELP)
+    p.add_argument("model", help="model.json")
+    add_output(p, "output folder")
+    p.add_argument("--name", help="C name prefix (default: the model's name)")
+    p.add_argument("--activation-impl", choices=ACTIVATION_IMPLS, default="libm",
+                   help="sigmoid through libm's expf, or the fast one without libm (error <= 8.7e-7)")
+    p.add_argument("--dtype", choices=DTYPES, default="float",
+                   help="float, or integer-only fixed point for MCUs without FPU")
+    p.add_argument("--with-controller", action="store_true",
+                   help="also write the adaptive backstepping controller fric_ctrl.{h,c} (float)")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    model = FrictionModel.load(args.model)
+    name = check_c_identifier(args.name if args.name else model.name, "--name")
+    written = emit(model, args.output, name, activation_impl=args.activation_impl, dtype=args.dtype,
+                   with_controller=args.with_controller)
+    say(f"wrote {', '.join(sorted(written))} to {args.output} (model {model.model_hash})")
+    return 0

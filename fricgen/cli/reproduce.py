@@ -1,0 +1,64 @@
+"""``fricgen reproduce -o DIR [--quick] [--seeds N] [--jobs J]``: the paper end to end.
+
+Writes ``DIR/results.json``, ``DIR/report.md`` and the PNG figures of ``fricgen.paper.figures``
+(skipped, with a message, when matplotlib is missing). Progress goes to stderr.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from .._io import write_atomic
+from ..errors import UsageError
+from ..paper import reported as paper
+from ..paper.experiments import fitted_seed0, reproduce
+from ..paper.figures import FIGURES, write_figures
+from ..paper.report import render
+from .common import add_output, say
+
+HELP = "run every experiment of the paper; write results.json, report.md and figures"
+
+
+def run(args) -> int:
+    if args.seeds is not None and args.seeds < 1:
+        raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
+    if args.jobs < 1:
+        raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
+    out = Path(args.output)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"-o {out}: exists and is not a folder")
+    seeds = args.seeds if args.seeds is not None else (3 if args.quick else paper.SEEDS)
+    say(f"reproducing the paper on {seeds} seeds with {args.jobs} job(s)"
+         f"{' (quick)' if args.quick else ''}")
+    result = reproduce(seeds, quick=args.quick, jobs=args.jobs, progress=say)
+    out.mkdir(parents=True, exist_ok=True)
+    figures, note = [], ""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        note = "Figures skipped: matplotlib is not installed (pip install 'fricgen[plot]')."
+        say(note)
+    else:
+        say("drawing figures ...")
+        write_figures(result, out, fitted_seed0())
+        figures = list(FIGURES.items())
+    result["figures"] = [name for name, _ in figures]
+    write_atomic(out / "results.json", json.dumps(result, indent=1) + "\n")
+    write_atomic(out / "report.md", render(result, figures, note))
+    s = result["summary"]
+    say(f"wrote results.json, report.md and {len(figures)} figures to {out} "
+         f"({result['benchmark']['seconds']:.1f} s of experiments)")
+    print(f"median E_Ttest: auto/oracle = {s['auto_over_oracle']:.2f}, "
+          f"best paper ELM ({s['best_paper_elm']})/auto = {s['best_paper_elm_over_auto']:.2f}, "
+          f"best paper model ({s['best_paper_model']})/auto = {s['best_paper_over_auto']:.2f}")
+    return 0
+
+
+def register(sub) -> None:
+    """Add the ``reproduce`` subcommand to the ``fricgen`` parser's subparsers."""
+    p = sub.add_parser("reproduce", help=HELP, description=HELP)
+    add_output(p, "output folder")
+    p.add_argument("--quick", action="store_true", help="coarse grids, 3 seeds: a smoke run")
+    p.add_argument("--seeds", type=int, help=f"seeds to average (default {paper.SEEDS}; 3 with --quick)")
+    p.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    p.set_defaults(run=run)

@@ -1,0 +1,103 @@
+"""``fricgen train``: fit a friction model to a sweep CSV and write model.json."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..data import prepare, read_sweep_csv
+from ..errors import UsageError
+from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
+from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
+from ..metrics import rmse
+from ..model import FrictionModel, check_c_identifier
+from ..networks.elm import ACTIVATIONS
+from .common import add_output, add_seed, positive_float, say
+
+HELP = "fit a friction model to a sweep CSV; write model.json"
+
+#: Options of an explicitly configured ELM (``--method elm``), with their defaults.
+_ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
+                "scheme": "enlarged", "w_max": DEFAULT_ELM["scheme"].w_max,
+                "solver": DEFAULT_ELM["solver"], "C": None}
+
+
+def _estimator(args):
+    """The automatic ELM (default), or the ELM the explicit options describe (``--method elm``,
+    implied by any of --neurons/--activation/--scheme/--w-max/--solver/--C)."""
+    given = [k for k in _ELM_OPTIONS if getattr(args, k) is not None]
+    flags = ", ".join("--" + k.replace("_", "-") for k in given)
+    args.method = args.method or ("elm" if given else "auto")
+    if args.method == "auto":
+        if given:
+            raise UsageError(f"{flags} configure --method elm, not --method auto")
+        return default_estimator(args.seed)
+    for k, default in _ELM_OPTIONS.items():
+        if getattr(args, k) is None:
+            setattr(args, k, default)
+    if args.solver == "ridge" and args.C is None:
+        raise UsageError("--solver ridge needs --C")
+    scheme = EnlargedScheme(w_max=args.w_max) if args.scheme == "enlarged" else args.scheme
+    return ELMRegressor(n_hidden=args.neurons, activation=args.activation, scheme=scheme,
+                        solver=args.solver, C=args.C, random_state=args.seed)
+
+
+def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
+    """The text ``fricgen train`` prints: data, model and errors."""
+    s = dataset.scaling
+    vs_note = " (estimated from the data; pass --vs-max to set it)" if dataset.vs_max_estimated else ""
+    lines = [
+        f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
+        f"{vs_note}",
+        f"viscous   B = {dataset.viscous:.6g} N s/m from {dataset.n_high_speed} high-speed points",
+        f"scaling   K_in = {s.k_in:.6g} 1/(m/s), K_out = {s.k_out:.6g} 1/N",
+        f"model     {estimator.n_hidden} {estimator.activation} neurons, {estimator.scheme}, "
+        f"C = {estimator.C_:.3g}",
+        f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = {estimator.log10_cond_:.2f}",
+        f"errors    E_train = {errors['e_train']:.5f} ({errors['e_train_newton']:.4f} N), "
+        f"leave-one-out = {errors['e_loo']:.5f} ({errors['e_loo_newton']:.4f} N)",
+    ]
+    return "\n".join(lines)
+
+
+def run(args) -> int:
+    sweep = read_sweep_csv(args.sweep)
+    dataset = prepare(sweep, vs_max=args.vs_max)
+    estimator = _estimator(args)
+    name = check_c_identifier(args.name, "--name")
+    options = {"scheme": "auto"} if args.method == "auto" else {
+        "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
+    model = FrictionModel.fit(dataset, estimator, name=name, training={
+        "method": args.method, **options, "activation": estimator.activation,
+        "seed": args.seed, "source": Path(args.sweep).name,
+        "vs_max_estimated": dataset.vs_max_estimated})
+    model.training["n_hidden"] = estimator.n_hidden
+    model.training["C"] = estimator.C_
+    e_train = rmse(estimator.predict(dataset.x), dataset.t)
+    errors = {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
+              "e_loo": estimator.loo_rmse_, "e_loo_newton": estimator.loo_rmse_ / dataset.scaling.k_out}
+    model.training["metrics"] = errors
+    model.save(args.output)
+    print(fit_report(model, dataset, estimator, errors))
+    say(f"wrote {args.output} (model {model.model_hash})")
+    return 0
+
+
+def register(sub) -> None:
+    p = sub.add_parser("train", help=HELP, description=HELP)
+    p.add_argument("sweep", help="CSV with columns v (m/s) and f (N)")
+    add_output(p, "model.json to write (default model.json)", default="model.json")
+    p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
+                   "(default: estimated from the data)")
+    p.add_argument("--method", choices=["auto", "elm"],
+                   help="auto: units, M and C chosen by leave-one-out (default); elm: the ELM "
+                   "the options below describe (default when any of them is given)")
+    p.add_argument("--neurons", type=int, help=f"(elm) default {_ELM_OPTIONS['neurons']}")
+    p.add_argument("--activation", choices=sorted(ACTIVATIONS),
+                   help=f"(elm) default {_ELM_OPTIONS['activation']}")
+    p.add_argument("--scheme", choices=sorted(SCHEMES), help="(elm) default enlarged")
+    p.add_argument("--w-max", type=positive_float, help="(elm) input-weight range of the enlarged "
+                   f"scheme, eq. (16)-(17), default {_ELM_OPTIONS['w_max']:g}")
+    p.add_argument("--solver", choices=sorted(SOLVERS), help=f"(elm) default {_ELM_OPTIONS['solver']}")
+    p.add_argument("--C", type=positive_float, help="regularization C of eq. (15) for --solver ridge")
+    add_seed(p)
+    p.add_argument("--name", default="fric_model", help="model name (a C identifier)")
+    p.set_defaults(run=run)

@@ -1,0 +1,9 @@
+"""Emit a FrictionModel as fixed-size C and prove it: rendering (float, fast sigmoid, fixed point),
+the float32 and integer twins, cffi builds and parity figures."""
+from __future__ import annotations
+
+from .render import (ACTIVATION_IMPLS, CONTROLLER_FILES, DTYPES, RUNTIME_FILES, controller_files,
+                     emit, render, template_context)
+
+__all__ = ["ACTIVATION_IMPLS", "CONTROLLER_FILES", "DTYPES", "RUNTIME_FILES", "controller_files", "emit", "render",
+           "template_context"]

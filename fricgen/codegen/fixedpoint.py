@@ -1,0 +1,281 @@
+"""Fixed-point friction models (``fricgen emit --dtype q15|q31``) and their integer twin.
+
+For MCUs without FPU, eq. (3) and eq. (7)-(8) are evaluated in integers only:
+``q15``: 16-bit tables and I/O, 32-bit products, 64-bit accumulator; ``q31``: 32-bit tables and
+I/O, 64-bit products and accumulator. Every quantity q has a binary scale: value = q 2^-F.
+The scales are chosen from the model's ranges (``FixedSpec.of``):
+
+- input velocity: F_v so that |v| < V_RANGE = the smallest power of two >= 2 v_sat;
+- output force: F_f so that |F| < the smallest power of two >= 1.1 max |F| on |v| <= V_RANGE;
+- w, b, beta: the finest scale that holds the largest magnitude of each table;
+- z = w x + b: the finest scale that holds max |w|, |b|, |w + b| (x in [0, 1]);
+- sigmoid: a table of polynomials on segments of |z| (degree 2 on quarters for q15, degree 4
+  on halves for q31), sigma(-z) = 1 - sigma(z), 1 beyond |z| = 12 (q15) or 24 (q31).
+
+Right shifts of negative numbers are arithmetic (as GCC, Clang and Arm compilers define them);
+every product fits its type by construction, and the output saturates. ``error_bound`` adds
+up the quantization and rounding errors against the float64 model (see its docstring);
+``render_fixed`` refuses a model whose bound exceeds ``max_rel_error`` of the force range.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Dict
+
+import numpy as np
+
+from ..c_literal import c_list
+from ..errors import ModelError
+from ..model import FrictionModel
+from ..networks import ElmNetwork
+from .context import identity_context, template_environment
+
+#: Per dtype: storage bits B, sigmoid polynomial degree D, segment width 2^-HS, table end ZS.
+DTYPE_PARAMS = {"q15": dict(bits=16, degree=2, hs=2, zs=12), "q31": dict(bits=32, degree=4, hs=1, zs=24)}
+#: Product shift before accumulation (keeps M terms of beta * sigma inside 64 bits).
+_TERM_SHIFT = {"q15": 0, "q31": 16}
+
+
+def _ceil_log2(x: float) -> int:
+    return int(math.ceil(math.log2(x))) if x > 0 else 0
+
+
+def _frac_for(max_abs: float, bits: int) -> int:
+    """The finest binary scale F with round(max_abs 2^F) < 2^(bits-1)."""
+    f = (bits - 1) - _ceil_log2(max_abs * (1 + 2.0 ** -(bits - 2)) + 2.0 ** -60)
+    while round(max_abs * 2.0 ** f) >= 2 ** (bits - 1):
+        f -= 1
+    return f
+
+
+def _quantize(values, frac: int, bits: int, what: str) -> np.ndarray:
+    q = np.round(np.asarray(values, dtype=float) * 2.0 ** frac).astype(np.int64)
+    if np.any(np.abs(q) >= 2 ** (bits - 1)):
+        raise ModelError(f"{what} does not fit {bits}-bit storage at scale 2^-{frac}")
+    return q
+
+
+@dataclass(frozen=True)
+class ConstMul:
+    """y_q = (x_q M + 2^(S-1)) >> S multiplies a value of scale F_in by c into scale F_out."""
+
+    mant: int
+    shift: int
+
+    @classmethod
+    def of(cls, c: float, f_in: int, f_out: int, bits: int, what: str) -> "ConstMul":
+        scaled = c * 2.0 ** (f_out - f_in)
+        if scaled == 0:
+            return cls(0, 1)
+        shift = (bits - 2) - _ceil_log2(abs(scaled))
+        if shift < 1:
+            raise ModelError(f"{what}: the constant {c:.6g} is too large for {bits}-bit fixed point")
+        shift = min(shift, 2 * bits - 2)
+        return cls(int(round(scaled * 2.0 ** shift)), shift)
+
+    def apply(self, x) -> np.ndarray:
+        return (np.asarray(x, dtype=np.int64) * self.mant + (1 << (self.shift - 1))) >> self.shift
+
+
+@dataclass(frozen=True)
+class FixedSpec:
+    """Scales and integer tables of a fixed-point model (all derived from the model's ranges)."""
+
+    dtype: str
+    bits: int
+    f_v: int
+    f_f: int
+    f_w: int
+    f_b: int
+    f_z: int
+    f_beta: int
+    f_aim: int
+    v_sat_q: int
+    k_in: ConstMul
+    inv_k_out: ConstMul
+    viscous: ConstMul
+    w: np.ndarray
+    b: np.ndarray
+    beta: np.ndarray
+    sig_coeffs: np.ndarray
+    degree: int
+    hs: int
+    zs: int
+
+    @property
+    def one(self) -> int:
+        return 1 << (self.bits - 1)
+
+    @property
+    def term_shift(self) -> int:
+        return _TERM_SHIFT[self.dtype]
+
+    @classmethod
+    def of(cls, model: FrictionModel, dtype: str) -> "FixedSpec":
+        if dtype not in DTYPE_PARAMS:
+            raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
+        net = model.aim
+        if not isinstance(net, ElmNetwork) or net.activation != "sigmoid":
+            raise ModelError("fixed-point emission covers ELM models with sigmoid activation only")
+        p = DTYPE_PARAMS[dtype]
+        bits = p["bits"]
+        v_range = 2.0 ** _ceil_log2(2 * model.v_sat)
+        f_v = (bits - 1) - _ceil_log2(v_range)
+        grid = np.linspace(0.0, 1.0, 4001)
+        aim = net(grid)
+        f_max = float(np.max(np.abs(model.force(np.linspace(0.0, v_range, 4001)))))
+        f_f = (bits - 1) - _ceil_log2(1.1 * f_max)
+        w, b, beta = net.input_weights, net.biases, net.output_weights
+        f_w = _frac_for(np.max(np.abs(w)), bits)
+        f_b = _frac_for(np.max(np.abs(b)), bits)
+        z_max = float(np.max(np.concatenate([np.abs(w), np.abs(b), np.abs(w + b)])))
+        f_z = (2 * bits - 3) - max(_ceil_log2(z_max * 1.01 + 1e-9), 1)
+        if f_z - p["hs"] < bits - 1 or f_z < f_b:
+            raise ModelError(f"network weights too large for {dtype}: |w x + b| reaches {z_max:.4g}")
+        f_beta = _frac_for(np.max(np.abs(beta)), bits)
+        f_aim = (bits - 1) - _ceil_log2(1.1 * float(np.max(np.abs(aim))) + 1e-12)
+        return cls(
+            dtype=dtype, bits=bits, f_v=f_v, f_f=f_f, f_w=f_w, f_b=f_b, f_z=f_z, f_beta=f_beta,
+            f_aim=f_aim, v_sat_q=int(round(model.v_sat * 2.0 ** f_v)),
+            k_in=ConstMul.of(model.scaling.k_in, f_v, bits - 1, bits, "k_in"),
+            inv_k_out=ConstMul.of(1.0 / model.scaling.k_out, f_aim, f_f, bits, "1 / k_out"),
+            viscous=ConstMul.of(model.viscous, f_v, f_f, bits, "viscous"),
+            w=_quantize(w, f_w, bits, "input_weights"), b=_quantize(b, f_b, bits, "biases"),
+            beta=_quantize(beta, f_beta, bits, "output_weights"),
+            sig_coeffs=sigmoid_table(bits, p["degree"], p["hs"], p["zs"]),
+            degree=p["degree"], hs=p["hs"], zs=p["zs"])
+
+
+def sigmoid_table(bits: int, degree: int, hs: int, zs: int) -> np.ndarray:
+    """Per segment [i h, (i + 1) h) of z >= 0, h = 2^-hs: coefficients of sigma(i h + r h) in r
+    in [0, 1) (least squares on Chebyshev nodes ~ minimax), in Q(bits-1)."""
+    h = 2.0 ** -hs
+    nodes = 0.5 - 0.5 * np.cos(np.pi * (np.arange(64) + 0.5) / 64)
+    rows = [np.polynomial.polynomial.polyfit(nodes, 1.0 / (1.0 + np.exp(-(i * h + nodes * h))), degree)
+            for i in range(int(zs / h))]
+    one = 2 ** (bits - 1)
+    return np.clip(np.round(np.array(rows) * one), -one, one - 1).astype(np.int64)
+
+
+def _rshift(x, s: int) -> np.ndarray:
+    """Rounding arithmetic right shift by s >= 1 (the C macro FRIC_RSHIFT)."""
+    return (np.asarray(x, dtype=np.int64) + (1 << (s - 1))) >> s
+
+
+def sigmoid_q(spec: FixedSpec, z_q) -> np.ndarray:
+    """Integer twin of the emitted NAME_sigmoid: sigma(z_q 2^-f_z) in Q(bits-1)."""
+    z_q = np.asarray(z_q, dtype=np.int64)
+    u = np.abs(z_q)
+    seg_shift = spec.f_z - spec.hs
+    seg = u >> seg_shift
+    inside = seg < spec.sig_coeffs.shape[0]
+    r = (u & ((1 << seg_shift) - 1)) >> (seg_shift - (spec.bits - 1))
+    c = spec.sig_coeffs[np.where(inside, seg, 0)]
+    acc = c[:, spec.degree]
+    for j in range(spec.degree - 1, -1, -1):
+        acc = c[:, j] + _rshift(acc * r, spec.bits - 1)
+    s = np.where(inside, np.clip(acc, 0, spec.one), spec.one)
+    return np.where(z_q < 0, spec.one - s, s)
+
+
+def force_q(spec: FixedSpec, v_q) -> np.ndarray:
+    """Integer twin of NAME_force_q15 / NAME_force_q31: F_q (scale 2^-f_f) from v_q (2^-f_v)."""
+    v_q = np.asarray(v_q, dtype=np.int64)
+    bits = spec.bits
+    speed = np.minimum(np.abs(v_q), spec.v_sat_q)
+    x_q = np.minimum(spec.k_in.apply(speed), spec.one)                 # Q(bits-1), [0, 1]
+    acc = np.zeros_like(v_q)
+    zw_shift = spec.f_w + bits - 1 - spec.f_z
+    for k in range(spec.w.size):
+        z = _rshift(spec.w[k] * x_q, zw_shift) + spec.b[k] * (1 << (spec.f_z - spec.f_b))
+        term = spec.beta[k] * sigmoid_q(spec, z)
+        acc = acc + (term >> spec.term_shift if spec.term_shift else term)
+    acc_frac = spec.f_beta + bits - 1 - spec.term_shift
+    aim = np.clip(_rshift(acc, acc_frac - spec.f_aim), -2 * spec.one, 2 * spec.one)
+    stribeck = spec.inv_k_out.apply(aim)
+    signed = np.where(v_q > 0, stribeck, np.where(v_q < 0, -stribeck, 0))
+    total = signed + spec.viscous.apply(v_q)
+    return np.clip(total, -spec.one, spec.one - 1)
+
+
+def error_bound(spec: FixedSpec, model: FrictionModel) -> float:
+    """Bound (N) on |force_q(v_q) 2^-f_f - F(v_q 2^-f_v)| for every representable v_q.
+
+    Sums, in newtons: the x rounding (1 LSB of Q(bits-1)) and the z roundings and w, b
+    quantization, times |w| and the sigmoid slope 1/4; the sigmoid table's error (measured on
+    all its segments); beta's quantization; the accumulator and AIM roundings; the constant
+    multiplications' roundings (1/2 LSB each plus their mantissa error); the output LSB.
+    """
+    net = model.aim
+    lsb = lambda f: 2.0 ** -f  # noqa: E731
+    one = lsb(spec.bits - 1)
+    k_in_exact = model.scaling.k_in * 2.0 ** (spec.bits - 1 - spec.f_v)
+    dx = one * (0.5 + spec.v_sat_q * abs(spec.k_in.mant * 2.0 ** -spec.k_in.shift - k_in_exact)) \
+        + model.scaling.k_in * 2.0 ** -(spec.f_v + 1)   # rounding, constant, v_sat rounding
+    dz = np.abs(net.input_weights) * dx + lsb(spec.f_w + 1) + lsb(spec.f_b + 1) + lsb(spec.f_z)
+    sig_err = sigmoid_table_error(spec) + one
+    beta_abs = np.abs(net.output_weights)
+    aim_err = float(np.sum(beta_abs * (sig_err + dz / 4.0))) + spec.w.size * lsb(spec.f_beta + 1) \
+        + spec.w.size * lsb(spec.f_beta + spec.bits - 1 - spec.term_shift) + lsb(spec.f_aim)
+    a_max = 2.0 ** (spec.bits - 1 - spec.f_aim)
+    v_max = 2.0 ** (spec.bits - 1 - spec.f_v)
+    const_err = (a_max * abs(spec.inv_k_out.mant * 2.0 ** (spec.f_aim - spec.f_f - spec.inv_k_out.shift)
+                             - 1.0 / model.scaling.k_out)
+                 + v_max * abs(spec.viscous.mant * 2.0 ** (spec.f_v - spec.f_f - spec.viscous.shift)
+                               - model.viscous))
+    return aim_err / model.scaling.k_out + const_err + 3 * lsb(spec.f_f)
+
+
+def sigmoid_table_error(spec: FixedSpec) -> float:
+    """max |sigmoid_q - sigmoid| over a dense grid of z_q in [0, zs + 1] (the table is odd-symmetric)."""
+    z = np.linspace(0.0, spec.zs + 1.0, 400_001)
+    z_q = np.round(z * 2.0 ** spec.f_z).astype(np.int64)
+    exact = 1.0 / (1.0 + np.exp(-(z_q * 2.0 ** -spec.f_z)))
+    return float(np.max(np.abs(sigmoid_q(spec, z_q) * 2.0 ** -(spec.bits - 1) - exact)))
+
+
+def _c_int_array(values, per_line: int = 8) -> str:
+    return c_list((str(int(v)) for v in np.asarray(values).ravel()), per_line)
+
+
+def render_fixed(model: FrictionModel, name: str, dtype: str,
+                 max_rel_error: float = 0.025) -> Dict[str, str]:
+    """NAME.h and NAME.c of the fixed-point model (no runtime files, no float, no libm)."""
+    ident = identity_context(model, name)
+    spec = FixedSpec.of(model, dtype)
+    bound = error_bound(spec, model)
+    f_range = 2.0 ** (spec.bits - 1 - spec.f_f)
+    if not bound <= max_rel_error * f_range:
+        raise ModelError(f"{dtype} cannot meet its error bound for this model: {bound:.4g} N > "
+                         f"{max_rel_error:g} x force range {f_range:g} N (||beta||_1 = "
+                         f"{np.abs(model.aim.output_weights).sum():.3g}; train with solver 'loo')")
+    st, wt = ("int16_t", "int32_t") if spec.bits == 16 else ("int32_t", "int64_t")
+    ctx = {
+        **ident, "dtype": dtype, "n_hidden": spec.w.size, "bits": spec.bits,
+        "stype": st, "wtype": wt, "f_v": spec.f_v, "f_f": spec.f_f, "error_bound": f"{bound:.3g}",
+        "v_range": 2.0 ** (spec.bits - 1 - spec.f_v), "f_range": f_range,
+        "w": _c_int_array(spec.w), "b": _c_int_array(spec.b), "beta": _c_int_array(spec.beta),
+        "sig": ",\n".join("    {" + ", ".join(str(int(c)) for c in row) + "}" for row in spec.sig_coeffs),
+        "n_seg": spec.sig_coeffs.shape[0],
+        "degree": spec.degree, "seg_shift": spec.f_z - spec.hs, "hs": spec.hs, "zs": spec.zs,
+        "r_shift": spec.f_z - spec.hs - (spec.bits - 1), "one": spec.one,
+        "seg_mask": (1 << (spec.f_z - spec.hs)) - 1,
+        "v_sat_q": spec.v_sat_q, "k_in": spec.k_in, "inv_k_out": spec.inv_k_out, "viscous": spec.viscous,
+        "zw_shift": spec.f_w + spec.bits - 1 - spec.f_z, "zb_mul": 1 << (spec.f_z - spec.f_b),
+        "term_shift": spec.term_shift,
+        "aim_shift": spec.f_beta + spec.bits - 1 - spec.term_shift - spec.f_aim,
+        "smin": -spec.one, "smax": spec.one - 1,
+    }
+    if ctx["aim_shift"] < 1 or ctx["zw_shift"] < 1:
+        raise ModelError(f"{dtype}: the network's scales leave no rounding headroom (aim shift "
+                         f"{ctx['aim_shift']}, z shift {ctx['zw_shift']})")
+    env = template_environment()
+    return {f"{name}.h": env.get_template("model_fixed.h.j2").render(ctx),
+            f"{name}.c": env.get_template("model_fixed.c.j2").render(ctx)}
+
+
+def to_fixed(values, frac: int, bits: int) -> np.ndarray:
+    """Round and saturate real values to the integer grid value = q 2^-frac."""
+    q = np.round(np.asarray(values, dtype=float) * 2.0 ** frac)
+    return np.clip(q, -(2 ** (bits - 1)), 2 ** (bits - 1) - 1).astype(np.int64)

@@ -1,0 +1,94 @@
+"""Render a FrictionModel as fixed-size C (templates/ + c_runtime/), eq. (3) and eq. (7)."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Dict, Optional, Union
+
+
+from .._io import resource_dir, write_all_atomic
+from ..c_literal import c_array, c_float
+from ..errors import ModelError
+from ..model import FrictionModel
+from ..networks import ElmNetwork
+from .context import effects_context, identity_context, template_environment
+from .fast_sigmoid import check_fast_model, fast_tables
+from .fixedpoint import render_fixed
+
+#: Runtime files every emitted model needs beside NAME.h and NAME.c.
+RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+#: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
+CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
+
+
+def template_context(model: FrictionModel, name: str) -> dict:
+    """Everything the templates need, every number already a checked C literal."""
+    ident = identity_context(model, name)
+    net = model.aim
+    if not isinstance(net, ElmNetwork):
+        raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
+    return {
+        **ident, "n_hidden": net.n_hidden, "activation": net.activation,
+        "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
+        "output_weights": c_array(net.output_weights),
+        "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
+        "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
+        "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
+        "tables_note": "",  # a comment above the tables when they are not plain w and b
+        **effects_context(model),  # effects, effects_not_in_c: NAME_force_xv
+    }
+
+
+#: ``--activation-impl``: libm's expf (the default) or the fast sigmoid without libm (fric_fast.c).
+ACTIVATION_IMPLS = ("libm", "fast")
+#: ``--dtype``: float, or the fixed-point models of fricgen.fixedpoint (no FPU needed).
+DTYPES = ("float", "q15", "q31")
+
+
+def controller_files() -> Dict[str, str]:
+    """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name."""
+    runtime = resource_dir("c_runtime")
+    return {fname: (runtime / fname).read_text() for fname in CONTROLLER_FILES}
+
+
+def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
+           dtype: str = "float", with_controller: bool = False) -> Dict[str, str]:
+    """All files of the emitted folder, by file name: NAME.h, NAME.c and the runtime, plus the
+    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``."""
+    name = model.name if name is None else name
+    if with_controller and dtype != "float":
+        raise ModelError(f"the controller runtime is float; it cannot be emitted with --dtype {dtype}")
+    if activation_impl not in ACTIVATION_IMPLS:
+        raise ModelError(f"activation_impl must be one of {list(ACTIVATION_IMPLS)}, got {activation_impl!r}")
+    if dtype not in DTYPES:
+        raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
+    if dtype != "float":
+        if model.effects:
+            raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
+                             f"{len(model.effects)} (emit it with --dtype float)")
+        return render_fixed(model, name, dtype)
+    env = template_environment()
+    ctx = template_context(model, name)
+    runtime_files = RUNTIME_FILES
+    if activation_impl == "fast":
+        check_fast_model(model)
+        w, b, _ = fast_tables(model.aim)  # t = w' x + b' = -log2(e) (w x + b), see fric_fast.h
+        ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h",
+                   input_weights=c_array(w), biases=c_array(b),
+                   tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
+        runtime_files = ("fric_fast.h", "fric_fast.c")
+    files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
+             f"{name}.c": env.get_template("model.c.j2").render(ctx)}
+    runtime = resource_dir("c_runtime")
+    for fname in runtime_files:
+        files[fname] = (runtime / fname).read_text()
+    if with_controller:
+        files.update(controller_files())
+    return files
+
+
+def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
+         activation_impl: str = "libm", dtype: str = "float",
+         with_controller: bool = False) -> Dict[str, Path]:
+    """Render everything first, then write each file atomically into ``out_dir``."""
+    return write_all_atomic(out_dir, render(model, name, activation_impl, dtype, with_controller))
+

@@ -1,0 +1,74 @@
+"""Float32 Python twin of the emitted C: the same operations, in the same order, in float32.
+
+Each C float operation (+, *, /) is IEEE single precision with round-to-nearest; numpy float32
+arithmetic is the same. For libm functions (expf, sinf, sqrtf) the twin evaluates in double and
+rounds once to float, i.e. the correctly rounded result; glibc's float functions are accurate to
+better than 1 ULP, so each activation value may differ by at most 1 ULP from C.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..effects import model_effects
+from ..model import FrictionModel
+from ..networks import ElmNetwork
+from .fast_sigmoid import aim_fast_f32
+
+f32 = np.float32
+
+
+def _rounded(fn, z):
+    with np.errstate(over="ignore"):
+        return fn(z.astype(np.float64)).astype(f32)
+
+
+def _sigmoid(z):
+    return f32(1.0) / (f32(1.0) + _rounded(np.exp, -z))
+
+
+ACTIVATIONS_F32 = {
+    "sigmoid": _sigmoid,
+    "sine": lambda z: _rounded(np.sin, z),
+    "rbf": lambda z: _rounded(np.exp, -(z * z)),
+    "multiquadric": lambda z: _rounded(np.sqrt, f32(1.0) + z * z),
+}
+
+
+def aim_f32(net: ElmNetwork, x) -> np.ndarray:
+    """Mirror of ``fric_elm_<activation>_f32``: sum_k beta_k act(w_k x + b_k), k ascending."""
+    x = np.asarray(x, dtype=f32)
+    w, b, beta = (a.astype(f32) for a in (net.input_weights, net.biases, net.output_weights))
+    act = ACTIVATIONS_F32[net.activation]
+    acc = np.zeros_like(x)
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(w.size):
+            acc = acc + beta[k] * act(w[k] * x + b[k])
+    return acc
+
+
+def force_f32(model: FrictionModel, v, activation_impl: str = "libm") -> np.ndarray:
+    """Mirror of the emitted ``NAME_force`` (eq. 3) in float32; ``activation_impl`` as in emit."""
+    if activation_impl == "fast":
+        aim_twin = aim_fast_f32
+    elif activation_impl == "libm":
+        aim_twin = aim_f32
+    else:
+        raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
+    v = np.asarray(v, dtype=f32)
+    speed = np.abs(v)
+    v_sat = f32(model.v_sat)
+    x = f32(model.scaling.k_in) * np.where(speed < v_sat, speed, v_sat)
+    stribeck = aim_twin(model.aim, x) * f32(1.0 / model.scaling.k_out)
+    signed = np.where(v > 0, stribeck, np.where(v < 0, -stribeck, f32(0.0)))
+    return signed + f32(model.viscous) * v
+
+
+def force_xv_f32(model: FrictionModel, v, x, base=None) -> np.ndarray:
+    """Float32 mirror of the emitted NAME_force_xv (``base``: the float32 NAME_force values)."""
+    v, x = (np.asarray(a, dtype=np.float32) for a in np.broadcast_arrays(v, x))
+    total = force_f32(model, v) if base is None else np.asarray(base, dtype=np.float32)
+    base = total
+    for e in model_effects(model):
+        if e.in_xv:
+            total = total + e.force_f32(v, x, base)
+    return total

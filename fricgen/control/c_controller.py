@@ -1,0 +1,144 @@
+"""The C controller (c_runtime/fric_ctrl.c) with an emitted model, loaded through cffi.
+
+``CController`` has the interface of ``AdaptiveBackstepping`` (``ts``, ``reset``, ``step``,
+``adaptive_parameters``), so ``fricgen.simulation.simulate`` runs the C firmware code in the
+same closed loop as the Python controller.
+"""
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+from typing import Dict, Optional
+
+import numpy as np
+
+from .._io import write_all_atomic
+from ..codegen import emit
+from ..codegen.render import controller_files
+from ..codegen.cbuild import build_module, model_cdef
+from ..codegen.twin import force_f32
+from ..model import FrictionModel
+from ..networks import ElmNetwork
+from .backstepping import LAWS, AdaptiveBackstepping, gamma_matrix
+
+#: cffi declarations of fric_ctrl.h (keep in step with the header).
+CONTROLLER_CDEF = """
+typedef float (*fric_ctrl_friction_fn)(float v);
+typedef struct {
+    float k1; float k2; float gamma[4]; float delta; float ts; float phi_n; float i_max;
+    float m_o_hat0; float k_hat0; int law; int friction_at;
+} fric_ctrl_params_t;
+typedef struct {
+    fric_ctrl_params_t p; float m_o_hat; float k_hat; float e1; float e2; float i;
+} fric_ctrl_t;
+void fric_ctrl_default_params(fric_ctrl_params_t *p);
+int fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
+float fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
+                     float friction);
+float fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
+                        fric_ctrl_friction_fn friction);
+"""
+
+#: fric_ctrl_init's return codes.
+INIT_CODES = {0: "ok", -1: "NULL pointer", -2: "parameter out of range"}
+
+
+def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=None):
+    """Emit each model under its C name (the key) and the controller runtime into ``folder``
+    (default: a new temporary folder, removed after the build), compile them all, and return the
+    cffi module (``module.lib.NAME_force``, ``module.lib.fric_ctrl_step``, ``module.ffi``)."""
+    import tempfile
+
+    tmp = folder is None
+    folder = Path(tempfile.mkdtemp(prefix="fricgen_ctrl_") if tmp else folder)
+    try:
+        headers, cdefs = [], []
+        for name, model in (models or {}).items():
+            emit(model, folder, name)
+            headers.append(f"{name}.h")
+            cdefs.append(model_cdef(name))
+        write_all_atomic(folder, controller_files())
+        return build_module(folder, headers + ["fric_ctrl.h"], "".join(cdefs) + CONTROLLER_CDEF,
+                            build_dir=folder / "build")
+    finally:
+        if tmp:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+class CController:
+    """``fric_ctrl_t`` driven from Python with the parameters of ``settings``.
+
+    The compensation force comes from the C function ``c_friction`` (e.g. "fm_force", through
+    ``fric_ctrl_step_fn``), or else from ``settings.compensation`` evaluated in Python at the
+    float32 velocity and passed to ``fric_ctrl_step`` (as the float32 twin does).
+    """
+
+    def __init__(self, module, settings: AdaptiveBackstepping, c_friction: Optional[str] = None):
+        self.module = module
+        self.settings = settings
+        self.c_friction = c_friction
+
+    @property
+    def ts(self) -> float:
+        return self.settings.ts
+
+    def params(self):
+        """The ``fric_ctrl_params_t`` of ``settings`` (validated in Python first)."""
+        s = self.settings.validate()
+        ffi = self.module.ffi
+        p = ffi.new("fric_ctrl_params_t *")
+        p.k1, p.k2, p.delta, p.ts, p.phi_n, p.i_max = s.k1, s.k2, s.delta, s.ts, s.phi_n, s.i_max
+        p.gamma = [float(g) for g in gamma_matrix(s.gamma).ravel()]
+        p.m_o_hat0, p.k_hat0 = (float(a) for a in s.a0)
+        p.law = LAWS[s.law]
+        p.friction_at = 1 if s.friction_input == "vd" else 0
+        return p
+
+    def reset(self) -> "CController":
+        ffi, lib = self.module.ffi, self.module.lib
+        self._twin = self.settings.clone(dtype="float32").reset()
+        self._c = ffi.new("fric_ctrl_t *")
+        code = lib.fric_ctrl_init(self._c, self.params())
+        if code != 0:
+            raise ValueError(f"fric_ctrl_init rejected the parameters: {INIT_CODES.get(code, code)}")
+        self._fn = ffi.addressof(lib, self.c_friction) if self.c_friction else None
+        return self
+
+    def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
+        lib = self.module.lib
+        if self._fn is not None:
+            return lib.fric_ctrl_step_fn(self._c, x, v, xd, xd_dot, xd_ddot, self._fn)
+        twin = self._twin
+        f = np.float32
+        u = twin.friction_velocity(f(x), f(v), f(xd), f(xd_dot))
+        return lib.fric_ctrl_step(self._c, x, v, xd, xd_dot, xd_ddot, float(twin.friction_force(u)))
+
+    @property
+    def adaptive_parameters(self):
+        return float(self._c.m_o_hat), float(self._c.k_hat)
+
+
+def float32_twin(settings: AdaptiveBackstepping, model: Optional[FrictionModel] = None,
+                 activation_impl: str = "libm") -> AdaptiveBackstepping:
+    """The float32 Python twin of ``CController(module, settings, "NAME_force")``: the controller
+    in float32 with the model evaluated as the emitted ``NAME_force`` (``fricgen.twin``;
+    ``activation_impl`` as given to ``emit``)."""
+    if model is None:
+        return settings.clone(dtype="float32")
+    return settings.clone(dtype="float32",
+                          compensation=lambda v: force_f32(model, v, activation_impl))
+
+
+def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveBackstepping,
+                  folder=None) -> Dict[str, CController]:
+    """One C controller per compensation variant (as ``fricgen.simulation.compare`` makes
+    Python ones): ELM models are emitted as C (``VARIANT_force`` through a function pointer);
+    other compensations (none, the true friction, a fuzzy model) are evaluated in Python and
+    passed to ``fric_ctrl_step`` as a float."""
+
+    models = {name: comp for name, comp in compensation.items()
+              if isinstance(comp, FrictionModel) and isinstance(comp.aim, ElmNetwork)}
+    module = build_controller(models, folder)
+    return {name: CController(module, settings.clone(compensation=comp),
+                              f"{name}_force" if name in models else None)
+            for name, comp in compensation.items()}

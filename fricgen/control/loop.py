@@ -1,0 +1,159 @@
+"""Closed-loop simulation of section 6: sampled controllers driving the axis of eq. (18).
+
+Several controllers run side by side, each on its own copy of the axis (the axes advance as
+one vectorized state), so compensation variants are compared on exactly the same reference.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ..data import synthesize_benchmark
+from ..fit import AnfisRegressor, default_estimator
+from ..friction import preset
+from ..metrics import rmse
+from ..model import FrictionModel
+from ..sim.plant import LinearAxis
+from ..sim.trajectory import reversing, sampled
+from .backstepping import AdaptiveBackstepping
+
+#: Simulated time of the default comparison: one envelope period of ``reversing()``, s.
+DEFAULT_DURATION = 4.0
+#: RK4 steps per controller sample.
+DEFAULT_SUBSTEPS = 10
+
+
+@dataclass(frozen=True)
+class ClosedLoop:
+    """Sampled signals of one run, one row per controller sample k (t_k = k Ts)."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    xd: np.ndarray
+    i: np.ndarray
+    m_o_hat: np.ndarray
+    k_hat: np.ndarray
+
+    @property
+    def e1(self) -> np.ndarray:
+        return self.xd - self.x
+
+    @property
+    def n_finite(self) -> int:
+        """Samples before the first non-finite state, current or parameter (all when none)."""
+        ok = np.isfinite(self.x) & np.isfinite(self.i) & np.isfinite(self.k_hat) \
+            & np.isfinite(self.m_o_hat)
+        return ok.size if ok.all() else int(np.argmin(ok))
+
+    @property
+    def finite(self) -> bool:
+        return self.n_finite == self.t.size
+
+    def metrics(self) -> dict:
+        """rms_e1, max_e1 (m), rms_i, max_i (A), the final m_o_hat, k_hat, and ``finite``
+        (False when the run blew up; the figures then cover the samples before that)."""
+        n = self.n_finite
+        if n == 0:
+            nan = float("nan")
+            return {"rms_e1": nan, "max_e1": nan, "rms_i": nan, "max_i": nan, "m_o_hat": nan,
+                    "k_hat": nan, "finite": False}
+        e1, i = self.e1[:n], self.i[:n]
+        return {"rms_e1": rmse(e1, 0.0), "max_e1": float(np.max(np.abs(e1))),
+                "rms_i": rmse(i, 0.0), "max_i": float(np.max(np.abs(i))),
+                "m_o_hat": float(self.m_o_hat[n - 1]), "k_hat": float(self.k_hat[n - 1]),
+                "finite": n == self.t.size}
+
+
+def simulate(axis: LinearAxis, controllers: Sequence, trajectory=None,
+             duration: float = DEFAULT_DURATION, substeps: int = DEFAULT_SUBSTEPS) -> List[ClosedLoop]:
+    """Run each controller (all with the same ``ts``) against its own copy of ``axis``.
+
+    A controller has ``ts``, ``reset()``, ``step(x, v, xd, xd', xd'') -> i`` and
+    ``adaptive_parameters``. The axes start at rest at x = 0; the current of sample k is held
+    over [t_k, t_k + Ts). A run whose state stops being finite is cut short (NaN afterwards).
+    """
+    if not controllers:
+        raise ValueError("controllers must hold at least one controller")
+    ts = float(controllers[0].ts)
+    for c in controllers:
+        if float(c.ts) != ts:
+            raise ValueError(f"all controllers must share one ts, got {c.ts} and {ts}")
+        c.reset()
+    if not (np.isfinite(duration) and duration > 0):
+        raise ValueError(f"duration must be > 0, got {duration}")
+    if int(substeps) != substeps or substeps < 1:
+        raise ValueError(f"substeps must be a positive integer, got {substeps}")
+    trajectory = reversing() if trajectory is None else trajectory
+    n = int(round(duration / ts))
+    t = np.arange(n) * ts
+    ref = sampled(trajectory, t)
+    m = len(controllers)
+    out = {k: np.full((n, m), np.nan) for k in ("x", "v", "i", "m_o_hat", "k_hat")}
+    x, v = np.zeros(m), np.zeros(m)
+    i = np.zeros(m)
+    alive = np.ones(m, dtype=bool)
+    with np.errstate(all="ignore"):
+        for k in range(n):
+            xd, xd1, xd2 = ref[k]
+            for j, c in enumerate(controllers):
+                if alive[j]:
+                    i[j] = c.step(x[j], v[j], xd, xd1, xd2)
+                    out["m_o_hat"][k, j], out["k_hat"][k, j] = c.adaptive_parameters
+            out["x"][k], out["v"][k], out["i"][k] = x, v, i
+            alive &= np.isfinite(i) & np.isfinite(x) & np.isfinite(out["k_hat"][k]) \
+                & np.isfinite(out["m_o_hat"][k])
+            if not alive.any():
+                break
+            x, v = axis.advance(np.where(alive, x, 0.0), np.where(alive, v, 0.0),
+                                np.where(alive, i, 0.0), ts, substeps)
+    return [ClosedLoop(t=t, xd=ref[:, 0], **{key: a[:, j] for key, a in out.items()})
+            for j in range(m)]
+
+
+# ----------------------------------------------------------------------------- variants
+
+
+def paper_benchmark():
+    """The paper benchmark the built-in variants are trained on (Table 1, seed 0)."""
+    return synthesize_benchmark(preset("paper3"), seed=0)
+
+
+def default_model(name: str = "fric_model", bench=None) -> FrictionModel:
+    """fricgen's default model trained on the paper benchmark (Table 1, seed 0)."""
+    bench = paper_benchmark() if bench is None else bench
+    return FrictionModel.fit(bench.dataset, default_estimator(0), name=name,
+                             training={"source": "paper3 benchmark, seed 0"})
+
+
+def fuzzy_model(name: str = "fuzzy_model", bench=None) -> FrictionModel:
+    """The paper's fuzzy baseline (ANFIS, 4 bell MFs) on the paper benchmark."""
+    bench = paper_benchmark() if bench is None else bench
+    return FrictionModel.fit(bench.dataset, AnfisRegressor(n_mfs=4, mf="bell"), name=name)
+
+
+def compensations(axis: LinearAxis, model: Optional[FrictionModel] = None,
+                  with_fuzzy: bool = True) -> Dict[str, Optional[object]]:
+    """The compensation variants to compare: none, exact (the axis' true friction), and
+    ``model`` as "model", or else the default model as "elm" and the fuzzy baseline as "fuzzy"."""
+    variants: Dict[str, Optional[object]] = {"none": None, "exact": axis.friction}
+    if model is None:
+        bench = paper_benchmark()
+        variants["elm"] = default_model(bench=bench)
+        if with_fuzzy:
+            variants["fuzzy"] = fuzzy_model(bench=bench)
+    else:
+        variants["model"] = model
+    return variants
+
+
+def compare(compensation: Dict[str, Optional[object]], axis: Optional[LinearAxis] = None,
+            trajectory=None, duration: float = DEFAULT_DURATION, substeps: int = DEFAULT_SUBSTEPS,
+            **controller) -> Dict[str, ClosedLoop]:
+    """Simulate one ``AdaptiveBackstepping(**controller)`` per compensation variant."""
+    axis = LinearAxis() if axis is None else axis
+    ctrls = [AdaptiveBackstepping(compensation=comp, **controller) for comp in compensation.values()]
+    runs = simulate(axis, ctrls, trajectory, duration, substeps)
+    return dict(zip(compensation, runs))

@@ -1,0 +1,81 @@
+"""Measured motion logs: CSV with columns t (s), x (m), v (m/s), i (A), sampled uniformly.
+
+A log comes from any controller. Extra columns (e.g. ``x_d``) are kept but not interpreted.
+``read_log_csv`` validates everything before anything uses it and raises ``DataError`` with one
+line that names the problem.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, Union
+
+import numpy as np
+
+from .._io import read_table_csv, table_csv_text
+from ..errors import DataError
+
+#: The columns every log must have.
+COLUMNS = ("t", "x", "v", "i")
+#: Fewest samples a usable log may have.
+MIN_SAMPLES = 1000
+#: Largest relative deviation of one sampling interval from the median interval.
+UNIFORM_TOLERANCE = 0.01
+
+
+@dataclass(frozen=True)
+class MotionLog:
+    """A uniformly sampled log of time t, position x, velocity v and motor current i."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    i: np.ndarray
+    extra: Dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self):
+        arrays = {k: np.asarray(getattr(self, k), dtype=float).ravel() for k in COLUMNS}
+        n = arrays["t"].size
+        for k, a in arrays.items():
+            if a.size != n:
+                raise DataError(f"column {k!r} has {a.size} samples, column 't' has {n}")
+            if not np.all(np.isfinite(a)):
+                bad = int(np.flatnonzero(~np.isfinite(a))[0])
+                raise DataError(f"column {k!r} holds NaN or infinite value at sample {bad}")
+            object.__setattr__(self, k, a)
+        if n < MIN_SAMPLES:
+            raise DataError(f"log has {n} samples, need at least {MIN_SAMPLES}")
+        dt = np.diff(arrays["t"])
+        ts = float(np.median(dt))
+        if not ts > 0:
+            raise DataError(f"time column must increase, median step is {ts:g} s")
+        worst = float(np.max(np.abs(dt - ts)))
+        if worst > UNIFORM_TOLERANCE * ts:
+            k = int(np.argmax(np.abs(dt - ts)))
+            raise DataError(f"log is not uniformly sampled: step {k} is {dt[k]:.6g} s, "
+                            f"median step is {ts:.6g} s")
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    @property
+    def sample_time(self) -> float:
+        """The (uniform) sampling interval Ts in seconds."""
+        return float((self.t[-1] - self.t[0]) / (self.t.size - 1))
+
+
+def read_log_csv(path: Union[str, Path]) -> MotionLog:
+    """Read a log CSV whose header names at least t, x, v, i (other columns are kept as extra)."""
+    columns = read_table_csv(path, COLUMNS, keep_extra=True)
+    try:
+        return MotionLog(**{c: columns[c] for c in COLUMNS},
+                         extra={h: a for h, a in columns.items() if h not in COLUMNS})
+    except DataError as exc:
+        raise DataError(f"{path}: {exc}") from None
+
+
+def log_csv_text(log: MotionLog) -> str:
+    """The CSV text of a log: t, x, v, i and then the extra columns, floats written to round-trip."""
+    columns = {c: getattr(log, c) for c in COLUMNS}
+    columns.update({k: log.extra[k] for k in sorted(log.extra)})
+    return table_csv_text(columns)

@@ -1,0 +1,61 @@
+"""Friction sweeps (section 2): velocity v and force f, read from and written to CSV."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Union
+
+import numpy as np
+
+from .._io import read_table_csv, table_csv_text
+from ..errors import DataError
+
+#: Fewest rows a sweep may have before training refuses it.
+MIN_ROWS = 20
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A measured (or synthesized) friction sweep: velocity v (m/s) and force f (N)."""
+
+    v: np.ndarray
+    f: np.ndarray
+
+    def __post_init__(self):
+        v = np.asarray(self.v, dtype=float).ravel()
+        f = np.asarray(self.f, dtype=float).ravel()
+        if v.shape != f.shape:
+            raise DataError(f"v and f must have equal lengths, got {v.size} and {f.size}")
+        if not (np.all(np.isfinite(v)) and np.all(np.isfinite(f))):
+            raise DataError("sweep contains NaN or infinite values")
+        object.__setattr__(self, "v", v)
+        object.__setattr__(self, "f", f)
+
+    def __len__(self):
+        return self.v.size
+
+    def folded(self) -> "Sweep":
+        """The symmetric fold: (|v|, sgn(v) f), so negative velocities join the positive half."""
+        s = np.sign(self.v)
+        keep = s != 0
+        return Sweep(np.abs(self.v[keep]), (s * self.f)[keep])
+
+    def concat(self, other: "Sweep") -> "Sweep":
+        return Sweep(np.concatenate([self.v, other.v]), np.concatenate([self.f, other.f]))
+
+
+def read_sweep_csv(path: Union[str, Path]) -> Sweep:
+    """Read a CSV with a header naming columns ``v`` and ``f`` (SI units; other columns ignored)."""
+    cols = read_table_csv(path, ("v", "f"))
+    v, f = cols["v"], cols["f"]
+    bad = ~(np.isfinite(v) & np.isfinite(f))
+    if bad.any():
+        raise DataError(f"{path}: data row {int(np.flatnonzero(bad)[0]) + 1}: NaN or infinite value")
+    if v.size < MIN_ROWS:
+        raise DataError(f"{path}: {v.size} data rows, need at least {MIN_ROWS}")
+    return Sweep(v, f)
+
+
+def sweep_csv_text(sweep: Sweep) -> str:
+    """The CSV text of a sweep, columns v,f, floats written to round-trip."""
+    return table_csv_text({"v": sweep.v, "f": sweep.f})

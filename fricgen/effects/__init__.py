@@ -1,0 +1,14 @@
+"""Named physical effects a friction model may miss: each defined once (force law, parameters,
+JSON, fit, C expression) and carried in model.json's ``effects`` list."""
+from __future__ import annotations
+
+from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, Effect,
+                      ExtraFrictionSource, ForceConstantMismatch, FrictionalLag, InertiaMismatch,
+                      PositionRipple, ThermalDrift, effect_from_dict, force_xv, model_effects,
+                      validate_effects, with_effects)
+from .signals import Signals
+
+__all__ = ["EFFECTS", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
+           "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
+           "FrictionalLag", "ThermalDrift", "Signals", "effect_from_dict", "force_xv",
+           "model_effects", "validate_effects", "with_effects"]

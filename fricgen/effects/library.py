@@ -1,0 +1,450 @@
+"""Named physical effects a friction model may miss, and that model.json may carry.
+
+Each effect is one small class: its parameters (dataclass fields), ``fit`` (a classmethod that
+identifies it from a force residual), ``force`` (its contribution in newtons), ``to_dict`` /
+``from_dict``. Sign convention, extending eq. (18) of section 6:
+
+    m dv/dt = phi i - F(v) - sum_k effect_k        (F(v) of eq. 3),
+
+so an effect with positive force opposes positive motion. Effects that are functions of v and
+x only (``in_xv``) are also emitted into C as part of ``NAME_force_xv(v, x)``.
+
+Fitting sees a ``problem`` (built by ``fricgen.diagnose``) with the measured ``signals``, the
+smoothed force residual ``target`` at decimated ``rows`` and ``at_rows(raw, rows)``, which
+smooths a full-rate signal with the same filter as the residual and samples it at the rows.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any, ClassVar, Dict, List, Sequence, Tuple, Type
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from ..c_literal import c_float
+from .signals import Signals
+from ..errors import ModelError
+from ..friction import SHAPES
+
+
+def _lstsq(basis: np.ndarray, target: np.ndarray) -> Tuple[np.ndarray, float]:
+    coef, *_ = np.linalg.lstsq(basis, target, rcond=None)
+    return coef, float(np.sum((target - basis @ coef) ** 2))
+
+
+def _refine(objective, lo: float, hi: float) -> float:
+    """Minimize a 1-D objective on [lo, hi] (bounded Brent)."""
+    res = minimize_scalar(objective, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4 * (hi - lo)})
+    return float(res.x)
+
+
+def _grid_then_refine(rss_of, grid: np.ndarray) -> float:
+    """The grid point with the least RSS, refined between its neighbours."""
+    rss = np.array([rss_of(g) for g in grid])
+    k = int(np.argmin(rss))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    if hi <= lo:
+        return float(grid[k])
+    best = _refine(rss_of, lo, hi)
+    return best if rss_of(best) <= rss[k] else float(grid[k])
+
+
+def _sign(v):
+    return np.sign(v)
+
+
+# ----------------------------------------------------------------------------- effects
+
+
+@dataclass(frozen=True)
+class Effect:
+    """Base of the named effects (see the module docstring for the sign convention)."""
+
+    name: ClassVar[str] = ""
+    #: Function of (v, x) only: emitted into C as part of NAME_force_xv.
+    in_xv: ClassVar[bool] = False
+    #: Acts at rest too (part of the external force, not of sliding friction).
+    acts_at_rest: ClassVar[bool] = False
+    #: Parameters that must be > 0.
+    positive: ClassVar[Tuple[str, ...]] = ()
+    #: Parameters not counted as fitted (fixed by context, e.g. the nominal mass).
+    fixed: ClassVar[Tuple[str, ...]] = ()
+    #: Simulated through the mass or the force constant (mass_delta, force_constant_delta).
+    via_dynamics: ClassVar[bool] = False
+
+    @property
+    def n_params(self) -> int:
+        return len([f for f in fields(self) if f.name not in self.fixed and f.name != "shape"])
+
+    def parameters(self) -> Dict[str, Any]:
+        return asdict(self)
+
+    def force(self, sig: Signals) -> np.ndarray:
+        raise NotImplementedError
+
+    # simulation: effects that change the mass or the force constant instead of adding a force
+    mass_delta: ClassVar[float] = 0.0
+    force_constant_delta: ClassVar[float] = 0.0
+    lag_tau: ClassVar[float] = 0.0
+
+    def to_dict(self) -> dict:
+        return {"effect": self.name, "parameters": self.parameters()}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Effect":
+        params = d.get("parameters")
+        where = f"effects[{cls.name}]"
+        if not isinstance(params, dict):
+            raise ModelError(f"{where}.parameters must be an object")
+        values = {}
+        for f in fields(cls):
+            if f.name not in params:
+                raise ModelError(f"{where}.parameters: missing field {f.name!r}")
+            value = params[f.name]
+            if f.name == "shape":
+                if value not in SHAPES:
+                    raise ModelError(f"{where}.parameters.shape must be one of {sorted(SHAPES)}, "
+                                     f"got {value!r}"[:200])
+                values[f.name] = value
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ModelError(f"{where}.parameters.{f.name} must be a finite number, got {value!r}"[:200])
+            if f.name in cls.positive and value <= 0:
+                raise ModelError(f"{where}.parameters.{f.name} must be > 0, got {value}")
+            values[f.name] = float(value)
+        unknown = sorted(set(params) - {f.name for f in fields(cls)})
+        if unknown:
+            raise ModelError(f"{where}.parameters: unknown field {unknown[0]!r}"[:200])
+        return cls(**values)
+
+    # C: an expression in v, x, speed (|v|), sgn (sign of v) and base (NAME_force(v))
+    def c_expr(self) -> str:
+        raise NotImplementedError(f"{self.name} is not a function of (v, x)")
+
+    def force_f32(self, v, x, base) -> np.ndarray:
+        """Float32 mirror of ``c_expr`` (same operations, same order)."""
+        raise NotImplementedError(f"{self.name} is not a function of (v, x)")
+
+
+@dataclass(frozen=True)
+class PositionRipple(Effect):
+    """Cogging / force ripple, periodic in position: A sin(2 pi x / P + phase)."""
+
+    amplitude: float
+    period: float
+    phase: float
+    name: ClassVar[str] = "position_ripple"
+    in_xv: ClassVar[bool] = True
+    acts_at_rest: ClassVar[bool] = True
+    positive: ClassVar[Tuple[str, ...]] = ("period",)
+
+    def force(self, sig):
+        return self.amplitude * np.sin(2 * np.pi / self.period * np.asarray(sig.x) + self.phase)
+
+    @classmethod
+    def fit(cls, problem, rows) -> "PositionRipple":
+        """Least-squares periodogram over wavenumbers (problem.ripple_bank), refined by Brent."""
+        ks, bank = problem.ripple_bank()
+        r = problem.target[rows]
+        B = bank[:, rows, :]                                   # (K, n, 2)
+        G = np.einsum("kni,knj->kij", B, B)
+        b = np.einsum("kni,n->ki", B, r)
+        coef = np.linalg.solve(G + 1e-12 * np.eye(2), b[..., None])[..., 0]
+        gain = np.einsum("ki,ki->k", coef, b)                  # RSS reduction per wavenumber
+        j = int(np.argmax(gain))
+
+        def rss(k):
+            basis = problem.at_rows(np.column_stack([np.sin(k * problem.signals.x),
+                                                     np.cos(k * problem.signals.x)]), rows)
+            return _lstsq(basis, r)[1]
+
+        lo, hi = ks[max(j - 1, 0)], ks[min(j + 1, ks.size - 1)]
+        k = _refine(rss, lo, hi)
+        basis = problem.at_rows(np.column_stack([np.sin(k * problem.signals.x),
+                                                 np.cos(k * problem.signals.x)]), rows)
+        (a, c), _ = _lstsq(basis, r)
+        return cls(amplitude=float(math.hypot(a, c)), period=float(2 * np.pi / k),
+                   phase=float(math.atan2(c, a) % (2 * np.pi)))
+
+    def c_expr(self):
+        return (f"{c_float(self.amplitude)} * sinf({c_float(2 * np.pi / self.period)} * x + "
+                f"{c_float(self.phase)})")
+
+    def force_f32(self, v, x, base):
+        f32 = np.float32
+        arg = f32(2 * np.pi / self.period) * x + f32(self.phase)
+        return f32(self.amplitude) * np.sin(arg.astype(np.float64)).astype(f32)
+
+
+@dataclass(frozen=True)
+class DirectionAsymmetry(Effect):
+    """Friction differs between directions: g+ F(v) for v > 0, g- F(v) for v < 0."""
+
+    gain_positive: float
+    gain_negative: float
+    name: ClassVar[str] = "direction_asymmetry"
+    in_xv: ClassVar[bool] = True
+
+    def force(self, sig):
+        v = np.asarray(sig.v)
+        return np.where(v > 0, self.gain_positive, np.where(v < 0, self.gain_negative, 0.0)) * sig.friction
+
+    @staticmethod
+    def basis(sig):
+        v, f = np.asarray(sig.v), sig.friction
+        return np.column_stack([np.where(v > 0, f, 0.0), np.where(v < 0, f, 0.0)])
+
+    @classmethod
+    def fit(cls, problem, rows):
+        (gp, gn), _ = _lstsq(problem.at_rows(cls.basis(problem.signals), rows), problem.target[rows])
+        return cls(gain_positive=float(gp), gain_negative=float(gn))
+
+    def c_expr(self):
+        return (f"(v > 0.0f ? {c_float(self.gain_positive)} : (v < 0.0f ? "
+                f"{c_float(self.gain_negative)} : 0.0f)) * base")
+
+    def force_f32(self, v, x, base):
+        f32 = np.float32
+        g = np.where(v > 0, f32(self.gain_positive), np.where(v < 0, f32(self.gain_negative), f32(0)))
+        return g.astype(f32) * base
+
+
+@dataclass(frozen=True)
+class ConstantLoad(Effect):
+    """Gravity or another constant external force (positive: opposes positive motion)."""
+
+    load: float
+    name: ClassVar[str] = "constant_load"
+    in_xv: ClassVar[bool] = True
+    acts_at_rest: ClassVar[bool] = True
+
+    def force(self, sig):
+        return np.full(np.shape(sig.v if sig.v is not None else sig.x), self.load)
+
+    @classmethod
+    def fit(cls, problem, rows):
+        n = len(problem.signals.v)
+        (c,), _ = _lstsq(problem.at_rows(np.ones((n, 1)), rows), problem.target[rows])
+        return cls(load=float(c))
+
+    def c_expr(self):
+        return c_float(self.load)
+
+    def force_f32(self, v, x, base):
+        return np.full(np.shape(v), np.float32(self.load), dtype=np.float32)
+
+
+@dataclass(frozen=True)
+class InertiaMismatch(Effect):
+    """The true mass differs from the nominal one: (m - m_nominal) dv/dt."""
+
+    mass: float
+    nominal_mass: float
+    name: ClassVar[str] = "inertia_mismatch"
+    positive: ClassVar[Tuple[str, ...]] = ("mass", "nominal_mass")
+    fixed: ClassVar[Tuple[str, ...]] = ("nominal_mass",)
+    via_dynamics: ClassVar[bool] = True
+
+    @property
+    def mass_delta(self):
+        return self.mass - self.nominal_mass
+
+    def force(self, sig):
+        return self.mass_delta * np.asarray(sig.a)
+
+    @classmethod
+    def fit(cls, problem, rows):
+        (dm,), _ = _lstsq(problem.at_rows(problem.signals.a[:, None], rows), problem.target[rows])
+        m = problem.mass
+        return cls(mass=float(max(m + dm, 1e-3 * m)), nominal_mass=float(m))
+
+
+@dataclass(frozen=True)
+class ForceConstantMismatch(Effect):
+    """The true force constant differs from the nominal one: -(phi - phi_nominal) i."""
+
+    force_constant: float
+    nominal_force_constant: float
+    name: ClassVar[str] = "force_constant_mismatch"
+    positive: ClassVar[Tuple[str, ...]] = ("force_constant", "nominal_force_constant")
+    fixed: ClassVar[Tuple[str, ...]] = ("nominal_force_constant",)
+    via_dynamics: ClassVar[bool] = True
+
+    @property
+    def force_constant_delta(self):
+        return self.force_constant - self.nominal_force_constant
+
+    def force(self, sig):
+        return -self.force_constant_delta * np.asarray(sig.i)
+
+    @classmethod
+    def fit(cls, problem, rows):
+        (d,), _ = _lstsq(problem.at_rows(-problem.signals.i[:, None], rows), problem.target[rows])
+        phi = problem.force_constant
+        return cls(force_constant=float(max(phi + d, 1e-3 * phi)), nominal_force_constant=float(phi))
+
+
+@dataclass(frozen=True)
+class ExtraFrictionSource(Effect):
+    """An additional source of eq. (1): sgn(v) [fc + (fs - fc) g(v, vs)] + B v."""
+
+    fc: float
+    fs: float
+    vs: float
+    B: float
+    shape: str = "gauss"
+    name: ClassVar[str] = "extra_friction_source"
+    in_xv: ClassVar[bool] = True
+    positive: ClassVar[Tuple[str, ...]] = ("vs",)
+
+    def force(self, sig):
+        v = np.asarray(sig.v)
+        g = SHAPES[self.shape](v, self.vs)
+        return _sign(v) * (self.fc + (self.fs - self.fc) * g) + self.B * v
+
+    @staticmethod
+    def basis(v, vs, shape="gauss"):
+        s = _sign(v)
+        return np.column_stack([s, s * SHAPES[shape](v, vs), v])
+
+    @classmethod
+    def fit(cls, problem, rows):
+        """vs on a log grid from the slowest usable speed to the model's v_sat, then (fc, fs, B)."""
+        v, r = problem.signals.v, problem.target[rows]
+
+        def rss(log_vs):
+            return _lstsq(problem.at_rows(cls.basis(v, math.exp(log_vs)), rows), r)[1]
+
+        slow = float(np.quantile(np.abs(v[problem.rows[rows]]), 0.02))
+        lo = math.log(max(problem.v_min, slow, 1e-4))
+        hi = math.log(max(problem.signals.model.v_sat, 2 * math.exp(lo)))
+        log_vs = _grid_then_refine(rss, np.linspace(lo, hi, 12))
+        vs = math.exp(log_vs)
+        (fc, dfs, B), _ = _lstsq(problem.at_rows(cls.basis(v, vs), rows), r)
+        return cls(fc=float(fc), fs=float(fc + dfs), vs=float(vs), B=float(B))
+
+    def c_expr(self):
+        q = f"(speed * {c_float(1.0 / self.vs)})"
+        g = {"gauss": f"expf(-({q} * {q}))", "exponential": f"expf(-{q})",
+             "rational": f"(1.0f / (1.0f + {q}))"}[self.shape]
+        return (f"sgn * ({c_float(self.fc)} + {c_float(self.fs - self.fc)} * {g}) + "
+                f"{c_float(self.B)} * v")
+
+    def force_f32(self, v, x, base):
+        f32 = np.float32
+        speed = np.abs(v)
+        sgn = np.where(v > 0, f32(1), np.where(v < 0, f32(-1), f32(0))).astype(f32)
+        q = speed * f32(1.0 / self.vs)
+        if self.shape == "gauss":
+            g = np.exp((-(q * q)).astype(np.float64)).astype(f32)
+        elif self.shape == "exponential":
+            g = np.exp((-q).astype(np.float64)).astype(f32)
+        else:
+            g = f32(1) / (f32(1) + q)
+        return sgn * (f32(self.fc) + f32(self.fs - self.fc) * g) + f32(self.B) * v
+
+
+@dataclass(frozen=True)
+class FrictionalLag(Effect):
+    """Friction memory (the frictional lag of dynamic models such as LuGre or Dahl): the
+    velocity-weakening part follows the speed low-passed with time constant tau,
+    sgn(v) [S(s) - S(|v|)] with S(u) = F(u) - B u and tau s' = |v| - s."""
+
+    tau: float
+    name: ClassVar[str] = "frictional_lag"
+    positive: ClassVar[Tuple[str, ...]] = ("tau",)
+
+    @property
+    def lag_tau(self):
+        return self.tau
+
+    def force(self, sig):
+        v = np.asarray(sig.v)
+        return _sign(v) * (sig.stribeck(sig.lagged_speed(self.tau)) - sig.stribeck_speed)
+
+    @classmethod
+    def fit(cls, problem, rows):
+        """tau on a log grid from 1 ms to 1 s, refined; the force has no free gain."""
+        r, sig = problem.target[rows], problem.signals
+
+        def rss(log_tau):
+            pred = problem.at_rows(cls(tau=math.exp(log_tau)).force(sig)[:, None], rows)[:, 0]
+            return float(np.sum((r - pred) ** 2))
+
+        grid = np.linspace(math.log(max(1e-3, sig.sample_time)), math.log(1.0), 16)
+        return cls(tau=float(math.exp(_grid_then_refine(rss, grid))))
+
+
+@dataclass(frozen=True)
+class ThermalDrift(Effect):
+    """The friction level drifts with time: (offset + rate (t - t0)) F(v).
+
+    ``offset`` is the relative level change at t0 (the start of the log); it keeps a constant
+    level error of the model out of the estimate of ``rate``."""
+
+    rate: float
+    offset: float
+    t0: float
+    name: ClassVar[str] = "thermal_drift"
+    fixed: ClassVar[Tuple[str, ...]] = ("t0",)
+
+    def force(self, sig):
+        return (self.offset + self.rate * (np.asarray(sig.t) - self.t0)) * sig.friction
+
+    @classmethod
+    def fit(cls, problem, rows):
+        sig = problem.signals
+        t0 = float(sig.t[0])
+        basis = np.column_stack([(sig.t - t0) * sig.friction, sig.friction])
+        (rate, offset), _ = _lstsq(problem.at_rows(basis, rows), problem.target[rows])
+        return cls(rate=float(rate), offset=float(offset), t0=t0)
+
+
+#: The effect library, by the exact names of the diagnosis vocabulary.
+EFFECTS: Dict[str, Type[Effect]] = {cls.name: cls for cls in (
+    PositionRipple, DirectionAsymmetry, ConstantLoad, InertiaMismatch, ForceConstantMismatch,
+    ExtraFrictionSource, FrictionalLag, ThermalDrift)}
+#: The vocabulary: "none" and every effect name.
+VOCABULARY = ("none",) + tuple(EFFECTS)
+
+
+def effect_from_dict(d: Any) -> Effect:
+    """One validated effect of model.json's ``effects`` list."""
+    if not isinstance(d, dict):
+        raise ModelError(f"effects: each effect must be an object, got {type(d).__name__}")
+    name = d.get("effect")
+    if name not in EFFECTS:
+        raise ModelError(f"effects: unknown effect {name!r}; known: {', '.join(EFFECTS)}"[:200])
+    unknown = sorted(set(d) - {"effect", "parameters"})
+    if unknown:
+        raise ModelError(f"effects[{name}]: unknown field {unknown[0]!r}"[:200])
+    return EFFECTS[name].from_dict(d)
+
+
+def validate_effects(items: Any) -> List[dict]:
+    """model.json's ``effects`` list, each entry validated and normalized (``to_dict``)."""
+    if not isinstance(items, list):
+        raise ModelError("effects must be a list")
+    return [effect_from_dict(d).to_dict() for d in items]
+
+
+def model_effects(model) -> List[Effect]:
+    """The effects a model carries, as objects."""
+    return [effect_from_dict(d) for d in model.effects]
+
+
+def force_xv(model, v, x) -> np.ndarray:
+    """F(v) plus every effect that is a function of (v, x): what NAME_force_xv computes."""
+    v, x = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(x, dtype=float))
+    sig = Signals(model, x=x, v=v)
+    total = model.force(v)
+    for e in model_effects(model):
+        if e.in_xv:
+            total = total + e.force(sig)
+    return total
+
+
+def with_effects(model, effects: Sequence[Effect]):
+    """A copy of ``model`` whose effects list is extended by ``effects``."""
+    return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects))

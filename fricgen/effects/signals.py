@@ -1,0 +1,58 @@
+"""What an effect's force may depend on: the measured signals and the friction model."""
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+from scipy.signal import lfilter
+
+
+class Signals:
+    """What an effect's force may depend on: t, x, v, a, i (arrays) and the friction model.
+
+    ``s`` is the friction-memory state (a low-passed speed) when a simulation carries it;
+    otherwise ``lagged_speed`` filters |v| over the samples (uniform ``sample_time``).
+    With ``tabulate``, the model's velocity-weakening part is interpolated from a table of
+    4097 speeds in [0, v_sat] (error ~1e-5 N), for fits that evaluate it many times.
+    """
+
+    def __init__(self, model, t=None, x=None, v=None, a=None, i=None, s=None,
+                 sample_time: Optional[float] = None, tabulate: bool = False):
+        self.model, self.t, self.x, self.v, self.a, self.i, self.s = model, t, x, v, a, i, s
+        self.sample_time = sample_time
+        self._friction = None
+        self._stribeck_speed = None
+        self._table = None
+        if tabulate:
+            u = np.linspace(0.0, model.v_sat, 4097)
+            self._table = (u, model.force(u) - model.viscous * u)
+
+    @property
+    def friction(self) -> np.ndarray:
+        """F(v) of eq. (3)."""
+        if self._friction is None:
+            self._friction = self.model.force(self.v)
+        return self._friction
+
+    def stribeck(self, speed) -> np.ndarray:
+        """The velocity-weakening part of the model at a speed >= 0: F(u) - B u."""
+        if self._table is not None:
+            return np.interp(speed, *self._table)        # constant beyond v_sat, as eq. (3)
+        return self.model.force(speed) - self.model.viscous * np.asarray(speed)
+
+    @property
+    def stribeck_speed(self) -> np.ndarray:
+        """The velocity-weakening part at the current speed |v| (cached)."""
+        if self._stribeck_speed is None:
+            self._stribeck_speed = self.stribeck(np.abs(self.v))
+        return self._stribeck_speed
+
+    def lagged_speed(self, tau: float) -> np.ndarray:
+        """|v| low-passed with time constant ``tau`` (exact first-order discretization)."""
+        if self.s is not None:
+            return self.s
+        speed = np.abs(self.v)
+        alpha = 1.0 - math.exp(-self.sample_time / tau)
+        out, _ = lfilter([alpha], [1.0, alpha - 1.0], speed, zi=[(1.0 - alpha) * speed[0]])
+        return out

@@ -1,0 +1,1 @@
+"""Cortex-M cross builds of emitted models and the controller, and their runs under QEMU."""

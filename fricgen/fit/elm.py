@@ -1,0 +1,256 @@
+"""Extreme Learning Machines, eqs. (7)-(17): hidden-layer schemes x activations x solvers.
+
+A model is assembled from three interchangeable parts: a hidden-layer *scheme* that draws the
+input weights w and biases b, an *activation* applied to z = w x + b, and a *solver* for the
+output weights beta. All solvers work from one SVD of the hidden-layer matrix H (eq. 11).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ..metrics import rmse
+from ..networks.elm import ACTIVATIONS, ElmNetwork, check_activation, hidden_matrix
+from .base import Estimator, as_rng
+
+
+# ----------------------------------------------------------------------------- schemes
+
+
+def _logit(r: float) -> float:
+    return float(np.log(r / (1.0 - r)))
+
+
+@dataclass(frozen=True)
+class StandardScheme:
+    """The standard ELM draw: w and b uniform in [low, high] (section 4, [-1, 1])."""
+
+    low: float = -1.0
+    high: float = 1.0
+
+    def draw(self, n: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+        return rng.uniform(self.low, self.high, n), rng.uniform(self.low, self.high, n)
+
+
+@dataclass(frozen=True)
+class EnlargedScheme:
+    """Enlarged variability, eqs. (16)-(17): w uniform in [-w_max, w_max]; b such that each
+    sigmoid falls below r1 at one end of the input interval [0, 1] and rises above r2 at the other.
+
+    For w > 0, (16) reads sigma(b) < r1 and sigma(w + b) > r2, so b is uniform in
+    [logit(r2) - w, logit(r1)]; for w < 0 the roles of the ends swap: b in [logit(r2),
+    logit(r1) - w]. (The extraction of eq. (17) prints ln(1/r2 - 1) = -logit(r2) in the lower
+    bound, a sign slip: that bound only guarantees sigma(w + b) > 1 - r2.) The interval is empty
+    when |w| < logit(r2) - logit(r1); such w are redrawn, so w is uniform over the feasible part
+    of [-w_max, w_max].
+    """
+
+    w_max: float = 10.0
+    r1: float = 0.1
+    r2: float = 0.9
+
+    def __post_init__(self):
+        if not 0.0 < self.r1 < self.r2 < 1.0:
+            raise ValueError(f"need 0 < r1 < r2 < 1, got r1={self.r1}, r2={self.r2}")
+        if self.w_max <= _logit(self.r2) - _logit(self.r1):
+            raise ValueError(f"w_max={self.w_max} too small for r1={self.r1}, r2={self.r2}: "
+                             f"need w_max > {_logit(self.r2) - _logit(self.r1):.3f}")
+
+    def draw(self, n: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+        lo1, lo2 = _logit(self.r1), _logit(self.r2)
+        w_min = lo2 - lo1
+        magnitude = rng.uniform(w_min, self.w_max, n)
+        sign = np.where(rng.uniform(size=n) < 0.5, -1.0, 1.0)
+        w = sign * magnitude
+        low = np.where(w > 0, lo2 - w, lo2)
+        high = np.where(w > 0, lo1, lo1 - w)
+        return w, rng.uniform(low, high)
+
+
+@dataclass(frozen=True)
+class FixedScheme:
+    """Given hidden parameters (used by conditioning optimization and for refits)."""
+
+    input_weights: Sequence[float]
+    biases: Sequence[float]
+
+    def draw(self, n: int, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+        w, b = np.asarray(self.input_weights, float), np.asarray(self.biases, float)
+        if w.size != n or b.size != n:
+            raise ValueError(f"fixed scheme holds {w.size} neurons, asked for {n}")
+        return w.copy(), b.copy()
+
+
+SCHEMES = {"standard": StandardScheme, "enlarged": EnlargedScheme}
+
+
+# ----------------------------------------------------------------------------- solvers
+
+
+class SVD(NamedTuple):
+    """Thin SVD of H = U diag(s) V^T."""
+
+    U: np.ndarray
+    s: np.ndarray
+    Vt: np.ndarray
+
+    @classmethod
+    def of(cls, H: np.ndarray) -> "SVD":
+        U, s, Vt = np.linalg.svd(H, full_matrices=False)
+        return cls(U, s, Vt)
+
+    def filter_factors(self, C: float) -> np.ndarray:
+        """Ridge filter s / (s^2 + 1/C) per singular value; C = inf is the pseudo-inverse."""
+        if np.isinf(C):
+            cutoff = self.s.max(initial=0.0) * max(self.U.shape) * np.finfo(float).eps
+            keep = self.s > cutoff
+            return np.where(keep, 1.0 / np.where(keep, self.s, 1.0), 0.0)
+        return self.s / (self.s ** 2 + 1.0 / C)
+
+    def solve(self, t: np.ndarray, C: float) -> np.ndarray:
+        """beta of eq. (13) (C = inf) or eq. (15)."""
+        return self.Vt.T @ (self.filter_factors(C) * (self.U.T @ t))
+
+    def hat_diagonal(self, C: float) -> np.ndarray:
+        """diag of the hat matrix H (1/C I + H^T H)^-1 H^T."""
+        shrink = self.filter_factors(C) * self.s
+        return np.einsum("ij,j,ij->i", self.U, shrink, self.U)
+
+
+def loo_residuals(svd: SVD, t: np.ndarray, C: float) -> np.ndarray:
+    """Closed-form leave-one-out residuals (t_i - y_i) / (1 - h_ii) of the ridge fit (PRESS)."""
+    y = svd.U @ (svd.filter_factors(C) * svd.s * (svd.U.T @ t))
+    return (t - y) / np.maximum(1.0 - svd.hat_diagonal(C), 1e-12)
+
+
+@dataclass(frozen=True)
+class PseudoInverse:
+    """Moore-Penrose solution beta = H^+ t, eq. (13)."""
+
+    def choose_C(self, svd: SVD, t: np.ndarray) -> float:
+        return float("inf")
+
+
+@dataclass(frozen=True)
+class Ridge:
+    """Regularized solution with a given C, eqs. (14)-(15)."""
+
+    C: float
+
+    def __post_init__(self):
+        if not self.C > 0:
+            raise ValueError(f"C must be > 0, got {self.C}")
+
+    def choose_C(self, svd: SVD, t: np.ndarray) -> float:
+        return float(self.C)
+
+
+@dataclass(frozen=True)
+class LeaveOneOut:
+    """Ridge with C chosen by minimal closed-form leave-one-out error (PRESS) over a log grid.
+
+    Only C whose output weights keep ||beta||_1 <= ``max_beta_l1`` are eligible: float32
+    evaluation of eq. (7) on a microcontroller loses about eps32 * ||beta||_1 (sigmoid outputs
+    are <= 1), so a bound on ||beta||_1 is a bound on the firmware's rounding error.
+    """
+
+    C_grid: Tuple[float, ...] = tuple(np.logspace(-2, 14, 65))
+    max_beta_l1: float = 100.0
+
+    def choose_C(self, svd: SVD, t: np.ndarray) -> float:
+        best_C, best_press = float(self.C_grid[0]), np.inf
+        for C in self.C_grid:
+            if np.abs(svd.solve(t, C)).sum() > self.max_beta_l1:
+                continue
+            press = np.mean(loo_residuals(svd, t, C) ** 2)
+            if press < best_press:
+                best_C, best_press = float(C), press
+        return best_C
+
+
+SOLVERS = {"pinv": PseudoInverse, "ridge": Ridge, "loo": LeaveOneOut}
+
+
+def log10_cond(s: np.ndarray, C: float = float("inf"), n_hidden: Optional[int] = None) -> float:
+    """log10 cond(1/C I + H^T H) from the singular values s of H (C = inf: cond(H^T H)).
+
+    Computed as ((s_max^2 + 1/C) / (s_min^2 + 1/C)); H^T H is M x M, so with fewer samples than
+    neurons its smallest eigenvalue is 0.
+    """
+    s = np.asarray(s, dtype=float)
+    lam = 0.0 if np.isinf(C) else 1.0 / C
+    s_min = 0.0 if (n_hidden is not None and n_hidden > s.size) else s.min()
+    num, den = s.max() ** 2 + lam, s_min ** 2 + lam
+    return float("inf") if den == 0 else float(np.log10(num) - np.log10(den))
+
+
+# ----------------------------------------------------------------------------- estimator
+
+
+def make_part(kind, registry, what):
+    """A scheme or solver given by name (from ``registry``) or as an object."""
+    if isinstance(kind, str):
+        if kind not in registry:
+            raise ValueError(f"{what} must be one of {sorted(registry)}, got {kind!r}")
+        return registry[kind]()
+    return kind
+
+
+class ELMRegressor(Estimator):
+    """Extreme Learning Machine for one input (scikit-learn style).
+
+    Parameters are stored unchanged; ``fit`` draws the hidden layer from ``scheme`` with
+    ``random_state``, solves for beta with ``solver`` and returns self. ``solver`` is "pinv"
+    (eq. 13), "ridge" (eq. 15, needs ``C``), "loo" (C by leave-one-out), or a solver object.
+    """
+
+    def __init__(self, n_hidden: int = 10, activation: str = "sigmoid", scheme="enlarged",
+                 solver="loo", C: Optional[float] = None, random_state=None):
+        self.n_hidden = n_hidden
+        self.activation = activation
+        self.scheme = scheme
+        self.solver = solver
+        self.C = C
+        self.random_state = random_state
+
+    def _solver(self):
+        if self.solver == "ridge":
+            if self.C is None:
+                raise ValueError("solver 'ridge' needs C")
+            return Ridge(self.C)
+        return make_part(self.solver, SOLVERS, "solver")
+
+    def fit(self, x, t) -> "ELMRegressor":
+        if int(self.n_hidden) != self.n_hidden or self.n_hidden < 1:
+            raise ValueError(f"n_hidden must be a positive integer, got {self.n_hidden}")
+        check_activation(self.activation)
+        x, t = self._inputs(x, t)
+        w, b = make_part(self.scheme, SCHEMES, "scheme").draw(int(self.n_hidden), as_rng(self.random_state))
+        H = hidden_matrix(self.activation, x, w, b)
+        svd = SVD.of(H)
+        solver = self._solver()
+        self.C_ = solver.choose_C(svd, t)
+        self.beta_ = svd.solve(t, self.C_)
+        self.input_weights_, self.biases_ = w, b
+        self.singular_values_ = svd.s
+        self.loo_rmse_ = rmse(loo_residuals(svd, t, self.C_), 0.0)
+        self.network_ = ElmNetwork(self.activation, w, b, self.beta_)
+        return self
+
+    @property
+    def beta_norm_(self) -> float:
+        """||beta||, the size of the output weights."""
+        return float(np.linalg.norm(self.beta_))
+
+    @property
+    def log10_cond_(self) -> float:
+        """log10 cond(H^T H) of the fitted hidden layer, from the singular values of H."""
+        return log10_cond(self.singular_values_, n_hidden=int(self.n_hidden))
+
+
+#: Defaults of an explicitly configured ELM (``fricgen train --method elm``): 40 sigmoids of
+#: enlarged variability with input weights up to 30 (steep enough for the Stribeck drop), C by
+#: leave-one-out with ||beta||_1 <= 100.
+DEFAULT_ELM = dict(n_hidden=40, activation="sigmoid", scheme=EnlargedScheme(w_max=30.0), solver="loo")

@@ -1,0 +1,87 @@
+"""The trained ELM network, eq. (7): sum_k beta_k act(w_k x + b_k), with the activations of eq. (8)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Dict
+
+import numpy as np
+
+from .._validate import json_equal_lengths, json_vector
+from ..errors import ModelError
+
+
+def _sigmoid(z):
+    return 1.0 / (1.0 + np.exp(-z))
+
+
+#: Activations of z = w x + b, eq. (8) and its smooth alternatives (section 5).
+ACTIVATIONS: Dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "sigmoid": _sigmoid,
+    "sine": np.sin,
+    "rbf": lambda z: np.exp(-z * z),
+    "multiquadric": lambda z: np.sqrt(1.0 + z * z),
+}
+
+
+def check_activation(name: str) -> str:
+    if name not in ACTIVATIONS:
+        raise ValueError(f"activation must be one of {sorted(ACTIVATIONS)}, got {name!r}")
+    return name
+
+
+def hidden_matrix(activation: str, x, w, b) -> np.ndarray:
+    """H of eq. (11) for inputs x and hidden parameters (w, b)."""
+    x = np.asarray(x, dtype=float).reshape(-1, 1)
+    return ACTIVATIONS[activation](x * np.asarray(w) + np.asarray(b))
+
+
+@dataclass(frozen=True)
+class ElmNetwork:
+    """A trained single-hidden-layer network, eq. (7): sum_k beta_k act(w_k x + b_k)."""
+
+    activation: str
+    input_weights: np.ndarray
+    biases: np.ndarray
+    output_weights: np.ndarray
+
+    kind = "elm"
+
+    def __post_init__(self):
+        check_activation(self.activation)
+        arrays = [np.asarray(a, dtype=float).ravel() for a in
+                  (self.input_weights, self.biases, self.output_weights)]
+        if not (arrays[0].size == arrays[1].size == arrays[2].size) or arrays[0].size == 0:
+            raise ValueError("input_weights, biases, output_weights must have one equal, "
+                             f"non-zero length, got {[a.size for a in arrays]}")
+        if not all(np.all(np.isfinite(a)) for a in arrays):
+            raise ValueError("network weights must be finite")
+        for name, a in zip(("input_weights", "biases", "output_weights"), arrays):
+            object.__setattr__(self, name, a)
+
+    @property
+    def n_hidden(self) -> int:
+        return self.input_weights.size
+
+    def hidden(self, x) -> np.ndarray:
+        """The hidden-layer matrix H of eq. (11), one row per input."""
+        return hidden_matrix(self.activation, x, self.input_weights, self.biases)
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return (self.hidden(x) @ self.output_weights).reshape(x.shape)
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "activation": self.activation,
+                "input_weights": self.input_weights.tolist(), "biases": self.biases.tolist(),
+                "output_weights": self.output_weights.tolist()}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "ElmNetwork":
+        """The network of model.json's ``aim`` object, every field validated (``ModelError``)."""
+        activation = d.get("activation")
+        if activation not in ACTIVATIONS:
+            raise ModelError(f"aim.activation must be one of {sorted(ACTIVATIONS)}, "
+                             f"got {activation!r}"[:200])
+        vectors = {k: json_vector(d, k, "aim") for k in ("input_weights", "biases", "output_weights")}
+        json_equal_lengths("aim", vectors)
+        return cls(activation, *vectors.values())

@@ -1,0 +1,215 @@
+"""Measured-style motion logs from a truth axis with one hidden effect, for testing ``diagnose``.
+
+The truth axis is m dv/dt = phi i - F(v) - effect (eq. 18 of section 6), with the paper's
+friction (Table 1, ``preset("paper3")``) and at most one hidden effect of the diagnosis
+vocabulary. It runs closed-loop under a PID position controller with model feedforward
+(nominal m, phi and the trained friction model: it does not know the effect), integrated with
+fine Karnopp stick-slip steps, and it is observed through noisy, quantized sensors. Many logs
+advance together in one vectorized loop.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ..data import MotionLog, synthesize_benchmark
+from ..fit import as_rng, default_estimator
+from ..friction import SHAPES, preset
+from ..model import FrictionModel
+from .stickslip import StickSlipAxis
+
+#: The effects a truth axis can hide, with their size at magnitude 1 (see ``truth_parameters``).
+HIDDEN_EFFECTS = ("none", "position_ripple", "direction_asymmetry", "constant_load",
+                  "inertia_mismatch", "force_constant_mismatch", "extra_friction_source",
+                  "frictional_lag", "thermal_drift")
+
+#: Reference sizes at magnitude 1 (SI units); ``magnitude`` scales each.
+RIPPLE_AMPLITUDE, RIPPLE_PERIOD, RIPPLE_PHASE = 3.0, 0.012, 0.7    # N, m, rad
+ASYMMETRY = 0.2               # friction in the negative direction is (1 + 0.2) times larger
+LOAD = 5.0                    # N
+INERTIA = 0.3                 # true mass = (1 + 0.3) nominal
+FORCE_CONSTANT = -0.15        # true phi = (1 - 0.15) nominal
+EXTRA_SOURCE = dict(fc=2.0, fs=6.0, vs=0.03, B=15.0)   # fc, fs, B scale; vs does not
+LAG_TAU = 0.02                # s
+DRIFT_RATE = 0.02             # friction level grows by 2 % per second
+
+#: Sensor noise at noise = 1 (standard deviations) and quantization steps.
+SIGMA_X, Q_X = 0.5e-6, 1e-6   # m
+SIGMA_V, Q_V = 5e-4, 1e-4     # m/s
+SIGMA_I, Q_I = 0.02, 0.005    # A
+
+
+@dataclass(frozen=True)
+class LogSpec:
+    """One synthetic log: the hidden effect and its magnitude, seed, noise scale and axis."""
+
+    effect: str = "none"
+    magnitude: float = 1.0
+    seed: int = 0
+    duration: float = 12.0
+    noise: float = 1.0
+    mass: float = 4.0
+    force_constant: float = 20.0
+    sample_rate: float = 1000.0
+    substeps: int = 10
+    i_max: float = 20.0
+
+    def __post_init__(self):
+        if self.effect not in HIDDEN_EFFECTS:
+            raise ValueError(f"effect must be one of {list(HIDDEN_EFFECTS)}, got {self.effect!r}")
+        for name in ("duration", "mass", "force_constant", "sample_rate", "i_max"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
+        if not self.noise >= 0:
+            raise ValueError(f"noise must be >= 0, got {self.noise}")
+
+
+def truth_parameters(spec: LogSpec) -> Dict[str, float]:
+    """The hidden effect's true parameters, named as the diagnosis reports them."""
+    k, e = spec.magnitude, spec.effect
+    if e == "position_ripple":
+        return {"amplitude": RIPPLE_AMPLITUDE * k, "period": RIPPLE_PERIOD, "phase": RIPPLE_PHASE}
+    if e == "direction_asymmetry":
+        return {"gain_positive": 0.0, "gain_negative": ASYMMETRY * k}
+    if e == "constant_load":
+        return {"load": LOAD * k}
+    if e == "inertia_mismatch":
+        return {"mass": spec.mass * (1.0 + INERTIA * k)}
+    if e == "force_constant_mismatch":
+        return {"force_constant": spec.force_constant * (1.0 + FORCE_CONSTANT * k)}
+    if e == "extra_friction_source":
+        return {"fc": EXTRA_SOURCE["fc"] * k, "fs": EXTRA_SOURCE["fs"] * k,
+                "vs": EXTRA_SOURCE["vs"], "B": EXTRA_SOURCE["B"] * k}
+    if e == "frictional_lag":
+        return {"tau": LAG_TAU * k}
+    if e == "thermal_drift":
+        return {"rate": DRIFT_RATE * k}
+    return {}
+
+
+class TruthLaw:
+    """The truth force law of a batch of axes (the ``stickslip.ForceLaw`` protocol).
+
+    F(v) = (1 + g_sgn(v)) (1 + rate t) {sgn(v) [S(u) + S_extra(u)] + (B + B_extra) v},
+    u = |v| or, with frictional lag, the speed low-passed with time constant tau; external
+    force A sin(2 pi x / P + phase) + load.
+    """
+
+    def __init__(self, specs: Sequence[LogSpec], friction=None):
+        self.friction_ = preset("paper3") if friction is None else friction
+        p = [truth_parameters(s) for s in specs]
+
+        def col(key, default, effect):
+            return np.array([q.get(key, default) if s.effect == effect else default
+                             for s, q in zip(specs, p)], dtype=float)
+
+        self.mass = np.array([q.get("mass", s.mass) for s, q in zip(specs, p)])
+        self.force_constant = np.array([q.get("force_constant", s.force_constant)
+                                        for s, q in zip(specs, p)])
+        self.lag_tau = col("tau", 0.0, "frictional_lag")
+        self.amplitude = col("amplitude", 0.0, "position_ripple")
+        self.wavenumber = 2 * np.pi / col("period", 1.0, "position_ripple")
+        self.phase = col("phase", 0.0, "position_ripple")
+        self.load = col("load", 0.0, "constant_load")
+        self.gain_pos = col("gain_positive", 0.0, "direction_asymmetry")
+        self.gain_neg = col("gain_negative", 0.0, "direction_asymmetry")
+        self.fc_x, self.fs_x = col("fc", 0.0, "extra_friction_source"), col("fs", 0.0, "extra_friction_source")
+        self.vs_x, self.B_x = col("vs", 1.0, "extra_friction_source"), col("B", 0.0, "extra_friction_source")
+        self.rate = col("rate", 0.0, "thermal_drift")
+        self._g = SHAPES[self.friction_.shape]
+
+    def friction(self, v, t, s):
+        u = np.where(self.lag_tau > 0, s, np.abs(v))
+        level = self.friction_.stribeck(u) + self.fc_x + (self.fs_x - self.fc_x) * self._g(u, self.vs_x)
+        f = np.sign(v) * level + (self.friction_.viscous + self.B_x) * v
+        gain = np.where(v > 0, self.gain_pos, np.where(v < 0, self.gain_neg, 0.0))
+        return (1.0 + gain) * (1.0 + self.rate * t) * f
+
+    def external(self, x, v, t):
+        return self.amplitude * np.sin(self.wavenumber * x + self.phase) + self.load
+
+
+def reference_trajectory(t, seed, ramp: float = 0.5):
+    """A reversing multisine x_d(t) (and v_d, a_d) that fades in over ``ramp`` seconds.
+
+    Five components from 0.3 to 4.7 Hz (random phases, +-10 % frequency jitter per seed) give
+    speeds up to ~0.2 m/s, accelerations up to ~3 m/s^2 and about 0.1 m of travel.
+    """
+    rng = as_rng(seed)
+    f = np.array([0.31, 0.73, 1.37, 2.9, 4.7]) * rng.uniform(0.9, 1.1, 5)
+    vel = np.array([0.06, 0.06, 0.04, 0.05, 0.03])
+    w = 2 * np.pi * f
+    amp, ph = vel / w, rng.uniform(0, 2 * np.pi, 5)
+    t = np.asarray(t, dtype=float)[:, None]
+    arg = w * t + ph
+    y = np.sum(amp * (np.sin(arg) - np.sin(ph)), axis=1)   # starts at 0
+    yd = np.sum(amp * w * np.cos(arg), axis=1)
+    ydd = np.sum(-amp * w * w * np.sin(arg), axis=1)
+    tau = np.clip(t[:, 0] / ramp, 0.0, 1.0)
+    s = 3 * tau ** 2 - 2 * tau ** 3
+    sd = np.where(tau < 1, (6 * tau - 6 * tau ** 2) / ramp, 0.0)
+    sdd = np.where(tau < 1, (6 - 12 * tau) / ramp ** 2, 0.0)
+    return s * y, sd * y + s * yd, sdd * y + 2 * sd * yd + s * ydd
+
+
+def _quantize(value, step):
+    return np.round(value / step) * step
+
+
+def nominal_model(seed: int = 0) -> FrictionModel:
+    """The friction model a user would have: the default ELM trained on the paper benchmark."""
+    bench = synthesize_benchmark(preset("paper3"), seed=seed)
+    return FrictionModel.fit(bench.dataset, default_estimator(seed), name="fric_model")
+
+
+def synthesize_logs(specs: Sequence[LogSpec], model: Optional[FrictionModel] = None) -> List[MotionLog]:
+    """Closed-loop logs of the truth axes of ``specs`` (one vectorized simulation).
+
+    All specs must share duration, sample rate, substeps and nominal axis. The controller is
+    i = [m_N (a_d + kp e + kd de + ki int e) + F_model(v_d)] / phi_N, saturated at +-i_max,
+    with a 20 Hz closed-loop bandwidth, fed by the measured (noisy, quantized) x and v.
+    """
+    specs = list(specs)
+    if not specs:
+        raise ValueError("specs must hold at least one LogSpec")
+    first = specs[0]
+    shared = ("duration", "sample_rate", "substeps", "mass", "force_constant", "i_max")
+    for s in specs[1:]:
+        if any(getattr(s, k) != getattr(first, k) for k in shared):
+            raise ValueError(f"specs must share {', '.join(shared)}")
+    model = nominal_model() if model is None else model
+    ts = 1.0 / first.sample_rate
+    n = int(round(first.duration * first.sample_rate)) + 1
+    t = np.arange(n) * ts
+    refs = [reference_trajectory(t, s.seed) for s in specs]
+    xd, vd, ad = (np.stack([r[k] for r in refs], axis=1) for k in range(3))
+    feedforward = model.force(vd)
+    m_n, phi_n = first.mass, first.force_constant
+    w = 2 * np.pi * 20.0
+    kp, kd, ki = w * w, 2 * 0.7 * w, 0.1 * w ** 3
+    # sensor noise, one independent stream per log: (sample, sensor, log)
+    z = np.stack([np.random.default_rng([s.seed, 7]).standard_normal((n, 3)) * s.noise
+                  for s in specs], axis=2)
+
+    law = TruthLaw(specs)
+    axis = StickSlipAxis(law, np.zeros(len(specs)), 0.0, 0.0, dt=ts / first.substeps)
+    logs = np.zeros((3, n, len(specs)))
+    integral = np.zeros(len(specs))
+    for k in range(n):
+        xm = _quantize(axis.x + SIGMA_X * z[k, 0], Q_X)
+        vm = _quantize(axis.v + SIGMA_V * z[k, 1], Q_V)
+        e = xd[k] - xm
+        integral += e * ts
+        i = (m_n * (ad[k] + kp * e + kd * (vd[k] - vm) + ki * integral) + feedforward[k]) / phi_n
+        i = np.clip(i, -first.i_max, first.i_max)
+        logs[:, k] = (xm, vm, _quantize(i + SIGMA_I * z[k, 2], Q_I))
+        axis.advance(i, first.substeps)
+    return [MotionLog(t=t, x=logs[0, :, j], v=logs[1, :, j], i=logs[2, :, j],
+                      extra={"x_d": xd[:, j]}) for j in range(len(specs))]
+
+
+def synthesize_log(spec: LogSpec, model: Optional[FrictionModel] = None) -> MotionLog:
+    """One log of ``synthesize_logs``."""
+    return synthesize_logs([spec], model)[0]
