@@ -27,3 +27,17 @@ def fit_model(bench, name="fm", **elm):
 @pytest.fixture(scope="session")
 def default_model(bench):
     return fit_model(bench)
+
+
+#: Tests of more than a few seconds (wheel install, cross builds under QEMU, sanitizer fuzz, the
+#: quick paper reproduction, the diagnosis matrix, long closed loops): ``-m "not slow"`` skips them.
+SLOW_MODULES = {"test_install", "test_firmware", "test_hardening", "test_experiments"}
+SLOW_TESTS = {"test_the_hidden_effect_is_named",
+              "test_errors_and_parameters_stay_bounded_under_law_c_with_a_constant_disturbance",
+              "test_closed_loop_c_equals_float32_twin_and_float64_controller"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if item.module.__name__.rpartition(".")[2] in SLOW_MODULES or item.originalname in SLOW_TESTS:
+            item.add_marker(pytest.mark.slow)

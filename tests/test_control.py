@@ -220,7 +220,6 @@ def test_simulate_rejects_controllers_with_different_sampling_times():
 
 
 def test_cli_simulate_json_has_every_variant_with_the_figures(capsys, tmp_path):
-    pytest.importorskip("fricgen.fuzzy")
     assert main(["simulate", "--json", "--duration", "0.3", "--law", "b"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert set(report["variants"]) == {"none", "exact", "elm", "fuzzy"}

@@ -150,36 +150,55 @@ def check_fast_model(model) -> None:
                          f"neuron and x in [0, {x_max}], this model reaches {reach:.4g}")
 
 
-def minimax_exp2(degree: int = DEGREE, iterations: int = 30, n_grid: int = 400_000) -> np.ndarray:
+def _alternating_extrema(err: np.ndarray, count: int) -> np.ndarray:
+    """Indices of ``count`` extrema of ``err`` with alternating signs and the largest |err|: the
+    extremum of each same-sign run, then the smaller end run dropped until ``count`` remain."""
+    sign = np.sign(err)
+    runs = np.split(np.arange(err.size), np.flatnonzero(sign[1:] != sign[:-1]) + 1)
+    peaks = [int(run[np.argmax(np.abs(err[run]))]) for run in runs if sign[run[0]] != 0]
+    while len(peaks) > count:
+        drop = 0 if abs(err[peaks[0]]) < abs(err[peaks[-1]]) else -1
+        peaks.pop(drop)
+    return np.array(peaks)
+
+
+def minimax_exp2(degree: int = DEGREE, iterations: int = 60, n_grid: int = 400_000,
+                 tolerance: float = 1e-9) -> np.ndarray:
     """Coefficients c_0 = 1, c_1..c_degree (float64) of the polynomial P minimizing
     max |P(f) / 2^f - 1| over [-1/2, 1/2] subject to P(0) = 1 (so 2^t is exact at integer t and
     sigma(0) = 1/2); FRIC_FAST_P0..P4 are these rounded to float.
 
     With P(f) = 1 + f Q(f) and h(f) = (2^f - 1) / f the relative error is f (Q(f) - h(f)) / 2^f:
-    a weighted minimax problem for Q (weight |f| / 2^f), solved by Remez exchange."""
+    a weighted minimax problem for Q (weight |f| / 2^f), solved by Remez exchange. The weight
+    vanishes at f = 0, so no reference point may sit there: the first reference is the Chebyshev
+    extrema pushed off 0. The exchange stops when the error levels out (the largest error on the
+    grid exceeds the levelled error |E| by less than ``tolerance`` relative)."""
     q = degree - 1
     k = np.arange(q + 2)
     nodes = -0.5 * np.cos(np.pi * k / (q + 1))  # Chebyshev extrema as the first reference
-    nodes[nodes == 0.0] = 1e-3                 # the weight vanishes at 0
+    near_zero = np.abs(nodes) < 1e-3
+    nodes[near_zero] = np.where(nodes[near_zero] < 0, -1e-3, 1e-3)
     grid = np.linspace(-0.5, 0.5, n_grid)      # n_grid even: 0 is not on the grid
+    h = np.expm1(grid * np.log(2.0)) / grid
+    weight = np.abs(grid) / 2.0 ** grid
 
-    def h(f):
-        return np.expm1(f * np.log(2.0)) / f
-
-    def weight(f):
-        return np.abs(f) / 2.0 ** f
+    def solve(f):
+        """Q on the reference f with equal, alternating weighted errors, and that error E."""
+        a = np.hstack([f[:, None] ** np.arange(q + 1),
+                       ((-1.0) ** k * 2.0 ** f / np.abs(f))[:, None]])
+        sol = np.linalg.solve(a, np.expm1(f * np.log(2.0)) / f)
+        return sol[:-1], abs(sol[-1])
 
     coef = np.zeros(q + 1)
     for _ in range(iterations):
-        # Q(x_i) - h(x_i) = (-1)^i E / weight(x_i) at the q + 2 reference points
-        a = np.hstack([nodes[:, None] ** np.arange(q + 1), ((-1.0) ** k / weight(nodes))[:, None]])
-        coef = np.linalg.solve(a, h(nodes))[:-1]
-        err = weight(grid) * (np.polyval(coef[::-1], grid) - h(grid))
-        sign = np.sign(err)
-        segments = np.split(np.arange(grid.size), np.flatnonzero(sign[1:] != sign[:-1]) + 1)
-        if len(segments) != q + 2:
+        coef, level = solve(nodes)
+        err = weight * (np.polyval(coef[::-1], grid) - h)
+        peaks = _alternating_extrema(err, q + 2)
+        if peaks.size < q + 2:
             break
-        nodes = np.array([grid[seg[np.argmax(np.abs(err[seg]))]] for seg in segments])
+        nodes = grid[peaks]
+        if np.max(np.abs(err)) - level <= tolerance * level:
+            break
     return np.concatenate([[1.0], coef])
 
 

@@ -30,6 +30,16 @@ class NotFittedError(FricgenError, AttributeError):
 class Estimator:
     """Base of fricgen's regressors from the normalized input x to the target t of eq. (9)."""
 
+    #: What scikit-learn before 1.6 reads to tell a regressor.
+    _estimator_type = "regressor"
+
+    def __sklearn_tags__(self):
+        """The tags scikit-learn 1.6+ reads (``clone``, ``cross_val_score``): a regressor."""
+        from sklearn.utils import RegressorTags, Tags, TargetTags   # optional dependency
+
+        return Tags(estimator_type="regressor", target_tags=TargetTags(required=True),
+                    regressor_tags=RegressorTags())
+
     @classmethod
     def _param_names(cls):
         signature = inspect.signature(cls.__init__)
