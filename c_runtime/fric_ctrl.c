@@ -52,7 +52,7 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
     return p->friction_at == FRIC_CTRL_FRICTION_AT_V || p->friction_at == FRIC_CTRL_FRICTION_AT_VD;
 }
 
-int fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p)
+fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p)
 {
     if (c == NULL || p == NULL) {
         return FRIC_CTRL_ERR_NULL;

@@ -27,22 +27,33 @@
 extern "C" {
 #endif
 
-#define FRIC_CTRL_VERSION 1
+#define FRIC_CTRL_VERSION 2
+
+/* fricgen.control.c_abi mirrors the enums and structs below (fricgen's tests check that both
+ * agree). The enums' size is the compiler's choice: int on most hosts, the smallest that fits
+ * under arm-none-eabi-gcc (-fshort-enums is the AAPCS default there), so build the runtime and
+ * its callers with the same compiler settings. */
+
+/* Return codes of fric_ctrl_init. */
+typedef enum {
+    FRIC_CTRL_OK = 0,
+    FRIC_CTRL_ERR_NULL = -1,  /* a NULL pointer */
+    FRIC_CTRL_ERR_PARAM = -2  /* a parameter out of range (see fric_ctrl_params_t) */
+} fric_ctrl_status_t;
 
 /* Adaptation laws of eq. (12) a, b, c. */
-#define FRIC_CTRL_LAW_A 0
-#define FRIC_CTRL_LAW_B 1
-#define FRIC_CTRL_LAW_C 2
+typedef enum {
+    FRIC_CTRL_LAW_A = 0,
+    FRIC_CTRL_LAW_B = 1,
+    FRIC_CTRL_LAW_C = 2
+} fric_ctrl_law_t;
 
 /* Where fric_ctrl_step_fn evaluates the friction model: the measured velocity v (the paper),
  * or the virtual control v_d = xd' + k1 e1 (keeps compensating while the axis sticks). */
-#define FRIC_CTRL_FRICTION_AT_V 0
-#define FRIC_CTRL_FRICTION_AT_VD 1
-
-/* Return codes of fric_ctrl_init. */
-#define FRIC_CTRL_OK 0
-#define FRIC_CTRL_ERR_NULL (-1)   /* a NULL pointer */
-#define FRIC_CTRL_ERR_PARAM (-2)  /* a parameter out of range (see fric_ctrl_params_t) */
+typedef enum {
+    FRIC_CTRL_FRICTION_AT_V = 0,
+    FRIC_CTRL_FRICTION_AT_VD = 1
+} fric_ctrl_friction_at_t;
 
 /* Friction compensation model: force in newtons at velocity v (m/s). */
 typedef float (*fric_ctrl_friction_fn)(float v);
@@ -57,8 +68,9 @@ typedef struct {
     float i_max;        /* current limit, A, > 0 */
     float m_o_hat0;     /* initial m_o_hat = m / phi, kg A / N */
     float k_hat0;       /* initial k_hat (1: trust the friction model) */
-    int law;            /* FRIC_CTRL_LAW_A, _B or _C */
-    int friction_at;    /* FRIC_CTRL_FRICTION_AT_V or _AT_VD (fric_ctrl_step_fn only) */
+    fric_ctrl_law_t law;                  /* FRIC_CTRL_LAW_A, _B or _C */
+    fric_ctrl_friction_at_t friction_at;  /* FRIC_CTRL_FRICTION_AT_V or _AT_VD
+                                             (fric_ctrl_step_fn only) */
 } fric_ctrl_params_t;
 
 typedef struct {
@@ -77,7 +89,7 @@ void fric_ctrl_default_params(fric_ctrl_params_t *p);
 
 /* Check the parameters and reset the controller (A = A0, errors and current 0).
  * Returns FRIC_CTRL_OK, FRIC_CTRL_ERR_NULL or FRIC_CTRL_ERR_PARAM (c is then untouched). */
-int fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
+fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
 
 /* One sample: measured position x and velocity v, reference xd, xd', xd'', and the friction
  * compensation force friction (N; 0 for none). Returns the current command (A) and updates

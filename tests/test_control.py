@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from fricgen.cli import main
-from fricgen.control.backstepping import AdaptiveBackstepping, gamma_matrix
+from fricgen.control.backstepping import AdaptiveBackstepping
+from fricgen.control.gamma import gamma_matrix
 from fricgen.friction import multisource
 from fricgen.sim.plant import LinearAxis
 from fricgen.control.loop import compare, simulate

@@ -20,7 +20,7 @@ import pytest
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, emit
-from fricgen.control.backstepping import LAWS, AdaptiveBackstepping
+from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.c_controller import CController, build_controller, float32_twin
 from fricgen.sim.plant import LinearAxis
 from fricgen.control.loop import simulate

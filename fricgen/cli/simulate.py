@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..control.backstepping import LAWS, AdaptiveBackstepping
+from ..control.backstepping import AdaptiveBackstepping
+from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
 from ..control.loop import DEFAULT_DURATION, compensations, simulate
 from ..errors import UsageError
@@ -28,11 +29,11 @@ def register(sub) -> None:
     p = sub.add_parser("simulate", help=HELP, description=HELP)
     add_model(p, required=False, help="model.json to compensate with (default: fricgen's default "
               "model trained on the paper benchmark, plus the fuzzy baseline)")
-    p.add_argument("--law", choices=sorted(LAWS), default="c", help="adaptation law of eq. (12)")
+    p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of eq. (12)")
     p.add_argument("--ts", type=float, default=1e-3, help="sampling time, s (default 1e-3)")
     p.add_argument("--duration", type=float, default=DEFAULT_DURATION,
                    help=f"simulated time, s (default {DEFAULT_DURATION:g})")
-    p.add_argument("--friction-input", choices=("v", "vd"), default="v",
+    p.add_argument("--friction-input", choices=FRICTION_INPUT.keys, default="v",
                    help="evaluate the friction model at the measured v (paper) or at v_d")
     p.add_argument("--backend", choices=("python", "c"), default="python",
                    help="run the Python controller or the emitted C one (through cffi)")

@@ -30,27 +30,8 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-#: The adaptation laws of eq. (12) (a, b, c), by name; the value is the C enum FRIC_CTRL_LAW_*.
-LAWS = {"a": 0, "b": 1, "c": 2}
-
-
-def gamma_matrix(gamma) -> np.ndarray:
-    """Gamma of eq. (11) as a 2x2 array from a scalar, a diagonal (2 values) or a 2x2 matrix;
-    it must be symmetric positive definite."""
-    g = np.asarray(gamma, dtype=float)
-    if g.ndim == 0:
-        g = g * np.eye(2)
-    elif g.shape == (2,):
-        g = np.diag(g)
-    if g.shape != (2, 2):
-        raise ValueError(f"gamma must be a scalar, 2 values or a 2x2 matrix, got shape {g.shape}")
-    if not np.all(np.isfinite(g)):
-        raise ValueError(f"gamma must be finite, got {g.tolist()}")
-    if g[0, 1] != g[1, 0]:
-        raise ValueError(f"gamma must be symmetric, got {g.tolist()}")
-    if np.linalg.eigvalsh(g).min() <= 0:
-        raise ValueError(f"gamma must be positive definite, got {g.tolist()}")
-    return g
+from .c_abi import FRICTION_INPUT, LAW
+from .gamma import gamma_matrix
 
 
 def _check(name: str, value, low: float, strict: bool = True) -> float:
@@ -113,8 +94,8 @@ class AdaptiveBackstepping:
 
     def validate(self) -> "AdaptiveBackstepping":
         """Check every parameter; raise ValueError naming the first bad one."""
-        if self.law not in LAWS:
-            raise ValueError(f"law must be one of {sorted(LAWS)}, got {self.law!r}")
+        if self.law not in LAW.keys:
+            raise ValueError(f"law must be one of {list(LAW.keys)}, got {self.law!r}")
         _check("k1", self.k1, 0.0)
         _check("k2", self.k2, 0.5)
         gamma_matrix(self.gamma)
@@ -128,8 +109,9 @@ class AdaptiveBackstepping:
         if self.compensation is not None and not callable(self.compensation):
             raise ValueError(f"compensation must be None or a callable F(v), "
                              f"got {type(self.compensation).__name__}")
-        if self.friction_input not in ("v", "vd"):
-            raise ValueError(f"friction_input must be 'v' or 'vd', got {self.friction_input!r}")
+        if self.friction_input not in FRICTION_INPUT.keys:
+            raise ValueError(f"friction_input must be one of {list(FRICTION_INPUT.keys)}, "
+                             f"got {self.friction_input!r}")
         if self.dtype not in ("float64", "float32"):
             raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
         return self
@@ -144,7 +126,7 @@ class AdaptiveBackstepping:
         self._g = tuple(f(x) for x in g.ravel())
         self._k1, self._k2, self._delta, self._ts, self._phi_n, self._i_max = (
             f(p) for p in (self.k1, self.k2, self.delta, self.ts, self.phi_n, self.i_max))
-        self._law = LAWS[self.law]
+        self._law = self.law
         self.a_ = [f(a) for a in self.a0]
         self.e1_ = self.e2_ = self.i_ = f(0.0)
         return self
@@ -187,9 +169,9 @@ class AdaptiveBackstepping:
             i = self._i_max
         elif i < -self._i_max:
             i = -self._i_max
-        if self._law == 0:
+        if self._law == "a":
             sigma = f(0.0)
-        elif self._law == 1:
+        elif self._law == "b":
             sigma = self._delta
         else:
             sigma = self._delta * self._sqrt(e1 * e1 + e2 * e2)

@@ -7,6 +7,7 @@ same closed loop as the Python controller.
 from __future__ import annotations
 
 import shutil
+import tempfile
 from pathlib import Path
 from typing import Dict, Optional
 
@@ -19,36 +20,14 @@ from ..codegen.cbuild import build_module, model_cdef
 from ..codegen.twin import force_f32
 from ..model import FrictionModel
 from ..networks import ElmNetwork
-from .backstepping import LAWS, AdaptiveBackstepping, gamma_matrix
-
-#: cffi declarations of fric_ctrl.h (keep in step with the header).
-CONTROLLER_CDEF = """
-typedef float (*fric_ctrl_friction_fn)(float v);
-typedef struct {
-    float k1; float k2; float gamma[4]; float delta; float ts; float phi_n; float i_max;
-    float m_o_hat0; float k_hat0; int law; int friction_at;
-} fric_ctrl_params_t;
-typedef struct {
-    fric_ctrl_params_t p; float m_o_hat; float k_hat; float e1; float e2; float i;
-} fric_ctrl_t;
-void fric_ctrl_default_params(fric_ctrl_params_t *p);
-int fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
-float fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                     float friction);
-float fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                        fric_ctrl_friction_fn friction);
-"""
-
-#: fric_ctrl_init's return codes.
-INIT_CODES = {0: "ok", -1: "NULL pointer", -2: "parameter out of range"}
+from .backstepping import AdaptiveBackstepping
+from .c_abi import CDEF, STATUS, param_values
 
 
 def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=None):
     """Emit each model under its C name (the key) and the controller runtime into ``folder``
     (default: a new temporary folder, removed after the build), compile them all, and return the
     cffi module (``module.lib.NAME_force``, ``module.lib.fric_ctrl_step``, ``module.ffi``)."""
-    import tempfile
-
     tmp = folder is None
     folder = Path(tempfile.mkdtemp(prefix="fricgen_ctrl_") if tmp else folder)
     try:
@@ -58,7 +37,7 @@ def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=N
             headers.append(f"{name}.h")
             cdefs.append(model_cdef(name))
         write_all_atomic(folder, controller_files())
-        return build_module(folder, headers + ["fric_ctrl.h"], "".join(cdefs) + CONTROLLER_CDEF,
+        return build_module(folder, headers + ["fric_ctrl.h"], "".join(cdefs) + CDEF,
                             build_dir=folder / "build")
     finally:
         if tmp:
@@ -84,14 +63,9 @@ class CController:
 
     def params(self):
         """The ``fric_ctrl_params_t`` of ``settings`` (validated in Python first)."""
-        s = self.settings.validate()
-        ffi = self.module.ffi
-        p = ffi.new("fric_ctrl_params_t *")
-        p.k1, p.k2, p.delta, p.ts, p.phi_n, p.i_max = s.k1, s.k2, s.delta, s.ts, s.phi_n, s.i_max
-        p.gamma = [float(g) for g in gamma_matrix(s.gamma).ravel()]
-        p.m_o_hat0, p.k_hat0 = (float(a) for a in s.a0)
-        p.law = LAWS[s.law]
-        p.friction_at = 1 if s.friction_input == "vd" else 0
+        p = self.module.ffi.new("fric_ctrl_params_t *")
+        for name, value in param_values(self.settings).items():
+            setattr(p, name, value)
         return p
 
     def reset(self) -> "CController":
@@ -99,8 +73,8 @@ class CController:
         self._twin = self.settings.clone(dtype="float32").reset()
         self._c = ffi.new("fric_ctrl_t *")
         code = lib.fric_ctrl_init(self._c, self.params())
-        if code != 0:
-            raise ValueError(f"fric_ctrl_init rejected the parameters: {INIT_CODES.get(code, code)}")
+        if code != STATUS.member("ok").value:
+            raise ValueError(f"fric_ctrl_init rejected the parameters: {STATUS.key_of(code)}")
         self._fn = ffi.addressof(lib, self.c_friction) if self.c_friction else None
         return self
 

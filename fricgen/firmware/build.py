@@ -22,7 +22,7 @@ import numpy as np
 from .._io import resource_dir
 from ..c_literal import c_float, c_list
 from ..codegen.cbuild import STRICT_WARNINGS
-from ..control.backstepping import LAWS, gamma_matrix
+from ..control.c_abi import params_initializer
 
 CC = "arm-none-eabi-gcc"
 SIZE = "arm-none-eabi-size"
@@ -300,18 +300,6 @@ def plant_sources() -> List[Path]:
     return [firmware_dir() / "fw_plant.c"]
 
 
-def _ctrl_initializer(settings) -> str:
-
-    s = settings.validate()
-    g = ", ".join(c_float(x) for x in gamma_matrix(s.gamma).ravel())
-    fields = [f".k1 = {c_float(s.k1)}", f".k2 = {c_float(s.k2)}", f".gamma = {{{g}}}",
-              f".delta = {c_float(s.delta)}", f".ts = {c_float(s.ts)}",
-              f".phi_n = {c_float(s.phi_n)}", f".i_max = {c_float(s.i_max)}",
-              f".m_o_hat0 = {c_float(s.a0[0])}", f".k_hat0 = {c_float(s.a0[1])}",
-              f".law = {LAWS[s.law]}", f".friction_at = {1 if s.friction_input == 'vd' else 0}"]
-    return "{" + ", ".join(fields) + "}"
-
-
 def config_closed_loop(settings, plant: Float32Plant, reference, friction_fn: Optional[str]) -> str:
     """The ``extra`` text of fw_config.h for a closed-loop run (``FW_EXTRA()`` calls
     ``fw_closed_loop_run``): controller parameters from ``settings`` (an
@@ -328,7 +316,7 @@ def config_closed_loop(settings, plant: Float32Plant, reference, friction_fn: Op
 {arrays}
 static const fw_loop_t fw_loop = {{
     {plant.c_initializer()},
-    {_ctrl_initializer(settings)},
+    {params_initializer(settings)},
     {friction_fn or "0"}, {n}u, fw_ref_xd, fw_ref_xd_dot, fw_ref_xd_ddot
 }};
 #define FW_EXTRA() ((void)fw_closed_loop_run(&fw_loop))
