@@ -33,7 +33,8 @@ def finite(name: str, value, error: Type[Exception] = ValueError) -> float:
 def integer(name: str, value, minimum: int = 1, error: Type[Exception] = ValueError) -> int:
     """``value`` as an int if it is an integer >= ``minimum``, else ``error`` naming ``name``."""
     if not (_is_number(value) and math.isfinite(value) and int(value) == value and value >= minimum):
-        raise error(f"{name} must be an integer >= {minimum}, got {value!r}"[:200])
+        what = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+        raise error(f"{name} must be {what}, got {value!r}"[:200])
     return int(value)
 
 

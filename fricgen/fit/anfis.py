@@ -16,6 +16,7 @@ from typing import Optional
 
 import numpy as np
 
+from .._validate import integer, positive
 from ..metrics import rmse
 from .base import Estimator
 from ..networks.anfis import MF_KINDS, TINY, AnfisNetwork, check_mf, memberships
@@ -87,10 +88,8 @@ class AnfisRegressor(Estimator):
         return AnfisNetwork(net.mf, net.centers, net.widths, net.exponents, coef[:n], coef[n:])
 
     def fit(self, x, t) -> "AnfisRegressor":
-        if int(self.epochs) != self.epochs or self.epochs < 1:
-            raise ValueError(f"epochs must be a positive integer, got {self.epochs}")
-        if not self.step > 0:
-            raise ValueError(f"step must be > 0, got {self.step}")
+        integer("epochs", self.epochs)
+        positive("step", self.step)
         x, t = self._inputs(x, t)
         if x.size != t.size or x.size == 0:
             raise ValueError(f"x and t must have one equal, non-zero length, got {x.size}, {t.size}")

@@ -22,6 +22,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .._validate import integer, positive
 from ..metrics import rmse
 from ..networks.elm import ElmNetwork, hidden_matrix
 from .base import Estimator
@@ -87,16 +88,14 @@ class AutoELMRegressor(Estimator):
         self.random_state = random_state   # accepted for a uniform interface; fit is deterministic
 
     def _check(self):
-        for name in ("n_members", "max_hidden"):
-            v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise ValueError(f"{name} must be a positive integer, got {v}")
-        if int(self.n_centres) != self.n_centres or self.n_centres < 2:
-            raise ValueError(f"n_centres must be an integer >= 2, got {self.n_centres}")
-        if len(self.steepness) == 0 or not all(s > 0 for s in self.steepness):
-            raise ValueError(f"steepness must be positive numbers, got {self.steepness!r}")
-        if not self.max_beta_l1 > 0:
-            raise ValueError(f"max_beta_l1 must be > 0, got {self.max_beta_l1}")
+        integer("n_members", self.n_members)
+        integer("max_hidden", self.max_hidden)
+        integer("n_centres", self.n_centres, minimum=2)
+        if len(self.steepness) == 0:
+            raise ValueError("steepness must hold at least one scale")
+        for s in self.steepness:
+            positive("steepness", s)
+        positive("max_beta_l1", self.max_beta_l1)
 
     def _member(self, x, t, w, b):
         D = hidden_matrix("sigmoid", x, w, b)

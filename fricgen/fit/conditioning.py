@@ -12,6 +12,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from .._validate import integer
 from ..networks.elm import hidden_matrix
 from .base import Estimator, as_rng
 from .elm import SCHEMES, ELMRegressor, EnlargedScheme, FixedScheme, log10_cond, make_part
@@ -47,10 +48,8 @@ class ParticleSwarm:
 
         ``start``, if given, is the position of the first particle (the swarm never ends worse).
         """
-        for name in ("n_particles", "iterations"):
-            v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise ValueError(f"{name} must be a positive integer, got {v}")
+        integer("n_particles", self.n_particles)
+        integer("iterations", self.iterations)
         lower, upper = np.asarray(lower, float), np.asarray(upper, float)
         if lower.shape != upper.shape or not np.all(upper > lower):
             raise ValueError("bounds must have equal shapes with upper > lower")
@@ -117,9 +116,7 @@ class ConditionedELMRegressor(Estimator):
         self.random_state = random_state
 
     def fit(self, x, t) -> "ConditionedELMRegressor":
-        if int(self.n_hidden) != self.n_hidden or self.n_hidden < 1:
-            raise ValueError(f"n_hidden must be a positive integer, got {self.n_hidden}")
-        M = int(self.n_hidden)
+        M = integer("n_hidden", self.n_hidden)
         n_opt = M // 2 if self.n_opt is None else int(self.n_opt)
         if not 0 <= n_opt <= M:
             raise ValueError(f"n_opt must be in [0, n_hidden = {M}], got {self.n_opt}")

@@ -11,6 +11,7 @@ from typing import NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .._validate import integer, positive
 from ..metrics import rmse
 from ..networks.elm import ACTIVATIONS, ElmNetwork, check_activation, hidden_matrix
 from .base import Estimator, as_rng
@@ -140,8 +141,7 @@ class Ridge:
     C: float
 
     def __post_init__(self):
-        if not self.C > 0:
-            raise ValueError(f"C must be > 0, got {self.C}")
+        positive("C", self.C)
 
     def choose_C(self, svd: SVD, t: np.ndarray) -> float:
         return float(self.C)
@@ -223,8 +223,7 @@ class ELMRegressor(Estimator):
         return make_part(self.solver, SOLVERS, "solver")
 
     def fit(self, x, t) -> "ELMRegressor":
-        if int(self.n_hidden) != self.n_hidden or self.n_hidden < 1:
-            raise ValueError(f"n_hidden must be a positive integer, got {self.n_hidden}")
+        integer("n_hidden", self.n_hidden)
         check_activation(self.activation)
         x, t = self._inputs(x, t)
         w, b = make_part(self.scheme, SCHEMES, "scheme").draw(int(self.n_hidden), as_rng(self.random_state))

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from .._validate import integer
 from ..friction import SHAPES
 from ..networks.stribeck import StribeckCurve
 from .base import Estimator
@@ -44,8 +45,7 @@ class OracleRegressor(Estimator):
     def fit(self, x, t) -> "OracleRegressor":
         if self.shape not in SHAPES:
             raise ValueError(f"shape must be one of {sorted(SHAPES)}, got {self.shape!r}")
-        if int(self.n_sources) != self.n_sources or self.n_sources < 1:
-            raise ValueError(f"n_sources must be a positive integer, got {self.n_sources}")
+        integer("n_sources", self.n_sources)
         x, t = self._inputs(x, t)
         start = time.perf_counter()
         lo, hi = np.log(self.xs_min / 10.0), np.log(self.xs_max * 3.0)

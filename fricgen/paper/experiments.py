@@ -17,6 +17,7 @@ from typing import Callable, Dict, List, Optional
 
 import numpy as np
 
+from .._validate import integer
 from ..data import Benchmark, synthesize_benchmark
 from ..fit import AnfisRegressor, AutoELMRegressor, ConditionedELMRegressor, OracleRegressor
 from ..fit.elm import SVD, ELMRegressor, EnlargedScheme, StandardScheme, log10_cond
@@ -264,10 +265,8 @@ def _single_threaded_blas():
 def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
               progress: Callable[[str], None] = lambda msg: None, shape: str = "gauss") -> dict:
     """Run every experiment over ``seeds`` seeds in ``jobs`` worker processes; the results dict."""
-    if int(seeds) != seeds or seeds < 1:
-        raise ValueError(f"seeds must be a positive integer, got {seeds}")
-    if int(jobs) != jobs or jobs < 1:
-        raise ValueError(f"jobs must be a positive integer, got {jobs}")
+    integer("seeds", seeds)
+    integer("jobs", jobs)
     plan = Plan(quick)
     start = time.perf_counter()
     outs = []
