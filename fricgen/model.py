@@ -7,17 +7,16 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Dict, Tuple, Union
+from typing import Any, Dict, Tuple, Union
 
 import numpy as np
 
 from . import __version__
 from ._io import write_atomic
-from ._validate import MAX_HIDDEN, json_number
+from ._validate import json_number
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict

@@ -1,9 +1,9 @@
 """Shared fixtures: the paper benchmark and fitted models of every headline kind."""
-import numpy as np
 import pytest
 
 from fricgen.data import synthesize_benchmark
 from fricgen.fit import ELMRegressor, default_estimator as default_elm
+from fricgen.fit.elm import EnlargedScheme
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
 
@@ -27,6 +27,18 @@ def fit_model(bench, name="fm", **elm):
 @pytest.fixture(scope="session")
 def default_model(bench):
     return fit_model(bench)
+
+
+@pytest.fixture(scope="session")
+def model10(bench):
+    """A 10-neuron enlarged ELM with C by leave-one-out: the firmware and fixed-point model."""
+    return fit_model(bench, n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo")
+
+
+@pytest.fixture(scope="session")
+def xt(bench):
+    """The benchmark's eq. (9) training data (x, t)."""
+    return bench.dataset.x, bench.dataset.t
 
 
 #: Tests of more than a few seconds (wheel install, cross builds under QEMU, sanitizer fuzz, the

@@ -2,7 +2,6 @@
 refused with one line, exit code 2 and nothing written."""
 import json
 
-import numpy as np
 import pytest
 
 from fricgen.cli import main

@@ -2,13 +2,8 @@ import numpy as np
 import pytest
 
 from fricgen.networks.elm import ACTIVATIONS, hidden_matrix
-from fricgen.fit.elm import (ELMRegressor, EnlargedScheme, LeaveOneOut, SVD,
-                         StandardScheme, hidden_matrix, log10_cond, loo_residuals)
-
-
-@pytest.fixture(scope="module")
-def xt(bench):
-    return bench.dataset.x, bench.dataset.t
+from fricgen.fit.elm import (ELMRegressor, EnlargedScheme, LeaveOneOut, SVD, StandardScheme,
+                             log10_cond, loo_residuals)
 
 
 def _sigmoid(z):

@@ -20,11 +20,6 @@ ESTIMATORS = {
 }
 
 
-@pytest.fixture(scope="module")
-def xt(bench):
-    return bench.dataset.x, bench.dataset.t
-
-
 @pytest.mark.parametrize("kind", ESTIMATORS)
 def test_params_are_stored_unchanged_and_settable(kind):
     est = ESTIMATORS[kind]()

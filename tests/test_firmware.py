@@ -4,18 +4,10 @@ import pytest
 
 from fricgen import codegen
 from fricgen.firmware import build as fw
-from fricgen.fit.elm import ELMRegressor, EnlargedScheme
-from fricgen.model import FrictionModel
 from fricgen.codegen.twin import force_f32
 
 pytestmark = pytest.mark.skipif(fw.missing_tools() is not None,
                                 reason=f"cross toolchain or QEMU absent: {fw.missing_tools()}")
-
-
-@pytest.fixture(scope="module")
-def model10(bench):
-    est = ELMRegressor(n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0)
-    return FrictionModel.fit(bench.dataset, est, name="fm")
 
 
 def velocities(model, n=101):

@@ -6,16 +6,10 @@ import pytest
 
 from fricgen import codegen
 from fricgen.codegen import cbuild, fixedpoint as fx
-from fricgen.fit.elm import ELMRegressor, EnlargedScheme
+from fricgen.fit.elm import ELMRegressor
 from fricgen.model import FrictionModel, ModelError
 
 CTYPE = {"q15": "int16_t", "q31": "int32_t"}
-
-
-@pytest.fixture(scope="module")
-def model10(bench):
-    est = ELMRegressor(n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0)
-    return FrictionModel.fit(bench.dataset, est, name="fm")
 
 
 def probe(dtype):

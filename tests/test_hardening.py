@@ -12,8 +12,6 @@ import subprocess
 import pytest
 
 from fricgen import codegen
-from fricgen.fit.elm import ELMRegressor, EnlargedScheme
-from fricgen.model import FrictionModel
 
 SAN = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer", "-g"]
 N_FUZZ = 1_100_000
@@ -66,12 +64,6 @@ int main(void) {
     return bad != 0;
 }
 """
-
-
-@pytest.fixture(scope="module")
-def model10(bench):
-    est = ELMRegressor(n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0)
-    return FrictionModel.fit(bench.dataset, est, name="fm")
 
 
 def sanitized_run(folder, main_c):

@@ -11,15 +11,13 @@ gradient), growing the step by 10% after four consecutive error decreases and sh
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 
 from .._validate import integer, positive
 from ..metrics import rmse
 from .base import Estimator
-from ..networks.anfis import MF_KINDS, TINY, AnfisNetwork, check_mf, memberships
+from ..networks.anfis import TINY, AnfisNetwork, check_mf
 
 def genfis1(x, n_mfs: int, mf: str = "bell") -> AnfisNetwork:
     """The initial system of MATLAB ``genfis1``: grid partition of [min x, max x], zero consequents."""

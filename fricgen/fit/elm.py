@@ -13,7 +13,7 @@ import numpy as np
 
 from .._validate import integer, positive
 from ..metrics import rmse
-from ..networks.elm import ACTIVATIONS, ElmNetwork, check_activation, hidden_matrix
+from ..networks.elm import ElmNetwork, check_activation, hidden_matrix
 from .base import Estimator, as_rng
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from .._validate import integer
 from ..data import Benchmark, synthesize_benchmark
 from ..fit import AnfisRegressor, AutoELMRegressor, ConditionedELMRegressor, OracleRegressor
-from ..fit.elm import SVD, ELMRegressor, EnlargedScheme, StandardScheme, log10_cond
+from ..fit.elm import SVD, ELMRegressor, StandardScheme, log10_cond
 from ..friction import preset
 from ..networks.elm import hidden_matrix
 from . import reported as paper
