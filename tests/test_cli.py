@@ -142,3 +142,27 @@ def test_demo_reports_paper_comparison_and_measured_parity(tmp_path, capsys):
     rel = float(line.rsplit("=", 1)[1])
     assert rel <= 1e-5
     assert (tmp_path / "demo" / "fm.c").exists()
+
+
+def test_version_and_help_load_no_numerics():
+    # only the chosen command's module is imported: --version and --help stay instant
+    code = ("import sys\nfrom fricgen.cli import main\n"
+            "for argv in (['--version'], ['--help']):\n"
+            "    try:\n        main(argv)\n    except SystemExit:\n        pass\n"
+            "print(sorted(m for m in ('numpy', 'scipy', 'jinja2', 'fricgen.model') if m in sys.modules))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "[]"
+
+
+@pytest.mark.parametrize("argv, message", [
+    ([], "COMMAND"),
+    (["traim"], "invalid choice: 'traim'"),
+    (["train"], "the following arguments are required: sweep"),
+    (["emit", "m.json"], "the following arguments are required: -o/--output"),
+    (["train", "s.csv", "--neurons", "many"], "--neurons: invalid int value"),
+])
+def test_usage_errors_are_one_line(capsys, argv, message):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("fricgen: error: ") and message in err

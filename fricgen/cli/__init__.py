@@ -1,34 +1,59 @@
 """fricgen: train friction models, emit them as C, simulate, reproduce the paper, diagnose.
 
-Every command is one module of this package with ``register(subparsers)`` and ``run(args)``.
-Every command reports bad input as one line ``fricgen: error: ...`` on stderr, exits with code
-2, and leaves no output file behind.
+Every command is one module of this package with ``register(parser)``, which adds its
+arguments, and ``run(args) -> int``. Only the module of the command being run is imported, so
+``fricgen --version`` and ``fricgen --help`` load no numerics. Every command reports bad input
+as one line ``fricgen: error: ...`` on stderr, exits with code 2, and leaves no output file.
 """
 from __future__ import annotations
 
+import importlib
 import sys
 
 from .. import __version__
 from ..errors import FricgenError
-from . import demo, diagnose, emit, eval, reproduce, simulate, synth, synth_log, train
 from .common import ArgumentParser, say
 
-#: The commands, in the order ``fricgen --help`` lists them.
-COMMANDS = (demo, synth, train, eval, emit, simulate, reproduce, synth_log, diagnose)
+#: The commands, in the order ``fricgen --help`` lists them: name -> (module, one-line help).
+COMMANDS = {
+    "demo": ("demo", "paper benchmark -> default model -> C -> measured parity"),
+    "synth": ("synth", "write a measured-style friction sweep (CSV v,f)"),
+    "train": ("train", "fit a friction model to a sweep CSV; write model.json"),
+    "eval": ("eval", "forces (N) for velocities read from stdin, one per line"),
+    "emit": ("emit", "write NAME.h, NAME.c and the C runtime into a folder"),
+    "simulate": ("simulate", "closed-loop position control with friction compensation "
+                             "(adaptive backstepping, section 6)"),
+    "reproduce": ("reproduce", "run every experiment of the paper; write results.json, report.md "
+                               "and figures"),
+    "synth-log": ("synth_log", "write a closed-loop motion log (t,x,v,i) of the paper's friction "
+                               "with one hidden effect"),
+    "diagnose": ("diagnose", "name the effect a model misses in a measured log (t,x,v,i), add it, "
+                             "show the gap shrink"),
+}
 
 
-def build_parser() -> ArgumentParser:
+def command_module(name: str):
+    """The module of command ``name`` (imported on first use)."""
+    return importlib.import_module(f"{__name__}.{COMMANDS[name][0]}")
+
+
+def build_parser(argv=None) -> ArgumentParser:
+    """The ``fricgen`` parser; the arguments of the command named in ``argv`` (default: every
+    command's) are registered, the others only listed."""
+    wanted = [a for a in (sys.argv[1:] if argv is None else argv) if a in COMMANDS][:1]
     parser = ArgumentParser(prog="fricgen", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"fricgen {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for command in COMMANDS:
-        command.register(sub)
+    for name, (_, help_text) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        if name in wanted:
+            command_module(name).register(p)
     return parser
 
 
 def main(argv=None) -> int:
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser(argv).parse_args(argv)
         return args.run(args)
     except FricgenError as exc:
         say(f"fricgen: error: {exc}")

@@ -17,11 +17,9 @@ from ..model import FrictionModel
 from ..paper import reported as paper
 from .common import add_output, say
 
-HELP = "paper benchmark -> default model -> C -> measured parity"
 
-
-def register(sub) -> None:
-    p = sub.add_parser("demo", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("--seeds", type=int, default=paper.SEEDS, help="runs to average (default 20)")
     add_output(p, "keep the emitted C in this folder (default: a temporary one)", required=False)
     p.set_defaults(run=run)

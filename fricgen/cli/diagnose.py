@@ -11,11 +11,9 @@ from ..diagnose.report import format_value, render_files
 from ..model import FrictionModel
 from .common import add_json, add_model, add_output, positive_float, say
 
-HELP = "name the effect a model misses in a measured log (t,x,v,i), add it, show the gap shrink"
 
-
-def register(sub) -> None:
-    p = sub.add_parser("diagnose", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("log", help="measured log CSV with columns t, x, v, i (uniformly sampled)")
     add_model(p)
     p.add_argument("--mass", required=True, type=positive_float, help="nominal moving mass m, kg")

@@ -5,11 +5,9 @@ from ..codegen import ACTIVATION_IMPLS, DTYPES, emit
 from ..model import FrictionModel, check_c_identifier
 from .common import add_output, say
 
-HELP = "write NAME.h, NAME.c and the C runtime into a folder"
 
-
-def register(sub) -> None:
-    p = sub.add_parser("emit", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("model", help="model.json")
     add_output(p, "output folder")
     p.add_argument("--name", help="C name prefix (default: the model's name)")

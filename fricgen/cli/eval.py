@@ -8,11 +8,9 @@ import numpy as np
 from ..errors import UsageError
 from ..model import FrictionModel
 
-HELP = "forces (N) for velocities read from stdin, one per line"
 
-
-def register(sub) -> None:
-    p = sub.add_parser("eval", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("model", help="model.json")
     p.set_defaults(run=run)
 

@@ -16,8 +16,6 @@ from ..paper.figures import FIGURES, write_figures
 from ..paper.report import render
 from .common import add_output, say
 
-HELP = "run every experiment of the paper; write results.json, report.md and figures"
-
 
 def run(args) -> int:
     if args.seeds is not None and args.seeds < 1:
@@ -54,9 +52,8 @@ def run(args) -> int:
     return 0
 
 
-def register(sub) -> None:
-    """Add the ``reproduce`` subcommand to the ``fricgen`` parser's subparsers."""
-    p = sub.add_parser("reproduce", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     add_output(p, "output folder")
     p.add_argument("--quick", action="store_true", help="coarse grids, 3 seeds: a smoke run")
     p.add_argument("--seeds", type=int, help=f"seeds to average (default {paper.SEEDS}; 3 with --quick)")

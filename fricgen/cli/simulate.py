@@ -21,12 +21,9 @@ from ..model import FrictionModel
 from ..sim.plant import LinearAxis
 from .common import add_json, add_model, say
 
-HELP = "closed-loop position control with friction compensation (adaptive backstepping, section 6)"
 
-
-def register(sub) -> None:
-    """Add the ``simulate`` subcommand to the ``fricgen`` parser."""
-    p = sub.add_parser("simulate", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     add_model(p, required=False, help="model.json to compensate with (default: fricgen's default "
               "model trained on the paper benchmark, plus the fuzzy baseline)")
     p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of eq. (12)")

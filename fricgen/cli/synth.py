@@ -8,11 +8,9 @@ from ..data import Sweep, synthesize_benchmark, sweep_csv_text
 from ..friction import PRESETS, SHAPES, preset
 from .common import add_output, add_seed, say
 
-HELP = "write a measured-style friction sweep (CSV v,f)"
 
-
-def register(sub) -> None:
-    p = sub.add_parser("synth", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("--preset", choices=sorted(PRESETS), default="paper3")
     p.add_argument("--shape", choices=sorted(SHAPES), default="gauss")
     p.add_argument("--noise", type=float, default=0.5, help="uniform noise half-width, N")

@@ -7,11 +7,9 @@ from ..errors import DataError
 from ..sim.logsynth import HIDDEN_EFFECTS, LogSpec, synthesize_log, truth_parameters
 from .common import add_output, add_seed, say
 
-HELP = "write a closed-loop motion log (t,x,v,i) of the paper's friction with one hidden effect"
 
-
-def register(sub) -> None:
-    p = sub.add_parser("synth-log", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("--effect", choices=HIDDEN_EFFECTS, default="none")
     p.add_argument("--magnitude", type=float, default=1.0, help="scale of the effect's reference size")
     add_seed(p)

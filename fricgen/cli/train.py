@@ -12,8 +12,6 @@ from ..model import FrictionModel, check_c_identifier
 from ..networks.elm import ACTIVATIONS
 from .common import add_output, add_seed, positive_float, say
 
-HELP = "fit a friction model to a sweep CSV; write model.json"
-
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
 _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
                 "scheme": "enlarged", "w_max": DEFAULT_ELM["scheme"].w_max,
@@ -81,8 +79,8 @@ def run(args) -> int:
     return 0
 
 
-def register(sub) -> None:
-    p = sub.add_parser("train", help=HELP, description=HELP)
+def register(p) -> None:
+    """The arguments of this command."""
     p.add_argument("sweep", help="CSV with columns v (m/s) and f (N)")
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
