@@ -1,16 +1,13 @@
-"""Files in and out: atomic writes, the numeric CSV reader and writer, the shipped resources."""
+"""Files out, all or nothing, and the shipped resources."""
 from __future__ import annotations
 
-import csv
-import io
+import errno
 import os
 import tempfile
 from pathlib import Path
 from typing import Dict, Sequence, Union
 
-import numpy as np
-
-from .errors import DataError
+from .errors import UsageError
 
 #: Shipped resource folders: where a wheel installs them inside the package, and where a source
 #: checkout keeps them (relative to the repository's top).
@@ -33,62 +30,118 @@ def resource_dir(kind: str) -> Path:
     raise FileNotFoundError(f"fricgen {kind} folder not found beside {package} (broken install?)")
 
 
-def write_atomic(path: Union[str, Path], text: Union[str, bytes]) -> Path:
-    """Write ``text`` (str, or bytes for binary files) to ``path`` through a temporary file in
-    the same folder and a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+def _umask_mode() -> int:
+    """The permissions a new file gets under the process umask (0o666 & ~umask)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def _same_file(a: Path, b: Path) -> bool:
     try:
-        with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        return os.path.samefile(a, b)
+    except OSError:
+        return a.resolve() == b.resolve()
+
+
+def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
+                      force: bool = False, option: str = "-o") -> Path:
+    """The file a command may write for ``path``, else ``UsageError`` naming it.
+
+    A folder, FIFO or device is never replaced. A symbolic link or one of the command's
+    ``inputs`` is refused unless ``force``; with ``force`` a link is written through (its
+    target is replaced, the link kept)."""
+    path = Path(path)
+    if path.is_symlink():
+        if not force:
+            raise UsageError(f"{option} {path}: is a symbolic link; refusing to replace it "
+                             "(--force writes to its target)")
+        path = path.resolve()
+    if path.exists() and not path.is_file():
+        kind = "a folder" if path.is_dir() else "not a regular file"
+        raise UsageError(f"{option} {path}: is {kind}; refusing to replace it")
+    if not force:
+        for source in inputs:
+            if source is not None and Path(source).exists() and _same_file(path, Path(source)):
+                raise UsageError(f"{option} {path}: is the input {source}; refusing to overwrite "
+                                 "it (--force to do so)")
     return path
 
 
+def check_folder(folder: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
+                 force: bool = False, option: str = "-o") -> Path:
+    """``folder`` if a command may write into it: not an existing non-folder, and not the folder
+    of one of ``inputs`` (unless ``force``); else ``UsageError``."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise UsageError(f"{option} {folder}: exists and is not a folder")
+    if not force:
+        for source in inputs:
+            if source is not None and folder.exists() and _same_file(folder, Path(source).parent):
+                raise UsageError(f"{option} {folder}: holds the input {source}; refusing to write "
+                                 "into it (--force to do so)")
+    return folder
+
+
+def write_files(files: Dict[Union[str, Path], Union[str, bytes]]) -> Dict[str, Path]:
+    """Write every file or none: each is written to a temporary file beside its destination,
+    and only when all of them are on disk are they renamed into place; on any failure the
+    temporaries, the folders created and the files already replaced are restored. Files get the
+    permissions the umask gives. Returns the destinations by the keys given."""
+    mode = _umask_mode()
+    dests = {key: Path(key) for key in files}
+    created, temps, backups, placed = [], {}, {}, []
+    try:
+        for key, dest in dests.items():
+            if dest.is_symlink() or (dest.exists() and not dest.is_file()):
+                raise OSError(errno.EEXIST, "is not a regular file", str(dest))
+            missing = [p for p in [dest.parent, *dest.parent.parents] if not p.exists()]
+            for folder in reversed(missing):
+                folder.mkdir()
+                created.append(folder)
+            text = files[key]
+            fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
+            temps[key] = Path(tmp)
+            try:
+                with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as fh:
+                    fh.write(text)
+            except OSError as exc:
+                raise OSError(exc.errno, exc.strerror, str(dest)) from None
+            os.chmod(tmp, mode)
+        for key, dest in dests.items():
+            if dest.exists():
+                backup = dest.with_name(f".{dest.name}.{os.getpid()}.bak")
+                os.link(dest, backup)
+                backups[key] = backup
+        for key, dest in dests.items():
+            os.replace(temps[key], dest)
+            placed.append(key)
+    except BaseException:
+        for key in placed:
+            if key in backups:
+                os.replace(backups.pop(key), dests[key])
+            else:
+                dests[key].unlink()
+        for path in list(temps.values()) + list(backups.values()):
+            if path.exists() and path.name.startswith("."):
+                path.unlink()
+        for folder in reversed(created):
+            try:
+                folder.rmdir()
+            except OSError:
+                pass
+        raise
+    for backup in backups.values():
+        backup.unlink()
+    return dests
+
+
+def write_atomic(path: Union[str, Path], text: Union[str, bytes]) -> Path:
+    """Write one file all or nothing (``write_files``)."""
+    return write_files({path: text})[path]
+
+
 def write_all_atomic(folder: Union[str, Path], files: Dict[str, Union[str, bytes]]) -> Dict[str, Path]:
-    """Write several files (all content already rendered) into ``folder``, each atomically."""
-    return {name: write_atomic(Path(folder) / name, text) for name, text in files.items()}
-
-
-def read_table_csv(path: Union[str, Path], required: Sequence[str],
-                   keep_extra: bool = False) -> Dict[str, np.ndarray]:
-    """Read a numeric CSV whose header names (at least) the ``required`` columns.
-
-    Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
-    others. Blank lines are skipped; a missing column or a non-numeric cell raises ``DataError``
-    naming the file and line. Finiteness and lengths are for the caller to judge.
-    """
-    rows = list(csv.reader(io.StringIO(Path(path).read_text())))
-    if not rows:
-        raise DataError(f"{path}: empty file")
-    header = [h.strip().lower() for h in rows[0]]
-    missing = [c for c in required if c not in header]
-    if missing:
-        raise DataError(f"{path}: missing column {', '.join(repr(c) for c in missing)} "
-                        f"(header is {','.join(header)[:80]})")
-    wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
-    data = []
-    for n, row in enumerate(rows[1:], start=2):
-        if not any(c.strip() for c in row):
-            continue
-        try:
-            data.append([float(row[k]) for k in wanted])
-        except (ValueError, IndexError):
-            raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
-                            f"{','.join(row)[:80]!r}") from None
-    table = np.array(data, dtype=float).reshape(len(data), len(wanted))
-    return {header[k]: table[:, j] for j, k in enumerate(wanted)}
-
-
-def table_csv_text(columns: Dict[str, np.ndarray]) -> str:
-    """CSV text of named columns (in the given order), floats written to round-trip."""
-    names = list(columns)
-    lines = [",".join(names)]
-    lines += [",".join(repr(float(c)) for c in row)
-              for row in zip(*(np.asarray(columns[k]).tolist() for k in names))]
-    return "\n".join(lines) + "\n"
+    """Write several files, by name, into ``folder``: all of them or none (``write_files``)."""
+    written = write_files({Path(folder) / name: text for name, text in files.items()})
+    return {name: written[Path(folder) / name] for name in files}

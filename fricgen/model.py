@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,6 +38,17 @@ def check_c_identifier(name: Any, what: str = "name") -> str:
         raise ModelError(f"{what} must be a C identifier (letters, digits, _; 1-63 characters), "
                          f"got {name!r}"[:200])
     return name
+
+
+def _finite_or_null(value):
+    """``value`` with every non-finite float (at any depth) replaced by None."""
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_null(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 @dataclass(frozen=True)
@@ -99,8 +111,13 @@ class FrictionModel:
         core = {k: d[k] for k in ("aim", "scaling", "viscous", "v_sat", "symmetric", "effects")}
         return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
 
+    def to_json(self) -> str:
+        """model.json's text: strict JSON (a non-finite number in ``training``, such as the C
+        of the pseudo-inverse, is written as null)."""
+        return json.dumps(_finite_or_null(self.to_dict()), indent=1, allow_nan=False) + "\n"
+
     def save(self, path: Union[str, Path]) -> Path:
-        return write_atomic(path, json.dumps(self.to_dict(), indent=1) + "\n")
+        return write_atomic(path, self.to_json())
 
     @classmethod
     def from_dict(cls, d: Any) -> "FrictionModel":

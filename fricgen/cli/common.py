@@ -6,7 +6,10 @@ import argparse
 import math
 import re
 import sys
+from pathlib import Path
+from typing import Dict
 
+from .._io import check_destination, check_folder, write_atomic, write_files
 from ..errors import UsageError
 
 
@@ -36,9 +39,37 @@ def positive_float(text: str) -> float:
 
 
 def add_output(p, help: str, required: bool = True, default=None) -> None:
-    """``-o/--output`` (``--out`` is an alias): the file or folder a command writes."""
+    """``-o/--output`` (``--out`` is an alias): the file or folder a command writes, and
+    ``--force`` to overwrite an input or write through a symbolic link."""
     p.add_argument("-o", "--output", "--out", dest="output", required=required and default is None,
                    default=default, help=help)
+    p.add_argument("--force", action="store_true",
+                   help="write even where -o is one of the inputs, their folder or a symbolic link")
+
+
+def out(text: str) -> None:
+    """Results on stdout, flushed now: a full disk or a closed pipe is an error before any file
+    is written."""
+    try:
+        sys.stdout.write(text if text.endswith("\n") else text + "\n")
+        sys.stdout.flush()
+    except OSError as exc:
+        raise UsageError(f"stdout: {exc.strerror or exc}") from None
+
+
+def write_file(args, text, inputs=()) -> Path:
+    """Write ``args.output`` (one file) all or nothing, after checking it may be written."""
+    path = check_destination(args.output, inputs, args.force)
+    return write_atomic(path, text)
+
+
+def write_folder(args, files: Dict[str, object], inputs=()) -> Path:
+    """Write every file into the folder ``args.output``, all or nothing, after checking the
+    folder and every destination in it."""
+    folder = check_folder(args.output, inputs, args.force)
+    targets = {check_destination(folder / name, inputs, args.force): text for name, text in files.items()}
+    write_files(targets)
+    return folder
 
 
 def add_model(p, required: bool = True, help: str = "model.json of the friction model") -> None:

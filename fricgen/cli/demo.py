@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..codegen import emit, parity
+from .._io import check_folder
 from ..codegen.cbuild import build_model
 from ..data import synthesize_benchmark
 from ..errors import UsageError
@@ -15,7 +16,7 @@ from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..friction import preset
 from ..model import FrictionModel
 from ..paper import reported as paper
-from .common import add_output, say
+from .common import add_output, out, say
 
 
 def register(p) -> None:
@@ -45,28 +46,29 @@ def run(args) -> int:
               for label, cfg in paper.HEADLINE_ELMS.items()}
     makers["elm_loo (M=40, C by LOO)"] = lambda s: ELMRegressor(random_state=s, **DEFAULT_ELM)
     makers["fricgen default (auto)"] = default_estimator
-    print(f"{'model':28s} {'E_train':>8s} {'E_test':>8s} {'E_Ttest':>8s} {'E_Ttest N':>10s} "
-          f"{'median N':>9s} {'||beta||':>10s} {'log10cond':>9s}   paper [E_train, E_test, E_Ttest]")
+    out(f"{'model':28s} {'E_train':>8s} {'E_test':>8s} {'E_Ttest':>8s} {'E_Ttest N':>10s} "
+        f"{'median N':>9s} {'||beta||':>10s} {'log10cond':>9s}   paper [E_train, E_test, E_Ttest]")
     for label, make in makers.items():
         means, median_n = _mean_errors(make, seeds)
         reported = paper.REPORTED.get(label)
         ref = f"[{', '.join(f'{r:.4f}' for r in reported)}]" if reported else "-"
-        print(f"{label:28s} {means[0]:8.4f} {means[1]:8.4f} {means[2]:8.4f} {means[3]:10.4f} "
-              f"{median_n:9.4f} {means[4]:10.3g} {means[5]:9.2f}   {ref}")
-    print("(normalized errors depend on the unspecified K_out; compare ratios and newtons)")
+        out(f"{label:28s} {means[0]:8.4f} {means[1]:8.4f} {means[2]:8.4f} {means[3]:10.4f} "
+            f"{median_n:9.4f} {means[4]:10.3g} {means[5]:9.2f}   {ref}")
+    out("(normalized errors depend on the unspecified K_out; compare ratios and newtons)")
 
     bench = synthesize_benchmark(preset("paper3"), seed=0)
     model = FrictionModel.fit(bench.dataset, default_estimator(0), name="fm")
-    out = Path(args.output) if args.output else Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
+    folder = check_folder(args.output, (), args.force) if args.output else \
+        Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
     try:
-        emit(model, out, "fm")
-        say(f"emitted C to {out}; compiling with cffi ...")
-        lib = build_model(out, "fm", build_dir=out / "build")
+        emit(model, folder, "fm")
+        say(f"emitted C to {folder}; compiling with cffi ...")
+        lib = build_model(folder, "fm", build_dir=folder / "build")
         p = parity.measure(model, lib, "fm")
     finally:
         if not args.output:
-            shutil.rmtree(out, ignore_errors=True)
-    print(f"C parity over {p['n_velocities']} velocities: max |C - float32 twin| = "
-          f"{p['max_abs_c_vs_twin']:.3g} N ({p['n_not_bit_equal']} not bit-equal), "
-          f"max |C - float64 model| / max|F| = {p['max_rel_c_vs_model']:.3g}")
+            shutil.rmtree(folder, ignore_errors=True)
+    out(f"C parity over {p['n_velocities']} velocities: max |C - float32 twin| = "
+        f"{p['max_abs_c_vs_twin']:.3g} N ({p['n_not_bit_equal']} not bit-equal), "
+        f"max |C - float64 model| / max|F| = {p['max_rel_c_vs_model']:.3g}")
     return 0

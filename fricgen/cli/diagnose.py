@@ -4,12 +4,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .._io import write_all_atomic
+from .._io import check_folder
 from ..data import read_log_csv
 from ..diagnose.diagnoser import Diagnoser
 from ..diagnose.report import format_value, render_files
 from ..model import FrictionModel
-from .common import add_json, add_model, add_output, positive_float, say
+from .common import add_json, add_model, add_output, out, positive_float, say, write_folder
 
 
 def register(p) -> None:
@@ -25,19 +25,23 @@ def register(p) -> None:
 
 
 def run(args) -> int:
+    inputs = [args.model, args.log]
+    check_folder(args.output, inputs, args.force)
     model = FrictionModel.load(args.model)
     log = read_log_csv(args.log)
     d = Diagnoser().fit(log, model, args.mass, args.force_constant)
     files = render_files(d, log, Path(args.log).name)
-    write_all_atomic(args.output, files)
     if args.json:
-        print(json.dumps(d.summary()))
+        out(json.dumps(d.summary()))
     else:
-        print(f"effect     {d.effect_} (confidence {d.confidence_:.2f})")
+        lines = [f"effect     {d.effect_} (confidence {d.confidence_:.2f})"]
         if d.fitted_ is not None:
-            print("parameters " + ", ".join(f"{k} = {format_value(v)}" for k, v in d.parameters().items()))
-        print(f"where      {d.where_}")
-        print(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
+            lines.append("parameters " + ", ".join(f"{k} = {format_value(v)}"
+                                                  for k, v in d.parameters().items()))
+        lines.append(f"where      {d.where_}")
+        lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
+        out("\n".join(lines))
+    write_folder(args, files, inputs)
     if not any(name.endswith(".png") for name in files):
         say("fricgen: matplotlib not installed; no plots written")
     say(f"wrote {', '.join(sorted(files))} to {args.output}")

@@ -1,9 +1,9 @@
 """``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder."""
 from __future__ import annotations
 
-from ..codegen import ACTIVATION_IMPLS, DTYPES, emit
+from ..codegen import ACTIVATION_IMPLS, DTYPES, render
 from ..model import FrictionModel, check_c_identifier
-from .common import add_output, say
+from .common import add_output, say, write_folder
 
 
 def register(p) -> None:
@@ -23,7 +23,8 @@ def register(p) -> None:
 def run(args) -> int:
     model = FrictionModel.load(args.model)
     name = check_c_identifier(args.name if args.name else model.name, "--name")
-    written = emit(model, args.output, name, activation_impl=args.activation_impl, dtype=args.dtype,
+    files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller)
-    say(f"wrote {', '.join(sorted(written))} to {args.output} (model {model.model_hash})")
+    write_folder(args, files, [args.model])
+    say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

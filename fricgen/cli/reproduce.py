@@ -6,15 +6,15 @@ Writes ``DIR/results.json``, ``DIR/report.md`` and the PNG figures of ``fricgen.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
-from .._io import write_atomic
+from .._io import check_folder
+from .._plot import pyplot
 from ..errors import UsageError
 from ..paper import reported as paper
 from ..paper.experiments import fitted_seed0, reproduce
-from ..paper.figures import FIGURES, write_figures
+from ..paper.figures import FIGURES, render_figures
 from ..paper.report import render
-from .common import add_output, say
+from .common import add_output, out, say, write_folder
 
 
 def run(args) -> int:
@@ -22,33 +22,29 @@ def run(args) -> int:
         raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
     if args.jobs < 1:
         raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
-    out = Path(args.output)
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"-o {out}: exists and is not a folder")
+    check_folder(args.output, (), args.force)
     seeds = args.seeds if args.seeds is not None else (3 if args.quick else paper.SEEDS)
     say(f"reproducing the paper on {seeds} seeds with {args.jobs} job(s)"
          f"{' (quick)' if args.quick else ''}")
     result = reproduce(seeds, quick=args.quick, jobs=args.jobs, progress=say)
-    out.mkdir(parents=True, exist_ok=True)
-    figures, note = [], ""
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
+    files, figures, note = {}, [], ""
+    if pyplot() is None:
         note = "Figures skipped: matplotlib is not installed (pip install 'fricgen[plot]')."
         say(note)
     else:
         say("drawing figures ...")
-        write_figures(result, out, fitted_seed0())
+        files.update(render_figures(result, fitted_seed0()))
         figures = list(FIGURES.items())
     result["figures"] = [name for name, _ in figures]
-    write_atomic(out / "results.json", json.dumps(result, indent=1) + "\n")
-    write_atomic(out / "report.md", render(result, figures, note))
+    files["results.json"] = json.dumps(result, indent=1) + "\n"
+    files["report.md"] = render(result, figures, note)
     s = result["summary"]
-    say(f"wrote results.json, report.md and {len(figures)} figures to {out} "
-         f"({result['benchmark']['seconds']:.1f} s of experiments)")
-    print(f"median E_Ttest: auto/oracle = {s['auto_over_oracle']:.2f}, "
-          f"best paper ELM ({s['best_paper_elm']})/auto = {s['best_paper_elm_over_auto']:.2f}, "
-          f"best paper model ({s['best_paper_model']})/auto = {s['best_paper_over_auto']:.2f}")
+    out(f"median E_Ttest: auto/oracle = {s['auto_over_oracle']:.2f}, "
+        f"best paper ELM ({s['best_paper_elm']})/auto = {s['best_paper_elm_over_auto']:.2f}, "
+        f"best paper model ({s['best_paper_model']})/auto = {s['best_paper_over_auto']:.2f}")
+    write_folder(args, files)
+    say(f"wrote results.json, report.md and {len(figures)} figures to {args.output} "
+        f"({result['benchmark']['seconds']:.1f} s of experiments)")
     return 0
 
 

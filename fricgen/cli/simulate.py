@@ -19,7 +19,9 @@ from ..control.loop import DEFAULT_DURATION, compensations, simulate
 from ..errors import UsageError
 from ..model import FrictionModel
 from ..sim.plant import LinearAxis
-from .common import add_json, add_model, say
+from .._io import check_folder, write_files
+from .._plot import png, pyplot
+from .common import add_json, add_model, out, say
 
 
 def register(p) -> None:
@@ -40,6 +42,8 @@ def register(p) -> None:
 
 
 def run(args) -> int:
+    if args.plot:
+        check_folder(args.plot, [args.model], option="--plot")
     for option, value in (("--ts", args.ts), ("--duration", args.duration)):
         if not (np.isfinite(value) and value > 0):
             raise UsageError(f"{option} must be > 0, got {value:g}")
@@ -65,12 +69,11 @@ def run(args) -> int:
     if args.backend == "c":
         for name, ctrl in ctrls.items():
             report["variants"][name]["friction_in"] = "c" if ctrl.c_friction else "python"
+    out(json.dumps(report, indent=1) if args.json else table(report))
     if args.plot:
-        plot_runs(runs, Path(args.plot))
-    if args.json:
-        print(json.dumps(report, indent=1))
-    else:
-        print(table(report))
+        pngs = plot_runs(runs)
+        write_files({Path(args.plot) / name: data for name, data in pngs.items()})
+        say(f"wrote {', '.join(sorted(pngs)) or 'no plots'} to {args.plot}")
     return 0
 
 
@@ -87,16 +90,14 @@ def table(report: dict) -> str:
     return "\n".join(lines)
 
 
-def plot_runs(runs: dict, folder: Path) -> None:
-    """One figure per variant: tracking error, current and adaptive parameters over time."""
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
+def plot_runs(runs: dict) -> dict:
+    """One figure per variant (tracking error, current and adaptive parameters over time) as
+    PNG bytes by file name; {} without matplotlib."""
+    plt = pyplot()
+    if plt is None:
         say("--plot skipped: matplotlib is not installed (pip install fricgen[plot])")
-        return
-    folder.mkdir(parents=True, exist_ok=True)
+        return {}
+    pngs = {}
     for name, run in runs.items():
         fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 7))
         axes[0].plot(run.t, 1e3 * run.e1)
@@ -110,7 +111,5 @@ def plot_runs(runs: dict, folder: Path) -> None:
         axes[2].set_xlabel("t (s)")
         axes[0].set_title(f"compensation: {name}")
         fig.tight_layout()
-        path = folder / f"simulate_{name}.png"
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        say(f"wrote {path}")
+        pngs[f"simulate_{name}.png"] = png(fig)
+    return pngs

@@ -3,10 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._io import write_atomic
 from ..data import Sweep, synthesize_benchmark, sweep_csv_text
 from ..friction import PRESETS, SHAPES, preset
-from .common import add_output, add_seed, say
+from .common import add_output, add_seed, say, write_file
 
 
 def register(p) -> None:
@@ -27,7 +26,7 @@ def run(args) -> int:
     if args.both_signs:
         flip = np.random.default_rng(args.seed + 1).uniform(size=len(sweep)) < 0.5
         sweep = Sweep(np.where(flip, -sweep.v, sweep.v), np.where(flip, -sweep.f, sweep.f))
-    write_atomic(args.output, sweep_csv_text(sweep))
+    write_file(args, sweep_csv_text(sweep))
     say(f"wrote {len(sweep)} rows ({args.preset}, {args.shape} shape, noise +-{args.noise} N) "
         f"to {args.output}")
     return 0

@@ -1,11 +1,11 @@
 """``fricgen synth-log``: a closed-loop motion log with one hidden effect, to try diagnose on."""
 from __future__ import annotations
 
-from .._io import write_atomic
+from .._io import check_destination
 from ..data import log_csv_text
 from ..errors import DataError
 from ..sim.logsynth import HIDDEN_EFFECTS, LogSpec, synthesize_log, truth_parameters
-from .common import add_output, add_seed, say
+from .common import add_output, add_seed, say, write_file
 
 
 def register(p) -> None:
@@ -25,7 +25,8 @@ def run(args) -> int:
                        duration=args.duration, noise=args.noise)
     except ValueError as exc:
         raise DataError(str(exc)) from None
-    write_atomic(args.output, log_csv_text(synthesize_log(spec)))
+    check_destination(args.output, (), args.force)
+    write_file(args, log_csv_text(synthesize_log(spec)))
     truth = ", ".join(f"{k} = {v:g}" for k, v in truth_parameters(spec).items()) or "-"
     say(f"wrote {args.output}: {spec.duration:g} s at {spec.sample_rate:g} Hz, hidden effect "
         f"{spec.effect} ({truth}); nominal mass {spec.mass:g} kg, force constant "

@@ -10,7 +10,8 @@ from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
 from ..model import FrictionModel, check_c_identifier
 from ..networks.elm import ACTIVATIONS
-from .common import add_output, add_seed, positive_float, say
+from .._io import check_destination
+from .common import add_output, add_seed, out, positive_float, say, write_file
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
 _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
@@ -57,6 +58,7 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
 
 
 def run(args) -> int:
+    check_destination(args.output, [args.sweep], args.force)
     sweep = read_sweep_csv(args.sweep)
     dataset = prepare(sweep, vs_max=args.vs_max)
     estimator = _estimator(args)
@@ -73,8 +75,8 @@ def run(args) -> int:
     errors = {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
               "e_loo": estimator.loo_rmse_, "e_loo_newton": estimator.loo_rmse_ / dataset.scaling.k_out}
     model.training["metrics"] = errors
-    model.save(args.output)
-    print(fit_report(model, dataset, estimator, errors))
+    out(fit_report(model, dataset, estimator, errors))
+    write_file(args, model.to_json(), [args.sweep])
     say(f"wrote {args.output} (model {model.model_hash})")
     return 0
 

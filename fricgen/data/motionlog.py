@@ -12,8 +12,8 @@ from typing import Dict, Union
 
 import numpy as np
 
-from .._io import read_table_csv, table_csv_text
 from ..errors import DataError
+from .table import read_table_csv, table_csv_text
 
 #: The columns every log must have.
 COLUMNS = ("t", "x", "v", "i")

@@ -7,8 +7,8 @@ from typing import Union
 
 import numpy as np
 
-from .._io import read_table_csv, table_csv_text
 from ..errors import DataError
+from .table import read_table_csv, table_csv_text
 
 #: Fewest rows a sweep may have before training refuses it.
 MIN_ROWS = 20

@@ -4,12 +4,11 @@ Everything is rendered in memory: ``render_files`` returns DIR's files by name.
 """
 from __future__ import annotations
 
-import io
-import json
 from typing import Dict
 
 import numpy as np
 
+from .._plot import png, pyplot
 from ..data import MotionLog
 from .diagnoser import Diagnoser
 
@@ -62,11 +61,8 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
 def plot_pngs(d: Diagnoser, log: MotionLog) -> Dict[str, bytes]:
     """residuals.png (residual against x, v, a, t before and after) and velocity.png
     (simulated and measured velocity on the held-out part); {} without matplotlib."""
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
+    plt = pyplot()
+    if plt is None:
         return {}
     p = d.problem_
     rows = np.arange(p.rows.size)
@@ -84,7 +80,7 @@ def plot_pngs(d: Diagnoser, log: MotionLog) -> Dict[str, bytes]:
         ax.set_ylabel("force residual (N)")
     axes.flat[0].legend(markerscale=5)
     fig.suptitle(f"force residual phi i - m a - F(v): {d.effect_}")
-    out["residuals.png"] = _png(fig, plt)
+    out["residuals.png"] = png(fig)
     t = p.signals.t
     start = p.split
     stop = min(t.size, start + int(round(2.0 / p.sample_time)))
@@ -97,15 +93,8 @@ def plot_pngs(d: Diagnoser, log: MotionLog) -> Dict[str, bytes]:
     ax.set_ylabel("velocity v (m/s)")
     ax.set_title("simulations restarted from the measured state, held-out part")
     ax.legend()
-    out["velocity.png"] = _png(fig, plt)
+    out["velocity.png"] = png(fig)
     return out
-
-
-def _png(fig, plt) -> bytes:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=100)
-    plt.close(fig)
-    return buf.getvalue()
 
 
 def render_files(d: Diagnoser, log: MotionLog, log_name: str) -> Dict[str, object]:
@@ -113,5 +102,5 @@ def render_files(d: Diagnoser, log: MotionLog, log_name: str) -> Dict[str, objec
     plots = plot_pngs(d, log)
     files: Dict[str, object] = dict(plots)
     files["report.md"] = report_markdown(d, log_name, plots)
-    files["model.json"] = json.dumps(d.model_.to_dict(), indent=1) + "\n"
+    files["model.json"] = d.model_.to_json()
     return files

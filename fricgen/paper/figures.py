@@ -6,11 +6,11 @@ headline models on seed 0.
 """
 from __future__ import annotations
 
-from pathlib import Path
-from typing import Dict, List
+from typing import Dict
 
 import numpy as np
 
+from .._plot import png, pyplot
 from ..data import synthesize_benchmark
 from ..fit.elm import EnlargedScheme, log10_cond
 from ..friction import preset
@@ -31,15 +31,6 @@ FIGURES = {
 }
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _errors_panel(ax, grid, curve, title, xlabel="number of hidden neurons"):
     for key, style in (("e_train", "-"), ("e_test", "--"), ("e_ttest", ":")):
         ax.plot(grid, curve[key], style, label=key.replace("e_", "E_").replace("ttest", "Ttest"))
@@ -49,23 +40,19 @@ def _errors_panel(ax, grid, curve, title, xlabel="number of hidden neurons"):
     ax.legend(fontsize=7)
 
 
-def write_figures(result: dict, out: Path, fitted: Dict[str, object]) -> List[Path]:
-    """Write every figure of ``FIGURES`` into ``out``; ``fitted`` maps headline method names to
-    estimators fitted on seed 0 of the benchmark. Returns the paths written."""
-    plt = _pyplot()
-    out = Path(out)
+def render_figures(result: dict, fitted: Dict[str, object]) -> Dict[str, bytes]:
+    """Every figure of ``FIGURES`` as PNG bytes, by file name (matplotlib needed); ``fitted``
+    maps headline method names to estimators fitted on seed 0 of the benchmark."""
+    plt = pyplot()
     shape = result["benchmark"].get("shape", "gauss")
     bench = synthesize_benchmark(preset("paper3", shape), seed=0)
     d = bench.dataset
     sw = result["sweeps"]
-    written = []
+    written = {}
 
     def save(fig, name):
-        path = out / name
         fig.tight_layout()
-        fig.savefig(path, dpi=90)
-        plt.close(fig)
-        written.append(path)
+        written[name] = png(fig, dpi=90)
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
     v = np.linspace(-0.08, 0.08, 801)

@@ -1,0 +1,25 @@
+"""Figures without a display: matplotlib (an optional dependency) and PNG bytes in memory."""
+from __future__ import annotations
+
+import io
+
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend, or None when matplotlib is not installed."""
+    try:
+        import matplotlib
+    except ImportError:
+        return None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def png(fig, dpi: int = 100) -> bytes:
+    """The figure as PNG bytes (nothing touches the disk); the figure is closed."""
+    plt = pyplot()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    plt.close(fig)
+    return buf.getvalue()
