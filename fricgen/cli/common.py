@@ -63,10 +63,11 @@ def write_file(args, text, inputs=()) -> Path:
     return write_atomic(path, text)
 
 
-def write_folder(args, files: Dict[str, object], inputs=()) -> Path:
+def write_folder(args, files: Dict[str, object], inputs=(), folder_of=()) -> Path:
     """Write every file into the folder ``args.output``, all or nothing, after checking the
-    folder and every destination in it."""
-    folder = check_folder(args.output, inputs, args.force)
+    folder (not the folder of one of ``folder_of``) and every destination in it (not one of
+    ``inputs``)."""
+    folder = check_folder(args.output, folder_of, args.force)
     targets = {check_destination(folder / name, inputs, args.force): text for name, text in files.items()}
     write_files(targets)
     return folder

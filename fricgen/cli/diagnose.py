@@ -26,7 +26,7 @@ def register(p) -> None:
 
 def run(args) -> int:
     inputs = [args.model, args.log]
-    check_folder(args.output, inputs, args.force)
+    check_folder(args.output, [args.model], args.force)
     model = FrictionModel.load(args.model)
     log = read_log_csv(args.log)
     d = Diagnoser().fit(log, model, args.mass, args.force_constant)
@@ -41,7 +41,7 @@ def run(args) -> int:
         lines.append(f"where      {d.where_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
         out("\n".join(lines))
-    write_folder(args, files, inputs)
+    write_folder(args, files, inputs, folder_of=[args.model])
     if not any(name.endswith(".png") for name in files):
         say("fricgen: matplotlib not installed; no plots written")
     say(f"wrote {', '.join(sorted(files))} to {args.output}")

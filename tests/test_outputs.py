@@ -1,0 +1,139 @@
+"""All or nothing on disk: every command checks its destinations first, writes every file or
+none, and gives new files the umask's permissions."""
+import os
+import stat
+import subprocess
+import sys
+
+import pytest
+
+from fricgen._io import write_files
+from fricgen.cli import main
+
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    """A sweep, a model trained on it and a short log, shared by the rows below."""
+    d = tmp_path_factory.mktemp("outputs")
+    assert main(["synth", "-o", str(d / "sweep.csv")]) == 0
+    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02"]) == 0
+    assert main(["synth-log", "--duration", "3", "-o", str(d / "log.csv")]) == 0
+    return d
+
+
+def _snapshot(folder):
+    """Every file below ``folder`` with its bytes and mode (to prove nothing changed)."""
+    return {p: (p.read_bytes(), p.stat().st_mode) for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def test_write_files_leaves_nothing_when_one_destination_fails(tmp_path):
+    (tmp_path / "old.txt").write_text("before")
+    (tmp_path / "blocked").mkdir()                      # a folder in the way of a file
+    files = {tmp_path / "new" / "a.txt": "a", tmp_path / "old.txt": "after",
+             tmp_path / "blocked": "b"}
+    with pytest.raises(OSError) as info:
+        write_files(files)
+    assert str(tmp_path / "blocked") in str(info.value.filename)   # the user's path, no temp
+    assert (tmp_path / "old.txt").read_text() == "before"
+    assert not (tmp_path / "new").exists()              # the folder it created is gone too
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blocked", "old.txt"]
+
+
+def test_new_and_overwritten_files_get_the_umask_permissions(tmp_path):
+    old = os.umask(0o022)
+    try:
+        target = tmp_path / "f.txt"
+        target.write_text("x")
+        os.chmod(target, 0o644)
+        write_files({target: "y", tmp_path / "g.txt": b"z"})
+        assert stat.S_IMODE(target.stat().st_mode) == 0o644
+        assert stat.S_IMODE((tmp_path / "g.txt").stat().st_mode) == 0o644
+        os.umask(0o027)
+        write_files({tmp_path / "h.txt": "w"})
+        assert stat.S_IMODE((tmp_path / "h.txt").stat().st_mode) == 0o640
+    finally:
+        os.umask(old)
+
+
+def _fifo(d):
+    path = d / "fifo"
+    if not path.exists():
+        os.mkfifo(path)
+    return path
+
+
+def _symlink(d):
+    path = d / "link.json"
+    if not path.is_symlink():
+        (d / "target.json").write_text("{}")
+        path.symlink_to(d / "target.json")
+    return path
+
+
+def _copy(source, target):
+    target.write_bytes(source.read_bytes())
+    return target
+
+
+#: (name, argv given the work folder, the words of the one error line)
+REFUSED = [
+    ("train -o the input", lambda d: ["train", str(d / "sweep.csv"), "-o", str(d / "sweep.csv")],
+     "is the input"),
+    ("train -o a folder", lambda d: ["train", str(d / "sweep.csv"), "-o", str(d)], "is a folder"),
+    ("train -o a FIFO", lambda d: ["train", str(d / "sweep.csv"), "-o", str(_fifo(d))],
+     "not a regular file"),
+    ("train -o a symlink", lambda d: ["train", str(d / "sweep.csv"), "-o", str(_symlink(d))],
+     "symbolic link"),
+    ("synth -o a device", lambda d: ["synth", "-o", "/dev/null"], "not a regular file"),
+    ("emit -o a file", lambda d: ["emit", str(d / "model.json"), "-o", str(d / "sweep.csv")],
+     "is not a folder"),
+    ("emit over its input", lambda d: ["emit", str(_copy(d / "model.json", d / "fm.c")), "-o",
+                                        str(d), "--name", "fm"], "is the input"),
+    ("diagnose -o the model's folder", lambda d: ["diagnose", str(d / "log.csv"), "--model",
+                                                   str(d / "model.json"), "--mass", "4",
+                                                   "--force-constant", "20", "-o", str(d)],
+     "holds the input"),
+    ("reproduce -o a file", lambda d: ["reproduce", "--quick", "-o", str(d / "sweep.csv")],
+     "is not a folder"),
+    ("simulate --plot a file", lambda d: ["simulate", "--duration", "0.1", "--plot",
+                                           str(d / "sweep.csv")], "is not a folder"),
+]
+
+
+@pytest.mark.parametrize("argv, words", [r[1:] for r in REFUSED], ids=[r[0] for r in REFUSED])
+def test_unsafe_destinations_are_refused_with_one_line_and_nothing_changes(workdir, capsys, argv, words):
+    argv = argv(workdir)
+    before = _snapshot(workdir)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("fricgen: error: ") and words in err, err
+    assert _snapshot(workdir) == before
+
+
+def test_force_overwrites_an_input_and_writes_through_a_symlink(workdir, tmp_path, capsys):
+    sweep = tmp_path / "sweep.csv"
+    sweep.write_bytes((workdir / "sweep.csv").read_bytes())
+    assert main(["synth", "--seed", "3", "-o", str(sweep), "--force"]) == 0
+    link = tmp_path / "m.json"
+    link.symlink_to(tmp_path / "real.json")
+    assert main(["train", str(sweep), "-o", str(link), "--vs-max", "0.02", "--force"]) == 0
+    assert link.is_symlink() and (tmp_path / "real.json").read_text().startswith("{")
+
+
+def test_train_with_a_full_stdout_writes_no_model(workdir, tmp_path):
+    out = tmp_path / "m.json"
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run([sys.executable, "-m", "fricgen", "train", str(workdir / "sweep.csv"),
+                               "-o", str(out), "--vs-max", "0.02"], stdout=full,
+                              stderr=subprocess.PIPE, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("fricgen: error: stdout:")
+    assert not out.exists()
+
+
+def test_pinv_models_are_strict_json(workdir, tmp_path):
+    out = tmp_path / "m.json"
+    assert main(["train", str(workdir / "sweep.csv"), "-o", str(out), "--vs-max", "0.02",
+                 "--method", "elm", "--solver", "pinv", "--neurons", "6"]) == 0
+    text = out.read_text()
+    assert "Infinity" not in text and "NaN" not in text and '"C": null' in text
