@@ -14,10 +14,9 @@ import numpy as np
 
 from ..control.backstepping import LAWS, AdaptiveBackstepping
 from ..control.c_controller import c_controllers
-from ..control.loop import DEFAULT_DURATION, compensations, simulate
+from ..control.loop import DEFAULT_DURATION, compensations, default_axis, simulate
 from ..errors import UsageError
 from ..model import FrictionModel
-from ..sim.plant import LinearAxis
 from .common import add_json, add_model, say
 
 HELP = "closed-loop position control with friction compensation (adaptive backstepping, section 6)"
@@ -47,7 +46,7 @@ def run(args) -> int:
             raise UsageError(f"{option} must be > 0, got {value:g}")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
-    axis = LinearAxis()
+    axis = default_axis()
     model = FrictionModel.load(args.model) if args.model else None
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input)
     try:
