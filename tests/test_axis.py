@@ -3,8 +3,8 @@ force law of a friction curve with named effects."""
 import numpy as np
 import pytest
 
-from fricgen.effects import (DirectionAsymmetry, FrictionalLag, PositionRipple,
-                             ThermalDrift)
+from fricgen.effects import DirectionAsymmetry, FrictionalLag, PositionRipple, ThermalDrift
+from fricgen.firmware.build import Float32Plant
 from fricgen.friction import multisource, preset
 from fricgen.sim.axis import AxisState, MotorAxis
 from fricgen.sim.effect_law import EffectLaw
@@ -78,6 +78,32 @@ def test_a_stuck_axis_stays_stuck_while_the_applied_force_is_below_breakaway(int
             moving = step(moving, above, 1e-3, 5)
         assert np.all(stuck.x == 0.0) and np.all(stuck.v == 0.0)
         assert moving.x[0] > 0.0 and moving.x[1] < 0.0
+
+
+def test_float32_euler_reproduces_fw_plant_advance_operation_for_operation():
+    """``Float32Plant.advance`` (the law driven by ``MotorAxis.euler_f32``) against a literal
+    transcription of fw_plant_advance of examples/firmware/fw_plant.c."""
+    plant = Float32Plant()
+    f = np.float32
+
+    def fw_plant_advance(x, v, i, ts):
+        h = f(ts) / f(plant.substeps)
+        i = min(max(f(i), f(-plant.i_max)), f(plant.i_max))
+        thrust = f(plant.phi) * i
+        for _ in range(plant.substeps):
+            a = (thrust - plant.friction(v)) / f(plant.mass)
+            v = v + h * a
+            x = x + h * v
+        return x, v
+
+    rng = np.random.default_rng(0)
+    x = v = y = w = f(0.0)
+    with np.errstate(all="ignore"):
+        for i in rng.uniform(-14.0, 14.0, 400).astype(np.float32):
+            x, v = plant.advance(x, v, i, 1e-3)
+            y, w = fw_plant_advance(y, w, i, 1e-3)
+            assert x.dtype == v.dtype == np.float32
+            assert x.tobytes() == y.tobytes() and v.tobytes() == w.tobytes()
 
 
 # ----------------------------------------------------------------------------- force laws
