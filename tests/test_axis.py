@@ -1,13 +1,15 @@
 """The axis of eq. (18) under a pluggable force law: its three integrators, stiction, and the
-force law of a friction curve with named effects."""
+force law of a friction curve with named effects (truth logs, diagnosis re-simulation)."""
 import numpy as np
 import pytest
 
-from fricgen.effects import DirectionAsymmetry, FrictionalLag, PositionRipple, ThermalDrift
+from fricgen.effects import (DirectionAsymmetry, FrictionalLag, PositionRipple, Signals,
+                             ThermalDrift)
 from fricgen.firmware.build import Float32Plant
 from fricgen.friction import multisource, preset
 from fricgen.sim.axis import AxisState, MotorAxis
 from fricgen.sim.effect_law import EffectLaw
+from fricgen.sim.logsynth import HIDDEN_EFFECTS, LogSpec, truth_effects, truth_law
 
 # ----------------------------------------------------------------------------- integrators
 
@@ -107,6 +109,43 @@ def test_float32_euler_reproduces_fw_plant_advance_operation_for_operation():
 
 
 # ----------------------------------------------------------------------------- force laws
+
+
+@pytest.mark.parametrize("effect", [e for e in HIDDEN_EFFECTS if e != "none"])
+def test_the_truth_law_is_the_friction_plus_the_library_effect(effect):
+    spec = LogSpec(effect=effect, magnitude=1.3)
+    law = truth_law([spec])
+    e, = truth_effects(spec)
+    rng = np.random.default_rng(1)
+    x, v, t, s = rng.uniform(-0.1, 0.1, 50), rng.uniform(-0.3, 0.3, 50), rng.uniform(0, 12, 50), \
+        rng.uniform(0, 0.3, 50)
+    sig = Signals(preset("paper3"), t=t, x=x, v=v, s=s)
+    want_friction, want_external = preset("paper3")(v), np.zeros(50)
+    if e.acts_at_rest:
+        want_external = want_external + e.force(sig)
+    elif not e.via_dynamics:
+        want_friction = want_friction + e.force(sig)
+    assert np.array_equal(law.sliding_friction(v, t, s), want_friction)
+    assert np.array_equal(law.external_force(x, v, t), want_external)
+    assert law.mass == spec.mass + e.mass_delta
+    assert law.force_constant == spec.force_constant + e.force_constant_delta
+    assert law.lag_tau == e.lag_tau
+
+
+def test_a_batch_law_gives_each_axis_exactly_its_own_law():
+    specs = [LogSpec(effect=e, magnitude=m) for e in HIDDEN_EFFECTS for m in (1.0, 0.4)]
+    batch = truth_law(specs)
+    rng = np.random.default_rng(2)
+    n = len(specs)
+    x, v, t, s = rng.uniform(-0.1, 0.1, n), rng.uniform(-0.3, 0.3, n), rng.uniform(0, 12, n), \
+        rng.uniform(0, 0.3, n)
+    for j, spec in enumerate(specs):
+        alone = truth_law([spec])
+        sl = slice(j, j + 1)
+        assert np.array_equal(batch.sliding_friction(v, t, s)[sl], alone.sliding_friction(v[sl], t[sl], s[sl]))
+        assert np.array_equal(batch.external_force(x, v, t)[sl], alone.external_force(x[sl], v[sl], t[sl]))
+        for name in ("mass", "force_constant", "lag_tau"):
+            assert np.broadcast_to(getattr(batch, name), n)[j] == getattr(alone, name)
 
 
 def test_a_batch_refuses_two_effects_of_one_kind_on_one_axis():
