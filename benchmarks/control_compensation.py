@@ -19,13 +19,12 @@ import time
 import numpy as np
 
 from fricgen.control.backstepping import AdaptiveBackstepping
-from fricgen.control.c_controller import CController, build_controller, c_controllers, float32_twin
+from fricgen.control.c_controller import CController, build_controller, float32_twin
 from fricgen.data import synthesize_benchmark
 from fricgen.fit.elm import ELMRegressor
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
-from fricgen.sim.plant import LinearAxis
-from fricgen.control.loop import compensations, simulate
+from fricgen.control.loop import compensations, default_axis, simulate
 from fricgen.codegen.twin import force_f32
 
 #: A run is stable when it stays finite and max |e1| over its second half stays below this
@@ -112,7 +111,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     duration = 2.0 if args.quick else 4.0
     t0 = time.time()
-    axis = LinearAxis()
+    axis = default_axis()
     variants = compensations(axis)
     if "fuzzy" not in variants:
         print("fuzzy variant skipped: fricgen.fuzzy is not available", file=sys.stderr)

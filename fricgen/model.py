@@ -89,11 +89,15 @@ class FrictionModel:
         """x = K_in min(|v|, v_sat): the saturated, normalized network input of eq. (3)."""
         return self.scaling.k_in * np.minimum(np.abs(np.asarray(v, dtype=float)), self.v_sat)
 
+    def stribeck(self, v) -> np.ndarray:
+        """The velocity-weakening part AIM(K_in min(|v|, v_sat)) / K_out of eq. (3) (no sign,
+        no B v): F(|v|) - B |v|, and F(0+) at v = 0."""
+        return self.aim(self.network_input(v)) / self.scaling.k_out
+
     def force(self, v) -> np.ndarray:
         """Friction force in newtons for any sign of v, eq. (3)."""
         v = np.asarray(v, dtype=float)
-        g = self.aim(self.network_input(v)) / self.scaling.k_out
-        return np.sign(v) * g + self.viscous * v
+        return np.sign(v) * self.stribeck(v) + self.viscous * v
 
     __call__ = force
 

@@ -8,8 +8,8 @@ from fricgen.cli import main
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.gamma import gamma_matrix
 from fricgen.friction import multisource
-from fricgen.sim.plant import LinearAxis
-from fricgen.control.loop import compare, simulate
+from fricgen.control.loop import compare, default_axis, simulate
+from fricgen.sim.axis import AxisState
 from fricgen.sim.trajectory import SineSumTrajectory, reversing
 
 
@@ -52,39 +52,43 @@ def test_trajectory_rejects_bad_parameters(kwargs, word):
 
 def test_axis_with_viscous_friction_matches_the_analytic_step_response():
     B, m, phi, i = 57.5, 2.0, 18.0, 3.0
-    axis = LinearAxis(friction=multisource(fc=[0.0], fs=[0.0], vs=[0.01], B=[B]), mass=m, phi=phi)
-    x, v = np.zeros(1), np.zeros(1)
+    axis = default_axis(friction=multisource(fc=[0.0], fs=[0.0], vs=[0.01], B=[B]), mass=m,
+                        force_constant=phi)
+    state = AxisState.of(np.zeros(1))
     for _ in range(50):
-        x, v = axis.advance(x, v, i, 1e-3, substeps=4)
+        state = axis.rk4(state, i, 1e-3, substeps=4)
     t, vinf, tau = 0.05, phi * i / B, m / B
     # RK4 with h = 2.5e-4 s on a 35 ms time constant: error ~ (h / tau)^4 / 120 ~ 1e-11 relative
-    assert v[0] == pytest.approx(vinf * (1 - np.exp(-t / tau)), rel=1e-8)
-    assert x[0] == pytest.approx(vinf * (t - tau * (1 - np.exp(-t / tau))), rel=1e-8)
+    assert state.v[0] == pytest.approx(vinf * (1 - np.exp(-t / tau)), rel=1e-8)
+    assert state.x[0] == pytest.approx(vinf * (t - tau * (1 - np.exp(-t / tau))), rel=1e-8)
+    assert state.t[0] == pytest.approx(t)
 
 
 def test_axis_sticks_below_the_breakaway_force_and_starts_above_it(paper_friction):
-    axis = LinearAxis()
-    assert axis.breakaway == pytest.approx(44.0)               # sum of fs in Table 1
-    i_stick = 0.99 * axis.breakaway / axis.phi
-    x, v = axis.advance(np.zeros(2), np.zeros(2), np.array([i_stick, 1.01 * i_stick / 0.99]), 1e-3)
-    assert x[0] == 0.0 and v[0] == 0.0
-    assert v[1] > 0.0
+    axis = default_axis()
+    assert axis.breakaway() == pytest.approx(44.0)             # sum of fs in Table 1
+    assert axis.breakaway(-1.0) == pytest.approx(44.0)
+    i_stick = 0.99 * axis.breakaway() / axis.law.force_constant
+    state = axis.rk4(AxisState.of(np.zeros(2)), np.array([i_stick, 1.01 * i_stick / 0.99]), 1e-3)
+    assert state.x[0] == 0.0 and state.v[0] == 0.0
+    assert state.v[1] > 0.0
 
 
 def test_axis_stops_instead_of_chattering_when_velocity_crosses_zero():
-    axis = LinearAxis()
-    x, v = axis.advance(np.zeros(1), np.array([1e-3]), 0.0, 1e-3)   # friction brakes to rest
-    assert v[0] == 0.0
-    x2, v2 = axis.advance(x, v, 0.0, 1e-3)
-    assert v2[0] == 0.0 and x2[0] == x[0]
+    axis = default_axis()
+    state = axis.rk4(AxisState.of(np.zeros(1), np.array([1e-3])), 0.0, 1e-3)   # friction brakes to rest
+    assert state.v[0] == 0.0
+    later = axis.rk4(state, 0.0, 1e-3)
+    assert later.v[0] == 0.0 and later.x[0] == state.x[0]
 
 
-@pytest.mark.parametrize("kwargs, word", [(dict(mass=0.0), "mass"), (dict(phi=-1.0), "phi"),
+@pytest.mark.parametrize("kwargs, word", [(dict(mass=0.0), "mass"),
+                                          (dict(force_constant=-1.0), "force_constant"),
                                           (dict(i_max=0.0), "i_max"), (dict(load=np.inf), "load"),
                                           (dict(friction=3.0), "friction")])
 def test_axis_rejects_bad_parameters(kwargs, word):
     with pytest.raises(ValueError, match=word):
-        LinearAxis(**kwargs)
+        default_axis(**kwargs)
 
 
 # ----------------------------------------------------------------------------- controller
@@ -150,8 +154,8 @@ def lyapunov(run, ctrl, axis, traj):
     xd, xd1, _ = traj(run.t)
     e1 = xd - run.x
     e2 = xd1 + ctrl.k1 * e1 - run.v
-    m_o = axis.mass / axis.phi
-    a_err = np.stack([m_o - run.m_o_hat, ctrl.phi_n / axis.phi - run.k_hat], axis=-1)
+    m_o = axis.law.mass / axis.law.force_constant
+    a_err = np.stack([m_o - run.m_o_hat, ctrl.phi_n / axis.law.force_constant - run.k_hat], axis=-1)
     g_inv = np.linalg.inv(gamma_matrix(ctrl.gamma))
     return 0.5 * (e1 ** 2 + m_o * e2 ** 2 + np.einsum("ki,ij,kj->k", a_err, g_inv, a_err))
 
@@ -160,7 +164,7 @@ def test_lyapunov_function_does_not_grow_under_law_a_when_the_model_is_exact():
     """With a model that can be exact (viscous friction, eps = 0), eq. (13) gives
     V' = -k1 e1^2 - k2 e2^2 <= 0; sampling at 1 kHz may add O(Ts^2) per step only."""
     visc = multisource(fc=[0.0], fs=[0.0], vs=[0.01], B=[57.5])
-    axis = LinearAxis(friction=visc)
+    axis = default_axis(friction=visc)
     ctrl = AdaptiveBackstepping(compensation=visc, law="a")
     traj = reversing()
     run, = simulate(axis, [ctrl], traj, duration=2.0, substeps=4)
@@ -174,9 +178,9 @@ def test_errors_and_parameters_stay_bounded_under_law_c_with_a_constant_disturba
     """A 20 N load no model knows, over two periods of the reference (2 x 4 s): law (c) with
     leakage delta keeps A_hat bounded (it changes less and less), while law (a) lets m_o_hat
     drift on; e1 stays ultimately bounded (no larger in the second period than in the first)."""
-    axis = LinearAxis(load=20.0)
-    law_c = AdaptiveBackstepping(compensation=axis.friction, law="c", delta=5.0)
-    law_a = AdaptiveBackstepping(compensation=axis.friction, law="a")
+    axis = default_axis(load=20.0)
+    law_c = AdaptiveBackstepping(compensation=axis.law.friction, law="c", delta=5.0)
+    law_a = AdaptiveBackstepping(compensation=axis.law.friction, law="a")
     run_c, run_a = simulate(axis, [law_c, law_a], duration=8.0, substeps=4)
     h = run_c.t.size // 2
     for run in (run_c, run_a):
@@ -196,8 +200,8 @@ def test_errors_and_parameters_stay_bounded_under_law_c_with_a_constant_disturba
 
 
 def test_elm_compensation_tracks_like_exact_and_far_better_than_none(default_model):
-    axis = LinearAxis()
-    runs = compare({"none": None, "exact": axis.friction, "elm": default_model}, axis,
+    axis = default_axis()
+    runs = compare({"none": None, "exact": axis.law.friction, "elm": default_model}, axis,
                    duration=2.0, substeps=5)
     rms = {k: r.metrics()["rms_e1"] for k, r in runs.items()}
     assert rms["elm"] <= 1.1 * rms["exact"]
@@ -205,7 +209,7 @@ def test_elm_compensation_tracks_like_exact_and_far_better_than_none(default_mod
 
 
 def test_a_diverging_run_is_cut_short_and_reported_not_finite():
-    axis = LinearAxis(i_max=1e30)
+    axis = default_axis(i_max=1e30)
     ctrl = AdaptiveBackstepping(ts=0.02, k1=400.0, k2=400.0, i_max=1e30)
     run, = simulate(axis, [ctrl], duration=2.0, substeps=2)
     m = run.metrics()
@@ -214,7 +218,7 @@ def test_a_diverging_run_is_cut_short_and_reported_not_finite():
 
 def test_simulate_rejects_controllers_with_different_sampling_times():
     with pytest.raises(ValueError, match="ts"):
-        simulate(LinearAxis(), [AdaptiveBackstepping(ts=1e-3), AdaptiveBackstepping(ts=2e-3)])
+        simulate(default_axis(), [AdaptiveBackstepping(ts=1e-3), AdaptiveBackstepping(ts=2e-3)])
 
 
 # ----------------------------------------------------------------------------- CLI

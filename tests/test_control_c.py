@@ -22,8 +22,7 @@ from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, emit
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.c_controller import CController, build_controller, float32_twin
-from fricgen.sim.plant import LinearAxis
-from fricgen.control.loop import simulate
+from fricgen.control.loop import default_axis, simulate
 
 CC = shutil.which("cc") or shutil.which("gcc")
 pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
@@ -81,7 +80,7 @@ def test_c_init_rejects_gamma_that_is_not_symmetric_positive_definite(ctrl_modul
 @pytest.mark.parametrize("law, friction_input", [("a", "v"), ("b", "v"), ("c", "v"), ("c", "vd")])
 def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, default_model,
                                                                  law, friction_input):
-    axis = LinearAxis()
+    axis = default_axis()
     settings = AdaptiveBackstepping(compensation=default_model, law=law,
                                     friction_input=friction_input)
     c_run, twin_run, py_run = simulate(
@@ -97,7 +96,7 @@ def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, d
 
 
 def test_c_step_with_the_force_as_argument_equals_the_function_pointer(ctrl_module, default_model):
-    axis = LinearAxis()
+    axis = default_axis()
     settings = AdaptiveBackstepping(compensation=default_model, law="c")
     ptr, arg = simulate(axis, [CController(ctrl_module, settings, "fm_force"),
                                CController(ctrl_module, settings.clone(

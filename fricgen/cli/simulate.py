@@ -15,10 +15,9 @@ import numpy as np
 from ..control.backstepping import AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
-from ..control.loop import DEFAULT_DURATION, compensations, simulate
+from ..control.loop import DEFAULT_DURATION, compensations, default_axis, simulate
 from ..errors import UsageError
 from ..model import FrictionModel
-from ..sim.plant import LinearAxis
 from .._io import check_folder, write_files
 from .._plot import png, pyplot
 from .common import add_json, add_model, out, say
@@ -49,7 +48,7 @@ def run(args) -> int:
             raise UsageError(f"{option} must be > 0, got {value:g}")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
-    axis = LinearAxis()
+    axis = default_axis()
     model = FrictionModel.load(args.model) if args.model else None
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input)
     try:

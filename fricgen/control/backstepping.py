@@ -45,7 +45,7 @@ def _check(name: str, value, low: float, strict: bool = True) -> float:
 class AdaptiveBackstepping:
     """The controller of section 6 (eqs. 3-12, 28) sampled at ``ts`` seconds.
 
-    Parameters (defaults tuned for the default ``LinearAxis``: 2 kg, ~20 N/A, 10 A; with
+    Parameters (defaults tuned for ``loop.default_axis()``: 2 kg, ~20 N/A, 10 A; with
     k2 = 40 the velocity loop phi k2 / m is ~360 rad/s, so Ts = 1 ms leaves a wide margin and the
     loop stays stable up to Ts ~ 4 ms; Gamma and delta adapt k_hat within a few seconds):
     compensation: None (xi_2 = 0, no friction model) or a callable F_Fm(v) in newtons, e.g. a

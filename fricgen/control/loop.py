@@ -11,11 +11,13 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..data import synthesize_benchmark
+from ..effects import ConstantLoad
 from ..fit import AnfisRegressor, default_estimator
 from ..friction import preset
 from ..metrics import rmse
 from ..model import FrictionModel
-from ..sim.plant import LinearAxis
+from ..sim.axis import AxisState, MotorAxis
+from ..sim.effect_law import EffectLaw
 from ..sim.trajectory import reversing, sampled
 from .backstepping import AdaptiveBackstepping
 
@@ -23,6 +25,24 @@ from .backstepping import AdaptiveBackstepping
 DEFAULT_DURATION = 4.0
 #: RK4 steps per controller sample.
 DEFAULT_SUBSTEPS = 10
+
+
+def default_axis(friction=None, mass: float = 2.0, force_constant: float = 18.0,
+                 i_max: float = 10.0, load: float = 0.0) -> MotorAxis:
+    """The controlled axis of section 6: a linear permanent-magnet motor, eq. (18), with thrust
+    phi i (eq. 2 of section 6).
+
+    Defaults: a 2 kg mover, force constant phi = 18 N/A (the controller assumes a nominal
+    20 N/A, i.e. phi is "not known exactly"), current limit 10 A (180 N peak thrust), and the
+    paper's benchmark friction (Table 1): up to 44 N breakaway, B = 57.5 N s/m. ``load`` is a
+    constant external force opposing positive thrust (a disturbance no model knows), N.
+    """
+    if not np.isfinite(load):
+        raise ValueError(f"load must be finite, got {load}")
+    friction = preset("paper3") if friction is None else friction
+    effects = (ConstantLoad(load=float(load)),) if load else ()
+    return MotorAxis(EffectLaw(friction, effects, mass=mass, force_constant=force_constant,
+                               i_max=i_max))
 
 
 @dataclass(frozen=True)
@@ -67,9 +87,10 @@ class ClosedLoop:
                 "finite": n == self.t.size}
 
 
-def simulate(axis: LinearAxis, controllers: Sequence, trajectory=None,
+def simulate(axis: MotorAxis, controllers: Sequence, trajectory=None,
              duration: float = DEFAULT_DURATION, substeps: int = DEFAULT_SUBSTEPS) -> List[ClosedLoop]:
-    """Run each controller (all with the same ``ts``) against its own copy of ``axis``.
+    """Run each controller (all with the same ``ts``) against its own copy of ``axis`` (a
+    ``MotorAxis``, integrated with RK4 substeps).
 
     A controller has ``ts``, ``reset()``, ``step(x, v, xd, xd', xd'') -> i`` and
     ``adaptive_parameters``. The axes start at rest at x = 0; the current of sample k is held
@@ -92,12 +113,13 @@ def simulate(axis: LinearAxis, controllers: Sequence, trajectory=None,
     ref = sampled(trajectory, t)
     m = len(controllers)
     out = {k: np.full((n, m), np.nan) for k in ("x", "v", "i", "m_o_hat", "k_hat")}
-    x, v = np.zeros(m), np.zeros(m)
+    state = AxisState.of(np.zeros(m))
     i = np.zeros(m)
     alive = np.ones(m, dtype=bool)
     with np.errstate(all="ignore"):
         for k in range(n):
             xd, xd1, xd2 = ref[k]
+            x, v = state.x, state.v
             for j, c in enumerate(controllers):
                 if alive[j]:
                     i[j] = c.step(x[j], v[j], xd, xd1, xd2)
@@ -107,8 +129,9 @@ def simulate(axis: LinearAxis, controllers: Sequence, trajectory=None,
                 & np.isfinite(out["m_o_hat"][k])
             if not alive.any():
                 break
-            x, v = axis.advance(np.where(alive, x, 0.0), np.where(alive, v, 0.0),
-                                np.where(alive, i, 0.0), ts, substeps)
+            state = AxisState(np.where(alive, state.x, 0.0), np.where(alive, state.v, 0.0), state.t,
+                              np.where(alive, state.s, 0.0))
+            state = axis.rk4(state, np.where(alive, i, 0.0), ts, substeps)
     return [ClosedLoop(t=t, xd=ref[:, 0], **{key: a[:, j] for key, a in out.items()})
             for j in range(m)]
 
@@ -134,11 +157,11 @@ def fuzzy_model(name: str = "fuzzy_model", bench=None) -> FrictionModel:
     return FrictionModel.fit(bench.dataset, AnfisRegressor(n_mfs=4, mf="bell"), name=name)
 
 
-def compensations(axis: LinearAxis, model: Optional[FrictionModel] = None,
+def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
                   with_fuzzy: bool = True) -> Dict[str, Optional[object]]:
     """The compensation variants to compare: none, exact (the axis' true friction), and
     ``model`` as "model", or else the default model as "elm" and the fuzzy baseline as "fuzzy"."""
-    variants: Dict[str, Optional[object]] = {"none": None, "exact": axis.friction}
+    variants: Dict[str, Optional[object]] = {"none": None, "exact": axis.law.friction}
     if model is None:
         bench = paper_benchmark()
         variants["elm"] = default_model(bench=bench)
@@ -149,11 +172,11 @@ def compensations(axis: LinearAxis, model: Optional[FrictionModel] = None,
     return variants
 
 
-def compare(compensation: Dict[str, Optional[object]], axis: Optional[LinearAxis] = None,
+def compare(compensation: Dict[str, Optional[object]], axis: Optional[MotorAxis] = None,
             trajectory=None, duration: float = DEFAULT_DURATION, substeps: int = DEFAULT_SUBSTEPS,
             **controller) -> Dict[str, ClosedLoop]:
     """Simulate one ``AdaptiveBackstepping(**controller)`` per compensation variant."""
-    axis = LinearAxis() if axis is None else axis
+    axis = default_axis() if axis is None else axis
     ctrls = [AdaptiveBackstepping(compensation=comp, **controller) for comp in compensation.values()]
     runs = simulate(axis, ctrls, trajectory, duration, substeps)
     return dict(zip(compensation, runs))

@@ -30,7 +30,8 @@ from ..effects import EFFECTS, Effect, Signals, model_effects, with_effects
 from ..errors import DataError
 from ..metrics import rmse
 from ..model import FrictionModel
-from ..sim.stickslip import StickSlipAxis
+from ..sim.axis import AxisState, MotorAxis
+from ..sim.effect_law import EffectLaw
 
 #: Fewest moving rows the fit part must keep after masking.
 MIN_ROWS = 100
@@ -212,49 +213,27 @@ def localize(problem: ResidualProblem) -> List[dict]:
 # ----------------------------------------------------------------------------- simulation
 
 
-class ModelLaw:
-    """The force law of a friction model with effects (the ``stickslip.ForceLaw`` protocol)."""
-
-    def __init__(self, model: FrictionModel, effects: Sequence[Effect], mass: float, force_constant: float):
-        self.model, self.effects = model, list(effects)
-        self.mass = mass + sum(e.mass_delta for e in self.effects)
-        self.force_constant = force_constant + sum(e.force_constant_delta for e in self.effects)
-        lags = [e.lag_tau for e in self.effects if e.lag_tau > 0]
-        self.lag_tau = lags[0] if lags else 0.0
-
-    def friction(self, v, t, s):
-        f = self.model.force(v)
-        sig = Signals(self.model, t=t, v=v, s=s)
-        for e in self.effects:
-            if not (e.acts_at_rest or e.via_dynamics):
-                f = f + e.force(sig)
-        return f
-
-    def external(self, x, v, t):
-        sig = Signals(self.model, t=t, x=x, v=v)
-        return sum((e.force(sig) for e in self.effects if e.acts_at_rest), np.zeros_like(x))
-
-
 def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, horizon: int,
                substeps: int = 10) -> np.ndarray:
     """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
-    samples from ``start`` on, driven by the measured current (NaN before ``start``)."""
+    samples from ``start`` on, driven by the measured current (NaN before ``start``): the axis
+    of eq. (18) under the model's friction and ``effects``, in Karnopp steps."""
     sig = problem.signals
     n = sig.t.size
-    law = ModelLaw(sig.model, effects, problem.mass, problem.force_constant)
+    law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)
     starts = np.arange(start, n - 1, horizon)
     s0 = None
     if law.lag_tau > 0:
         s0 = Signals(sig.model, v=problem.v_smooth, sample_time=problem.sample_time).lagged_speed(law.lag_tau)[starts]
-    axis = StickSlipAxis(law, problem.x_smooth[starts], problem.v_smooth[starts], sig.t[starts], s0,
-                         dt=problem.sample_time / substeps)
+    axis = MotorAxis(law)
+    state = AxisState.of(problem.x_smooth[starts], problem.v_smooth[starts], sig.t[starts], s0)
     out = np.full(n, np.nan)
     for j in range(horizon):
         k = np.minimum(starts + j, n - 1)
-        axis.advance(sig.i[k], substeps)
+        state = axis.karnopp(state, sig.i[k], problem.sample_time, substeps)
         k1 = starts + j + 1
         ok = k1 < n
-        out[k1[ok]] = axis.v[ok]
+        out[k1[ok]] = state.v[ok]
     return out
 
 

@@ -6,9 +6,9 @@ from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, Eff
                       ExtraFrictionSource, ForceConstantMismatch, FrictionalLag, InertiaMismatch,
                       PositionRipple, ThermalDrift, effect_from_dict, force_xv, model_effects,
                       validate_effects, with_effects)
-from .signals import Signals
+from .signals import FrictionCurve, Signals
 
 __all__ = ["EFFECTS", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
-           "FrictionalLag", "ThermalDrift", "Signals", "effect_from_dict", "force_xv",
+           "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
            "model_effects", "validate_effects", "with_effects"]

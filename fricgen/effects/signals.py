@@ -1,15 +1,30 @@
-"""What an effect's force may depend on: the measured signals and the friction model."""
+"""What an effect's force may depend on: the measured signals and the friction curve."""
 from __future__ import annotations
 
 import math
-from typing import Optional
+from typing import Optional, Protocol
 
 import numpy as np
 from scipy.signal import lfilter
 
 
+class FrictionCurve(Protocol):
+    """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` (eq. 3) or a
+    ``MultisourceFriction`` (eq. 1). Tabulating it (``Signals(tabulate=True)``) and fitting
+    effects against it also need the saturation speed ``v_sat`` of a ``FrictionModel``."""
+
+    viscous: float
+
+    def __call__(self, v) -> np.ndarray:
+        """F(v)."""
+
+    def stribeck(self, v) -> np.ndarray:
+        """S(|v|), the velocity-weakening part (F(0+) at v = 0)."""
+
+
 class Signals:
-    """What an effect's force may depend on: t, x, v, a, i (arrays) and the friction model.
+    """What an effect's force may depend on: t, x, v, a, i (arrays) and the friction curve
+    ``model`` (a ``FrictionCurve``).
 
     ``s`` is the friction-memory state (a low-passed speed) when a simulation carries it;
     otherwise ``lagged_speed`` filters |v| over the samples (uniform ``sample_time``).
@@ -17,7 +32,7 @@ class Signals:
     4097 speeds in [0, v_sat] (error ~1e-5 N), for fits that evaluate it many times.
     """
 
-    def __init__(self, model, t=None, x=None, v=None, a=None, i=None, s=None,
+    def __init__(self, model: FrictionCurve, t=None, x=None, v=None, a=None, i=None, s=None,
                  sample_time: Optional[float] = None, tabulate: bool = False):
         self.model, self.t, self.x, self.v, self.a, self.i, self.s = model, t, x, v, a, i, s
         self.sample_time = sample_time
@@ -26,20 +41,20 @@ class Signals:
         self._table = None
         if tabulate:
             u = np.linspace(0.0, model.v_sat, 4097)
-            self._table = (u, model.force(u) - model.viscous * u)
+            self._table = (u, model.stribeck(u))
 
     @property
     def friction(self) -> np.ndarray:
-        """F(v) of eq. (3)."""
+        """F(v) of eq. (3) (or eq. (1))."""
         if self._friction is None:
-            self._friction = self.model.force(self.v)
+            self._friction = self.model(self.v)
         return self._friction
 
     def stribeck(self, speed) -> np.ndarray:
-        """The velocity-weakening part of the model at a speed >= 0: F(u) - B u."""
+        """The velocity-weakening part of the curve at a speed u >= 0: S(u) = F(u) - B u."""
         if self._table is not None:
             return np.interp(speed, *self._table)        # constant beyond v_sat, as eq. (3)
-        return self.model.force(speed) - self.model.viscous * np.asarray(speed)
+        return self.model.stribeck(speed)
 
     @property
     def stribeck_speed(self) -> np.ndarray:

@@ -23,6 +23,7 @@ from .._io import resource_dir
 from ..c_literal import c_float, c_list
 from ..codegen.cbuild import STRICT_WARNINGS
 from ..control.c_abi import params_initializer
+from ..sim.axis import AxisState, MotorAxis
 
 CC = "arm-none-eabi-gcc"
 SIZE = "arm-none-eabi-size"
@@ -242,9 +243,10 @@ def parse_int_bits(lines: Iterable[str]) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Float32Plant:
-    """Float32 twin of ``examples/firmware/fw_plant.c``: x' = v, m v' = phi i - F(v), the
-    current limited to [-i_max, i_max], semi-implicit Euler in ``substeps`` steps per sample,
-    F(v) = (f_c + (f_s - f_c) v_s^2 / (v_s^2 + v^2)) v / (|v| + v_eps) + viscous v (no libm).
+    """Float32 twin of ``examples/firmware/fw_plant.c``: the force law of a ``MotorAxis``
+    (eq. 18 of section 6) with F(v) = (f_c + (f_s - f_c) v_s^2 / (v_s^2 + v^2)) v / (|v| + v_eps)
+    + viscous v (no libm), the current limited to [-i_max, i_max], integrated with
+    ``MotorAxis.euler_f32`` in ``substeps`` steps per sample.
     The defaults resemble the paper's benchmark axis (2 kg, 18 N/A, 15 N Coulomb and 44 N
     breakaway friction, 57.5 N s/m); the stiffest slope, f_s / v_eps + viscous ~ 8.9e3 N s/m,
     keeps h slope / m below 1 at Ts = 1 ms with 5 substeps (stable explicit velocity update)."""
@@ -260,8 +262,15 @@ class Float32Plant:
     substeps: int = 5
 
     _FLOATS = ("mass", "phi", "i_max", "f_c", "f_s", "v_s", "v_eps", "viscous")
+    #: No friction memory.
+    lag_tau = 0.0
+
+    @property
+    def force_constant(self) -> float:
+        return self.phi
 
     def friction(self, v):
+        """``fw_plant_friction``, float32."""
         f = np.float32
         v = f(v)
         speed = -v if v < 0 else v
@@ -269,22 +278,16 @@ class Float32Plant:
         level = f(self.f_c) + (f(self.f_s) - f(self.f_c)) * (vs2 / (vs2 + v * v))
         return level * (v / (speed + f(self.v_eps))) + f(self.viscous) * v
 
+    def sliding_friction(self, v, t, s):
+        return self.friction(v)
+
+    def external_force(self, x, v, t):
+        return np.float32(0.0)
+
     def advance(self, x, v, i, ts):
         """(x, v) after ``ts`` seconds with the current ``i`` held, as ``fw_plant_advance``."""
-        f = np.float32
-        x, v, i = f(x), f(v), f(i)
-        h = f(ts) / f(self.substeps)
-        i_max = f(self.i_max)
-        if i > i_max:
-            i = i_max
-        elif i < -i_max:
-            i = -i_max
-        thrust = f(self.phi) * i
-        for _ in range(self.substeps):
-            a = (thrust - self.friction(v)) / f(self.mass)
-            v = v + h * a
-            x = x + h * v
-        return x, v
+        end = MotorAxis(self).euler_f32(AxisState(x, v, 0.0, 0.0), i, ts, self.substeps)
+        return end.x, end.v
 
     def c_initializer(self) -> str:
         items = [f".{k} = {c_float(getattr(self, k))}" for k in self._FLOATS]

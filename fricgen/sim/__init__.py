@@ -1,2 +1,3 @@
-"""Simulated axes: the controlled axis of section 6, the stick-slip truth axis, references and
-synthesized motion logs."""
+"""Simulated axes: the motor axis of eq. (18) of section 6 and its integrators (``axis``), its
+force law from a friction curve and named effects (``effect_law``), references and synthesized
+motion logs."""

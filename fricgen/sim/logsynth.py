@@ -2,23 +2,26 @@
 
 The truth axis is m dv/dt = phi i - F(v) - effect (eq. 18 of section 6), with the paper's
 friction (Table 1, ``preset("paper3")``) and at most one hidden effect of the diagnosis
-vocabulary. It runs closed-loop under a PID position controller with model feedforward
-(nominal m, phi and the trained friction model: it does not know the effect), integrated with
-fine Karnopp stick-slip steps, and it is observed through noisy, quantized sensors. Many logs
-advance together in one vectorized loop.
+vocabulary, an object of ``fricgen.effects`` (the force law is ``sim.effect_law.EffectLaw``).
+It runs closed-loop under a PID position controller with model feedforward (nominal m, phi and
+the trained friction model: it does not know the effect), integrated with fine Karnopp
+stick-slip steps (``MotorAxis.karnopp``), and it is observed through noisy, quantized sensors.
+Many logs advance together in one vectorized loop.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ..data import MotionLog, synthesize_benchmark
+from ..effects import EFFECTS, Effect
 from ..fit import as_rng, default_estimator
-from ..friction import SHAPES, preset
+from ..friction import preset
 from ..model import FrictionModel
-from .stickslip import StickSlipAxis
+from .axis import AxisState, MotorAxis
+from .effect_law import EffectLaw
 
 #: The effects a truth axis can hide, with their size at magnitude 1 (see ``truth_parameters``).
 HIDDEN_EFFECTS = ("none", "position_ripple", "direction_asymmetry", "constant_load",
@@ -34,6 +37,9 @@ FORCE_CONSTANT = -0.15        # true phi = (1 - 0.15) nominal
 EXTRA_SOURCE = dict(fc=2.0, fs=6.0, vs=0.03, B=15.0)   # fc, fs, B scale; vs does not
 LAG_TAU = 0.02                # s
 DRIFT_RATE = 0.02             # friction level grows by 2 % per second
+
+#: The truth axis' friction: Table 1 of the paper.
+TRUTH_FRICTION = preset("paper3")
 
 #: Sensor noise at noise = 1 (standard deviations) and quantization steps.
 SIGMA_X, Q_X = 0.5e-6, 1e-6   # m
@@ -89,46 +95,23 @@ def truth_parameters(spec: LogSpec) -> Dict[str, float]:
     return {}
 
 
-class TruthLaw:
-    """The truth force law of a batch of axes (the ``stickslip.ForceLaw`` protocol).
+def truth_effects(spec: LogSpec) -> Tuple[Effect, ...]:
+    """The hidden effect of ``spec`` as an object of the effect library (none: no effect)."""
+    if spec.effect == "none":
+        return ()
+    context = {"inertia_mismatch": {"nominal_mass": spec.mass},
+               "force_constant_mismatch": {"nominal_force_constant": spec.force_constant},
+               "extra_friction_source": {"shape": TRUTH_FRICTION.shape},
+               "thermal_drift": {"offset": 0.0, "t0": 0.0}}
+    return (EFFECTS[spec.effect](**truth_parameters(spec), **context.get(spec.effect, {})),)
 
-    F(v) = (1 + g_sgn(v)) (1 + rate t) {sgn(v) [S(u) + S_extra(u)] + (B + B_extra) v},
-    u = |v| or, with frictional lag, the speed low-passed with time constant tau; external
-    force A sin(2 pi x / P + phase) + load.
-    """
 
-    def __init__(self, specs: Sequence[LogSpec], friction=None):
-        self.friction_ = preset("paper3") if friction is None else friction
-        p = [truth_parameters(s) for s in specs]
-
-        def col(key, default, effect):
-            return np.array([q.get(key, default) if s.effect == effect else default
-                             for s, q in zip(specs, p)], dtype=float)
-
-        self.mass = np.array([q.get("mass", s.mass) for s, q in zip(specs, p)])
-        self.force_constant = np.array([q.get("force_constant", s.force_constant)
-                                        for s, q in zip(specs, p)])
-        self.lag_tau = col("tau", 0.0, "frictional_lag")
-        self.amplitude = col("amplitude", 0.0, "position_ripple")
-        self.wavenumber = 2 * np.pi / col("period", 1.0, "position_ripple")
-        self.phase = col("phase", 0.0, "position_ripple")
-        self.load = col("load", 0.0, "constant_load")
-        self.gain_pos = col("gain_positive", 0.0, "direction_asymmetry")
-        self.gain_neg = col("gain_negative", 0.0, "direction_asymmetry")
-        self.fc_x, self.fs_x = col("fc", 0.0, "extra_friction_source"), col("fs", 0.0, "extra_friction_source")
-        self.vs_x, self.B_x = col("vs", 1.0, "extra_friction_source"), col("B", 0.0, "extra_friction_source")
-        self.rate = col("rate", 0.0, "thermal_drift")
-        self._g = SHAPES[self.friction_.shape]
-
-    def friction(self, v, t, s):
-        u = np.where(self.lag_tau > 0, s, np.abs(v))
-        level = self.friction_.stribeck(u) + self.fc_x + (self.fs_x - self.fc_x) * self._g(u, self.vs_x)
-        f = np.sign(v) * level + (self.friction_.viscous + self.B_x) * v
-        gain = np.where(v > 0, self.gain_pos, np.where(v < 0, self.gain_neg, 0.0))
-        return (1.0 + gain) * (1.0 + self.rate * t) * f
-
-    def external(self, x, v, t):
-        return self.amplitude * np.sin(self.wavenumber * x + self.phase) + self.load
+def truth_law(specs: Sequence[LogSpec]) -> EffectLaw:
+    """The truth force law of a batch of axes: the paper's friction (Table 1) and, on axis j,
+    the hidden effect of ``specs[j]`` (specs share the nominal mass, phi and i_max)."""
+    first = specs[0]
+    return EffectLaw.batch(TRUTH_FRICTION, [truth_effects(s) for s in specs], mass=first.mass,
+                           force_constant=first.force_constant, i_max=first.i_max)
 
 
 def reference_trajectory(t, seed, ramp: float = 0.5):
@@ -193,19 +176,19 @@ def synthesize_logs(specs: Sequence[LogSpec], model: Optional[FrictionModel] = N
     z = np.stack([np.random.default_rng([s.seed, 7]).standard_normal((n, 3)) * s.noise
                   for s in specs], axis=2)
 
-    law = TruthLaw(specs)
-    axis = StickSlipAxis(law, np.zeros(len(specs)), 0.0, 0.0, dt=ts / first.substeps)
+    axis = MotorAxis(truth_law(specs))
+    state = AxisState.of(np.zeros(len(specs)))
     logs = np.zeros((3, n, len(specs)))
     integral = np.zeros(len(specs))
     for k in range(n):
-        xm = _quantize(axis.x + SIGMA_X * z[k, 0], Q_X)
-        vm = _quantize(axis.v + SIGMA_V * z[k, 1], Q_V)
+        xm = _quantize(state.x + SIGMA_X * z[k, 0], Q_X)
+        vm = _quantize(state.v + SIGMA_V * z[k, 1], Q_V)
         e = xd[k] - xm
         integral += e * ts
         i = (m_n * (ad[k] + kp * e + kd * (vd[k] - vm) + ki * integral) + feedforward[k]) / phi_n
         i = np.clip(i, -first.i_max, first.i_max)
         logs[:, k] = (xm, vm, _quantize(i + SIGMA_I * z[k, 2], Q_I))
-        axis.advance(i, first.substeps)
+        state = axis.karnopp(state, i, ts, first.substeps)
     return [MotionLog(t=t, x=logs[0, :, j], v=logs[1, :, j], i=logs[2, :, j],
                       extra={"x_d": xd[:, j]}) for j in range(len(specs))]
 

@@ -1,0 +1,131 @@
+"""The force law of a friction curve with named effects, for the axis of eq. (18) of section 6:
+
+    m dv/dt = phi i - F(v) - sum_k effect_k        (F of eq. 1 or eq. 3, effects of
+                                                    ``fricgen.effects``),
+
+split as ``MotorAxis`` needs it: effects that act at rest (ripple, load) form the external
+force, those simulated through the dynamics shift m and phi, and the others add to the sliding
+friction. One law serves the truth axes of synthesized logs, the re-simulations of the
+diagnosis and the controlled axis; ``EffectLaw.batch`` gives each axis of a batch its own
+effects.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Dict, Sequence, Tuple
+
+import numpy as np
+
+from ..effects import Effect, FrictionCurve, Signals
+
+
+def _check_positive(name: str, value, finite: bool = True) -> float:
+    value = float(value)
+    if not (value > 0 and (np.isfinite(value) or not finite)):
+        raise ValueError(f"{name} must be > 0, got {value}")
+    return value
+
+
+@dataclass(frozen=True)
+class _OnAxes:
+    """An effect acting only on the axes of a batch where ``mask`` holds (0 elsewhere); the
+    parameters of ``effect`` are arrays over the batch."""
+
+    effect: Effect
+    mask: np.ndarray
+
+    @property
+    def acts_at_rest(self) -> bool:
+        return self.effect.acts_at_rest
+
+    @property
+    def via_dynamics(self) -> bool:
+        return self.effect.via_dynamics
+
+    @property
+    def mass_delta(self):
+        return np.where(self.mask, self.effect.mass_delta, 0.0)
+
+    @property
+    def force_constant_delta(self):
+        return np.where(self.mask, self.effect.force_constant_delta, 0.0)
+
+    @property
+    def lag_tau(self):
+        return np.where(self.mask, self.effect.lag_tau, 0.0)
+
+    def force(self, sig: Signals) -> np.ndarray:
+        return np.where(self.mask, self.effect.force(sig), 0.0)
+
+
+def _stack(effects_per_axis: Sequence[Sequence[Effect]]) -> Tuple[_OnAxes, ...]:
+    """One effect per kind (class and non-numeric parameters such as ``shape``), its
+    parameters arrays over the axes; axes without it carry another axis' values, masked."""
+    n = len(effects_per_axis)
+    groups: Dict[tuple, Dict[int, Effect]] = {}
+    for j, effects in enumerate(effects_per_axis):
+        for e in effects:
+            key = (type(e),) + tuple(getattr(e, f.name) for f in fields(e)
+                                     if isinstance(getattr(e, f.name), str))
+            members = groups.setdefault(key, {})
+            if j in members:
+                raise ValueError(f"axis {j} has two {e.name} effects of one kind")
+            members[j] = e
+    stacked = []
+    for members in groups.values():
+        first = next(iter(members.values()))
+        params = {}
+        for f in fields(first):
+            value = getattr(first, f.name)
+            params[f.name] = value if isinstance(value, str) else np.array(
+                [getattr(members.get(j, first), f.name) for j in range(n)], dtype=float)
+        stacked.append(_OnAxes(type(first)(**params), np.array([j in members for j in range(n)])))
+    return tuple(stacked)
+
+
+class EffectLaw:
+    """A ``ForceLaw`` of ``sim.axis``: the friction curve ``friction`` (a ``FrictionModel`` or
+    a ``MultisourceFriction``) plus ``effects``, the nominal ``mass`` (kg) and
+    ``force_constant`` (N/A) shifted by the effects that act through them, current limit
+    ``i_max`` (A). The friction memory is that of the first effect with one (frictional lag).
+    """
+
+    def __init__(self, friction: FrictionCurve, effects: Sequence = (), *, mass: float,
+                 force_constant: float, i_max: float = np.inf):
+        if not callable(friction):
+            raise ValueError(f"friction must be callable F(v), got {type(friction).__name__}")
+        _check_positive("mass", mass)
+        _check_positive("force_constant", force_constant)
+        _check_positive("i_max", i_max, finite=False)
+        self.friction, self.effects, self.i_max = friction, tuple(effects), i_max
+        self.mass = mass + sum(e.mass_delta for e in self.effects)
+        self.force_constant = force_constant + sum(e.force_constant_delta for e in self.effects)
+        lags = [e.lag_tau for e in self.effects if np.any(np.asarray(e.lag_tau) > 0)]
+        self.lag_tau = lags[0] if lags else 0.0
+        self._at_rest = [e for e in self.effects if e.acts_at_rest]
+        self._sliding = [e for e in self.effects if not (e.acts_at_rest or e.via_dynamics)]
+
+    @classmethod
+    def batch(cls, friction: FrictionCurve, effects_per_axis: Sequence[Sequence[Effect]],
+              mass: float, force_constant: float, i_max: float = np.inf) -> "EffectLaw":
+        """One law for a batch of axes, axis j with the effects ``effects_per_axis[j]``. Each
+        axis moves as under ``EffectLaw(friction, effects_per_axis[j], ...)`` alone."""
+        return cls(friction, _stack(effects_per_axis), mass=mass, force_constant=force_constant,
+                   i_max=i_max)
+
+    def sliding_friction(self, v, t, s) -> np.ndarray:
+        """F(v) plus the effects that change friction (asymmetry, extra source, lag, drift)."""
+        sig = Signals(self.friction, t=t, v=v, s=s)
+        f = sig.friction
+        for e in self._sliding:
+            f = f + e.force(sig)
+        return f
+
+    def external_force(self, x, v, t) -> np.ndarray:
+        """The effects that act at rest too (ripple, load)."""
+        total = np.zeros_like(x)
+        if self._at_rest:
+            sig = Signals(self.friction, t=t, x=x, v=v)
+            for e in self._at_rest:
+                total = total + e.force(sig)
+        return total
