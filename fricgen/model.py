@@ -24,6 +24,8 @@ from .networks import network_from_dict
 
 FORMAT = "fricgen-model"
 FORMAT_VERSION = 1
+#: Largest model.json read: MAX_HIDDEN neurons of three tables fit in well under 1 MB.
+MAX_JSON_BYTES = 16 << 20
 
 _C_KEYWORDS = frozenset("""auto break case char const continue default do double else enum extern
 float for goto if inline int long register restrict return short signed sizeof static struct
@@ -38,6 +40,10 @@ def check_c_identifier(name: Any, what: str = "name") -> str:
         raise ModelError(f"{what} must be a C identifier (letters, digits, _; 1-63 characters), "
                          f"got {name!r}"[:200])
     return name
+
+
+def _reject_constant(name: str):
+    raise ValueError(f"{name} is not a JSON number")
 
 
 def _finite_or_null(value):
@@ -152,12 +158,26 @@ class FrictionModel:
 
     @classmethod
     def load(cls, path: Union[str, Path]) -> "FrictionModel":
+        """Read and validate a model.json; every problem is one ``ModelError`` line naming
+        ``path``."""
         try:
-            text = Path(path).read_text()
+            if Path(path).stat().st_size > MAX_JSON_BYTES:
+                raise ModelError(f"{path}: larger than {MAX_JSON_BYTES} bytes; not a model.json")
+            text = Path(path).read_text(encoding="utf-8")
         except OSError as exc:
             raise ModelError(f"{path}: cannot read ({exc.strerror})") from None
+        except UnicodeDecodeError as exc:
+            raise ModelError(f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
+                             f"offset {exc.start})") from None
         try:
-            d = json.loads(text)
+            d = json.loads(text, parse_constant=_reject_constant)
         except json.JSONDecodeError as exc:
             raise ModelError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
-        return cls.from_dict(d)
+        except RecursionError:
+            raise ModelError(f"{path}: not a model.json (nested too deeply)") from None
+        except ValueError as exc:          # e.g. an integer of more than 4300 digits
+            raise ModelError(f"{path}: not valid JSON ({str(exc).split(':')[0]})") from None
+        try:
+            return cls.from_dict(d)
+        except ModelError as exc:
+            raise ModelError(f"{path}: {exc}") from None

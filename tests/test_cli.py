@@ -96,7 +96,7 @@ def test_train_refuses_bad_sweeps(tmp_path, capsys, body, message):
 def test_train_refuses_non_positive_vs_max(sweep_csv, tmp_path, capsys, vs_max):
     out = tmp_path / "model.json"
     _assert_refused(capsys, ["train", str(sweep_csv), "-o", str(out), f"--vs-max={vs_max}"],
-                    "--vs-max: must be > 0", out)
+                    "--vs-max: must be a number > 0", out)
 
 
 def test_train_refuses_missing_file(tmp_path, capsys):
@@ -107,7 +107,8 @@ def test_train_refuses_missing_file(tmp_path, capsys):
 @pytest.mark.parametrize("edit, message", [
     (lambda d: d.pop("scaling"), "scaling"),
     (lambda d: d["aim"]["biases"].pop(), "lengths"),
-    (lambda d: d.__setitem__("viscous", float("nan")), "finite"),
+    (lambda d: d.__setitem__("viscous", float("nan")), "NaN is not a JSON number"),
+    (lambda d: d.__setitem__("viscous", "57"), "viscous must be a number"),
     (lambda d: d.__setitem__("format_version", 7), "format_version"),
     (lambda d: d.__setitem__("name", "fm; evil()"), "C identifier"),
 ])
@@ -160,7 +161,7 @@ def test_version_and_help_load_no_numerics():
     (["traim"], "invalid choice: 'traim'"),
     (["train"], "the following arguments are required: sweep"),
     (["emit", "m.json"], "the following arguments are required: -o/--output"),
-    (["train", "s.csv", "--neurons", "many"], "--neurons: invalid int value"),
+    (["train", "s.csv", "--neurons", "many"], "--neurons: must be an integer >= 1"),
 ])
 def test_usage_errors_are_one_line(capsys, argv, message):
     assert main(argv) == 2

@@ -42,7 +42,7 @@ def test_viscous_identification_recovers_B(bench):
     # 100 high-speed points with +-0.5 N noise: the slope is known to about 0.5 N s/m
     assert bench.dataset.viscous == pytest.approx(57.5, abs=1.0)
     v = np.linspace(1, 2, 50)
-    B, f0 = identify_viscous(Sweep(v, 3.0 + 7.0 * v))
+    B, f0, rejected = identify_viscous(Sweep(v, 3.0 + 7.0 * v))
     assert (B, f0) == pytest.approx((7.0, 3.0))
 
 

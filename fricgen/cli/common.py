@@ -27,15 +27,31 @@ def say(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
-def positive_float(text: str) -> float:
-    """An argparse type: a finite number > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
-    return value
+def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False,
+           integer: bool = False, unit: str = ""):
+    """An argparse type: a finite number (an integer with ``integer``) in [low, high], or in
+    (low, high] with ``low_open``; the error says the range."""
+    kind = "an integer" if integer else "a number"
+    show = (lambda x: str(int(x))) if integer else (lambda x: f"{x:g}")
+    bounds = [f"{'>' if low_open else '>='} {show(low)}"] if low > -math.inf else []
+    bounds += [f"<= {show(high)}"] if high < math.inf else []
+    wanted = f"{kind} {' and '.join(bounds)}{' ' + unit if unit and bounds else ''}".strip()
+
+    def parse(text: str):
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {wanted}, got {text[:40]!r}") from None
+        ok = math.isfinite(value) and value <= high and (value > low if low_open else value >= low)
+        if not ok:
+            raise argparse.ArgumentTypeError(f"must be {wanted}, got {text[:40]}")
+        return value
+
+    return parse
+
+
+#: A finite number > 0.
+positive_float = number(0.0, low_open=True)
 
 
 def add_output(p, help: str, required: bool = True, default=None) -> None:
@@ -79,7 +95,8 @@ def add_model(p, required: bool = True, help: str = "model.json of the friction 
 
 
 def add_seed(p) -> None:
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=number(0, 2 ** 32 - 1, integer=True), default=0,
+                   help="random seed, an integer >= 0 (default 0)")
 
 
 def add_json(p, help: str = "print the result as one JSON object") -> None:

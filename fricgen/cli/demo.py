@@ -16,12 +16,13 @@ from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..friction import preset
 from ..model import FrictionModel
 from ..paper import reported as paper
-from .common import add_output, out, say
+from .common import add_output, number, out, say
 
 
 def register(p) -> None:
     """The arguments of this command."""
-    p.add_argument("--seeds", type=int, default=paper.SEEDS, help="runs to average (default 20)")
+    p.add_argument("--seeds", type=number(1, 1000, integer=True), default=paper.SEEDS,
+                   help="runs to average (default 20)")
     add_output(p, "keep the emitted C in this folder (default: a temporary one)", required=False)
     p.set_defaults(run=run)
 
@@ -38,8 +39,6 @@ def _mean_errors(make, seeds):
 
 
 def run(args) -> int:
-    if args.seeds < 1:
-        raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
     seeds = range(args.seeds)
     say(f"paper benchmark (Table 1, 3 sources), {args.seeds} seeds")
     makers = {label: (lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg))

@@ -9,15 +9,16 @@ from ..data import read_log_csv
 from ..diagnose.diagnoser import Diagnoser
 from ..diagnose.report import format_value, render_files
 from ..model import FrictionModel
-from .common import add_json, add_model, add_output, out, positive_float, say, write_folder
+from .common import add_json, add_model, add_output, number, out, say, write_folder
 
 
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("log", help="measured log CSV with columns t, x, v, i (uniformly sampled)")
     add_model(p)
-    p.add_argument("--mass", required=True, type=positive_float, help="nominal moving mass m, kg")
-    p.add_argument("--force-constant", required=True, type=positive_float,
+    p.add_argument("--mass", required=True, type=number(0, 1e6, low_open=True, unit="kg"),
+                   help="nominal moving mass m, kg")
+    p.add_argument("--force-constant", required=True, type=number(0, 1e6, low_open=True, unit="N/A"),
                    help="nominal force constant phi, N/A")
     add_output(p, "folder for model.json, report.md and plots")
     add_json(p, "print the summary as one JSON object")

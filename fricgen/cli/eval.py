@@ -1,12 +1,17 @@
-"""``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line."""
+"""``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line, streamed."""
 from __future__ import annotations
 
+import math
 import sys
 
 import numpy as np
 
 from ..errors import UsageError
 from ..model import FrictionModel
+from .common import out
+
+#: Velocities evaluated together: memory stays constant however long the input is.
+CHUNK = 1 << 16
 
 
 def register(p) -> None:
@@ -15,20 +20,35 @@ def register(p) -> None:
     p.set_defaults(run=run)
 
 
-def run(args) -> int:
-    model = FrictionModel.load(args.model)
-    values = []
-    for n, line in enumerate(sys.stdin, start=1):
-        text = line.strip()
+def _velocities(stream):
+    """The velocity of every non-blank line of a binary (or text) stream."""
+    for n, raw in enumerate(stream, start=1):
+        try:
+            text = (raw.decode("utf-8") if isinstance(raw, bytes) else raw).strip()
+        except UnicodeDecodeError:
+            raise UsageError(f"stdin line {n}: not UTF-8 text") from None
         if not text:
             continue
         try:
             value = float(text)
         except ValueError:
             raise UsageError(f"stdin line {n}: not a number: {text[:40]!r}") from None
-        if not np.isfinite(value):
+        if not math.isfinite(value):
             raise UsageError(f"stdin line {n}: velocity must be finite, got {text[:40]}")
-        values.append(value)
-    forces = model.force(np.array(values, dtype=float))
-    sys.stdout.write("".join(f"{f!r}\n" for f in forces.tolist()))
+        yield value
+
+
+def run(args) -> int:
+    model = FrictionModel.load(args.model)
+    stdin = getattr(sys.stdin, "buffer", sys.stdin)
+    if stdin is None or stdin.closed:
+        raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")
+    chunk = []
+    for value in _velocities(stdin):
+        chunk.append(value)
+        if len(chunk) == CHUNK:
+            out("\n".join(repr(f) for f in model.force(np.array(chunk)).tolist()))
+            chunk.clear()
+    if chunk:
+        out("\n".join(repr(f) for f in model.force(np.array(chunk)).tolist()))
     return 0

@@ -14,14 +14,10 @@ from ..paper import reported as paper
 from ..paper.experiments import fitted_seed0, reproduce
 from ..paper.figures import FIGURES, render_figures
 from ..paper.report import render
-from .common import add_output, out, say, write_folder
+from .common import add_output, number, out, say, write_folder
 
 
 def run(args) -> int:
-    if args.seeds is not None and args.seeds < 1:
-        raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
-    if args.jobs < 1:
-        raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
     check_folder(args.output, (), args.force)
     seeds = args.seeds if args.seeds is not None else (3 if args.quick else paper.SEEDS)
     say(f"reproducing the paper on {seeds} seeds with {args.jobs} job(s)"
@@ -52,6 +48,8 @@ def register(p) -> None:
     """The arguments of this command."""
     add_output(p, "output folder")
     p.add_argument("--quick", action="store_true", help="coarse grids, 3 seeds: a smoke run")
-    p.add_argument("--seeds", type=int, help=f"seeds to average (default {paper.SEEDS}; 3 with --quick)")
-    p.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--seeds", type=number(1, 1000, integer=True),
+                   help=f"seeds to average (default {paper.SEEDS}; 3 with --quick)")
+    p.add_argument("--jobs", type=number(1, 256, integer=True), default=1,
+                   help="worker processes (default 1)")
     p.set_defaults(run=run)

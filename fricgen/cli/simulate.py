@@ -20,7 +20,7 @@ from ..errors import UsageError
 from ..model import FrictionModel
 from .._io import check_folder, write_files
 from .._plot import png, pyplot
-from .common import add_json, add_model, out, say
+from .common import add_json, add_model, number, out, say
 
 
 def register(p) -> None:
@@ -28,8 +28,9 @@ def register(p) -> None:
     add_model(p, required=False, help="model.json to compensate with (default: fricgen's default "
               "model trained on the paper benchmark, plus the fuzzy baseline)")
     p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of eq. (12)")
-    p.add_argument("--ts", type=float, default=1e-3, help="sampling time, s (default 1e-3)")
-    p.add_argument("--duration", type=float, default=DEFAULT_DURATION,
+    p.add_argument("--ts", type=number(1e-6, 0.1, unit="s"), default=1e-3,
+                   help="sampling time, s (default 1e-3)")
+    p.add_argument("--duration", type=number(0, 3600, low_open=True, unit="s"), default=DEFAULT_DURATION,
                    help=f"simulated time, s (default {DEFAULT_DURATION:g})")
     p.add_argument("--friction-input", choices=FRICTION_INPUT.keys, default="v",
                    help="evaluate the friction model at the measured v (paper) or at v_d")
@@ -43,9 +44,6 @@ def register(p) -> None:
 def run(args) -> int:
     if args.plot:
         check_folder(args.plot, [args.model], option="--plot")
-    for option, value in (("--ts", args.ts), ("--duration", args.duration)):
-        if not (np.isfinite(value) and value > 0):
-            raise UsageError(f"{option} must be > 0, got {value:g}")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
     axis = default_axis()

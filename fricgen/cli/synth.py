@@ -5,14 +5,15 @@ import numpy as np
 
 from ..data import Sweep, synthesize_benchmark, sweep_csv_text
 from ..friction import PRESETS, SHAPES, preset
-from .common import add_output, add_seed, say, write_file
+from .common import add_output, add_seed, number, say, write_file
 
 
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("--preset", choices=sorted(PRESETS), default="paper3")
     p.add_argument("--shape", choices=sorted(SHAPES), default="gauss")
-    p.add_argument("--noise", type=float, default=0.5, help="uniform noise half-width, N")
+    p.add_argument("--noise", type=number(0, 1e6, unit="N"), default=0.5,
+                   help="uniform noise half-width, N")
     add_seed(p)
     p.add_argument("--both-signs", action="store_true", help="mirror a random half to v < 0")
     add_output(p, "the CSV to write")

@@ -4,17 +4,19 @@ from __future__ import annotations
 from .._io import check_destination
 from ..data import log_csv_text
 from ..errors import DataError
-from ..sim.logsynth import HIDDEN_EFFECTS, LogSpec, synthesize_log, truth_parameters
-from .common import add_output, add_seed, say, write_file
+from ..sim.logsynth import HIDDEN_EFFECTS, MAX_DURATION, LogSpec, synthesize_log, truth_parameters
+from .common import add_output, add_seed, number, say, write_file
 
 
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("--effect", choices=HIDDEN_EFFECTS, default="none")
-    p.add_argument("--magnitude", type=float, default=1.0, help="scale of the effect's reference size")
+    p.add_argument("--magnitude", type=number(-100, 100), default=1.0,
+                   help="scale of the effect's reference size (physically valid; default 1)")
     add_seed(p)
-    p.add_argument("--duration", type=float, default=12.0, help="seconds (1 kHz samples)")
-    p.add_argument("--noise", type=float, default=1.0, help="sensor noise scale")
+    p.add_argument("--duration", type=number(0, MAX_DURATION, low_open=True, unit="s"), default=12.0,
+                   help="seconds (1 kHz samples)")
+    p.add_argument("--noise", type=number(0, 1e3), default=1.0, help="sensor noise scale")
     add_output(p, "the log CSV to write")
     p.set_defaults(run=run)
 

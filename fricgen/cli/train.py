@@ -4,6 +4,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..data import prepare, read_sweep_csv
+from .._validate import MAX_HIDDEN
+from ..data.prepare import OUTLIER_SIGMAS
 from ..errors import UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
@@ -11,7 +13,7 @@ from ..metrics import rmse
 from ..model import FrictionModel, check_c_identifier
 from ..networks.elm import ACTIVATIONS
 from .._io import check_destination
-from .common import add_output, add_seed, out, positive_float, say, write_file
+from .common import add_output, add_seed, number, out, positive_float, say, write_file
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
 _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
@@ -34,7 +36,10 @@ def _estimator(args):
             setattr(args, k, default)
     if args.solver == "ridge" and args.C is None:
         raise UsageError("--solver ridge needs --C")
-    scheme = EnlargedScheme(w_max=args.w_max) if args.scheme == "enlarged" else args.scheme
+    try:
+        scheme = EnlargedScheme(w_max=args.w_max) if args.scheme == "enlarged" else args.scheme
+    except ValueError as exc:
+        raise UsageError(f"--w-max: {exc}") from None
     return ELMRegressor(n_hidden=args.neurons, activation=args.activation, scheme=scheme,
                         solver=args.solver, C=args.C, random_state=args.seed)
 
@@ -46,7 +51,9 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
     lines = [
         f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
         f"{vs_note}",
-        f"viscous   B = {dataset.viscous:.6g} N s/m from {dataset.n_high_speed} high-speed points",
+        f"viscous   B = {dataset.viscous:.6g} N s/m from {dataset.n_high_speed} high-speed points"
+        + (f" ({dataset.n_outliers} rejected as gross outliers, > {OUTLIER_SIGMAS:g} robust sd "
+           "off the line)" if dataset.n_outliers else ""),
         f"scaling   K_in = {s.k_in:.6g} 1/(m/s), K_out = {s.k_out:.6g} 1/N",
         f"model     {estimator.n_hidden} {estimator.activation} neurons, {estimator.scheme}, "
         f"C = {estimator.C_:.3g}",
@@ -90,7 +97,8 @@ def register(p) -> None:
     p.add_argument("--method", choices=["auto", "elm"],
                    help="auto: units, M and C chosen by leave-one-out (default); elm: the ELM "
                    "the options below describe (default when any of them is given)")
-    p.add_argument("--neurons", type=int, help=f"(elm) default {_ELM_OPTIONS['neurons']}")
+    p.add_argument("--neurons", type=number(1, MAX_HIDDEN, integer=True),
+                   help=f"(elm) default {_ELM_OPTIONS['neurons']}")
     p.add_argument("--activation", choices=sorted(ACTIVATIONS),
                    help=f"(elm) default {_ELM_OPTIONS['activation']}")
     p.add_argument("--scheme", choices=sorted(SCHEMES), help="(elm) default enlarged")

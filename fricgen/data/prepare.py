@@ -14,18 +14,59 @@ from .sweep import MIN_ROWS, Sweep
 MIN_HIGH_SPEED_ROWS = 5
 #: v_sat = SAT_FACTOR * vs_max: beyond it g(v, v_s) ~ 0 and eq. (3) saturates the network input.
 SAT_FACTOR = 3.0
+#: High-speed rows further than this many robust standard deviations from the line are outliers.
+OUTLIER_SIGMAS = 6.0
+#: Magnitudes of the sweep's velocity and force scales (and of v_sat, 1/v_sat, the force scale)
+#: that the emitted float32 C represents with margin (float32 spans 1.2e-38 to 3.4e38).
+FLOAT32_SCALE = (1e-30, 1e30)
 
 
-def identify_viscous(high: Sweep) -> Tuple[float, float]:
-    """B and the intercept of the line f = F0 + B v through high-speed folded data (section 2)."""
+def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
+    """A line through (v, f) that gross outliers cannot move: the median of pairwise slopes
+    over at most ``most`` rows spread over the velocity order, and the median intercept."""
+    order = np.argsort(v)
+    pick = order[np.unique(np.linspace(0, v.size - 1, min(most, v.size)).astype(int))]
+    dv = v[pick][:, None] - v[pick][None, :]
+    df = f[pick][:, None] - f[pick][None, :]
+    with np.errstate(invalid="ignore", over="ignore"):
+        slopes = (df / dv)[np.triu(dv != 0, 1)]
+    slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
+    with np.errstate(over="ignore", invalid="ignore"):
+        return slope, float(np.median(f - slope * v))
+
+
+def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
+    """B and the intercept of the line f = F0 + B v through high-speed folded data (section 2),
+    and the number of rows rejected as gross outliers.
+
+    Rows whose residual from a robust (Theil-Sen) line exceeds OUTLIER_SIGMAS robust standard
+    deviations (1.4826 MAD) are dropped; least squares on the others gives B. Bounded noise, such
+    as the benchmark's, is never rejected (its largest residual is under 1.4 robust sd)."""
     if len(high) < MIN_HIGH_SPEED_ROWS:
         raise DataError(f"no high-speed data for B: {len(high)} rows beyond v_sat, "
                         f"need at least {MIN_HIGH_SPEED_ROWS}")
     if np.ptp(high.v) <= 0:
         raise DataError("high-speed data for B spans no velocity range")
-    A = np.column_stack([np.ones_like(high.v), high.v])
-    (f0, B), *_ = np.linalg.lstsq(A, high.f, rcond=None)
-    return float(B), float(f0)
+    slope, intercept = _theil_sen(high.v, high.f)
+    with np.errstate(over="ignore", invalid="ignore"):
+        residual = np.abs(high.f - intercept - slope * high.v)
+    scale = 1.4826 * float(np.median(residual))
+    keep = np.isfinite(residual) & (residual <= OUTLIER_SIGMAS * scale) if scale > 0 \
+        else np.isfinite(residual)
+    if keep.sum() < MIN_HIGH_SPEED_ROWS or np.ptp(high.v[keep]) <= 0:
+        raise DataError(f"high-speed data for B: only {int(keep.sum())} of {len(high)} rows "
+                        "lie on a line")
+    A = np.column_stack([np.ones(int(keep.sum())), high.v[keep]])
+    (f0, B), *_ = np.linalg.lstsq(A, high.f[keep], rcond=None)
+    return float(B), float(f0), int(len(high) - keep.sum())
+
+
+def check_float32_scale(what: str, value: float, unit: str) -> None:
+    """``DataError`` unless |value| lies where the emitted float32 C computes reliably."""
+    low, high = FLOAT32_SCALE
+    if not low <= abs(value) <= high:
+        raise DataError(f"{what} is {abs(value):.3g} {unit}; the float32 C needs it between "
+                        f"{low:g} and {high:g} (rescale the data's units)")
 
 
 def estimate_vs_max(folded: Sweep) -> float:
@@ -64,6 +105,7 @@ class Dataset:
     v_sat: float
     vs_max_estimated: bool = False
     n_high_speed: int = 0
+    n_outliers: int = 0
 
     def targets(self, v, f) -> Tuple[np.ndarray, np.ndarray]:
         """Eq. (9) applied to other (folded) data: (K_in v, K_out (f - B v))."""
@@ -85,14 +127,20 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     if len(sweep) < MIN_ROWS:
         raise DataError(f"sweep has {len(sweep)} rows, need at least {MIN_ROWS}")
     folded = sweep.folded()
+    if len(folded) < MIN_ROWS:
+        raise DataError(f"{len(folded)} rows with v != 0, need at least {MIN_ROWS}: a friction "
+                        "sweep needs motion")
+    check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
+    check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
     estimated = vs_max is None
     if estimated:
         vs_max = estimate_vs_max(folded)
     v_sat = SAT_FACTOR * vs_max
     high = Sweep(folded.v[folded.v > v_sat], folded.f[folded.v > v_sat])
     low = Sweep(folded.v[folded.v <= v_sat], folded.f[folded.v <= v_sat])
+    n_outliers = 0
     if viscous is None:
-        viscous, f0 = identify_viscous(high)
+        viscous, f0, n_outliers = identify_viscous(high)
     else:
         f0 = float(np.mean(high.f - viscous * high.v)) if len(high) else None
     if len(low) < MIN_ROWS:
@@ -109,6 +157,11 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     peak = np.max(t_raw)
     if not peak > 0:
         raise DataError("friction minus viscous part is never positive: not a friction sweep")
+    check_float32_scale("v_sat", v_sat, "m/s")
+    check_float32_scale("the friction force scale", peak, "N")
+    if viscous != 0:
+        check_float32_scale("the viscous coefficient B", viscous, "N s/m")
     scaling = Scaling(k_in=float(k_in), k_out=float(1.0 / peak))
     return Dataset(x=k_in * v, t=scaling.k_out * t_raw, scaling=scaling, viscous=float(viscous),
-                   v_sat=float(v_sat), vs_max_estimated=estimated, n_high_speed=len(high))
+                   v_sat=float(v_sat), vs_max_estimated=estimated, n_high_speed=len(high),
+                   n_outliers=n_outliers)

@@ -16,7 +16,8 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..data import MotionLog, synthesize_benchmark
-from ..effects import EFFECTS, Effect
+from ..effects import EFFECTS, Effect, effect_from_dict
+from ..errors import ModelError
 from ..fit import as_rng, default_estimator
 from ..friction import preset
 from ..model import FrictionModel
@@ -47,6 +48,10 @@ SIGMA_V, Q_V = 5e-4, 1e-4     # m/s
 SIGMA_I, Q_I = 0.02, 0.005    # A
 
 
+#: The longest log synthesized (20 minutes at 1 kHz: 1.2 million samples).
+MAX_DURATION = 1200.0
+
+
 @dataclass(frozen=True)
 class LogSpec:
     """One synthetic log: the hidden effect and its magnitude, seed, noise scale and axis."""
@@ -70,6 +75,16 @@ class LogSpec:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
         if not self.noise >= 0:
             raise ValueError(f"noise must be >= 0, got {self.noise}")
+        if not self.duration <= MAX_DURATION:
+            raise ValueError(f"duration must be <= {MAX_DURATION:g} s, got {self.duration}")
+        if not np.isfinite(self.magnitude):
+            raise ValueError(f"magnitude must be finite, got {self.magnitude}")
+        for effect in truth_effects(self):
+            try:
+                effect_from_dict(effect.to_dict())      # the library's physical checks
+            except ModelError as exc:
+                raise ValueError(f"magnitude {self.magnitude:g} of {self.effect} is not "
+                                 f"physical: {str(exc).split(': ', 1)[-1]}") from None
 
 
 def truth_parameters(spec: LogSpec) -> Dict[str, float]:
