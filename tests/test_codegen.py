@@ -125,3 +125,12 @@ def test_c_api_edges(default_model, tmp_path):
     x = np.linspace(0, 1, 11)
     aim = np.array([lib.fm_aim(float(xi)) for xi in x])
     assert np.allclose(aim, default_model.aim(x), atol=1e-5)
+
+
+def test_a_model_whose_float32_output_would_overflow_is_refused(default_model):
+    import dataclasses
+    net = default_model.aim
+    huge = dataclasses.replace(net, output_weights=np.where(np.arange(net.n_hidden) == 0, 3e38,
+                                                            net.output_weights))
+    with pytest.raises(ModelError, match="beyond the float32 C's range"):
+        codegen.render(dataclasses.replace(default_model, aim=huge), "fm")

@@ -74,11 +74,16 @@ def _bad_inputs():
         for k in c: c[k] = c[k][:400]
     def still(c):
         c["v"][:] = 0.0
+        c["x"][:] = c["x"][0]
+
+    def t_in_ms(c):
+        c["t"][:] = 1000.0 * c["t"]
     yield "missing column", drop_i, ARGS, "missing column"
     yield "NaN", nan_v, ARGS, "NaN"
     yield "non-uniform", jitter_t, ARGS, "not uniformly sampled"
     yield "too short", short, ARGS, "need at least"
-    yield "no motion", still, ARGS, "too few moving samples"
+    yield "no motion", still, ARGS, "the axis never moves"
+    yield "time in ms", t_in_ms, ARGS, "dx/dt is 0.001 times v"
     yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass: must be"
     yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant: must be"
     yield "text mass", None, ["--mass", "heavy", "--force-constant", "20"], "--mass: must be"

@@ -72,3 +72,26 @@ def test_q15_refuses_a_model_whose_weights_break_the_bound(bench):
     assert np.abs(wild.aim.output_weights).sum() > 1e4
     with pytest.raises(ModelError, match="q15"):
         codegen.render(wild, "wild", dtype="q15")
+
+
+def test_fixed_force_is_exactly_odd_at_every_input(fixed_lib, model10):
+    # the header promises F(-v) = -F(v): every q15 input, and the probe set for q31
+    dtype, _, fn = fixed_lib
+    v_q = np.arange(-2 ** 15 + 1, 2 ** 15) if dtype == "q15" else probe(dtype)
+    v_q = v_q[np.abs(v_q) < 2 ** (15 if dtype == "q15" else 31)]
+    twin = fx.force_q(fx.FixedSpec.of(model10, dtype), v_q)
+    assert np.array_equal(twin, -fx.force_q(fx.FixedSpec.of(model10, dtype), -v_q))
+    if dtype == "q15":
+        c = np.array([fn(int(v)) for v in v_q], dtype=np.int64)
+        assert np.array_equal(c, twin) and np.array_equal(c, -c[::-1])
+
+
+def test_viscous_rounding_ties_stay_odd(model10):
+    # B v lands exactly halfway between two LSBs for some v when the multiplier is even:
+    # rounding |v| B and then signing keeps F(-v) = -F(v) there too
+    import dataclasses
+    spec = dataclasses.replace(fx.FixedSpec.of(model10, "q15"), viscous=fx.ConstMul(14856, 16))
+    v_q = np.arange(1, 2 ** 15)
+    ties = (v_q * 14856) % (1 << 16) == 1 << 15
+    assert ties.sum() > 0
+    assert np.array_equal(fx.force_q(spec, -v_q), -fx.force_q(spec, v_q))

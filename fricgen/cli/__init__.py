@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 from .. import __version__
 from ..errors import FricgenError
@@ -52,9 +53,13 @@ def build_parser(argv=None) -> ArgumentParser:
 
 
 def main(argv=None) -> int:
+    """Run one command; any problem is one stderr line and exit code 2. Warnings of the
+    numerics (a rank-deficient fit, an overflow the checks already handle) stay silent."""
     try:
-        args = build_parser(argv).parse_args(argv)
-        return args.run(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            args = build_parser(argv).parse_args(argv)
+            return args.run(args)
     except FricgenError as exc:
         say(f"fricgen: error: {exc}")
         return 2

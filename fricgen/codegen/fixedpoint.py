@@ -194,9 +194,9 @@ def force_q(spec: FixedSpec, v_q) -> np.ndarray:
     acc_frac = spec.f_beta + bits - 1 - spec.term_shift
     aim = np.clip(_rshift(acc, acc_frac - spec.f_aim), -2 * spec.one, 2 * spec.one)
     stribeck = spec.inv_k_out.apply(aim)
-    signed = np.where(v_q > 0, stribeck, np.where(v_q < 0, -stribeck, 0))
-    total = signed + spec.viscous.apply(v_q)
-    return np.clip(total, -spec.one, spec.one - 1)
+    magnitude = stribeck + spec.viscous.apply(np.abs(v_q))       # odd: rounded on |v|
+    total = np.where(v_q > 0, magnitude, np.where(v_q < 0, -magnitude, 0))
+    return np.clip(total, -(spec.one - 1), spec.one - 1)
 
 
 def error_bound(spec: FixedSpec, model: FrictionModel) -> float:
@@ -265,7 +265,7 @@ def render_fixed(model: FrictionModel, name: str, dtype: str,
         "zw_shift": spec.f_w + spec.bits - 1 - spec.f_z, "zb_mul": 1 << (spec.f_z - spec.f_b),
         "term_shift": spec.term_shift,
         "aim_shift": spec.f_beta + spec.bits - 1 - spec.term_shift - spec.f_aim,
-        "smin": -spec.one, "smax": spec.one - 1,
+        "smin": -(spec.one - 1), "smax": spec.one - 1,       # symmetric: F(-v) = -F(v)
     }
     if ctx["aim_shift"] < 1 or ctx["zw_shift"] < 1:
         raise ModelError(f"{dtype}: the network's scales leave no rounding headroom (aim shift "

@@ -5,6 +5,8 @@ from pathlib import Path
 from typing import Dict, Optional, Union
 
 
+import numpy as np
+
 from .._io import resource_dir, write_all_atomic
 from ..c_literal import c_array, c_float
 from ..errors import ModelError
@@ -44,6 +46,25 @@ ACTIVATION_IMPLS = ("libm", "fast")
 DTYPES = ("float", "q15", "q31")
 
 
+#: The largest |value| the emitted float32 C may meet inside eq. (7) and (3): 1 % of FLT_MAX.
+FLOAT32_HEADROOM = 3.4e36
+
+
+def check_float32_range(model: FrictionModel) -> None:
+    """``ModelError`` unless eq. (7) cannot overflow float32 for any input: the bound
+    sum_k |beta_k| max |act| over x in [0, 1], and that bound over K_out, stay below
+    FLOAT32_HEADROOM (a table of 3e38 would give inf in C but finite forces in Python)."""
+    net = model.aim
+    z_ends = np.abs(np.stack([net.biases, net.input_weights + net.biases]))
+    largest = np.sqrt(1.0 + z_ends.max(axis=0) ** 2) if net.activation == "multiquadric" else 1.0
+    with np.errstate(over="ignore"):
+        bound = float(np.sum(np.abs(net.output_weights) * largest))
+        force = bound / model.scaling.k_out
+    if not (bound <= FLOAT32_HEADROOM and force <= FLOAT32_HEADROOM):
+        raise ModelError(f"the network's output can reach {max(bound, force):.3g}, beyond the "
+                         f"float32 C's range ({FLOAT32_HEADROOM:.3g}); it cannot be emitted")
+
+
 def controller_files() -> Dict[str, str]:
     """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name."""
     runtime = resource_dir("c_runtime")
@@ -68,6 +89,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         return render_fixed(model, name, dtype)
     env = template_environment()
     ctx = template_context(model, name)
+    check_float32_range(model)
     runtime_files = RUNTIME_FILES
     if activation_impl == "fast":
         check_fast_model(model)

@@ -21,6 +21,8 @@ COLUMNS = ("t", "x", "v", "i")
 MIN_SAMPLES = 1000
 #: Largest relative deviation of one sampling interval from the median interval.
 UNIFORM_TOLERANCE = 0.01
+#: The range the ratio of dx/dt to v must lie in for x, v and t to be in consistent units.
+UNITS_TOLERANCE = (0.5, 2.0)
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,19 @@ class MotionLog:
             k = int(np.argmax(np.abs(dt - ts)))
             raise DataError(f"log is not uniformly sampled: step {k} is {dt[k]:.6g} s, "
                             f"median step is {ts:.6g} s")
+        self._check_units(ts)
+
+    def _check_units(self, ts: float) -> None:
+        """x, v and t must agree: the least-squares ratio of dx/dt to v lies within
+        UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000)."""
+        v = self.v
+        if not np.any(v):
+            raise DataError("column 'v' is 0 throughout: the axis never moves")
+        ratio = float(np.dot(np.gradient(self.x, ts), v) / np.dot(v, v))
+        low, high = UNITS_TOLERANCE
+        if not low <= ratio <= high:
+            raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is t in ms, x in "
+                            "mm, or v in other units?)")
 
     def __len__(self) -> int:
         return self.t.size
