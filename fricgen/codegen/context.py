@@ -6,7 +6,7 @@ import jinja2
 from .. import __version__
 from .._io import resource_dir
 from ..effects import model_effects
-from ..model import FORMAT_VERSION, FrictionModel, check_c_identifier
+from ..model import FORMAT_VERSION, FrictionModel, check_model_name
 
 
 def template_environment() -> jinja2.Environment:
@@ -17,7 +17,7 @@ def template_environment() -> jinja2.Environment:
 
 def identity_context(model: FrictionModel, name: str) -> dict:
     """What every generated file states about itself: its name, guard, generator and model."""
-    check_c_identifier(name, "name")
+    check_model_name(name, "name")
     return {"name": name, "NAME": name.upper(), "GUARD": f"{name.upper()}_H",
             "fricgen_version": __version__, "format_version": FORMAT_VERSION,
             "model_hash": model.model_hash}
