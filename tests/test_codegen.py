@@ -49,7 +49,7 @@ def test_generated_files_follow_the_firmware_rules(default_model):
     assert set(files) == {"fm.h", "fm.c", *codegen.RUNTIME_FILES, *codegen.CONTROLLER_FILES}
     c, h = files["fm.c"], files["fm.h"]
     n = default_model.aim.n_hidden
-    assert f"#define FM_N_HIDDEN {n}" in h and "#ifndef FM_H" in h
+    assert f"#define FM_N_HIDDEN {n}" in h and "#ifndef FRICGEN_FM_H" in h
     assert f'#define FM_MODEL_HASH "{default_model.model_hash}"' in h
     assert "#define FM_FORMAT_VERSION 1" in h and '#define FM_FRICGEN_VERSION "' in h
     assert c.count("static const float") == 6
@@ -125,3 +125,34 @@ def test_c_api_edges(default_model, tmp_path):
     x = np.linspace(0, 1, 11)
     aim = np.array([lib.fm_aim(float(xi)) for xi in x])
     assert np.allclose(aim, default_model.aim(x), atol=1e-5)
+
+
+@pytest.mark.parametrize("options", [{}, dict(activation_impl="fast"), dict(dtype="q15"), dict(dtype="q31")])
+def test_every_generated_header_has_its_own_guard(model10, options):
+    files = codegen.render(model10, "axis_b", **options)
+    header = files["axis_b.h"].splitlines()
+    assert [line for line in header if line.startswith(("#ifndef", "#define FRICGEN_", "#endif /*"))] == \
+        ["#ifndef FRICGEN_AXIS_B_H", "#define FRICGEN_AXIS_B_H", "#endif /* FRICGEN_AXIS_B_H */"]
+    # the runtime keeps its own prefix, which no model name may take
+    for fname in set(files) - {"axis_b.h", "axis_b.c"}:
+        if fname.endswith(".h"):
+            assert f"#ifndef {fname[:-2].upper()}_H\n" in files[fname] and fname.startswith("fric_")
+
+
+@needs_cc
+def test_model_guard_stays_clear_of_a_user_guard_named_like_the_model(model10, tmp_path):
+    # a firmware header guarded by MOTOR_H used to hide motor.h (guard MOTOR_H) from the same file
+    codegen.emit(model10, tmp_path, "motor")
+    (tmp_path / "board.h").write_text("#ifndef MOTOR_H\n#define MOTOR_H\n#define BOARD_AXES 1\n#endif\n")
+    (tmp_path / "main.c").write_text('#include "board.h"\n#include "motor.h"\n'
+                                     "float axis(float v) { return motor_force(v) * BOARD_AXES; }\n")
+    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "main.c", "-o", "/dev/null"],
+                          cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+
+
+@pytest.mark.parametrize("name", ["fric_ctrl", "fric_kernel", "fric_fast", "FRIC_KERNEL", "_math", "math"])
+def test_names_that_collide_with_the_runtime_or_libc_are_refused_before_writing(model10, tmp_path, name):
+    with pytest.raises(ModelError, match="name must not"):
+        codegen.emit(model10, tmp_path / "out", name)
+    assert not (tmp_path / "out").exists()

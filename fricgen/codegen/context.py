@@ -16,9 +16,10 @@ def template_environment() -> jinja2.Environment:
 
 
 def identity_context(model: FrictionModel, name: str) -> dict:
-    """What every generated file states about itself: its name, guard, generator and model."""
+    """What every generated file states about itself: its name, guard, generator and model.
+    The guard FRICGEN_NAME_H stays clear of the runtime's (FRIC_*_H) and the C library's."""
     check_model_name(name, "name")
-    return {"name": name, "NAME": name.upper(), "GUARD": f"{name.upper()}_H",
+    return {"name": name, "NAME": name.upper(), "GUARD": f"FRICGEN_{name.upper()}_H",
             "fricgen_version": __version__, "format_version": FORMAT_VERSION,
             "model_hash": model.model_hash}
 
