@@ -128,8 +128,10 @@ def test_emit_refuses_hostile_name_option(model_json, tmp_path, capsys):
 
 PREFIX = "must not begin with 'fric_' in any case (the C runtime's files and symbols use it)"
 UNDERSCORE = "must not begin with '_' (C reserves such names)"
+CASE = "{out} already holds the generated model {0!r}, whose name differs from {1!r} only by case; " \
+       "choose another name or folder"
 
-#: Names that would collide with the runtime or the C library:
+#: Names that would collide with the runtime, the C library or a model already in the folder:
 #: the command line (after the command), the models emitted into -o beforehand, the one stderr
 #: line. {model}: a model.json named friction_model; {old}: one named fric_model (the default of
 #: earlier versions); {sweep}: a sweep CSV; {out}: the output (a folder, or a file inside it).
@@ -148,6 +150,9 @@ BAD_NAMES = [
      "--name must not be the name of a C standard header (math.h), got 'math'"),
     ("emit {model} -o {out} --name StdInt --dtype q15", [],
      "--name must not be the name of a C standard header (stdint.h), got 'StdInt'"),
+    ("emit {model} -o {out} --name FM", ["fm"], CASE.format("fm", "FM", out="{out}")),
+    ("emit {model} -o {out} --name fm", ["FM"], CASE.format("FM", "fm", out="{out}")),
+    ("emit {model} -o {out} --name Fm --dtype q31", ["fm", "axis2"], CASE.format("fm", "Fm", out="{out}")),
     ("train {sweep} -o {out}/model.json --name fric_ctrl", [], f"--name {PREFIX}, got 'fric_ctrl'"),
     ("train {sweep} -o {out}/model.json --name _axis", [], f"--name {UNDERSCORE}, got '_axis'"),
 ]

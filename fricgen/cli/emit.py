@@ -1,7 +1,7 @@
 """``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder."""
 from __future__ import annotations
 
-from ..codegen import ACTIVATION_IMPLS, DTYPES, render
+from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, render
 from ..model import FrictionModel, check_model_name
 from .common import add_output, say, write_folder
 
@@ -28,6 +28,7 @@ def run(args) -> int:
         name = check_model_name(args.name, "--name")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller)
+    check_name_in_folder(args.output, name)
     write_folder(args, files, [args.model])
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0
