@@ -6,11 +6,11 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import fit_model
+from conftest import AXIS_PAIRS, CTYPES, emit_impl, fit_model, force_fn, impl_inputs, impl_twin
 from fricgen import codegen
 from fricgen.c_literal import c_float
 from fricgen.codegen import parity
-from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.codegen.cbuild import STRICT_WARNINGS, build, build_model
 from fricgen.codegen.context import GENERATED_MARKER
 from fricgen.networks.elm import ACTIVATIONS
 from fricgen.model import ModelError
@@ -141,6 +141,7 @@ def test_every_generated_file_carries_the_marker_and_its_own_guard(model10, opti
         if fname.endswith(".h"):
             assert f"#ifndef {fname[:-2].upper()}_H\n" in files[fname] and fname.startswith("fric_")
 
+
 @needs_cc
 def test_model_guard_stays_clear_of_a_user_guard_named_like_the_model(model10, tmp_path):
     # a firmware header guarded by MOTOR_H used to hide motor.h (guard MOTOR_H) from the same file
@@ -170,3 +171,49 @@ def test_generated_models_are_told_apart_by_their_marker_line(model10, tmp_path)
     codegen.emit(model10, tmp_path, "board")                      # a hand-written Board.h is no model
     with pytest.raises(ModelError, match="'fm', whose name differs from 'FM' only by case"):
         codegen.emit(model10, tmp_path, "FM", dtype="q31")
+
+
+TWO_AXES_MAIN = r"""
+#include <stdio.h>
+#include "fm.h"
+#include "axis2.h"
+int main(void) { printf("%%g %%g\n", (double)%(fm)s(%(arg_fm)s), (double)%(axis2)s(%(arg_axis2)s)); return 0; }
+"""
+
+
+def runtime_of(impl):
+    return {"libm": codegen.RUNTIME_FILES, "fast": codegen.FAST_RUNTIME_FILES}.get(impl, ())
+
+
+@needs_cc
+@pytest.mark.parametrize("impls", AXIS_PAIRS, ids="+".join)
+def test_two_axes_in_one_folder_each_equal_their_own_twin(model10, axis2_model, tmp_path, impls):
+    axes = [("fm", model10, impls[0]), ("axis2", axis2_model, impls[1])]
+    for name, model, impl in axes:
+        emit_impl(model, tmp_path, name, impl)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        {"fm.h", "fm.c", "axis2.h", "axis2.c", *runtime_of(impls[0]), *runtime_of(impls[1])})
+    # both headers in one translation unit, every source in one program, not a single warning
+    (tmp_path / "check").mkdir()
+    (tmp_path / "check" / "main.c").write_text(TWO_AXES_MAIN % {
+        "fm": force_fn("fm", impls[0]), "axis2": force_fn("axis2", impls[1]),
+        "arg_fm": "0.01f" if CTYPES[impls[0]] == "float" else "1000",
+        "arg_axis2": "0.01f" if CTYPES[impls[1]] == "float" else "1000"})
+    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-I.", "check/main.c",
+                           *sorted(p.name for p in tmp_path.glob("*.c")), "-o", "check/axes", "-lm"],
+                          cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    cdef = "".join(f"{CTYPES[impl]} {force_fn(name, impl)}({CTYPES[impl]} v);\n" for name, _, impl in axes)
+    lib = build(tmp_path, ["fm.h", "axis2.h"], cdef, build_dir=tmp_path / "build")
+    v = parity.parity_velocities(model10.v_sat)
+    for (name, model, impl), (_, other, _) in zip(axes, axes[::-1]):
+        inputs = impl_inputs(model, impl, v)
+        fn = getattr(lib, force_fn(name, impl))
+        c = np.array([fn(x) for x in inputs.tolist()], dtype=inputs.dtype)
+        twin = impl_twin(model, impl, inputs)
+        if impl == "libm":
+            assert np.all(np.abs(c.astype(float) - twin) <= _twin_tolerance(model, v.astype(float)))
+            assert np.mean(c == twin) > 0.99
+        else:
+            assert np.array_equal(c, twin), (name, impl)
+        assert np.mean(c == impl_twin(other, impl, inputs)) < 0.1  # this axis's model, not the other's

@@ -16,6 +16,8 @@ from .fixedpoint import render_fixed
 
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
 RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+#: The runtime of ``--activation-impl fast`` in place of RUNTIME_FILES, see fric_fast.h.
+FAST_RUNTIME_FILES = ("fric_fast.h", "fric_fast.c")
 #: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
 CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
 
@@ -75,7 +77,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h",
                    input_weights=c_array(w), biases=c_array(b),
                    tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
-        runtime_files = ("fric_fast.h", "fric_fast.c")
+        runtime_files = FAST_RUNTIME_FILES
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}
     runtime = resource_dir("c_runtime")
