@@ -1,6 +1,11 @@
-"""Shared fixtures: the paper benchmark and fitted models of every headline kind."""
+"""Shared fixtures: the paper benchmark and fitted models of every headline kind, and the
+emitted C implementations of a model with their Python twins."""
+import numpy as np
 import pytest
 
+from fricgen import codegen
+from fricgen.codegen import fixedpoint as fx
+from fricgen.codegen.twin import force_f32
 from fricgen.data import synthesize_benchmark
 from fricgen.fit import ELMRegressor, default_estimator as default_elm
 from fricgen.fit.elm import EnlargedScheme
@@ -33,6 +38,49 @@ def default_model(bench):
 def model10(bench):
     """A 10-neuron enlarged ELM with C by leave-one-out: the firmware and fixed-point model."""
     return fit_model(bench, n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo")
+
+
+@pytest.fixture(scope="session")
+def axis2_model():
+    """A second axis beside model10: 6 neurons fitted to the exponential-Stribeck variant of the
+    benchmark (another noise draw), so its forces differ from model10's everywhere but at 0."""
+    other = synthesize_benchmark(preset("paper3", "exponential"), seed=1)
+    return fit_model(other, name="axis2", n_hidden=6, scheme=EnlargedScheme(w_max=20.0), solver="loo")
+
+
+#: The C implementations of a model: float with libm's expf or the fast sigmoid, fixed point.
+IMPLEMENTATIONS = ("libm", "fast", "q15", "q31")
+#: Two models emitted into one folder and linked into one program: each implementation beside
+#: itself, and mixtures of implementations in one folder.
+AXIS_PAIRS = [(impl, impl) for impl in IMPLEMENTATIONS] + [("libm", "fast"), ("q15", "q31"), ("fast", "q15")]
+#: The C type of each implementation's input and output.
+CTYPES = {"libm": "float", "fast": "float", "q15": "int16_t", "q31": "int32_t"}
+
+
+def emit_impl(model, folder, name, impl):
+    """Emit ``model`` as ``name`` into ``folder`` in the implementation ``impl``."""
+    options = {"activation_impl": impl} if CTYPES[impl] == "float" else {"dtype": impl}
+    return codegen.emit(model, folder, name, **options)
+
+
+def force_fn(name, impl):
+    """The emitted force function of model ``name`` in implementation ``impl``."""
+    return f"{name}_force" if CTYPES[impl] == "float" else f"{name}_force_{impl}"
+
+
+def impl_inputs(model, impl, v):
+    """The velocities ``v`` (m/s) as the inputs of ``impl``: float32, or fixed-point integers."""
+    if CTYPES[impl] == "float":
+        return np.asarray(v, dtype=np.float32)
+    spec = fx.FixedSpec.of(model, impl)
+    return fx.to_fixed(v, spec.f_v, spec.bits)
+
+
+def impl_twin(model, impl, inputs):
+    """The Python twin of ``impl``: float32 forces, or the fixed-point integers."""
+    if CTYPES[impl] == "float":
+        return force_f32(model, inputs, impl)
+    return fx.force_q(fx.FixedSpec.of(model, impl), inputs)
 
 
 @pytest.fixture(scope="session")

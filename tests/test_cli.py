@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from fricgen.cli import main
-from fricgen.model import FrictionModel
+from fricgen.codegen import emit
+from fricgen.model import DEFAULT_MODEL_NAME, FrictionModel
 
 
 @pytest.fixture(scope="module")
@@ -124,6 +125,65 @@ def test_emit_refuses_bad_models(model_json, tmp_path, capsys, edit, message):
 def test_emit_refuses_hostile_name_option(model_json, tmp_path, capsys):
     out = tmp_path / "out"
     _assert_refused(capsys, ["emit", str(model_json), "-o", str(out), "--name", "a b"], "C identifier", out)
+
+
+PREFIX = "must not begin with 'fric_' in any case (the C runtime's files and symbols use it)"
+UNDERSCORE = "must not begin with '_' (C reserves such names)"
+CASE = "{out} already holds the generated model {0!r}, whose name differs from {1!r} only by case; " \
+       "choose another name or folder"
+
+#: Names that would collide with the runtime, the C library or a model already in the folder:
+#: the command line (after the command), the models emitted into -o beforehand, the one stderr
+#: line. {model}: a model.json named friction_model; {old}: one named fric_model (the default of
+#: earlier versions); {sweep}: a sweep CSV; {out}: the output (a folder, or a file inside it).
+BAD_NAMES = [
+    ("emit {model} -o {out} --name fric_ctrl", [], f"--name {PREFIX}, got 'fric_ctrl'"),
+    ("emit {model} -o {out} --name fric_kernel", [], f"--name {PREFIX}, got 'fric_kernel'"),
+    ("emit {model} -o {out} --name fric_fast", [], f"--name {PREFIX}, got 'fric_fast'"),
+    ("emit {model} -o {out} --name FRIC_KERNEL", [], f"--name {PREFIX}, got 'FRIC_KERNEL'"),
+    ("emit {model} -o {out} --name Fric_x --dtype q15", [], f"--name {PREFIX}, got 'Fric_x'"),
+    ("emit {old} -o {out}", [],
+     f"field 'name' of {{old}} (override it with --name) {PREFIX}, got 'fric_model'"),
+    ("emit {model} -o {out} --name _stdint --dtype q31", [], f"--name {UNDERSCORE}, got '_stdint'"),
+    ("emit {model} -o {out} --name _math", [], f"--name {UNDERSCORE}, got '_math'"),
+    ("emit {model} -o {out} --name _", [], f"--name {UNDERSCORE}, got '_'"),
+    ("emit {model} -o {out} --name math", [],
+     "--name must not be the name of a C standard header (math.h), got 'math'"),
+    ("emit {model} -o {out} --name StdInt --dtype q15", [],
+     "--name must not be the name of a C standard header (stdint.h), got 'StdInt'"),
+    ("emit {model} -o {out} --name FM", ["fm"], CASE.format("fm", "FM", out="{out}")),
+    ("emit {model} -o {out} --name fm", ["FM"], CASE.format("FM", "fm", out="{out}")),
+    ("emit {model} -o {out} --name Fm --dtype q31", ["fm", "axis2"], CASE.format("fm", "Fm", out="{out}")),
+    ("train {sweep} -o {out}/model.json --name fric_ctrl", [], f"--name {PREFIX}, got 'fric_ctrl'"),
+    ("train {sweep} -o {out}/model.json --name _axis", [], f"--name {UNDERSCORE}, got '_axis'"),
+]
+
+
+def _folder_state(folder):
+    """Every file of ``folder`` with its bytes, or None when the folder does not exist."""
+    return {p.name: p.read_bytes() for p in folder.iterdir()} if folder.exists() else None
+
+
+@pytest.mark.parametrize("argv, existing, line", BAD_NAMES, ids=[row[0] for row in BAD_NAMES])
+def test_colliding_names_are_refused_in_one_line_and_write_nothing(
+        model_json, sweep_csv, tmp_path, capsys, argv, existing, line):
+    model = FrictionModel.load(model_json)
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps({**model.to_dict(), "name": "fric_model"}))
+    paths = {"model": model_json, "old": old, "sweep": sweep_csv, "out": tmp_path / "out"}
+    for name in existing:
+        emit(model, paths["out"], name)
+    before = _folder_state(paths["out"])
+    assert main(argv.format(**paths).split()) == 2
+    captured = capsys.readouterr()
+    assert captured.err == f"fricgen: error: {line.format(**paths)}\n" and captured.out == ""
+    assert _folder_state(paths["out"]) == before
+
+
+def test_default_name_is_outside_the_runtime_prefix(model_json, tmp_path):
+    assert FrictionModel.load(model_json).name == DEFAULT_MODEL_NAME
+    assert main(["emit", str(model_json), "-o", str(tmp_path / "out")]) == 0
+    assert (tmp_path / "out" / f"{DEFAULT_MODEL_NAME}.h").is_file()
 
 
 def test_eval_refuses_non_numbers(model_json, monkeypatch, capsys, tmp_path):

@@ -2,6 +2,7 @@
 import numpy as np
 import pytest
 
+from conftest import AXIS_PAIRS, CTYPES, emit_impl, force_fn, impl_inputs, impl_twin
 from fricgen import codegen
 from fricgen.firmware import build as fw
 from fricgen.codegen.twin import force_f32
@@ -20,6 +21,13 @@ def build(model, impl, target, tmp_path, inputs, gc_sections=True):
     codegen.emit(model, out / "model", "fm", activation_impl=impl, with_controller=True)
     cfg = fw.config_float("fm.h", "fm_force", inputs, n_bench=4)
     return fw.build_firmware(out / "model", cfg, target, out / "build", gc_sections=gc_sections)
+
+
+def newlib_tolerance(model, twin):
+    """Bound on |C - twin| of a libm model on newlib, whose expf is not correctly rounded: a few
+    float32 ulps per neuron, summed."""
+    beta_l1 = np.abs(model.aim.output_weights).sum()
+    return 8 * np.finfo(np.float32).eps * beta_l1 / model.scaling.k_out + 1e-6 * np.abs(twin)
 
 
 @pytest.mark.parametrize("target", sorted(fw.TARGETS))
@@ -47,10 +55,7 @@ def test_emulated_libm_model_matches_python_within_newlib_expf_accuracy(model10,
     v = velocities(model10)
     out = fw.parse_float_bits(fw.run(build(model10, "libm", "cortex-m4f", tmp_path, v), "cortex-m4f"))
     twin = force_f32(model10, v, "libm").astype(float)
-    # newlib's expf is not correctly rounded: allow a few float32 ulps per neuron, summed
-    beta_l1 = np.abs(model10.aim.output_weights).sum()
-    tol = 8 * np.finfo(np.float32).eps * beta_l1 / model10.scaling.k_out + 1e-6 * np.abs(twin)
-    assert np.all(np.abs(out - twin) <= tol), np.max(np.abs(out - twin))
+    assert np.all(np.abs(out - twin) <= newlib_tolerance(model10, twin)), np.max(np.abs(out - twin))
     exact = model10.force(v.astype(float))
     inside = np.abs(v) <= 2 * model10.v_sat
     assert np.max(np.abs(out - exact)[inside]) < 1e-3
@@ -75,6 +80,28 @@ def test_emulated_fixed_point_model_is_lsb_equal_to_integer_twin_on_m0plus(model
     assert {"expf", "__aeabi_fadd", "__aeabi_fmul"}.isdisjoint(fw.symbols(elf))  # integers only
     out = fw.parse_int_bits(fw.run(elf, "cortex-m0plus"))
     assert np.array_equal(out, fx.force_q(spec, v_q))
+
+
+@pytest.mark.parametrize("target", sorted(fw.TARGETS))
+@pytest.mark.parametrize("impls", AXIS_PAIRS, ids="+".join)
+def test_emulated_two_axes_from_one_folder_each_equal_their_own_twin(model10, axis2_model, impls,
+                                                                      target, tmp_path):
+    models = {"fm": model10, "axis2": axis2_model}
+    axes = []
+    for (name, model), impl in zip(models.items(), impls):
+        emit_impl(model, tmp_path / "model", name, impl)
+        axes.append(fw.Axis(f"{name}.h", force_fn(name, impl), CTYPES[impl],
+                            impl_inputs(model, impl, velocities(model))))
+    elf = fw.build_firmware(tmp_path / "model", fw.config_axes(axes, n_bench=1), target, tmp_path / "build")
+    results = fw.parse_axes(fw.run(elf, target), axes)
+    for (name, model), impl, axis, out in zip(models.items(), impls, axes, results):
+        twin = impl_twin(model, impl, axis.inputs)
+        if impl == "libm":
+            assert np.all(np.abs(out - twin) <= newlib_tolerance(model, twin)), name
+        else:
+            assert np.array_equal(out, twin), name
+    if CTYPES[impls[0]] == CTYPES[impls[1]]:
+        assert np.mean(results[0] == results[1]) < 0.1  # two models, not one twice
 
 
 # Closed loop on the MCU: fric_ctrl_step_fn with the emitted fm_force as compensation against

@@ -4,6 +4,7 @@ import json
 import numpy as np
 import pytest
 
+from fricgen import codegen
 from fricgen.model import FrictionModel, ModelError
 
 
@@ -67,13 +68,30 @@ def test_invalid_model_json_is_named(default_model, label, mutate, message):
 
 
 @pytest.mark.parametrize("name", ["", "1abc", "fm-1", "fm;system(\"rm -rf /\");", "int", "static",
-                                  "a" * 64, "__reserved", "_Upper", "fm\n#include <stdio.h>",
-                                  "fm */ int x; /*", 42, None])
+                                  "a" * 64, "fm\n#include <stdio.h>", "fm */ int x; /*", 42, None])
 def test_hostile_names_are_refused(default_model, name):
     d = copy.deepcopy(default_model.to_dict())
     d["name"] = name
     with pytest.raises(ModelError, match="name must be a C identifier"):
         FrictionModel.from_dict(d)
+
+
+@pytest.mark.parametrize("name", ["_", "_stdint", "_math", "__reserved", "_Upper"])
+def test_names_reserved_by_c_are_refused(default_model, name):
+    d = copy.deepcopy(default_model.to_dict())
+    d["name"] = name
+    with pytest.raises(ModelError, match="name must not begin with '_'"):
+        FrictionModel.from_dict(d)
+
+
+def test_models_named_with_the_runtime_prefix_still_load_but_do_not_emit(default_model):
+    # model.json files of earlier versions carry the old default name fric_model
+    d = copy.deepcopy(default_model.to_dict())
+    d["name"] = "fric_model"
+    model = FrictionModel.from_dict(d)
+    assert model.name == "fric_model"
+    with pytest.raises(ModelError, match="name must not begin with 'fric_'"):
+        codegen.render(model)
 
 
 def test_unreadable_and_non_json_files(tmp_path):

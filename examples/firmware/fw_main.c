@@ -2,7 +2,8 @@
  * emulated MCU and prints every result as the hex bits of its float32/int32 value.
  * fw_config.h is written by fricgen.firmware: it includes the model and defines
  * fw_input_t, fw_output_t, FW_EVAL(x), FW_BITS(y), fw_inputs[], FW_N_INPUTS, FW_N_BENCH and,
- * optionally, FW_EXTRA() (more output, e.g. a closed-loop run). */
+ * optionally, FW_AXES() (further models of a several-axis program, printed after the first)
+ * and FW_EXTRA() (more output, e.g. a closed-loop run). */
 #include <stdint.h>
 
 #include "semihost.h"
@@ -30,6 +31,9 @@ int main(void)
         sh_put_hex(FW_BITS(y));
         sh_write0("\n");
     }
+#ifdef FW_AXES
+    FW_AXES();
+#endif
     fw_mark_begin();
     for (i = 0; i < FW_N_BENCH; ++i) {
         fw_sink = FW_EVAL(fw_inputs[i % FW_N_INPUTS]);

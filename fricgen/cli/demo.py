@@ -11,7 +11,6 @@ from ..codegen import emit, parity
 from .._io import check_folder
 from ..codegen.cbuild import build_model
 from ..data import synthesize_benchmark
-from ..errors import UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..friction import preset
 from ..model import FrictionModel

@@ -1,8 +1,8 @@
 """``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder."""
 from __future__ import annotations
 
-from ..codegen import ACTIVATION_IMPLS, DTYPES, render
-from ..model import FrictionModel, check_c_identifier
+from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, render
+from ..model import FrictionModel, check_model_name
 from .common import add_output, say, write_folder
 
 
@@ -10,7 +10,7 @@ def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("model", help="model.json")
     add_output(p, "output folder")
-    p.add_argument("--name", help="C name prefix (default: the model's name)")
+    p.add_argument("--name", help="C name prefix, not beginning with fric_ (default: the model's name)")
     p.add_argument("--activation-impl", choices=ACTIVATION_IMPLS, default="libm",
                    help="sigmoid through libm's expf, or the fast one without libm (error <= 8.7e-7)")
     p.add_argument("--dtype", choices=DTYPES, default="float",
@@ -22,9 +22,13 @@ def register(p) -> None:
 
 def run(args) -> int:
     model = FrictionModel.load(args.model)
-    name = check_c_identifier(args.name if args.name else model.name, "--name")
+    if args.name is None:
+        name = check_model_name(model.name, f"field 'name' of {args.model} (override it with --name)")
+    else:
+        name = check_model_name(args.name, "--name")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller)
+    check_name_in_folder(args.output, name)
     write_folder(args, files, [args.model])
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

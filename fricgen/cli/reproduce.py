@@ -9,7 +9,6 @@ import json
 
 from .._io import check_folder
 from .._plot import pyplot
-from ..errors import UsageError
 from ..paper import reported as paper
 from ..paper.experiments import fitted_seed0, reproduce
 from ..paper.figures import FIGURES, render_figures

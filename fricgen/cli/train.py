@@ -10,7 +10,7 @@ from ..errors import UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
-from ..model import FrictionModel, check_c_identifier
+from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
 from ..networks.elm import ACTIVATIONS
 from .._io import check_destination
 from .common import add_output, add_seed, number, out, positive_float, say, write_file
@@ -66,10 +66,10 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
 
 def run(args) -> int:
     check_destination(args.output, [args.sweep], args.force)
+    name = check_model_name(args.name, "--name")
     sweep = read_sweep_csv(args.sweep)
     dataset = prepare(sweep, vs_max=args.vs_max)
     estimator = _estimator(args)
-    name = check_c_identifier(args.name, "--name")
     options = {"scheme": "auto"} if args.method == "auto" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
     model = FrictionModel.fit(dataset, estimator, name=name, training={
@@ -107,5 +107,6 @@ def register(p) -> None:
     p.add_argument("--solver", choices=sorted(SOLVERS), help=f"(elm) default {_ELM_OPTIONS['solver']}")
     p.add_argument("--C", type=positive_float, help="regularization C of eq. (15) for --solver ridge")
     add_seed(p)
-    p.add_argument("--name", default="fric_model", help="model name (a C identifier)")
+    p.add_argument("--name", default=DEFAULT_MODEL_NAME,
+                   help=f"model name, a C identifier not beginning with fric_ (default {DEFAULT_MODEL_NAME})")
     p.set_defaults(run=run)

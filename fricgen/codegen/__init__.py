@@ -2,8 +2,10 @@
 the float32 and integer twins, cffi builds and parity figures."""
 from __future__ import annotations
 
-from .render import (ACTIVATION_IMPLS, CONTROLLER_FILES, DTYPES, RUNTIME_FILES, controller_files,
-                     emit, render, template_context)
+from .render import (ACTIVATION_IMPLS, CONTROLLER_FILES, DTYPES, FAST_RUNTIME_FILES, RUNTIME_FILES,
+                     check_name_in_folder, controller_files, emit, generated_models, render,
+                     template_context)
 
-__all__ = ["ACTIVATION_IMPLS", "CONTROLLER_FILES", "DTYPES", "RUNTIME_FILES", "controller_files", "emit", "render",
+__all__ = ["ACTIVATION_IMPLS", "CONTROLLER_FILES", "DTYPES", "FAST_RUNTIME_FILES", "RUNTIME_FILES",
+           "check_name_in_folder", "controller_files", "emit", "generated_models", "render",
            "template_context"]

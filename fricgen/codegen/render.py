@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Dict, Optional, Union
+from typing import Dict, List, Optional, Union
 
 
 import numpy as np
@@ -12,12 +12,14 @@ from ..c_literal import c_array, c_float
 from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks import ElmNetwork
-from .context import effects_context, identity_context, template_environment
+from .context import GENERATED_MARKER, effects_context, identity_context, template_environment
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixedpoint import render_fixed
 
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
 RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+#: The runtime of ``--activation-impl fast`` in place of RUNTIME_FILES, see fric_fast.h.
+FAST_RUNTIME_FILES = ("fric_fast.h", "fric_fast.c")
 #: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
 CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
 
@@ -97,7 +99,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h",
                    input_weights=c_array(w), biases=c_array(b),
                    tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
-        runtime_files = ("fric_fast.h", "fric_fast.c")
+        runtime_files = FAST_RUNTIME_FILES
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}
     runtime = resource_dir("c_runtime")
@@ -108,9 +110,38 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     return files
 
 
+def generated_models(folder: Union[str, Path]) -> List[str]:
+    """The names of the models generated into ``folder`` before: each NAME.h whose head comment
+    holds the ``GENERATED_MARKER`` line."""
+    names = []
+    for header in sorted(Path(folder).glob("*.h")):
+        if header.is_file():
+            with open(header, errors="replace") as fh:
+                head = [line for _, line in zip(range(4), fh)]
+            if any(line.startswith(GENERATED_MARKER) for line in head):
+                names.append(header.stem)
+    return names
+
+
+def check_name_in_folder(out_dir: Union[str, Path], name: str) -> None:
+    """Refuse ``name`` where a model generated before has a name that differs only by case: where
+    the file system ignores case one NAME.h overwrites the other, and everywhere their include
+    guards and NAME_ macros coincide."""
+    if not Path(out_dir).is_dir():
+        return
+    for other in generated_models(out_dir):
+        if other != name and other.lower() == name.lower():
+            raise ModelError(f"{out_dir} already holds the generated model {other!r}, whose name "
+                             f"differs from {name!r} only by case; choose another name or folder")
+
+
 def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
          activation_impl: str = "libm", dtype: str = "float",
          with_controller: bool = False) -> Dict[str, Path]:
-    """Render everything first, then write each file atomically into ``out_dir``."""
-    return write_all_atomic(out_dir, render(model, name, activation_impl, dtype, with_controller))
+    """Render everything first, check the folder's models, then write each file atomically into
+    ``out_dir``."""
+    name = model.name if name is None else name
+    files = render(model, name, activation_impl, dtype, with_controller)
+    check_name_in_folder(out_dir, name)
+    return write_all_atomic(out_dir, files)
 

@@ -191,6 +191,14 @@ def count_instructions(elf: Union[str, Path], target_name: str, timeout: float =
     return counts
 
 
+def c_inputs(ctype: str, values) -> str:
+    """``values`` as the body of a C array initializer of ``ctype`` (float, int16_t or int32_t)."""
+    if ctype == "float":
+        return c_list(c_float(v) for v in np.asarray(values, dtype=np.float32))
+    suffix = "L" if ctype == "int32_t" else ""
+    return c_list(f"({ctype})({int(v)}{suffix})" for v in np.asarray(values, dtype=np.int64))
+
+
 def config_float(model_header: str, fn: str, inputs, n_bench: int = 0, extra: str = "") -> str:
     """fw_config.h for a float model function ``float fn(float)`` over ``inputs``."""
     inputs = np.asarray(inputs, dtype=np.float32)
@@ -205,7 +213,7 @@ static uint32_t fw_bits(float y) {{ union {{ float f; uint32_t u; }} c; c.f = y;
 #define FW_N_INPUTS {inputs.size}u
 #define FW_N_BENCH {int(n_bench)}u
 static const float fw_inputs[{inputs.size}] = {{
-{c_list(c_float(v) for v in inputs)}
+{c_inputs("float", inputs)}
 }};
 {extra}
 """
@@ -224,7 +232,7 @@ typedef {ctype} fw_output_t;
 #define FW_N_INPUTS {inputs.size}u
 #define FW_N_BENCH {int(n_bench)}u
 static const {ctype} fw_inputs[{inputs.size}] = {{
-{c_list(f"({ctype})({int(v)}{'L' if ctype == 'int32_t' else ''})" for v in inputs)}
+{c_inputs(ctype, inputs)}
 }};
 {extra}
 """
@@ -236,6 +244,62 @@ def parse_float_bits(lines: Iterable[str]) -> np.ndarray:
 
 def parse_int_bits(lines: Iterable[str]) -> np.ndarray:
     return np.array([int(s, 16) for s in lines], dtype=np.uint32).view(np.int32).astype(np.int64)
+
+
+# ----------------------------------------------------------------------------- several axes
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One model function of a several-axis program: ``fn`` from ``header``, of C type ``ctype``
+    (``float``, or ``int16_t``/``int32_t`` for fixed point), evaluated at each of ``inputs``."""
+
+    header: str
+    fn: str
+    ctype: str
+    inputs: Sequence
+
+    def parse(self, lines: Sequence[str]) -> np.ndarray:
+        """This axis's printed results: float32, or int64 for fixed point."""
+        return parse_float_bits(lines) if self.ctype == "float" else parse_int_bits(lines)
+
+
+_FLOAT_BITS = "static uint32_t fw_axis_bits_f32(float y) { union { float f; uint32_t u; } c; c.f = y; return c.u; }"
+_AXIS_LOOP = """    for (i = 0; i < {n}u; ++i) {{
+        sh_put_hex({bits});
+        sh_write0("\\n");
+    }}"""
+
+
+def config_axes(axes: Sequence[Axis], n_bench: int = 0, extra: str = "") -> str:
+    """fw_config.h of one program that evaluates several models (e.g. two axes emitted into one
+    folder): the first axis as ``config_float``/``config_int`` write it (and benchmarked), each
+    further one through ``FW_AXES()`` right after it; ``parse_axes`` splits the output."""
+    first, further = axes[0], list(axes[1:])
+    decls, loops = [f'#include "{a.header}"' for a in further], []
+    if any(a.ctype == "float" for a in further):
+        decls.append(_FLOAT_BITS)
+    for k, a in enumerate(further, start=1):
+        n = np.asarray(a.inputs).size
+        decls.append(f"static const {a.ctype} fw_axis{k}_inputs[{n}] = {{\n{c_inputs(a.ctype, a.inputs)}\n}};")
+        call = f"{a.fn}(fw_axis{k}_inputs[i])"
+        loops.append(_AXIS_LOOP.format(n=n, bits=f"fw_axis_bits_f32({call})" if a.ctype == "float"
+                                       else f"(uint32_t)(int32_t){call}"))
+    if further:
+        decls += ["static void fw_axes(void)\n{\n    uint32_t i;", *loops, "}", "#define FW_AXES() fw_axes()"]
+    more = "\n".join(decls) + "\n" + extra
+    if first.ctype == "float":
+        return config_float(first.header, first.fn, first.inputs, n_bench, more)
+    return config_int(first.header, first.fn, first.ctype, first.inputs, n_bench, more)
+
+
+def parse_axes(lines: Sequence[str], axes: Sequence[Axis]) -> List[np.ndarray]:
+    """The results a ``config_axes`` program printed, one array per axis."""
+    sizes = [np.asarray(a.inputs).size for a in axes]
+    if len(lines) != sum(sizes):
+        raise FirmwareError(f"expected {sum(sizes)} result lines for {len(axes)} axes, got {len(lines)}")
+    ends = np.cumsum(sizes)
+    return [a.parse(lines[end - n:end]) for a, n, end in zip(axes, sizes, ends)]
 
 
 # ----------------------------------------------------------------------------- closed loop
