@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-
 from ..control.backstepping import AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
