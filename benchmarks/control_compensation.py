@@ -72,7 +72,7 @@ def ts_table(axis, models, ts_grid, duration):
     names = list(models)
     rows = {(n, b): [] for n in names for b in ("float64", "C float32")}
     for ts in ts_grid:
-        py = [AdaptiveBackstepping(compensation=models[n] if models[n] is not None else axis.friction,
+        py = [AdaptiveBackstepping(compensation=models[n] if models[n] is not None else axis.law.friction,
                                    ts=ts) for n in names]
         cc = [CController(module, p, f"m{k}_force" if models[n] is not None else None)
               for k, (n, p) in enumerate(zip(names, py))]

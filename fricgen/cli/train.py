@@ -50,7 +50,8 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
     vs_note = " (estimated from the data; pass --vs-max to set it)" if dataset.vs_max_estimated else ""
     lines = [
         f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
-        f"{vs_note}",
+        f"{vs_note}" + (f"; the {dataset.n_rows} rows there averaged in bins of equal count"
+                        if dataset.binned else ""),
         f"viscous   B = {dataset.viscous:.6g} N s/m from {dataset.n_high_speed} high-speed points"
         + (f" ({dataset.n_outliers} rejected as gross outliers, > {OUTLIER_SIGMAS:g} robust sd "
            "off the line)" if dataset.n_outliers else ""),

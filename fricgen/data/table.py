@@ -2,22 +2,17 @@
 from __future__ import annotations
 
 import csv
-import io
+from array import array
 from pathlib import Path
-from typing import Dict, Sequence, Union
+from typing import Dict, Optional, Sequence, Union
 
 import numpy as np
 
 from ..errors import DataError
 
 
-def read_text(path: Union[str, Path]) -> str:
-    """A text file's contents; a file that is not UTF-8 or cannot be read is a ``DataError``."""
-    try:
-        return Path(path).read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at offset "
-                        f"{exc.start})") from None
+def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
+    return DataError(f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x})")
 
 
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
@@ -25,16 +20,45 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     """Read a numeric CSV whose header names (at least) the ``required`` columns.
 
     Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
-    others. Blank lines are skipped; a missing column or a non-numeric cell raises ``DataError``
-    naming the file and line. Finiteness and lengths are for the caller to judge.
+    others. Blank lines are skipped; a missing column, a repeated column name, a row of the
+    wrong width or a non-numeric cell raises ``DataError`` naming the file and line. The file
+    is streamed: memory holds the numbers, not the text. Finiteness and lengths are for the
+    caller to judge.
     """
     try:
-        rows = list(csv.reader(io.StringIO(read_text(path))))
+        fast = _read_plain(path, required, keep_extra)
+        if fast is not None:
+            return fast
+        with open(path, encoding="utf-8", newline="") as fh:
+            return _read_rows(path, csv.reader(fh), required, keep_extra)
+    except UnicodeDecodeError as exc:
+        raise _utf8_error(path, exc) from None
     except csv.Error as exc:
         raise DataError(f"{path}: not a readable CSV ({exc})") from None
-    if not rows:
+
+
+def _read_plain(path, required, keep_extra) -> Optional[Dict[str, np.ndarray]]:
+    """The fast path for a plain numeric CSV (numpy's C parser); None when the file needs the
+    careful reader, which then names the exact problem."""
+    with open(path, encoding="utf-8", newline="") as fh:
+        header = [h.strip().lower() for h in fh.readline().split(",")]
+        if len(set(header)) != len(header) or not set(required) <= set(header):
+            return None
+        try:
+            table = np.loadtxt(fh, delimiter=",", ndmin=2, dtype=float, comments=None)
+        except ValueError:
+            return None
+    if table.size and table.shape[1] != len(header):
+        return None
+    table = table.reshape(-1, len(header))
+    return {h: table[:, k].copy() for k, h in enumerate(header) if keep_extra or h in required}
+
+
+def _read_rows(path, rows, required, keep_extra) -> Dict[str, np.ndarray]:
+    header = next(rows, None)
+    if header is None:
         raise DataError(f"{path}: empty file")
-    header = [h.strip().lower() for h in rows[0]]
+    header = [h.strip().lower() for h in header]
     repeated = sorted({h for h in header if h and header.count(h) > 1})
     if repeated:
         raise DataError(f"{path}: column {repeated[0]!r} appears more than once in the header")
@@ -45,19 +69,19 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
         raise DataError(f"{path}: missing column {', '.join(repr(c) for c in missing)} "
                         f"(header is {','.join(header)[:80]}){hint}")
     wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
-    data = []
-    for n, row in enumerate(rows[1:], start=2):
-        if len(row) != len(header) and any(c.strip() for c in row):
-            raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}")
+    values = array("d")
+    for n, row in enumerate(rows, start=2):
         if not any(c.strip() for c in row):
             continue
+        if len(row) != len(header):
+            raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}")
         try:
-            data.append([float(row[k]) for k in wanted])
+            values.extend([float(row[k]) for k in wanted])
         except ValueError:
             raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
                             f"{','.join(row)[:80]!r}") from None
-    table = np.array(data, dtype=float).reshape(len(data), len(wanted))
-    return {header[k]: table[:, j] for j, k in enumerate(wanted)}
+    table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))
+    return {header[k]: table[:, j].copy() for j, k in enumerate(wanted)}
 
 
 def table_csv_text(columns: Dict[str, np.ndarray]) -> str:

@@ -35,6 +35,9 @@ from ..sim.effect_law import EffectLaw
 
 #: Fewest moving rows the fit part must keep after masking.
 MIN_ROWS = 100
+#: Most rows the residual is sampled at: long logs are decimated further, so that time and
+#: memory stop growing with the log's length beyond about MAX_ROWS windows.
+MAX_ROWS = 20_000
 
 
 def _check_positive(name: str, value) -> float:
@@ -66,7 +69,8 @@ class ResidualProblem:
         moving = minimum_filter1d(np.abs(v_s), window) > self.v_min
         moving[: window] = moving[-window:] = False
         self.moving = moving
-        self.decimation = max(1, window // 3)
+        # a third of a window apart, or further apart on long logs: at most MAX_ROWS rows
+        self.decimation = max(1, window // 3, -(-int(moving.sum()) // MAX_ROWS))
         self.rows = np.flatnonzero(moving & (np.arange(n) % self.decimation == 0))
         self.split = int(round((1.0 - holdout) * n))
         self.fit_rows = np.flatnonzero(self.rows < self.split)
@@ -82,7 +86,7 @@ class ResidualProblem:
     @property
     def n_effective(self) -> float:
         """Independent samples among the fit rows (one per smoothing window)."""
-        return self.fit_rows.size * self.decimation / self.window
+        return self.fit_rows.size * min(self.decimation, self.window) / self.window
 
     def raw_residual(self, effects: Sequence[Effect]) -> np.ndarray:
         """phi i - m a - F(v) - sum of the effects' forces, per sample (unsmoothed)."""
@@ -92,13 +96,17 @@ class ResidualProblem:
             r = r - e.force(sig)
         return r
 
-    def at_rows(self, raw: np.ndarray, rows) -> np.ndarray:
-        """Smooth a full-rate signal (N,) or (N, k) with the residual's filter at ``rows``."""
-        raw = np.asarray(raw, dtype=float)
+    def at_rows(self, raw, rows) -> np.ndarray:
+        """Smooth a full-rate signal (N,) or (N, k) with the residual's filter at ``rows``.
+
+        ``raw`` may also be a function of sample indices (an (n, window) array) that returns
+        the signal there: then only the samples the filter reads are computed."""
         idx = self.rows[np.asarray(rows)][:, None] + self.offsets
-        if raw.ndim == 1:
-            return raw[idx] @ self.coeffs
-        return np.einsum("nwk,w->nk", raw[idx], self.coeffs)
+        windows = np.asarray(raw(idx) if callable(raw) else np.asarray(raw, dtype=float)[idx],
+                             dtype=float)
+        if windows.ndim == 2:
+            return windows @ self.coeffs
+        return np.einsum("nwk,w->nk", windows, self.coeffs)
 
     def predict(self, effect: Effect, rows) -> np.ndarray:
         """An effect's smoothed force at ``rows``."""
@@ -159,7 +167,7 @@ def localize(problem: ResidualProblem) -> List[dict]:
     rows = np.arange(problem.rows.size)
     idx = problem.rows
     r = problem.target
-    n_eff = problem.rows.size * problem.decimation / problem.window
+    n_eff = problem.rows.size * min(problem.decimation, problem.window) / problem.window
     v = problem.v_smooth[idx]
     x = problem.x_smooth[idx]
     a = problem.at_rows(problem.signals.a, rows)

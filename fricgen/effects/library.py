@@ -154,16 +154,17 @@ class PositionRipple(Effect):
         gain = np.einsum("ki,ki->k", coef, b)                  # RSS reduction per wavenumber
         j = int(np.argmax(gain))
 
+        x = problem.signals.x
+
+        def waves(k):
+            return lambda i: np.stack([np.sin(k * x[i]), np.cos(k * x[i])], axis=-1)
+
         def rss(k):
-            basis = problem.at_rows(np.column_stack([np.sin(k * problem.signals.x),
-                                                     np.cos(k * problem.signals.x)]), rows)
-            return _lstsq(basis, r)[1]
+            return _lstsq(problem.at_rows(waves(k), rows), r)[1]
 
         lo, hi = ks[max(j - 1, 0)], ks[min(j + 1, ks.size - 1)]
         k = _refine(rss, lo, hi)
-        basis = problem.at_rows(np.column_stack([np.sin(k * problem.signals.x),
-                                                 np.cos(k * problem.signals.x)]), rows)
-        (a, c), _ = _lstsq(basis, r)
+        (a, c), _ = _lstsq(problem.at_rows(waves(k), rows), r)
         return cls(amplitude=float(math.hypot(a, c)), period=float(2 * np.pi / k),
                    phase=float(math.atan2(c, a) % (2 * np.pi)))
 
@@ -305,8 +306,9 @@ class ExtraFrictionSource(Effect):
 
     @staticmethod
     def basis(v, vs, shape="gauss"):
+        """The regressors sgn(v), sgn(v) g(v, vs) and v, stacked on a last axis."""
         s = _sign(v)
-        return np.column_stack([s, s * SHAPES[shape](v, vs), v])
+        return np.stack([s, s * SHAPES[shape](v, vs), v], axis=-1)
 
     @classmethod
     def fit(cls, problem, rows):
@@ -314,14 +316,14 @@ class ExtraFrictionSource(Effect):
         v, r = problem.signals.v, problem.target[rows]
 
         def rss(log_vs):
-            return _lstsq(problem.at_rows(cls.basis(v, math.exp(log_vs)), rows), r)[1]
+            return _lstsq(problem.at_rows(lambda i: cls.basis(v[i], math.exp(log_vs)), rows), r)[1]
 
         slow = float(np.quantile(np.abs(v[problem.rows[rows]]), 0.02))
         lo = math.log(max(problem.v_min, slow, 1e-4))
         hi = math.log(max(problem.signals.model.v_sat, 2 * math.exp(lo)))
         log_vs = _grid_then_refine(rss, np.linspace(lo, hi, 12))
         vs = math.exp(log_vs)
-        (fc, dfs, B), _ = _lstsq(problem.at_rows(cls.basis(v, vs), rows), r)
+        (fc, dfs, B), _ = _lstsq(problem.at_rows(lambda i: cls.basis(v[i], vs), rows), r)
         return cls(fc=float(fc), fs=float(fc + dfs), vs=float(vs), B=float(B))
 
     def c_expr(self):
@@ -369,7 +371,9 @@ class FrictionalLag(Effect):
         r, sig = problem.target[rows], problem.signals
 
         def rss(log_tau):
-            pred = problem.at_rows(cls(tau=math.exp(log_tau)).force(sig)[:, None], rows)[:, 0]
+            lagged = sig.lagged_speed(math.exp(log_tau))
+            pred = problem.at_rows(lambda i: _sign(sig.v[i]) * (sig.stribeck(lagged[i])
+                                                                - sig.stribeck_speed[i]), rows)
             return float(np.sum((r - pred) ** 2))
 
         grid = np.linspace(math.log(max(1e-3, sig.sample_time)), math.log(1.0), 16)

@@ -40,8 +40,7 @@ class Signals:
         self._stribeck_speed = None
         self._table = None
         if tabulate:
-            u = np.linspace(0.0, model.v_sat, 4097)
-            self._table = (u, model.stribeck(u))
+            self._table = (float(model.v_sat), model.stribeck(np.linspace(0.0, model.v_sat, 4097)))
 
     @property
     def friction(self) -> np.ndarray:
@@ -53,7 +52,13 @@ class Signals:
     def stribeck(self, speed) -> np.ndarray:
         """The velocity-weakening part of the curve at a speed u >= 0: S(u) = F(u) - B u."""
         if self._table is not None:
-            return np.interp(speed, *self._table)        # constant beyond v_sat, as eq. (3)
+            # linear interpolation on the uniform table: the cell is found by arithmetic, not
+            # by search; constant beyond v_sat, as eq. (3)
+            top, values = self._table
+            cells = values.size - 1
+            pos = np.clip(np.asarray(speed, dtype=float), 0.0, top) * (cells / top)
+            k = np.minimum(pos.astype(np.intp), cells - 1)
+            return values[k] + (pos - k) * (values[k + 1] - values[k])
         return self.model.stribeck(speed)
 
     @property

@@ -23,6 +23,10 @@ ACTIVATIONS: Dict[str, Callable[[np.ndarray], np.ndarray]] = {
 }
 
 
+#: Inputs evaluated together by ``ElmNetwork.__call__`` (a block of H is EVAL_BLOCK x M).
+EVAL_BLOCK = 1 << 14
+
+
 def check_activation(name: str) -> str:
     if name not in ACTIVATIONS:
         raise ValueError(f"activation must be one of {sorted(ACTIVATIONS)}, got {name!r}")
@@ -67,8 +71,15 @@ class ElmNetwork:
         return hidden_matrix(self.activation, x, self.input_weights, self.biases)
 
     def __call__(self, x) -> np.ndarray:
+        """Eq. (7) at every x, in blocks of EVAL_BLOCK inputs: memory stays bounded by the
+        block, not by len(x) times the number of neurons."""
         x = np.asarray(x, dtype=float)
-        return (self.hidden(x) @ self.output_weights).reshape(x.shape)
+        flat = x.ravel()
+        out = np.empty(flat.size)
+        for start in range(0, flat.size, EVAL_BLOCK):
+            block = flat[start:start + EVAL_BLOCK]
+            out[start:start + block.size] = self.hidden(block) @ self.output_weights
+        return out.reshape(x.shape)
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "activation": self.activation,
