@@ -5,7 +5,7 @@ from pathlib import Path
 
 from ..data import prepare, read_sweep_csv
 from .._validate import MAX_HIDDEN
-from ..data.prepare import OUTLIER_SIGMAS
+from ..data.training_set import OUTLIER_SIGMAS
 from ..errors import UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme

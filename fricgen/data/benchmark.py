@@ -8,7 +8,7 @@ import numpy as np
 
 from ..friction import MultisourceFriction
 from ..metrics import rmse
-from .prepare import SAT_FACTOR, Dataset, prepare
+from .training_set import SAT_FACTOR, Dataset, prepare
 from .sweep import Sweep
 
 
