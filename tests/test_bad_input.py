@@ -1,0 +1,146 @@
+"""Every input a user can type: one row per input, the exit code, the one stderr line, and
+nothing written. Extend the tables when a new input is found."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    """A folder with a sweep, a model, a log and every malformed file the rows below read."""
+    d = tmp_path_factory.mktemp("bad")
+    assert main(["synth", "-o", str(d / "sweep.csv")]) == 0
+    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02"]) == 0
+    assert main(["synth-log", "--duration", "3", "-o", str(d / "log.csv")]) == 0
+    rows = (d / "sweep.csv").read_text().splitlines()
+    body = rows[1:]
+    files = {
+        "comma_decimal.csv": "v;f\n" + "\n".join(r.replace(",", ";").replace(".", ",") for r in body),
+        "quoted_comma.csv": "v,f\n" + "\n".join('"%s","%s"' % tuple(c.replace(".", ",") for c in r.split(","))
+                                                for r in body),
+        "all_zero_v.csv": "v,f\n" + "0,1\n" * 50,
+        "long_cell.csv": "v,f\n" + "1" * 200_000 + ",1\n" + "\n".join(body[:40]),
+        "tiny_values.csv": "v,f\n" + "\n".join(f"{1e-300 * (k + 1)},{1e-300 * (k + 2)}" for k in range(60)),
+        "duplicate_columns.csv": "v,f,f\n" + "\n".join(r + ",0" for r in body),
+        "huge_forces.csv": "v,f\n" + "\n".join(f"{r.split(',')[0]},{float(r.split(',')[1]) * 1e306}"
+                                                for r in body),
+        "ragged.csv": "v,f\n" + "\n".join(body[:30]) + "\n0.01,1,2\n" + "\n".join(body[30:]),
+        "big_int.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", "viscous": '
+                        + "9" * 5001 + "}",
+        "inf_number.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", '
+                           '"aim": {"kind": "elm"}, "viscous": 1e400}',
+        "nested.json": "[" * 100_000,
+        "nan.json": (d / "model.json").read_text().replace('"viscous": ', '"viscous": NaN, "x": '),
+    }
+    for name, text in files.items():
+        (d / name).write_text(text + "\n")
+    (d / "non_utf8.csv").write_bytes(b"v,f\n" + b"\xff\xfe,1\n" * 30)
+    (d / "non_utf8.json").write_bytes(b"\xff\xfe{}")
+    log = (d / "log.csv").read_text().splitlines()
+    ms = [log[0]] + [",".join([repr(1000 * float(line.split(",")[0]))] + line.split(",")[1:])
+                     for line in log[1:]]
+    (d / "log_ms.csv").write_text("\n".join(ms) + "\n")
+    cells = log[50].split(",")
+    cells[log[0].split(",").index("i")] = "nan"
+    (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
+    model = json.loads((d / "model.json").read_text())
+    model["aim"]["output_weights"][0] = 3e38
+    (d / "huge_weights.json").write_text(json.dumps(model))
+    return d
+
+
+OUT = "OUT"          # stands for a fresh output path in the rows below
+DIAG = ["--mass", "4", "--force-constant", "20"]
+
+#: (row id, argv (files relative to the work folder), words of the one error line)
+ROWS = [
+    ("comma decimal CSV", ["train", "comma_decimal.csv", "-o", OUT], "looks ';'-separated"),
+    ("quoted comma decimals", ["train", "quoted_comma.csv", "-o", OUT], "non-numeric"),
+    ("all v = 0", ["train", "all_zero_v.csv", "-o", OUT], "a friction sweep needs motion"),
+    ("non-UTF-8 CSV", ["train", "non_utf8.csv", "-o", OUT], "not UTF-8 text"),
+    ("cell of 200000 digits", ["train", "long_cell.csv", "-o", OUT], "NaN or infinite"),
+    ("values around 1e-300", ["train", "tiny_values.csv", "-o", OUT], "the float32 C needs it between"),
+    ("duplicate column names", ["train", "duplicate_columns.csv", "-o", OUT], "appears more than once"),
+    ("forces scaled by 1e306", ["train", "huge_forces.csv", "-o", OUT], "the float32 C needs it between"),
+    ("a row of the wrong width", ["train", "ragged.csv", "-o", OUT], "3 cells, the header names 2"),
+    ("--neurons 0", ["train", "sweep.csv", "-o", OUT, "--neurons", "0"], "--neurons: must be an integer >= 1"),
+    ("--neurons 5000", ["train", "sweep.csv", "-o", OUT, "--neurons", "5000"], "<= 4096"),
+    ("--w-max 2", ["train", "sweep.csv", "-o", OUT, "--w-max", "2"], "--w-max: w_max=2.0 too small"),
+    ("--seed -1", ["train", "sweep.csv", "-o", OUT, "--method", "elm", "--seed", "-1"], "--seed: must be"),
+    ("--vs-max nan", ["train", "sweep.csv", "-o", OUT, "--vs-max", "nan"], "--vs-max: must be"),
+    ("5001-digit integer in model.json", ["eval", "big_int.json"], "not valid JSON"),
+    ("10**400 in model.json", ["eval", "inf_number.json"], "must be"),
+    ("100000 nested [", ["eval", "nested.json"], "nested too deeply"),
+    ("non-UTF-8 model.json", ["emit", "non_utf8.json", "-o", OUT], "not UTF-8 text"),
+    ("NaN in model.json", ["emit", "nan.json", "-o", OUT], "NaN is not a JSON number"),
+    ("weights of 3e38", ["emit", "huge_weights.json", "-o", OUT], "beyond the float32 C's range"),
+    ("synth --noise -1", ["synth", "--noise", "-1", "-o", OUT], "--noise: must be"),
+    ("synth --noise nan", ["synth", "--noise", "nan", "-o", OUT], "--noise: must be"),
+    ("synth --seed -1", ["synth", "--seed", "-1", "-o", OUT], "--seed: must be"),
+    ("synth-log --duration inf", ["synth-log", "--duration", "inf", "-o", OUT], "--duration: must be"),
+    ("synth-log --duration 1e9", ["synth-log", "--duration", "1e9", "-o", OUT], "<= 1200 s"),
+    ("synth-log negative mass", ["synth-log", "--effect", "inertia_mismatch", "--magnitude", "-5",
+                                 "-o", OUT], "mass must be > 0"),
+    ("synth-log --magnitude nan", ["synth-log", "--magnitude", "nan", "-o", OUT], "--magnitude: must be"),
+    ("simulate --ts 5e-324", ["simulate", "--ts", "5e-324"], "--ts: must be a number >= 1e-06"),
+    ("simulate --duration 1e9", ["simulate", "--duration", "1e9"], "--duration: must be"),
+    ("diagnose, t in ms", ["diagnose", "log_ms.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "dx/dt is 0.001 times v"),
+    ("diagnose, NaN row", ["diagnose", "log_nan.csv", "--model", "model.json", *DIAG, "-o", OUT], "NaN"),
+    ("diagnose --mass 1e308", ["diagnose", "log.csv", "--model", "model.json", "--mass", "1e308",
+                               "--force-constant", "20", "-o", OUT], "--mass: must be"),
+    ("demo --seeds 0", ["demo", "--seeds", "0"], "--seeds: must be an integer >= 1"),
+    ("reproduce --jobs 0", ["reproduce", "--jobs", "0", "-o", OUT], "--jobs: must be"),
+    ("unknown option", ["train", "sweep.csv", "--nuerons", "3"], "unrecognized arguments"),
+]
+
+
+@pytest.mark.parametrize("argv, words", [r[1:] for r in ROWS], ids=[r[0] for r in ROWS])
+def test_bad_input_is_one_line_exit_2_and_nothing_written(work, tmp_path, argv, words):
+    out = tmp_path / "out"
+    argv = [str(out) if a == OUT else (str(work / a) if (work / a).exists() else a) for a in argv]
+    before = sorted(os.listdir(work))
+    proc = subprocess.run([sys.executable, "-m", "fricgen", *argv], capture_output=True, text=True,
+                          stdin=subprocess.DEVNULL, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("fricgen: error: "), proc.stderr
+    assert words in proc.stderr, proc.stderr
+    assert proc.stdout == ""
+    assert not out.exists() and sorted(os.listdir(work)) == before
+
+
+def test_eval_with_stdin_closed_is_one_line(work):
+    proc = subprocess.run(f'"{sys.executable}" -m fricgen eval "{work / "model.json"}" <&-',
+                          shell=True, capture_output=True, text=True)
+    assert proc.returncode == 2 and proc.stderr == ("fricgen: error: stdin: closed; pipe velocities "
+                                                    "into fricgen eval, one per line\n")
+
+
+def test_a_gross_outlier_row_does_not_move_b(work, tmp_path, capsys):
+    # one row 1e308,1e308 among 300 used to turn B from 58 into 1.0 N s/m
+    rows = (work / "sweep.csv").read_text().splitlines()
+    (tmp_path / "spiked.csv").write_text("\n".join(rows[:150] + ["1e308,1e308"] + rows[150:]) + "\n")
+    assert main(["train", str(work / "sweep.csv"), "-o", str(tmp_path / "a.json"), "--vs-max", "0.02"]) == 0
+    assert main(["train", str(tmp_path / "spiked.csv"), "-o", str(tmp_path / "b.json"), "--vs-max", "0.02"]) == 0
+    report = capsys.readouterr().out
+    assert "1 rejected as gross outliers" in report
+    clean, spiked = (json.loads((tmp_path / n).read_text())["viscous"] for n in ("a.json", "b.json"))
+    assert spiked == pytest.approx(clean, rel=1e-12)
+    assert 55 < clean < 60
+
+
+def test_eval_streams_with_constant_memory_and_exact_forces(work):
+    # 300000 velocities through the chunked reader equal the model evaluated at once
+    from fricgen.model import FrictionModel
+    v = np.random.default_rng(5).uniform(-0.2, 0.2, 300_000)
+    proc = subprocess.run([sys.executable, "-m", "fricgen", "eval", str(work / "model.json")],
+                          input="\n".join(repr(float(x)) for x in v), capture_output=True, text=True)
+    assert proc.returncode == 0
+    forces = np.array(proc.stdout.split(), dtype=float)
+    np.testing.assert_array_equal(forces, FrictionModel.load(work / "model.json").force(v))
