@@ -8,10 +8,12 @@ derive from it; tests/test_c_abi.py checks it against the header.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from operator import attrgetter
 from typing import Callable, Dict, List, Optional, Tuple, Union
 
+from .._io import resource_dir
 from ..c_literal import c_float
 from .gamma import gamma_matrix
 
@@ -126,14 +128,14 @@ STATE = (
 )
 STRUCTS = {"fric_ctrl_params_t": PARAMS, "fric_ctrl_t": STATE}
 
-_FUNCTIONS = """\
-void fric_ctrl_default_params(fric_ctrl_params_t *p);
-fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
-float fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                     float friction);
-float fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                        fric_ctrl_friction_fn friction);
-"""
+def function_declarations() -> str:
+    """The prototypes of fric_ctrl.h's functions, read from the header itself (comments and
+    line breaks dropped): the header is the one place they are written."""
+    text = re.sub(r"/\*.*?\*/", " ", (resource_dir("c_runtime") / "fric_ctrl.h").read_text(),
+                  flags=re.S)
+    found = re.findall(r"^\s*(?:void|float|fric_ctrl_status_t)\s+fric_ctrl_\w+\s*\([^;{]*\)\s*;",
+                       text, flags=re.M)
+    return "".join(" ".join(proto.split()) + "\n" for proto in found)
 
 
 def _struct_cdef(ctype: str, fields: Tuple[Field, ...]) -> str:
@@ -145,7 +147,7 @@ def _struct_cdef(ctype: str, fields: Tuple[Field, ...]) -> str:
 CDEF = ("".join(e.cdef() for e in ENUMS)
         + "typedef float (*fric_ctrl_friction_fn)(float v);\n"
         + "".join(_struct_cdef(ctype, fields) for ctype, fields in STRUCTS.items())
-        + _FUNCTIONS)
+        + function_declarations())
 
 
 def _values(settings) -> Dict[str, Value]:
