@@ -227,3 +227,15 @@ def test_usage_errors_are_one_line(capsys, argv, message):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("fricgen: error: ") and message in err
+
+
+@pytest.mark.parametrize("given, expected", [(None, "1"), ("3", "3")])
+def test_numerics_run_on_one_blas_thread_unless_the_user_says_otherwise(given, expected):
+    env = {k: v for k, v in __import__("os").environ.items() if not k.endswith("_NUM_THREADS")}
+    if given:
+        env["OPENBLAS_NUM_THREADS"] = given
+    code = ("import os\nfrom fricgen.cli import main\ntry:\n    main(['--version'])\n"
+            "except SystemExit:\n    pass\nprint(os.environ['OPENBLAS_NUM_THREADS'], 'numpy' in "
+            "__import__('sys').modules)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert proc.stdout.split() == [expected, "False"]     # set before numpy is ever loaded

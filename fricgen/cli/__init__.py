@@ -8,6 +8,7 @@ as one line ``fricgen: error: ...`` on stderr, exits with code 2, and leaves no 
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import warnings
 
@@ -52,9 +53,18 @@ def build_parser(argv=None) -> ArgumentParser:
     return parser
 
 
+#: BLAS thread settings fricgen picks unless the user set them: fricgen's factorizations are
+#: small (thousands x tens), where extra BLAS threads only contend for a shared machine's cores.
+BLAS_THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
 def main(argv=None) -> int:
     """Run one command; any problem is one stderr line and exit code 2. Warnings of the
-    numerics (a rank-deficient fit, an overflow the checks already handle) stay silent."""
+    numerics (a rank-deficient fit, an overflow the checks already handle) stay silent.
+    Numerics run on one BLAS thread unless the environment says otherwise (set before numpy
+    loads with the command's module)."""
+    for key, value in BLAS_THREADS.items():
+        os.environ.setdefault(key, value)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
