@@ -60,12 +60,27 @@ def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]]
     if path.exists() and not path.is_file():
         kind = "a folder" if path.is_dir() else "not a regular file"
         raise UsageError(f"{option} {path}: is {kind}; refusing to replace it")
+    _check_writable(path.parent, path, option)
     if not force:
         for source in inputs:
             if source is not None and Path(source).exists() and _same_file(path, Path(source)):
                 raise UsageError(f"{option} {path}: is the input {source}; refusing to overwrite "
                                  "it (--force to do so)")
     return path
+
+
+def _check_writable(folder: Path, path: Path, option: str) -> None:
+    """``UsageError`` unless a file can be created in ``folder`` (or in its nearest existing
+    ancestor, where the missing folders would be made): found before any work is done."""
+    existing = next((p for p in [folder, *folder.parents] if p.exists()), Path("/"))
+    if not existing.is_dir():
+        raise UsageError(f"{option} {path}: {existing} is not a folder")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".fricgen-probe.", dir=existing)
+    except OSError as exc:
+        raise UsageError(f"{option} {path}: cannot write in {existing} ({exc.strerror})") from None
+    os.close(fd)
+    os.unlink(probe)
 
 
 def check_folder(folder: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
@@ -75,6 +90,7 @@ def check_folder(folder: Union[str, Path], inputs: Sequence[Union[str, Path]] = 
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise UsageError(f"{option} {folder}: exists and is not a folder")
+    _check_writable(folder, folder, option)
     if not force:
         for source in inputs:
             if source is not None and folder.exists() and _same_file(folder, Path(source).parent):
@@ -100,7 +116,10 @@ def write_files(files: Dict[Union[str, Path], Union[str, bytes]]) -> Dict[str, P
                 folder.mkdir()
                 created.append(folder)
             text = files[key]
-            fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
+            except OSError as exc:
+                raise OSError(exc.errno, exc.strerror, str(dest)) from None
             temps[key] = Path(tmp)
             try:
                 with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as fh:

@@ -23,8 +23,13 @@ class ArgumentParser(argparse.ArgumentParser):
 
 
 def say(msg: str) -> None:
-    """A progress or "wrote ..." line: stderr, so stdout carries results only."""
-    print(msg, file=sys.stderr, flush=True)
+    """A progress or "wrote ..." line: stderr, so stdout carries results only (nothing when
+    stderr is closed)."""
+    if sys.stderr is not None:
+        try:
+            print(msg, file=sys.stderr, flush=True)
+        except OSError:
+            pass
 
 
 def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False,
@@ -66,6 +71,8 @@ def add_output(p, help: str, required: bool = True, default=None) -> None:
 def out(text: str) -> None:
     """Results on stdout, flushed now: a full disk or a closed pipe is an error before any file
     is written."""
+    if sys.stdout is None:
+        raise UsageError("stdout: closed; fricgen prints its results there")
     try:
         sys.stdout.write(text if text.endswith("\n") else text + "\n")
         sys.stdout.flush()
