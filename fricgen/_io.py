@@ -51,6 +51,10 @@ def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]]
     A folder, FIFO or device is never replaced. A symbolic link or one of the command's
     ``inputs`` is refused unless ``force``; with ``force`` a link is written through (its
     target is replaced, the link kept)."""
+    if not str(path).strip():
+        raise UsageError(f"{option}: empty path")
+    if str(path).endswith(("/", os.sep)):
+        raise UsageError(f"{option} {path}: names a folder; give a file name")
     path = Path(path)
     if path.is_symlink():
         if not force:
@@ -87,6 +91,8 @@ def check_folder(folder: Union[str, Path], inputs: Sequence[Union[str, Path]] = 
                  force: bool = False, option: str = "-o") -> Path:
     """``folder`` if a command may write into it: not an existing non-folder, and not the folder
     of one of ``inputs`` (unless ``force``); else ``UsageError``."""
+    if not str(folder).strip():
+        raise UsageError(f"{option}: empty path")
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise UsageError(f"{option} {folder}: exists and is not a folder")
@@ -117,7 +123,7 @@ def write_files(files: Dict[Union[str, Path], Union[str, bytes]]) -> Dict[str, P
                 created.append(folder)
             text = files[key]
             try:
-                fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
+                fd, tmp = tempfile.mkstemp(prefix=".fricgen-", suffix=".tmp", dir=dest.parent)
             except OSError as exc:
                 raise OSError(exc.errno, exc.strerror, str(dest)) from None
             temps[key] = Path(tmp)
@@ -129,7 +135,7 @@ def write_files(files: Dict[Union[str, Path], Union[str, bytes]]) -> Dict[str, P
             os.chmod(tmp, mode)
         for key, dest in dests.items():
             if dest.exists():
-                backup = dest.with_name(f".{dest.name}.{os.getpid()}.bak")
+                backup = dest.with_name(f".fricgen-{os.getpid()}-{len(backups)}.bak")
                 os.link(dest, backup)
                 backups[key] = backup
         for key, dest in dests.items():

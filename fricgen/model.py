@@ -160,7 +160,8 @@ class FrictionModel:
             raise ModelError("model.json must hold a JSON object")
         if d.get("format") != FORMAT:
             raise ModelError(f"format must be {FORMAT!r}, got {d.get('format')!r}"[:200])
-        if d.get("format_version") != FORMAT_VERSION:
+        version = d.get("format_version")
+        if isinstance(version, bool) or version != FORMAT_VERSION:
             raise ModelError(f"unknown format_version {d.get('format_version')!r}; "
                              f"this fricgen reads version {FORMAT_VERSION}"[:200])
         name = check_c_identifier(d.get("name"))

@@ -30,6 +30,8 @@ def work(tmp_path_factory):
         "duplicate_columns.csv": "v,f,f\n" + "\n".join(r + ",0" for r in body),
         "huge_forces.csv": "v,f\n" + "\n".join(f"{r.split(',')[0]},{float(r.split(',')[1]) * 1e306}"
                                                 for r in body),
+        "unicode_digits.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,\uff11\n" + "\n".join(body[20:]),
+        "underscores.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,1_0\n" + "\n".join(body[20:]),
         "ragged.csv": "v,f\n" + "\n".join(body[:30]) + "\n0.01,1,2\n" + "\n".join(body[30:]),
         "big_int.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", "viscous": '
                         + "9" * 5001 + "}",
@@ -50,8 +52,13 @@ def work(tmp_path_factory):
     cells[log[0].split(",").index("i")] = "nan"
     (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
     model = json.loads((d / "model.json").read_text())
-    model["aim"]["output_weights"][0] = 3e38
-    (d / "huge_weights.json").write_text(json.dumps(model))
+    for name, edit in (("huge_weights.json", lambda m: m["aim"]["output_weights"].__setitem__(0, 3e38)),
+                       ("kind_list.json", lambda m: m["aim"].__setitem__("kind", [])),
+                       ("effect_dict.json", lambda m: m.__setitem__("effects", [{"effect": {}}])),
+                       ("version_true.json", lambda m: m.__setitem__("format_version", True))):
+        edited = json.loads(json.dumps(model))
+        edit(edited)
+        (d / name).write_text(json.dumps(edited))
     return d
 
 
@@ -69,6 +76,9 @@ ROWS = [
     ("duplicate column names", ["train", "duplicate_columns.csv", "-o", OUT], "appears more than once"),
     ("forces scaled by 1e306", ["train", "huge_forces.csv", "-o", OUT], "the float32 C needs it between"),
     ("a row of the wrong width", ["train", "ragged.csv", "-o", OUT], "3 cells, the header names 2"),
+    ("digits of another script", ["train", "unicode_digits.csv", "-o", OUT], "non-numeric"),
+    ("'_' in a number", ["train", "underscores.csv", "-o", OUT], "non-numeric"),
+    ("--C without ridge", ["train", "sweep.csv", "-o", OUT, "--C", "10"], "--C sets the C of --solver ridge"),
     ("--neurons 0", ["train", "sweep.csv", "-o", OUT, "--neurons", "0"], "--neurons: must be an integer >= 1"),
     ("--neurons 5000", ["train", "sweep.csv", "-o", OUT, "--neurons", "5000"], "<= 4096"),
     ("--w-max 2", ["train", "sweep.csv", "-o", OUT, "--w-max", "2"], "--w-max: w_max=2.0 too small"),
@@ -80,6 +90,16 @@ ROWS = [
     ("non-UTF-8 model.json", ["emit", "non_utf8.json", "-o", OUT], "not UTF-8 text"),
     ("NaN in model.json", ["emit", "nan.json", "-o", OUT], "NaN is not a JSON number"),
     ("weights of 3e38", ["emit", "huge_weights.json", "-o", OUT], "beyond the float32 C's range"),
+    ("aim.kind a list", ["eval", "kind_list.json"], "aim.kind must be one of"),
+    ("effect name an object", ["eval", "effect_dict.json"], "unknown effect {}"),
+    ("format_version true", ["eval", "version_true.json"], "unknown format_version True"),
+    ("-o empty", ["emit", "model.json", "-o", ""], "-o: empty path"),
+    ("-o a folder name for a file", ["train", "sweep.csv", "-o", "OUT/"], "names a folder"),
+    ("-o under a file", ["train", "sweep.csv", "-o", "UNDER_INPUT"], "sweep.csv is not a folder"),
+    ("-o in /proc", ["train", "sweep.csv", "-o", "/proc/m.json"], "cannot write in /proc"),
+    ("--w-max 1e300", ["train", "sweep.csv", "-o", OUT, "--w-max", "1e300"], "--w-max: must be"),
+    ("demo -o a file", ["demo", "--seeds", "1", "-o", "model.json"], "is not a folder"),
+    ("reproduce -o in /proc", ["reproduce", "--quick", "-o", "/proc/r"], "cannot write in /proc"),
     ("synth --noise -1", ["synth", "--noise", "-1", "-o", OUT], "--noise: must be"),
     ("synth --noise nan", ["synth", "--noise", "nan", "-o", OUT], "--noise: must be"),
     ("synth --seed -1", ["synth", "--seed", "-1", "-o", OUT], "--seed: must be"),
@@ -90,6 +110,7 @@ ROWS = [
     ("synth-log --magnitude nan", ["synth-log", "--magnitude", "nan", "-o", OUT], "--magnitude: must be"),
     ("simulate --ts 5e-324", ["simulate", "--ts", "5e-324"], "--ts: must be a number >= 1e-06"),
     ("simulate --duration 1e9", ["simulate", "--duration", "1e9"], "--duration: must be"),
+    ("simulate of 300000 samples", ["simulate", "--ts", "1e-5", "--duration", "3"], "samples"),
     ("diagnose, t in ms", ["diagnose", "log_ms.csv", "--model", "model.json", *DIAG, "-o", OUT],
      "dx/dt is 0.001 times v"),
     ("diagnose, NaN row", ["diagnose", "log_nan.csv", "--model", "model.json", *DIAG, "-o", OUT], "NaN"),
@@ -104,7 +125,8 @@ ROWS = [
 @pytest.mark.parametrize("argv, words", [r[1:] for r in ROWS], ids=[r[0] for r in ROWS])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(work, tmp_path, argv, words):
     out = tmp_path / "out"
-    argv = [str(out) if a == OUT else (str(work / a) if (work / a).exists() else a) for a in argv]
+    special = {OUT: str(out), OUT + "/": str(out) + "/", "UNDER_INPUT": str(work / "sweep.csv" / "m.json")}
+    argv = [special.get(a) or (str(work / a) if a and (work / a).exists() else a) for a in argv]
     before = sorted(os.listdir(work))
     proc = subprocess.run([sys.executable, "-m", "fricgen", *argv], capture_output=True, text=True,
                           stdin=subprocess.DEVNULL, timeout=120)

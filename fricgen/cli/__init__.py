@@ -74,7 +74,8 @@ def main(argv=None) -> int:
         say(f"fricgen: error: {exc}")
         return 2
     except OSError as exc:
-        say(f"fricgen: error: {exc.filename or ''}: {exc.strerror}")
+        where = f"{exc.filename}: " if exc.filename else ""
+        say(f"fricgen: error: {where}{exc.strerror or exc}")
         return 2
 
 

@@ -35,7 +35,7 @@ def say(msg: str) -> None:
 def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False,
            integer: bool = False, unit: str = ""):
     """An argparse type: a finite number (an integer with ``integer``) in [low, high], or in
-    (low, high] with ``low_open``; the error says the range."""
+    (low, high] with ``low_open``, written in ASCII digits; the error says the range."""
     kind = "an integer" if integer else "a number"
     show = (lambda x: str(int(x))) if integer else (lambda x: f"{x:g}")
     bounds = [f"{'>' if low_open else '>='} {show(low)}"] if low > -math.inf else []
@@ -44,6 +44,8 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
 
     def parse(text: str):
         try:
+            if not text.isascii() or "_" in text:
+                raise ValueError(text)
             value = int(text) if integer else float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"must be {wanted}, got {text[:40]!r}") from None
@@ -65,7 +67,8 @@ def add_output(p, help: str, required: bool = True, default=None) -> None:
     p.add_argument("-o", "--output", "--out", dest="output", required=required and default is None,
                    default=default, help=help)
     p.add_argument("--force", action="store_true",
-                   help="write even where -o is one of the inputs, their folder or a symbolic link")
+                   help="write even where -o is one of the inputs (or, for diagnose, the model's "
+                   "folder), or a symbolic link where a file goes (its target is written)")
 
 
 def out(text: str) -> None:
@@ -86,14 +89,19 @@ def write_file(args, text, inputs=()) -> Path:
     return write_atomic(path, text)
 
 
+def check_targets(args, names, inputs=(), folder_of=()) -> Dict[str, Path]:
+    """The destinations of ``names`` in the folder ``args.output``, each checked (the folder not
+    that of one of ``folder_of``, no destination one of ``inputs``), by name."""
+    folder = check_folder(args.output, folder_of, args.force)
+    return {name: check_destination(folder / name, inputs, args.force) for name in names}
+
+
 def write_folder(args, files: Dict[str, object], inputs=(), folder_of=()) -> Path:
     """Write every file into the folder ``args.output``, all or nothing, after checking the
-    folder (not the folder of one of ``folder_of``) and every destination in it (not one of
-    ``inputs``)."""
-    folder = check_folder(args.output, folder_of, args.force)
-    targets = {check_destination(folder / name, inputs, args.force): text for name, text in files.items()}
-    write_files(targets)
-    return folder
+    folder and every destination in it (``check_targets``)."""
+    targets = check_targets(args, files, inputs, folder_of)
+    write_files({targets[name]: text for name, text in files.items()})
+    return Path(args.output)
 
 
 def add_model(p, required: bool = True, help: str = "model.json of the friction model") -> None:

@@ -38,6 +38,8 @@ def _mean_errors(make, seeds):
 
 
 def run(args) -> int:
+    if args.output:
+        check_folder(args.output, (), args.force)
     seeds = range(args.seeds)
     say(f"paper benchmark (Table 1, 3 sources), {args.seeds} seeds")
     makers = {label: (lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg))
@@ -56,8 +58,7 @@ def run(args) -> int:
 
     bench = synthesize_benchmark(preset("paper3"), seed=0)
     model = FrictionModel.fit(bench.dataset, default_estimator(0), name="fm")
-    folder = check_folder(args.output, (), args.force) if args.output else \
-        Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
+    folder = Path(args.output) if args.output else Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
     try:
         emit(model, folder, "fm")
         say(f"emitted C to {folder}; compiling with cffi ...")

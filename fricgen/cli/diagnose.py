@@ -9,7 +9,8 @@ from ..data import read_log_csv
 from ..diagnose.diagnoser import Diagnoser
 from ..diagnose.report import format_value, render_files
 from ..model import FrictionModel
-from .common import add_json, add_model, add_output, number, out, say, write_folder
+from .common import (add_json, add_model, add_output, check_targets, number, out, say,
+                     write_folder)
 
 
 def register(p) -> None:
@@ -32,6 +33,7 @@ def run(args) -> int:
     log = read_log_csv(args.log)
     d = Diagnoser().fit(log, model, args.mass, args.force_constant)
     files = render_files(d, log, Path(args.log).name)
+    check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
     if args.json:
         out(json.dumps(d.summary()))
     else:

@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 
+from ..data.table import plain_float
 from ..errors import UsageError
 from ..model import FrictionModel
 from .common import out
@@ -30,7 +31,7 @@ def _velocities(stream):
         if not text:
             continue
         try:
-            value = float(text)
+            value = plain_float(text)
         except ValueError:
             raise UsageError(f"stdin line {n}: not a number: {text[:40]!r}") from None
         if not math.isfinite(value):

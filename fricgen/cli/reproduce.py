@@ -13,7 +13,7 @@ from ..paper import reported as paper
 from ..paper.experiments import fitted_seed0, reproduce
 from ..paper.figures import FIGURES, render_figures
 from ..paper.report import render
-from .common import add_output, number, out, say, write_folder
+from .common import add_output, check_targets, number, out, say, write_folder
 
 
 def run(args) -> int:
@@ -33,6 +33,7 @@ def run(args) -> int:
     result["figures"] = [name for name, _ in figures]
     files["results.json"] = json.dumps(result, indent=1) + "\n"
     files["report.md"] = render(result, figures, note)
+    check_targets(args, files)                                     # before any result is printed
     s = result["summary"]
     out(f"median E_Ttest: auto/oracle = {s['auto_over_oracle']:.2f}, "
         f"best paper ELM ({s['best_paper_elm']})/auto = {s['best_paper_elm_over_auto']:.2f}, "

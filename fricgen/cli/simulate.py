@@ -39,9 +39,16 @@ def register(p) -> None:
     p.set_defaults(run=run)
 
 
+#: Most controller samples one run simulates (about a minute of Python per 100000).
+MAX_SAMPLES = 200_000
+
+
 def run(args) -> int:
     if args.plot:
         check_folder(args.plot, [args.model], option="--plot")
+    if args.duration > MAX_SAMPLES * args.ts:
+        raise UsageError(f"--duration {args.duration:g} s at --ts {args.ts:g} s is "
+                         f"{args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} are simulated")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
     axis = default_axis()

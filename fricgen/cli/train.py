@@ -36,6 +36,8 @@ def _estimator(args):
             setattr(args, k, default)
     if args.solver == "ridge" and args.C is None:
         raise UsageError("--solver ridge needs --C")
+    if args.C is not None and args.solver != "ridge":
+        raise UsageError(f"--C sets the C of --solver ridge; --solver {args.solver} chooses its own")
     try:
         scheme = EnlargedScheme(w_max=args.w_max) if args.scheme == "enlarged" else args.scheme
     except ValueError as exc:
@@ -103,7 +105,7 @@ def register(p) -> None:
     p.add_argument("--activation", choices=sorted(ACTIVATIONS),
                    help=f"(elm) default {_ELM_OPTIONS['activation']}")
     p.add_argument("--scheme", choices=sorted(SCHEMES), help="(elm) default enlarged")
-    p.add_argument("--w-max", type=positive_float, help="(elm) input-weight range of the enlarged "
+    p.add_argument("--w-max", type=number(0, 1e4, low_open=True), help="(elm) input-weight range of the enlarged "
                    f"scheme, eq. (16)-(17), default {_ELM_OPTIONS['w_max']:g}")
     p.add_argument("--solver", choices=sorted(SOLVERS), help=f"(elm) default {_ELM_OPTIONS['solver']}")
     p.add_argument("--C", type=positive_float, help="regularization C of eq. (15) for --solver ridge")

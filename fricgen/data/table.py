@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import csv
+import re
 from array import array
 from pathlib import Path
 from typing import Dict, Optional, Sequence, Union
@@ -9,6 +10,19 @@ from typing import Dict, Optional, Sequence, Union
 import numpy as np
 
 from ..errors import DataError
+
+
+#: A number as fricgen reads one: ASCII digits, '.' decimals, an optional exponent, or nan/inf.
+_NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf(?:inity)?)\s*",
+                     re.IGNORECASE)
+
+
+def plain_float(text: str) -> float:
+    """``float(text)`` for a plainly written number only (no '_' separators, no digits of other
+    scripts, which Python's float would accept); else ``ValueError``."""
+    if not _NUMBER.fullmatch(text):
+        raise ValueError(f"not a number: {text!r}")
+    return float(text)
 
 
 def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
@@ -29,18 +43,27 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
         fast = _read_plain(path, required, keep_extra)
         if fast is not None:
             return fast
-        with open(path, encoding="utf-8", newline="") as fh:
+        with open(path, encoding="utf-8-sig", newline="") as fh:
             return _read_rows(path, csv.reader(fh), required, keep_extra)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
         raise DataError(f"{path}: not a readable CSV ({exc})") from None
+    except OSError as exc:
+        raise DataError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
 def _read_plain(path, required, keep_extra) -> Optional[Dict[str, np.ndarray]]:
     """The fast path for a plain numeric CSV (numpy's C parser); None when the file needs the
-    careful reader, which then names the exact problem."""
-    with open(path, encoding="utf-8", newline="") as fh:
+    careful reader, which then names the exact problem (numpy's parser also takes '_'
+    separators and digits of other scripts, which fricgen refuses)."""
+    with open(path, "rb") as fh:
+        raw = fh.read()
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
+    if not raw.isascii() or b"_" in raw:
+        return None
+    with open(path, encoding="utf-8-sig", newline="") as fh:
         header = [h.strip().lower() for h in fh.readline().split(",")]
         if len(set(header)) != len(header) or not set(required) <= set(header):
             return None
@@ -76,7 +99,7 @@ def _read_rows(path, rows, required, keep_extra) -> Dict[str, np.ndarray]:
         if len(row) != len(header):
             raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}")
         try:
-            values.extend([float(row[k]) for k in wanted])
+            values.extend([plain_float(row[k]) for k in wanted])
         except ValueError:
             raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
                             f"{','.join(row)[:80]!r}") from None

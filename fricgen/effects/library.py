@@ -103,7 +103,7 @@ class Effect:
                 raise ModelError(f"{where}.parameters: missing field {f.name!r}")
             value = params[f.name]
             if f.name == "shape":
-                if value not in SHAPES:
+                if not isinstance(value, str) or value not in SHAPES:
                     raise ModelError(f"{where}.parameters.shape must be one of {sorted(SHAPES)}, "
                                      f"got {value!r}"[:200])
                 values[f.name] = value
@@ -418,7 +418,7 @@ def effect_from_dict(d: Any) -> Effect:
     if not isinstance(d, dict):
         raise ModelError(f"effects: each effect must be an object, got {type(d).__name__}")
     name = d.get("effect")
-    if name not in EFFECTS:
+    if not isinstance(name, str) or name not in EFFECTS:
         raise ModelError(f"effects: unknown effect {name!r}; known: {', '.join(EFFECTS)}"[:200])
     unknown = sorted(set(d) - {"effect", "parameters"})
     if unknown:

@@ -20,7 +20,7 @@ def network_from_dict(d: Any):
     if not isinstance(d, dict):
         raise ModelError("missing or invalid field 'aim' (an object)")
     kind = d.get("kind")
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         raise ModelError(f"aim.kind must be one of {sorted(KINDS)}, got {kind!r}"[:200])
     return KINDS[kind].from_dict(d)
 

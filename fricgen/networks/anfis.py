@@ -95,7 +95,7 @@ class AnfisNetwork:
     def from_dict(cls, d: dict) -> "AnfisNetwork":
         """The network of model.json's ``aim`` object, every field validated (``ModelError``)."""
         mf = d.get("mf")
-        if mf not in MF_KINDS:
+        if not isinstance(mf, str) or mf not in MF_KINDS:
             raise ModelError(f"aim.mf must be one of {list(MF_KINDS)}, got {mf!r}"[:200])
         if mf == "gauss" and "exponents" in d:
             raise ModelError("aim.exponents: gauss membership functions take no exponents")

@@ -90,7 +90,7 @@ class ElmNetwork:
     def from_dict(cls, d: dict) -> "ElmNetwork":
         """The network of model.json's ``aim`` object, every field validated (``ModelError``)."""
         activation = d.get("activation")
-        if activation not in ACTIVATIONS:
+        if not isinstance(activation, str) or activation not in ACTIVATIONS:
             raise ModelError(f"aim.activation must be one of {sorted(ACTIVATIONS)}, "
                              f"got {activation!r}"[:200])
         vectors = {k: json_vector(d, k, "aim") for k in ("input_weights", "biases", "output_weights")}

@@ -65,7 +65,7 @@ class StribeckCurve:
     def from_dict(cls, d: dict) -> "StribeckCurve":
         """The curve of model.json's ``aim`` object, every field validated (``ModelError``)."""
         shape = d.get("shape")
-        if shape not in SHAPES:
+        if not isinstance(shape, str) or shape not in SHAPES:
             raise ModelError(f"aim.shape must be one of {sorted(SHAPES)}, got {shape!r}"[:200])
         vectors = {"amplitudes": json_vector(d, "amplitudes", "aim"),
                    "stribeck": json_vector(d, "stribeck", "aim", positive=True)}
