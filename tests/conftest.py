@@ -1,5 +1,7 @@
 """Shared fixtures: the paper benchmark and fitted models of every headline kind, and the
 emitted C implementations of a model with their Python twins."""
+import shutil
+
 import numpy as np
 import pytest
 
@@ -81,6 +83,24 @@ def impl_twin(model, impl, inputs):
     if CTYPES[impl] == "float":
         return force_f32(model, inputs, impl)
     return fx.force_q(fx.FixedSpec.of(model, impl), inputs)
+
+
+@pytest.fixture(scope="session")
+def cli_inputs(tmp_path_factory):
+    """What a user has after the documented workflow: sweep.csv (fricgen synth), model.json
+    (fricgen train on it) and log.csv (fricgen synth-log, 3 s). Copy it before changing it."""
+    from fricgen.cli import main
+    d = tmp_path_factory.mktemp("cli_inputs")
+    assert main(["synth", "-o", str(d / "sweep.csv")]) == 0
+    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02"]) == 0
+    assert main(["synth-log", "--duration", "3", "-o", str(d / "log.csv")]) == 0
+    return d
+
+
+def copy_of(folder, target):
+    """A fresh copy of the files of ``folder`` in the new folder ``target``."""
+    shutil.copytree(folder, target)
+    return target
 
 
 @pytest.fixture(scope="session")

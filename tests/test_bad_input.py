@@ -8,16 +8,14 @@ import sys
 import numpy as np
 import pytest
 
+from conftest import copy_of
 from fricgen.cli import main
 
 
 @pytest.fixture(scope="module")
-def work(tmp_path_factory):
+def work(cli_inputs, tmp_path_factory):
     """A folder with a sweep, a model, a log and every malformed file the rows below read."""
-    d = tmp_path_factory.mktemp("bad")
-    assert main(["synth", "-o", str(d / "sweep.csv")]) == 0
-    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02"]) == 0
-    assert main(["synth-log", "--duration", "3", "-o", str(d / "log.csv")]) == 0
+    d = copy_of(cli_inputs, tmp_path_factory.mktemp("bad") / "work")
     rows = (d / "sweep.csv").read_text().splitlines()
     body = rows[1:]
     files = {

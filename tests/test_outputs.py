@@ -7,18 +7,15 @@ import sys
 
 import pytest
 
+from conftest import copy_of
 from fricgen._io import write_files
 from fricgen.cli import main
 
 
 @pytest.fixture(scope="module")
-def workdir(tmp_path_factory):
+def workdir(cli_inputs, tmp_path_factory):
     """A sweep, a model trained on it and a short log, shared by the rows below."""
-    d = tmp_path_factory.mktemp("outputs")
-    assert main(["synth", "-o", str(d / "sweep.csv")]) == 0
-    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02"]) == 0
-    assert main(["synth-log", "--duration", "3", "-o", str(d / "log.csv")]) == 0
-    return d
+    return copy_of(cli_inputs, tmp_path_factory.mktemp("outputs") / "work")
 
 
 def _snapshot(folder):
