@@ -16,17 +16,11 @@ def _is_number(value) -> bool:
     return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
 
 
-def positive(name: str, value, error: Type[Exception] = ValueError) -> float:
-    """``value`` as a float if it is a finite number > 0, else ``error`` naming ``name``."""
-    if not (_is_number(value) and math.isfinite(value) and value > 0):
+def positive(name: str, value, error: Type[Exception] = ValueError, allow_inf: bool = False) -> float:
+    """``value`` as a float if it is a number > 0 (finite unless ``allow_inf``), else ``error``
+    naming ``name``."""
+    if not (_is_number(value) and value > 0 and (allow_inf or math.isfinite(value))):
         raise error(f"{name} must be > 0, got {value!r}"[:200])
-    return float(value)
-
-
-def finite(name: str, value, error: Type[Exception] = ValueError) -> float:
-    """``value`` as a float if it is a finite number, else ``error`` naming ``name``."""
-    if not (_is_number(value) and math.isfinite(value)):
-        raise error(f"{name} must be finite, got {value!r}"[:200])
     return float(value)
 
 

@@ -1,6 +1,7 @@
 """``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line, streamed."""
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 
@@ -44,12 +45,7 @@ def run(args) -> int:
     stdin = getattr(sys.stdin, "buffer", sys.stdin)
     if stdin is None or stdin.closed:
         raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")
-    chunk = []
-    for value in _velocities(stdin):
-        chunk.append(value)
-        if len(chunk) == CHUNK:
-            out("\n".join(repr(f) for f in model.force(np.array(chunk)).tolist()))
-            chunk.clear()
-    if chunk:
+    velocities = _velocities(stdin)
+    while chunk := list(itertools.islice(velocities, CHUNK)):
         out("\n".join(repr(f) for f in model.force(np.array(chunk)).tolist()))
     return 0

@@ -25,6 +25,7 @@ import numpy as np
 from scipy.ndimage import minimum_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 
+from .._validate import positive
 from ..data import MotionLog
 from ..effects import EFFECTS, Effect, Signals, model_effects, with_effects
 from ..errors import DataError
@@ -38,12 +39,6 @@ MIN_ROWS = 100
 #: Most rows the residual is sampled at: long logs are decimated further, so that time and
 #: memory stop growing with the log's length beyond about MAX_ROWS windows.
 MAX_ROWS = 20_000
-
-
-def _check_positive(name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
-        raise DataError(f"{name} must be a positive number, got {value!r}")
-    return float(value)
 
 
 class ResidualProblem:
@@ -299,8 +294,8 @@ class Diagnoser:
 
     def fit(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float) -> "Diagnoser":
         names = self._validate()
-        mass = _check_positive("mass", mass)
-        force_constant = _check_positive("force constant", force_constant)
+        mass = positive("mass", mass, DataError)
+        force_constant = positive("force constant", force_constant, DataError)
         ts = log.sample_time
         w = max(5, int(round(self.window / ts)) | 1)
         base = model_effects(model)

@@ -16,14 +16,8 @@ from typing import Dict, Sequence, Tuple
 
 import numpy as np
 
+from .._validate import positive
 from ..effects import Effect, FrictionCurve, Signals
-
-
-def _check_positive(name: str, value, finite: bool = True) -> float:
-    value = float(value)
-    if not (value > 0 and (np.isfinite(value) or not finite)):
-        raise ValueError(f"{name} must be > 0, got {value}")
-    return value
 
 
 @dataclass(frozen=True)
@@ -94,9 +88,9 @@ class EffectLaw:
                  force_constant: float, i_max: float = np.inf):
         if not callable(friction):
             raise ValueError(f"friction must be callable F(v), got {type(friction).__name__}")
-        _check_positive("mass", mass)
-        _check_positive("force_constant", force_constant)
-        _check_positive("i_max", i_max, finite=False)
+        positive("mass", mass)
+        positive("force_constant", force_constant)
+        positive("i_max", i_max, allow_inf=True)
         self.friction, self.effects, self.i_max = friction, tuple(effects), i_max
         self.mass = mass + sum(e.mass_delta for e in self.effects)
         self.force_constant = force_constant + sum(e.force_constant_delta for e in self.effects)
