@@ -47,7 +47,8 @@ Out-of-vocabulary shapes (``hidden`` entries ``"oov:<shape>"``), at reference ma
 ripple_harmonics       cogging with its 2nd and 3rd harmonics: 0.12, 0.10, 0.08 F_c
 local_drag             0.5 F_c sgn(v) over a raised-cosine stretch of 5-15 % of the travel,
                        exactly 0 outside it
-nonlinear_viscous      c sgn(v) |v|^p, p 1.8-3, 0.4 F_c at v_pk
+nonlinear_viscous      c sgn(v) |v|^p, p 3-4, 0.4 F_c at v_pk (p = 2 is a Gauss-shaped extra
+                       source with a negative Stribeck part and a large vs: not outside)
 actuator_deadzone      h(i) = sgn(i) max(|i| - i_dz, 0), phi i_dz = 0.2 F_c
 actuator_saturation    h(i) = i_s tanh(i / i_s), i_s = i_pk / 1.2
 sensor_delay           the controller and the log see x and v 2-5 ms late (>= 1 sample)
@@ -314,6 +315,7 @@ class _Hidden:
     gains: list = field(default_factory=list)         # g(v, t)        (multiplies F_p)
     actuator: Optional[object] = None                 # h(i)
     delay_samples: int = 0
+    delay_wanted: float = 0.0
     parameters: Dict[str, dict] = field(default_factory=dict)
     signatures: Dict[str, object] = field(default_factory=dict)   # f(signals) -> force
 
@@ -396,7 +398,7 @@ def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
     elif name == "inertia_mismatch":
         rel = max(0.3, 0.25 * fc / (ctx["mass"] * max(ctx["a_rms"], 1e-9)))
         rel = min(rel, 2.0) * k
-        h.mass_factor = 1.0 + rel if sign > 0 else 1.0 / (1.0 + rel)
+        h.mass_factor = 1.0 + rel if sign > 0 else 1.0 / (1.0 + min(rel, 1.0))
         dm = ctx["mass"] * (h.mass_factor - 1.0)
 
         def signature(q):
@@ -450,7 +452,7 @@ def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
         signature = _external_signature(force)
         p = {"centre": centre, "width": width, "drag": drag}
     elif name == "nonlinear_viscous":
-        power = rng.uniform(1.8, 3.0)
+        power = rng.uniform(3.0, 4.0)
         c = 0.4 * fc * k / vpk ** power
 
         def extra(v, t):
@@ -476,15 +478,14 @@ def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
         def signature(q):
             return -q["phi"] * (actuator(q["i"]) - q["i"])
     elif name == "sensor_delay":
-        wanted = max(0.002, 0.1 * fc / max(ctx["force_rate_rms"], 1e-12)) * k
-        delay = min(wanted, 0.5 / ctx["fast_loop"])
-        h.delay_samples = d = max(1, int(round(delay * ctx["rate_hz"])))
+        h.delay_wanted = max(0.002, 0.1 * fc / max(ctx["force_rate_rms"], 1e-12)) * k
 
         def signature(q):
             """What the residual sees: m a + F at the true time minus at the logged one."""
+            d = h.delay_samples
             total = q["mass"] * q["a"] + q["friction"](q["v_smooth"])
             return np.concatenate([total[d:] - total[:-d], np.zeros(d)])
-        p = {"delay_s": d / ctx["rate_hz"], "samples": d}
+        p = {}
     else:   # pragma: no cover - names are checked before
         raise ValueError(name)
     key = name if name in NAMED else "oov:" + name
@@ -756,6 +757,7 @@ def _normalize_hidden(hidden) -> Tuple[str, ...]:
     for name in hidden:
         if not isinstance(name, str):
             raise ValueError(f"hidden effects are names, got {name!r}")
+        name = str(name)
         bare = name[4:] if name.startswith("oov:") else name
         if name in NAMED:
             key = name
@@ -784,29 +786,22 @@ def _controller(rng, kind, mass, force_constant, rate, feedforward):
         c.update(kp=w * w, kd=2 * zeta * w, ki_m=mass * share * w ** 3)
         c["tf"] = max(1.0 / (w * rng.uniform(5.0, 15.0)), 2.0 / rate)
     else:
-        wv = w * rng.uniform(2.0, 4.0)
+        wv = min(w * rng.uniform(2.0, 4.0), 2 * np.pi * rate / 15.0)
         c.update(kpos=w * rng.uniform(0.5, 1.0), kv=wv, ki_m=mass * share * wv * wv,
                  velocity_bandwidth_hz=wv / (2 * np.pi))
         c["tf"] = 1.0
     return c
 
 
-def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[float] = None,
+def draw_settings(seed: int, *, rate_hz: Optional[float] = None,
                   duration_s: Optional[float] = None, noise: Optional[float] = None,
                   controller: Optional[str] = None, trajectory: Optional[str] = None,
-                  feedforward: Optional[bool] = None, magnitude: float = 1.0) -> Scenario:
-    """The scenario of ``seed`` with ``hidden`` effects (names of ``NAMED`` or
-    ``"oov:<shape>"`` of ``OUT_OF_VOCABULARY``) at ``magnitude`` times their reference size.
-
-    Everything not fixed by an argument is drawn from ``seed`` alone, so the same seed with
-    other hidden effects has the same plant, controller, trajectory and sensor noise: the
-    logs differ only by the effects. ``noise`` scales the drawn sensor noise (1: as drawn).
-    """
-    hidden = _normalize_hidden(hidden)
-    if not (isinstance(magnitude, (int, float)) and math.isfinite(magnitude) and magnitude > 0):
-        raise ValueError(f"magnitude must be > 0, got {magnitude!r}")
+                  feedforward: Optional[bool] = None) -> dict:
+    """The log settings of ``seed`` (rate_hz, duration_s, noise scale, controller,
+    trajectory, feedforward): drawn unless given (rate log-uniform in RATE_RANGE, duration
+    log-uniform in DURATION_RANGE), checked when given."""
     rng = np.random.default_rng([int(seed), 1])
-    draws = {"rate": rng.uniform(), "duration": rng.uniform(), "noise": rng.uniform(),
+    draws = {"rate": rng.uniform(), "duration": rng.uniform(),
              "controller": int(rng.integers(len(CONTROLLERS))),
              "trajectory": int(rng.integers(len(TRAJECTORIES))),
              "feedforward": bool(rng.uniform() < 0.5)}
@@ -828,6 +823,28 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     if traj_kind not in TRAJECTORIES:
         raise ValueError(f"trajectory must be one of {TRAJECTORIES}, got {trajectory!r}")
     use_ff = draws["feedforward"] if feedforward is None else bool(feedforward)
+    return {"rate_hz": rate, "duration_s": duration, "noise": noise_scale, "controller": kind,
+            "trajectory": traj_kind, "feedforward": use_ff}
+
+
+def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[float] = None,
+                  duration_s: Optional[float] = None, noise: Optional[float] = None,
+                  controller: Optional[str] = None, trajectory: Optional[str] = None,
+                  feedforward: Optional[bool] = None, magnitude: float = 1.0) -> Scenario:
+    """The scenario of ``seed`` with ``hidden`` effects (names of ``NAMED`` or
+    ``"oov:<shape>"`` of ``OUT_OF_VOCABULARY``) at ``magnitude`` times their reference size.
+
+    Everything not fixed by an argument is drawn from ``seed`` alone, so the same seed with
+    other hidden effects has the same plant, controller, trajectory and sensor noise: the
+    logs differ only by the effects. ``noise`` scales the drawn sensor noise (1: as drawn).
+    """
+    hidden = _normalize_hidden(hidden)
+    if not (isinstance(magnitude, (int, float)) and math.isfinite(magnitude) and magnitude > 0):
+        raise ValueError(f"magnitude must be > 0, got {magnitude!r}")
+    drawn = draw_settings(seed, rate_hz=rate_hz, duration_s=duration_s, noise=noise,
+                          controller=controller, trajectory=trajectory, feedforward=feedforward)
+    rate, duration, noise_scale = drawn["rate_hz"], drawn["duration_s"], drawn["noise"]
+    kind, traj_kind, use_ff = drawn["controller"], drawn["trajectory"], drawn["feedforward"]
 
     # plant
     prng = np.random.default_rng([int(seed), 2])
@@ -875,6 +892,14 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     for name in hidden:
         _add_effect(h, name[4:] if name.startswith("oov:") else name, magnitude,
                     _effect_rng(seed, name[4:] if name.startswith("oov:") else name), ctx)
+    if h.delay_wanted:
+        # at most 0.5 rad of phase at the fastest loop's crossover, which the hidden mass
+        # and force constant errors shift by their gain
+        gain = max(1.0, h.phi_factor / h.mass_factor)
+        delay = min(h.delay_wanted, 0.5 / (ctx["fast_loop"] * gain))
+        h.delay_samples = max(1, int(round(delay * rate)))
+        h.parameters["oov:sensor_delay"].update(delay_s=h.delay_samples / rate,
+                                                samples=h.delay_samples)
     law = _PlantLaw(friction, h, mass, phi, i_max)
 
     step = min(MAX_PLANT_STEP, 0.2 * law.mass / max(viscous, 1e-12))
@@ -907,6 +932,8 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
         "signature_rms": _signature_rms(h, log, friction, mass, phi),
         "force_noise": phi * sensors["sigma_i"],
         "passes": passes,
+        "tracking_rms": float(np.sqrt(np.mean((xd - xm) ** 2))),
+        "current_limit_fraction": float(np.mean(np.abs(im) >= 0.999 * i_max - sensors["q_i"])),
         "seam_jump": seam,
     })
     return Scenario(log=log, model=model, mass=mass, force_constant=phi, hidden=hidden,
