@@ -93,7 +93,8 @@ def test_conditions_are_within_ranges_and_json(seed):
 
 
 def test_long_logs_are_feasible():
-    sc = make_scenario(2, ("thermal_drift",), rate_hz=250.0, duration_s=1200.0)
+    sc = make_scenario(1, ("thermal_drift",), rate_hz=250.0, duration_s=1200.0,
+                       trajectory="sine")
     assert len(sc.log) == 1200 * 250 + 1
     assert sc.conditions["current_limit_fraction"] < 0.01
     assert sc.conditions["seam_jump"] <= scenarios.SEAM_TOLERANCE
@@ -180,12 +181,12 @@ def test_local_drag_is_zero_outside_its_stretch():
 def test_ripple_harmonics_is_no_single_sinusoid():
     sc = make_scenario(0, ("oov:ripple_harmonics",), **FIXED)
     p = sc.conditions["magnitudes"]["oov:ripple_harmonics"]
-    x = np.linspace(0.0, 10 * p["period"], 20001)
+    x = np.linspace(0.0, 10 * p["period"], 4001)
     k0 = 2 * np.pi / p["period"]
     ripple = sum(a * np.sin((j + 1) * k0 * x + ph)
                  for j, (a, ph) in enumerate(zip(p["amplitudes"], p["phases"])))
     explained = []
-    for k in np.linspace(0.2 * k0, 4 * k0, 2000):
+    for k in np.linspace(0.2 * k0, 4 * k0, 761):
         basis = np.column_stack([np.sin(k * x), np.cos(k * x)])
         coef, *_ = np.linalg.lstsq(basis, ripple, rcond=None)
         explained.append(1 - np.sum((ripple - basis @ coef) ** 2) / np.sum(ripple ** 2))
@@ -231,8 +232,8 @@ def test_null_log_agrees_with_the_users_model(seed):
     """phi i - m dv/dt - F(v) with the user's model, smoothed over 20 ms where the axis moves
     briskly, is a few per cent of the plant's Coulomb friction; a hidden load of 0.3 F_c
     in the same log is not."""
-    null = make_scenario(seed, duration_s=10.0)
-    load = make_scenario(seed, ("constant_load",), duration_s=10.0)
+    null = make_scenario(seed, duration_s=6.0)
+    load = make_scenario(seed, ("constant_load",), duration_s=6.0)
     coulomb = null.conditions["plant"]["coulomb"]
 
     def residual(sc):

@@ -656,15 +656,16 @@ def _take(state: dict, rows) -> dict:
 
 def seams(speed: np.ndarray, stretch: int) -> np.ndarray:
     """Sample indices that cut a log into stretches of about ``stretch`` samples, each cut
-    where the reference ``speed`` is largest within half a stretch of the regular grid (an
-    axis in motion forgets its past sooner than one stuck during a dwell)."""
+    where the reference ``speed`` is largest within half a stretch of the regular grid, and
+    none within a dwell (an axis in motion forgets its past; one stuck does not)."""
     n = speed.size
     cuts = [0]
     for b in range(stretch, n - stretch // 2, stretch):
         a, z = max(b - stretch // 2, cuts[-1] + stretch // 2), min(b + stretch // 2, n - 1)
         if z > a:
             c = a + int(np.argmax(speed[a:z]))
-            cuts.append(c)
+            if speed[c] > 0:
+                cuts.append(c)
     return np.array(cuts + [n])
 
 
@@ -701,7 +702,8 @@ def _stitched(loop: _Loop, cuts: np.ndarray, warmup: int, resolution: dict):
                 out[:, idx[own]] = np.stack(meas)[:, own]
         return at_lo, at_hi
 
-    start = np.maximum(lo - warmup, 0)
+    # each stretch warms up for at least ``warmup`` samples and over the whole stretch before
+    start = np.maximum(np.minimum(lo - warmup, np.concatenate([[0], lo[:-1]])), 0)
     exact = start == 0
     rows = np.arange(k)
     at_lo, at_hi = run(rows, start, loop.initial(start, exact), int(np.max(hi - start)))
