@@ -21,6 +21,7 @@ model the user holds and the nominal mass and force constant the user believes:
   ``multisine`` or ``ramps`` (constant speed with smoothed reversals).
 - **Sensors**: Gaussian noise on x, v and the logged current, encoder, velocity and ADC
   quantization. The log holds t, x, v, i (the current command after the limit) and x_d.
+  The controller acts on the noisy x and v before quantization (see the stitching below).
 
 Hidden effects are written here as force-law closures of their own (not the diagnosis' forms,
 ``fricgen.effects``); they are applied at their **reference magnitude** times ``magnitude``.
@@ -54,11 +55,22 @@ actuator_saturation    h(i) = i_s tanh(i / i_s), i_s = i_pk / 1.2
 sensor_delay           the controller and the log see x and v 2-5 ms late (>= 1 sample)
 =====================  ========================================================================
 
-The loop advances many stretches of the log at once (``_stitched``): each stretch starts
-from an approximate state some time before it and runs in lockstep with the others; the
-closed loop forgets its start, and any stretch whose state at the seam differs from its
-predecessor's (more than 1e-9) is re-run from the predecessor's exact state until all agree,
-so the log equals one serial simulation to that tolerance.
+The loop advances many stretches of the log at once (``_stitched``): the log is cut where the
+reference moves (never within a dwell) into stretches of about STRETCH_S; each stretch starts
+on the reference, warms up over at least WARMUP_S and the whole stretch before it, and runs
+in lockstep with the others through ``MotorAxis.karnopp``. A closed loop in motion forgets
+its start; a stretch whose state at its seam (x, v, friction memory, controller memory)
+differs from its predecessor's by more than SEAM_TOLERANCE of the sensor resolution it shows
+on is re-run from the predecessor's state, until every seam agrees. So a log is a serial
+simulation up to state jumps below half the sensor noise, at a fraction of its cost
+(``conditions["passes"]``, ``conditions["seam_jump"]``). Quantizing the fed-back signals
+would make the loop's state depend on rounding boundaries, and stretches would not agree.
+
+``Scenario.conditions`` (JSON) holds the settings (rate_hz, duration_s, samples, plant,
+controller, feedforward, trajectory, noise, quantization, magnitude), each hidden effect's
+parameters (``magnitudes``) and its RMS force along the log (``signature_rms``, N; compare
+with ``force_noise`` = phi sigma_i), and the loop's ``tracking_rms`` (m) and
+``current_limit_fraction``.
 """
 from __future__ import annotations
 
@@ -98,7 +110,6 @@ MAX_PLANT_STEP = 2.5e-4
 #: Largest state jump at a seam of the stitched simulation, as a fraction of the sensor
 #: resolution (noise or quantization step / sqrt(12), whichever is larger) it would show on.
 SEAM_TOLERANCE = 0.5
-QUANTIZE_FEEDBACK = 0
 #: Length of a stretch and of the warm-up before it (s); at most MAX_STRETCHES stretches.
 STRETCH_S, WARMUP_S, MAX_STRETCHES = 0.5, 1.0, 4096
 
@@ -168,7 +179,9 @@ class StretchedStribeck:
                 "exponent": list(self.exponent), "kind": list(self.kind), "B": self.viscous}
 
 
-def _draw_friction(rng, mass: float) -> StretchedStribeck:
+def _draw_friction(rng, mass: float, v_peak: float) -> StretchedStribeck:
+    """Two or three sources, F_c = 0.05-0.4 m g, fs/fc 1.2-2.5, vs 2-20 mm/s; B such that
+    B v_peak is 0.2-1.5 F_c."""
     n = int(rng.integers(2, 4))
     total = mass * 9.81 * rng.uniform(0.05, 0.4)             # F_c
     share = rng.dirichlet(np.ones(n))
@@ -178,8 +191,10 @@ def _draw_friction(rng, mass: float) -> StretchedStribeck:
     kind = tuple(str(k) for k in rng.choice(["stretched", "rational"], n))
     exponent = np.where(np.array(kind) == "stretched", rng.uniform(0.8, 2.5, n),
                         rng.uniform(1.5, 2.5, n))
-    return StretchedStribeck(tuple(fc), tuple(fs), tuple(vs), tuple(exponent), kind,
-                             viscous=0.0)
+    viscous = total / v_peak * rng.uniform(0.2, 1.5)
+    return StretchedStribeck(tuple(float(f) for f in fc), tuple(float(f) for f in fs),
+                             tuple(float(f) for f in vs), tuple(float(e) for e in exponent),
+                             kind, viscous=float(viscous))
 
 
 # ----------------------------------------------------------------------------- the user's model
@@ -512,8 +527,8 @@ def _signature_rms(h: _Hidden, log: MotionLog, friction, mass, phi) -> Dict[str,
     w = max(1, int(round(0.01 / ts)))
     v_smooth = np.convolve(log.v, np.ones(w) / w, mode="same")
     q = {"x": log.x, "v": log.v, "t": log.t, "i": log.i, "a": np.gradient(v_smooth, ts),
-         "ts": ts, "base": friction(log.v), "v_smooth": v_smooth, "friction": friction, "stribeck": friction.stribeck, "mass": mass,
-         "phi": phi}
+         "ts": ts, "base": friction(log.v), "v_smooth": v_smooth, "friction": friction,
+         "stribeck": friction.stribeck, "mass": mass, "phi": phi}
     return {key: float(np.sqrt(np.mean(np.asarray(sig(q)) ** 2)))
             for key, sig in h.signatures.items()}
 
@@ -599,9 +614,8 @@ class _Loop:
             xs, vs_ = st["hx"][:, 0], st["hv"][:, 0]
         else:
             xs, vs_ = st["x"], st["v"]
-        xn = xs + cond["sigma_x"] * z[:, 0]
-        vn = vs_ + cond["sigma_v"] * z[:, 1]
-        xm, vm = (xn, vn) if QUANTIZE_FEEDBACK == 0 else (_quantize(xn, cond["q_x"]), _quantize(vn, cond["q_v"]))
+        xm = xs + cond["sigma_x"] * z[:, 0]     # the controller sees the noisy sensors, the
+        vm = vs_ + cond["sigma_v"] * z[:, 1]    # log their quantized values
         xd, vd, ad = self.xd[idx], self.vd[idx], self.ad[idx]
         e = xd - xm
         m = c["mass"]
@@ -636,7 +650,7 @@ class _Loop:
         if self.delay:
             new["hx"] = np.concatenate([st["hx"][:, 1:], st["x"][:, None]], axis=1)
             new["hv"] = np.concatenate([st["hv"][:, 1:], st["v"][:, None]], axis=1)
-        return new, (_quantize(xn, cond["q_x"]), _quantize(vn, cond["q_v"]), im)
+        return new, (_quantize(xm, cond["q_x"]), _quantize(vm, cond["q_v"]), im)
 
 
 def _mismatch(a: dict, b: dict, scale: dict) -> np.ndarray:
@@ -852,13 +866,10 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     prng = np.random.default_rng([int(seed), 2])
     mass = _log_uniform(prng, 0.5, 20.0)
     phi = _log_uniform(prng, 5.0, 60.0)
-    friction = _draw_friction(prng, mass)
     v_peak = _log_uniform(prng, 0.05, 0.5)
     a_max = _log_uniform(prng, 1.0, 15.0)
     travel = _log_uniform(prng, 0.02, 0.3)
-    viscous = friction.coulomb / v_peak * prng.uniform(0.2, 1.5)
-    friction = StretchedStribeck(friction.fc, friction.fs, friction.vs, friction.exponent,
-                                 friction.kind, viscous)
+    friction = _draw_friction(prng, mass, v_peak)
     f_peak = mass * a_max + float(friction(v_peak)) + max(friction.fs)
     i_peak = f_peak / phi
     i_max = i_peak * prng.uniform(2.0, 3.0)
@@ -904,7 +915,7 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
                                                 samples=h.delay_samples)
     law = _PlantLaw(friction, h, mass, phi, i_max)
 
-    step = min(MAX_PLANT_STEP, 0.2 * law.mass / max(viscous, 1e-12))
+    step = min(MAX_PLANT_STEP, 0.2 * law.mass / max(friction.viscous, 1e-12))
     substeps = max(1, int(math.ceil((1.0 / rate) / step)))
     cond = dict(sensors, rate_hz=rate, substeps=substeps)
     noise_rows = np.random.default_rng([int(seed), 6]).standard_normal((n, 3))
