@@ -17,7 +17,7 @@ model the user holds and the nominal mass and force constant the user believes:
   or ``cascade`` (P position loop around a PI velocity loop), with randomized bandwidth,
   damping and integral share, with or without inertia and friction feed-forward (the user's
   model at v_d), all from the nominal m and phi.
-- **Trajectory**: ``point_to_point`` (short dwells), ``dwell`` (long dwells), ``sine``,
+- **Trajectory**: ``point_to_point`` (dwells 0.02-0.3 s), ``dwell`` (0.3-1.5 s), ``sine``,
   ``multisine`` or ``ramps`` (constant speed with smoothed reversals).
 - **Sensors**: Gaussian noise on x, v and the logged current, encoder, velocity and ADC
   quantization. The log holds t, x, v, i (the current command after the limit) and x_d.
@@ -298,7 +298,7 @@ def _moves(rng, t, travel, v_peak, a_max, dwell_range):
 def _trajectory(kind, rng, t, v_peak, a_max, travel):
     """x_d, v_d, a_d on the grid t (starting at rest at 0) and a description."""
     if kind in ("point_to_point", "dwell"):
-        dwell = (0.02, 0.3) if kind == "point_to_point" else (0.5, 3.0)
+        dwell = (0.02, 0.3) if kind == "point_to_point" else (0.3, 1.5)
         x, v, a, info = _moves(rng, t, travel, v_peak, a_max, dwell)
         return x, v, a, info
     u, du, info = _velocity_profile(kind, rng, t, v_peak, a_max)
