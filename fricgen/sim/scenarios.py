@@ -30,14 +30,17 @@ reference acceleration, v_pk its peak speed and i_pk the planned peak current:
 
 =====================  ========================================================================
 position_ripple        0.2 F_c sin(2 pi x / P + phase), P fitting 4-40 periods in the travel
+                       but no faster than 10 Hz at the RMS reference speed
 direction_asymmetry    friction in one (random) direction x (1 +- 0.25)
 constant_load          +-0.3 F_c
-inertia_mismatch       true mass = nominal (1 + 0.3) or / (1 + 0.3), at least such that
-                       |dm| a_rms = 0.25 F_c (capped at x2 / x0.5)
+inertia_mismatch       true mass = nominal (1 + r) or / (1 + r), r = 0.3 or more, such that
+                       |dm| a_rms = 0.25 F_c (capped at x3 / x0.5)
 force_constant_mismatch  true phi = nominal (1 - 0.15) or (1 + 0.15)
 extra_friction_source  a further source: fc 0.25 F_c, fs 0.5 F_c, vs within the plant's,
                        stretched exponent 1-2, viscous 0.25 F_c / v_pk
-frictional_lag         the Stribeck part follows |v| low-passed with tau 15-40 ms
+frictional_lag         the Stribeck part follows |v| low-passed with time constant tau: 1-1.5
+                       times the tau (10 ms-0.3 s) at which S(lowpass |v_d|) - S(|v_d|) has
+                       an RMS of 0.05 F_c while moving
 thermal_drift          friction x (1 +- D (1 - exp(-t / T))), T 0.5-2 log durations, friction
                        changed by 25 % at the end of the log (saturating, not linear in t)
 =====================  ========================================================================
@@ -52,7 +55,9 @@ nonlinear_viscous      c sgn(v) |v|^p, p 3-4, 0.4 F_c at v_pk (p = 2 is a Gauss-
                        source with a negative Stribeck part and a large vs: not outside)
 actuator_deadzone      h(i) = sgn(i) max(|i| - i_dz, 0), phi i_dz = 0.2 F_c
 actuator_saturation    h(i) = i_s tanh(i / i_s), i_s = i_pk / 1.2
-sensor_delay           the controller and the log see x and v 2-5 ms late (>= 1 sample)
+sensor_delay           the controller and the log see x and v late: 2 ms or more, such that
+                       delay x RMS d/dt (m a_d + F_p(v_d)) = 0.1 F_c, at most 0.5 rad at the
+                       fastest loop's crossover (>= 1 sample)
 =====================  ========================================================================
 
 The loop advances many stretches of the log at once (``_stitched``): the log is cut where the
