@@ -5,7 +5,7 @@ import pytest
 from fricgen.fit.auto import AutoELMRegressor, forward_selection, sigmoid_dictionary
 from fricgen.data import synthesize_benchmark
 from fricgen.fit import ELMRegressor, default_estimator as default_elm
-from fricgen.fit.elm import SVD, loo_residuals
+from fricgen.fit.elm import SVD, float32_error, loo_residuals, parity_limit
 from fricgen.networks.elm import hidden_matrix
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
@@ -70,12 +70,13 @@ def test_dictionary_centres_cover_the_range_and_steepness_scales():
     assert set(np.round(w[:-1], 9)) == {2.0, 4.0}                # steepness / range
 
 
-def test_auto_keeps_beta_l1_within_the_float32_bound(bench):
+def test_auto_keeps_the_float32_error_within_the_parity_bound(bench):
     est = AutoELMRegressor().fit(bench.dataset.x, bench.dataset.t)
-    assert np.abs(est.beta_).sum() <= 100.0
-    # the average is the union of the members' units: no fewer than the largest member holds,
-    # no more than all of them together, each member within its cap
-    assert est.member_sizes_.size == est.n_members
+    H = est.network_.hidden(bench.dataset.x)
+    assert float32_error(H, est.beta_) <= parity_limit(bench.dataset.t)
+    # the average is the union of the members' units: no fewer than one member holds, no more
+    # than all of them together, each member within its cap
+    assert 1 <= est.member_sizes_.size <= est.n_members
     assert np.all((est.member_sizes_ >= 1) & (est.member_sizes_ <= est.max_hidden))
     assert est.member_sizes_.max() <= est.network_.n_hidden <= est.member_sizes_.sum()
     assert np.isfinite(est.log10_cond_)
