@@ -98,13 +98,14 @@ class AutoELMRegressor(Estimator):
     def __init__(self, n_members: int = 8, n_centres: int = 16,
                  steepness: Sequence[float] = (3.0, 6.0, 12.0, 24.0, 48.0),
                  max_hidden: int = 30, max_beta_l1: Optional[float] = None,
-                 tolerance_se: float = 1.0, max_neurons: Optional[int] = None, random_state=None):
+                 tolerance_se: float = 1.0, resolution: float = 2e-4, max_neurons: Optional[int] = None, random_state=None):
         self.n_members = n_members
         self.n_centres = n_centres
         self.steepness = steepness
         self.max_hidden = max_hidden
         self.max_beta_l1 = max_beta_l1
         self.tolerance_se = tolerance_se
+        self.resolution = resolution
         self.max_neurons = max_neurons
         self.random_state = random_state   # accepted for a uniform interface; fit is deterministic
 
@@ -137,7 +138,7 @@ class AutoELMRegressor(Estimator):
             members.append((w, b, D, order, res))
         return members
 
-    def _choose(self, members, n):
+    def _choose(self, members, n, scale):
         """(k members, m units each) of the smallest candidate within tolerance of the best."""
         ids = {}   # unit (w, b) -> one id: the constant unit is shared by every member
         for w, b, _, order, _ in members:
@@ -158,7 +159,7 @@ class AutoELMRegressor(Estimator):
         cap = self.max_neurons
         allowed = [c for c in cands if cap is None or c[0] <= cap]
         best = min(allowed, key=lambda c: c[1])
-        limit = best[1] + float(self.tolerance_se) * best[2]
+        limit = best[1] + max(float(self.tolerance_se) * best[2], (self.resolution * scale) ** 2)
         chosen = min((c for c in allowed if c[1] <= limit), key=lambda c: (c[0], c[1]))
         return best, chosen
 
@@ -171,7 +172,7 @@ class AutoELMRegressor(Estimator):
             raise ValueError("x must span a range")
         start = time.perf_counter()
         members = self._members(x, t)
-        best, (_, _, _, k, m) = self._choose(members, t.size)
+        best, (_, _, _, k, m) = self._choose(members, t.size, float(np.max(np.abs(t))))
         solver = LeaveOneOut(max_beta_l1=self.max_beta_l1)
         units, Cs, conds, loo = {}, [], [], np.zeros_like(t)
         for w, b, D, order, _ in members[:k]:
