@@ -214,34 +214,49 @@ def elm_improvement(folder, seed=1):
     return errs
 
 
-def busy_loops(count):
-    """``count`` processes that each keep one core busy (``yes > /dev/null``)."""
-    return [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL) for _ in range(count)]
+def background(kind, argv, cores):
+    """Processes of my own that load the machine while train is measured: ``train`` runs the same
+    training in a loop beside it, ``busy`` one ``yes > /dev/null`` per core."""
+    if kind == "train":
+        loop = "while true; do " + " ".join(f"'{a}'" for a in argv) + " > /dev/null; done"
+        return [subprocess.Popen(["sh", "-c", loop], start_new_session=True)]
+    return [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL, start_new_session=True)
+            for _ in range(cores if kind == "busy" else 0)]
 
 
-def loaded_train(folder, n=10 ** 6, repeats=2):
-    """fricgen train on n rows: unloaded and with one busy process per core, one BLAS thread
-    (the default) and one per core (FRICGEN_BLAS_THREADS)."""
+def stop(procs):
+    for proc in procs:
+        os.killpg(proc.pid, 15)   # the group this benchmark started for it
+        proc.wait()
+
+
+def loaded_train(folder, n=10 ** 6, repeats=3):
+    """fricgen train on n rows alone, beside a second training, and beside one busy process per
+    core; on one BLAS thread (the default) and on one per core (FRICGEN_BLAS_THREADS)."""
     cores = os.cpu_count() or 1
     sweep = folder / "load_sweep.csv"
     write_sweep(sweep, n)
-    argv = [sys.executable, "-m", "fricgen", "train", str(sweep), "-o", str(folder / "load.json"),
-            "--vs-max", "0.02", "--force"]
+    train = [sys.executable, "-m", "fricgen", "train", str(sweep), "--vs-max", "0.02", "--force", "-o"]
     print(f"\n== fricgen train on {n:.0e} rows: seconds, best of {repeats}, {cores} cores ==")
+    print(f"{'BLAS threads':>12s} {'alone':>8s} {'+ training':>11s} {'+ busy/core':>12s}   loaded / alone")
     results = {}
     for threads in ("1", str(cores)):
-        for load in (0, cores):
-            os.environ["FRICGEN_BLAS_THREADS"] = threads
-            busy = busy_loops(load)
+        os.environ["FRICGEN_BLAS_THREADS"] = threads
+        for load in ("none", "train", "busy"):
+            procs = background(load, train + [str(folder / "other.json")], cores)
             try:
-                results[(threads, load)] = min(measure(argv)[0] for _ in range(repeats))
+                results[(threads, load)] = min(measure(train + [str(folder / "load.json")])[0]
+                                               for _ in range(repeats))
             finally:
-                for proc in busy:
-                    proc.kill()
-                    proc.wait()
-                del os.environ["FRICGEN_BLAS_THREADS"]
-            print(f"BLAS threads {threads}, {load} busy processes: {results[(threads, load)]:7.2f} s", flush=True)
-    print(f"loaded / unloaded, one BLAS thread: {results[('1', cores)] / results[('1', 0)]:.2f} (target <= 1.2)")
+                stop(procs)
+        del os.environ["FRICGEN_BLAS_THREADS"]
+        alone = results[(threads, "none")]
+        print(f"{threads:>12s} {alone:8.2f} {results[(threads, 'train')]:11.2f} "
+              f"{results[(threads, 'busy')]:12.2f}   {results[(threads, 'train')] / alone:.2f}, "
+              f"{results[(threads, 'busy')] / alone:.2f}", flush=True)
+    print(f"beside a second training, one BLAS thread: {results[('1', 'train')] / results[('1', 'none')]:.2f}"
+          f" x alone (target <= 1.2); beside {cores} busy processes a single-threaded job gets "
+          f"{cores}/{cores + 1} of a core, so {1 + 1 / cores:.2f} x at best")
     sweep.unlink()
     return results
 

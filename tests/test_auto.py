@@ -114,7 +114,39 @@ def test_auto_beats_every_paper_elm_on_fixed_seeds():
 @pytest.mark.parametrize("kw, message", [
     (dict(n_members=0), "n_members"), (dict(n_centres=1), "n_centres"),
     (dict(steepness=(4.0, -1.0)), "steepness"), (dict(max_beta_l1=0.0), "max_beta_l1"),
+    (dict(tolerance_se=-1.0), "tolerance_se"), (dict(resolution=float("nan")), "resolution"),
+    (dict(max_neurons=0), "max_neurons"),
 ])
 def test_bad_parameters_are_named(kw, message):
     with pytest.raises(ValueError, match=message):
         AutoELMRegressor(**kw).fit(np.linspace(0, 1, 10), np.zeros(10))
+
+
+def test_auto_takes_the_smallest_candidate_within_one_standard_error(bench):
+    d = bench.dataset
+    default = AutoELMRegressor().fit(d.x, d.t)
+    best = AutoELMRegressor(tolerance_se=0.0, resolution=0.0).fit(d.x, d.t)
+    # the best candidate by PRESS is at least as large, and the default's PRESS (of the
+    # pseudo-inverse candidates) lies within one standard error of it
+    assert best.n_hidden >= default.n_hidden
+    assert default.press_best_ == best.press_best_
+    members = default._members(d.x, d.t)
+    _, chosen = default._choose(members, d.t.size, float(np.max(np.abs(d.t))))
+    assert chosen[0] == default.n_hidden
+    assert chosen[1] <= default.press_best_ + max(default.press_se_, (default.resolution * np.max(np.abs(d.t))) ** 2)
+
+
+@pytest.mark.parametrize("cap", [1, 3, 6])
+def test_max_neurons_caps_the_model(bench, cap):
+    d = bench.dataset
+    est = AutoELMRegressor(max_neurons=cap).fit(d.x, d.t)
+    assert 1 <= est.n_hidden <= cap
+    assert np.all(np.isfinite(est.predict(d.x)))
+
+
+def test_resolution_counts_close_candidates_as_equal(bench):
+    """Candidates within ``resolution`` (RMS, of max |t|) of the best are equal: a resolution
+    of the whole force scale leaves the smallest candidate, one unit."""
+    d = bench.dataset
+    assert AutoELMRegressor(resolution=1.0).fit(d.x, d.t).n_hidden == 1
+    assert AutoELMRegressor(resolution=0.0).fit(d.x, d.t).n_hidden > 1

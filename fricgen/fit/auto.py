@@ -13,9 +13,11 @@ The hidden units are not drawn blindly (section 4) but placed where the data nee
    its first m units; an average of ELMs is one ELM (the union of the hidden units with
    beta / k), and its leave-one-out residual is the average of the members' (PRESS, closed
    form). The model is the candidate with the fewest units whose PRESS is within
-   ``tolerance_se`` standard errors of the best candidate's (the one-standard-error rule), so
-   that the size follows the accuracy the data can confirm, not the amount of data;
-   ``max_neurons`` caps the units for firmware.
+   ``tolerance_se`` standard errors of the best candidate's (the one-standard-error rule) or
+   within ``resolution`` (RMS, a fraction of the largest target) of it, whichever is larger, so
+   that the size follows the accuracy the data can confirm, not the amount of data: the
+   standard error shrinks as 1/rows, and without the resolution a million rows would buy units
+   for differences of a few thousandths of a newton. ``max_neurons`` caps the units for firmware.
 4. C of eq. (15) is then chosen per member by leave-one-out within the float32 parity bound
    (``LeaveOneOut``); the average's float32 error is at most the largest member's.
 """
@@ -83,7 +85,8 @@ class AutoELMRegressor(Estimator):
     Parameters (defaults need no tuning): ``n_members`` shifted dictionaries at most,
     ``n_centres`` centres per dictionary, ``steepness`` scales, ``max_hidden`` units per member,
     ``tolerance_se`` the standard errors of PRESS the chosen model may lie above the best,
-    ``max_neurons`` a cap on the units of the model (None: no cap), ``max_beta_l1`` a fixed
+    ``resolution`` the RMS difference (a fraction of max |t|) below which candidates count as
+    equally good whatever the standard error, ``max_neurons`` a cap on the units of the model (None: no cap), ``max_beta_l1`` a fixed
     bound on ||beta||_1 of each member (None: the float32 parity bound of ``LeaveOneOut``).
     After ``fit``: ``network_``, ``beta_``, ``C_`` (median of the members' C), ``member_C_``,
     ``member_sizes_`` (one entry per member used), ``loo_rmse_`` (leave-one-out error of the
@@ -119,8 +122,10 @@ class AutoELMRegressor(Estimator):
             positive("steepness", s)
         if self.max_beta_l1 is not None:
             positive("max_beta_l1", self.max_beta_l1)
-        if not (isinstance(self.tolerance_se, (int, float)) and 0 <= self.tolerance_se < np.inf):
-            raise ValueError(f"tolerance_se must be >= 0, got {self.tolerance_se!r}")
+        for name in ("tolerance_se", "resolution"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and 0 <= value < np.inf):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         if self.max_neurons is not None:
             integer("max_neurons", self.max_neurons)
 
