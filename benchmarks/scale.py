@@ -172,8 +172,10 @@ def sweep_dataset(folder, n, seed):
 
 def model_sizes(folder, sizes, seeds):
     """Default model per size and seed: neurons, RMSE against the true curve, host ns per call."""
-    print("\n== default model (elm_auto) against rows: medians over seeds " + ",".join(map(str, seeds)) + " ==")
-    print(f"{'rows':>10s} {'neurons':>8s} {'RMSE N':>8s} {'host ns':>8s} {'M4F instr':>10s}   per seed (neurons, RMSE N)")
+    print("\n== default model (elm_auto) against rows: medians over seeds "
+          + ",".join(map(str, seeds)) + " ==")
+    print(f"{'rows':>10s} {'neurons':>8s} {'RMSE N':>8s} {'host ns':>8s} {'M4F instr':>10s}   "
+          "per seed (neurons, RMSE N)")
     friction, rows = preset("paper3"), {}
     for n in sizes:
         per_seed = []

@@ -131,9 +131,10 @@ def test_auto_takes_the_smallest_candidate_within_one_standard_error(bench):
     assert best.n_hidden >= default.n_hidden
     assert default.press_best_ == best.press_best_
     members = default._members(d.x, d.t)
-    _, chosen = default._choose(members, d.t.size, float(np.max(np.abs(d.t))))
+    scale = float(np.max(np.abs(d.t)))
+    _, chosen = default._choose(members, d.t.size, scale)
     assert chosen[0] == default.n_hidden
-    assert chosen[1] <= default.press_best_ + max(default.press_se_, (default.resolution * np.max(np.abs(d.t))) ** 2)
+    assert chosen[1] <= default.press_best_ + max(default.press_se_, (default.resolution * scale) ** 2)
 
 
 @pytest.mark.parametrize("cap", [1, 3, 6])

@@ -86,8 +86,9 @@ class AutoELMRegressor(Estimator):
     ``n_centres`` centres per dictionary, ``steepness`` scales, ``max_hidden`` units per member,
     ``tolerance_se`` the standard errors of PRESS the chosen model may lie above the best,
     ``resolution`` the RMS difference (a fraction of max |t|) below which candidates count as
-    equally good whatever the standard error, ``max_neurons`` a cap on the units of the model (None: no cap), ``max_beta_l1`` a fixed
-    bound on ||beta||_1 of each member (None: the float32 parity bound of ``LeaveOneOut``).
+    equally good whatever the standard error, ``max_neurons`` a cap on the units of the model
+    (None: no cap), ``max_beta_l1`` a fixed bound on ||beta||_1 of each member (None: the
+    float32 parity bound of ``LeaveOneOut``).
     After ``fit``: ``network_``, ``beta_``, ``C_`` (median of the members' C), ``member_C_``,
     ``member_sizes_`` (one entry per member used), ``loo_rmse_`` (leave-one-out error of the
     average), ``log10_cond_`` (largest log10 cond(H^T H) among the members' solves),
@@ -101,7 +102,8 @@ class AutoELMRegressor(Estimator):
     def __init__(self, n_members: int = 8, n_centres: int = 16,
                  steepness: Sequence[float] = (3.0, 6.0, 12.0, 24.0, 48.0),
                  max_hidden: int = 30, max_beta_l1: Optional[float] = None,
-                 tolerance_se: float = 1.0, resolution: float = 2e-4, max_neurons: Optional[int] = None, random_state=None):
+                 tolerance_se: float = 1.0, resolution: float = 2e-4,
+                 max_neurons: Optional[int] = None, random_state=None):
         self.n_members = n_members
         self.n_centres = n_centres
         self.steepness = steepness
