@@ -220,7 +220,7 @@ def background(kind, argv, cores):
     """Processes of my own that load the machine while train is measured: ``train`` runs the same
     training in a loop beside it, ``busy`` one ``yes > /dev/null`` per core."""
     if kind == "train":
-        loop = "while true; do " + " ".join(f"'{a}'" for a in argv) + " > /dev/null; done"
+        loop = "while true; do " + " ".join(f"'{a}'" for a in argv) + " > /dev/null 2>&1; done"
         return [subprocess.Popen(["sh", "-c", loop], start_new_session=True)]
     return [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL, start_new_session=True)
             for _ in range(cores if kind == "busy" else 0)]

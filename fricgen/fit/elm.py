@@ -163,8 +163,9 @@ def float32_error(H: np.ndarray, beta: np.ndarray) -> float:
     and sqrtf are within 1 ULP), the product and the running sum add half an ULP each, and the
     errors of w, b and beta rounded to float32 are of the same order, with random signs. The
     sum of the terms' magnitudes, not |sum|, sets the error: large cancelling output weights
-    make float32 lose what float64 keeps. ``benchmarks/scale.py`` measures 0.6-0.9 of this on
-    the paper benchmark.
+    make float32 lose what float64 keeps. It is an estimate, not a worst-case bound: the float32
+    twin's error is 0.56 and 0.61 of it for the two ``--method elm`` fits of
+    ``benchmarks/scale.py --sections elm``, and up to about 1.0 of it for other seeds and C.
     """
     return EPS32 * float(np.max(np.abs(H) @ np.abs(beta), initial=0.0))
 
