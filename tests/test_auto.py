@@ -5,7 +5,7 @@ import pytest
 from fricgen.fit.auto import AutoELMRegressor, forward_selection, sigmoid_dictionary
 from fricgen.data import synthesize_benchmark
 from fricgen.fit import ELMRegressor, default_estimator as default_elm
-from fricgen.fit.elm import SVD, loo_residuals
+from fricgen.fit.elm import SVD, float32_error, loo_residuals, parity_limit
 from fricgen.networks.elm import hidden_matrix
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
@@ -70,12 +70,13 @@ def test_dictionary_centres_cover_the_range_and_steepness_scales():
     assert set(np.round(w[:-1], 9)) == {2.0, 4.0}                # steepness / range
 
 
-def test_auto_keeps_beta_l1_within_the_float32_bound(bench):
+def test_auto_keeps_the_float32_error_within_the_parity_bound(bench):
     est = AutoELMRegressor().fit(bench.dataset.x, bench.dataset.t)
-    assert np.abs(est.beta_).sum() <= 100.0
-    # the average is the union of the members' units: no fewer than the largest member holds,
-    # no more than all of them together, each member within its cap
-    assert est.member_sizes_.size == est.n_members
+    H = est.network_.hidden(bench.dataset.x)
+    assert float32_error(H, est.beta_) <= parity_limit(bench.dataset.t)
+    # the average is the union of the members' units: no fewer than one member holds, no more
+    # than all of them together, each member within its cap
+    assert 1 <= est.member_sizes_.size <= est.n_members
     assert np.all((est.member_sizes_ >= 1) & (est.member_sizes_ <= est.max_hidden))
     assert est.member_sizes_.max() <= est.network_.n_hidden <= est.member_sizes_.sum()
     assert np.isfinite(est.log10_cond_)
@@ -113,7 +114,40 @@ def test_auto_beats_every_paper_elm_on_fixed_seeds():
 @pytest.mark.parametrize("kw, message", [
     (dict(n_members=0), "n_members"), (dict(n_centres=1), "n_centres"),
     (dict(steepness=(4.0, -1.0)), "steepness"), (dict(max_beta_l1=0.0), "max_beta_l1"),
+    (dict(tolerance_se=-1.0), "tolerance_se"), (dict(resolution=float("nan")), "resolution"),
+    (dict(max_neurons=0), "max_neurons"),
 ])
 def test_bad_parameters_are_named(kw, message):
     with pytest.raises(ValueError, match=message):
         AutoELMRegressor(**kw).fit(np.linspace(0, 1, 10), np.zeros(10))
+
+
+def test_auto_takes_the_smallest_candidate_within_one_standard_error(bench):
+    d = bench.dataset
+    default = AutoELMRegressor().fit(d.x, d.t)
+    best = AutoELMRegressor(tolerance_se=0.0, resolution=0.0).fit(d.x, d.t)
+    # the best candidate by PRESS is at least as large, and the default's PRESS (of the
+    # pseudo-inverse candidates) lies within one standard error of it
+    assert best.n_hidden >= default.n_hidden
+    assert default.press_best_ == best.press_best_
+    members = default._members(d.x, d.t)
+    scale = float(np.max(np.abs(d.t)))
+    _, chosen = default._choose(members, d.t.size, scale)
+    assert chosen[0] == default.n_hidden
+    assert chosen[1] <= default.press_best_ + max(default.press_se_, (default.resolution * scale) ** 2)
+
+
+@pytest.mark.parametrize("cap", [1, 3, 6])
+def test_max_neurons_caps_the_model(bench, cap):
+    d = bench.dataset
+    est = AutoELMRegressor(max_neurons=cap).fit(d.x, d.t)
+    assert 1 <= est.n_hidden <= cap
+    assert np.all(np.isfinite(est.predict(d.x)))
+
+
+def test_resolution_counts_close_candidates_as_equal(bench):
+    """Candidates within ``resolution`` (RMS, of max |t|) of the best are equal: a resolution
+    of the whole force scale leaves the smallest candidate, one unit."""
+    d = bench.dataset
+    assert AutoELMRegressor(resolution=1.0).fit(d.x, d.t).n_hidden == 1
+    assert AutoELMRegressor(resolution=0.0).fit(d.x, d.t).n_hidden > 1

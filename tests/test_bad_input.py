@@ -79,6 +79,10 @@ ROWS = [
     ("--C without ridge", ["train", "sweep.csv", "-o", OUT, "--C", "10"], "--C sets the C of --solver ridge"),
     ("--neurons 0", ["train", "sweep.csv", "-o", OUT, "--neurons", "0"], "--neurons: must be an integer >= 1"),
     ("--neurons 5000", ["train", "sweep.csv", "-o", OUT, "--neurons", "5000"], "<= 4096"),
+    ("--max-neurons 0", ["train", "sweep.csv", "-o", OUT, "--max-neurons", "0"],
+     "--max-neurons: must be an integer >= 1"),
+    ("--max-neurons with elm", ["train", "sweep.csv", "-o", OUT, "--method", "elm", "--max-neurons", "5"],
+     "--max-neurons caps --method auto"),
     ("--w-max 2", ["train", "sweep.csv", "-o", OUT, "--w-max", "2"], "--w-max: w_max=2.0 too small"),
     ("--seed -1", ["train", "sweep.csv", "-o", OUT, "--method", "elm", "--seed", "-1"], "--seed: must be"),
     ("--vs-max nan", ["train", "sweep.csv", "-o", OUT, "--vs-max", "nan"], "--vs-max: must be"),
@@ -133,6 +137,17 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(work, tmp_path, argv, 
     assert words in proc.stderr, proc.stderr
     assert proc.stdout == ""
     assert not out.exists() and sorted(os.listdir(work)) == before
+
+
+@pytest.mark.parametrize("threads", ["0", "two", "1e3", "\uff12", ""])
+def test_bad_blas_threads_is_one_line_exit_2_and_nothing_written(work, tmp_path, threads):
+    env = dict(os.environ, FRICGEN_BLAS_THREADS=threads)
+    proc = subprocess.run([sys.executable, "-m", "fricgen", "train", str(work / "sweep.csv"), "-o",
+                           str(tmp_path / "m.json")], env=env, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith(
+        "fricgen: error: FRICGEN_BLAS_THREADS must be an integer from 1 to 1024"), proc.stderr
+    assert not (tmp_path / "m.json").exists()
 
 
 def test_eval_with_stdin_closed_is_one_line(work):

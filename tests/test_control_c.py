@@ -8,7 +8,11 @@ the current by ~1e-7 A at single samples, and the closed loop (contracting: the 
 towards x_d) keeps the position difference below phi/m * di * Ts^2 per sample, ~1e-11 m. We
 allow 1e-8 m. Against the float64 controller the difference is float32 rounding of the inputs:
 |x| <= 0.1 m is held to ~6e-9 m, which the gains turn into ~1e-5 A of current noise; the loop
-filters that to < 1e-8 m of position. We allow 1e-7 m and 1e-5 relative on rms(e1).
+filters that to < 1e-8 m of position. We allow 1e-7 m and 1e-5 relative on rms(e1). With the
+friction at v_d, the compensation switches sign where v_d crosses zero at a reversal, while the
+axis sticks and breaks away: the position then differs most just after a reversal (measured
+1.4e-7 m at t = 0.76 s for the default model of the benchmark, 3e-9 to 3e-8 m for others). We
+allow 5e-7 m then.
 """
 import json
 import shutil
@@ -89,7 +93,7 @@ def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, d
     assert c_run.finite and twin_run.finite
     assert np.max(np.abs(c_run.x - twin_run.x)) <= 1e-8
     assert np.max(np.abs(c_run.k_hat - twin_run.k_hat)) <= 1e-5
-    assert np.max(np.abs(c_run.x - py_run.x)) <= 1e-7
+    assert np.max(np.abs(c_run.x - py_run.x)) <= (1e-7 if friction_input == "v" else 5e-7)
     c_m, py_m = c_run.metrics(), py_run.metrics()
     assert c_m["rms_e1"] == pytest.approx(py_m["rms_e1"], rel=1e-5)
     assert c_m["k_hat"] == pytest.approx(py_m["k_hat"], rel=1e-4)

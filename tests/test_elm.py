@@ -2,8 +2,11 @@ import numpy as np
 import pytest
 
 from fricgen.networks.elm import ACTIVATIONS, hidden_matrix
+from fricgen.codegen.parity import parity_velocities
+from fricgen.codegen.twin import force_f32
 from fricgen.fit.elm import (ELMRegressor, EnlargedScheme, LeaveOneOut, SVD, StandardScheme,
-                             log10_cond, loo_residuals)
+                             float32_error, log10_cond, loo_residuals, parity_limit)
+from fricgen.model import FrictionModel
 
 
 def _sigmoid(z):
@@ -57,7 +60,40 @@ def test_loo_solver_minimizes_press_within_the_beta_bound(xt):
     svd = SVD.of(hidden_matrix("sigmoid", x, elm.input_weights_, elm.biases_))
     press = {C: np.mean(loo_residuals(svd, t, C) ** 2) for C in solver.C_grid
              if np.abs(svd.solve(t, C)).sum() <= 50.0}
-    assert elm.C_ == min(press, key=press.get)
+    best = min(press, key=press.get)
+    # the grid's best, or the bound's edge between it and the next (ineligible) grid value
+    assert best <= elm.C_ < best * solver.C_grid[1] / solver.C_grid[0]
+    assert np.mean(loo_residuals(svd, t, elm.C_) ** 2) <= press[best]
+
+
+@pytest.mark.parametrize("parity", [1e-5, 1e-6])
+def test_default_loo_solver_keeps_the_float32_twin_within_parity(bench, parity):
+    """The parity-derived bound (eps32, the activation's float32 error, the output scaling):
+    the float32 twin of the fitted model stays within ``parity`` of max |F| on [-2 v_sat, 2 v_sat];
+    where the bound does not bind, C is the one leave-one-out prefers."""
+    d = bench.dataset
+    est = ELMRegressor(n_hidden=40, scheme=EnlargedScheme(w_max=30.0),
+                       solver=LeaveOneOut(parity=parity), random_state=0)
+    model = FrictionModel.fit(d, est)
+    H = model.aim.hidden(d.x)
+    assert float32_error(H, est.beta_) <= parity_limit(d.t, parity)
+    v = parity_velocities(model.v_sat)
+    v = v[np.abs(v) <= 2 * model.v_sat]
+    exact = model.force(v.astype(float))
+    assert np.max(np.abs(force_f32(model, v) - exact)) <= parity * np.max(np.abs(exact))
+    svd = SVD.of(H)
+    grid = LeaveOneOut().C_grid
+    above = min(C for C in grid if C > est.C_)
+    if float32_error(H, svd.solve(d.t, above)) <= parity_limit(d.t, parity):
+        # the bound does not bind: C is the grid's unconstrained PRESS minimum
+        assert est.C_ == min(grid, key=lambda C: np.mean(loo_residuals(svd, d.t, C) ** 2))
+
+
+def test_loo_solver_parameters_are_checked():
+    with pytest.raises(ValueError, match="parity"):
+        LeaveOneOut(parity=0.0)
+    with pytest.raises(ValueError, match="max_beta_l1"):
+        LeaveOneOut(max_beta_l1=-1.0)
 
 
 def test_cond_from_singular_values_matches_numpy_when_well_conditioned():

@@ -13,7 +13,7 @@ import sys
 import warnings
 
 from .. import __version__
-from ..errors import FricgenError
+from ..errors import FricgenError, UsageError
 from .common import ArgumentParser, say
 
 #: The commands, in the order ``fricgen --help`` lists them: name -> (module, one-line help).
@@ -53,19 +53,34 @@ def build_parser(argv=None) -> ArgumentParser:
     return parser
 
 
-#: BLAS thread settings fricgen picks unless the user set them: fricgen's factorizations are
-#: small (thousands x tens), where extra BLAS threads only contend for a shared machine's cores.
-BLAS_THREADS = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: The environment variables that set the BLAS thread count when numpy loads.
+BLAS_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def pin_blas_threads(environ=os.environ) -> None:
+    """Set the BLAS thread count before numpy loads (with the command's module): one thread, as
+    fricgen's factorizations are small (thousands x tens) and extra threads only contend for a
+    shared machine's cores; ``FRICGEN_BLAS_THREADS=N`` asks for N threads instead. A variable of
+    ``BLAS_VARIABLES`` the user set is kept unless ``FRICGEN_BLAS_THREADS`` is set."""
+    wanted = environ.get("FRICGEN_BLAS_THREADS")
+    if wanted is None:
+        for key in BLAS_VARIABLES:
+            environ.setdefault(key, "1")
+        return
+    if not (wanted.isascii() and wanted.isdigit() and 1 <= int(wanted) <= 1024):
+        raise UsageError(f"FRICGEN_BLAS_THREADS must be an integer from 1 to 1024, got {wanted[:40]!r}")
+    for key in BLAS_VARIABLES:
+        environ[key] = str(int(wanted))
 
 
 def main(argv=None) -> int:
     """Run one command; any problem is one stderr line and exit code 2. Warnings of the
     numerics (a rank-deficient fit, an overflow the checks already handle) stay silent.
-    Numerics run on one BLAS thread unless the environment says otherwise (set before numpy
-    loads with the command's module)."""
-    for key, value in BLAS_THREADS.items():
-        os.environ.setdefault(key, value)
+    Numerics run on one BLAS thread unless FRICGEN_BLAS_THREADS says otherwise (set before
+    numpy loads with the command's module; in a process that imported numpy before, the
+    thread count is numpy's)."""
     try:
+        pin_blas_threads()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             args = build_parser(argv).parse_args(argv)

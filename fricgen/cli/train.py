@@ -6,6 +6,7 @@ from pathlib import Path
 from ..data import prepare, read_sweep_csv
 from .._validate import MAX_HIDDEN
 from ..data.training_set import OUTLIER_SIGMAS
+from ..codegen.cost import cortex_m4f_instructions, host_ns
 from ..errors import UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
@@ -30,7 +31,9 @@ def _estimator(args):
     if args.method == "auto":
         if given:
             raise UsageError(f"{flags} configure --method elm, not --method auto")
-        return default_estimator(args.seed)
+        return default_estimator(args.seed, max_neurons=args.max_neurons)
+    if args.max_neurons is not None:
+        raise UsageError("--max-neurons caps --method auto; --neurons sets the size of --method elm")
     for k, default in _ELM_OPTIONS.items():
         if getattr(args, k) is None:
             setattr(args, k, default)
@@ -44,6 +47,14 @@ def _estimator(args):
         raise UsageError(f"--w-max: {exc}") from None
     return ELMRegressor(n_hidden=args.neurons, activation=args.activation, scheme=scheme,
                         solver=args.solver, C=args.C, random_state=args.seed)
+
+
+def call_cost(n_hidden: int, activation: str) -> str:
+    """The report's line on the C cost per ``NAME_force`` call (``fricgen.codegen.cost``)."""
+    units = "" if activation == "sigmoid" else " (cost model measured on sigmoid units)"
+    return (f"C cost    about {cortex_m4f_instructions(n_hidden):.0f} instructions per call on "
+            f"Cortex-M4F ({cortex_m4f_instructions(n_hidden, 'fast'):.0f} with --activation-impl "
+            f"fast), {host_ns(n_hidden):.0f} ns on the reference x86-64 host{units}")
 
 
 def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
@@ -63,6 +74,7 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
         f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = {estimator.log10_cond_:.2f}",
         f"errors    E_train = {errors['e_train']:.5f} ({errors['e_train_newton']:.4f} N), "
         f"leave-one-out = {errors['e_loo']:.5f} ({errors['e_loo_newton']:.4f} N)",
+        call_cost(estimator.n_hidden, estimator.activation),
     ]
     return "\n".join(lines)
 
@@ -100,6 +112,8 @@ def register(p) -> None:
     p.add_argument("--method", choices=["auto", "elm"],
                    help="auto: units, M and C chosen by leave-one-out (default); elm: the ELM "
                    "the options below describe (default when any of them is given)")
+    p.add_argument("--max-neurons", type=number(1, MAX_HIDDEN, integer=True),
+                   help="(auto) at most this many hidden units, e.g. for a firmware budget")
     p.add_argument("--neurons", type=number(1, MAX_HIDDEN, integer=True),
                    help=f"(elm) default {_ELM_OPTIONS['neurons']}")
     p.add_argument("--activation", choices=sorted(ACTIVATIONS),

@@ -14,10 +14,10 @@ from .elm import DEFAULT_ELM, ELMRegressor
 from .oracle import OracleRegressor
 
 
-def default_estimator(random_state=0) -> AutoELMRegressor:
+def default_estimator(random_state=0, max_neurons=None) -> AutoELMRegressor:
     """The estimator ``fricgen train`` uses unless told otherwise: the automatic ELM, which
-    chooses its units, M and C by leave-one-out."""
-    return AutoELMRegressor(random_state=random_state)
+    chooses its units, M and C by leave-one-out (at most ``max_neurons`` units if given)."""
+    return AutoELMRegressor(max_neurons=max_neurons, random_state=random_state)
 
 
 __all__ = ["Estimator", "NotFittedError", "as_rng", "ELMRegressor", "AutoELMRegressor",

@@ -7,18 +7,24 @@ The hidden units are not drawn blindly (section 4) but placed where the data nee
    (``steepness``, in units of 1 / data range: transitions from the whole range down to about
    1/12 of it, the Stribeck drop near v = 0), plus one constant unit (w = b = 0).
 2. *Forward selection* (orthogonal least squares) orders the dictionary by how much each unit
-   lowers the residual; the number of units M is the prefix with the smallest closed-form
-   leave-one-out error (PRESS), and C of eq. (15) is then chosen by leave-one-out with
-   ||beta||_1 bounded (``LeaveOneOut``), so float32 firmware stays within eps32 ||beta||_1.
-3. Steps 1-2 run for ``n_members`` dictionaries whose centre grids are shifted by fractions of
-   the grid spacing; the model is the average of the members. An average of ELMs is one ELM
-   (the union of the hidden units with beta / n_members), and ||beta||_1 of the average is at
-   most the largest member's, so the float32 bound holds for the result.
+   lowers the residual, for ``n_members`` dictionaries whose centre grids are shifted by
+   fractions of the grid spacing (0, 1/2, 1/4, 3/4, ...: the first k members spread evenly).
+3. *The smallest adequate model.* A candidate is the average of the first k members, each with
+   its first m units; an average of ELMs is one ELM (the union of the hidden units with
+   beta / k), and its leave-one-out residual is the average of the members' (PRESS, closed
+   form). The model is the candidate with the fewest units whose PRESS is within
+   ``tolerance_se`` standard errors of the best candidate's (the one-standard-error rule) or
+   within ``resolution`` (RMS, a fraction of the largest target) of it, whichever is larger, so
+   that the size follows the accuracy the data can confirm, not the amount of data: the
+   standard error shrinks as 1/rows, and without the resolution a million rows would buy units
+   for differences of a few thousandths of a newton. ``max_neurons`` caps the units for firmware.
+4. C of eq. (15) is then chosen per member by leave-one-out within the float32 parity bound
+   (``LeaveOneOut``); the average's float32 error is at most the largest member's.
 """
 from __future__ import annotations
 
 import time
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
@@ -63,15 +69,31 @@ def sigmoid_dictionary(lo: float, hi: float, n_centres: int, steepness: Sequence
     return np.append(w, 0.0), np.append(b, 0.0)
 
 
+def van_der_corput(j: int) -> float:
+    """The j-th shift in [0, 1) of the base-2 van der Corput sequence: 0, 1/2, 1/4, 3/4, 1/8, ..."""
+    shift, scale = 0.0, 0.5
+    while j:
+        shift += scale * (j & 1)
+        j >>= 1
+        scale /= 2
+    return shift
+
+
 class AutoELMRegressor(Estimator):
     """Sigmoid ELM whose units, size M and C are chosen from the data by leave-one-out.
 
-    Parameters (defaults need no tuning): ``n_members`` shifted dictionaries averaged,
+    Parameters (defaults need no tuning): ``n_members`` shifted dictionaries at most,
     ``n_centres`` centres per dictionary, ``steepness`` scales, ``max_hidden`` units per member,
-    ``max_beta_l1`` the bound on ||beta||_1 of each member. After ``fit``: ``network_``,
-    ``beta_``, ``C_`` (median of the members' C), ``member_C_``, ``member_sizes_``,
-    ``loo_rmse_`` (leave-one-out error of the average for the selected units),
-    ``log10_cond_`` (largest log10 cond(H^T H) among the members' solves), ``fit_seconds_``.
+    ``tolerance_se`` the standard errors of PRESS the chosen model may lie above the best,
+    ``resolution`` the RMS difference (a fraction of max |t|) below which candidates count as
+    equally good whatever the standard error, ``max_neurons`` a cap on the units of the model
+    (None: no cap), ``max_beta_l1`` a fixed bound on ||beta||_1 of each member (None: the
+    float32 parity bound of ``LeaveOneOut``).
+    After ``fit``: ``network_``, ``beta_``, ``C_`` (median of the members' C), ``member_C_``,
+    ``member_sizes_`` (one entry per member used), ``loo_rmse_`` (leave-one-out error of the
+    average), ``log10_cond_`` (largest log10 cond(H^T H) among the members' solves),
+    ``press_best_``/``press_se_`` (the best candidate's PRESS and its standard error),
+    ``fit_seconds_``.
     """
 
     activation = "sigmoid"
@@ -79,12 +101,17 @@ class AutoELMRegressor(Estimator):
 
     def __init__(self, n_members: int = 8, n_centres: int = 16,
                  steepness: Sequence[float] = (3.0, 6.0, 12.0, 24.0, 48.0),
-                 max_hidden: int = 30, max_beta_l1: float = 100.0, random_state=None):
+                 max_hidden: int = 30, max_beta_l1: Optional[float] = None,
+                 tolerance_se: float = 1.0, resolution: float = 2e-4,
+                 max_neurons: Optional[int] = None, random_state=None):
         self.n_members = n_members
         self.n_centres = n_centres
         self.steepness = steepness
         self.max_hidden = max_hidden
         self.max_beta_l1 = max_beta_l1
+        self.tolerance_se = tolerance_se
+        self.resolution = resolution
+        self.max_neurons = max_neurons
         self.random_state = random_state   # accepted for a uniform interface; fit is deterministic
 
     def _check(self):
@@ -95,17 +122,53 @@ class AutoELMRegressor(Estimator):
             raise ValueError("steepness must hold at least one scale")
         for s in self.steepness:
             positive("steepness", s)
-        positive("max_beta_l1", self.max_beta_l1)
+        if self.max_beta_l1 is not None:
+            positive("max_beta_l1", self.max_beta_l1)
+        for name in ("tolerance_se", "resolution"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and 0 <= value < np.inf):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        if self.max_neurons is not None:
+            integer("max_neurons", self.max_neurons)
 
-    def _member(self, x, t, w, b):
-        D = hidden_matrix("sigmoid", x, w, b)
-        order = forward_selection(D, t, int(self.max_hidden))
-        press = [np.mean(loo_residuals(SVD.of(D[:, order[:m]]), t, np.inf) ** 2)
-                 for m in range(1, len(order) + 1)]
-        keep = order[:int(np.argmin(press)) + 1]
-        svd = SVD.of(D[:, keep])
-        C = LeaveOneOut(max_beta_l1=self.max_beta_l1).choose_C(svd, t)
-        return w[keep], b[keep], svd.solve(t, C), C, svd, loo_residuals(svd, t, C)
+    def _members(self, x, t):
+        """Per member: dictionary (w, b), the selection order and the leave-one-out residuals
+        (pseudo-inverse, n x len(order)) of each prefix of it."""
+        members = []
+        for j in range(int(self.n_members)):
+            w, b = sigmoid_dictionary(x.min(), x.max(), int(self.n_centres), self.steepness,
+                                      van_der_corput(j))
+            D = hidden_matrix("sigmoid", x, w, b)
+            order = forward_selection(D, t, int(self.max_hidden))
+            res = np.column_stack([loo_residuals(SVD.of(D[:, order[:m]]), t, np.inf)
+                                   for m in range(1, len(order) + 1)])
+            members.append((w, b, D, order, res))
+        return members
+
+    def _choose(self, members, n, scale):
+        """(k members, m units each) of the smallest candidate within tolerance of the best."""
+        ids = {}   # unit (w, b) -> one id: the constant unit is shared by every member
+        for w, b, _, order, _ in members:
+            for i in order:
+                ids.setdefault((w[i], b[i]), len(ids))
+        cands, total, seen = [], None, np.zeros(len(ids), dtype=bool)
+        m_max = len(members[0][3])
+        for k, (_, _, _, order, res) in enumerate(members, start=1):
+            m_max = min(m_max, len(order))
+            total = res[:, :m_max].copy() if total is None else total[:, :m_max] + res[:, :m_max]
+            sq = (total / k) ** 2
+            press, se = sq.mean(axis=0), sq.std(axis=0) / np.sqrt(n)
+            for m in range(1, m_max + 1):
+                seen[:] = False
+                for wj, bj, _, oj, _ in members[:k]:
+                    seen[[ids[(wj[i], bj[i])] for i in oj[:m]]] = True
+                cands.append((int(seen.sum()), press[m - 1], se[m - 1], k, m))
+        cap = self.max_neurons
+        allowed = [c for c in cands if cap is None or c[0] <= cap]
+        best = min(allowed, key=lambda c: c[1])
+        limit = best[1] + max(float(self.tolerance_se) * best[2], (self.resolution * scale) ** 2)
+        chosen = min((c for c in allowed if c[1] <= limit), key=lambda c: (c[0], c[1]))
+        return best, chosen
 
     def fit(self, x, t) -> "AutoELMRegressor":
         self._check()
@@ -115,26 +178,29 @@ class AutoELMRegressor(Estimator):
         if not np.ptp(x) > 0:
             raise ValueError("x must span a range")
         start = time.perf_counter()
-        K = int(self.n_members)
-        units, Cs, conds, sizes, loo = {}, [], [], [], np.zeros_like(t)
-        for j in range(K):
-            w0, b0 = sigmoid_dictionary(x.min(), x.max(), int(self.n_centres), self.steepness, j / K)
-            w, b, beta, C, svd, res = self._member(x, t, w0, b0)
-            for wk, bk, betak in zip(w, b, beta):
-                units[(wk, bk)] = units.get((wk, bk), 0.0) + betak / K
+        members = self._members(x, t)
+        best, (_, _, _, k, m) = self._choose(members, t.size, float(np.max(np.abs(t))))
+        solver = LeaveOneOut(max_beta_l1=self.max_beta_l1)
+        units, Cs, conds, loo = {}, [], [], np.zeros_like(t)
+        for w, b, D, order, _ in members[:k]:
+            keep = order[:m]
+            svd = SVD.of(D[:, keep])
+            C = solver.choose_C(svd, t)
+            for wk, bk, betak in zip(w[keep], b[keep], svd.solve(t, C)):
+                units[(wk, bk)] = units.get((wk, bk), 0.0) + betak / k
             Cs.append(C)
-            conds.append(log10_cond(svd.s, n_hidden=w.size))
-            sizes.append(w.size)
-            loo += res / K      # LOO residual of an average = average of the LOO residuals
+            conds.append(log10_cond(svd.s, n_hidden=m))
+            loo += loo_residuals(svd, t, C) / k   # LOO residual of an average = average of the LOO residuals
         keys = sorted(units)
-        w = np.array([k[0] for k in keys])
-        b = np.array([k[1] for k in keys])
-        self.beta_ = np.array([units[k] for k in keys])
+        w = np.array([key[0] for key in keys])
+        b = np.array([key[1] for key in keys])
+        self.beta_ = np.array([units[key] for key in keys])
         self.network_ = ElmNetwork("sigmoid", w, b, self.beta_)
         self.input_weights_, self.biases_ = w, b
         self.member_C_ = np.array(Cs)
         self.C_ = float(np.median(self.member_C_))
-        self.member_sizes_ = np.array(sizes)
+        self.member_sizes_ = np.full(k, m)
+        self.press_best_, self.press_se_ = float(best[1]), float(best[2])
         self.loo_rmse_ = rmse(loo, 0.0)
         self.log10_cond_ = float(max(conds))
         self.fit_seconds_ = time.perf_counter() - start

@@ -147,26 +147,83 @@ class Ridge:
         return float(self.C)
 
 
+#: Unit roundoff of float32 (2^-23): one rounding of a float32 value near 1.
+EPS32 = float(np.finfo(np.float32).eps)
+
+#: The parity of the emitted float32 C with the float64 model, as a fraction of max |F| (README,
+#: "Parity, as the tests prove it").
+PARITY = 1e-5
+
+
+def float32_error(H: np.ndarray, beta: np.ndarray) -> float:
+    """About how far float32 evaluation of eq. (7) strays from float64 at the rows of H:
+    eps32 max_i sum_k |beta_k h_k(x_i)|.
+
+    Each term beta_k h_k carries about one float32 rounding: the activation (libm's expf, sinf
+    and sqrtf are within 1 ULP), the product and the running sum add half an ULP each, and the
+    errors of w, b and beta rounded to float32 are of the same order, with random signs. The
+    sum of the terms' magnitudes, not |sum|, sets the error: large cancelling output weights
+    make float32 lose what float64 keeps. It is an estimate, not a worst-case bound: the float32
+    twin's error is 0.56 and 0.61 of it for the two ``--method elm`` fits of
+    ``benchmarks/scale.py --sections elm``, and up to about 1.0 of it for other seeds and C.
+    """
+    return EPS32 * float(np.max(np.abs(H) @ np.abs(beta), initial=0.0))
+
+
+def parity_limit(t: np.ndarray, parity: float = PARITY) -> float:
+    """The largest ``float32_error`` that keeps the emitted C within ``parity`` of max |F|.
+
+    The network's output is t = K_out (F - B v) (eq. 9), so an error e in t is e / K_out newtons,
+    and max |F| >= max |t| / K_out on [0, v_sat] (B v >= 0 there): e <= parity max |t| keeps
+    the force within parity max |F|."""
+    return parity * float(np.max(np.abs(t), initial=0.0))
+
+
 @dataclass(frozen=True)
 class LeaveOneOut:
     """Ridge with C chosen by minimal closed-form leave-one-out error (PRESS) over a log grid.
 
-    Only C whose output weights keep ||beta||_1 <= ``max_beta_l1`` are eligible: float32
-    evaluation of eq. (7) on a microcontroller loses about eps32 * ||beta||_1 (sigmoid outputs
-    are <= 1), so a bound on ||beta||_1 is a bound on the firmware's rounding error.
+    Only C that keep float32 firmware within the stated parity are eligible: by default
+    ``float32_error`` <= ``parity_limit`` (the bound derived from eps32, the activation's
+    float32 error and the output scaling); with ``max_beta_l1`` set, ||beta||_1 <= max_beta_l1
+    instead. When the best eligible C of the grid borders an ineligible one, the largest
+    eligible C between them is found by bisection (in log C) and taken if its PRESS is lower.
     """
 
     C_grid: Tuple[float, ...] = tuple(np.logspace(-2, 14, 65))
-    max_beta_l1: float = 100.0
+    max_beta_l1: Optional[float] = None
+    parity: float = PARITY
+
+    def __post_init__(self):
+        positive("parity", self.parity)
+        if self.max_beta_l1 is not None:
+            positive("max_beta_l1", self.max_beta_l1)
+
+    def _eligible(self, svd: SVD, t: np.ndarray, H: np.ndarray, limit: float, C: float) -> bool:
+        beta = svd.solve(t, C)
+        if self.max_beta_l1 is not None:
+            return bool(np.abs(beta).sum() <= self.max_beta_l1)
+        return float32_error(H, beta) <= limit
 
     def choose_C(self, svd: SVD, t: np.ndarray) -> float:
-        best_C, best_press = float(self.C_grid[0]), np.inf
-        for C in self.C_grid:
-            if np.abs(svd.solve(t, C)).sum() > self.max_beta_l1:
-                continue
-            press = np.mean(loo_residuals(svd, t, C) ** 2)
-            if press < best_press:
-                best_C, best_press = float(C), press
+        H = (svd.U * svd.s) @ svd.Vt
+        limit = parity_limit(t, self.parity)
+        grid = [float(C) for C in self.C_grid]
+        ok = [self._eligible(svd, t, H, limit, C) for C in grid]
+        press = [np.mean(loo_residuals(svd, t, C) ** 2) if good else np.inf for C, good in zip(grid, ok)]
+        i = int(np.argmin(press))
+        if not np.isfinite(press[i]):
+            return grid[0]
+        best_C, best_press = grid[i], press[i]
+        if i + 1 < len(grid) and not ok[i + 1]:
+            lo, hi = np.log(grid[i]), np.log(grid[i + 1])
+            for _ in range(12):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if self._eligible(svd, t, H, limit, np.exp(mid)) else (lo, mid)
+            edge = float(np.exp(lo))
+            edge_press = np.mean(loo_residuals(svd, t, edge) ** 2)
+            if edge_press < best_press:
+                best_C = edge
         return best_C
 
 
@@ -251,5 +308,5 @@ class ELMRegressor(Estimator):
 
 #: Defaults of an explicitly configured ELM (``fricgen train --method elm``): 40 sigmoids of
 #: enlarged variability with input weights up to 30 (steep enough for the Stribeck drop), C by
-#: leave-one-out with ||beta||_1 <= 100.
+#: leave-one-out within the float32 parity bound (``LeaveOneOut``).
 DEFAULT_ELM = dict(n_hidden=40, activation="sigmoid", scheme=EnlargedScheme(w_max=30.0), solver="loo")
