@@ -149,7 +149,9 @@ def run(args) -> int:
         training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
     if ident is not None:
         training["log"] = {"mass": args.mass, "force_constant": args.force_constant,
-                           "window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept}
+                           "window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
+                           "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
+                                       for s in (1, -1)]}
     model = FrictionModel.from_directions(*(f.curve for f in fitted.fits), name=name,
                                           training=training)
     reports = [] if ident is None else [ident.summary()]

@@ -4,7 +4,7 @@ The log holds time ``t`` (s, uniformly sampled), velocity ``v`` (m/s) or positio
 the drive force ``force`` (N) or the motor current ``i`` (A) times the force constant. Velocity
 and force are smoothed by one zero-phase Savitzky-Golay filter (cubic, centred window), which
 also gives dv/dt, so F = f - m a holds between the smoothed signals. The window is chosen from
-the data (``choose_window``). Rows where the axis really moves are kept: |v| above the velocity
+the data by generalized cross-validation (``choose_window``). Rows where the axis really moves are kept: |v| above the velocity
 noise and one direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
@@ -26,9 +26,6 @@ POLYORDER = 3
 MIN_WINDOW, WINDOW_RATIO = 7, 1.25
 #: The largest window, as a fraction of the log.
 MAX_WINDOW_FRACTION = 0.05
-#: A window is accepted while the robust spread of v - smooth(v) stays within this factor of
-#: the spread the noise alone leaves.
-DISCREPANCY = 1.1
 #: The axis moves where |v| exceeds this many standard deviations of the velocity noise.
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
@@ -51,20 +48,29 @@ def _centre_weight(window: int) -> float:
     return float(savgol_coeffs(window, POLYORDER)[window // 2])
 
 
-def choose_window(v: np.ndarray, noise: float) -> int:
-    """The largest odd window whose smoothing of v removes no more than the noise (the
-    discrepancy principle): robust_sd(v - smooth(v)) <= DISCREPANCY noise sqrt(1 - h0), h0 the
-    centre weight. Beyond it the filter starts to flatten the motion itself."""
-    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * v.size))
-    best, w = MIN_WINDOW, float(MIN_WINDOW)
-    while True:
-        window = int(w) | 1
-        if window > largest:
-            return best
-        residual = v - savgol_filter(v, window, POLYORDER)
-        if robust_sd(residual) > DISCREPANCY * noise * np.sqrt(1.0 - _centre_weight(window)):
-            return best
-        best, w = window, w * WINDOW_RATIO
+def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
+    """Generalized cross-validation of smoothing ``signal`` with ``window`` over ``rows``:
+    mean (signal - smooth(signal))^2 / (1 - h0)^2, h0 the centre weight. It estimates the error
+    of predicting a sample from its neighbours, noise and bias together."""
+    residual = (signal - savgol_filter(signal, window, POLYORDER))[rows]
+    return float(np.mean(residual ** 2)) / (1.0 - _centre_weight(window)) ** 2
+
+
+def choose_window(signals, rows: np.ndarray) -> int:
+    """The odd window that minimizes the generalized cross-validation score over ``rows``, the
+    smallest such window over the ``signals`` (velocity and force): wider would bias the one
+    with the sharper features (the Stribeck curve in the force), narrower leaves noise in both."""
+    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * rows.size))
+    windows, w = [], float(MIN_WINDOW)
+    while int(w) | 1 <= largest:
+        if not windows or int(w) | 1 != windows[-1]:
+            windows.append(int(w) | 1)
+        w *= WINDOW_RATIO
+    best = []
+    for signal in signals:
+        scores = [gcv_score(signal, window, rows) for window in windows]
+        best.append(windows[int(np.argmin(scores))])
+    return min(best)
 
 
 @dataclass(frozen=True)
@@ -122,7 +128,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
         raise DataError("column 'v' is 0 throughout: the axis never moves")
     noise = velocity_noise(v)
     if window is None:
-        window = choose_window(v, noise)
+        light = savgol_filter(v, MIN_WINDOW, POLYORDER)
+        window = choose_window((v, force), np.abs(light) > MOVING_SIGMAS * noise)
     v_s = savgol_filter(v, window, POLYORDER)
     a_s = savgol_filter(v, window, POLYORDER, deriv=1, delta=ts)
     f_s = savgol_filter(force, window, POLYORDER)

@@ -72,7 +72,9 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
         raw = raw[3:]
     if skip:
         lines = raw.split(b"\n", skip)
-        raw = lines[skip] if len(lines) > skip else b""
+        if len(lines) <= skip:
+            return None
+        raw = lines[skip]
     if not raw.isascii() or b"_" in raw:
         return None
     with open(path, encoding="utf-8-sig", newline="") as fh:
@@ -96,6 +98,9 @@ def _read_rows(path, rows, required, keep_extra, first_line=1) -> Dict[str, np.n
     if header is None:
         raise DataError(f"{path}: empty file")
     header = [h.strip().lower() for h in header]
+    if len(header) == 1 and ";" in header[0]:
+        raise DataError(f"{path}: the header {header[0][:40]!r} looks ';'-separated: fricgen reads "
+                        "','-separated CSV with '.' decimals")
     repeated = sorted({h for h in header if h and header.count(h) > 1})
     if repeated:
         raise DataError(f"{path}: column {repeated[0]!r} appears more than once in the header")

@@ -15,7 +15,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ..data import Dataset, Sweep, estimate_vs_max, prepare
+from ..data import MIN_ROWS, Dataset, Sweep, estimate_vs_max, prepare
 from ..errors import DataError
 from ..model import Direction
 from .base import as_rng
@@ -105,6 +105,9 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
     halves = (sweep.direction(1), sweep.direction(-1))
     if asymmetric is not False:
         try:
+            for half, side in zip(halves, ("v > 0", "v < 0")):
+                if len(half) < MIN_ROWS:
+                    raise DataError(f"{len(half)} rows with {side}, need at least {MIN_ROWS}")
             vs_dirs = [_vs_max(half, vs_max) for half in halves]
             for half, vs in zip(halves, vs_dirs):
                 prepare(half, vs_max=vs, max_points=CV_POINTS)
