@@ -4,8 +4,9 @@ The log holds time ``t`` (s, uniformly sampled), velocity ``v`` (m/s) or positio
 the drive force ``force`` (N) or the motor current ``i`` (A) times the force constant. Velocity
 and force are smoothed by one zero-phase Savitzky-Golay filter (cubic, centred window), which
 also gives dv/dt, so F = f - m a holds between the smoothed signals. The window is chosen from
-the data by generalized cross-validation (``choose_window``). Rows where the axis really moves are kept: |v| above the velocity
-noise and one direction of motion over the whole window (no reversal or sticking smeared in).
+the data (``choose_window``: generalized cross-validation of the force plus the derivative's
+noise). Rows where the axis really moves are kept: |v| above the velocity noise and one
+direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
 
@@ -56,21 +57,26 @@ def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
     return float(np.mean(residual ** 2)) / (1.0 - _centre_weight(window)) ** 2
 
 
-def choose_window(signals, rows: np.ndarray) -> int:
-    """The odd window that minimizes the generalized cross-validation score over ``rows``, the
-    smallest such window over the ``signals`` (velocity and force): wider would bias the one
-    with the sharper features (the Stribeck curve in the force), narrower leaves noise in both."""
+def derivative_noise(window: int, sample_time: float) -> float:
+    """The standard deviation of the Savitzky-Golay derivative of unit white noise."""
+    return float(np.linalg.norm(savgol_coeffs(window, POLYORDER, deriv=1, delta=sample_time)))
+
+
+def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
+                  sample_time: float) -> int:
+    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
+    the generalized cross-validation score of smoothing the force (its noise, and the bias where
+    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
+    velocity noise leaves in the derivative."""
     largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * rows.size))
     windows, w = [], float(MIN_WINDOW)
     while int(w) | 1 <= largest:
         if not windows or int(w) | 1 != windows[-1]:
             windows.append(int(w) | 1)
         w *= WINDOW_RATIO
-    best = []
-    for signal in signals:
-        scores = [gcv_score(signal, window, rows) for window in windows]
-        best.append(windows[int(np.argmin(scores))])
-    return min(best)
+    scores = [gcv_score(force, window, rows)
+              + (mass * v_noise * derivative_noise(window, sample_time)) ** 2 for window in windows]
+    return windows[int(np.argmin(scores))]
 
 
 @dataclass(frozen=True)
@@ -129,7 +135,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     noise = velocity_noise(v)
     if window is None:
         light = savgol_filter(v, MIN_WINDOW, POLYORDER)
-        window = choose_window((v, force), np.abs(light) > MOVING_SIGMAS * noise)
+        window = choose_window(force, np.abs(light) > MOVING_SIGMAS * noise, mass, noise, ts)
     v_s = savgol_filter(v, window, POLYORDER)
     a_s = savgol_filter(v, window, POLYORDER, deriv=1, delta=ts)
     f_s = savgol_filter(force, window, POLYORDER)
