@@ -214,10 +214,7 @@ class FrictionModel:
     @classmethod
     def fit(cls, dataset, estimator, name: str = DEFAULT_MODEL_NAME, training=None) -> "FrictionModel":
         """Fit ``estimator`` (e.g. an ELMRegressor) to the eq. (9) data and wrap it in eq. (3)."""
-        estimator.fit(dataset.x, dataset.t)
-        return cls(aim=estimator.network_, scaling=dataset.scaling, viscous=dataset.viscous,
-                   v_sat=dataset.v_sat, name=check_c_identifier(name),
-                   training=dict(training or {}))
+        return cls.from_directions(Direction.fit(dataset, estimator), name=name, training=training)
 
     def network_input(self, v) -> np.ndarray:
         """x = K_in min(|v|, v_sat): the saturated, normalized network input of eq. (3)."""
