@@ -14,7 +14,11 @@ log covers, of:
   (Butterworth filtfilt, central differences, F = f - m a), their RMS difference, and the noise
   of that difference: each fit's noise is the RMS difference between its fits of two logs that
   differ only in their sensor noise, over sqrt(2); the two add in quadrature (target:
-  difference <= 2 standard deviations).
+  difference <= 2 standard deviations);
+- the parity of the exported model's emitted C (cffi, libm and fast kernels) with its float32
+  twin and the float64 model, as for a symmetric model (bit-equal for > 99 %, within 1e-5 of
+  max |F|), and which model ``train`` picks on the ideal sweep of symmetric friction (Table 1 in
+  both directions).
 
     python benchmarks/motion_log_training.py [--seeds 2]
 """
@@ -34,12 +38,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples" / "motio
 
 from make_export import FRICTION, LOADCELL_LAG, METERS_PER_S_PER_RPM, export  # noqa: E402
 
+from fricgen import codegen  # noqa: E402
 from fricgen.cli import main  # noqa: E402
+from fricgen.codegen import parity  # noqa: E402
+from fricgen.codegen.cbuild import build_model  # noqa: E402
 from fricgen.data import Sweep, sweep_csv_text  # noqa: E402
 from fricgen.data.export import ExportLayout, merge_on_time, read_export  # noqa: E402
 from fricgen.data.table import table_csv_text  # noqa: E402
 from fricgen.model import FrictionModel  # noqa: E402
-from fricgen.sim.identification import SweepRun, simulate_sweep_run  # noqa: E402
+from fricgen.sim.identification import DirectionalFriction, SweepRun, simulate_sweep_run  # noqa: E402
 
 MASS = SweepRun().mass
 VS_MAX = 0.025          # the larger true Stribeck velocity of the two directions (both fits)
@@ -68,14 +75,14 @@ def rms_difference(a, b, grid):
     return [float(np.sqrt(np.mean((a.force(sign * grid) - b.force(sign * grid)) ** 2))) for sign in (1, -1)]
 
 
-def ideal_sweep(seed) -> Sweep:
-    """The paper's sweep protocol in each direction, of the rig's friction."""
+def ideal_sweep(seed, friction=FRICTION) -> Sweep:
+    """The paper's sweep protocol in each direction, of ``friction``."""
     rng = np.random.default_rng(seed + 1000)
     v_sat = 3 * VS_MAX
     parts = []
     for sign in (1, -1):
         v = np.concatenate([rng.uniform(0, v_sat, 200), rng.uniform(v_sat, 0.2, 100)])
-        parts.append(Sweep(sign * v, sign * (FRICTION.magnitude(v, sign) + rng.uniform(-0.5, 0.5, v.size))))
+        parts.append(Sweep(sign * v, sign * (friction.magnitude(v, sign) + rng.uniform(-0.5, 0.5, v.size))))
     return parts[0].concat(parts[1])
 
 
@@ -128,6 +135,15 @@ def run(seed: int, work: Path):
     hand = hands[0]
     (work / "ideal.csv").write_text(sweep_csv_text(ideal_sweep(seed)))
     ideal = train([str(work / "ideal.csv"), "-o", str(work / "ideal.json")])
+    symmetric = DirectionalFriction(FRICTION.positive, FRICTION.positive)
+    (work / "symmetric.csv").write_text(sweep_csv_text(ideal_sweep(seed, symmetric)))
+    rows["symmetric_picks"] = train([str(work / "symmetric.csv"), "-o", str(work / "sym.json")]).symmetric
+    rows["parity"] = {}
+    for impl in ("libm", "fast"):
+        folder = work / f"c_{impl}"
+        codegen.emit(exported, folder, "rig", activation_impl=impl)
+        lib = build_model(folder, "rig", build_dir=folder / "build")
+        rows["parity"][impl] = parity.measure(exported, lib, "rig")
     grid = speeds_covered(log_fits[0])
     rows["grid"] = (grid[0], grid[-1])
     rows["asymmetric"] = (not exported.symmetric, not ideal.symmetric)
@@ -162,6 +178,13 @@ def main_(argv=None) -> int:
                   f"the difference {n:.4f} N (log fit alone {r['log_noise'][j]:.4f} N), "
                   f"{d / n:.2f} sd [{'met' if d <= 2 * n else 'NOT met'} at 2 sd] (errors vs truth: "
                   f"log {r['log'][j]:.4f} N, by hand {r['hand'][j]:.4f} N)")
+        print(f"  symmetric friction (ideal sweep, both directions): train picks the "
+              f"{'symmetric' if r['symmetric_picks'] else 'asymmetric'} model")
+        for impl, m in r["parity"].items():
+            print(f"  C parity of the exported (asymmetric) model, {impl}: {m['n_not_bit_equal']} of "
+                  f"{m['n_velocities']} velocities not bit-equal to the float32 twin (max "
+                  f"{m['max_abs_c_vs_twin']:.3g} N), max |C - float64| / max |F| = "
+                  f"{m['max_rel_c_vs_model']:.3g}")
     return 0
 
 
