@@ -1,4 +1,9 @@
-"""FrictionModel, eq. (3), and its model.json (format version 1).
+"""FrictionModel, eq. (3), and its model.json (format versions 1 and 2).
+
+Version 1 holds a symmetric model, F(-v) = -F(v). Version 2 adds the asymmetric model: a
+second curve of eq. (3) (``negative``: its own AIM of any network kind, scaling, B and v_sat)
+for v < 0. A symmetric model is still written as version 1, so every reader of version 1 reads
+it; an asymmetric one as version 2.
 
 model.json is untrusted input: ``FrictionModel.from_dict`` validates every field before any of
 it is used, and raises ``ModelError`` with one line that names the field.
@@ -11,7 +16,7 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, Tuple, Union
+from typing import Any, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -23,7 +28,12 @@ from .errors import ModelError
 from .networks import network_from_dict
 
 FORMAT = "fricgen-model"
-FORMAT_VERSION = 1
+#: The newest format version this fricgen reads and writes (asymmetric models).
+FORMAT_VERSION = 2
+#: The format version of a symmetric model.
+SYMMETRIC_FORMAT_VERSION = 1
+#: The fields of version 2's ``negative`` object, the curve for v < 0.
+_DIRECTION_FIELDS = ("aim", "scaling", "viscous", "v_sat")
 #: Largest model.json read: MAX_HIDDEN neurons of three tables fit in well under 1 MB.
 MAX_JSON_BYTES = 16 << 20
 
@@ -91,12 +101,78 @@ class Scaling:
 
 
 @dataclass(frozen=True)
+class Direction:
+    """The curve of eq. (3) for one direction of motion, as a function of the speed |v|:
+    AIM(K_in min(|v|, v_sat)) / K_out + B |v|. ``aim`` is a network of any kind."""
+
+    aim: Any
+    scaling: Scaling
+    viscous: float
+    v_sat: float
+
+    @classmethod
+    def fit(cls, dataset, estimator) -> "Direction":
+        """Fit ``estimator`` to the eq. (9) data of one direction."""
+        estimator.fit(dataset.x, dataset.t)
+        return cls(aim=estimator.network_, scaling=dataset.scaling, viscous=dataset.viscous,
+                   v_sat=dataset.v_sat)
+
+    def network_input(self, speed) -> np.ndarray:
+        """x = K_in min(|v|, v_sat)."""
+        return self.scaling.k_in * np.minimum(np.abs(np.asarray(speed, dtype=float)), self.v_sat)
+
+    def stribeck(self, speed) -> np.ndarray:
+        """AIM(K_in min(|v|, v_sat)) / K_out: the force at |v| without B |v|."""
+        return self.aim(self.network_input(speed)) / self.scaling.k_out
+
+    def magnitude(self, speed) -> np.ndarray:
+        """|F| at the speed |v| in this direction."""
+        speed = np.abs(np.asarray(speed, dtype=float))
+        return self.stribeck(speed) + self.viscous * speed
+
+    def to_dict(self) -> dict:
+        return {"aim": self.aim.to_dict(),
+                "scaling": {"k_in": self.scaling.k_in, "k_out": self.scaling.k_out},
+                "viscous": self.viscous, "v_sat": self.v_sat}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Direction":
+        """The validated curve of an object holding aim, scaling, viscous and v_sat."""
+        network = network_from_dict(d.get("aim"))
+        scaling = d.get("scaling")
+        if not isinstance(scaling, dict):
+            raise ModelError("missing or invalid field 'scaling' (an object)")
+        k_in = json_number(scaling, "k_in", "scaling", positive=True)
+        k_out = json_number(scaling, "k_out", "scaling", positive=True)
+        viscous = json_number(d, "viscous", "model")
+        v_sat = json_number(d, "v_sat", "model", positive=True)
+        return cls(network, Scaling(k_in, k_out), viscous, v_sat)
+
+
+def _negative_from_dict(d: dict) -> Direction:
+    """Version 2's ``negative`` object, validated strictly (exactly its four fields)."""
+    negative = d.get("negative")
+    if not isinstance(negative, dict):
+        raise ModelError("missing or invalid field 'negative' (an object): an asymmetric model "
+                         "needs the curve for v < 0")
+    unknown = sorted(set(negative) - set(_DIRECTION_FIELDS))
+    if unknown:
+        raise ModelError(f"unknown field 'negative.{unknown[0]}'"[:200])
+    try:
+        return Direction.from_dict(negative)
+    except ModelError as exc:
+        raise ModelError(f"negative: {exc}") from None
+
+
+@dataclass(frozen=True)
 class FrictionModel:
     """Eq. (3): F(v) = AIM(K_in min(|v|, v_sat)) / K_out sgn(v) + B v.
 
     The network is trained on t = K_out (F - B v) (eq. 9), so its output is divided by K_out
     (the paper's eq. (3) writes the inverse scaling as K_out). Beyond v_sat = 3 vs_max the network
-    input saturates. The model is odd: F(-v) = -F(v) exactly.
+    input saturates. The model is odd: F(-v) = -F(v) exactly, unless it is asymmetric:
+    then ``negative`` (a ``Direction``) gives F for v < 0, F(v) = -negative.magnitude(|v|),
+    and aim, scaling, viscous, v_sat are the curve for v >= 0.
     """
 
     aim: Any
@@ -107,14 +183,38 @@ class FrictionModel:
     symmetric: bool = True
     effects: Tuple[dict, ...] = ()
     training: Dict[str, Any] = field(default_factory=dict)
+    negative: Optional[Direction] = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "symmetric", self.negative is None)
+
+    @property
+    def positive(self) -> Direction:
+        """The curve for v >= 0 (for every v of a symmetric model)."""
+        return Direction(self.aim, self.scaling, self.viscous, self.v_sat)
+
+    @property
+    def directions(self) -> Tuple[Direction, ...]:
+        """The curves of the model: (positive,), or (positive, negative) when asymmetric."""
+        return (self.positive,) if self.negative is None else (self.positive, self.negative)
+
+    @property
+    def format_version(self) -> int:
+        """The model.json format version that holds this model: 1 if symmetric, else 2."""
+        return SYMMETRIC_FORMAT_VERSION if self.negative is None else FORMAT_VERSION
+
+    @classmethod
+    def from_directions(cls, positive: Direction, negative: Optional[Direction] = None,
+                        name: str = DEFAULT_MODEL_NAME, training=None) -> "FrictionModel":
+        """The model of one curve (symmetric) or of one curve per direction (asymmetric)."""
+        return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
+                   v_sat=positive.v_sat, name=check_c_identifier(name),
+                   training=dict(training or {}), negative=negative)
 
     @classmethod
     def fit(cls, dataset, estimator, name: str = DEFAULT_MODEL_NAME, training=None) -> "FrictionModel":
         """Fit ``estimator`` (e.g. an ELMRegressor) to the eq. (9) data and wrap it in eq. (3)."""
-        estimator.fit(dataset.x, dataset.t)
-        return cls(aim=estimator.network_, scaling=dataset.scaling, viscous=dataset.viscous,
-                   v_sat=dataset.v_sat, name=check_c_identifier(name),
-                   training=dict(training or {}))
+        return cls.from_directions(Direction.fit(dataset, estimator), name=name, training=training)
 
     def network_input(self, v) -> np.ndarray:
         """x = K_in min(|v|, v_sat): the saturated, normalized network input of eq. (3)."""
@@ -122,28 +222,38 @@ class FrictionModel:
 
     def stribeck(self, v) -> np.ndarray:
         """The velocity-weakening part AIM(K_in min(|v|, v_sat)) / K_out of eq. (3) (no sign,
-        no B v): F(|v|) - B |v|, and F(0+) at v = 0."""
-        return self.aim(self.network_input(v)) / self.scaling.k_out
+        no B v): F(|v|) - B |v|, and F(0+) at v = 0. An asymmetric model gives that of the
+        negative curve where v < 0."""
+        positive = self.aim(self.network_input(v)) / self.scaling.k_out
+        if self.negative is None:
+            return positive
+        v = np.asarray(v, dtype=float)
+        return np.where(v < 0, self.negative.stribeck(v), positive)
 
     def force(self, v) -> np.ndarray:
-        """Friction force in newtons for any sign of v, eq. (3)."""
+        """Friction force in newtons for any sign of v, eq. (3); each direction's own curve
+        when the model is asymmetric."""
         v = np.asarray(v, dtype=float)
-        return np.sign(v) * self.stribeck(v) + self.viscous * v
+        if self.negative is None:
+            return np.sign(v) * self.stribeck(v) + self.viscous * v
+        return np.where(v < 0, -self.negative.magnitude(v), np.sign(v) * self.positive.magnitude(v))
 
     __call__ = force
 
     def to_dict(self) -> dict:
-        return {"format": FORMAT, "format_version": FORMAT_VERSION, "fricgen_version": __version__,
-                "name": self.name, "aim": self.aim.to_dict(),
-                "scaling": {"k_in": self.scaling.k_in, "k_out": self.scaling.k_out},
-                "viscous": self.viscous, "v_sat": self.v_sat, "symmetric": self.symmetric,
-                "effects": list(self.effects), "training": self.training}
+        d = {"format": FORMAT, "format_version": self.format_version,
+             "fricgen_version": __version__, "name": self.name, **self.positive.to_dict(),
+             "symmetric": self.symmetric, "effects": list(self.effects), "training": self.training}
+        if self.negative is not None:
+            d["negative"] = self.negative.to_dict()
+        return d
 
     @property
     def model_hash(self) -> str:
         """SHA-256 (first 16 hex digits) of everything that determines the force."""
         d = self.to_dict()
-        core = {k: d[k] for k in ("aim", "scaling", "viscous", "v_sat", "symmetric", "effects")}
+        core = {k: d[k] for k in ("aim", "scaling", "viscous", "v_sat", "symmetric", "effects",
+                                  "negative") if k in d}
         return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
 
     def to_json(self) -> str:
@@ -161,26 +271,31 @@ class FrictionModel:
         if d.get("format") != FORMAT:
             raise ModelError(f"format must be {FORMAT!r}, got {d.get('format')!r}"[:200])
         version = d.get("format_version")
-        if isinstance(version, bool) or version != FORMAT_VERSION:
-            raise ModelError(f"unknown format_version {d.get('format_version')!r}; "
-                             f"this fricgen reads version {FORMAT_VERSION}"[:200])
+        if isinstance(version, bool) or version not in (SYMMETRIC_FORMAT_VERSION, FORMAT_VERSION):
+            raise ModelError(f"unknown format_version {d.get('format_version')!r}; this fricgen "
+                             f"reads versions {SYMMETRIC_FORMAT_VERSION} and {FORMAT_VERSION}"[:200])
         name = check_c_identifier(d.get("name"))
-        network = network_from_dict(d.get("aim"))
-        scaling = d.get("scaling")
-        if not isinstance(scaling, dict):
-            raise ModelError("missing or invalid field 'scaling' (an object)")
-        k_in = json_number(scaling, "k_in", "scaling", positive=True)
-        k_out = json_number(scaling, "k_out", "scaling", positive=True)
-        viscous = json_number(d, "viscous", "model")
-        v_sat = json_number(d, "v_sat", "model", positive=True)
-        if d.get("symmetric", True) is not True:
-            raise ModelError("symmetric must be true: format version 1 holds symmetric models only")
+        positive = Direction.from_dict(d)
+        negative = None
+        symmetric = d.get("symmetric", True)
+        if version == SYMMETRIC_FORMAT_VERSION:
+            if symmetric is not True:
+                raise ModelError("symmetric must be true: format version 1 holds symmetric models only")
+            if "negative" in d:
+                raise ModelError("field 'negative' needs format_version 2")
+        elif symmetric is False:
+            negative = _negative_from_dict(d)
+        elif symmetric is not True:
+            raise ModelError(f"symmetric must be true or false, got {symmetric!r}"[:200])
+        elif "negative" in d:
+            raise ModelError("field 'negative' belongs to an asymmetric model (symmetric: false)")
         effects = validate_effects(d.get("effects", []))
         training = d.get("training", {})
         if not isinstance(training, dict):
             raise ModelError("training must be an object")
-        return cls(aim=network, scaling=Scaling(k_in, k_out), viscous=viscous, v_sat=v_sat,
-                   name=name, effects=tuple(effects), training=training)
+        return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
+                   v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
+                   negative=negative)
 
     @classmethod
     def load(cls, path: Union[str, Path]) -> "FrictionModel":

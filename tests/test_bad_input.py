@@ -49,6 +49,7 @@ def work(cli_inputs, tmp_path_factory):
     cells = log[50].split(",")
     cells[log[0].split(",").index("i")] = "nan"
     (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
+    _motion_log_files(d, log)
     model = json.loads((d / "model.json").read_text())
     for name, edit in (("huge_weights.json", lambda m: m["aim"]["output_weights"].__setitem__(0, 3e38)),
                        ("kind_list.json", lambda m: m["aim"].__setitem__("kind", [])),
@@ -60,7 +61,31 @@ def work(cli_inputs, tmp_path_factory):
     return d
 
 
+def _motion_log_files(d, log):
+    """The files of the motion-log and vendor-export rows: log.csv as t,v,force; as a vendor's
+    drive file (preamble, own names) and load-cell file; and an asymmetric model.json."""
+    from fricgen.model import Direction, FrictionModel
+    header = log[0].split(",")
+    cols = {h: [line.split(",")[k] for line in log[1:]] for k, h in enumerate(header)}
+    force = [repr(20 * float(i)) for i in cols["i"]]
+    (d / "log_force.csv").write_text("t,v,force\n" + "\n".join(
+        ",".join(r) for r in zip(cols["t"], cols["v"], force)) + "\n")
+    (d / "drive.csv").write_text("# drive export\n# 1 kHz\nTime,Speed\n" + "\n".join(
+        ",".join(r) for r in zip(cols["t"], cols["v"])) + "\n")
+    (d / "load.csv").write_text("Stamp,Load\n" + "\n".join(
+        ",".join(r) for r in zip(cols["t"], force)) + "\n")
+    (d / "jitter.csv").write_text("t,v,force\n" + "\n".join(
+        f"{float(t) * (1 + 0.3 * (k % 2 == 1) / (k + 1))!r},{v},{f}"
+        for k, (t, v, f) in enumerate(zip(cols["t"], cols["v"], force))) + "\n")
+    m = FrictionModel.load(d / "model.json")
+    negative = Direction(m.aim, m.scaling, 1.1 * m.viscous, m.v_sat)
+    (d / "asym.json").write_text(FrictionModel.from_directions(m.positive, negative, name="fa").to_json())
+
+
 OUT = "OUT"          # stands for a fresh output path in the rows below
+LOG = ["--mass", "4", "--force-constant", "20"]
+DRIVE = ["drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", "--mass", "4"]
+MERGE = ["--merge", "load.csv", "--merge-columns", "t=Stamp,force=Load"]
 DIAG = ["--mass", "4", "--force-constant", "20"]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)
@@ -121,6 +146,54 @@ ROWS = [
     ("demo --seeds 0", ["demo", "--seeds", "0"], "--seeds: must be an integer >= 1"),
     ("reproduce --jobs 0", ["reproduce", "--jobs", "0", "-o", OUT], "--jobs: must be"),
     ("unknown option", ["train", "sweep.csv", "--nuerons", "3"], "unrecognized arguments"),
+    ("log without --mass", ["train", "log.csv", "-o", OUT], "is a motion log (t, v or x, force or i): pass --mass"),
+    ("log of current without --force-constant", ["train", "log.csv", "--mass", "4", "-o", OUT],
+     "pass --force-constant"),
+    ("log of force with --force-constant", ["train", "log_force.csv", *LOG, "-o", OUT],
+     "--force-constant applies to a current column"),
+    ("sweep with --mass", ["train", "sweep.csv", "--mass", "4", "-o", OUT], "apply to a motion log"),
+    ("--mass 0", ["train", "log.csv", "--mass", "0", "-o", OUT], "--mass: must be a number > 0"),
+    ("--force-constant inf", ["train", "log.csv", "--mass", "4", "--force-constant", "inf", "-o", OUT],
+     "--force-constant: must be"),
+    ("log not uniformly sampled", ["train", "jitter.csv", "--mass", "4", "-o", OUT], "not uniformly sampled"),
+    ("--asymmetric on one direction", ["train", "sweep.csv", "--asymmetric", "-o", OUT],
+     "needs a sweep of each direction"),
+    ("--asymmetric and --symmetric", ["train", "sweep.csv", "--asymmetric", "--symmetric", "-o", OUT],
+     "not allowed with argument"),
+    ("asymmetric model as q15", ["emit", "asym.json", "--dtype", "q15", "-o", OUT], "emits symmetric models"),
+    ("vendor file without --skip", ["train", "drive.csv", "--columns", "t=Time,v=Speed", "--mass", "4",
+                                    "-o", OUT], "missing column 'time', 'speed'"),
+    ("--skip -1", ["train", *DRIVE, "--skip", "-1", "-o", OUT], "--skip: must be an integer >= 0"),
+    ("--skip past the end", ["train", "sweep.csv", "--skip", "100000", "-o", OUT], "fewer than the 100000"),
+    ("--columns without =", ["train", *DRIVE, "--columns", "v", "-o", OUT], "expected NAME=VALUE"),
+    ("--columns unknown quantity", ["train", *DRIVE, "--columns", "speed=Speed", "-o", OUT],
+     "'speed' is not one of t, x, v, f, force, i"),
+    ("--columns a quantity twice", ["train", *DRIVE, "--columns", "v=Time,v=Speed", "-o", OUT],
+     "v is given twice"),
+    ("--columns a column twice", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,x=time",
+                                  "-o", OUT], "'time' is mapped to more than one quantity"),
+    ("--columns a column the file lacks", ["train", "drive.csv", "--skip", "2", "--columns",
+                                           "t=Time,v=Velocity", "-o", OUT], "missing column 'velocity'"),
+    ("--columns onto an existing name", ["train", "log.csv", *LOG, "--columns", "v=x", "-o", OUT],
+     "column 'v' appears twice once the columns are named"),
+    ("--scale not a number", ["train", *DRIVE, *MERGE, "--scale", "v=rpm", "-o", OUT], "is not a number"),
+    ("--scale 0", ["train", *DRIVE, *MERGE, "--scale", "v=0", "-o", OUT], "must be finite and not 0"),
+    ("--scale inf", ["train", *DRIVE, *MERGE, "--scale", "force=inf", "-o", OUT], "must be finite and not 0"),
+    ("--scale of an unknown quantity", ["train", *DRIVE, *MERGE, "--scale", "rpm=2", "-o", OUT],
+     "--scale: 'rpm' is not one of"),
+    ("--merge-shift without --merge", ["train", *DRIVE, "--merge-shift", "0.004", "-o", OUT],
+     "need --merge FILE"),
+    ("--merge-shift nan", ["train", *DRIVE, *MERGE, "--merge-shift", "nan", "-o", OUT], "--merge-shift: must be"),
+    ("--merge without its time column", ["train", *DRIVE, "--merge", "load.csv", "-o", OUT],
+     "no time column 't' to merge on"),
+    ("--merge with no common time", ["train", *DRIVE, *MERGE, "--merge-shift", "1e5", "-o", OUT],
+     "share no time span"),
+    ("--merge of a column in both files", ["train", *DRIVE, "--merge", "log_force.csv", "-o", OUT],
+     "column 'v' is in"),
+    ("--merge-skip past the end", ["train", *DRIVE, *MERGE, "--merge-skip", "100000", "-o", OUT],
+     "fewer than the 100000"),
+    ("--merge file missing", ["train", *DRIVE, "--merge", "nothing.csv", "-o", OUT], "cannot read"),
+    ("-o is the --merge file", ["train", *DRIVE, *MERGE, "-o", "load.csv"], "load.csv"),
 ]
 
 

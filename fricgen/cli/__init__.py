@@ -20,7 +20,7 @@ from .common import ArgumentParser, say
 COMMANDS = {
     "demo": ("demo", "paper benchmark -> default model -> C -> measured parity"),
     "synth": ("synth", "write a measured-style friction sweep (CSV v,f)"),
-    "train": ("train", "fit a friction model to a sweep CSV; write model.json"),
+    "train": ("train", "fit a friction model to a sweep or motion-log CSV; write model.json"),
     "eval": ("eval", "forces (N) for velocities read from stdin, one per line"),
     "emit": ("emit", "write NAME.h, NAME.c and the C runtime into a folder"),
     "simulate": ("simulate", "closed-loop position control with friction compensation "

@@ -1,14 +1,17 @@
-"""``fricgen train``: fit a friction model to a sweep CSV and write model.json."""
+"""``fricgen train``: fit a friction model to a sweep or a motion log CSV and write model.json."""
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..data import prepare, read_sweep_csv
+from ..data.export import ExportLayout, merge_on_time, parse_assignments, parse_scales, read_export
+from ..data.inverse_dynamics import describe_missing, identify_log, is_log
+from ..data.sweep import sweep_from_columns
 from .._validate import MAX_HIDDEN
-from ..data.training_set import OUTLIER_SIGMAS
+from ..data.training_set import OUTLIER_SIGMAS, SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
-from ..errors import UsageError
+from ..errors import DataError, UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
+from ..fit.directions import CV_FOLDS, fit_directions
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
 from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
@@ -58,7 +61,7 @@ def call_cost(n_hidden: int, activation: str) -> str:
 
 
 def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
-    """The text ``fricgen train`` prints: data, model and errors."""
+    """The text ``fricgen train`` prints: data, model and errors (of one curve)."""
     s = dataset.scaling
     vs_note = " (estimated from the data; pass --vs-max to set it)" if dataset.vs_max_estimated else ""
     lines = [
@@ -79,33 +82,121 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
     return "\n".join(lines)
 
 
+def _errors(dataset, estimator) -> dict:
+    e_train = rmse(estimator.predict(dataset.x), dataset.t)
+    return {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
+            "e_loo": estimator.loo_rmse_, "e_loo_newton": estimator.loo_rmse_ / dataset.scaling.k_out}
+
+
+def read_columns(args):
+    """The input's columns by fricgen's names: the preamble skipped, vendor names mapped, units
+    scaled, and a second instrument's file merged on time (the vendor-export options)."""
+    scales = parse_scales(args.scale)
+    columns = read_export(args.sweep, ExportLayout(args.skip, parse_assignments(args.columns, "--columns")),
+                          scales)
+    if args.merge is None:
+        if args.merge_columns or args.merge_skip or args.merge_shift:
+            raise UsageError("--merge-columns, --merge-skip and --merge-shift need --merge FILE")
+        return columns
+    second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
+        args.merge_columns, "--merge-columns")), scales)
+    return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge))
+
+
+def training_data(args):
+    """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
+    columns = read_columns(args)
+    if is_log(columns):
+        if args.mass is None:
+            raise UsageError(f"{args.sweep} is a motion log (t, v or x, force or i): pass --mass (kg) "
+                             "for the inverse dynamics")
+        try:
+            ident = identify_log(columns, args.mass, args.force_constant)
+        except DataError as exc:
+            raise DataError(f"{args.sweep}: {exc}") from None
+        return ident.sweep, ident
+    if not {"v", "f"} <= set(columns):
+        raise DataError(f"{args.sweep}: {describe_missing(columns)}")
+    if args.mass is not None or args.force_constant is not None:
+        raise UsageError("--mass and --force-constant apply to a motion log; "
+                         f"{args.sweep} is a sweep (v, f)")
+    return sweep_from_columns(columns, args.sweep), None
+
+
+def stribeck_warning(ident, fits) -> str:
+    """One line when a log's slowest speed in a direction exceeds half of that direction's
+    vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data."""
+    for sign, f in zip((1, -1), fits):
+        vs_max = f.dataset.v_sat / SAT_FACTOR
+        speeds = ident.sweep.folded().v if len(fits) == 1 else ident.sweep.direction(sign).v
+        slowest = float(speeds.min())
+        if slowest > 0.5 * vs_max:
+            return (f"warning: the log's slowest speed ({slowest:.3g} m/s) is above vs_max / 2 = "
+                    f"{0.5 * vs_max:.3g} m/s; too narrow a velocity range to identify the Stribeck "
+                    "region (log slower motion)")
+    return ""
+
+
 def run(args) -> int:
-    check_destination(args.output, [args.sweep], args.force)
+    inputs = [args.sweep] + ([args.merge] if args.merge else [])
+    check_destination(args.output, inputs, args.force)
     name = check_model_name(args.name, "--name")
-    sweep = read_sweep_csv(args.sweep)
-    dataset = prepare(sweep, vs_max=args.vs_max)
+    sweep, ident = training_data(args)
     estimator = _estimator(args)
+    fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
+                            seed=args.seed)
+    first = fitted.fits[0]
     options = {"scheme": "auto"} if args.method == "auto" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
-    model = FrictionModel.fit(dataset, estimator, name=name, training={
-        "method": args.method, **options, "activation": estimator.activation,
-        "seed": args.seed, "source": Path(args.sweep).name,
-        "vs_max_estimated": dataset.vs_max_estimated})
-    model.training["n_hidden"] = estimator.n_hidden
-    model.training["C"] = estimator.C_
-    e_train = rmse(estimator.predict(dataset.x), dataset.t)
-    errors = {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
-              "e_loo": estimator.loo_rmse_, "e_loo_newton": estimator.loo_rmse_ / dataset.scaling.k_out}
-    model.training["metrics"] = errors
-    out(fit_report(model, dataset, estimator, errors))
-    write_file(args, model.to_json(), [args.sweep])
+    training = {"method": args.method, **options, "activation": first.estimator.activation,
+                "seed": args.seed, "source": Path(args.sweep).name,
+                "vs_max_estimated": first.dataset.vs_max_estimated,
+                "n_hidden": first.estimator.n_hidden, "C": first.estimator.C_,
+                "metrics": _errors(first.dataset, first.estimator)}
+    if fitted.asymmetric:
+        last = fitted.fits[1]
+        training["negative"] = {"n_hidden": last.estimator.n_hidden, "C": last.estimator.C_,
+                                "metrics": _errors(last.dataset, last.estimator)}
+    if fitted.cv_rmse is not None:
+        training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
+    if ident is not None:
+        training["log"] = {"mass": args.mass, "force_constant": args.force_constant,
+                           "window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
+                           "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
+                                       for s in (1, -1)]}
+    model = FrictionModel.from_directions(*(f.curve for f in fitted.fits), name=name,
+                                          training=training)
+    reports = [] if ident is None else [ident.summary()]
+    reports.append(_choice_line(fitted))
+    for label, f in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits):
+        text = fit_report(model, f.dataset, f.estimator, _errors(f.dataset, f.estimator))
+        reports.append(text if not label else f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
+    out("\n".join(r for r in reports if r))
+    if ident is not None:
+        warning = stribeck_warning(ident, fitted.fits)
+        if warning:
+            say(warning)
+    write_file(args, model.to_json(), inputs)
     say(f"wrote {args.output} (model {model.model_hash})")
     return 0
 
 
+def _choice_line(fitted) -> str:
+    """How the model's symmetry was chosen (nothing for a sweep of one direction)."""
+    kind = "asymmetric (one curve per direction)" if fitted.asymmetric else "symmetric"
+    if fitted.chosen_by == "one direction only":
+        return ""
+    if fitted.cv_rmse is None:
+        return f"symmetry {kind}, as asked"
+    sym, asym = fitted.cv_rmse
+    return (f"symmetry {kind} by {CV_FOLDS}-fold cross-validation: held-out RMS "
+            f"{sym:.4g} N symmetric, {asym:.4g} N asymmetric")
+
+
 def register(p) -> None:
     """The arguments of this command."""
-    p.add_argument("sweep", help="CSV with columns v (m/s) and f (N)")
+    p.add_argument("sweep", help="CSV with columns v (m/s) and f (N) (a sweep), or t (s), v (m/s) "
+                   "or x (m), and force (N) or i (A) (a motion log, with --mass)")
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
                    "(default: estimated from the data)")
@@ -124,6 +215,33 @@ def register(p) -> None:
     p.add_argument("--solver", choices=sorted(SOLVERS), help=f"(elm) default {_ELM_OPTIONS['solver']}")
     p.add_argument("--C", type=positive_float, help="regularization C of eq. (15) for --solver ridge")
     add_seed(p)
+    symmetry = p.add_mutually_exclusive_group()
+    symmetry.add_argument("--asymmetric", dest="asymmetric", action="store_const", const=True,
+                          help="one curve per direction of motion (default: chosen by cross-validation)")
+    symmetry.add_argument("--symmetric", dest="asymmetric", action="store_const", const=False,
+                          help="one curve for both directions, F(-v) = -F(v)")
+    log = p.add_argument_group("motion logs (inverse dynamics, eq. 18: F = force - m dv/dt)")
+    log.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
+                     help="moving mass of the axis, kg (needed for a log)")
+    log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
+                     help="force constant, N/A, for a log with current i instead of force")
+    export = p.add_argument_group("vendor exports")
+    export.add_argument("--skip", type=number(0, 1e6, integer=True), default=0,
+                        help="preamble lines before the header (default 0)")
+    export.add_argument("--columns", action="append", default=[], metavar="NAME=COLUMN,...",
+                        help="the file's column of each quantity (t, x, v, f, force, i), e.g. "
+                        "'t=Time [s],v=Speed [rpm]'")
+    export.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR,...",
+                        help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s); "
+                        "applies to both files")
+    export.add_argument("--merge", metavar="FILE", help="a second instrument's CSV, merged on time "
+                        "onto the slower of the two clocks (linear interpolation)")
+    export.add_argument("--merge-columns", action="append", default=[], metavar="NAME=COLUMN,...",
+                        help="--columns of the --merge file")
+    export.add_argument("--merge-skip", type=number(0, 1e6, integer=True), default=0,
+                        help="preamble lines of the --merge file")
+    export.add_argument("--merge-shift", type=number(-1e6, 1e6, unit="s"), default=0.0,
+                        help="seconds to add to the --merge file's time to reach the first file's clock")
     p.add_argument("--name", default=DEFAULT_MODEL_NAME,
                    help=f"model name, a C identifier not beginning with fric_ (default {DEFAULT_MODEL_NAME})")
     p.set_defaults(run=run)

@@ -25,7 +25,7 @@ def c_forces(lib, name: str, v) -> np.ndarray:
 
 def measure(model: FrictionModel, lib, name: str, v=None) -> dict:
     """Max |C - float32 twin| (N), and max |C - float64 model| relative to max |F|."""
-    v = parity_velocities(model.v_sat) if v is None else np.asarray(v, dtype=np.float32)
+    v = parity_velocities(max(c.v_sat for c in model.directions)) if v is None else np.asarray(v, dtype=np.float32)
     c = c_forces(lib, name, v).astype(float)
     twin = force_f32(model, v).astype(float)
     exact = model.force(v.astype(float))

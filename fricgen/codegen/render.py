@@ -24,12 +24,27 @@ FAST_RUNTIME_FILES = ("fric_fast.h", "fric_fast.c")
 CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
 
 
+def _curve_context(curve) -> dict:
+    """The tables and constants of one curve of eq. (3) (a model, or a ``Direction``)."""
+    net = curve.aim
+    if not isinstance(net, ElmNetwork):
+        raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
+    return {"n_hidden": net.n_hidden, "input_weights": c_array(net.input_weights),
+            "biases": c_array(net.biases), "output_weights": c_array(net.output_weights),
+            "k_in": c_float(curve.scaling.k_in), "inv_k_out": c_float(1.0 / curve.scaling.k_out),
+            "viscous": c_float(curve.viscous), "v_sat": c_float(curve.v_sat)}
+
+
 def template_context(model: FrictionModel, name: str) -> dict:
     """Everything the templates need, every number already a checked C literal."""
     ident = identity_context(model, name)
     net = model.aim
     if not isinstance(net, ElmNetwork):
         raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
+    negative = None if model.negative is None else _curve_context(model.negative)
+    if negative is not None and model.negative.aim.activation != net.activation:
+        raise ModelError("emit needs one activation for both directions; this model has "
+                         f"{net.activation} and {model.negative.aim.activation}")
     return {
         **ident, "n_hidden": net.n_hidden, "activation": net.activation,
         "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
@@ -39,6 +54,7 @@ def template_context(model: FrictionModel, name: str) -> dict:
         "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
         "tables_note": "",  # a comment above the tables when they are not plain w and b
         **effects_context(model),  # effects, effects_not_in_c: NAME_force_xv
+        "negative": negative,  # the curve for v < 0 of an asymmetric model
     }
 
 
@@ -55,7 +71,13 @@ FLOAT32_HEADROOM = 3.4e36
 def check_float32_range(model: FrictionModel) -> None:
     """``ModelError`` unless eq. (7) cannot overflow float32 for any input: the bound
     sum_k |beta_k| max |act| over x in [0, 1], and that bound over K_out, stay below
-    FLOAT32_HEADROOM (a table of 3e38 would give inf in C but finite forces in Python)."""
+    FLOAT32_HEADROOM (a table of 3e38 would give inf in C but finite forces in Python);
+    for each curve of an asymmetric model."""
+    for curve in model.directions:
+        _check_curve_float32_range(curve)
+
+
+def _check_curve_float32_range(model) -> None:
     net = model.aim
     z_ends = np.abs(np.stack([net.biases, net.input_weights + net.biases]))
     largest = np.sqrt(1.0 + z_ends.max(axis=0) ** 2) if net.activation == "multiquadric" else 1.0
@@ -85,6 +107,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     if dtype not in DTYPES:
         raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
     if dtype != "float":
+        if model.negative is not None:
+            raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
+                             "(emit it with --dtype float)")
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
@@ -94,11 +119,15 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     check_float32_range(model)
     runtime_files = RUNTIME_FILES
     if activation_impl == "fast":
-        check_fast_model(model)
+        for curve in model.directions:
+            check_fast_model(curve)
         w, b, _ = fast_tables(model.aim)  # t = w' x + b' = -log2(e) (w x + b), see fric_fast.h
         ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h",
                    input_weights=c_array(w), biases=c_array(b),
                    tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
+        if model.negative is not None:
+            w, b, _ = fast_tables(model.negative.aim)
+            ctx["negative"].update(input_weights=c_array(w), biases=c_array(b))
         runtime_files = FAST_RUNTIME_FILES
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}

@@ -56,11 +56,20 @@ def force_f32(model: FrictionModel, v, activation_impl: str = "libm") -> np.ndar
         raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
     v = np.asarray(v, dtype=f32)
     speed = np.abs(v)
-    v_sat = f32(model.v_sat)
-    x = f32(model.scaling.k_in) * np.where(speed < v_sat, speed, v_sat)
-    stribeck = aim_twin(model.aim, x) * f32(1.0 / model.scaling.k_out)
+    stribeck = _stribeck_f32(model, speed, aim_twin)
     signed = np.where(v > 0, stribeck, np.where(v < 0, -stribeck, f32(0.0)))
-    return signed + f32(model.viscous) * v
+    force = signed + f32(model.viscous) * v
+    if model.negative is None:
+        return force
+    negative = -_stribeck_f32(model.negative, speed, aim_twin) + f32(model.negative.viscous) * v
+    return np.where(v < 0, negative, force)
+
+
+def _stribeck_f32(curve, speed, aim_twin) -> np.ndarray:
+    """AIM(K_in min(|v|, v_sat)) / K_out of one curve (a model or a ``Direction``) in float32."""
+    v_sat = f32(curve.v_sat)
+    x = f32(curve.scaling.k_in) * np.where(speed < v_sat, speed, v_sat)
+    return aim_twin(curve.aim, x) * f32(1.0 / curve.scaling.k_out)
 
 
 def force_xv_f32(model: FrictionModel, v, x, base=None) -> np.ndarray:

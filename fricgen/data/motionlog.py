@@ -25,6 +25,21 @@ UNIFORM_TOLERANCE = 0.01
 UNITS_TOLERANCE = (0.5, 2.0)
 
 
+def uniform_sample_time(t: np.ndarray) -> float:
+    """The median sampling interval of the time column ``t``; ``DataError`` unless t increases
+    and every step lies within UNIFORM_TOLERANCE of it."""
+    dt = np.diff(t)
+    ts = float(np.median(dt)) if dt.size else 0.0
+    if not ts > 0:
+        raise DataError(f"time column must increase, median step is {ts:g} s")
+    worst = float(np.max(np.abs(dt - ts)))
+    if not worst <= UNIFORM_TOLERANCE * ts:
+        k = int(np.argmax(np.abs(dt - ts)))
+        raise DataError(f"log is not uniformly sampled: step {k} is {dt[k]:.6g} s, "
+                        f"median step is {ts:.6g} s")
+    return ts
+
+
 @dataclass(frozen=True)
 class MotionLog:
     """A uniformly sampled log of time t, position x, velocity v and motor current i."""
@@ -47,16 +62,7 @@ class MotionLog:
             object.__setattr__(self, k, a)
         if n < MIN_SAMPLES:
             raise DataError(f"log has {n} samples, need at least {MIN_SAMPLES}")
-        dt = np.diff(arrays["t"])
-        ts = float(np.median(dt))
-        if not ts > 0:
-            raise DataError(f"time column must increase, median step is {ts:g} s")
-        worst = float(np.max(np.abs(dt - ts)))
-        if worst > UNIFORM_TOLERANCE * ts:
-            k = int(np.argmax(np.abs(dt - ts)))
-            raise DataError(f"log is not uniformly sampled: step {k} is {dt[k]:.6g} s, "
-                            f"median step is {ts:.6g} s")
-        self._check_units(ts)
+        self._check_units(uniform_sample_time(arrays["t"]))
 
     def _check_units(self, ts: float) -> None:
         """x, v and t must agree: the least-squares ratio of dx/dt to v lies within

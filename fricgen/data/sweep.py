@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Union
+from typing import Dict, Union
 
 import numpy as np
 
@@ -40,13 +40,23 @@ class Sweep:
         keep = s != 0
         return Sweep(np.abs(self.v[keep]), (s * self.f)[keep])
 
+    def direction(self, sign: int) -> "Sweep":
+        """The rows moving in direction ``sign`` (+1: v > 0, -1: v < 0), folded onto v > 0:
+        (|v|, sign f), the data of one curve of an asymmetric model."""
+        keep = np.sign(self.v) == sign
+        return Sweep(np.abs(self.v[keep]), sign * self.f[keep])
+
     def concat(self, other: "Sweep") -> "Sweep":
         return Sweep(np.concatenate([self.v, other.v]), np.concatenate([self.f, other.f]))
 
 
 def read_sweep_csv(path: Union[str, Path]) -> Sweep:
     """Read a CSV with a header naming columns ``v`` and ``f`` (SI units; other columns ignored)."""
-    cols = read_table_csv(path, ("v", "f"))
+    return sweep_from_columns(read_table_csv(path, ("v", "f")), path)
+
+
+def sweep_from_columns(cols: Dict[str, np.ndarray], path: Union[str, Path]) -> Sweep:
+    """The sweep of the columns ``v`` and ``f`` read from ``path``, checked as ``read_sweep_csv``."""
     v, f = cols["v"], cols["f"]
     bad = ~(np.isfinite(v) & np.isfinite(f))
     if bad.any():

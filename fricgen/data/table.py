@@ -30,21 +30,23 @@ def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
 
 
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
-                   keep_extra: bool = False) -> Dict[str, np.ndarray]:
+                   keep_extra: bool = False, skip: int = 0) -> Dict[str, np.ndarray]:
     """Read a numeric CSV whose header names (at least) the ``required`` columns.
 
     Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
     others. Blank lines are skipped; a missing column, a repeated column name, a row of the
     wrong width or a non-numeric cell raises ``DataError`` naming the file and line. The file
     is streamed: memory holds the numbers, not the text. Finiteness and lengths are for the
-    caller to judge.
+    caller to judge. The first ``skip`` lines (an export's preamble) are passed over unread;
+    line numbers in messages count them.
     """
     try:
-        fast = _read_plain(path, required, keep_extra)
+        fast = _read_plain(path, required, keep_extra, skip)
         if fast is not None:
             return fast
         with open(path, encoding="utf-8-sig", newline="") as fh:
-            return _read_rows(path, csv.reader(fh), required, keep_extra)
+            _skip_lines(path, fh, skip)
+            return _read_rows(path, csv.reader(fh), required, keep_extra, first_line=skip + 1)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
@@ -53,7 +55,14 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
         raise DataError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
-def _read_plain(path, required, keep_extra) -> Optional[Dict[str, np.ndarray]]:
+def _skip_lines(path, fh, skip: int) -> None:
+    """Pass over the first ``skip`` lines of the open file ``fh``."""
+    for n in range(skip):
+        if not fh.readline():
+            raise DataError(f"{path}: has {n} lines, fewer than the {skip} to skip before the header")
+
+
+def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.ndarray]]:
     """The fast path for a plain numeric CSV (numpy's C parser); None when the file needs the
     careful reader, which then names the exact problem (numpy's parser also takes '_'
     separators and digits of other scripts, which fricgen refuses)."""
@@ -61,9 +70,16 @@ def _read_plain(path, required, keep_extra) -> Optional[Dict[str, np.ndarray]]:
         raw = fh.read()
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
+    if skip:
+        lines = raw.split(b"\n", skip)
+        if len(lines) <= skip:
+            return None
+        raw = lines[skip]
     if not raw.isascii() or b"_" in raw:
         return None
     with open(path, encoding="utf-8-sig", newline="") as fh:
+        for _ in range(skip):
+            fh.readline()
         header = [h.strip().lower() for h in fh.readline().split(",")]
         if len(set(header)) != len(header) or not set(required) <= set(header):
             return None
@@ -77,11 +93,14 @@ def _read_plain(path, required, keep_extra) -> Optional[Dict[str, np.ndarray]]:
     return {h: table[:, k].copy() for k, h in enumerate(header) if keep_extra or h in required}
 
 
-def _read_rows(path, rows, required, keep_extra) -> Dict[str, np.ndarray]:
+def _read_rows(path, rows, required, keep_extra, first_line=1) -> Dict[str, np.ndarray]:
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
     header = [h.strip().lower() for h in header]
+    if len(header) == 1 and ";" in header[0]:
+        raise DataError(f"{path}: the header {header[0][:40]!r} looks ';'-separated: fricgen reads "
+                        "','-separated CSV with '.' decimals")
     repeated = sorted({h for h in header if h and header.count(h) > 1})
     if repeated:
         raise DataError(f"{path}: column {repeated[0]!r} appears more than once in the header")
@@ -93,7 +112,7 @@ def _read_rows(path, rows, required, keep_extra) -> Dict[str, np.ndarray]:
                         f"(header is {','.join(header)[:80]}){hint}")
     wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
     values = array("d")
-    for n, row in enumerate(rows, start=2):
+    for n, row in enumerate(rows, start=first_line + 1):
         if not any(c.strip() for c in row):
             continue
         if len(row) != len(header):

@@ -140,13 +140,14 @@ class Dataset:
 
 
 def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float] = None,
-            viscous: Optional[float] = None) -> Dataset:
+            viscous: Optional[float] = None, max_points: int = MAX_TRAINING_POINTS) -> Dataset:
     """Turn a sweep into the eq. (9) training set of section 2.
 
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
     regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with
     the two added points (0, mean force of the four slowest rows) and (v_sat, f_sat), where f_sat
     defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t).
+    Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``).
     """
     if vs_max is not None and not (np.isfinite(vs_max) and vs_max > 0):
         raise DataError(f"vs_max must be > 0, got {vs_max}")
@@ -177,7 +178,7 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
         f_sat = f0 + viscous * v_sat
     slowest = np.argsort(low.v)[:4]
     n_rows = len(low)
-    low = bin_equal_counts(low, MAX_TRAINING_POINTS)
+    low = bin_equal_counts(low, max_points)
     v = np.concatenate([[0.0], low.v, [v_sat]])
     f = np.concatenate([[low.f[slowest].mean() if n_rows == len(low) else low.f[0]], low.f, [f_sat]])
     k_in = 1.0 / v_sat

@@ -1,0 +1,123 @@
+"""Vendor exports: a preamble to skip, vendor column names, other units, two instruments' files.
+
+An ``ExportLayout`` says how to read one file: the lines before its header, and which of its
+columns hold fricgen's quantities (``t`` s, ``x`` m, ``v`` m/s, ``f`` or ``force`` N, ``i`` A).
+``read_export`` reads the file with the one CSV reader (``table.read_table_csv``), names the
+columns, and multiplies each by its scale factor; ``merge_on_time`` joins a second instrument's
+file whose clock runs ``shift`` seconds behind, on the slower of the two clocks.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, Mapping, Sequence, Tuple, Union
+
+import numpy as np
+
+from ..errors import DataError, UsageError
+from .table import read_table_csv
+
+#: The quantities a column may be mapped to, with their SI units.
+QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A"}
+
+
+def parse_assignments(items: Sequence[str], option: str) -> Dict[str, str]:
+    """``["a=b,c=d", "e=f"]`` as {a: b, c: d, e: f}: the value of an option given once or more,
+    each a comma-separated list of NAME=VALUE (``UsageError`` naming ``option``)."""
+    out: Dict[str, str] = {}
+    for item in items:
+        for part in item.split(","):
+            name, sep, value = part.partition("=")
+            name, value = name.strip().lower(), value.strip()
+            if not sep or not name or not value:
+                raise UsageError(f"{option}: expected NAME=VALUE, got {part.strip()[:60]!r}")
+            if name not in QUANTITIES:
+                raise UsageError(f"{option}: {name[:40]!r} is not one of "
+                                 f"{', '.join(QUANTITIES)}")
+            if name in out:
+                raise UsageError(f"{option}: {name} is given twice")
+            out[name] = value
+    return out
+
+
+def parse_scales(items: Sequence[str], option: str = "--scale") -> Dict[str, float]:
+    """The factors of ``--scale v=0.000333333,t=1e-3``: finite numbers other than 0."""
+    scales = {}
+    for name, text in parse_assignments(items, option).items():
+        try:
+            if not text.isascii() or "_" in text:
+                raise ValueError(text)
+            factor = float(text)
+        except ValueError:
+            raise UsageError(f"{option}: {name}={text[:40]!r} is not a number") from None
+        if not (math.isfinite(factor) and factor != 0):
+            raise UsageError(f"{option}: the factor of {name} must be finite and not 0, got {text[:40]}")
+        scales[name] = factor
+    return scales
+
+
+@dataclass(frozen=True)
+class ExportLayout:
+    """How to read one exported file: ``skip`` preamble lines, then a header whose columns
+    ``columns`` maps from fricgen's names to the file's (unmapped columns keep their own name)."""
+
+    skip: int = 0
+    columns: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self):
+        vendor = [name.strip().lower() for name in self.columns.values()]
+        repeated = sorted({n for n in vendor if vendor.count(n) > 1})
+        if repeated:
+            raise UsageError(f"column {repeated[0]!r} is mapped to more than one quantity")
+
+
+def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
+                scales: Mapping[str, float] = {}) -> Dict[str, np.ndarray]:
+    """The columns of ``path`` by fricgen's names, scaled to SI by ``scales`` (factor per name;
+    a name the file lacks is left for the caller)."""
+    rename = {vendor.strip().lower(): name for name, vendor in layout.columns.items()}
+    raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip)
+    columns = {}
+    for header, values in raw.items():
+        name = rename.get(header, header)
+        if name in columns:
+            raise DataError(f"{path}: column {name!r} appears twice once the columns are named "
+                            f"({header!r} is mapped to it)")
+        columns[name] = values
+    for name, factor in scales.items():
+        if name in columns:
+            columns[name] = columns[name] * factor
+    return columns
+
+
+def _increasing_time(columns: Dict[str, np.ndarray], path) -> np.ndarray:
+    t = columns.get("t")
+    if t is None:
+        raise DataError(f"{path}: no time column 't' to merge on (map one with the columns option)")
+    if t.size < 2 or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+        raise DataError(f"{path}: the time column must be finite and increase to merge on it")
+    return t
+
+
+def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], shift: float = 0.0,
+                  names: Tuple[str, str] = ("first file", "second file")) -> Dict[str, np.ndarray]:
+    """The columns of both files on the slower clock (the larger median step), over the time
+    both cover: the other file's columns linearly interpolated there. The second file's sample
+    at t2 happened at t2 + ``shift`` on the first file's clock. A column other than t in both
+    files is refused."""
+    t1 = _increasing_time(first, names[0])
+    t2 = _increasing_time(second, names[1]) + shift
+    both = sorted((set(first) & set(second)) - {"t"})
+    if both:
+        raise DataError(f"column {both[0]!r} is in {names[0]} and in {names[1]}; keep one of them")
+    slow_first = np.median(np.diff(t1)) >= np.median(np.diff(t2))
+    (ts, slow), (tf, fast) = ((t1, first), (t2, second)) if slow_first else ((t2, second), (t1, first))
+    inside = (ts >= max(t1[0], t2[0])) & (ts <= min(t1[-1], t2[-1]))
+    if inside.sum() < 2:
+        raise DataError(f"{names[0]} and {names[1]} share no time span (after the shift of "
+                        f"{shift:g} s)")
+    merged = {"t": ts[inside]}
+    merged.update({k: a[inside] for k, a in slow.items() if k != "t"})
+    merged.update({k: np.interp(merged["t"], tf, a) for k, a in fast.items() if k != "t"})
+    return merged

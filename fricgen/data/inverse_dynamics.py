@@ -1,0 +1,191 @@
+"""Friction samples from a motion log by inverse dynamics of eq. (18): F(v) = f - m dv/dt.
+
+The log holds time ``t`` (s, uniformly sampled), velocity ``v`` (m/s) or position ``x`` (m), and
+the drive force ``force`` (N) or the motor current ``i`` (A) times the force constant. Velocity
+and force are smoothed by one zero-phase Savitzky-Golay filter (cubic, centred window), which
+also gives dv/dt, so F = f - m a holds between the smoothed signals. The window is chosen from
+the data (``choose_window``: generalized cross-validation of the force plus the derivative's
+noise). Rows where the axis really moves are kept: |v| above the velocity noise and one
+direction of motion over the whole window (no reversal or sticking smeared in).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+from scipy.ndimage import maximum_filter1d, minimum_filter1d
+from scipy.signal import savgol_coeffs, savgol_filter
+
+from ..errors import DataError
+from .motionlog import MIN_SAMPLES, uniform_sample_time
+from .sweep import MIN_ROWS, Sweep
+
+#: Degree of the Savitzky-Golay polynomial (cubic: its derivative equals the quadratic's).
+POLYORDER = 3
+#: Smallest window (samples) and the ratio of consecutive windows tried.
+MIN_WINDOW, WINDOW_RATIO = 7, 1.25
+#: The largest window, as a fraction of the log.
+MAX_WINDOW_FRACTION = 0.05
+#: The axis moves where |v| exceeds this many standard deviations of the velocity noise.
+MOVING_SIGMAS = 5.0
+#: ... and this fraction of the largest speed (noise-free logs).
+MOVING_FRACTION = 1e-3
+
+
+def robust_sd(values: np.ndarray) -> float:
+    """1.4826 times the median absolute deviation: the standard deviation of Gaussian noise."""
+    return float(1.4826 * np.median(np.abs(values - np.median(values))))
+
+
+def velocity_noise(v: np.ndarray) -> float:
+    """The standard deviation of white noise on v, from its second differences (variance
+    6 sigma^2; a smooth signal barely contributes at the sampling rate)."""
+    return robust_sd(np.diff(v, 2)) / np.sqrt(6.0)
+
+
+def _centre_weight(window: int) -> float:
+    """The weight of the centre sample in the smoothed value: the variance ratio of the filter."""
+    return float(savgol_coeffs(window, POLYORDER)[window // 2])
+
+
+def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
+    """Generalized cross-validation of smoothing ``signal`` with ``window`` over ``rows``:
+    mean (signal - smooth(signal))^2 / (1 - h0)^2, h0 the centre weight. It estimates the error
+    of predicting a sample from its neighbours, noise and bias together."""
+    residual = (signal - savgol_filter(signal, window, POLYORDER))[rows]
+    return float(np.mean(residual ** 2)) / (1.0 - _centre_weight(window)) ** 2
+
+
+def derivative_noise(window: int, sample_time: float) -> float:
+    """The standard deviation of the Savitzky-Golay derivative of unit white noise."""
+    return float(np.linalg.norm(savgol_coeffs(window, POLYORDER, deriv=1, delta=sample_time)))
+
+
+def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
+                  sample_time: float) -> int:
+    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
+    the generalized cross-validation score of smoothing the force (its noise, and the bias where
+    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
+    velocity noise leaves in the derivative."""
+    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * rows.size))
+    windows, w = [], float(MIN_WINDOW)
+    while int(w) | 1 <= largest:
+        if not windows or int(w) | 1 != windows[-1]:
+            windows.append(int(w) | 1)
+        w *= WINDOW_RATIO
+    scores = [gcv_score(force, window, rows)
+              + (mass * v_noise * derivative_noise(window, sample_time)) ** 2 for window in windows]
+    return windows[int(np.argmin(scores))]
+
+
+@dataclass(frozen=True)
+class Identification:
+    """Friction samples of a log and how they were obtained."""
+
+    sweep: Sweep            # (v, F) at the rows kept
+    n_rows: int             # rows of the log
+    window: int             # Savitzky-Golay window, samples
+    sample_time: float      # s
+    velocity_noise: float   # m/s, standard deviation
+    independent: float      # rows kept times the filter's variance ratio
+
+    @property
+    def n_kept(self) -> int:
+        return len(self.sweep)
+
+    @property
+    def velocity_range(self) -> Tuple[float, float]:
+        return float(self.sweep.v.min()), float(self.sweep.v.max())
+
+    def summary(self) -> str:
+        """The lines ``fricgen train`` prints about the log."""
+        lo, hi = self.velocity_range
+        moving = np.abs(self.sweep.v)
+        return "\n".join([
+            f"log       {self.n_rows} rows at {1 / self.sample_time:.6g} Hz; {self.n_kept} kept where "
+            f"the axis moves (about {self.independent:.0f} independent samples)",
+            f"smoothing zero-phase Savitzky-Golay, cubic, {self.window} samples "
+            f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
+            f"{self.velocity_noise:.3g} m/s",
+            f"velocity  {lo:.4g} to {hi:.4g} m/s; speeds {moving.min():.3g} to {moving.max():.3g} m/s",
+        ])
+
+
+def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional[np.ndarray] = None,
+                      x: Optional[np.ndarray] = None, window: Optional[int] = None) -> Identification:
+    """Friction samples F = f - m dv/dt of a log (eq. 18) at the rows where the axis moves.
+
+    ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
+    (odd samples) overrides ``choose_window``."""
+    columns = {"t": t, "force": force, "v": v, "x": x}
+    for name, values in columns.items():
+        if values is not None and not np.all(np.isfinite(values)):
+            bad = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise DataError(f"column {name!r} holds NaN or infinite value at data row {bad + 1}")
+    if t.size < MIN_SAMPLES:
+        raise DataError(f"log has {t.size} samples, need at least {MIN_SAMPLES}")
+    if not (np.isfinite(mass) and mass > 0):
+        raise DataError(f"mass must be > 0, got {mass}")
+    ts = uniform_sample_time(t)
+    if v is None:
+        v = np.gradient(x, ts)
+    if not np.any(v):
+        raise DataError("column 'v' is 0 throughout: the axis never moves")
+    noise = velocity_noise(v)
+    if window is None:
+        light = savgol_filter(v, MIN_WINDOW, POLYORDER)
+        window = choose_window(force, np.abs(light) > MOVING_SIGMAS * noise, mass, noise, ts)
+    v_s = savgol_filter(v, window, POLYORDER)
+    a_s = savgol_filter(v, window, POLYORDER, deriv=1, delta=ts)
+    f_s = savgol_filter(force, window, POLYORDER)
+    friction = f_s - mass * a_s
+    threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
+    direction = np.sign(v_s) * (np.abs(v_s) > threshold)
+    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & (direction != 0)
+    steady[:window // 2] = steady[-(window // 2):] = False
+    if steady.sum() < MIN_ROWS:
+        raise DataError(f"the axis moves in only {int(steady.sum())} rows (|v| > {threshold:.3g} "
+                        f"m/s, no reversal within {window} samples), need at least {MIN_ROWS}")
+    return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
+                          window=int(window), sample_time=ts, velocity_noise=noise,
+                          independent=float(steady.sum()) * _centre_weight(window))
+
+
+#: The columns that make a CSV a motion log rather than a sweep (v, f).
+LOG_TIME, LOG_MOTION, LOG_DRIVE = "t", ("v", "x"), ("force", "i")
+
+
+def is_log(columns: Dict[str, np.ndarray]) -> bool:
+    """A motion log has t, v or x, and force or i; a sweep has v and f."""
+    return (LOG_TIME in columns and any(c in columns for c in LOG_MOTION)
+            and any(c in columns for c in LOG_DRIVE))
+
+
+def describe_missing(columns: Dict[str, np.ndarray]) -> str:
+    """Why the columns are neither a sweep (v, f) nor a log (t, v or x, force or i)."""
+    header = ",".join(columns)[:80]
+    if LOG_TIME in columns:
+        missing = [" or ".join(group) for group in (LOG_MOTION, LOG_DRIVE)
+                   if not any(c in columns for c in group)]
+        return (f"a motion log needs t, v or x, and force or i: missing {' and '.join(missing)} "
+                f"(header is {header})")
+    hint = "; it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals" \
+        if any(";" in c for c in columns) else ""
+    missing = ", ".join(repr(c) for c in ("v", "f") if c not in columns)
+    return f"missing column {missing} (header is {header}){hint}"
+
+
+def identify_log(columns: Dict[str, np.ndarray], mass: float,
+                 force_constant: Optional[float] = None) -> Identification:
+    """``identify_friction`` on the columns of a log: force in N, or current i in A times
+    ``force_constant`` (N/A)."""
+    if "force" in columns:
+        if force_constant is not None:
+            raise DataError("the log has a force column; --force-constant applies to a current column i")
+        force = columns["force"]
+    elif force_constant is None:
+        raise DataError("the log has a current column i but no force column; pass --force-constant (N/A)")
+    else:
+        force = force_constant * columns["i"]
+    return identify_friction(columns["t"], force, mass, v=columns.get("v"), x=columns.get("x"))

@@ -1,0 +1,208 @@
+"""The asymmetric model: one curve of eq. (3) per direction, model.json format version 2, its C."""
+import copy
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen import codegen
+from fricgen.codegen import parity
+from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.codegen.twin import force_f32
+from fricgen.data import Sweep, synthesize_benchmark
+from fricgen.errors import DataError, ModelError
+from fricgen.fit import ELMRegressor
+from fricgen.fit.directions import fit_directions
+from fricgen.fit.elm import EnlargedScheme
+from fricgen.firmware import build as fw
+from fricgen.friction import preset
+from fricgen.model import Direction, FrictionModel
+from fricgen.networks import StribeckCurve
+from fricgen.sim.effect_law import EffectLaw
+
+CC = "cc"
+EPS32 = float(np.finfo(np.float32).eps)
+
+
+def _elm10():
+    return ELMRegressor(n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0)
+
+
+@pytest.fixture(scope="module")
+def asym(model10):
+    """model10's curve for v >= 0, and for v < 0 a curve fitted to the exponential-Stribeck
+    variant of the benchmark with 30 % more friction."""
+    other = synthesize_benchmark(preset("paper3", "exponential"), seed=1)
+    scaled = Sweep(other.train.v, 1.3 * other.train.f)
+    from fricgen.data import prepare
+    negative = Direction.fit(prepare(scaled, vs_max=0.02), _elm10())
+    return FrictionModel.from_directions(model10.positive, negative, name="fa")
+
+
+def test_each_direction_has_its_own_curve(asym, model10):
+    v = np.linspace(0.0, 0.2, 101)
+    np.testing.assert_array_equal(asym.force(v), model10.force(v))
+    np.testing.assert_allclose(asym.force(-v[1:]), -asym.negative.magnitude(v[1:]), rtol=1e-15)
+    assert np.all(-asym.force(-v[1:]) > asym.force(v[1:]))      # 30 % more friction for v < 0
+    assert not asym.symmetric and model10.symmetric
+
+
+def test_version_2_round_trips_and_symmetric_models_stay_version_1(asym, model10, tmp_path):
+    d = json.loads(asym.to_json())
+    assert d["format_version"] == 2 and d["symmetric"] is False and set(d["negative"]) == {
+        "aim", "scaling", "viscous", "v_sat"}
+    back = FrictionModel.load(asym.save(tmp_path / "a.json"))
+    v = np.linspace(-0.3, 0.3, 1001)
+    np.testing.assert_array_equal(back.force(v), asym.force(v))
+    assert back.model_hash == asym.model_hash != model10.model_hash
+    one = json.loads(model10.to_json())
+    assert one["format_version"] == 1 and "negative" not in one
+    v1 = FrictionModel.load(model10.save(tmp_path / "s.json"))
+    np.testing.assert_array_equal(v1.force(v), model10.force(v))
+    assert v1.model_hash == model10.model_hash
+
+
+def _mutations():
+    yield "no negative", lambda d: d.pop("negative"), "missing or invalid field 'negative'"
+    yield "negative a list", lambda d: d.__setitem__("negative", []), "field 'negative'"
+    yield "unknown field", lambda d: d["negative"].__setitem__("effects", []), "negative.effects"
+    yield "negative nan B", lambda d: d["negative"].__setitem__("viscous", float("nan")), "negative: "
+    yield "negative v_sat 0", lambda d: d["negative"].__setitem__("v_sat", 0), "must be > 0"
+    yield "negative bad kind", lambda d: d["negative"]["aim"].__setitem__("kind", "svm"), "aim.kind"
+    yield "negative no scaling", lambda d: d["negative"].pop("scaling"), "negative: missing"
+    yield "symmetric a string", lambda d: d.__setitem__("symmetric", "no"), "true or false"
+    yield "negative in a symmetric model", lambda d: d.__setitem__("symmetric", True), "symmetric: false"
+    yield "negative in version 1", lambda d: d.__setitem__("format_version", 1), "symmetric must be true"
+    yield "version 3", lambda d: d.__setitem__("format_version", 3), "reads versions 1 and 2"
+
+
+@pytest.mark.parametrize("label, mutate, message", list(_mutations()), ids=[m[0] for m in _mutations()])
+def test_invalid_version_2_is_named(asym, label, mutate, message):
+    d = json.loads(asym.to_json(), parse_constant=float)
+    mutate(d)
+    with pytest.raises(ModelError, match=message):
+        FrictionModel.from_dict(json.loads(json.dumps(d)))
+
+
+def test_version_1_with_negative_is_refused(model10):
+    d = json.loads(model10.to_json())
+    d["negative"] = copy.deepcopy({k: d[k] for k in ("aim", "scaling", "viscous", "v_sat")})
+    with pytest.raises(ModelError, match="needs format_version 2"):
+        FrictionModel.from_dict(d)
+
+
+def test_each_direction_may_hold_any_network_kind(asym):
+    curve = StribeckCurve("gauss", 0.5, np.array([0.4]), np.array([0.2]), 0.1)
+    mixed = FrictionModel.from_directions(asym.positive, Direction(curve, asym.negative.scaling,
+                                                                   asym.negative.viscous, asym.negative.v_sat))
+    back = FrictionModel.from_dict(json.loads(mixed.to_json()))
+    v = np.linspace(-0.2, 0.2, 401)
+    np.testing.assert_array_equal(back.force(v), mixed.force(v))
+    assert back.negative.aim.kind == "stribeck"
+
+
+def test_simulator_and_diagnosis_law_use_the_asymmetric_force(asym):
+    law = EffectLaw(asym, mass=4.0, force_constant=20.0)
+    v = np.linspace(-0.2, 0.2, 401)
+    np.testing.assert_array_equal(law.sliding_friction(v, 0.0 * v, np.abs(v)), asym.force(v))
+
+
+def _twin_tolerance(model, v):
+    """The per-velocity bound of test_codegen for the curve of each velocity's direction."""
+    bound = np.zeros_like(v)
+    for sign, curve in zip((1, -1), model.directions):
+        rows = v >= 0 if sign > 0 else v < 0
+        net = curve.aim
+        terms = np.abs(net.hidden(curve.network_input(v[rows])) * net.output_weights).sum(axis=1)
+        bound[rows] = (net.n_hidden + 3) * EPS32 * (terms / curve.scaling.k_out
+                                                    + np.abs(curve.viscous * v[rows]))
+    return bound + 1e-30
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_c_matches_float32_twin_and_float64_model(asym, tmp_path, impl):
+    codegen.emit(asym, tmp_path, "fa", activation_impl=impl)
+    h = (tmp_path / "fa.h").read_text()
+    assert "#define FA_ASYMMETRIC 1" in h and "#define FA_FORMAT_VERSION 2" in h
+    lib = build_model(tmp_path, "fa", build_dir=tmp_path / "build")
+    v = parity.parity_velocities(max(c.v_sat for c in asym.directions))
+    c = parity.c_forces(lib, "fa", v).astype(float)
+    twin = force_f32(asym, v, impl).astype(float)
+    if impl == "fast":
+        assert np.array_equal(c, twin)
+    else:
+        assert np.all(np.abs(c - twin) <= _twin_tolerance(asym, v.astype(float)))
+        assert np.mean(c == twin) > 0.99
+    exact = asym.force(v.astype(float))
+    assert np.max(np.abs(c - exact)) <= 1e-5 * np.max(np.abs(exact))
+    assert lib.fa_force(0.0) == 0.0 and lib.fa_force(-0.01) != -lib.fa_force(0.01)
+    edges = [float("nan"), float("inf"), -float("inf")]
+    out = [lib.fa_force(e) for e in edges]
+    assert np.isnan(out[0]) and out[1] == np.inf and out[2] == -np.inf
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_asymmetric_c_builds_without_a_single_warning(asym, tmp_path, impl):
+    codegen.emit(asym, tmp_path, "fa", activation_impl=impl)
+    for src in sorted(p.name for p in tmp_path.glob("*.c")):
+        proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", src, "-o", "/dev/null"],
+                              cwd=tmp_path, capture_output=True, text=True)
+        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+
+
+def test_symmetric_model_emits_the_same_c_as_before(model10):
+    files = codegen.render(model10, "fm")
+    assert "negative" not in files["fm.c"] and "ASYMMETRIC" not in files["fm.h"]
+    assert "#define FM_FORMAT_VERSION 1" in files["fm.h"]
+
+
+def test_fixed_point_refuses_an_asymmetric_model(asym):
+    with pytest.raises(ModelError, match="emits symmetric models"):
+        codegen.render(asym, "fa", dtype="q15")
+
+
+def _two_directions(scale_negative, seed=0):
+    """A sweep of paper3 in both directions, the negative one's force scaled."""
+    pos = synthesize_benchmark(preset("paper3"), seed=seed).train
+    neg = synthesize_benchmark(preset("paper3"), seed=seed + 100).train
+    return Sweep(np.concatenate([pos.v, -neg.v]), np.concatenate([pos.f, -scale_negative * neg.f]))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_symmetric_data_keep_the_symmetric_model(seed):
+    fitted = fit_directions(_two_directions(1.0, seed), _elm10(), vs_max=0.02, seed=seed)
+    assert not fitted.asymmetric and fitted.chosen_by == "cross-validation"
+    assert fitted.cv_rmse[0] <= fitted.cv_rmse[1] * 1.01
+
+
+def test_asymmetric_data_pick_the_asymmetric_model():
+    fitted = fit_directions(_two_directions(1.2), _elm10(), vs_max=0.02)
+    assert fitted.asymmetric and fitted.cv_rmse[1] < 0.8 * fitted.cv_rmse[0]
+    pos, neg = (f.curve for f in fitted.fits)
+    speed = np.linspace(0.001, 0.06, 50)
+    ratio = neg.magnitude(speed) / pos.magnitude(speed)
+    assert np.all(np.abs(ratio - 1.2) < 0.05)
+
+
+def test_forced_choices_and_one_direction(bench):
+    sweep = _two_directions(1.0)
+    assert fit_directions(sweep, _elm10(), vs_max=0.02, asymmetric=True).asymmetric
+    assert not fit_directions(_two_directions(1.2), _elm10(), vs_max=0.02, asymmetric=False).asymmetric
+    one = fit_directions(bench.train, _elm10(), vs_max=0.02)
+    assert not one.asymmetric and one.chosen_by == "one direction only"
+    with pytest.raises(DataError, match="needs a sweep of each direction"):
+        fit_directions(bench.train, _elm10(), vs_max=0.02, asymmetric=True)
+
+
+@pytest.mark.skipif(fw.missing_tools() is not None, reason="cross toolchain or QEMU absent")
+@pytest.mark.parametrize("target", sorted(fw.TARGETS))
+def test_emulated_asymmetric_fast_model_is_bit_equal_to_python_twin(asym, target, tmp_path):
+    v_sat = max(c.v_sat for c in asym.directions)
+    v = np.concatenate([np.linspace(-2 * v_sat, 2 * v_sat, 101, dtype=np.float32),
+                        np.array([0.0, -0.0, 1e3, -1e3], dtype=np.float32)])
+    codegen.emit(asym, tmp_path / "model", "fm", activation_impl="fast", with_controller=True)
+    cfg = fw.config_float("fm.h", "fm_force", v, n_bench=4)
+    elf = fw.build_firmware(tmp_path / "model", cfg, target, tmp_path / "build")
+    out = fw.parse_float_bits(fw.run(elf, target))
+    assert np.array_equal(out.view(np.uint32), force_f32(asym, v, "fast").view(np.uint32))

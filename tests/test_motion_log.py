@@ -1,0 +1,151 @@
+"""Training from motion logs: inverse dynamics, the vendor-export options, sweep or log."""
+import json
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.data.export import ExportLayout, merge_on_time, read_export
+from fricgen.data.inverse_dynamics import identify_friction, is_log
+from fricgen.data.table import table_csv_text
+from fricgen.friction import multisource, preset
+from fricgen.model import FrictionModel
+from fricgen.sim.identification import DirectionalFriction, SweepRun, simulate_sweep_run
+
+FRICTION = DirectionalFriction(preset("paper3"), multisource(
+    fc=(5.0, 7.5, 6.0), fs=(9.0, 19.0, 24.0), vs=(0.012, 0.006, 0.025), B=(2.5, 45.0, 5.0)))
+RUN = SweepRun(duration=8.0, rate=1500.0)
+#: A quick explicit ELM and the true bound on the Stribeck velocities, for short tests.
+FAST = ["--method", "elm", "--neurons", "20", "--vs-max", "0.025"]
+
+
+@pytest.fixture(scope="module")
+def signals():
+    """One identification run (one cycle of the velocity sweep, 1.5 kHz), noise-free."""
+    return simulate_sweep_run(FRICTION, RUN)
+
+
+@pytest.fixture(scope="module")
+def noisy(signals):
+    rng = np.random.default_rng(3)
+    n = signals["t"].size
+    return {"t": signals["t"], "v": signals["v"] + 3e-4 * rng.standard_normal(n),
+            "force": signals["force"] + 0.5 * rng.standard_normal(n)}
+
+
+def _error(ident):
+    return ident.sweep.f - FRICTION(ident.sweep.v)
+
+
+def test_noise_free_inverse_dynamics_recovers_the_friction(signals):
+    ident = identify_friction(signals["t"], signals["force"], RUN.mass, v=signals["v"])
+    assert ident.window == 7                       # nothing to smooth: the smallest window
+    assert np.median(np.abs(_error(ident))) < 1e-3
+    assert ident.sweep.v.min() < -0.19 and ident.sweep.v.max() > 0.19
+    assert np.abs(ident.sweep.v).min() < 0.005     # the Stribeck region is in the log
+
+
+def test_noise_widens_the_window_and_the_samples_stay_unbiased(signals, noisy):
+    ident = identify_friction(noisy["t"], noisy["force"], RUN.mass, v=noisy["v"])
+    error = _error(ident)
+    assert ident.window > 15
+    assert abs(np.mean(error)) < 0.05 and np.sqrt(np.mean(error ** 2)) < 0.3
+    worse = identify_friction(noisy["t"], noisy["force"], RUN.mass, v=noisy["v"], window=7)
+    assert np.sqrt(np.mean(_error(worse) ** 2)) > 2 * np.sqrt(np.mean(error ** 2))
+
+
+def test_position_instead_of_velocity(signals, noisy):
+    from_x = identify_friction(noisy["t"], noisy["force"], RUN.mass, x=signals["x"])
+    assert np.sqrt(np.mean(_error(from_x) ** 2)) < 0.3
+    assert from_x.sweep.v.max() > 0.19
+
+
+def test_the_columns_tell_a_log_from_a_sweep():
+    a = np.zeros(3)
+    assert is_log({"t": a, "v": a, "force": a}) and is_log({"t": a, "x": a, "i": a})
+    assert not is_log({"v": a, "f": a}) and not is_log({"t": a, "v": a, "f": a})
+
+
+@pytest.fixture(scope="module")
+def log_model(noisy, tmp_path_factory):
+    d = tmp_path_factory.mktemp("log")
+    (d / "log.csv").write_text(table_csv_text(noisy))
+    return d
+
+
+def test_train_on_a_log_reports_it_and_fits_each_direction(log_model, capsys):
+    assert main(["train", str(log_model / "log.csv"), "--mass", str(RUN.mass), *FAST, "-o",
+                 str(log_model / "m.json")]) == 0
+    report = capsys.readouterr().out
+    for words in ("log       12001 rows at 1500 Hz", "independent samples", "Savitzky-Golay",
+                  "velocity  -0.19", "symmetry asymmetric", "v > 0:", "v < 0:"):
+        assert words in report, report
+    model = FrictionModel.load(log_model / "m.json")
+    assert not model.symmetric and model.training["log"]["mass"] == RUN.mass
+    speed = np.linspace(0.01, 0.19, 100)
+    for sign in (1, -1):
+        error = sign * model.force(sign * speed) - FRICTION.magnitude(speed, sign)
+        assert np.sqrt(np.mean(error ** 2)) < 0.3
+
+
+def test_symmetric_friction_in_a_log_keeps_the_symmetric_model(tmp_path, capsys):
+    symmetric = DirectionalFriction(preset("paper3"), preset("paper3"))
+    sig = simulate_sweep_run(symmetric, RUN)
+    rng = np.random.default_rng(4)
+    cols = {"t": sig["t"], "v": sig["v"] + 3e-4 * rng.standard_normal(sig["t"].size),
+            "i": sig["i"] + 0.02 * rng.standard_normal(sig["t"].size)}
+    (tmp_path / "log.csv").write_text(table_csv_text(cols))
+    assert main(["train", str(tmp_path / "log.csv"), "--mass", "4", "--force-constant", "20",
+                 *FAST, "-o", str(tmp_path / "m.json")]) == 0
+    assert "symmetry symmetric by 5-fold" in capsys.readouterr().out
+    assert FrictionModel.load(tmp_path / "m.json").symmetric
+
+
+def test_a_vendor_export_equals_the_plain_log(noisy, log_model, tmp_path):
+    # drive: preamble, vendor names, speed in units of 2^-10 m/s; load cell on the same clock
+    rows = zip(noisy["t"], noisy["v"] * 1024.0)
+    (tmp_path / "drive.csv").write_text("Drive trace\n(c) vendor\nTime [s],Speed [u]\n" + "".join(
+        f"{float(t)!r},{float(v)!r}\n" for t, v in rows))
+    (tmp_path / "cell.csv").write_text("Stamp,Load\n" + "".join(
+        f"{float(t)!r},{float(f)!r}\n" for t, f in zip(noisy["t"], noisy["force"])))
+    common = ["--mass", str(RUN.mass), "--symmetric", "--method", "elm", "--neurons", "10"]
+    assert main(["train", str(tmp_path / "drive.csv"), "--skip", "2", "--columns",
+                 "t=Time [s],v=Speed [u]", "--scale", "v=0.0009765625", "--merge",
+                 str(tmp_path / "cell.csv"), "--merge-columns", "t=Stamp", "--merge-columns",
+                 "force=Load", *common, "-o", str(tmp_path / "vendor.json")]) == 0
+    assert main(["train", str(log_model / "log.csv"), *common, "-o", str(tmp_path / "plain.json")]) == 0
+    vendor, plain = (json.loads((tmp_path / n).read_text()) for n in ("vendor.json", "plain.json"))
+    assert vendor["aim"] == plain["aim"] and vendor["viscous"] == plain["viscous"]
+
+
+def test_merge_uses_the_slower_clock_and_the_shift(tmp_path):
+    t_fast = np.arange(2001) / 2000.0          # 2 kHz, its clock 4 ms behind
+    t_slow = np.arange(1501) / 1500.0          # 1.5 kHz
+    slow = {"t": t_slow, "v": np.sin(t_slow)}
+    fast = {"t": t_fast - 0.004, "force": 3.0 + 2.0 * t_fast}
+    merged = merge_on_time(slow, fast, shift=0.004)
+    assert np.array_equal(merged["t"], t_slow[(t_slow >= 0) & (t_slow <= 1.0)])
+    np.testing.assert_allclose(merged["force"], 3.0 + 2.0 * merged["t"], atol=1e-12)
+    swapped = merge_on_time(fast, slow, shift=-0.004)
+    assert np.median(np.diff(swapped["t"])) == pytest.approx(1 / 1500.0)
+
+
+def test_read_export_skips_maps_and_scales(tmp_path):
+    (tmp_path / "e.csv").write_text("a preamble, with a comma\nline 2\nZeit,Geschw,other\n0,2,7\n1,4,8\n")
+    cols = read_export(tmp_path / "e.csv", ExportLayout(2, {"t": "Zeit", "v": "GESCHW"}), {"v": 0.5, "t": 2.0})
+    assert set(cols) == {"t", "v", "other"}
+    np.testing.assert_array_equal(cols["v"], [1.0, 2.0])
+    np.testing.assert_array_equal(cols["t"], [0.0, 2.0])
+
+
+def test_too_narrow_a_velocity_range_warns_in_one_line(tmp_path, capsys):
+    t = np.arange(20001) / 1000.0
+    v = 0.115 + 0.085 * np.sin(2 * np.pi * t / 5.0)           # 0.03 to 0.2 m/s only
+    a = 0.085 * 2 * np.pi / 5.0 * np.cos(2 * np.pi * t / 5.0)
+    force = preset("paper3")(v) + 4.0 * a
+    (tmp_path / "fast.csv").write_text(table_csv_text({"t": t, "v": v, "force": force}))
+    assert main(["train", str(tmp_path / "fast.csv"), "--mass", "4", "--vs-max", "0.02",
+                 "--method", "elm", "--neurons", "10", "-o", str(tmp_path / "m.json")]) == 0
+    err = capsys.readouterr().err
+    warnings = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and "Stribeck region" in warnings[0], err
