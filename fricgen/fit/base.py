@@ -23,6 +23,15 @@ def as_rng(random_state) -> np.random.Generator:
     return np.random.default_rng(random_state)
 
 
+def interleaved_folds(x, n_folds: int) -> np.ndarray:
+    """The cross-validation fold of each point: the points sorted by x are dealt to the
+    ``n_folds`` folds in turn, so every fold spans the whole range of x."""
+    fold = np.empty(np.size(x), dtype=int)
+    fold[np.argsort(np.asarray(x, dtype=float).ravel(), kind="stable")] = \
+        np.arange(np.size(x)) % int(n_folds)
+    return fold
+
+
 class NotFittedError(FricgenError, AttributeError):
     """``predict`` or ``score`` called before ``fit``."""
 

@@ -1,0 +1,207 @@
+"""The grey-box estimator: eq. (1) itself, with S sources of one shape g, fitted to the data.
+
+In the normalized coordinates of eq. (9), with B identified from the high-speed rows, eq. (1)
+reads t(x) = c + sum_k a_k g(x, xs_k): linear in (c, a_k) (c gathers every f_ck, a_k the
+f_sk - f_ck) and nonlinear in the S Stribeck velocities xs_k = K_in v_sk. ``fit_sources``
+eliminates the linear part (variable projection, with Kaufman's Jacobian) and finds
+theta_k = log xs_k by multi-start nonlinear least squares from every S-subset of a log grid.
+``StribeckRegressor`` chooses S and g by cross-validation and reports every parameter with its
+standard error.
+"""
+from __future__ import annotations
+
+import itertools
+import time
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from .._validate import integer
+from ..data.training_set import SAT_FACTOR
+from ..friction import SHAPES
+from ..metrics import rmse
+from ..networks.stribeck import StribeckCurve
+from .base import Estimator, interleaved_folds
+
+#: Largest normalized Stribeck velocity: v_s <= vs_max = v_sat / SAT_FACTOR (``--vs-max``).
+XS_MAX = 1.0 / SAT_FACTOR
+#: Smallest normalized Stribeck velocity searched (a drop within 0.1 % of v_sat).
+XS_MIN = 1e-3
+#: The number of sources ``StribeckRegressor`` considers by default.
+SOURCES = (1, 2, 3, 4)
+
+
+def _shape_and_slope(shape: str, x: np.ndarray, xs: float):
+    """g(x, xs) and its derivative with respect to theta = log xs."""
+    u = x / xs
+    g = SHAPES[shape](x, xs)
+    if shape == "gauss":
+        return g, 2.0 * u * u * g
+    if shape == "exponential":
+        return g, u * g
+    return g, u * g * g                                  # rational: g = 1 / (1 + u)
+
+
+def _basis(shape: str, x: np.ndarray, xs: Sequence[float]):
+    """[1, g(x, xs_1), ..., g(x, xs_S)] and the derivative of each g column by its theta."""
+    pairs = [_shape_and_slope(shape, x, s) for s in xs]
+    A = np.column_stack([np.ones_like(x)] + [g for g, _ in pairs])
+    dA = np.column_stack([d for _, d in pairs]) if pairs else np.zeros((x.size, 0))
+    return A, dA
+
+
+@dataclass(frozen=True)
+class SourcesFit:
+    """One fit of eq. (1): the curve, its residuals and the full Jacobian."""
+
+    curve: StribeckCurve
+    residuals: np.ndarray      # t - curve(x)
+    jacobian: np.ndarray       # d curve / d (c, a_1..a_S, theta_1..theta_S), theta = log xs
+    n_starts: int
+
+    @property
+    def theta(self) -> np.ndarray:
+        return np.log(self.curve.stribeck)
+
+    @property
+    def rmse(self) -> float:
+        return rmse(self.residuals, 0.0)
+
+    def standard_errors(self) -> dict:
+        """Standard errors of c, a_k and xs_k from sigma^2 (J^T J)^-1, sigma^2 = RSS / (n - p)."""
+        n, p = self.jacobian.shape
+        sigma2 = float(self.residuals @ self.residuals) / max(n - p, 1)
+        cov = sigma2 * np.linalg.pinv(self.jacobian.T @ self.jacobian)
+        se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        s = self.curve.n_sources
+        return {"offset": float(se[0]), "amplitudes": se[1:1 + s],
+                "stribeck": self.curve.stribeck * se[1 + s:]}
+
+
+def start_grid(grid: int, xs_min: float = XS_MIN, xs_max: float = XS_MAX) -> np.ndarray:
+    """``grid`` log-spaced starting values of theta = log xs in [max(2 xs_min, xs_max / 50), xs_max]."""
+    return np.linspace(np.log(max(2 * xs_min, xs_max / 50)), np.log(xs_max), int(grid))
+
+
+def all_subsets(grid: int, n_sources: int) -> list:
+    """Every ``n_sources``-subset of the start grid: the exhaustive multi-start."""
+    return list(itertools.combinations(start_grid(grid), int(n_sources)))
+
+
+def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
+                xs_max: float = XS_MAX) -> SourcesFit:
+    """Eq. (1) with S = len(start) sources of ``shape`` by variable projection: the Stribeck
+    velocities within [xs_min, xs_max], from every start in ``starts`` (vectors of theta =
+    log xs); the best optimum wins."""
+    x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
+    lo, hi = np.log(xs_min), np.log(xs_max)
+
+    def project(theta):
+        A, dA = _basis(shape, x, np.exp(theta))
+        Q, _ = np.linalg.qr(A)
+        coef, *_ = np.linalg.lstsq(A, t, rcond=None)
+        r = t - A @ coef
+        return A, dA, Q, coef, r
+
+    def residual(theta):
+        return project(theta)[4]
+
+    def jacobian(theta):                                   # Kaufman: -(I - P) dA/dtheta a
+        A, dA, Q, coef, r = project(theta)
+        D = dA * coef[1:]
+        return -(D - Q @ (Q.T @ D))
+
+    starts = [np.clip(np.asarray(s, dtype=float), lo, hi) for s in starts]
+    best = None
+    for theta0 in starts:
+        sol = least_squares(residual, theta0, jac=jacobian, bounds=(lo, hi),
+                            method="trf", x_scale=1.0)
+        if best is None or sol.cost < best.cost:
+            best = sol
+    xs = np.exp(best.x)
+    order = np.argsort(xs)
+    xs = xs[order]
+    A, dA = _basis(shape, x, xs)
+    coef, *_ = np.linalg.lstsq(A, t, rcond=None)
+    r = t - A @ coef
+    curve = StribeckCurve(shape, float(coef[0]), coef[1:], xs)
+    return SourcesFit(curve, r, np.column_stack([A, dA * coef[1:]]), len(starts))
+
+
+def cross_validated_rmse(x, t, fit: SourcesFit, folds: np.ndarray) -> float:
+    """RMSE over the held-out points of each fold of ``fit``'s model refitted without them,
+    each refit started from ``fit``'s Stribeck velocities."""
+    x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
+    held_out = np.empty_like(t)
+    for k in np.unique(folds):
+        out = folds == k
+        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta])
+        held_out[out] = refit.curve(x[out]) - t[out]
+    return rmse(held_out, 0.0)
+
+
+class StribeckRegressor(Estimator):
+    """Grey-box eq. (1): S sources of one shape g, with S in ``sources`` and g in ``shapes``
+    chosen by ``n_folds``-fold cross-validation (``interleaved_folds``; each fold's refit starts
+    from the full fit's Stribeck velocities); a tie goes to fewer sources.
+
+    Multi-starts: every subset of ``grid`` log-spaced Stribeck velocities for S <= 2; for larger
+    S, the optimum of S - 1 sources plus each grid value (a new source anywhere).
+
+    After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``,
+    ``cv_rmse_`` (of the chosen model), ``candidates_`` ({(shape, S): cv rmse}),
+    ``train_rmse_``,
+    ``standard_errors_`` (offset, amplitudes, stribeck; normalized units), ``fit_seconds_``.
+    """
+
+    activation = "stribeck"
+    scheme = "grey-box"
+
+    def __init__(self, shapes: Sequence[str] = tuple(SHAPES), sources: Sequence[int] = SOURCES,
+                 grid: int = 7, n_folds: int = 5):
+        self.shapes = shapes
+        self.sources = sources
+        self.grid = grid
+        self.n_folds = n_folds
+
+    def fit(self, x, t) -> "StribeckRegressor":
+        shapes = list(self.shapes)
+        if not shapes or any(s not in SHAPES for s in shapes):
+            raise ValueError(f"shapes must be a non-empty list of {sorted(SHAPES)}, got {shapes!r}")
+        sources = [integer("sources", s) for s in self.sources]
+        if not sources:
+            raise ValueError("sources must not be empty")
+        integer("grid", self.grid, minimum=2)
+        integer("n_folds", self.n_folds, minimum=2)
+        x, t = self._inputs(x, t)
+        start = time.perf_counter()
+        fits = {}
+        grid = start_grid(self.grid)
+        for shape in shapes:
+            previous = None
+            for s in sorted(sources):
+                if 2 * s + 1 >= x.size:
+                    break
+                starts = all_subsets(self.grid, s) if s <= 2 or previous is None else \
+                    [np.append(np.log(previous.curve.stribeck), g) for g in grid]
+                fits[(shape, s)] = previous = fit_sources(x, t, shape, starts)
+        if not fits:
+            raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
+        folds = interleaved_folds(x, self.n_folds)
+        self.candidates_ = {k: cross_validated_rmse(x, t, f, folds) for k, f in fits.items()}
+        key = min(fits, key=lambda k: (self.candidates_[k], k[1]))
+        best = fits[key]
+        self.network_ = best.curve
+        self.shape_, self.n_sources_ = key
+        self.cv_rmse_ = self.candidates_[key]
+        self.train_rmse_ = best.rmse
+        self.standard_errors_ = best.standard_errors()
+        self.fit_seconds_ = time.perf_counter() - start
+        return self
+
+    @property
+    def n_hidden(self) -> int:
+        """The number of sources S (what the fit report calls the model's size)."""
+        return self.n_sources_
