@@ -23,12 +23,18 @@ def as_rng(random_state) -> np.random.Generator:
     return np.random.default_rng(random_state)
 
 
-def interleaved_folds(x, n_folds: int) -> np.ndarray:
+def interleaved_folds(x, n_folds: int, rng=None) -> np.ndarray:
     """The cross-validation fold of each point: the points sorted by x are dealt to the
-    ``n_folds`` folds in turn, so every fold spans the whole range of x."""
-    fold = np.empty(np.size(x), dtype=int)
-    fold[np.argsort(np.asarray(x, dtype=float).ravel(), kind="stable")] = \
-        np.arange(np.size(x)) % int(n_folds)
+    ``n_folds`` folds in turn, so every fold spans the whole range of x. With a Generator
+    ``rng`` each run of ``n_folds`` consecutive points is dealt in a random order (another
+    partition of the same kind, for repeated cross-validation)."""
+    n, k = np.size(x), int(n_folds)
+    labels = np.arange(n) % k
+    if rng is not None:
+        labels = np.concatenate([rng.permutation(k) for _ in range(-(-n // k))])[:n]
+        labels = labels % k
+    fold = np.empty(n, dtype=int)
+    fold[np.argsort(np.asarray(x, dtype=float).ravel(), kind="stable")] = labels
     return fold
 
 
