@@ -31,7 +31,7 @@ class DefaultRegressor(Estimator):
     ``n_outliers_``, ``inliers_`` (mask over the points given), ``fit_seconds_``.
     """
 
-    def __init__(self, random_state=0, n_folds: int = 5, n_repeats: int = 3,
+    def __init__(self, random_state=0, n_folds: int = 5, n_repeats: int = 2,
                  outlier_sigmas: float = OUTLIER_SIGMAS):
         self.random_state = random_state
         self.n_folds = n_folds
@@ -60,7 +60,8 @@ class DefaultRegressor(Estimator):
                 out = folds == k
                 held_out[out] = self._elm().fit(x[~out], t[~out]).predict(x[out]) - t[out]
             squared["elm_auto"] += float(held_out @ held_out)
-            grey = self.greybox_.held_out_residuals(x, t, folds)
+            grey = self.greybox_.held_out_residuals(x, t, folds) if repeat else \
+                self.greybox_.cv_residuals_                        # the same interleaved folds
             squared["stribeck"] += float(grey @ grey)
         self.cv_rmse_ = {k: float(np.sqrt(v / (t.size * self.n_repeats))) for k, v in squared.items()}
         self.choice_ = min(self.cv_rmse_, key=lambda k: (self.cv_rmse_[k], k != "stribeck"))

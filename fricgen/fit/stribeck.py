@@ -18,7 +18,7 @@ from typing import Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
-from .._validate import integer
+from .._validate import integer, positive
 from ..data.training_set import SAT_FACTOR
 from ..friction import SHAPES
 from ..metrics import rmse
@@ -29,6 +29,12 @@ from .base import Estimator, interleaved_folds
 XS_MAX = 1.0 / SAT_FACTOR
 #: Smallest normalized Stribeck velocity searched (a drop within 0.1 % of v_sat).
 XS_MIN = 1e-3
+#: Bounds on the normalized Stribeck velocities ``StribeckRegressor`` searches below: vs_max,
+#: then v_sat (a broad source, for curves that are no sum of Stribeck curves).
+XS_BOUNDS = (XS_MAX, 1.0)
+#: Candidates whose AIC on all points is further than this from the best are not refitted in
+#: cross-validation (a fold, with 4/5 of the points, practically never prefers them).
+AIC_CONTENDERS = 10.0
 #: The number of sources ``StribeckRegressor`` considers by default.
 SOURCES = (1, 2, 3, 4)
 
@@ -105,12 +111,21 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
     x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
     lo, hi = np.log(xs_min), np.log(xs_max)
 
-    def project(theta):
-        A, dA = _basis(shape, x, np.exp(theta))
-        Q, _ = np.linalg.qr(A)
-        coef, *_ = np.linalg.lstsq(A, t, rcond=None)
-        r = t - A @ coef
-        return A, dA, Q, coef, r
+    cache = {}
+
+    def project(theta):                                    # residual and jacobian share it
+        key = theta.tobytes()
+        if key not in cache:
+            A, dA = _basis(shape, x, np.exp(theta))
+            Q, R = np.linalg.qr(A)
+            diag = np.abs(np.diag(R))
+            if diag.min() > 1e-10 * diag.max():
+                coef = np.linalg.solve(R, Q.T @ t)
+            else:                                          # coinciding sources
+                coef = np.linalg.lstsq(A, t, rcond=None)[0]
+            cache.clear()
+            cache[key] = (A, dA, Q, coef, t - A @ coef)
+        return cache[key]
 
     def residual(theta):
         return project(theta)[4]
@@ -137,7 +152,7 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
     return SourcesFit(curve, r, np.column_stack([A, dA * coef[1:]]), len(starts))
 
 
-def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray):
+def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_max: float = XS_MAX):
     """``fit``'s model refitted without each fold (started from ``fit``'s Stribeck velocities):
     the residual at each point of the refit without its fold, and each refit's AIC by fold."""
     x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
@@ -145,7 +160,7 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray):
     aics = {}
     for k in np.unique(folds):
         out = folds == k
-        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta])
+        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta], XS_MIN, xs_max)
         held_out[out] = refit.curve(x[out]) - t[out]
         aics[int(k)] = refit.aic
     return held_out, aics
@@ -159,22 +174,28 @@ class StribeckRegressor(Estimator):
     fold's refit starts from the full fit's Stribeck velocities, and S and g are chosen again
     by AIC on each fold's training points).
 
-    Multi-starts: every subset of ``grid`` log-spaced Stribeck velocities for S <= 2; for larger
-    S, the optimum of S - 1 sources plus each grid value (a new source anywhere).
+    The Stribeck velocities are searched below each bound of ``xs_bounds`` in turn: the first
+    is vs_max (``--vs-max`` bounds the Stribeck velocities; normalized, 1 / SAT_FACTOR), the
+    next ones let a source stand for a broad curve that is no Stribeck effect (a viscous part
+    that is not linear in v), at the price of one more parameter in the AIC for each.
 
-    After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``,
-    ``candidates_`` ({(shape, S): AIC}), ``fits_`` (each candidate's ``SourcesFit``), ``cv_rmse_``,
-    ``train_rmse_``,
-    ``standard_errors_`` (offset, amplitudes, stribeck; normalized units), ``fit_seconds_``.
+    Multi-starts: each of ``grid`` log-spaced Stribeck velocities for S = 1; for larger S, the
+    optimum of S - 1 sources plus each grid value (a new source anywhere).
+
+    After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``, ``xs_max_``
+    (the bound of the chosen fit), ``candidates_`` ({(shape, S, bound): AIC}), ``fits_`` (each
+    candidate's ``SourcesFit``), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
+    amplitudes, stribeck; normalized units), ``fit_seconds_``.
     """
 
     activation = "stribeck"
     scheme = "grey-box"
 
     def __init__(self, shapes: Sequence[str] = tuple(SHAPES), sources: Sequence[int] = SOURCES,
-                 grid: int = 7, n_folds: int = 5):
+                 xs_bounds: Sequence[float] = XS_BOUNDS, grid: int = 7, n_folds: int = 5):
         self.shapes = shapes
         self.sources = sources
+        self.xs_bounds = xs_bounds
         self.grid = grid
         self.n_folds = n_folds
 
@@ -183,32 +204,36 @@ class StribeckRegressor(Estimator):
         if not shapes or any(s not in SHAPES for s in shapes):
             raise ValueError(f"shapes must be a non-empty list of {sorted(SHAPES)}, got {shapes!r}")
         sources = [integer("sources", s) for s in self.sources]
-        if not sources:
-            raise ValueError("sources must not be empty")
+        bounds = [positive("xs_bounds", b) for b in self.xs_bounds]
+        if not sources or not bounds or min(bounds) <= XS_MIN:
+            raise ValueError(f"sources and xs_bounds must not be empty, each bound > {XS_MIN}")
         integer("grid", self.grid, minimum=2)
         integer("n_folds", self.n_folds, minimum=2)
         x, t = self._inputs(x, t)
         start = time.perf_counter()
         fits = {}
-        grid = start_grid(self.grid)
-        for shape in shapes:
-            previous = None
-            for s in sorted(sources):
-                if 2 * s + 1 >= x.size:
-                    break
-                starts = all_subsets(self.grid, s) if s <= 2 or previous is None else \
-                    [np.append(np.log(previous.curve.stribeck), g) for g in grid]
-                fits[(shape, s)] = previous = fit_sources(x, t, shape, starts)
+        for xs_max in bounds:
+            grid = start_grid(self.grid, XS_MIN, xs_max)
+            for shape in shapes:
+                previous = None
+                for s in sorted(sources):
+                    if 2 * s + 1 >= x.size:
+                        break
+                    starts = [np.append(previous.theta, g) for g in grid] if previous else \
+                        [np.array([g]) for g in grid]
+                    fits[(shape, s, xs_max)] = previous = fit_sources(x, t, shape, starts, XS_MIN,
+                                                                      xs_max)
         if not fits:
             raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
-        keys = sorted(fits, key=lambda k: (k[1], k[0]))            # fewer sources first: ties
-        self.candidates_ = {k: fits[k].aic for k in keys}
-        key = min(keys, key=lambda k: self.candidates_[k])
+        self._penalty = {b: 2.0 * i for i, b in enumerate(bounds)}
+        self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items()}
+        key = min(self.candidates_, key=lambda k: (self.candidates_[k], k[1]))
         best = fits[key]
         self.network_ = best.curve
-        self.shape_, self.n_sources_ = key
+        self.shape_, self.n_sources_, self.xs_max_ = key
         self.fits_ = fits
-        self.cv_rmse_ = rmse(self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds)), 0.0)
+        self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
+        self.cv_rmse_ = rmse(self.cv_residuals_, 0.0)
         self.train_rmse_ = best.rmse
         self.standard_errors_ = best.standard_errors()
         self.fit_seconds_ = time.perf_counter() - start
@@ -216,14 +241,20 @@ class StribeckRegressor(Estimator):
 
     def held_out_residuals(self, x, t, folds) -> np.ndarray:
         """The whole procedure validated on ``folds`` of the points it was fitted to: without
-        each fold, every candidate is refitted (started from its full fit) and S and g are
-        chosen again by AIC; the residual at each point is that of the fold's choice."""
+        each fold, every candidate within AIC_CONTENDERS of the best is refitted (started from
+        its full fit) and the candidate is chosen again by AIC; the residual at each point is
+        that of the fold's choice."""
         x, t = self._inputs(x, t)
         keys = list(self.candidates_)
-        refits = [cross_validated_residuals(x, t, self.fits_[k], folds) for k in keys]
+        best = min(self.candidates_.values())
+        contenders = {k for k in keys if self.candidates_[k] <= best + AIC_CONTENDERS}
+        keys = [k for k in keys if k in contenders]
+        refits = [cross_validated_residuals(x, t, self.fits_[k], folds, k[2]) if k in contenders
+                  else None for k in keys]
         held_out = np.empty_like(t)
         for fold in np.unique(folds):
-            pick = min(range(len(keys)), key=lambda j: refits[j][1][int(fold)])
+            pick = min(range(len(keys)), key=lambda j: (refits[j][1][int(fold)]
+                                                       + self._penalty[keys[j][2]], keys[j][1]))
             held_out[folds == fold] = refits[pick][0][folds == fold]
         return held_out
 
