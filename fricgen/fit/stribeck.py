@@ -32,6 +32,11 @@ XS_MIN = 1e-3
 #: Bounds on the normalized Stribeck velocities ``StribeckRegressor`` searches below: vs_max,
 #: then v_sat (a broad source, for curves that are no sum of Stribeck curves).
 XS_BOUNDS = (XS_MAX, 1.0)
+#: Largest sum_k |a_k| of an admissible fit (normalized; the data's peak is 1). Sources that
+#: nearly coincide can cancel with huge opposite amplitudes: meaningless, and float32 would
+#: lose eps32 sum_k |a_k| to rounding. Multi-starts prefer fits within it; the estimator drops
+#: the others.
+AMPLITUDE_MAX = 10.0
 #: Candidates whose AIC on all points is further than this from the best are not refitted in
 #: cross-validation (a fold, with 4/5 of the points, practically never prefers them).
 AIC_CONTENDERS = 10.0
@@ -76,6 +81,11 @@ class SourcesFit:
         return rmse(self.residuals, 0.0)
 
     @property
+    def admissible(self) -> bool:
+        """Whether sum_k |a_k| <= AMPLITUDE_MAX."""
+        return _amplitude_sum(np.append(0.0, self.curve.amplitudes)) <= AMPLITUDE_MAX
+
+    @property
     def aic(self) -> float:
         """Akaike's criterion n log(RSS / n) + 2 p for the p = 2 S + 1 parameters (Gaussian
         noise): what chooses S and g."""
@@ -91,6 +101,10 @@ class SourcesFit:
         s = self.curve.n_sources
         return {"offset": float(se[0]), "amplitudes": se[1:1 + s],
                 "stribeck": self.curve.stribeck * se[1 + s:]}
+
+
+def _amplitude_sum(coef: np.ndarray) -> float:
+    return float(np.sum(np.abs(coef[1:])))
 
 
 def start_grid(grid: int, xs_min: float = XS_MIN, xs_max: float = XS_MAX) -> np.ndarray:
@@ -136,12 +150,13 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
         return -(D - Q @ (Q.T @ D))
 
     starts = [np.clip(np.asarray(s, dtype=float), lo, hi) for s in starts]
-    best = None
+    best, best_key = None, None
     for theta0 in starts:
         sol = least_squares(residual, theta0, jac=jacobian, bounds=(lo, hi),
                             method="trf", x_scale=1.0)
-        if best is None or sol.cost < best.cost:
-            best = sol
+        key = (_amplitude_sum(project(sol.x)[3]) > AMPLITUDE_MAX, sol.cost)
+        if best is None or key < best_key:
+            best, best_key = sol, key
     xs = np.exp(best.x)
     order = np.argsort(xs)
     xs = xs[order]
@@ -162,7 +177,7 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_max: 
         out = folds == k
         refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta], XS_MIN, xs_max)
         held_out[out] = refit.curve(x[out]) - t[out]
-        aics[int(k)] = refit.aic
+        aics[int(k)] = refit.aic if refit.admissible else np.inf
     return held_out, aics
 
 
@@ -226,7 +241,9 @@ class StribeckRegressor(Estimator):
         if not fits:
             raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
         self._penalty = {b: 2.0 * i for i, b in enumerate(bounds)}
-        self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items()}
+        self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items() if f.admissible}
+        if not self.candidates_:
+            raise ValueError(f"no fit of eq. (1) keeps sum |a_k| <= {AMPLITUDE_MAX:g}")
         key = min(self.candidates_, key=lambda k: (self.candidates_[k], k[1]))
         best = fits[key]
         self.network_ = best.curve
