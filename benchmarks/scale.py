@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from fricgen.data import prepare, read_sweep_csv, training_set
-from fricgen.fit import default_estimator
+from fricgen.fit import default_elm
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
 from fricgen.sim.logsynth import LogSpec, synthesize_log
@@ -90,7 +90,7 @@ def binning_accuracy(folder, sizes):
             saved = training_set.MAX_TRAINING_POINTS
             training_set.MAX_TRAINING_POINTS = cap
             try:
-                model = FrictionModel.fit(prepare(sweep, vs_max=0.02), default_estimator(0))
+                model = FrictionModel.fit(prepare(sweep, vs_max=0.02), default_elm(0))
             finally:
                 training_set.MAX_TRAINING_POINTS = saved
             errs.append(float(np.sqrt(np.mean((model.force(v) - friction(v)) ** 2))))

@@ -9,7 +9,7 @@ from fricgen import codegen
 from fricgen.codegen import fixedpoint as fx
 from fricgen.codegen.twin import force_f32
 from fricgen.data import synthesize_benchmark
-from fricgen.fit import ELMRegressor, default_estimator as default_elm
+from fricgen.fit import ELMRegressor, default_elm
 from fricgen.fit.elm import EnlargedScheme
 from fricgen.friction import preset
 from fricgen.model import FrictionModel

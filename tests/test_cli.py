@@ -197,7 +197,7 @@ def test_eval_refuses_non_numbers(model_json, monkeypatch, capsys, tmp_path):
 def test_demo_reports_paper_comparison_and_measured_parity(tmp_path, capsys):
     assert main(["demo", "--seeds", "2", "--out", str(tmp_path / "demo")]) == 0
     out = capsys.readouterr().out
-    for label in ("elm_standard", "elm_enlarged", "elm_enlarged_regularized", "fricgen default"):
+    for label in ("elm_standard", "elm_enlarged", "elm_enlarged_regularized", "fricgen elm_auto"):
         assert label in out
     line = next(l for l in out.splitlines() if l.startswith("C parity"))
     rel = float(line.rsplit("=", 1)[1])

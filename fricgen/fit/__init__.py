@@ -18,6 +18,12 @@ from .oracle import OracleRegressor
 from .stribeck import StribeckRegressor
 
 
+def default_elm(random_state=0) -> AutoELMRegressor:
+    """The automatic ELM, which chooses its units, M and C by leave-one-out: the default when
+    the model must be an ELM (simulations, synthetic logs, the demo)."""
+    return AutoELMRegressor(random_state=random_state)
+
+
 def default_estimator(random_state=0) -> DefaultRegressor:
     """The estimator ``fricgen train`` uses unless told otherwise: the grey-box eq. (1) or the
     automatic ELM, whichever has the smaller cross-validated error, gross outliers set aside."""
@@ -27,4 +33,4 @@ def default_estimator(random_state=0) -> DefaultRegressor:
 __all__ = ["Estimator", "NotFittedError", "as_rng", "ELMRegressor", "AutoELMRegressor",
            "AnfisRegressor", "ConditionedELMRegressor", "OracleRegressor", "StribeckRegressor",
            "DefaultRegressor", "DEFAULT_ELM",
-           "default_estimator"]
+           "default_estimator", "default_elm"]

@@ -4,7 +4,8 @@ Gross outliers are set aside first (``fricgen.fit.outliers``). Then both candida
 to the rest: ``StribeckRegressor`` (S and g chosen by cross-validation) and ``AutoELMRegressor``.
 Their errors are compared on the same folds (``n_repeats`` partitions into ``n_folds``
 interleaved folds), each candidate's whole procedure refitted without each fold (for the
-grey-box model, S and g are chosen again on the fold's training points). The smaller cross-validated error wins; on data that is a
+grey-box model, S and g are chosen again on the fold's training points), scored on the
+measured points (``inner_points``: not the two boundary points of section 2). The smaller cross-validated error wins; on data that is a
 sum of Stribeck curves that is usually eq. (1), elsewhere (a viscous term in sqrt|v|, a
 measured curve) usually the ELM.
 """
@@ -17,7 +18,7 @@ import numpy as np
 from ..data.training_set import OUTLIER_SIGMAS
 from .._validate import integer
 from .auto import AutoELMRegressor
-from .base import Estimator, as_rng, interleaved_folds
+from .base import Estimator, as_rng, inner_points, interleaved_folds
 from .outliers import MEDIAN_WINDOW, gross_outliers
 from .stribeck import StribeckRegressor
 
@@ -52,6 +53,7 @@ class DefaultRegressor(Estimator):
         self.greybox_ = StribeckRegressor(n_folds=self.n_folds).fit(x, t)
         self.elm_ = self._elm().fit(x, t)
         rng = as_rng(self.random_state)
+        inner = inner_points(x)                                    # scored: the measured points
         squared = {"stribeck": 0.0, "elm_auto": 0.0}
         for repeat in range(int(self.n_repeats)):
             folds = interleaved_folds(x, self.n_folds, rng if repeat else None)
@@ -59,11 +61,12 @@ class DefaultRegressor(Estimator):
             for k in np.unique(folds):
                 out = folds == k
                 held_out[out] = self._elm().fit(x[~out], t[~out]).predict(x[out]) - t[out]
-            squared["elm_auto"] += float(held_out @ held_out)
             grey = self.greybox_.held_out_residuals(x, t, folds) if repeat else \
                 self.greybox_.cv_residuals_                        # the same interleaved folds
-            squared["stribeck"] += float(grey @ grey)
-        self.cv_rmse_ = {k: float(np.sqrt(v / (t.size * self.n_repeats))) for k, v in squared.items()}
+            squared["elm_auto"] += float(np.sum(held_out[inner] ** 2))
+            squared["stribeck"] += float(np.sum(grey[inner] ** 2))
+        self.cv_rmse_ = {k: float(np.sqrt(v / (inner.sum() * self.n_repeats)))
+                         for k, v in squared.items()}
         self.choice_ = min(self.cv_rmse_, key=lambda k: (self.cv_rmse_[k], k != "stribeck"))
         self.chosen_ = self.greybox_ if self.choice_ == "stribeck" else self.elm_
         self.network_ = self.chosen_.network_

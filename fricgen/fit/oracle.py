@@ -5,16 +5,18 @@ In the normalized coordinates of eq. (9), with B identified from the high-speed 
 other estimator, eq. (1) reads t(x) = c + sum_k a_k g(x, xs_k): nothing else is fitted (no
 slope, no extra source). The linear part (c, a_k) is eliminated (variable projection) and the
 xs_k are found by multi-start nonlinear least squares from every S-subset of a log grid
-(``fricgen.fit.stribeck.fit_sources``).
+(``fricgen.fit.stribeck.fit_sources``), each within [XS_MIN, vs_max] (``--vs-max`` bounds the
+Stribeck velocities).
 """
 from __future__ import annotations
 
+import itertools
 import time
 
 from .._validate import integer
 from ..friction import SHAPES
 from .base import Estimator
-from .stribeck import XS_MAX, XS_MIN, all_subsets, fit_sources
+from .stribeck import XS_MAX, XS_MIN, fit_sources, start_grid
 
 
 class OracleRegressor(Estimator):
@@ -37,7 +39,8 @@ class OracleRegressor(Estimator):
         grid = integer("grid", self.grid, minimum=n_sources)
         x, t = self._inputs(x, t)
         start = time.perf_counter()
-        best = fit_sources(x, t, self.shape, all_subsets(grid, n_sources), XS_MIN, XS_MAX)
+        starts = itertools.combinations(start_grid(grid, XS_MIN, XS_MAX), n_sources)
+        best = fit_sources(x, t, self.shape, list(starts), XS_MIN, XS_MAX)
         self.network_ = best.curve
         self.cost_ = 0.5 * float(best.residuals @ best.residuals)
         self.n_starts_ = best.n_starts

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..data.training_set import OUTLIER_SIGMAS
+from .base import inner_points
 
 #: Points in the running median's window (odd): a spike is outvoted unless 4 meet in one window.
 MEDIAN_WINDOW = 7
@@ -31,8 +32,7 @@ def running_median(x: np.ndarray, t: np.ndarray, window: int = MEDIAN_WINDOW) ->
 def gross_outliers(x, t, sigmas: float = OUTLIER_SIGMAS, window: int = MEDIAN_WINDOW) -> np.ndarray:
     """A mask of the points more than ``sigmas`` robust standard deviations off the running
     median (none when the residuals have no spread or there are too few points). The points
-    at the smallest and the largest x are never rejected: there the median sees one side only,
-    and in the eq. (9) set they are the two boundary points of section 2, not measurements."""
+    at the smallest and the largest x are never rejected (``inner_points``)."""
     x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
     if x.size < 2 * window:
         return np.zeros(x.size, dtype=bool)
@@ -40,6 +40,4 @@ def gross_outliers(x, t, sigmas: float = OUTLIER_SIGMAS, window: int = MEDIAN_WI
     scale = 1.4826 * float(np.median(residual))
     if not scale > 0:
         return np.zeros(x.size, dtype=bool)
-    outliers = residual > sigmas * scale
-    outliers[[int(np.argmin(x)), int(np.argmax(x))]] = False
-    return outliers
+    return (residual > sigmas * scale) & inner_points(x)

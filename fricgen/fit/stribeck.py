@@ -5,7 +5,7 @@ reads t(x) = c + sum_k a_k g(x, xs_k): linear in (c, a_k) (c gathers every f_ck,
 f_sk - f_ck) and nonlinear in the S Stribeck velocities xs_k = K_in v_sk. ``fit_sources``
 eliminates the linear part (variable projection, with Kaufman's Jacobian) and finds
 theta_k = log xs_k by multi-start nonlinear least squares from every S-subset of a log grid.
-``StribeckRegressor`` chooses S and g by Akaike's criterion and reports every parameter with its
+``StribeckRegressor`` chooses S and g by Akaike's criterion (AICc) and reports every parameter with its
 standard error.
 """
 from __future__ import annotations
@@ -23,7 +23,7 @@ from ..data.training_set import SAT_FACTOR
 from ..friction import SHAPES
 from ..metrics import rmse
 from ..networks.stribeck import StribeckCurve
-from .base import Estimator, interleaved_folds
+from .base import Estimator, inner_points, interleaved_folds
 
 #: Largest normalized Stribeck velocity: v_s <= vs_max = v_sat / SAT_FACTOR (``--vs-max``).
 XS_MAX = 1.0 / SAT_FACTOR
@@ -87,10 +87,11 @@ class SourcesFit:
 
     @property
     def aic(self) -> float:
-        """Akaike's criterion n log(RSS / n) + 2 p for the p = 2 S + 1 parameters (Gaussian
-        noise): what chooses S and g."""
+        """Akaike's criterion with the small-sample correction (AICc), n log(RSS / n) + 2 p +
+        2 p (p + 1) / (n - p - 1), for the p = 2 S + 1 parameters: what chooses S and g."""
         n, p = self.jacobian.shape
-        return n * float(np.log(max(float(self.residuals @ self.residuals) / n, 1e-300))) + 2 * p
+        rss = max(float(self.residuals @ self.residuals) / n, 1e-300)
+        return n * float(np.log(rss)) + 2 * p + 2 * p * (p + 1) / max(n - p - 1, 1)
 
     def standard_errors(self) -> dict:
         """Standard errors of c, a_k and xs_k from sigma^2 (J^T J)^-1, sigma^2 = RSS / (n - p)."""
@@ -167,7 +168,8 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
     return SourcesFit(curve, r, np.column_stack([A, dA * coef[1:]]), len(starts))
 
 
-def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_max: float = XS_MAX):
+def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: float = XS_MIN,
+                              xs_max: float = XS_MAX):
     """``fit``'s model refitted without each fold (started from ``fit``'s Stribeck velocities):
     the residual at each point of the refit without its fold, and each refit's AIC by fold."""
     x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
@@ -175,7 +177,7 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_max: 
     aics = {}
     for k in np.unique(folds):
         out = folds == k
-        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta], XS_MIN, xs_max)
+        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta], xs_min, xs_max)
         held_out[out] = refit.curve(x[out]) - t[out]
         aics[int(k)] = refit.aic if refit.admissible else np.inf
     return held_out, aics
@@ -183,7 +185,7 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_max: 
 
 class StribeckRegressor(Estimator):
     """Grey-box eq. (1): S sources of one shape g, with S in ``sources`` and g in ``shapes``
-    chosen by Akaike's criterion (closed form; on the benchmark it picks models as good as the
+    chosen by Akaike's criterion (AICc, closed form; on the benchmark it picks models as good as the
     true structure, where cross-validation is too noisy to tell them apart). ``cv_rmse_`` is the
     ``n_folds``-fold cross-validated error of the whole procedure (``interleaved_folds``; each
     fold's refit starts from the full fit's Stribeck velocities, and S and g are chosen again
@@ -198,7 +200,7 @@ class StribeckRegressor(Estimator):
     optimum of S - 1 sources plus each grid value (a new source anywhere).
 
     After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``, ``xs_max_``
-    (the bound of the chosen fit), ``candidates_`` ({(shape, S, bound): AIC}), ``fits_`` (each
+    (the bound of the chosen fit), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S, bound): AIC}), ``fits_`` (each
     candidate's ``SourcesFit``), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
     amplitudes, stribeck; normalized units), ``fit_seconds_``.
     """
@@ -220,15 +222,18 @@ class StribeckRegressor(Estimator):
             raise ValueError(f"shapes must be a non-empty list of {sorted(SHAPES)}, got {shapes!r}")
         sources = [integer("sources", s) for s in self.sources]
         bounds = [positive("xs_bounds", b) for b in self.xs_bounds]
-        if not sources or not bounds or min(bounds) <= XS_MIN:
-            raise ValueError(f"sources and xs_bounds must not be empty, each bound > {XS_MIN}")
+        if not sources or not bounds:
+            raise ValueError("sources and xs_bounds must not be empty")
         integer("grid", self.grid, minimum=2)
         integer("n_folds", self.n_folds, minimum=2)
         x, t = self._inputs(x, t)
         start = time.perf_counter()
         fits = {}
+        self.xs_min_ = xs_min = XS_MIN
         for xs_max in bounds:
-            grid = start_grid(self.grid, XS_MIN, xs_max)
+            if xs_max <= xs_min:
+                continue
+            grid = start_grid(self.grid, xs_min, xs_max)
             for shape in shapes:
                 previous = None
                 for s in sorted(sources):
@@ -236,7 +241,7 @@ class StribeckRegressor(Estimator):
                         break
                     starts = [np.append(previous.theta, g) for g in grid] if previous else \
                         [np.array([g]) for g in grid]
-                    fits[(shape, s, xs_max)] = previous = fit_sources(x, t, shape, starts, XS_MIN,
+                    fits[(shape, s, xs_max)] = previous = fit_sources(x, t, shape, starts, xs_min,
                                                                       xs_max)
         if not fits:
             raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
@@ -250,7 +255,7 @@ class StribeckRegressor(Estimator):
         self.shape_, self.n_sources_, self.xs_max_ = key
         self.fits_ = fits
         self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
-        self.cv_rmse_ = rmse(self.cv_residuals_, 0.0)
+        self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x)], 0.0)
         self.train_rmse_ = best.rmse
         self.standard_errors_ = best.standard_errors()
         self.fit_seconds_ = time.perf_counter() - start
@@ -266,7 +271,8 @@ class StribeckRegressor(Estimator):
         best = min(self.candidates_.values())
         contenders = {k for k in keys if self.candidates_[k] <= best + AIC_CONTENDERS}
         keys = [k for k in keys if k in contenders]
-        refits = [cross_validated_residuals(x, t, self.fits_[k], folds, k[2]) if k in contenders
+        refits = [cross_validated_residuals(x, t, self.fits_[k], folds, self.xs_min_, k[2])
+                  if k in contenders
                   else None for k in keys]
         held_out = np.empty_like(t)
         for fold in np.unique(folds):
