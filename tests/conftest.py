@@ -92,7 +92,8 @@ def cli_inputs(tmp_path_factory):
     from fricgen.cli import main
     d = tmp_path_factory.mktemp("cli_inputs")
     assert main(["synth", "-o", str(d / "sweep.csv")]) == 0
-    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02"]) == 0
+    assert main(["train", str(d / "sweep.csv"), "-o", str(d / "model.json"), "--vs-max", "0.02",
+                 "--method", "elm_auto"]) == 0
     assert main(["synth-log", "--duration", "3", "-o", str(d / "log.csv")]) == 0
     return d
 

@@ -81,6 +81,8 @@ ROWS = [
     ("--neurons 5000", ["train", "sweep.csv", "-o", OUT, "--neurons", "5000"], "<= 4096"),
     ("--w-max 2", ["train", "sweep.csv", "-o", OUT, "--w-max", "2"], "--w-max: w_max=2.0 too small"),
     ("--seed -1", ["train", "sweep.csv", "-o", OUT, "--method", "elm", "--seed", "-1"], "--seed: must be"),
+    ("--neurons with --method stribeck", ["train", "sweep.csv", "-o", OUT, "--method", "stribeck",
+                                          "--neurons", "3"], "configure --method elm, not --method stribeck"),
     ("--vs-max nan", ["train", "sweep.csv", "-o", OUT, "--vs-max", "nan"], "--vs-max: must be"),
     ("5001-digit integer in model.json", ["eval", "big_int.json"], "not valid JSON"),
     ("10**400 in model.json", ["eval", "inf_number.json"], "must be"),

@@ -7,7 +7,8 @@ from ..data import prepare, read_sweep_csv
 from .._validate import MAX_HIDDEN
 from ..data.training_set import OUTLIER_SIGMAS
 from ..errors import UsageError
-from ..fit import DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_estimator
+from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_elm,
+                   default_estimator)
 from ..fit.stribeck import XS_MAX
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
@@ -28,10 +29,11 @@ def _estimator(args):
     given = [k for k in _ELM_OPTIONS if getattr(args, k) is not None]
     flags = ", ".join("--" + k.replace("_", "-") for k in given)
     args.method = args.method or ("elm" if given else "auto")
-    if args.method in ("auto", "stribeck"):
+    if args.method != "elm":
         if given:
             raise UsageError(f"{flags} configure --method elm, not --method {args.method}")
-        return default_estimator(args.seed) if args.method == "auto" else StribeckRegressor()
+        return {"auto": default_estimator, "elm_auto": default_elm,
+                "stribeck": lambda seed: StribeckRegressor()}[args.method](args.seed)
     for k, default in _ELM_OPTIONS.items():
         if getattr(args, k) is None:
             setattr(args, k, default)
@@ -138,10 +140,11 @@ def register(p) -> None:
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
                    "(default: estimated from the data)")
-    p.add_argument("--method", choices=["auto", "elm", "stribeck"],
+    p.add_argument("--method", choices=["auto", "elm_auto", "stribeck", "elm"],
                    help="auto: the grey-box eq. (1) or the automatic ELM, whichever has the "
-                   "smaller cross-validated error (default); stribeck: the grey-box eq. (1); "
-                   "elm: the ELM the options below describe (default when any of them is given)")
+                   "smaller cross-validated error (default); elm_auto: the automatic ELM; "
+                   "stribeck: the grey-box eq. (1); elm: the ELM the options below describe "
+                   "(default when any of them is given)")
     p.add_argument("--neurons", type=number(1, MAX_HIDDEN, integer=True),
                    help=f"(elm) default {_ELM_OPTIONS['neurons']}")
     p.add_argument("--activation", choices=sorted(ACTIVATIONS),

@@ -130,9 +130,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         ctx = stribeck_context(model, name, activation_impl)
         files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
                  f"{name}.c": env.get_template("model_stribeck.c.j2").render(ctx)}
-        if activation_impl == "fast":
-            runtime = resource_dir("c_runtime")
-            files.update({f: (runtime / f).read_text() for f in FAST_RUNTIME_FILES})
+        runtime = resource_dir("c_runtime")         # the folder's runtime, as for an ELM
+        files.update({f: (runtime / f).read_text()
+                      for f in (FAST_RUNTIME_FILES if activation_impl == "fast" else RUNTIME_FILES)})
         if with_controller:
             files.update(controller_files())
         return files
