@@ -115,7 +115,8 @@ def xt(bench):
 SLOW_MODULES = {"test_install", "test_firmware", "test_hardening", "test_experiments", "test_bad_input"}
 SLOW_TESTS = {"test_the_hidden_effect_is_named",
               "test_errors_and_parameters_stay_bounded_under_law_c_with_a_constant_disturbance",
-              "test_closed_loop_c_equals_float32_twin_and_float64_controller"}
+              "test_closed_loop_c_equals_float32_twin_and_float64_controller",
+              "test_grey_box_firmware_on_the_emulated_cortex_m4f_equals_its_twin"}
 
 
 def pytest_collection_modifyitems(config, items):

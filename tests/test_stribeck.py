@@ -12,6 +12,7 @@ from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
 from fricgen.codegen.fast_sigmoid import exp_neg_error_bound, exp_neg_fast_f32
 from fricgen.codegen.twin import force_f32
 from fricgen.errors import ModelError
+from fricgen.firmware import build as fw
 from fricgen.fit import DefaultRegressor, OracleRegressor, StribeckRegressor
 from fricgen.fit.outliers import gross_outliers
 from fricgen.fit.stribeck import all_subsets, fit_sources
@@ -146,3 +147,21 @@ def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp
 def test_grey_box_models_refuse_fixed_point(greybox_model):
     with pytest.raises(ModelError, match="--dtype q15 emits ELM models"):
         codegen.render(greybox_model, "gb", dtype="q15")
+
+
+@pytest.mark.skipif(fw.missing_tools() is not None, reason="cross toolchain or QEMU absent")
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_grey_box_firmware_on_the_emulated_cortex_m4f_equals_its_twin(greybox_model, impl, tmp_path):
+    src = tmp_path / "src"
+    codegen.emit(greybox_model, src, "gb", activation_impl=impl)
+    v = np.linspace(-2 * greybox_model.v_sat, 2 * greybox_model.v_sat, 201).astype(np.float32)
+    elf = fw.build_firmware(src, fw.config_float("gb.h", "gb_force", v), "cortex-m4f",
+                            tmp_path / "build", strict_model=True)
+    out = fw.parse_float_bits(fw.run(elf, "cortex-m4f"))
+    twin = force_f32(greybox_model, v, impl)
+    if impl == "fast":
+        np.testing.assert_array_equal(out, twin)              # no libm: bit for bit
+    else:                                                     # newlib's expf: a few ULP
+        assert np.max(np.abs(out.astype(float) - twin)) <= 8 * EPS32 * np.max(np.abs(twin))
+    exact = greybox_model.force(v.astype(float))
+    assert np.max(np.abs(out - exact)) <= 1e-5 * np.max(np.abs(exact))
