@@ -1,4 +1,8 @@
-"""elm_auto against the eq. (1) oracle and the default-sized enlarged ELM on held-out seed sets.
+"""elm_auto against the honest eq. (1) oracle and the default-sized enlarged ELM on held-out seed sets.
+
+The oracle is eq. (1) alone with the true shape and S = 3 on the B identified from the
+high-speed rows (no free slope): ``fricgen.fit.oracle``. benchmarks/default_vs_oracle.py measures
+fricgen's default model against it.
 
 Prints the median E_Ttest (newtons) over 20 seeds for three disjoint seed sets and the three
 Stribeck shapes of eq. (2), so the design of elm_auto can be checked away from seeds 0-19.

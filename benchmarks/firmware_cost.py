@@ -1,5 +1,6 @@
 """Firmware cost of emitted friction models on Cortex-M4F and Cortex-M0+, against emlearn.
 
+Beside them, the grey-box eq. (1) with S = 3 gauss sources (rows greybox-libm, greybox-fast, M = 3).
 For M in {6, 10, 20, 50} hidden sigmoids (paper benchmark, seed 0, fricgen's enlarged scheme
 with C by leave-one-out) and each implementation -- fricgen libm, fast, q15, q31, and emlearn
 converting the same network (one logistic hidden layer, identity output, 'loadable' method,
@@ -32,10 +33,13 @@ from fricgen.firmware import build as fw
 from fricgen.c_literal import c_float
 from fricgen.data import synthesize_benchmark
 from fricgen.fit.elm import ELMRegressor, EnlargedScheme
+from fricgen.fit.oracle import OracleRegressor
 from fricgen.friction import preset
 from fricgen.model import FrictionModel, ModelError
 
 IMPLS = ("fricgen-libm", "fricgen-fast", "fricgen-q15", "fricgen-q31", "emlearn")
+#: The float implementations of the grey-box model (M = S = 3 in the rows).
+GREYBOX_IMPLS = ("greybox-libm", "greybox-fast")
 N_BENCH = {"cortex-m4f": 8, "cortex-m0plus": 2}
 
 
@@ -43,6 +47,17 @@ def train(m: int) -> FrictionModel:
     bench = synthesize_benchmark(preset("paper3"), seed=0)
     est = ELMRegressor(n_hidden=m, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0)
     return FrictionModel.fit(bench.dataset, est, name="fm")
+
+
+def train_greybox() -> FrictionModel:
+    """The grey-box eq. (1) with S = 3 gauss sources (Table 1's structure), paper benchmark seed 0."""
+    bench = synthesize_benchmark(preset("paper3"), seed=0)
+    return FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")
+
+
+def model_size(model: FrictionModel) -> int:
+    """M hidden units of an ELM, S sources of a grey-box curve."""
+    return getattr(model.aim, "n_hidden", None) or model.aim.n_sources
 
 
 def import_emlearn():
@@ -95,7 +110,7 @@ def baseline(kind: str, target: str, tmp: Path, inputs) -> dict:
 
 
 def measure(model: FrictionModel, impl: str, target: str, tmp: Path, bases: dict) -> dict:
-    folder = tmp / f"{impl}_{target}_{model.aim.n_hidden}"
+    folder = tmp / f"{impl}_{target}_{model_size(model)}"
     src = folder / "src"
     src.mkdir(parents=True, exist_ok=True)
     v = np.linspace(-2 * model.v_sat, 2 * model.v_sat, 201).astype(np.float32)
@@ -130,7 +145,7 @@ def measure(model: FrictionModel, impl: str, target: str, tmp: Path, bases: dict
         out = fw.parse_float_bits(lines).astype(float)
         v_used = v.astype(float)
     counts = fw.count_instructions(elf, target)
-    return {"impl": impl, "target": target, "n_hidden": model.aim.n_hidden,
+    return {"impl": impl, "target": target, "n_hidden": model_size(model),
             "flash_bytes": sizes["flash"] - base["flash"], "ram_bytes": sizes["ram"] - base["ram"],
             "instructions_per_call": sum(counts.values()) / N_BENCH[target],
             "max_abs_err_newton": float(np.max(np.abs(out - model.force(v_used))))}
@@ -141,6 +156,8 @@ def main(argv=None) -> int:
     ap.add_argument("--json", action="store_true", help="print {'rows': [...]} as JSON")
     ap.add_argument("--sizes", default="6,10,20,50", help="hidden-layer sizes (comma-separated)")
     ap.add_argument("--targets", default="cortex-m4f,cortex-m0plus")
+    ap.add_argument("--no-greybox", action="store_true",
+                    help="leave out the grey-box eq. (1) with S = 3 gauss sources")
     args = ap.parse_args(argv)
     reason = fw.missing_tools()
     if reason:
@@ -152,9 +169,12 @@ def main(argv=None) -> int:
         tmp = Path(tmp)
         probe = np.zeros(4, dtype=np.float32)
         bases = {(k, t): baseline(k, t, tmp, probe) for k in ("float", "int16_t", "int32_t") for t in targets}
-        for m in (int(s) for s in args.sizes.split(",")):
-            model = train(m)
-            for impl in IMPLS:
+        runs = [(train(int(s)), IMPLS) for s in args.sizes.split(",")]
+        if not args.no_greybox:
+            runs.append((train_greybox(), GREYBOX_IMPLS))
+        for model, impls in runs:
+            m = model_size(model)
+            for impl in impls:
                 for target in targets:
                     try:
                         rows.append(measure(model, impl, target, tmp, bases))

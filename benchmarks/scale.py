@@ -42,7 +42,7 @@ from fricgen.codegen.cost import cortex_m4f_instructions
 from fricgen.codegen.parity import parity_velocities
 from fricgen.codegen.twin import force_f32
 from fricgen.data import prepare, read_sweep_csv, training_set
-from fricgen.fit import DEFAULT_ELM, ELMRegressor, default_estimator
+from fricgen.fit import DEFAULT_ELM, ELMRegressor, default_elm
 from fricgen.fit.elm import float32_error
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
@@ -136,7 +136,7 @@ def binning_accuracy(folder, sizes):
             saved = training_set.MAX_TRAINING_POINTS
             training_set.MAX_TRAINING_POINTS = cap
             try:
-                model = FrictionModel.fit(prepare(sweep, vs_max=0.02), default_estimator(0))
+                model = FrictionModel.fit(prepare(sweep, vs_max=0.02), default_elm(0))
             finally:
                 training_set.MAX_TRAINING_POINTS = saved
             errs.append(float(np.sqrt(np.mean((model.force(v) - friction(v)) ** 2))))
@@ -180,7 +180,7 @@ def model_sizes(folder, sizes, seeds):
     for n in sizes:
         per_seed = []
         for seed in seeds:
-            model = FrictionModel.fit(sweep_dataset(folder, n, seed), default_estimator(0), name="fm")
+            model = FrictionModel.fit(sweep_dataset(folder, n, seed), default_elm(0), name="fm")
             per_seed.append((model.aim.n_hidden, true_rmse(model, friction), host_ns(model, folder / "host")))
         m, e, ns = (float(np.median([p[i] for p in per_seed])) for i in range(3))
         rows[n] = (m, e, ns)

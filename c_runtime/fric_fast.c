@@ -36,8 +36,8 @@ typedef union {
     uint32_t u;
 } fric_fast_bits;
 
-/* 1 + 2^t. Requires |t| <= 125 (callers guarantee it). */
-FRIC_FAST_INLINE float fric_fast_one_plus_exp2(float t)
+/* 2^t. Requires |t| <= 125 (callers guarantee it). */
+FRIC_FAST_INLINE float fric_fast_exp2(float t)
 {
     fric_fast_bits rounded;
     fric_fast_bits e;
@@ -47,7 +47,13 @@ FRIC_FAST_INLINE float fric_fast_one_plus_exp2(float t)
     e.f = FRIC_FAST_P0 + f * (FRIC_FAST_P1 + f * (FRIC_FAST_P2 + f * (FRIC_FAST_P3
           + f * FRIC_FAST_P4)));
     e.u += rounded.u << 23;
-    return 1.0f + e.f;
+    return e.f;
+}
+
+/* 1 + 2^t. Requires |t| <= 125 (callers guarantee it). */
+FRIC_FAST_INLINE float fric_fast_one_plus_exp2(float t)
+{
+    return 1.0f + fric_fast_exp2(t);
 }
 
 float fric_sigmoid_fast_f32(float z)
@@ -76,4 +82,17 @@ float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *bet
         acc += beta[k] / fric_fast_one_plus_exp2(w[k] * x + b[k]); /* w, b times -log2(e) */
     }
     return acc;
+}
+
+float fric_exp_neg_fast_f32(float a)
+{
+    if (a != a) {
+        return a;
+    }
+    if (a < -FRIC_FAST_Z_MAX) {
+        a = -FRIC_FAST_Z_MAX;
+    } else if (a > FRIC_FAST_Z_MAX) {
+        a = FRIC_FAST_Z_MAX;
+    }
+    return fric_fast_exp2(a * FRIC_FAST_NEG_LOG2E);
 }

@@ -1,4 +1,5 @@
 /* fricgen C runtime: ELM hidden-layer kernel with the fast sigmoid, eq. (7)-(8), without libm.
+ * Also exp(-a) without libm for the grey-box Stribeck model, eq. (2).
  * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by
  * `fricgen emit --activation-impl fast`. */
 #ifndef FRIC_FAST_H
@@ -28,6 +29,11 @@ float fric_sigmoid_fast_f32(float z);
  * 8.5e-7 |beta[k]| of beta[k] / (1 + 2^t_k) for the float t_k formed. Each float operation is
  * rounded in this order; fricgen.fast_sigmoid mirrors it exactly. */
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+
+/* exp(-a) = 2^t, t = a * fl(-log2(e)), for the Stribeck shapes of eq. (2) (`fricgen emit` of a
+ * grey-box model): a is clamped to [-86, 86] (|t| <= 125), NaN returns NaN. The relative error
+ * is that of the polynomial plus the rounding of t (fricgen.fast_sigmoid.exp_neg_error_bound). */
+float fric_exp_neg_fast_f32(float a);
 
 #ifdef __cplusplus
 }

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 
 from fricgen.data import synthesize_benchmark
-from fricgen.fit import default_estimator as default_elm
+from fricgen.fit import default_elm
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
 

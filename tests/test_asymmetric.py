@@ -10,9 +10,10 @@ from fricgen import codegen
 from fricgen.codegen import parity
 from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
 from fricgen.codegen.twin import force_f32
-from fricgen.data import Sweep, synthesize_benchmark
+from fricgen.data import Sweep, prepare, synthesize_benchmark
 from fricgen.errors import DataError, ModelError
-from fricgen.fit import ELMRegressor
+from fricgen.cli import main
+from fricgen.fit import ELMRegressor, StribeckRegressor
 from fricgen.fit.directions import fit_directions
 from fricgen.fit.elm import EnlargedScheme
 from fricgen.firmware import build as fw
@@ -35,7 +36,6 @@ def asym(model10):
     variant of the benchmark with 30 % more friction."""
     other = synthesize_benchmark(preset("paper3", "exponential"), seed=1)
     scaled = Sweep(other.train.v, 1.3 * other.train.f)
-    from fricgen.data import prepare
     negative = Direction.fit(prepare(scaled, vs_max=0.02), _elm10())
     return FrictionModel.from_directions(model10.positive, negative, name="fa")
 
@@ -206,3 +206,27 @@ def test_emulated_asymmetric_fast_model_is_bit_equal_to_python_twin(asym, target
     elf = fw.build_firmware(tmp_path / "model", cfg, target, tmp_path / "build")
     out = fw.parse_float_bits(fw.run(elf, target))
     assert np.array_equal(out.view(np.uint32), force_f32(asym, v, "fast").view(np.uint32))
+
+
+def test_default_train_fits_elm_curves_per_direction_that_emit(tmp_path):
+    """The default's grey-box C holds one curve, so an asymmetric model takes elm_auto per
+    direction: ``train`` then ``emit`` work on a sweep of both directions."""
+    sweep = _two_directions(1.2)
+    csv = tmp_path / "both.csv"
+    np.savetxt(csv, np.column_stack([sweep.v, sweep.f]), delimiter=",", header="v,f", comments="")
+    model_json = tmp_path / "m.json"
+    assert main(["train", str(csv), "--vs-max", "0.02", "-o", str(model_json)]) == 0
+    model = FrictionModel.load(model_json)
+    assert model.negative is not None
+    assert all(c.aim.kind == "elm" for c in model.directions)
+    assert main(["emit", str(model_json), "-o", str(tmp_path / "c")]) == 0
+    assert any("_aim_negative" in p.read_text() for p in (tmp_path / "c").glob("*.c"))
+
+
+def test_emit_refuses_an_asymmetric_model_with_a_grey_box_curve(model10):
+    bench = synthesize_benchmark(preset("paper3"), seed=0)
+    data = prepare(bench.train, vs_max=0.02)
+    grey = Direction.fit(data, StribeckRegressor())
+    model = FrictionModel.from_directions(grey, model10.positive, name="fg")
+    with pytest.raises(ModelError, match="ELM curves only"):
+        codegen.render(model)

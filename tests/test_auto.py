@@ -4,7 +4,7 @@ import pytest
 
 from fricgen.fit.auto import AutoELMRegressor, forward_selection, sigmoid_dictionary
 from fricgen.data import synthesize_benchmark
-from fricgen.fit import ELMRegressor, default_estimator as default_elm
+from fricgen.fit import ELMRegressor, default_elm
 from fricgen.fit.elm import SVD, float32_error, loo_residuals, parity_limit
 from fricgen.networks.elm import hidden_matrix
 from fricgen.friction import preset

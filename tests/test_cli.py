@@ -21,7 +21,7 @@ def sweep_csv(tmp_path_factory):
 @pytest.fixture(scope="module")
 def model_json(sweep_csv):
     path = sweep_csv.parent / "model.json"
-    assert main(["train", str(sweep_csv), "-o", str(path), "--vs-max", "0.02"]) == 0
+    assert main(["train", str(sweep_csv), "-o", str(path), "--vs-max", "0.02", "--method", "elm_auto"]) == 0
     return path
 
 
@@ -29,7 +29,7 @@ def test_train_writes_a_valid_model_and_reports(sweep_csv, tmp_path, capsys):
     out = tmp_path / "m.json"
     assert main(["train", str(sweep_csv), "-o", str(out), "--vs-max", "0.02", "--name", "axis1"]) == 0
     report = capsys.readouterr().out
-    assert "v_sat = 0.06 m/s" in report and "||beta||" in report and "E_train" in report
+    assert "v_sat = 0.06 m/s" in report and "chose " in report and "E_train" in report
     model = FrictionModel.load(out)
     assert model.name == "axis1" and model.v_sat == pytest.approx(0.06)
 
@@ -197,7 +197,7 @@ def test_eval_refuses_non_numbers(model_json, monkeypatch, capsys, tmp_path):
 def test_demo_reports_paper_comparison_and_measured_parity(tmp_path, capsys):
     assert main(["demo", "--seeds", "2", "--out", str(tmp_path / "demo")]) == 0
     out = capsys.readouterr().out
-    for label in ("elm_standard", "elm_enlarged", "elm_enlarged_regularized", "fricgen default"):
+    for label in ("elm_standard", "elm_enlarged", "elm_enlarged_regularized", "fricgen elm_auto"):
         assert label in out
     line = next(l for l in out.splitlines() if l.startswith("C parity"))
     rel = float(line.rsplit("=", 1)[1])

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from fricgen.errors import ModelError
-from fricgen.fit import (AnfisRegressor, AutoELMRegressor, ConditionedELMRegressor, ELMRegressor,
-                         NotFittedError, OracleRegressor)
+from fricgen.fit import (AnfisRegressor, AutoELMRegressor, ConditionedELMRegressor,
+                         DefaultRegressor, ELMRegressor, NotFittedError, OracleRegressor,
+                         StribeckRegressor)
 from fricgen.fit.elm import EnlargedScheme
 from fricgen.model import FrictionModel
 from fricgen.networks import KINDS, network_from_dict
@@ -17,6 +18,8 @@ ESTIMATORS = {
     "anfis": lambda: AnfisRegressor(n_mfs=4, epochs=10),
     "conditioned": lambda: ConditionedELMRegressor(n_hidden=6, iterations=3, random_state=1),
     "oracle": lambda: OracleRegressor(grid=4),
+    "stribeck": lambda: StribeckRegressor(shapes=("gauss",), sources=(2, 3), grid=4),
+    "default": lambda: DefaultRegressor(n_repeats=1),
 }
 
 

@@ -11,7 +11,7 @@ from ..codegen import emit, parity
 from .._io import check_folder
 from ..codegen.cbuild import build_model
 from ..data import synthesize_benchmark
-from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
+from ..fit import DEFAULT_ELM, ELMRegressor, default_elm
 from ..friction import preset
 from ..model import FrictionModel
 from ..paper import reported as paper
@@ -45,7 +45,7 @@ def run(args) -> int:
     makers = {label: (lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg))
               for label, cfg in paper.HEADLINE_ELMS.items()}
     makers["elm_loo (M=40, C by LOO)"] = lambda s: ELMRegressor(random_state=s, **DEFAULT_ELM)
-    makers["fricgen default (auto)"] = default_estimator
+    makers["fricgen elm_auto"] = default_elm
     out(f"{'model':28s} {'E_train':>8s} {'E_test':>8s} {'E_Ttest':>8s} {'E_Ttest N':>10s} "
         f"{'median N':>9s} {'||beta||':>10s} {'log10cond':>9s}   paper [E_train, E_test, E_Ttest]")
     for label, make in makers.items():
@@ -57,7 +57,7 @@ def run(args) -> int:
     out("(normalized errors depend on the unspecified K_out; compare ratios and newtons)")
 
     bench = synthesize_benchmark(preset("paper3"), seed=0)
-    model = FrictionModel.fit(bench.dataset, default_estimator(0), name="fm")
+    model = FrictionModel.fit(bench.dataset, default_elm(0), name="fm")
     folder = Path(args.output) if args.output else Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
     try:
         emit(model, folder, "fm")

@@ -35,7 +35,8 @@ def run(args) -> int:
     files["report.md"] = render(result, figures, note)
     check_targets(args, files)                                     # before any result is printed
     s = result["summary"]
-    out(f"median E_Ttest: auto/oracle = {s['auto_over_oracle']:.2f}, "
+    out(f"median E_Ttest: default/oracle = {s['default_over_oracle']:.2f}, "
+        f"auto/oracle = {s['auto_over_oracle']:.2f}, "
         f"best paper ELM ({s['best_paper_elm']})/auto = {s['best_paper_elm_over_auto']:.2f}, "
         f"best paper model ({s['best_paper_model']})/auto = {s['best_paper_over_auto']:.2f}")
     write_folder(args, files)

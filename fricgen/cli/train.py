@@ -10,8 +10,10 @@ from .._validate import MAX_HIDDEN
 from ..data.training_set import OUTLIER_SIGMAS, SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
 from ..errors import DataError, UsageError
-from ..fit import DEFAULT_ELM, ELMRegressor, default_estimator
+from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_elm,
+                   default_estimator)
 from ..fit.directions import CV_FOLDS, fit_directions
+from ..fit.stribeck import XS_MAX
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
 from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
@@ -31,12 +33,19 @@ def _estimator(args):
     given = [k for k in _ELM_OPTIONS if getattr(args, k) is not None]
     flags = ", ".join("--" + k.replace("_", "-") for k in given)
     args.method = args.method or ("elm" if given else "auto")
-    if args.method == "auto":
+    if args.method != "elm":
         if given:
-            raise UsageError(f"{flags} configure --method elm, not --method auto")
-        return default_estimator(args.seed, max_neurons=args.max_neurons)
+            raise UsageError(f"{flags} configure --method elm, not --method {args.method}")
+        if args.method == "stribeck":
+            if args.max_neurons is not None:
+                raise UsageError("--max-neurons caps the ELM of --method auto or elm_auto; "
+                                 "--method stribeck has no neurons")
+            return StribeckRegressor()
+        make = default_estimator if args.method == "auto" else default_elm
+        return make(args.seed, max_neurons=args.max_neurons)
     if args.max_neurons is not None:
-        raise UsageError("--max-neurons caps --method auto; --neurons sets the size of --method elm")
+        raise UsageError("--max-neurons caps --method auto and elm_auto; --neurons sets the size "
+                         "of --method elm")
     for k, default in _ELM_OPTIONS.items():
         if getattr(args, k) is None:
             setattr(args, k, default)
@@ -72,20 +81,70 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
         + (f" ({dataset.n_outliers} rejected as gross outliers, > {OUTLIER_SIGMAS:g} robust sd "
            "off the line)" if dataset.n_outliers else ""),
         f"scaling   K_in = {s.k_in:.6g} 1/(m/s), K_out = {s.k_out:.6g} 1/N",
-        f"model     {estimator.n_hidden} {estimator.activation} neurons, {estimator.scheme}, "
-        f"C = {estimator.C_:.3g}",
-        f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = {estimator.log10_cond_:.2f}",
-        f"errors    E_train = {errors['e_train']:.5f} ({errors['e_train_newton']:.4f} N), "
-        f"leave-one-out = {errors['e_loo']:.5f} ({errors['e_loo_newton']:.4f} N)",
-        call_cost(estimator.n_hidden, estimator.activation),
     ]
+    if isinstance(estimator, DefaultRegressor):
+        lines += [f"chose     {estimator.why()}", f"outliers  {estimator.outlier_note()}"]
+        estimator = estimator.chosen_
+    if isinstance(estimator, StribeckRegressor):
+        lines += greybox_lines(estimator, dataset)
+    else:
+        lines += [f"model     {estimator.n_hidden} {estimator.activation} neurons, "
+                  f"{estimator.scheme}, C = {estimator.C_:.3g}",
+                  f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = "
+                  f"{estimator.log10_cond_:.2f}"]
+    lines.append(f"errors    E_train = {errors['e_train']:.5f} ({errors['e_train_newton']:.4f} N), "
+                 f"{errors['e_validation_kind']} = {errors['e_loo']:.5f} ({errors['e_loo_newton']:.4f} N)")
+    if not isinstance(estimator, StribeckRegressor):
+        lines.append(call_cost(estimator.n_hidden, estimator.activation))
     return "\n".join(lines)
+
+
+def greybox_lines(estimator: StribeckRegressor, dataset) -> list:
+    """The grey-box model of eq. (1) in SI units, each parameter +- its standard error."""
+    net, se = estimator.network_, estimator.standard_errors_
+    k_in, k_out = dataset.scaling.k_in, dataset.scaling.k_out
+    broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s up to {estimator.xs_max_ / k_in:.4g} m/s"
+    lines = [f"model     grey-box eq. (1): {net.n_sources} {net.shape} source(s){broad}, chosen by "
+             f"AIC among {len(estimator.candidates_)} fits",
+             f"coulomb   sum f_c = {net.offset / k_out:.5g} +- {se['offset'] / k_out:.2g} N"]
+    for k in range(net.n_sources):
+        lines.append(f"source {k + 1:<2d} f_s - f_c = {net.amplitudes[k] / k_out:.5g} +- "
+                     f"{se['amplitudes'][k] / k_out:.2g} N, v_s = {net.stribeck[k] / k_in:.5g} +- "
+                     f"{se['stribeck'][k] / k_in:.2g} m/s")
+    return lines
+
+
+def validation_error(estimator) -> tuple:
+    """The kind and value of the error on held-out points that the fit report prints."""
+    if isinstance(estimator, DefaultRegressor):
+        return "cross-validated", estimator.cv_rmse_[estimator.choice_]
+    if isinstance(estimator, StribeckRegressor):
+        return "cross-validated", estimator.cv_rmse_
+    return "leave-one-out", estimator.loo_rmse_
 
 
 def _errors(dataset, estimator) -> dict:
     e_train = rmse(estimator.predict(dataset.x), dataset.t)
+    kind, e_validation = validation_error(estimator)
     return {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
-            "e_loo": estimator.loo_rmse_, "e_loo_newton": estimator.loo_rmse_ / dataset.scaling.k_out}
+            "e_loo": e_validation, "e_loo_newton": e_validation / dataset.scaling.k_out,
+            "e_validation_kind": kind}
+
+
+def _curve_training(fit) -> dict:
+    """model.json's training record of one fitted curve: what was chosen and its errors."""
+    estimator = fit.estimator
+    chosen = estimator.chosen_ if isinstance(estimator, DefaultRegressor) else estimator
+    entry = {"activation": chosen.activation, "n_hidden": chosen.n_hidden}
+    if isinstance(estimator, DefaultRegressor):
+        entry.update(choice=estimator.choice_, choice_reason=estimator.why(),
+                     n_outliers_rejected=estimator.n_outliers_)
+    if isinstance(chosen, StribeckRegressor):
+        entry.update(shape=chosen.shape_, n_sources=chosen.n_sources_)
+    else:
+        entry["C"] = chosen.C_
+    entry["metrics"] = _errors(fit.dataset, estimator)
+    return entry
 
 
 def read_columns(args):
@@ -143,20 +202,18 @@ def run(args) -> int:
     name = check_model_name(args.name, "--name")
     sweep, ident = training_data(args)
     estimator = _estimator(args)
+    per_direction = default_elm(args.seed, max_neurons=args.max_neurons) \
+        if isinstance(estimator, DefaultRegressor) else estimator
     fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
-                            seed=args.seed)
+                            seed=args.seed, per_direction=per_direction)
     first = fitted.fits[0]
-    options = {"scheme": "auto"} if args.method == "auto" else {
+    options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
-    training = {"method": args.method, **options, "activation": first.estimator.activation,
-                "seed": args.seed, "source": Path(args.sweep).name,
-                "vs_max_estimated": first.dataset.vs_max_estimated,
-                "n_hidden": first.estimator.n_hidden, "C": first.estimator.C_,
-                "metrics": _errors(first.dataset, first.estimator)}
+    training = {"method": args.method, **options, "seed": args.seed,
+                "source": Path(args.sweep).name,
+                "vs_max_estimated": first.dataset.vs_max_estimated, **_curve_training(first)}
     if fitted.asymmetric:
-        last = fitted.fits[1]
-        training["negative"] = {"n_hidden": last.estimator.n_hidden, "C": last.estimator.C_,
-                                "metrics": _errors(last.dataset, last.estimator)}
+        training["negative"] = _curve_training(fitted.fits[1])
     if fitted.cv_rmse is not None:
         training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
     if ident is not None:
@@ -200,11 +257,13 @@ def register(p) -> None:
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
                    "(default: estimated from the data)")
-    p.add_argument("--method", choices=["auto", "elm"],
-                   help="auto: units, M and C chosen by leave-one-out (default); elm: the ELM "
-                   "the options below describe (default when any of them is given)")
+    p.add_argument("--method", choices=["auto", "elm_auto", "stribeck", "elm"],
+                   help="auto: the grey-box eq. (1) or the automatic ELM, whichever has the "
+                   "smaller cross-validated error (default); elm_auto: the automatic ELM; "
+                   "stribeck: the grey-box eq. (1); elm: the ELM the options below describe "
+                   "(default when any of them is given)")
     p.add_argument("--max-neurons", type=number(1, MAX_HIDDEN, integer=True),
-                   help="(auto) at most this many hidden units, e.g. for a firmware budget")
+                   help="(auto, elm_auto) at most this many hidden units, e.g. for a firmware budget")
     p.add_argument("--neurons", type=number(1, MAX_HIDDEN, integer=True),
                    help=f"(elm) default {_ELM_OPTIONS['neurons']}")
     p.add_argument("--activation", choices=sorted(ACTIVATIONS),

@@ -80,13 +80,37 @@ def exp2_poly_f32(f) -> np.ndarray:
     return acc
 
 
-def _one_plus_exp2(t: np.ndarray) -> np.ndarray:
-    """fl(1 + e), e = 2^t as ``fric_fast_one_plus_exp2`` (|t| <= T_MAX)."""
+def _exp2(t: np.ndarray) -> np.ndarray:
+    """e = 2^t as ``fric_fast_exp2`` (|t| <= T_MAX)."""
     c = constants()
     rounded = t + f32(c["ROUND"])
     f = t - (rounded - f32(c["ROUND"]))
     bits = exp2_poly_f32(f).view(np.uint32) + (rounded.view(np.uint32) << np.uint32(23))
-    return f32(1.0) + bits.view(f32)
+    return bits.view(f32)
+
+
+def _one_plus_exp2(t: np.ndarray) -> np.ndarray:
+    """fl(1 + e), e = 2^t as ``fric_fast_one_plus_exp2`` (|t| <= T_MAX)."""
+    return f32(1.0) + _exp2(t)
+
+
+def exp_neg_fast_f32(a) -> np.ndarray:
+    """Float32 twin of ``fric_exp_neg_fast_f32``: exp(-a) = 2^fl(a fl(-log2 e)), a clamped to
+    [-86, 86], NaN kept; bit-equal to the C."""
+    zmax = f32(constants()["Z_MAX"])
+    a = np.atleast_1d(np.asarray(a, dtype=f32))
+    with np.errstate(invalid="ignore"):
+        clamped = np.where(np.isnan(a), f32(0.0), np.clip(a, -zmax, zmax)).astype(f32)
+        return np.where(np.isnan(a), a, _exp2(clamped * f32(constants()["NEG_LOG2E"])))
+
+
+def exp_neg_error_bound() -> float:
+    """Derived bound on |fric_exp_neg_fast_f32(a) - exp(-a)| for every float a >= 0: the
+    polynomial's relative error, plus the rounding of t = fl(a fl(-log2 e)), which moves e by a
+    relative ln2 |t| (rho_L + u) = a (rho_L + u) and e^-a by at most (rho_L + u) / e."""
+    c = constants()
+    rho_l = abs(-c["NEG_LOG2E"] / np.log2(np.e) - 1.0)
+    return polynomial_error() + (rho_l + U32) / np.e
 
 
 def _sigmoid_core(z: np.ndarray) -> np.ndarray:

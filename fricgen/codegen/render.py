@@ -11,10 +11,11 @@ from .._io import resource_dir, write_all_atomic
 from ..c_literal import c_array, c_float
 from ..errors import ModelError
 from ..model import FrictionModel
-from ..networks import ElmNetwork
+from ..networks import ElmNetwork, StribeckCurve
 from .context import GENERATED_MARKER, effects_context, identity_context, template_environment
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixedpoint import render_fixed
+from .twin import stribeck_table
 
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
 RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
@@ -28,11 +29,36 @@ def _curve_context(curve) -> dict:
     """The tables and constants of one curve of eq. (3) (a model, or a ``Direction``)."""
     net = curve.aim
     if not isinstance(net, ElmNetwork):
-        raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
+        raise ModelError("emit writes one curve per direction for ELM curves only; this "
+                         "asymmetric model has a grey-box curve (train it with --method elm_auto)")
     return {"n_hidden": net.n_hidden, "input_weights": c_array(net.input_weights),
             "biases": c_array(net.biases), "output_weights": c_array(net.output_weights),
             "k_in": c_float(curve.scaling.k_in), "inv_k_out": c_float(1.0 / curve.scaling.k_out),
             "viscous": c_float(curve.viscous), "v_sat": c_float(curve.v_sat)}
+
+
+#: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
+STRIBECK_C_SHAPES = {
+    "libm": {"gauss": "expf(-(u * u))", "exponential": "expf(-u)", "rational": "1.0f / (1.0f + u)"},
+    "fast": {"gauss": "fric_exp_neg_fast_f32(u * u)", "exponential": "fric_exp_neg_fast_f32(u)",
+             "rational": "1.0f / (1.0f + u)"},
+}
+
+
+def stribeck_context(model: FrictionModel, name: str, activation_impl: str) -> dict:
+    """What templates/model_stribeck.c.j2 needs for the grey-box curve of eq. (1)."""
+    net = model.aim
+    return {
+        **identity_context(model, name), "kind": net.kind, "n_sources": net.n_sources,
+        "shape": net.shape, "fast": activation_impl == "fast",
+        "g_expr": STRIBECK_C_SHAPES[activation_impl][net.shape],
+        "inv_stribeck": c_array(stribeck_table(net)), "amplitudes": c_array(net.amplitudes),
+        "offset": c_float(net.offset), "slope": c_float(net.slope),
+        "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
+        "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
+        **effects_context(model),
+        "negative": None,  # grey-box C has one curve (see render)
+    }
 
 
 def template_context(model: FrictionModel, name: str) -> dict:
@@ -40,13 +66,14 @@ def template_context(model: FrictionModel, name: str) -> dict:
     ident = identity_context(model, name)
     net = model.aim
     if not isinstance(net, ElmNetwork):
-        raise ModelError(f"emit supports ELM models; this model's AIM is {type(net).__name__}")
+        raise ModelError(f"emit supports ELM and grey-box models; this model's AIM is "
+                         f"{type(net).__name__}")
     negative = None if model.negative is None else _curve_context(model.negative)
     if negative is not None and model.negative.aim.activation != net.activation:
         raise ModelError("emit needs one activation for both directions; this model has "
                          f"{net.activation} and {model.negative.aim.activation}")
     return {
-        **ident, "n_hidden": net.n_hidden, "activation": net.activation,
+        **ident, "kind": net.kind, "n_hidden": net.n_hidden, "activation": net.activation,
         "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
         "output_weights": c_array(net.output_weights),
         "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
@@ -79,6 +106,13 @@ def check_float32_range(model: FrictionModel) -> None:
 
 def _check_curve_float32_range(model) -> None:
     net = model.aim
+    if isinstance(net, StribeckCurve):                   # 0 < g <= 1 for x >= 0
+        bound = abs(net.offset) + abs(net.slope) + float(np.sum(np.abs(net.amplitudes)))
+        force = bound / model.scaling.k_out
+        if not (bound <= FLOAT32_HEADROOM and force <= FLOAT32_HEADROOM):
+            raise ModelError(f"the curve's output can reach {max(bound, force):.3g}, beyond the "
+                             f"float32 C's range ({FLOAT32_HEADROOM:.3g}); it cannot be emitted")
+        return
     z_ends = np.abs(np.stack([net.biases, net.input_weights + net.biases]))
     largest = np.sqrt(1.0 + z_ends.max(axis=0) ** 2) if net.activation == "multiquadric" else 1.0
     with np.errstate(over="ignore"):
@@ -107,6 +141,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     if dtype not in DTYPES:
         raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
     if dtype != "float":
+        if any(isinstance(c.aim, StribeckCurve) for c in model.directions):
+            raise ModelError(f"--dtype {dtype} emits ELM models; emit this grey-box model with "
+                             "--dtype float")
         if model.negative is not None:
             raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
                              "(emit it with --dtype float)")
@@ -115,6 +152,20 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
                              f"{len(model.effects)} (emit it with --dtype float)")
         return render_fixed(model, name, dtype)
     env = template_environment()
+    if isinstance(model.aim, StribeckCurve):
+        if model.negative is not None:
+            raise ModelError("emit writes one curve per direction for ELM curves only; this "
+                             "asymmetric model has a grey-box curve (train it with --method elm_auto)")
+        check_float32_range(model)
+        ctx = stribeck_context(model, name, activation_impl)
+        files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
+                 f"{name}.c": env.get_template("model_stribeck.c.j2").render(ctx)}
+        runtime = resource_dir("c_runtime")         # the folder's runtime, as for an ELM
+        files.update({f: (runtime / f).read_text()
+                      for f in (FAST_RUNTIME_FILES if activation_impl == "fast" else RUNTIME_FILES)})
+        if with_controller:
+            files.update(controller_files())
+        return files
     ctx = template_context(model, name)
     check_float32_range(model)
     runtime_files = RUNTIME_FILES

@@ -11,8 +11,8 @@ import numpy as np
 
 from ..effects import model_effects
 from ..model import FrictionModel
-from ..networks import ElmNetwork
-from .fast_sigmoid import aim_fast_f32
+from ..networks import ElmNetwork, StribeckCurve
+from .fast_sigmoid import aim_fast_f32, exp_neg_fast_f32
 
 f32 = np.float32
 
@@ -46,14 +46,44 @@ def aim_f32(net: ElmNetwork, x) -> np.ndarray:
     return acc
 
 
+def stribeck_table(net: StribeckCurve) -> np.ndarray:
+    """The emitted table of 1 / xs_k, each rounded once to float."""
+    return (1.0 / net.stribeck).astype(f32)
+
+
+#: g(u) of eq. (2) in float32 as the emitted grey-box C computes it, by implementation.
+STRIBECK_SHAPES_F32 = {
+    "libm": {"gauss": lambda u: _rounded(np.exp, -(u * u)), "exponential": lambda u: _rounded(np.exp, -u),
+             "rational": lambda u: f32(1.0) / (f32(1.0) + u)},
+    "fast": {"gauss": lambda u: exp_neg_fast_f32(u * u), "exponential": exp_neg_fast_f32,
+             "rational": lambda u: f32(1.0) / (f32(1.0) + u)},
+}
+
+
+def stribeck_aim_f32(net: StribeckCurve, x, activation_impl: str = "libm") -> np.ndarray:
+    """Mirror of the emitted grey-box ``NAME_aim``: x < 0 (and NaN) as 0, then
+    c + d x + sum_k a_k g(x / xs_k), k ascending."""
+    x = np.atleast_1d(np.asarray(x, dtype=f32))
+    with np.errstate(invalid="ignore"):
+        x = np.where(x > 0, x, f32(0.0)).astype(f32)
+    g = STRIBECK_SHAPES_F32[activation_impl][net.shape]
+    inv, amp = stribeck_table(net), net.amplitudes.astype(f32)
+    acc = f32(net.offset) + f32(net.slope) * x
+    with np.errstate(over="ignore", under="ignore"):
+        for k in range(inv.size):
+            acc = acc + amp[k] * g(x * inv[k])
+    return acc
+
+
 def force_f32(model: FrictionModel, v, activation_impl: str = "libm") -> np.ndarray:
     """Mirror of the emitted ``NAME_force`` (eq. 3) in float32; ``activation_impl`` as in emit."""
-    if activation_impl == "fast":
-        aim_twin = aim_fast_f32
-    elif activation_impl == "libm":
-        aim_twin = aim_f32
-    else:
+    if activation_impl not in ("libm", "fast"):
         raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
+    if isinstance(model.aim, StribeckCurve):
+        def aim_twin(net, x):
+            return stribeck_aim_f32(net, x, activation_impl)
+    else:
+        aim_twin = aim_fast_f32 if activation_impl == "fast" else aim_f32
     v = np.asarray(v, dtype=f32)
     speed = np.abs(v)
     stribeck = _stribeck_f32(model, speed, aim_twin)

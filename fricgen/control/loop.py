@@ -12,7 +12,7 @@ import numpy as np
 
 from ..data import synthesize_benchmark
 from ..effects import ConstantLoad
-from ..fit import AnfisRegressor, default_estimator
+from ..fit import AnfisRegressor, default_elm
 from ..friction import preset
 from ..metrics import rmse
 from ..model import FrictionModel
@@ -147,7 +147,7 @@ def paper_benchmark():
 def default_model(name: str = "fric_model", bench=None) -> FrictionModel:
     """fricgen's default model trained on the paper benchmark (Table 1, seed 0)."""
     bench = paper_benchmark() if bench is None else bench
-    return FrictionModel.fit(bench.dataset, default_estimator(0), name=name,
+    return FrictionModel.fit(bench.dataset, default_elm(0), name=name,
                              training={"source": "paper3 benchmark, seed 0"})
 
 

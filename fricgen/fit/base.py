@@ -23,6 +23,33 @@ def as_rng(random_state) -> np.random.Generator:
     return np.random.default_rng(random_state)
 
 
+def interleaved_folds(x, n_folds: int, rng=None) -> np.ndarray:
+    """The cross-validation fold of each point: the points sorted by x are dealt to the
+    ``n_folds`` folds in turn, so every fold spans the whole range of x. With a Generator
+    ``rng`` each run of ``n_folds`` consecutive points is dealt in a random order (another
+    partition of the same kind, for repeated cross-validation)."""
+    n, k = np.size(x), int(n_folds)
+    labels = np.arange(n) % k
+    if rng is not None:
+        labels = np.concatenate([rng.permutation(k) for _ in range(-(-n // k))])[:n]
+        labels = labels % k
+    fold = np.empty(n, dtype=int)
+    fold[np.argsort(np.asarray(x, dtype=float).ravel(), kind="stable")] = labels
+    return fold
+
+
+def inner_points(x) -> np.ndarray:
+    """A mask of every point but those at the smallest and the largest x: in the eq. (9) set
+    these are the two boundary points of section 2 (the mean of the slowest rows at x = 0 and
+    the high-speed line at x = 1), not measurements. Outlier rejection leaves them alone and
+    cross-validation scores the others only (a narrow Stribeck source decides the value at
+    x = 0 alone, so leaving that one point out says nothing about the fit)."""
+    inner = np.ones(np.size(x), dtype=bool)
+    if inner.size:
+        inner[[int(np.argmin(x)), int(np.argmax(x))]] = False
+    return inner
+
+
 class NotFittedError(FricgenError, AttributeError):
     """``predict`` or ``score`` called before ``fit``."""
 

@@ -71,9 +71,11 @@ def _fit(sweep: Sweep, estimator, vs_max: Optional[float],
 
 
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
-                   folds: int = CV_FOLDS, seed=0) -> np.ndarray:
+                   folds: int = CV_FOLDS, seed=0, per_direction=None) -> np.ndarray:
     """Held-out mean squared force errors (N^2) per fold: row 0 the symmetric model, row 1
-    the asymmetric one. ``vs_max`` holds (both, positive, negative)."""
+    the asymmetric one (its curves fitted by ``per_direction``, default ``estimator``).
+    ``vs_max`` holds (both, positive, negative)."""
+    per_direction = estimator if per_direction is None else per_direction
     moving = sweep.v != 0
     v, f = sweep.v[moving], sweep.f[moving]
     fold = as_rng(seed).permutation(v.size) % folds
@@ -81,8 +83,8 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
     for k in range(folds):
         train, test = Sweep(v[fold != k], f[fold != k]), fold == k
         both = _fit(train, estimator, vs_max[0], CV_POINTS).curve
-        pos = _fit(train.direction(1), estimator, vs_max[1], CV_POINTS).curve
-        neg = _fit(train.direction(-1), estimator, vs_max[2], CV_POINTS).curve
+        pos = _fit(train.direction(1), per_direction, vs_max[1], CV_POINTS).curve
+        neg = _fit(train.direction(-1), per_direction, vs_max[2], CV_POINTS).curve
         sign, speed, target = np.sign(v[test]), np.abs(v[test]), np.sign(v[test]) * f[test]
         mse[0, k] = np.mean((both.magnitude(speed) - target) ** 2)
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))
@@ -98,10 +100,12 @@ def prefers_asymmetric(mse: np.ndarray) -> bool:
 
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
-                   asymmetric: Optional[bool] = None, seed=0) -> DirectionsFit:
-    """Fit one curve (symmetric) or two (asymmetric); ``asymmetric`` None chooses by
-    cross-validation, True or False forces the model. With data in one direction only the
-    model is symmetric (``DataError`` if the asymmetric one was asked for)."""
+                   asymmetric: Optional[bool] = None, seed=0, per_direction=None) -> DirectionsFit:
+    """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
+    ``estimator``); ``asymmetric`` None chooses by cross-validation, True or False forces the
+    model. With data in one direction only the model is symmetric (``DataError`` if the
+    asymmetric one was asked for)."""
+    per_direction = estimator if per_direction is None else per_direction
     halves = (sweep.direction(1), sweep.direction(-1))
     if asymmetric is not False:
         try:
@@ -116,12 +120,13 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                 raise DataError(f"an asymmetric model needs a sweep of each direction: {exc}") from None
             return DirectionsFit((_fit(sweep, estimator, vs_max),), "one direction only")
     if asymmetric is None:
-        mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed)
+        mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
+                             per_direction=per_direction)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         if not prefers_asymmetric(mse):
             return DirectionsFit((_fit(sweep, estimator, vs_max),), "cross-validation", cv)
-        return DirectionsFit(tuple(_fit(h, estimator, vs_max) for h in halves),
+        return DirectionsFit(tuple(_fit(h, per_direction, vs_max) for h in halves),
                              "cross-validation", cv)
     if not asymmetric:
         return DirectionsFit((_fit(sweep, estimator, vs_max),), "forced")
-    return DirectionsFit(tuple(_fit(h, estimator, vs_max) for h in halves), "forced")
+    return DirectionsFit(tuple(_fit(h, per_direction, vs_max) for h in halves), "forced")

@@ -19,7 +19,8 @@ import numpy as np
 
 from .._validate import integer
 from ..data import Benchmark, synthesize_benchmark
-from ..fit import AnfisRegressor, AutoELMRegressor, ConditionedELMRegressor, OracleRegressor
+from ..fit import (AnfisRegressor, AutoELMRegressor, ConditionedELMRegressor, DefaultRegressor,
+                   OracleRegressor)
 from ..fit.elm import SVD, ELMRegressor, StandardScheme, log10_cond
 from ..friction import preset
 from ..networks.elm import hidden_matrix
@@ -35,6 +36,7 @@ HEADLINE: Dict[str, Callable] = {
        for name, cfg in paper.HEADLINE_ELMS.items()},
     "elm_conditioned": lambda s, shape: ConditionedELMRegressor(10, random_state=s),
     "elm_auto": lambda s, shape: AutoELMRegressor(random_state=s),
+    "default": lambda s, shape: DefaultRegressor(random_state=s),
     "oracle": lambda s, shape: OracleRegressor(shape=shape),
 }
 
@@ -234,11 +236,12 @@ def summary(result: dict) -> dict:
     """Headline ratios of medians of E_Ttest in newtons over seeds."""
     rows = {m["method"]: m for m in result["models"]}
     med = {k: r["e_ttest_newton_median"] for k, r in rows.items()}
-    paper_models = [k for k in rows if k not in ("elm_auto", "oracle")]
+    paper_models = [k for k in rows if k not in ("elm_auto", "default", "oracle")]
     paper_elms = [k for k in paper_models if k.startswith("elm_")]
     best_all = min(paper_models, key=med.get)
     best_elm = min(paper_elms, key=med.get)
     return {"auto_over_oracle": _ratio(med["elm_auto"], med["oracle"]),
+            "default_over_oracle": _ratio(med["default"], med["oracle"]),
             "best_paper_model": best_all,
             "best_paper_over_auto": _ratio(med[best_all], med["elm_auto"]),
             "best_paper_elm": best_elm,

@@ -118,7 +118,7 @@ def render_figures(result: dict, fitted: Dict[str, object]) -> Dict[str, bytes]:
     save(fig, "cond_grid.png")
 
     show = ["elm_standard", "elm_enlarged", "elm_enlarged_regularized", "elm_conditioned",
-            "elm_auto", "oracle"]
+            "default", "oracle"]
     fig, axes = plt.subplots(2, 3, figsize=(13, 7), sharex=True, sharey=True)
     x_th, t_th = d.targets(bench.theory.v, bench.theory.f)
     for ax, name in zip(axes.ravel(), show):

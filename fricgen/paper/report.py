@@ -14,7 +14,8 @@ LABELS = {
     "elm_enlarged_regularized": "ELM, enlarged variability + C = 1e5 (M = 10)",
     "elm_conditioned": "ELM, enlarged + conditioning optimization (M = 10, half OPT)",
     "elm_auto": "fricgen elm_auto (beyond the paper)",
-    "oracle": "oracle: eq. (1) fitted, true shape, S = 3",
+    "default": "fricgen default: grey-box eq. (1) or elm_auto by cross-validation",
+    "oracle": "honest oracle: eq. (1) alone, true shape, S = 3",
 }
 
 
@@ -77,9 +78,11 @@ def render(result: dict, figures: Optional[list] = None, figure_note: str = "") 
         "",
         "## fricgen's automatic model against the paper and the oracle",
         "",
-        f"- median E_Ttest: `elm_auto` {by['elm_auto']['e_ttest_newton_median']:.4f} N, "
-        f"oracle {by['oracle']['e_ttest_newton_median']:.4f} N: auto / oracle = "
-        f"**{s['auto_over_oracle']:.2f}** (required <= 1.5, goal 1.25).",
+        f"- median E_Ttest: default {by['default']['e_ttest_newton_median']:.4f} N, "
+        f"`elm_auto` {by['elm_auto']['e_ttest_newton_median']:.4f} N, honest oracle "
+        f"{by['oracle']['e_ttest_newton_median']:.4f} N: default / oracle = "
+        f"**{s['default_over_oracle']:.2f}** (target <= 1.15), elm_auto / oracle = "
+        f"**{s['auto_over_oracle']:.2f}**.",
         f"- best ELM of the paper in this run: `{s['best_paper_elm']}`; best ELM / auto = "
         f"**{s['best_paper_elm_over_auto']:.2f}** (target >= 2).",
         f"- best model of the paper in this run, fuzzy included: `{s['best_paper_model']}`; "
@@ -107,8 +110,9 @@ def render(result: dict, figures: Optional[list] = None, figure_note: str = "") 
         "follow the Stribeck drop at v_s2 = 0.005 m/s (x = 0.08) with 6-10 units: their median "
         f"E_Ttest is {lo:.2f}-{hi:.2f} N, and ANFIS (whose MFs move to where they are needed, "
         f"{fuzzy:.3f} N) beats them by {lo / fuzzy:.1f}x or more. "
-        "The oracle is the correctly specified parametric fit of eq. (1) (8 free parameters with "
-        "the slope absorbing the error of B), not a lower bound seed by seed: its median E_Ttest is "
+        "The honest oracle is the correctly specified parametric fit of eq. (1) (7 free parameters; "
+        "B from the high-speed rows as for every model), not a lower bound seed by seed: its "
+        "median E_Ttest is "
         f"{by['oracle']['e_ttest_newton_median']:.4f} N against {fuzzy:.4f} N for the best fuzzy "
         f"model and {by['elm_auto']['e_ttest_newton_median']:.4f} N for `elm_auto`.",
         "",

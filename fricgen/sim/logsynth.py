@@ -18,7 +18,7 @@ import numpy as np
 from ..data import MotionLog, synthesize_benchmark
 from ..effects import EFFECTS, Effect, effect_from_dict
 from ..errors import ModelError
-from ..fit import as_rng, default_estimator
+from ..fit import as_rng, default_elm
 from ..friction import preset
 from ..model import FrictionModel
 from .axis import AxisState, MotorAxis
@@ -159,7 +159,7 @@ def _quantize(value, step):
 def nominal_model(seed: int = 0) -> FrictionModel:
     """The friction model a user would have: the default ELM trained on the paper benchmark."""
     bench = synthesize_benchmark(preset("paper3"), seed=seed)
-    return FrictionModel.fit(bench.dataset, default_estimator(seed), name="fric_model")
+    return FrictionModel.fit(bench.dataset, default_elm(seed), name="fric_model")
 
 
 def synthesize_logs(specs: Sequence[LogSpec], model: Optional[FrictionModel] = None) -> List[MotionLog]:

@@ -1,0 +1,94 @@
+"""fricgen's default model: the grey-box eq. (1) or elm_auto, whichever cross-validates better.
+
+Gross outliers are set aside first (``fricgen.fit.outliers``). Then both candidates are fitted
+to the rest: ``StribeckRegressor`` (S and g chosen by cross-validation) and ``AutoELMRegressor``.
+Their errors are compared on the same folds (``n_repeats`` partitions into ``n_folds``
+interleaved folds), each candidate's whole procedure refitted without each fold (for the
+grey-box model, S and g are chosen again on the fold's training points), scored on the
+measured points (``inner_points``: not the two boundary points of section 2). The smaller cross-validated error wins; on data that is a
+sum of Stribeck curves that is usually eq. (1), elsewhere (a viscous term in sqrt|v|, a
+measured curve) usually the ELM.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..data.training_set import OUTLIER_SIGMAS
+from .._validate import integer
+from .auto import AutoELMRegressor
+from .base import Estimator, as_rng, inner_points, interleaved_folds
+from .outliers import MEDIAN_WINDOW, gross_outliers
+from .stribeck import StribeckRegressor
+
+
+class DefaultRegressor(Estimator):
+    """Grey-box eq. (1) or elm_auto by repeated ``n_folds``-fold cross-validated error, after
+    setting aside the points more than ``outlier_sigmas`` robust sd off a running median;
+    ``max_neurons`` caps the ELM's units.
+
+    After ``fit``: ``network_``, ``choice_`` ("stribeck" or "elm_auto"), ``chosen_`` (the fitted
+    winner), ``greybox_`` and ``elm_`` (both fitted candidates), ``cv_rmse_`` ({choice: error}),
+    ``n_outliers_``, ``inliers_`` (mask over the points given), ``fit_seconds_``.
+    """
+
+    def __init__(self, random_state=0, n_folds: int = 5, n_repeats: int = 2,
+                 outlier_sigmas: float = OUTLIER_SIGMAS, max_neurons=None):
+        self.random_state = random_state
+        self.max_neurons = max_neurons
+        self.n_folds = n_folds
+        self.n_repeats = n_repeats
+        self.outlier_sigmas = outlier_sigmas
+
+    def _elm(self) -> AutoELMRegressor:
+        return AutoELMRegressor(max_neurons=self.max_neurons, random_state=self.random_state)
+
+    def fit(self, x, t) -> "DefaultRegressor":
+        x, t = self._inputs(x, t)
+        integer("n_folds", self.n_folds, minimum=2)
+        integer("n_repeats", self.n_repeats)
+        start = time.perf_counter()
+        self.inliers_ = ~gross_outliers(x, t, self.outlier_sigmas)
+        self.n_outliers_ = int(x.size - self.inliers_.sum())
+        x, t = x[self.inliers_], t[self.inliers_]
+        self.greybox_ = StribeckRegressor(n_folds=self.n_folds).fit(x, t)
+        self.elm_ = self._elm().fit(x, t)
+        rng = as_rng(self.random_state)
+        inner = inner_points(x)                                    # scored: the measured points
+        squared = {"stribeck": 0.0, "elm_auto": 0.0}
+        for repeat in range(int(self.n_repeats)):
+            folds = interleaved_folds(x, self.n_folds, rng if repeat else None)
+            held_out = np.empty_like(t)
+            for k in np.unique(folds):
+                out = folds == k
+                held_out[out] = self._elm().fit(x[~out], t[~out]).predict(x[out]) - t[out]
+            grey = self.greybox_.held_out_residuals(x, t, folds) if repeat else \
+                self.greybox_.cv_residuals_                        # the same interleaved folds
+            squared["elm_auto"] += float(np.sum(held_out[inner] ** 2))
+            squared["stribeck"] += float(np.sum(grey[inner] ** 2))
+        self.cv_rmse_ = {k: float(np.sqrt(v / (inner.sum() * self.n_repeats)))
+                         for k, v in squared.items()}
+        self.choice_ = min(self.cv_rmse_, key=lambda k: (self.cv_rmse_[k], k != "stribeck"))
+        self.chosen_ = self.greybox_ if self.choice_ == "stribeck" else self.elm_
+        self.network_ = self.chosen_.network_
+        self.fit_seconds_ = time.perf_counter() - start
+        return self
+
+    @property
+    def activation(self) -> str:
+        return self.chosen_.activation
+
+    @property
+    def n_hidden(self) -> int:
+        return self.chosen_.n_hidden
+
+    def why(self) -> str:
+        """One line: what was chosen and the cross-validated errors that chose it."""
+        other = "elm_auto" if self.choice_ == "stribeck" else "stribeck"
+        return (f"{self.choice_}: {self.n_repeats} x {self.n_folds}-fold cross-validated error "
+                f"{self.cv_rmse_[self.choice_]:.5f} against {self.cv_rmse_[other]:.5f} for {other}")
+
+    def outlier_note(self) -> str:
+        return (f"{self.n_outliers_} training points rejected as gross outliers (> "
+                f"{self.outlier_sigmas:g} robust sd off a running median of {MEDIAN_WINDOW})")

@@ -1,0 +1,287 @@
+"""The grey-box estimator: eq. (1) itself, with S sources of one shape g, fitted to the data.
+
+In the normalized coordinates of eq. (9), with B identified from the high-speed rows, eq. (1)
+reads t(x) = c + sum_k a_k g(x, xs_k): linear in (c, a_k) (c gathers every f_ck, a_k the
+f_sk - f_ck) and nonlinear in the S Stribeck velocities xs_k = K_in v_sk. ``fit_sources``
+eliminates the linear part (variable projection, with Kaufman's Jacobian) and finds
+theta_k = log xs_k by multi-start nonlinear least squares from every S-subset of a log grid.
+``StribeckRegressor`` chooses S and g by Akaike's criterion (AICc) and reports every parameter with its
+standard error.
+"""
+from __future__ import annotations
+
+import itertools
+import time
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from .._validate import integer, positive
+from ..data.training_set import SAT_FACTOR
+from ..friction import SHAPES
+from ..metrics import rmse
+from ..networks.stribeck import StribeckCurve
+from .base import Estimator, inner_points, interleaved_folds
+
+#: Largest normalized Stribeck velocity: v_s <= vs_max = v_sat / SAT_FACTOR (``--vs-max``).
+XS_MAX = 1.0 / SAT_FACTOR
+#: Smallest normalized Stribeck velocity searched (a drop within 0.1 % of v_sat).
+XS_MIN = 1e-3
+#: Bounds on the normalized Stribeck velocities ``StribeckRegressor`` searches below: vs_max,
+#: then v_sat (a broad source, for curves that are no sum of Stribeck curves).
+XS_BOUNDS = (XS_MAX, 1.0)
+#: Largest sum_k |a_k| of an admissible fit (normalized; the data's peak is 1). Sources that
+#: nearly coincide can cancel with huge opposite amplitudes: meaningless, and float32 would
+#: lose eps32 sum_k |a_k| to rounding. Multi-starts prefer fits within it; the estimator drops
+#: the others.
+AMPLITUDE_MAX = 10.0
+#: Candidates whose AIC on all points is further than this from the best are not refitted in
+#: cross-validation (a fold, with 4/5 of the points, practically never prefers them).
+AIC_CONTENDERS = 10.0
+#: The number of sources ``StribeckRegressor`` considers by default.
+SOURCES = (1, 2, 3, 4)
+
+
+def _shape_and_slope(shape: str, x: np.ndarray, xs: float):
+    """g(x, xs) and its derivative with respect to theta = log xs."""
+    u = x / xs
+    g = SHAPES[shape](x, xs)
+    if shape == "gauss":
+        return g, 2.0 * u * u * g
+    if shape == "exponential":
+        return g, u * g
+    return g, u * g * g                                  # rational: g = 1 / (1 + u)
+
+
+def _basis(shape: str, x: np.ndarray, xs: Sequence[float]):
+    """[1, g(x, xs_1), ..., g(x, xs_S)] and the derivative of each g column by its theta."""
+    pairs = [_shape_and_slope(shape, x, s) for s in xs]
+    A = np.column_stack([np.ones_like(x)] + [g for g, _ in pairs])
+    dA = np.column_stack([d for _, d in pairs]) if pairs else np.zeros((x.size, 0))
+    return A, dA
+
+
+@dataclass(frozen=True)
+class SourcesFit:
+    """One fit of eq. (1): the curve, its residuals and the full Jacobian."""
+
+    curve: StribeckCurve
+    residuals: np.ndarray      # t - curve(x)
+    jacobian: np.ndarray       # d curve / d (c, a_1..a_S, theta_1..theta_S), theta = log xs
+    n_starts: int
+
+    @property
+    def theta(self) -> np.ndarray:
+        return np.log(self.curve.stribeck)
+
+    @property
+    def rmse(self) -> float:
+        return rmse(self.residuals, 0.0)
+
+    @property
+    def admissible(self) -> bool:
+        """Whether sum_k |a_k| <= AMPLITUDE_MAX."""
+        return _amplitude_sum(np.append(0.0, self.curve.amplitudes)) <= AMPLITUDE_MAX
+
+    @property
+    def aic(self) -> float:
+        """Akaike's criterion with the small-sample correction (AICc), n log(RSS / n) + 2 p +
+        2 p (p + 1) / (n - p - 1), for the p = 2 S + 1 parameters: what chooses S and g."""
+        n, p = self.jacobian.shape
+        rss = max(float(self.residuals @ self.residuals) / n, 1e-300)
+        return n * float(np.log(rss)) + 2 * p + 2 * p * (p + 1) / max(n - p - 1, 1)
+
+    def standard_errors(self) -> dict:
+        """Standard errors of c, a_k and xs_k from sigma^2 (J^T J)^-1, sigma^2 = RSS / (n - p)."""
+        n, p = self.jacobian.shape
+        sigma2 = float(self.residuals @ self.residuals) / max(n - p, 1)
+        cov = sigma2 * np.linalg.pinv(self.jacobian.T @ self.jacobian)
+        se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        s = self.curve.n_sources
+        return {"offset": float(se[0]), "amplitudes": se[1:1 + s],
+                "stribeck": self.curve.stribeck * se[1 + s:]}
+
+
+def _amplitude_sum(coef: np.ndarray) -> float:
+    return float(np.sum(np.abs(coef[1:])))
+
+
+def start_grid(grid: int, xs_min: float = XS_MIN, xs_max: float = XS_MAX) -> np.ndarray:
+    """``grid`` log-spaced starting values of theta = log xs in [max(2 xs_min, xs_max / 50), xs_max]."""
+    return np.linspace(np.log(max(2 * xs_min, xs_max / 50)), np.log(xs_max), int(grid))
+
+
+def all_subsets(grid: int, n_sources: int) -> list:
+    """Every ``n_sources``-subset of the start grid: the exhaustive multi-start."""
+    return list(itertools.combinations(start_grid(grid), int(n_sources)))
+
+
+def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
+                xs_max: float = XS_MAX) -> SourcesFit:
+    """Eq. (1) with S = len(start) sources of ``shape`` by variable projection: the Stribeck
+    velocities within [xs_min, xs_max], from every start in ``starts`` (vectors of theta =
+    log xs); the best optimum wins."""
+    x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
+    lo, hi = np.log(xs_min), np.log(xs_max)
+
+    cache = {}
+
+    def project(theta):                                    # residual and jacobian share it
+        key = theta.tobytes()
+        if key not in cache:
+            A, dA = _basis(shape, x, np.exp(theta))
+            Q, R = np.linalg.qr(A)
+            diag = np.abs(np.diag(R))
+            if diag.min() > 1e-10 * diag.max():
+                coef = np.linalg.solve(R, Q.T @ t)
+            else:                                          # coinciding sources
+                coef = np.linalg.lstsq(A, t, rcond=None)[0]
+            cache.clear()
+            cache[key] = (A, dA, Q, coef, t - A @ coef)
+        return cache[key]
+
+    def residual(theta):
+        return project(theta)[4]
+
+    def jacobian(theta):                                   # Kaufman: -(I - P) dA/dtheta a
+        A, dA, Q, coef, r = project(theta)
+        D = dA * coef[1:]
+        return -(D - Q @ (Q.T @ D))
+
+    starts = [np.clip(np.asarray(s, dtype=float), lo, hi) for s in starts]
+    best, best_key = None, None
+    for theta0 in starts:
+        sol = least_squares(residual, theta0, jac=jacobian, bounds=(lo, hi),
+                            method="trf", x_scale=1.0)
+        key = (_amplitude_sum(project(sol.x)[3]) > AMPLITUDE_MAX, sol.cost)
+        if best is None or key < best_key:
+            best, best_key = sol, key
+    xs = np.exp(best.x)
+    order = np.argsort(xs)
+    xs = xs[order]
+    A, dA = _basis(shape, x, xs)
+    coef, *_ = np.linalg.lstsq(A, t, rcond=None)
+    r = t - A @ coef
+    curve = StribeckCurve(shape, float(coef[0]), coef[1:], xs)
+    return SourcesFit(curve, r, np.column_stack([A, dA * coef[1:]]), len(starts))
+
+
+def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: float = XS_MIN,
+                              xs_max: float = XS_MAX):
+    """``fit``'s model refitted without each fold (started from ``fit``'s Stribeck velocities):
+    the residual at each point of the refit without its fold, and each refit's AIC by fold."""
+    x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
+    held_out = np.empty_like(t)
+    aics = {}
+    for k in np.unique(folds):
+        out = folds == k
+        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta], xs_min, xs_max)
+        held_out[out] = refit.curve(x[out]) - t[out]
+        aics[int(k)] = refit.aic if refit.admissible else np.inf
+    return held_out, aics
+
+
+class StribeckRegressor(Estimator):
+    """Grey-box eq. (1): S sources of one shape g, with S in ``sources`` and g in ``shapes``
+    chosen by Akaike's criterion (AICc, closed form; on the benchmark it picks models as good as the
+    true structure, where cross-validation is too noisy to tell them apart). ``cv_rmse_`` is the
+    ``n_folds``-fold cross-validated error of the whole procedure (``interleaved_folds``; each
+    fold's refit starts from the full fit's Stribeck velocities, and S and g are chosen again
+    by AIC on each fold's training points).
+
+    The Stribeck velocities are searched below each bound of ``xs_bounds`` in turn: the first
+    is vs_max (``--vs-max`` bounds the Stribeck velocities; normalized, 1 / SAT_FACTOR), the
+    next ones let a source stand for a broad curve that is no Stribeck effect (a viscous part
+    that is not linear in v), at the price of one more parameter in the AIC for each.
+
+    Multi-starts: each of ``grid`` log-spaced Stribeck velocities for S = 1; for larger S, the
+    optimum of S - 1 sources plus each grid value (a new source anywhere).
+
+    After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``, ``xs_max_``
+    (the bound of the chosen fit), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S, bound): AIC}), ``fits_`` (each
+    candidate's ``SourcesFit``), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
+    amplitudes, stribeck; normalized units), ``fit_seconds_``.
+    """
+
+    activation = "stribeck"
+    scheme = "grey-box"
+
+    def __init__(self, shapes: Sequence[str] = tuple(SHAPES), sources: Sequence[int] = SOURCES,
+                 xs_bounds: Sequence[float] = XS_BOUNDS, grid: int = 7, n_folds: int = 5):
+        self.shapes = shapes
+        self.sources = sources
+        self.xs_bounds = xs_bounds
+        self.grid = grid
+        self.n_folds = n_folds
+
+    def fit(self, x, t) -> "StribeckRegressor":
+        shapes = list(self.shapes)
+        if not shapes or any(s not in SHAPES for s in shapes):
+            raise ValueError(f"shapes must be a non-empty list of {sorted(SHAPES)}, got {shapes!r}")
+        sources = [integer("sources", s) for s in self.sources]
+        bounds = [positive("xs_bounds", b) for b in self.xs_bounds]
+        if not sources or not bounds:
+            raise ValueError("sources and xs_bounds must not be empty")
+        integer("grid", self.grid, minimum=2)
+        integer("n_folds", self.n_folds, minimum=2)
+        x, t = self._inputs(x, t)
+        start = time.perf_counter()
+        fits = {}
+        self.xs_min_ = xs_min = XS_MIN
+        for xs_max in bounds:
+            if xs_max <= xs_min:
+                continue
+            grid = start_grid(self.grid, xs_min, xs_max)
+            for shape in shapes:
+                previous = None
+                for s in sorted(sources):
+                    if 2 * s + 1 >= x.size:
+                        break
+                    starts = [np.append(previous.theta, g) for g in grid] if previous else \
+                        [np.array([g]) for g in grid]
+                    fits[(shape, s, xs_max)] = previous = fit_sources(x, t, shape, starts, xs_min,
+                                                                      xs_max)
+        if not fits:
+            raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
+        self._penalty = {b: 2.0 * i for i, b in enumerate(bounds)}
+        self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items() if f.admissible}
+        if not self.candidates_:
+            raise ValueError(f"no fit of eq. (1) keeps sum |a_k| <= {AMPLITUDE_MAX:g}")
+        key = min(self.candidates_, key=lambda k: (self.candidates_[k], k[1]))
+        best = fits[key]
+        self.network_ = best.curve
+        self.shape_, self.n_sources_, self.xs_max_ = key
+        self.fits_ = fits
+        self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
+        self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x)], 0.0)
+        self.train_rmse_ = best.rmse
+        self.standard_errors_ = best.standard_errors()
+        self.fit_seconds_ = time.perf_counter() - start
+        return self
+
+    def held_out_residuals(self, x, t, folds) -> np.ndarray:
+        """The whole procedure validated on ``folds`` of the points it was fitted to: without
+        each fold, every candidate within AIC_CONTENDERS of the best is refitted (started from
+        its full fit) and the candidate is chosen again by AIC; the residual at each point is
+        that of the fold's choice."""
+        x, t = self._inputs(x, t)
+        keys = list(self.candidates_)
+        best = min(self.candidates_.values())
+        contenders = {k for k in keys if self.candidates_[k] <= best + AIC_CONTENDERS}
+        keys = [k for k in keys if k in contenders]
+        refits = [cross_validated_residuals(x, t, self.fits_[k], folds, self.xs_min_, k[2])
+                  if k in contenders
+                  else None for k in keys]
+        held_out = np.empty_like(t)
+        for fold in np.unique(folds):
+            pick = min(range(len(keys)), key=lambda j: (refits[j][1][int(fold)]
+                                                       + self._penalty[keys[j][2]], keys[j][1]))
+            held_out[folds == fold] = refits[pick][0][folds == fold]
+        return held_out
+
+    @property
+    def n_hidden(self) -> int:
+        """The number of sources S (what the fit report calls the model's size)."""
+        return self.n_sources_

@@ -1,0 +1,167 @@
+"""The grey-box eq. (1): variable projection, the honest oracle, the estimator, the default's
+choice, gross outliers, and the emitted C against its float32 twin."""
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen import codegen
+from fricgen.codegen import parity
+from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.codegen.fast_sigmoid import exp_neg_error_bound, exp_neg_fast_f32
+from fricgen.codegen.twin import force_f32
+from fricgen.errors import ModelError
+from fricgen.firmware import build as fw
+from fricgen.fit import DefaultRegressor, OracleRegressor, StribeckRegressor
+from fricgen.fit.outliers import gross_outliers
+from fricgen.fit.stribeck import all_subsets, fit_sources
+from fricgen.friction import SHAPES, preset
+from fricgen.model import FrictionModel
+from fricgen.networks import StribeckCurve
+
+CC = shutil.which("cc") or shutil.which("gcc")
+needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler")
+EPS32 = float(np.finfo(np.float32).eps)
+X = np.linspace(0.0, 1.0, 201)
+
+
+def curve_data(shape, amplitudes=(0.3, 0.5), stribeck=(0.05, 0.2), offset=0.4, noise=0.0, seed=0):
+    truth = StribeckCurve(shape, offset, np.array(amplitudes), np.array(stribeck))
+    rng = np.random.default_rng(seed)
+    return truth, truth(X) + rng.uniform(-noise, noise, X.size)
+
+
+@pytest.mark.parametrize("shape", sorted(SHAPES))
+def test_variable_projection_recovers_eq1_from_exact_data(shape):
+    truth, t = curve_data(shape)
+    fit = fit_sources(X, t, shape, all_subsets(5, 2))
+    np.testing.assert_allclose(fit.curve.stribeck, truth.stribeck, rtol=1e-4)
+    np.testing.assert_allclose(fit.curve.amplitudes, truth.amplitudes, rtol=1e-4)
+    assert fit.curve.slope == 0.0 and fit.rmse < 1e-8
+
+
+def test_the_oracle_fits_eq1_alone_with_the_true_shape_and_size(bench):
+    d = bench.dataset
+    oracle = OracleRegressor("gauss", n_sources=3, grid=5).fit(d.x, d.t)
+    net = oracle.network_
+    assert net.shape == "gauss" and net.n_sources == 3 and net.slope == 0.0   # no free slope
+    assert oracle.n_starts_ == 10                                             # C(5, 3) starts
+    # the benchmark's noise is uniform +-0.5 N: eq. (1) with the true shape fits down to it
+    assert bench.errors(oracle.predict)["e_ttest_newton"] < 0.15
+
+
+@pytest.mark.parametrize("shape", sorted(SHAPES))
+def test_the_grey_box_chooses_the_shape_that_made_the_data(shape):
+    truth, t = curve_data(shape, noise=2e-3, seed=1)
+    est = StribeckRegressor(sources=(1, 2, 3)).fit(X, t)
+    assert est.shape_ == shape and est.n_sources_ >= 2
+    assert np.max(np.abs(est.predict(X) - truth(X))) < 5e-3
+    se = est.standard_errors_
+    assert se["amplitudes"].shape == se["stribeck"].shape == (est.n_sources_,)
+    assert np.all(np.isfinite(se["stribeck"])) and np.all(se["stribeck"] > 0)
+    key = (est.shape_, est.n_sources_, est.xs_max_)
+    assert est.candidates_[key] == min(est.candidates_.values()) and len(est.candidates_) > 6
+    assert est.cv_rmse_ > est.train_rmse_ * 0.9
+
+
+def test_sources_that_cancel_with_huge_amplitudes_are_not_chosen(xt):
+    x, t = xt
+    est = StribeckRegressor(shapes=("gauss",)).fit(x, t)
+    assert np.sum(np.abs(est.network_.amplitudes)) <= 10.0
+
+
+def test_gross_outliers_are_the_spikes_and_bounded_noise_is_kept():
+    truth, t = curve_data("gauss", noise=0.01, seed=2)
+    assert not gross_outliers(X, t).any()
+    spiked = t.copy()
+    rows = np.array([0, 3, 50, 120, 200])
+    spiked[rows] += 0.5
+    found = np.flatnonzero(gross_outliers(X, spiked))
+    assert set(found) == {3, 50, 120}            # the ends are the boundary points: never rejected
+
+
+def test_the_default_chooses_eq1_on_stribeck_data_and_the_elm_elsewhere():
+    truth, t = curve_data("exponential", noise=0.01, seed=3)
+    stribeck = DefaultRegressor().fit(X, t)
+    assert stribeck.choice_ == "stribeck" and stribeck.network_ is stribeck.greybox_.network_
+    assert "stribeck" in stribeck.why() and "elm_auto" in stribeck.why()
+    step = 1.0 / (1.0 + np.exp(-40.0 * (X - 0.6))) + np.random.default_rng(4).uniform(-0.01, 0.01, X.size)
+    elm = DefaultRegressor().fit(X, step)
+    assert elm.choice_ == "elm_auto" and elm.cv_rmse_["elm_auto"] < elm.cv_rmse_["stribeck"]
+
+
+def test_the_default_sets_spikes_aside(xt):
+    x, t = xt
+    spiked = t.copy()
+    spiked[[20, 80, 140]] += np.array([0.5, -0.5, 0.5])
+    est = DefaultRegressor().fit(x, spiked)
+    assert est.n_outliers_ == 3 and not est.inliers_[[20, 80, 140]].any()
+    assert "3 training points rejected" in est.outlier_note()
+
+
+def test_fast_exp_twin_is_within_its_derived_bound():
+    a = np.concatenate([np.linspace(0, 90, 200_001), [0.0, 1e-30, 86.0, 1e30, np.inf]]).astype(np.float32)
+    err = np.abs(exp_neg_fast_f32(a).astype(float) - np.exp(-a.astype(float)))
+    assert np.max(err) <= exp_neg_error_bound()
+    assert np.isnan(exp_neg_fast_f32(np.float32(np.nan)))[0]
+
+
+@pytest.fixture(scope="module", params=sorted(SHAPES))
+def greybox_model(request, bench):
+    """Table 1 itself as a grey-box model of eq. (3) with the benchmark's scaling."""
+    d, friction = bench.dataset, preset("paper3", request.param)
+    k_in, k_out = d.scaling.k_in, d.scaling.k_out
+    sources = friction.sources
+    curve = StribeckCurve(request.param, k_out * sum(s.fc for s in sources),
+                          np.array([k_out * (s.fs - s.fc) for s in sources]),
+                          np.array([k_in * s.vs for s in sources]))
+    return FrictionModel(curve, d.scaling, friction.viscous, d.v_sat, name="gb")
+
+
+@needs_cc
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp_path):
+    files = codegen.emit(greybox_model, tmp_path, "gb", activation_impl=impl)
+    assert ("fric_fast.c" in files) == (impl == "fast") == ("fric_kernel.c" not in files)
+    text = (tmp_path / "gb.c").read_text()
+    assert "static const float gb_inv_stribeck[GB_N_SOURCES]" in text
+    assert ("expf" in text) == (impl == "libm" and greybox_model.aim.shape != "rational")
+    for src in sorted(p.name for p in tmp_path.glob("*.c")):
+        proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", src, "-o", "/dev/null"],
+                              cwd=tmp_path, capture_output=True, text=True)
+        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    lib = build_model(tmp_path, "gb", build_dir=tmp_path / "build")
+    v = parity.parity_velocities(greybox_model.v_sat)
+    c = parity.c_forces(lib, "gb", v).astype(float)
+    twin = force_f32(greybox_model, v, impl).astype(float)
+    assert np.mean(c == twin) > 0.99
+    a_l1 = np.abs(greybox_model.aim.amplitudes).sum()
+    assert np.max(np.abs(c - twin)) <= 4 * EPS32 * (a_l1 + 1) / greybox_model.scaling.k_out
+    exact = greybox_model.force(v.astype(float))
+    assert np.max(np.abs(c - exact)) <= 1e-5 * np.max(np.abs(exact))
+    assert np.isnan(lib.gb_force(float("nan"))) and lib.gb_force(float("inf")) == float("inf")
+    assert lib.gb_force(0.0) == 0.0 and lib.gb_force(-0.01) == -lib.gb_force(0.01)
+
+
+def test_grey_box_models_refuse_fixed_point(greybox_model):
+    with pytest.raises(ModelError, match="--dtype q15 emits ELM models"):
+        codegen.render(greybox_model, "gb", dtype="q15")
+
+
+@pytest.mark.skipif(fw.missing_tools() is not None, reason="cross toolchain or QEMU absent")
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_grey_box_firmware_on_the_emulated_cortex_m4f_equals_its_twin(greybox_model, impl, tmp_path):
+    src = tmp_path / "src"
+    codegen.emit(greybox_model, src, "gb", activation_impl=impl)
+    v = np.linspace(-2 * greybox_model.v_sat, 2 * greybox_model.v_sat, 201).astype(np.float32)
+    elf = fw.build_firmware(src, fw.config_float("gb.h", "gb_force", v), "cortex-m4f",
+                            tmp_path / "build", strict_model=True)
+    out = fw.parse_float_bits(fw.run(elf, "cortex-m4f"))
+    twin = force_f32(greybox_model, v, impl)
+    if impl == "fast":
+        np.testing.assert_array_equal(out, twin)              # no libm: bit for bit
+    else:                                                     # newlib's expf: a few ULP
+        assert np.max(np.abs(out.astype(float) - twin)) <= 8 * EPS32 * np.max(np.abs(twin))
+    exact = greybox_model.force(v.astype(float))
+    assert np.max(np.abs(out - exact)) <= 1e-5 * np.max(np.abs(exact))
