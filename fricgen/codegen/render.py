@@ -38,7 +38,7 @@ def template_context(model: FrictionModel, name: str) -> dict:
         "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
         "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
         "tables_note": "",  # a comment above the tables when they are not plain w and b
-        **effects_context(model),  # effects, effects_not_in_c: NAME_force_xv
+        **effects_context(model, name),  # effects, effects_not_in_c: NAME_force_xv
     }
 
 
