@@ -1,12 +1,14 @@
-"""The calibrated decision: does a fitted effect reduce the residual on data it was not fitted to?
+"""The calibrated decision: does a fitted effect explain the residual on data it was not fitted to?
 
-On the held-out rows, each row's loss difference d = e_before^2 - e_after^2 (force residual
-without and with the effect, both fitted on the first part of the log only) has mean <= 0 when
-the effect explains nothing (a fit to noise only adds error out of sample). The one-sided test
-of mean(d) > 0 uses Student's t with the effective sample size n / tau, tau = 1 + 2 sum rho_k
-the integrated autocorrelation time of d (Geyer's initial positive sequence). So the false-alarm
-rate of one test is at most the level whatever the sample rate, length, smoothing or noise
-colour: they change tau, not the calibration.
+On the held-out rows, the residual without the effect ``e`` is regressed on the effect's
+prediction ``p`` (both fitted on the first part of the log only): e = beta p + eps. When the
+effect explains nothing, ``p`` is a fit to other data's noise, independent of ``e``, and
+beta = 0. The one-sided test of beta > 0 uses the standard error of sum(eps p) with the
+integrated autocorrelation time tau = 1 + 2 sum rho_k of eps p (Geyer's initial positive
+sequence) and Student's t with n / tau - 1 degrees of freedom. So the false-alarm rate of one
+test is the level whatever the sample rate, length, smoothing, noise colour or trajectory: they
+change tau, not the calibration. Under an effect, eps is what stays unexplained, so the test's
+power grows with the effect's size instead of being limited by how the effect varies.
 """
 from __future__ import annotations
 
@@ -36,13 +38,20 @@ def autocorrelation_time(d: np.ndarray) -> float:
 
 
 def held_out_p_value(before: np.ndarray, after: np.ndarray):
-    """One-sided p-value of "the effect reduces the squared held-out residual", and the
-    effective sample size it used. ``before``/``after``: the residuals at the held-out rows."""
-    d = np.asarray(before, float) ** 2 - np.asarray(after, float) ** 2
-    n_eff = d.size / autocorrelation_time(d)
-    sd = float(np.std(d))
-    mean = float(np.mean(d))
-    if sd == 0.0:
-        return (0.0 if mean > 0 else 1.0), n_eff
-    stat = mean / (sd / math.sqrt(n_eff))
+    """One-sided p-value of "the effect explains the held-out residual" (beta > 0 above), and
+    the effective sample size it used. ``before``/``after``: the residuals without and with
+    the effect at the held-out rows."""
+    e = np.asarray(before, float)
+    p = e - np.asarray(after, float)
+    pp = float(np.dot(p, p))
+    if pp == 0.0:
+        return 1.0, float(e.size)
+    beta = float(np.dot(e, p)) / pp
+    u = (e - beta * p) * p
+    tau = autocorrelation_time(u)
+    n_eff = e.size / tau
+    var = float(np.dot(u, u)) * tau
+    if var == 0.0:
+        return (0.0 if beta > 0 else 1.0), n_eff
+    stat = beta * pp / math.sqrt(var)
     return float(student_t.sf(stat, max(n_eff - 1.0, 1.0))), n_eff
