@@ -48,16 +48,17 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
               f"on the first {1 - d.holdout:.0%} of the log, refits the best jointly with those "
               "chosen before, and adds it only if (1) it reduces the squared force residual on the "
               f"held-out last {d.holdout:.0%} (one-sided t-test with the effective sample size from "
-              f"the autocorrelation, p < {d.alpha:g}) and (2) the held-out gap shrinks by at least "
+              f"the autocorrelation, p < {d.alpha:g}), (2) it changes the force there by at least "
+              f"{d.min_size:.0%} of the RMS friction force and (3) the held-out gap shrinks by at least "
               f"{d.min_gain:.0%}. Named effects come first; tables only when no named effect is added. "
               f"At most {d.max_effects} effects.", "",
-              "| step | effect | p-value | share of residual | gap before (m/s) | gap after (m/s) | "
-              "decision |", "|---|---|---|---|---|---|---|"]
+              "| step | effect | p-value | share of residual | size | gap before (m/s) | "
+              "gap after (m/s) | decision |", "|---|---|---|---|---|---|---|---|"]
     k = 0
     for s in d.steps_:
         k += s.added
         after = "" if np.isnan(s.gap_after) else f"{s.gap_after:.4g}"
-        lines.append(f"| {k if s.added else ''} | {s.effect} | {s.p_value:.2g} | {s.share:.1%} | "
+        lines.append(f"| {k if s.added else ''} | {s.effect} | {s.p_value:.2g} | {s.share:.1%} | {s.size:.1%} | "
                      f"{s.gap_before:.4g} | {after} | {'added' if s.added else 'refused: ' + s.reason} |")
     lines.append("")
     for j, s in enumerate(d.effects_, 1):
