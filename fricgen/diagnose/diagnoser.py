@@ -50,6 +50,9 @@ class ResidualProblem:
     def __init__(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float,
                  window: int, holdout: float, effects: Sequence[Effect] = ()):
         self.mass, self.force_constant = mass, force_constant
+        if not np.ptp(log.i) > 0:
+            raise DataError(f"the current i is constant ({log.i[0]:g} A) over the whole log; the "
+                            "diagnosis needs the measured current")
         ts = log.sample_time
         self.sample_time = ts
         self.signals = Signals(model, t=log.t, x=log.x, v=log.v, a=np.gradient(log.v, ts), i=log.i,
