@@ -53,8 +53,8 @@ ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 
 def cases(small: bool):
     """(key, kind, seed, hidden, fixed conditions) of every log of the run."""
-    n_null, per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 10, LENGTHS)
-    named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (12, 40, 5)
+    n_null, per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
+    named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (8, 30, 4)
     out = []
     for k in range(n_null):
         fixed = {"rate_hz": RATES[k % len(RATES)], "controller": CONTROLLERS[k % len(CONTROLLERS)],

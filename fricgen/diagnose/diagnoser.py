@@ -41,7 +41,7 @@ from .decision import held_out_p_value
 MIN_ROWS = 100
 #: Most rows the residual is sampled at: long logs are decimated further, so that time and
 #: memory stop growing with the log's length beyond about MAX_ROWS windows.
-MAX_ROWS = 20_000
+MAX_ROWS = 8_000
 
 
 class ResidualProblem:
@@ -82,6 +82,9 @@ class ResidualProblem:
                             "that moves for most of its length")
         self.target = self.at_rows(self.raw[:, None], np.arange(self.rows.size))[:, 0]
         self.v_smooth, self.x_smooth = v_s, savgol_filter(log.x, window, 2)
+        # the simulations are driven by the current smoothed as the residual is, so that the
+        # gap measures the model rather than the current sensor's noise integrated by 1/m
+        self.i_smooth = savgol_filter(log.i, window, 2)
         self._cache: dict = {}          # shared by the copies of with_target
 
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
@@ -131,9 +134,11 @@ class ResidualProblem:
             ks = np.arange(2 * np.pi / p_max, 2 * np.pi / p_min + step, step)
             X = x[self.rows[:, None] + self.offsets]
             bank = np.empty((ks.size, self.rows.size, 2))
+            turn = np.exp(1j * step * X)           # exp(i k X) for the next k: one product
             for j, k in enumerate(ks):
-                bank[j, :, 0] = np.sin(k * X) @ self.coeffs
-                bank[j, :, 1] = np.cos(k * X) @ self.coeffs
+                z = np.exp(1j * k * X) if j % 32 == 0 else z * turn     # exact every 32 steps
+                w = z @ self.coeffs
+                bank[j, :, 0], bank[j, :, 1] = w.imag, w.real
             self._cache["ripple"] = (ks, bank)
         return self._cache["ripple"]
 
@@ -231,7 +236,7 @@ def localize(problem: ResidualProblem) -> List[dict]:
 def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, horizon: int,
                substeps: int = 10) -> np.ndarray:
     """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
-    samples from ``start`` on, driven by the measured current (NaN before ``start``): the axis
+    samples from ``start`` on, driven by the measured current (smoothed; NaN before ``start``): the axis
     of eq. (18) under the model's friction and ``effects``, in Karnopp steps."""
     sig = problem.signals
     n = sig.t.size
@@ -245,7 +250,7 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
     out = np.full(n, np.nan)
     for j in range(horizon):
         k = np.minimum(starts + j, n - 1)
-        state = axis.karnopp(state, sig.i[k], problem.sample_time, substeps)
+        state = axis.karnopp(state, problem.i_smooth[k], problem.sample_time, substeps)
         k1 = starts + j + 1
         ok = k1 < n
         out[k1[ok]] = state.v[ok]
