@@ -27,7 +27,7 @@ from ..errors import ModelError
 from .library import KNOWN, Effect
 
 #: Knots of a fitted table.
-KNOTS = 24
+KNOTS = 48
 #: Most knots a table in model.json may hold.
 MAX_KNOTS = 256
 #: Second-difference penalties tried by the cross-validation (relative to trace(H^T H) / K).
