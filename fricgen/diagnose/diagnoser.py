@@ -282,8 +282,8 @@ class Candidate:
 class Step:
     """One effect considered in the forward selection, fitted jointly with those chosen before,
     and the decision about it. ``p_value``: of the held-out test (``decision``); ``share``: the
-    fraction of the held-out residual's sum of squares it removes; ``size``: the RMS of the
-    change it makes to the force there, relative to the RMS friction force; ``gap_before``/``gap_after``:
+    fraction of the held-out residual's sum of squares it removes; ``size``: the RMS of its
+    own force there (in the joint fit), relative to the RMS friction force; ``gap_before``/``gap_after``:
     the held-out gap without and with it; ``reason``: why it was refused ('' if added)."""
     effect: str
     fitted: Optional[Effect]
@@ -322,7 +322,7 @@ class Diagnoser:
     fit part; the best is refitted jointly with the chosen ones (backfitting) and added only if
 
     1. the held-out test (``decision.held_out_p_value``) gives p < ``alpha``, and
-    2. it is practically relevant: it changes the held-out force by at least ``min_size`` of
+    2. it is practically relevant: its force on the held-out part is at least ``min_size`` of
        the RMS friction force (a friction model fitted to a sweep is off by about a percent;
        such bias is real structure, significant on long logs, but not a missing effect), and
     3. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
@@ -408,7 +408,8 @@ class Diagnoser:
         ss_before = float(np.sum(before ** 2))
         share = 1.0 - float(np.sum(after ** 2)) / ss_before if ss_before > 0 else 0.0
         friction = rmse(p.signals.friction[p.rows[test]], 0.0)
-        size = rmse(before - after, 0.0) / friction if friction > 0 else math.inf
+        own = p.predict(joint[-1], test)          # the effect's own force in the joint fit
+        size = rmse(own, 0.0) / friction if friction > 0 else math.inf
         step = Step(name, joint[-1], joint, p_value, n_eff, share, size, gap_now, math.nan, False, "", ranked)
         if p_value >= self.alpha:
             step.reason = f"not significant on the held-out part (p = {p_value:.2g} >= {self.alpha:g})"

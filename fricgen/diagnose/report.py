@@ -48,7 +48,7 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
               f"on the first {1 - d.holdout:.0%} of the log, refits the best jointly with those "
               "chosen before, and adds it only if (1) it reduces the squared force residual on the "
               f"held-out last {d.holdout:.0%} (one-sided t-test with the effective sample size from "
-              f"the autocorrelation, p < {d.alpha:g}), (2) it changes the force there by at least "
+              f"the autocorrelation, p < {d.alpha:g}), (2) its force there is at least "
               f"{d.min_size:.0%} of the RMS friction force and (3) the held-out gap shrinks by at least "
               f"{d.min_gain:.0%}. Named effects come first; tables only when no named effect is added. "
               f"At most {d.max_effects} effects.", "",
