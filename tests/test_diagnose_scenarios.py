@@ -15,7 +15,7 @@ FIXED = {"rate_hz": 500.0, "duration_s": 15.0}
 @pytest.fixture(scope="module")
 def runs():
     cases = {"null": (11, ()), "pair": (12, ("position_ripple", "constant_load")),
-             "drag": (13, ("oov:local_drag",))}
+             "drag": (16, ("oov:local_drag",))}
     out = {}
     for key, (seed, hidden) in cases.items():
         sc = make_scenario(seed, hidden, controller="pid", **FIXED)

@@ -310,6 +310,9 @@ class Step:
                 "named": self.effect in EFFECTS}
 
 
+#: A table is tried before the named effects when its cross-validated reduction of the
+#: residual's mean square is more than this many times the best named effect's.
+TABLE_PREFERENCE = 2.0
 #: Largest --max-effects.
 MAX_EFFECTS = 8
 
@@ -330,7 +333,8 @@ class Diagnoser:
 
     If the best named effect passes the test but not the gap, the next one is tried. When no
     named effect is added, the tables of ``fricgen.effects.tables`` (no physical name) compete
-    in the same way. Selection stops at ``max_effects`` or when nothing is added.
+    in the same way; they go first when the best table's cross-validated gain is more than
+    ``TABLE_PREFERENCE`` times the best named effect's (structure no named form follows). Selection stops at ``max_effects`` or when nothing is added.
 
     Parameters: ``window`` smoothing window (s), ``holdout`` fraction of the log kept for the
     test and the gap, ``horizon`` restart interval of the simulations (s), ``folds`` of the
@@ -457,8 +461,13 @@ class Diagnoser:
             pools = [{n: EFFECTS[n] for n in names if n not in taken}]
             if self.tables:
                 pools.append({n: c for n, c in TABLES.items() if n not in taken})
-            for pool in pools:
-                ranked = self._rank(q, pool) if pool else []
+            rankings = [self._rank(q, pool) if pool else [] for pool in pools]
+            mse_none = float(np.mean(q.target[p.fit_rows] ** 2))
+            gains = [mse_none - r[0].mse if r else 0.0 for r in rankings]
+            if len(gains) == 2 and gains[1] > TABLE_PREFERENCE * max(gains[0], 0.0):
+                # a table explains far more than any named effect: the structure is not named
+                pools, rankings = pools[::-1], rankings[::-1]
+            for pool, ranked in zip(pools, rankings):
                 while ranked:
                     step = self._consider(p, log, base, chosen, gap_now, ranked, pool)
                     self.steps_.append(step)
