@@ -217,6 +217,9 @@ def localize(problem: ResidualProblem) -> List[dict]:
                 "detail": f"period {2 * np.pi / ks[j] * 1e3:.3g} mm, amplitude "
                           f"{math.hypot(*coef[j]):.3g} N"})
     add("acceleration", r, _quantile_labels(a), f"slope {np.dot(a, r) / np.dot(a, a):+.3g} N per m/s^2")
+    current = problem.at_rows(problem.signals.i, rows)
+    lab = _quantile_labels(current)
+    add("current", r, lab, extreme(r, lab, current, "i", "A"))
     growth = a * np.sign(v)            # d|v|/dt: > 0 while speeding up
     add("speeding up or slowing down, friction level", level, _quantile_labels(growth),
         f"mean {level[growth > 0].mean():+.3g} N while speeding up, "
