@@ -115,7 +115,8 @@ SLOW_MODULES = {"test_install", "test_firmware", "test_hardening", "test_experim
                 "test_diagnose_scenarios"}
 SLOW_TESTS = {"test_the_hidden_effect_is_named",
               "test_errors_and_parameters_stay_bounded_under_law_c_with_a_constant_disturbance",
-              "test_closed_loop_c_equals_float32_twin_and_float64_controller"}
+              "test_closed_loop_c_equals_float32_twin_and_float64_controller",
+              "test_long_logs_are_feasible"}
 
 
 def pytest_collection_modifyitems(config, items):

@@ -17,10 +17,11 @@ model the user holds and the nominal mass and force constant the user believes:
   or ``cascade`` (P position loop around a PI velocity loop), with randomized bandwidth,
   damping and integral share, with or without inertia and friction feed-forward (the user's
   model at v_d), all from the nominal m and phi.
-- **Trajectory**: ``point_to_point`` (short dwells), ``dwell`` (long dwells), ``sine``,
+- **Trajectory**: ``point_to_point`` (dwells 0.02-0.3 s), ``dwell`` (0.3-1.5 s), ``sine``,
   ``multisine`` or ``ramps`` (constant speed with smoothed reversals).
 - **Sensors**: Gaussian noise on x, v and the logged current, encoder, velocity and ADC
   quantization. The log holds t, x, v, i (the current command after the limit) and x_d.
+  The controller acts on the noisy x and v before quantization (see the stitching below).
 
 Hidden effects are written here as force-law closures of their own (not the diagnosis' forms,
 ``fricgen.effects``); they are applied at their **reference magnitude** times ``magnitude``.
@@ -29,14 +30,17 @@ reference acceleration, v_pk its peak speed and i_pk the planned peak current:
 
 =====================  ========================================================================
 position_ripple        0.2 F_c sin(2 pi x / P + phase), P fitting 4-40 periods in the travel
+                       but no faster than 10 Hz at the RMS reference speed
 direction_asymmetry    friction in one (random) direction x (1 +- 0.25)
 constant_load          +-0.3 F_c
-inertia_mismatch       true mass = nominal (1 + 0.3) or / (1 + 0.3), at least such that
-                       |dm| a_rms = 0.25 F_c (capped at x2 / x0.5)
+inertia_mismatch       true mass = nominal (1 + r) or / (1 + r), r = 0.3 or more, such that
+                       |dm| a_rms = 0.25 F_c (capped at x3 / x0.5)
 force_constant_mismatch  true phi = nominal (1 - 0.15) or (1 + 0.15)
 extra_friction_source  a further source: fc 0.25 F_c, fs 0.5 F_c, vs within the plant's,
                        stretched exponent 1-2, viscous 0.25 F_c / v_pk
-frictional_lag         the Stribeck part follows |v| low-passed with tau 15-40 ms
+frictional_lag         the Stribeck part follows |v| low-passed with time constant tau: 1-1.5
+                       times the tau (10 ms-0.3 s) at which S(lowpass |v_d|) - S(|v_d|) has
+                       an RMS of 0.05 F_c while moving
 thermal_drift          friction x (1 +- D (1 - exp(-t / T))), T 0.5-2 log durations, friction
                        changed by 25 % at the end of the log (saturating, not linear in t)
 =====================  ========================================================================
@@ -47,17 +51,31 @@ Out-of-vocabulary shapes (``hidden`` entries ``"oov:<shape>"``), at reference ma
 ripple_harmonics       cogging with its 2nd and 3rd harmonics: 0.12, 0.10, 0.08 F_c
 local_drag             0.5 F_c sgn(v) over a raised-cosine stretch of 5-15 % of the travel,
                        exactly 0 outside it
-nonlinear_viscous      c sgn(v) |v|^p, p 1.8-3, 0.4 F_c at v_pk
+nonlinear_viscous      c sgn(v) |v|^p, p 3-4, 0.4 F_c at v_pk (p = 2 is a Gauss-shaped extra
+                       source with a negative Stribeck part and a large vs: not outside)
 actuator_deadzone      h(i) = sgn(i) max(|i| - i_dz, 0), phi i_dz = 0.2 F_c
 actuator_saturation    h(i) = i_s tanh(i / i_s), i_s = i_pk / 1.2
-sensor_delay           the controller and the log see x and v 2-5 ms late (>= 1 sample)
+sensor_delay           the controller and the log see x and v late: 2 ms or more, such that
+                       delay x RMS d/dt (m a_d + F_p(v_d)) = 0.1 F_c, at most 0.5 rad at the
+                       fastest loop's crossover (>= 1 sample)
 =====================  ========================================================================
 
-The loop advances many stretches of the log at once (``_stitched``): each stretch starts
-from an approximate state some time before it and runs in lockstep with the others; the
-closed loop forgets its start, and any stretch whose state at the seam differs from its
-predecessor's (more than 1e-9) is re-run from the predecessor's exact state until all agree,
-so the log equals one serial simulation to that tolerance.
+The loop advances many stretches of the log at once (``_stitched``): the log is cut where the
+reference moves (never within a dwell) into stretches of about STRETCH_S; each stretch starts
+on the reference, warms up over at least WARMUP_S and the whole stretch before it, and runs
+in lockstep with the others through ``MotorAxis.karnopp``. A closed loop in motion forgets
+its start; a stretch whose state at its seam (x, v, friction memory, controller memory)
+differs from its predecessor's by more than SEAM_TOLERANCE of the sensor resolution it shows
+on is re-run from the predecessor's state, until every seam agrees. So a log is a serial
+simulation up to state jumps below half the sensor noise, at a fraction of its cost
+(``conditions["passes"]``, ``conditions["seam_jump"]``). Quantizing the fed-back signals
+would make the loop's state depend on rounding boundaries, and stretches would not agree.
+
+``Scenario.conditions`` (JSON) holds the settings (rate_hz, duration_s, samples, plant,
+controller, feedforward, trajectory, noise, quantization, magnitude), each hidden effect's
+parameters (``magnitudes``) and its RMS force along the log (``signature_rms``, N; compare
+with ``force_noise`` = phi sigma_i), and the loop's ``tracking_rms`` (m) and
+``current_limit_fraction``.
 """
 from __future__ import annotations
 
@@ -67,6 +85,7 @@ from functools import lru_cache
 from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
+from scipy.signal import lfilter
 
 from ..data import MotionLog, Sweep, prepare
 from ..effects import EFFECTS
@@ -89,12 +108,15 @@ RATE_RANGE = (250.0, 4000.0)          # Hz
 DURATION_RANGE = (5.0, 120.0)         # s
 #: Longest log (20 minutes).
 MAX_DURATION = 1200.0
+#: The plant's Stribeck table covers speeds up to this (m/s); S is flat long before.
+TABLE_TOP = 100.0
 #: Largest plant integration step (s).
 MAX_PLANT_STEP = 2.5e-4
 #: Largest state jump at a seam of the stitched simulation, as a fraction of the sensor
 #: resolution (noise or quantization step / sqrt(12), whichever is larger) it would show on.
-SEAM_TOLERANCE = 0.1
-QUANTIZE_FEEDBACK = 0
+SEAM_TOLERANCE = 0.5
+#: Length of a stretch and of the warm-up before it (s); at most MAX_STRETCHES stretches.
+STRETCH_S, WARMUP_S, MAX_STRETCHES = 0.5, 1.0, 4096
 
 assert set(NAMED) == set(EFFECTS)
 
@@ -152,12 +174,19 @@ class StretchedStribeck:
             out = max(out, self.vs[k] * q ** (1.0 / d))
         return out
 
+    def table(self, top: float, points: int = 4000):
+        """S tabulated on 0 and geometric speeds from 1e-9 top to ``top`` (for fast lookups)."""
+        speed = np.concatenate([[0.0], np.geomspace(1e-9 * top, top, points)])
+        return speed, self.stribeck(speed)
+
     def to_dict(self) -> dict:
         return {"fc": list(self.fc), "fs": list(self.fs), "vs": list(self.vs),
                 "exponent": list(self.exponent), "kind": list(self.kind), "B": self.viscous}
 
 
-def _draw_friction(rng, mass: float) -> StretchedStribeck:
+def _draw_friction(rng, mass: float, v_peak: float) -> StretchedStribeck:
+    """Two or three sources, F_c = 0.05-0.4 m g, fs/fc 1.2-2.5, vs 2-20 mm/s; B such that
+    B v_peak is 0.2-1.5 F_c."""
     n = int(rng.integers(2, 4))
     total = mass * 9.81 * rng.uniform(0.05, 0.4)             # F_c
     share = rng.dirichlet(np.ones(n))
@@ -167,8 +196,10 @@ def _draw_friction(rng, mass: float) -> StretchedStribeck:
     kind = tuple(str(k) for k in rng.choice(["stretched", "rational"], n))
     exponent = np.where(np.array(kind) == "stretched", rng.uniform(0.8, 2.5, n),
                         rng.uniform(1.5, 2.5, n))
-    return StretchedStribeck(tuple(fc), tuple(fs), tuple(vs), tuple(exponent), kind,
-                             viscous=0.0)
+    viscous = total / v_peak * rng.uniform(0.2, 1.5)
+    return StretchedStribeck(tuple(float(f) for f in fc), tuple(float(f) for f in fs),
+                             tuple(float(f) for f in vs), tuple(float(e) for e in exponent),
+                             kind, viscous=float(viscous))
 
 
 # ----------------------------------------------------------------------------- the user's model
@@ -181,13 +212,20 @@ def _user_model(friction: StretchedStribeck, v_top: float, sigma: float, seed: i
     vs_max = friction.flat_speed(0.02) / 3.0
     v_sat = 3.0 * vs_max
     top = max(v_top, 2.0 * v_sat)
-    low = np.exp(rng.uniform(math.log(v_sat * 1e-3), math.log(v_sat), 300))
-    high = rng.uniform(v_sat, top, 100)
-    v = np.concatenate([low, high]) * rng.choice([-1.0, 1.0], 400)
+    low = np.exp(rng.uniform(math.log(v_sat * 1e-3), math.log(v_sat), 200))
+    high = rng.uniform(v_sat, top, 60)
+    v = np.concatenate([low, high]) * rng.choice([-1.0, 1.0], 260)
     f = friction(v) + sigma * rng.standard_normal(v.size)
     dataset = prepare(Sweep(v, f), vs_max=vs_max)
     return FrictionModel.fit(dataset, default_estimator(seed), name="user_model",
                              training={"method": "auto", "source": "scenario sweep"})
+
+
+def _tabulated_force(model: FrictionModel, v) -> np.ndarray:
+    """The model's F(v) of eq. (3) with its Stribeck part interpolated from 4097 speeds in
+    [0, v_sat] (beyond it the network input saturates): error ~1e-5 N, fast on long logs."""
+    grid = np.linspace(0.0, model.v_sat, 4097)
+    return np.sign(v) * np.interp(np.abs(v), grid, model.stribeck(grid)) + model.viscous * v
 
 
 # ----------------------------------------------------------------------------- trajectories
@@ -265,7 +303,7 @@ def _moves(rng, t, travel, v_peak, a_max, dwell_range):
 def _trajectory(kind, rng, t, v_peak, a_max, travel):
     """x_d, v_d, a_d on the grid t (starting at rest at 0) and a description."""
     if kind in ("point_to_point", "dwell"):
-        dwell = (0.02, 0.3) if kind == "point_to_point" else (0.5, 3.0)
+        dwell = (0.02, 0.3) if kind == "point_to_point" else (0.3, 1.5)
         x, v, a, info = _moves(rng, t, travel, v_peak, a_max, dwell)
         return x, v, a, info
     u, du, info = _velocity_profile(kind, rng, t, v_peak, a_max)
@@ -297,7 +335,9 @@ class _Hidden:
     gains: list = field(default_factory=list)         # g(v, t)        (multiplies F_p)
     actuator: Optional[object] = None                 # h(i)
     delay_samples: int = 0
+    delay_wanted: float = 0.0
     parameters: Dict[str, dict] = field(default_factory=dict)
+    signatures: Dict[str, object] = field(default_factory=dict)   # f(signals) -> force
 
 
 class _PlantLaw:
@@ -309,11 +349,14 @@ class _PlantLaw:
         self.force_constant = force_constant * hidden.phi_factor
         self.i_max = i_max
         self.lag_tau = hidden.lag_tau
+        self._speeds, self._stribeck = friction.table(TABLE_TOP)
 
     def sliding_friction(self, v, t, s):
-        fr = self.friction
+        """F_p at the speed (lagged speed under frictional lag), times the gains, plus the
+        additive terms; S is interpolated from a table (relative error < 1e-5)."""
         speed = s if self.lag_tau > 0 else np.abs(v)
-        base = np.sign(v) * fr.stribeck(speed) + fr.viscous * v
+        base = np.sign(v) * np.interp(speed, self._speeds, self._stribeck) + \
+            self.friction.viscous * v
         f = base
         for g in self.hidden.gains:
             f = f * g(v, t)
@@ -334,83 +377,193 @@ def _effect_rng(seed, name):
 
 
 def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
-    """Add effect ``name`` at ``k`` times its reference magnitude (module docstring)."""
-    fc, travel, vpk = ctx["coulomb"], ctx["travel"], ctx["v_peak"]
+    """Add effect ``name`` at ``k`` times its reference magnitude (module docstring), with
+    its force signature along a log (``_signature_rms``)."""
+    fc, vpk = ctx["coulomb"], ctx["v_peak"]
     sign = float(rng.choice([-1.0, 1.0]))
     p: dict
-    if name == "position_ripple":
-        period = math.exp(rng.uniform(math.log(travel / 40), math.log(travel / 4)))
-        amp, phase = 0.2 * fc * k, rng.uniform(0, 2 * np.pi)
-        h.external.append(lambda x, v, t: amp * np.sin(2 * np.pi / period * x + phase))
-        p = {"amplitude": amp, "period": period, "phase": phase}
+    if name in ("position_ripple", "ripple_harmonics"):
+        period = _ripple_period(rng, ctx)
+        if name == "position_ripple":
+            amps, phases = [0.2 * fc * k], [rng.uniform(0, 2 * np.pi)]
+        else:
+            amps = [0.12 * fc * k, 0.10 * fc * k, 0.08 * fc * k]
+            phases = rng.uniform(0, 2 * np.pi, 3).tolist()
+        wn = 2 * np.pi / period
+
+        def force(x, v, t):
+            return sum(a * np.sin((j + 1) * wn * np.asarray(x) + ph)
+                       for j, (a, ph) in enumerate(zip(amps, phases)))
+        h.external.append(force)
+        signature = _external_signature(force)
+        p = ({"amplitude": amps[0], "period": period, "phase": phases[0]}
+             if name == "position_ripple" else
+             {"amplitudes": amps, "period": period, "phases": phases})
     elif name == "direction_asymmetry":
-        gain = 0.25 * k
-        side = sign
-        h.gains.append(lambda v, t: np.where(side * np.asarray(v) > 0, 1.0 + gain, 1.0))
+        gain, side = 0.25 * k, sign
+
+        def factor(v, t):
+            return np.where(side * np.asarray(v) > 0, 1.0 + gain, 1.0)
+        h.gains.append(factor)
+        signature = _gain_signature(factor)
         p = {"direction": side, "gain": gain}
     elif name == "constant_load":
         load = sign * 0.3 * fc * k
-        h.external.append(lambda x, v, t: np.full(np.shape(x), load))
+
+        def force(x, v, t):
+            return np.full(np.shape(x), load)
+        h.external.append(force)
+        signature = _external_signature(force)
         p = {"load": load}
     elif name == "inertia_mismatch":
         rel = max(0.3, 0.25 * fc / (ctx["mass"] * max(ctx["a_rms"], 1e-9)))
-        rel = min(rel, 1.0) * k
-        h.mass_factor = 1.0 + rel if sign > 0 else 1.0 / (1.0 + rel)
+        rel = min(rel, 2.0) * k
+        h.mass_factor = 1.0 + rel if sign > 0 else 1.0 / (1.0 + min(rel, 1.0))
+        dm = ctx["mass"] * (h.mass_factor - 1.0)
+
+        def signature(q):
+            return dm * q["a"]
         p = {"mass": ctx["mass"] * h.mass_factor, "nominal_mass": ctx["mass"]}
     elif name == "force_constant_mismatch":
         h.phi_factor = 1.0 + sign * 0.15 * k
+        dphi = ctx["force_constant"] * (h.phi_factor - 1.0)
+
+        def signature(q):
+            return dphi * q["i"]
         p = {"force_constant": ctx["force_constant"] * h.phi_factor,
              "nominal_force_constant": ctx["force_constant"]}
     elif name == "extra_friction_source":
         vs = math.exp(rng.uniform(math.log(min(ctx["vs"])), math.log(max(ctx["vs"]))))
         d = rng.uniform(1.0, 2.0)
         fce, fse, be = 0.25 * fc * k, 0.5 * fc * k, 0.25 * fc / vpk * k
-        h.sliding.append(lambda v, t: np.sign(v) * (fce + (fse - fce) * np.exp(
-            -(np.abs(v) / vs) ** d)) + be * np.asarray(v))
+
+        def extra(v, t):
+            v = np.asarray(v)
+            return np.sign(v) * (fce + (fse - fce) * np.exp(-(np.abs(v) / vs) ** d)) + be * v
+        h.sliding.append(extra)
+        signature = _sliding_signature(extra)
         p = {"fc": fce, "fs": fse, "vs": vs, "exponent": d, "B": be}
     elif name == "frictional_lag":
-        h.lag_tau = rng.uniform(0.015, 0.04) * k
-        p = {"tau": h.lag_tau}
+        h.lag_tau = tau = _lag_reference(ctx) * rng.uniform(1.0, 1.5) * k
+
+        def signature(q):
+            alpha = 1.0 - math.exp(-q["ts"] / tau)
+            lagged = lfilter([alpha], [1.0, alpha - 1.0], np.abs(q["v"]))
+            return np.sign(q["v"]) * (q["stribeck"](lagged) - q["stribeck"](np.abs(q["v"])))
+        p = {"tau": tau}
     elif name == "thermal_drift":
         time_constant = ctx["duration"] * rng.uniform(0.5, 2.0)
         level = sign * 0.25 * k / (1.0 - math.exp(-ctx["duration"] / time_constant))
-        h.gains.append(lambda v, t: 1.0 + level * (1.0 - np.exp(-np.asarray(t) / time_constant)))
+
+        def factor(v, t):
+            return 1.0 + level * (1.0 - np.exp(-np.asarray(t) / time_constant))
+        h.gains.append(factor)
+        signature = _gain_signature(factor)
         p = {"level": level, "time_constant": time_constant}
-    elif name == "ripple_harmonics":
-        period = math.exp(rng.uniform(math.log(travel / 30), math.log(travel / 4)))
-        amps = [0.12 * fc * k, 0.10 * fc * k, 0.08 * fc * k]
-        phases = rng.uniform(0, 2 * np.pi, 3).tolist()
-        wn = 2 * np.pi / period
-        h.external.append(lambda x, v, t: sum(
-            amps[j] * np.sin((j + 1) * wn * x + phases[j]) for j in range(3)))
-        p = {"amplitudes": amps, "period": period, "phases": phases}
     elif name == "local_drag":
         lo, hi = ctx["x_range"]
         width = (hi - lo) * rng.uniform(0.05, 0.15)
         centre = rng.uniform(lo + 0.3 * (hi - lo), hi - 0.3 * (hi - lo))
         drag = 0.5 * fc * k
-        h.external.append(lambda x, v, t: _local_drag(v, x, centre, width, drag))
+
+        def force(x, v, t):
+            return _local_drag(v, x, centre, width, drag)
+        h.external.append(force)
+        signature = _external_signature(force)
         p = {"centre": centre, "width": width, "drag": drag}
     elif name == "nonlinear_viscous":
-        power = rng.uniform(1.8, 3.0)
+        power = rng.uniform(3.0, 4.0)
         c = 0.4 * fc * k / vpk ** power
-        h.sliding.append(lambda v, t: c * np.sign(v) * np.abs(v) ** power)
+
+        def extra(v, t):
+            return c * np.sign(v) * np.abs(v) ** power
+        h.sliding.append(extra)
+        signature = _sliding_signature(extra)
         p = {"coefficient": c, "power": power}
-    elif name == "actuator_deadzone":
-        i_dz = 0.2 * fc * k / ctx["force_constant"]
-        h.actuator = lambda i: np.sign(i) * np.maximum(np.abs(i) - i_dz, 0.0)
-        p = {"deadzone_a": i_dz}
-    elif name == "actuator_saturation":
-        i_s = ctx["i_peak"] / (1.2 * k)
-        h.actuator = lambda i: i_s * np.tanh(np.asarray(i) / i_s)
-        p = {"saturation_a": i_s}
+    elif name in ("actuator_deadzone", "actuator_saturation"):
+        if name == "actuator_deadzone":
+            i_dz = 0.2 * fc * k / ctx["force_constant"]
+
+            def actuator(i):
+                return np.sign(i) * np.maximum(np.abs(i) - i_dz, 0.0)
+            p = {"deadzone_a": i_dz}
+        else:
+            i_s = ctx["i_peak"] / (1.2 * k)
+
+            def actuator(i):
+                return i_s * np.tanh(np.asarray(i) / i_s)
+            p = {"saturation_a": i_s}
+        h.actuator = actuator
+
+        def signature(q):
+            return -q["phi"] * (actuator(q["i"]) - q["i"])
     elif name == "sensor_delay":
-        delay = rng.uniform(0.002, 0.005) * k
-        h.delay_samples = max(1, int(round(delay * ctx["rate_hz"])))
-        p = {"delay_s": h.delay_samples / ctx["rate_hz"], "samples": h.delay_samples}
+        h.delay_wanted = max(0.002, 0.1 * fc / max(ctx["force_rate_rms"], 1e-12)) * k
+
+        def signature(q):
+            """What the residual sees: m a + F at the true time minus at the logged one."""
+            d = h.delay_samples
+            total = q["mass"] * q["a"] + q["friction"](q["v_smooth"])
+            return np.concatenate([total[d:] - total[:-d], np.zeros(d)])
+        p = {}
     else:   # pragma: no cover - names are checked before
         raise ValueError(name)
-    h.parameters[name if name in NAMED else "oov:" + name] = p
+    key = name if name in NAMED else "oov:" + name
+    h.parameters[key] = p
+    h.signatures[key] = signature
+
+
+def _external_signature(force):
+    return lambda q: force(q["x"], q["v"], q["t"])
+
+
+def _sliding_signature(extra):
+    return lambda q: extra(q["v"], q["t"])
+
+
+def _gain_signature(factor):
+    return lambda q: q["base"] * (factor(q["v"], q["t"]) - 1.0)
+
+
+def _signature_rms(h: _Hidden, log: MotionLog, friction, mass, phi) -> Dict[str, float]:
+    """Each hidden effect's force along the log (its contribution to phi i - m a - F_p(v),
+    evaluated on the logged signals, a from v smoothed over 10 ms), RMS in newtons."""
+    ts = log.sample_time
+    w = max(1, int(round(0.01 / ts)))
+    v_smooth = np.convolve(log.v, np.ones(w) / w, mode="same")
+    q = {"x": log.x, "v": log.v, "t": log.t, "i": log.i, "a": np.gradient(v_smooth, ts),
+         "ts": ts, "base": friction(log.v), "v_smooth": v_smooth, "friction": friction,
+         "stribeck": friction.stribeck, "mass": mass, "phi": phi}
+    return {key: float(np.sqrt(np.mean(np.asarray(sig(q)) ** 2)))
+            for key, sig in h.signatures.items()}
+
+
+def _ripple_period(rng, ctx) -> float:
+    """A ripple period: 4 to 40 periods over the travel, but no faster than 10 Hz at the
+    reference's RMS speed (a faster ripple is filtered out by the axis' own mass)."""
+    lo_x, hi_x = ctx["x_range"]
+    span = hi_x - lo_x
+    lo = max(span / 40.0, ctx["v_rms"] / 10.0)
+    hi = max(span / 4.0, 2.0 * lo)
+    return _log_uniform(rng, lo, hi)
+
+
+def _lag_reference(ctx) -> float:
+    """The frictional-lag time constant (10 ms to 0.3 s) at which the lagged Stribeck part
+    S(lowpass |v_d|) - S(|v_d|) has an RMS of 5 % of F_c over the moving samples."""
+    speed, ts = ctx["speed"], ctx["ts"]
+    step = max(1, int(1e-3 / ts))
+    speed = speed[::step]
+    moving = speed > 0
+    stribeck = ctx["stribeck"]
+    base = stribeck(speed)
+    for tau in np.geomspace(0.01, 0.3, 16):
+        alpha = 1.0 - math.exp(-step * ts / tau)
+        lagged = lfilter([alpha], [1.0, alpha - 1.0], speed)
+        gap = stribeck(lagged) - base
+        if np.sqrt(np.mean(gap[moving] ** 2)) >= 0.05 * ctx["coulomb"]:
+            return float(tau)
+    return 0.3
 
 
 def _local_drag(v, x, centre, width, drag):
@@ -466,9 +619,8 @@ class _Loop:
             xs, vs_ = st["hx"][:, 0], st["hv"][:, 0]
         else:
             xs, vs_ = st["x"], st["v"]
-        xn = xs + cond["sigma_x"] * z[:, 0]
-        vn = vs_ + cond["sigma_v"] * z[:, 1]
-        xm, vm = (xn, vn) if QUANTIZE_FEEDBACK == 0 else (_quantize(xn, cond["q_x"]), _quantize(vn, cond["q_v"]))
+        xm = xs + cond["sigma_x"] * z[:, 0]     # the controller sees the noisy sensors, the
+        vm = vs_ + cond["sigma_v"] * z[:, 1]    # log their quantized values
         xd, vd, ad = self.xd[idx], self.vd[idx], self.ad[idx]
         e = xd - xm
         m = c["mass"]
@@ -503,15 +655,15 @@ class _Loop:
         if self.delay:
             new["hx"] = np.concatenate([st["hx"][:, 1:], st["x"][:, None]], axis=1)
             new["hv"] = np.concatenate([st["hv"][:, 1:], st["v"][:, None]], axis=1)
-        return new, (_quantize(xn, cond["q_x"]), _quantize(vn, cond["q_v"]), im)
+        return new, (_quantize(xm, cond["q_x"]), _quantize(vm, cond["q_v"]), im)
 
 
-def _mismatch(a: dict, b: dict, tolerance: dict) -> np.ndarray:
+def _mismatch(a: dict, b: dict, scale: dict) -> np.ndarray:
     """Per stretch: the largest |a - b| over the state components, in units of their
-    ``tolerance``."""
+    ``scale``."""
     worst = None
     for key in a:
-        d = np.abs(a[key] - b[key]) / tolerance[key]
+        d = np.abs(a[key] - b[key]) / scale[key]
         d = d.reshape(d.shape[0], -1).max(axis=1)
         worst = d if worst is None else np.maximum(worst, d)
     return worst
@@ -521,13 +673,28 @@ def _take(state: dict, rows) -> dict:
     return {k: np.array(v[rows]) for k, v in state.items()}
 
 
-def _stitched(loop: _Loop, n: int, stretch: int, warmup: int, tolerance: dict):
-    """The log's measured x, v, i over n samples, simulated as stretches of ``stretch``
-    samples in lockstep (see the module docstring). Returns the arrays and the number of
-    passes."""
-    k = max(1, -(-n // stretch))
-    lo = np.arange(k) * stretch
-    hi = np.minimum(lo + stretch, n)
+def seams(speed: np.ndarray, stretch: int) -> np.ndarray:
+    """Sample indices that cut a log into stretches of about ``stretch`` samples, each cut
+    where the reference ``speed`` is largest within half a stretch of the regular grid, and
+    none within a dwell (an axis in motion forgets its past; one stuck does not)."""
+    n = speed.size
+    cuts = [0]
+    for b in range(stretch, n - stretch // 2, stretch):
+        a, z = max(b - stretch // 2, cuts[-1] + stretch // 2), min(b + stretch // 2, n - 1)
+        if z > a:
+            c = a + int(np.argmax(speed[a:z]))
+            if speed[c] > 0:
+                cuts.append(c)
+    return np.array(cuts + [n])
+
+
+def _stitched(loop: _Loop, cuts: np.ndarray, warmup: int, resolution: dict):
+    """The log's measured x, v, i, simulated as the stretches between ``cuts`` in lockstep
+    (see the module docstring). Returns the arrays, the number of passes and the largest
+    state jump at a seam in units of ``resolution``."""
+    n = int(cuts[-1])
+    k = cuts.size - 1
+    lo, hi = cuts[:-1], cuts[1:]
     out = np.zeros((3, n))
 
     def run(rows, start, init, steps):
@@ -554,7 +721,8 @@ def _stitched(loop: _Loop, n: int, stretch: int, warmup: int, tolerance: dict):
                 out[:, idx[own]] = np.stack(meas)[:, own]
         return at_lo, at_hi
 
-    start = np.maximum(lo - warmup, 0)
+    # each stretch warms up for at least ``warmup`` samples and over the whole stretch before
+    start = np.maximum(np.minimum(lo - warmup, np.concatenate([[0], lo[:-1]])), 0)
     exact = start == 0
     rows = np.arange(k)
     at_lo, at_hi = run(rows, start, loop.initial(start, exact), int(np.max(hi - start)))
@@ -563,8 +731,8 @@ def _stitched(loop: _Loop, n: int, stretch: int, warmup: int, tolerance: dict):
     while True:
         for j in range(1, k):
             if not exact[j] and exact[j - 1]:
-                seam[j] = _mismatch(_take(at_lo, [j]), _take(at_hi, [j - 1]), tolerance)[0]
-                exact[j] = bool(seam[j] <= 1.0)
+                seam[j] = _mismatch(_take(at_lo, [j]), _take(at_hi, [j - 1]), resolution)[0]
+                exact[j] = bool(seam[j] <= SEAM_TOLERANCE)
         bad = np.flatnonzero(~exact)
         if bad.size == 0:
             break
@@ -584,11 +752,12 @@ def _stitched(loop: _Loop, n: int, stretch: int, warmup: int, tolerance: dict):
 # ----------------------------------------------------------------------------- scenarios
 
 
-def _seam_tolerance(sensors: dict, ctrl: dict, phi: float) -> dict:
-    """SEAM_TOLERANCE of the resolution each state component shows on: x and v directly,
-    the controller's memory through the force it commands."""
+def _resolution(sensors: dict, ctrl: dict, phi: float) -> dict:
+    """The sensor resolution each state component shows on: x and v directly, the
+    controller's memory through the force it commands (noise or quantization step /
+    sqrt(12), whichever is larger)."""
     def resolution(sigma, step):
-        return SEAM_TOLERANCE * max(sigma, step / math.sqrt(12.0))
+        return max(sigma, step / math.sqrt(12.0))
 
     x = resolution(sensors["sigma_x"], sensors["q_x"])
     v = resolution(sensors["sigma_v"], sensors["q_v"])
@@ -609,6 +778,7 @@ def _normalize_hidden(hidden) -> Tuple[str, ...]:
     for name in hidden:
         if not isinstance(name, str):
             raise ValueError(f"hidden effects are names, got {name!r}")
+        name = str(name)
         bare = name[4:] if name.startswith("oov:") else name
         if name in NAMED:
             key = name
@@ -637,29 +807,22 @@ def _controller(rng, kind, mass, force_constant, rate, feedforward):
         c.update(kp=w * w, kd=2 * zeta * w, ki_m=mass * share * w ** 3)
         c["tf"] = max(1.0 / (w * rng.uniform(5.0, 15.0)), 2.0 / rate)
     else:
-        wv = w * rng.uniform(2.0, 4.0)
+        wv = min(w * rng.uniform(2.0, 4.0), 2 * np.pi * rate / 15.0)
         c.update(kpos=w * rng.uniform(0.5, 1.0), kv=wv, ki_m=mass * share * wv * wv,
                  velocity_bandwidth_hz=wv / (2 * np.pi))
         c["tf"] = 1.0
     return c
 
 
-def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[float] = None,
+def draw_settings(seed: int, *, rate_hz: Optional[float] = None,
                   duration_s: Optional[float] = None, noise: Optional[float] = None,
                   controller: Optional[str] = None, trajectory: Optional[str] = None,
-                  feedforward: Optional[bool] = None, magnitude: float = 1.0) -> Scenario:
-    """The scenario of ``seed`` with ``hidden`` effects (names of ``NAMED`` or
-    ``"oov:<shape>"`` of ``OUT_OF_VOCABULARY``) at ``magnitude`` times their reference size.
-
-    Everything not fixed by an argument is drawn from ``seed`` alone, so the same seed with
-    other hidden effects has the same plant, controller, trajectory and sensor noise: the
-    logs differ only by the effects. ``noise`` scales the drawn sensor noise (1: as drawn).
-    """
-    hidden = _normalize_hidden(hidden)
-    if not (isinstance(magnitude, (int, float)) and math.isfinite(magnitude) and magnitude > 0):
-        raise ValueError(f"magnitude must be > 0, got {magnitude!r}")
+                  feedforward: Optional[bool] = None) -> dict:
+    """The log settings of ``seed`` (rate_hz, duration_s, noise scale, controller,
+    trajectory, feedforward): drawn unless given (rate log-uniform in RATE_RANGE, duration
+    log-uniform in DURATION_RANGE), checked when given."""
     rng = np.random.default_rng([int(seed), 1])
-    draws = {"rate": rng.uniform(), "duration": rng.uniform(), "noise": rng.uniform(),
+    draws = {"rate": rng.uniform(), "duration": rng.uniform(),
              "controller": int(rng.integers(len(CONTROLLERS))),
              "trajectory": int(rng.integers(len(TRAJECTORIES))),
              "feedforward": bool(rng.uniform() < 0.5)}
@@ -681,18 +844,37 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     if traj_kind not in TRAJECTORIES:
         raise ValueError(f"trajectory must be one of {TRAJECTORIES}, got {trajectory!r}")
     use_ff = draws["feedforward"] if feedforward is None else bool(feedforward)
+    return {"rate_hz": rate, "duration_s": duration, "noise": noise_scale, "controller": kind,
+            "trajectory": traj_kind, "feedforward": use_ff}
+
+
+def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[float] = None,
+                  duration_s: Optional[float] = None, noise: Optional[float] = None,
+                  controller: Optional[str] = None, trajectory: Optional[str] = None,
+                  feedforward: Optional[bool] = None, magnitude: float = 1.0) -> Scenario:
+    """The scenario of ``seed`` with ``hidden`` effects (names of ``NAMED`` or
+    ``"oov:<shape>"`` of ``OUT_OF_VOCABULARY``) at ``magnitude`` times their reference size.
+
+    Everything not fixed by an argument is drawn from ``seed`` alone, so the same seed with
+    other hidden effects has the same plant, controller, trajectory and sensor noise: the
+    logs differ only by the effects. ``noise`` scales the drawn sensor noise (1: as drawn).
+    """
+    hidden = _normalize_hidden(hidden)
+    if not (isinstance(magnitude, (int, float)) and math.isfinite(magnitude) and magnitude > 0):
+        raise ValueError(f"magnitude must be > 0, got {magnitude!r}")
+    drawn = draw_settings(seed, rate_hz=rate_hz, duration_s=duration_s, noise=noise,
+                          controller=controller, trajectory=trajectory, feedforward=feedforward)
+    rate, duration, noise_scale = drawn["rate_hz"], drawn["duration_s"], drawn["noise"]
+    kind, traj_kind, use_ff = drawn["controller"], drawn["trajectory"], drawn["feedforward"]
 
     # plant
     prng = np.random.default_rng([int(seed), 2])
     mass = _log_uniform(prng, 0.5, 20.0)
     phi = _log_uniform(prng, 5.0, 60.0)
-    friction = _draw_friction(prng, mass)
     v_peak = _log_uniform(prng, 0.05, 0.5)
     a_max = _log_uniform(prng, 1.0, 15.0)
     travel = _log_uniform(prng, 0.02, 0.3)
-    viscous = friction.coulomb / v_peak * prng.uniform(0.2, 1.5)
-    friction = StretchedStribeck(friction.fc, friction.fs, friction.vs, friction.exponent,
-                                 friction.kind, viscous)
+    friction = _draw_friction(prng, mass, v_peak)
     f_peak = mass * a_max + float(friction(v_peak)) + max(friction.fs)
     i_peak = f_peak / phi
     i_max = i_peak * prng.uniform(2.0, 3.0)
@@ -713,28 +895,40 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     trng = np.random.default_rng([int(seed), 4])
     xd, vd, ad, traj_info = _trajectory(traj_kind, trng, t, v_peak, a_max, travel)
     ctrl = _controller(np.random.default_rng([int(seed), 5]), kind, mass, phi, rate, use_ff)
-    ff = model.force(vd) if use_ff else np.zeros(n)
+    ff = _tabulated_force(model, vd) if use_ff else np.zeros(n)
 
     # hidden effects
     ctx = {"coulomb": friction.coulomb, "travel": travel, "v_peak": float(np.max(np.abs(vd))),
            "mass": mass, "force_constant": phi, "a_rms": float(np.sqrt(np.mean(ad ** 2))),
            "vs": friction.vs, "duration": duration, "x_range": (float(np.min(xd)), float(np.max(xd))),
-           "i_peak": i_peak, "rate_hz": rate}
+           "i_peak": i_peak, "rate_hz": rate, "v_rms": float(np.sqrt(np.mean(vd ** 2))),
+           "speed": np.abs(vd), "ts": 1.0 / rate, "stribeck": friction.stribeck,
+           "force_rate_rms": float(np.sqrt(np.mean(np.gradient(
+               mass * ad + friction(vd), 1.0 / rate) ** 2))),
+           "fast_loop": 2 * np.pi * ctrl.get("velocity_bandwidth_hz", ctrl["bandwidth_hz"])}
     h = _Hidden()
     for name in hidden:
         _add_effect(h, name[4:] if name.startswith("oov:") else name, magnitude,
                     _effect_rng(seed, name[4:] if name.startswith("oov:") else name), ctx)
+    if h.delay_wanted:
+        # at most 0.5 rad of phase at the fastest loop's crossover, which the hidden mass
+        # and force constant errors shift by their gain
+        gain = max(1.0, h.phi_factor / h.mass_factor)
+        delay = min(h.delay_wanted, 0.5 / (ctx["fast_loop"] * gain))
+        h.delay_samples = max(1, int(round(delay * rate)))
+        h.parameters["oov:sensor_delay"].update(delay_s=h.delay_samples / rate,
+                                                samples=h.delay_samples)
     law = _PlantLaw(friction, h, mass, phi, i_max)
 
-    step = min(MAX_PLANT_STEP, 0.2 * law.mass / max(viscous, 1e-12))
+    step = min(MAX_PLANT_STEP, 0.2 * law.mass / max(friction.viscous, 1e-12))
     substeps = max(1, int(math.ceil((1.0 / rate) / step)))
     cond = dict(sensors, rate_hz=rate, substeps=substeps)
     noise_rows = np.random.default_rng([int(seed), 6]).standard_normal((n, 3))
     loop = _Loop(law, cond, (xd, vd, ad), ff, noise_rows, ctrl)
-    stretch = max(int(round(0.5 * rate)), -(-n // 4096))
-    warmup = int(round(1.5 * rate))
-    (xm, vm, im), passes, seam = _stitched(loop, n, stretch, warmup,
-                                           _seam_tolerance(sensors, ctrl, phi))
+    stretch = max(int(round(STRETCH_S * rate)), -(-n // MAX_STRETCHES))
+    warmup = int(round(WARMUP_S * rate))
+    (xm, vm, im), passes, seam = _stitched(loop, seams(np.abs(vd), stretch), warmup,
+                                           _resolution(sensors, ctrl, phi))
     log = MotionLog(t=t, x=xm, v=vm, i=im, extra={"x_d": xd})
 
     conditions = _jsonable({
@@ -753,8 +947,12 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
                          "adc_bits": sensors["adc_bits"]},
         "magnitude": float(magnitude),
         "magnitudes": _jsonable(h.parameters),
+        "signature_rms": _signature_rms(h, log, friction, mass, phi),
+        "force_noise": phi * sensors["sigma_i"],
         "passes": passes,
-        "seam_mismatch": seam,
+        "tracking_rms": float(np.sqrt(np.mean((xd - xm) ** 2))),
+        "current_limit_fraction": float(np.mean(np.abs(im) >= 0.999 * i_max - sensors["q_i"])),
+        "seam_jump": seam,
     })
     return Scenario(log=log, model=model, mass=mass, force_constant=phi, hidden=hidden,
                     conditions=conditions)
