@@ -1,90 +1,268 @@
-"""Where fricgen diagnose succeeds and where it fails, on logs with one hidden effect (or none).
+"""fricgen diagnose on logs it did not generate: false alarms, named effects, pairs, shapes
+outside the vocabulary, the held-out gap, and how calibrated the p-values are.
 
-Prints
-1. the confusion matrix (true effect x named effect) at the reference magnitude;
-2. the same at a small magnitude, where confusable pairs show;
-3. the smallest magnitude of each effect that is still named correctly for every seed;
-4. the held-out gap before and after, per effect (median over seeds, reference magnitude).
+Every log comes from ``fricgen.sim.scenarios`` (its own plant friction family, controllers,
+trajectories, sensors; the user's model is trained on a sweep of the plant, close but not
+equal). The cases, each seed drawing its own plant, controller, trajectory, noise, rate and
+length unless fixed:
 
-    python benchmarks/diagnose_confusion.py [--seeds 4] [--noise 1.0] [--small 0.1]
+- null: nothing hidden; rates cycled over 250, 500, 1000, 2000, 4000 Hz, the three controllers
+  and noise scales 0.5, 1, 2; lengths drawn in 5-120 s;
+- lengths: nothing hidden, at 14, 60, 300 and 1200 s (rate and the rest drawn);
+- singles: each named effect at its reference magnitude;
+- pairs: two different named effects at once;
+- oov: each out-of-vocabulary shape.
 
-Every log is 12 s at 1 kHz from the truth axis of fricgen.logsynth; magnitudes scale the
-reference sizes listed there (ripple 3 N, asymmetry 20 %, load 5 N, mass +30 %, phi -15 %,
-extra source fc 2 N / fs 6 N / B 15 N s/m, lag 20 ms, drift 2 %/s).
+Prints and checks the targets (false alarms <= 5 % overall and per length; singles correct
+>= 95 %; pairs exact set >= 90 %; out-of-vocabulary: no named effect that worsens the gap, gap
+at least halved in >= 90 %; gap after <= 0.5 x before wherever something was added), writes
+``confusion.png`` (confusion matrix of the singles and nulls) and the reliability table of the
+first step's p-value on null logs (observed fraction with p < alpha against alpha).
+
+    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR]
+
+Results are appended to DIR/records.jsonl as each log finishes; a run that stops is resumed
+by running the same command again (finished cases are not repeated).
 """
+import os
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")          # many small factorizations: one thread
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import argparse
+import json
 import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
 
 import numpy as np
 
 from fricgen.diagnose.diagnoser import diagnose
-from fricgen.sim.logsynth import HIDDEN_EFFECTS, LogSpec, nominal_model, synthesize_logs
+from fricgen.effects import EFFECTS
+from fricgen.sim.scenarios import CONTROLLERS, NAMED, OUT_OF_VOCABULARY, make_scenario
 
+RATES = (250.0, 500.0, 1000.0, 2000.0, 4000.0)
+NOISES = (0.5, 1.0, 2.0)
+LENGTHS = (14.0, 60.0, 300.0, 1200.0)
 SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "asym",
          "constant_load": "load", "inertia_mismatch": "mass", "force_constant_mismatch": "phi",
-         "extra_friction_source": "extra", "frictional_lag": "lag", "thermal_drift": "drift"}
-MAGNITUDES = (0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0)
+         "extra_friction_source": "extra", "frictional_lag": "lag", "thermal_drift": "drift",
+         "table": "table"}
+ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 
 
-def run(specs, model):
-    logs = synthesize_logs(specs, model)
-    return [diagnose(log, model, s.mass, s.force_constant) for s, log in zip(specs, logs)]
+def cases(small: bool):
+    """(key, kind, seed, hidden, fixed conditions) of every log of the run."""
+    n_null, per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
+    named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (8, 30, 4)
+    out = []
+    for k in range(n_null):
+        fixed = {"rate_hz": RATES[k % len(RATES)], "controller": CONTROLLERS[k % len(CONTROLLERS)],
+                 "noise": NOISES[(k // len(RATES)) % len(NOISES)]}
+        out.append((f"null-{k}", "null", 1000 + k, (), fixed))
+    for length in lengths:
+        for k in range(per_length):
+            out.append((f"length{length:g}-{k}", "length", 2000 + 100 * int(length) + k, (),
+                        {"duration_s": length}))
+    for s in range(named_seeds):
+        for j, e in enumerate(NAMED):
+            out.append((f"single-{e}-{s}", "single", 3000 + 10 * s + j, (e,), {}))
+    rng = np.random.default_rng(7)
+    for k in range(n_pairs):
+        a, b = rng.choice(len(NAMED), 2, replace=False)
+        out.append((f"pair-{k}", "pair", 4000 + k, (NAMED[a], NAMED[b]), {}))
+    for s in range(oov_seeds):
+        for j, shape in enumerate(OUT_OF_VOCABULARY):
+            out.append((f"oov-{shape}-{s}", "oov", 5000 + 10 * s + j, ("oov:" + shape,), {}))
+    return out
 
 
-def confusion(specs, results, title):
-    names = list(HIDDEN_EFFECTS)
-    m = np.zeros((len(names), len(names)), dtype=int)
-    for s, d in zip(specs, results):
-        m[names.index(s.effect), names.index(d.effect_)] += 1
-    print(f"\n{title}\n(rows: hidden effect, columns: named effect)")
-    print(f"{'':>8s} " + " ".join(f"{SHORT[n]:>6s}" for n in names))
-    for k, n in enumerate(names):
-        print(f"{SHORT[n]:>8s} " + " ".join(f"{c:6d}" for c in m[k]))
-    print(f"accuracy {np.trace(m) / m.sum():.3f} ({np.trace(m)}/{m.sum()})")
+def run_case(case):
+    key, kind, seed, hidden, fixed = case
+    start = time.time()
+    sc = make_scenario(seed, hidden, **fixed)
+    made = time.time()
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    c = sc.conditions
+    return {"key": key, "kind": kind, "seed": seed, "hidden": list(sc.hidden),
+            "rate_hz": c["rate_hz"], "duration_s": c["duration_s"],
+            "controller": c["controller"].get("kind", fixed.get("controller", "?")),
+            "noise": c["noise"]["scale"], "trajectory": c["trajectory"]["kind"],
+            "effects": [s.effect for s in d.effects_],
+            "steps": [{"effect": s.effect, "p_value": s.p_value, "size": s.size, "share": s.share,
+                       "gap_before": s.gap_before,
+                       "gap_after": None if np.isnan(s.gap_after) else s.gap_after,
+                       "added": s.added, "reason": s.reason} for s in d.steps_],
+            "p_first": d.steps_[0].p_value if d.steps_ else 1.0,
+            "gap_before": d.gap_before_, "gap_after": d.gap_after_,
+            "seconds_generate": made - start, "seconds_diagnose": time.time() - made}
+
+
+def named_set(r):
+    return sorted(e for e in r["effects"] if e in EFFECTS)
+
+
+def rate(flags):
+    flags = list(flags)
+    return (sum(flags) / len(flags), sum(flags), len(flags)) if flags else (float("nan"), 0, 0)
+
+
+def verdict(ok):
+    return "met" if ok else "NOT MET"
+
+
+def report(records, out: Path, small: bool):
+    by = {}
+    for r in records:
+        by.setdefault(r["kind"], []).append(r)
+    lines = []
+
+    def say(text=""):
+        print(text)
+        lines.append(text)
+
+    nulls = by.get("null", [])
+    fa, k, n = rate(bool(r["effects"]) for r in nulls)
+    say(f"null logs (nothing hidden): false alarms {k}/{n} = {fa:.1%}   target <= 5 %: {verdict(fa <= 0.05)}")
+    for label, field, values in (("rate (Hz)", "rate_hz", RATES), ("controller", "controller", CONTROLLERS),
+                                 ("noise scale", "noise", NOISES)):
+        parts = []
+        for v in values:
+            f, kk, nn = rate(bool(r["effects"]) for r in nulls if r[field] == v)
+            parts.append(f"{v}: {kk}/{nn}")
+        say(f"    by {label}: " + ", ".join(parts))
+    durations = np.array([r["duration_s"] for r in nulls]) if nulls else np.zeros(0)
+    if durations.size:
+        say(f"    lengths {durations.min():.1f}-{durations.max():.1f} s; false alarms named: "
+            + ", ".join(f"{r['key']}: {r['effects']}" for r in nulls if r["effects"]) or "none")
+    say("\nfalse alarms per length (nothing hidden)")
+    say(f"{'length (s)':>10s} {'alarms':>8s} {'rate':>7s}  target <= 5 %")
+    for length in LENGTHS:
+        rows = [r for r in by.get("length", []) if r["duration_s"] == length]
+        if rows:
+            f, kk, nn = rate(bool(r["effects"]) for r in rows)
+            say(f"{length:10g} {kk:4d}/{nn:<3d} {f:7.1%}  {verdict(f <= 0.05)}"
+                + (f"   ({', '.join(e for r in rows for e in r['effects'])})" if kk else ""))
+
+    say("\nreliability of the first step's p-value on null logs (nulls and lengths together):")
+    say("the fraction of logs with p < alpha (a calibrated test of 'the effect explains nothing' "
+        "gives <= alpha when nothing is there; the model's own bias is something)")
+    pooled = nulls + by.get("length", [])
+    say(f"{'alpha':>7s} {'p < alpha':>10s} {'added':>7s}")
+    for a in ALPHAS:
+        f, kk, nn = rate(r["p_first"] < a for r in pooled)
+        say(f"{a:7g} {f:10.1%} {rate(bool(r['effects']) for r in pooled)[0]:7.1%}")
+    singles = by.get("single", [])
+    if singles:
+        ok = [named_set(r) == r["hidden"] for r in singles]
+        f, kk, nn = rate(ok)
+        say(f"\nsingle named effects at reference magnitude: exactly the hidden one {kk}/{nn} = {f:.1%}   "
+            f"target >= 95 %: {verdict(f >= 0.95)}")
+        for e in NAMED:
+            rows = [r for r in singles if r["hidden"] == [e]]
+            wrong = [str(r["effects"]) for r in rows if named_set(r) != [e]]
+            say(f"    {e:>24s}: {sum(named_set(r) == [e] for r in rows)}/{len(rows)}"
+                + (f"   got {'; '.join(wrong)}" if wrong else ""))
+    pairs = by.get("pair", [])
+    if pairs:
+        f, kk, nn = rate(named_set(r) == sorted(r["hidden"]) for r in pairs)
+        say(f"\npairs of named effects: exact set {kk}/{nn} = {f:.1%}   target >= 90 %: {verdict(f >= 0.9)}")
+        for r in pairs:
+            if named_set(r) != sorted(r["hidden"]):
+                say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}")
+    oov = by.get("oov", [])
+    if oov:
+        worse = [r for r in oov for s in r["steps"] if s["added"] and s["effect"] in EFFECTS
+                 and s["gap_after"] > s["gap_before"]]
+        halved = rate(r["gap_after"] <= 0.5 * r["gap_before"] for r in oov)
+        say(f"\nout-of-vocabulary shapes: named effects that worsen the held-out gap {len(worse)} "
+            f"(target 0: {verdict(not worse)}); gap at least halved {halved[1]}/{halved[2]} = "
+            f"{halved[0]:.1%} (target >= 90 %: {verdict(halved[0] >= 0.9)})")
+        say(f"{'shape':>22s} {'added':>40s} {'gap before':>11s} {'after':>10s} {'ratio':>6s}")
+        for r in sorted(oov, key=lambda r: r["key"]):
+            say(f"{r['hidden'][0][4:]:>22s} {','.join(r['effects']) or 'none':>40s} "
+                f"{r['gap_before']:11.3e} {r['gap_after']:10.3e} {r['gap_after'] / r['gap_before']:6.2f}")
+    added = [r for r in records if r["effects"]]
+    bad = [r for r in added if not r["gap_after"] <= 0.5 * r["gap_before"]]
+    say(f"\nheld-out gap after <= 0.5 x before wherever something was added: {len(added) - len(bad)}/"
+        f"{len(added)}   {verdict(not bad)}")
+    for r in bad:
+        say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}: {r['gap_before']:.3e} -> {r['gap_after']:.3e}")
+    secs = sum(r["seconds_diagnose"] for r in records)
+    say(f"\n{len(records)} logs; diagnose took {secs:.0f} s in total "
+        f"(median {np.median([r['seconds_diagnose'] for r in records]):.1f} s per log)")
+    (out / "summary.txt").write_text("\n".join(lines) + "\n")
+    confusion_figure(nulls + singles, out / "confusion.png")
+
+
+def confusion_figure(records, path: Path):
+    """Rows: hidden effect (none or one named effect); columns: first effect named."""
+    rows = ["none"] + list(NAMED)
+    cols = rows + ["table"]
+    m = np.zeros((len(rows), len(cols)), dtype=int)
+    for r in records:
+        hidden = r["hidden"][0] if r["hidden"] else "none"
+        first = r["effects"][0] if r["effects"] else "none"
+        m[rows.index(hidden), cols.index(first if first in cols else "table")] += 1
+    print("\nconfusion (rows: hidden; columns: first effect named)")
+    print(f"{'':>8s} " + " ".join(f"{SHORT[c]:>6s}" for c in cols))
+    for k, name in enumerate(rows):
+        print(f"{SHORT[name]:>8s} " + " ".join(f"{c:6d}" for c in m[k]))
+    try:
+        import matplotlib
+    except ImportError:
+        return
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    frac = m / np.maximum(m.sum(axis=1, keepdims=True), 1)
+    fig, ax = plt.subplots(figsize=(8, 6.5), constrained_layout=True)
+    ax.imshow(frac, cmap="Blues", vmin=0, vmax=1)
+    for i in range(len(rows)):
+        for j in range(len(cols)):
+            if m[i, j]:
+                ax.text(j, i, str(m[i, j]), ha="center", va="center",
+                        color="white" if frac[i, j] > 0.5 else "black")
+    ax.set_xticks(range(len(cols)), [SHORT[c] for c in cols], rotation=45)
+    ax.set_yticks(range(len(rows)), [SHORT[r] for r in rows])
+    ax.set_xlabel("first effect named")
+    ax.set_ylabel("hidden effect")
+    ax.set_title("fricgen diagnose on fricgen.sim.scenarios logs (nulls and singles)")
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=4)
-    ap.add_argument("--noise", type=float, default=1.0)
-    ap.add_argument("--small", type=float, default=0.1, help="magnitude of the second confusion matrix")
+    ap.add_argument("--small", action="store_true", help="a quick run: 15 nulls, 14 s and 60 s "
+                    "lengths, one seed per effect and shape, 6 pairs")
+    ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
+    ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")
     args = ap.parse_args()
-    seeds = range(args.seeds)
-    model = nominal_model()
-    start = time.time()
-
-    specs = [LogSpec(effect=e, seed=s, noise=args.noise) for s in seeds for e in HIDDEN_EFFECTS]
-    ref = run(specs, model)
-    confusion(specs, ref, f"magnitude 1, noise {args.noise:g}, {args.seeds} seeds")
-
-    small = [LogSpec(effect=e, seed=s, magnitude=args.small, noise=args.noise)
-             for s in seeds for e in HIDDEN_EFFECTS]
-    confusion(small, run(small, model), f"magnitude {args.small:g}, noise {args.noise:g}, {args.seeds} seeds")
-
-    effects = [e for e in HIDDEN_EFFECTS if e != "none"]
-    sweep = [LogSpec(effect=e, seed=100 + s, magnitude=m, noise=args.noise)
-             for e in effects for m in MAGNITUDES for s in seeds]
-    res = run(sweep, model)
-    print(f"\nsmallest magnitude named correctly for all {args.seeds} seeds (of {MAGNITUDES}), noise {args.noise:g}")
-    print(f"{'effect':>24s} {'magnitude':>9s}  named at each magnitude (correct/seeds)")
-    for e in effects:
-        ok = {m: sum(d.effect_ == e for s, d in zip(sweep, res) if s.effect == e and s.magnitude == m)
-              for m in MAGNITUDES}
-        passing = [m for m in MAGNITUDES if all(ok[k] == args.seeds for k in MAGNITUDES if k >= m)]
-        smallest = f"{min(passing):g}" if passing else "> 1"
-        wrong = {m: sorted({SHORT[d.effect_] for s, d in zip(sweep, res)
-                            if s.effect == e and s.magnitude == m and d.effect_ != e}) for m in MAGNITUDES}
-        print(f"{e:>24s} {smallest:>9s}  " + " ".join(
-            f"{m:g}:{ok[m]}" + (f"({','.join(wrong[m])})" if wrong[m] else "") for m in MAGNITUDES))
-
-    print(f"\nheld-out gap (rms velocity error of 20 ms restarted simulations, m/s), magnitude 1, "
-          f"median of {args.seeds} seeds")
-    print(f"{'effect':>24s} {'before':>10s} {'after':>10s} {'after/before':>12s}")
-    for e in HIDDEN_EFFECTS:
-        before = np.median([d.gap_before_ for s, d in zip(specs, ref) if s.effect == e])
-        after = np.median([d.gap_after_ for s, d in zip(specs, ref) if s.effect == e])
-        print(f"{e:>24s} {before:10.3e} {after:10.3e} {after / before:12.3f}")
-    print(f"\n({len(specs) + len(small) + len(sweep)} logs in {time.time() - start:.0f} s)")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "records.jsonl"
+    todo = cases(args.small)
+    keys = {c[0] for c in todo}
+    done = {}
+    if path.exists():
+        for line in path.read_text().splitlines():
+            r = json.loads(line)
+            done[r["key"]] = r
+    pending = [c for c in todo if c[0] not in done]
+    pending.sort(key=lambda c: -c[4].get("duration_s", 0.0))     # the longest logs first
+    if not args.report_only and pending:
+        print(f"{len(pending)} logs to diagnose ({len(done)} done before)", flush=True)
+        with ProcessPoolExecutor(args.jobs) as pool, path.open("a") as f:
+            futures = {pool.submit(run_case, c): c for c in pending}
+            for fut in as_completed(futures):
+                r = fut.result()
+                f.write(json.dumps(r) + "\n")
+                f.flush()
+                done[r["key"]] = r
+                print(f"{r['key']:>28s} {r['rate_hz']:6.0f} Hz {r['duration_s']:7.1f} s -> "
+                      f"{','.join(r['effects']) or 'none'} ({r['seconds_diagnose']:.0f} s)", flush=True)
+    report([done[k] for k in done if k in keys], out, args.small)
 
 
 if __name__ == "__main__":

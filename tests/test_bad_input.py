@@ -50,11 +50,22 @@ def work(cli_inputs, tmp_path_factory):
     cells[log[0].split(",").index("i")] = "nan"
     (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
     _motion_log_files(d, log)
+    (d / "log_swapped.csv").write_text("\n".join(log[:100] + [log[101], log[100]] + log[102:]) + "\n")
+    (d / "log_short.csv").write_text("\n".join(log[:16]) + "\n")
+    columns = log[0].split(",")
+    for col in ("i", "x"):
+        k = columns.index(col)
+        body = [line.split(",") for line in log[1:]]
+        for cells_k in body:
+            cells_k[k] = "1.5"
+        (d / f"log_constant_{col}.csv").write_text("\n".join([log[0]] + [",".join(c) for c in body]) + "\n")
     model = json.loads((d / "model.json").read_text())
     for name, edit in (("huge_weights.json", lambda m: m["aim"]["output_weights"].__setitem__(0, 3e38)),
                        ("kind_list.json", lambda m: m["aim"].__setitem__("kind", [])),
                        ("effect_dict.json", lambda m: m.__setitem__("effects", [{"effect": {}}])),
-                       ("version_true.json", lambda m: m.__setitem__("format_version", True))):
+                       ("version_true.json", lambda m: m.__setitem__("format_version", True)),
+                       ("model_table.json", lambda m: m.__setitem__("effects", [
+                           {"effect": "table_velocity", "parameters": {"lo": 1, "hi": 0, "values": [1, 2]}}]))):
         edited = json.loads(json.dumps(model))
         edit(edited)
         (d / name).write_text(json.dumps(edited))
@@ -145,6 +156,22 @@ ROWS = [
     ("diagnose, t in ms", ["diagnose", "log_ms.csv", "--model", "model.json", *DIAG, "-o", OUT],
      "dx/dt is 0.001 times v"),
     ("diagnose, NaN row", ["diagnose", "log_nan.csv", "--model", "model.json", *DIAG, "-o", OUT], "NaN"),
+    ("diagnose, time steps back", ["diagnose", "log_swapped.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "not uniformly sampled"),
+    ("diagnose, shorter than the window", ["diagnose", "log_short.csv", "--model", "model.json", *DIAG,
+                                           "-o", OUT], "need at least"),
+    ("diagnose, constant current", ["diagnose", "log_constant_i.csv", "--model", "model.json", *DIAG,
+                                    "-o", OUT], "current i is constant"),
+    ("diagnose, constant position", ["diagnose", "log_constant_x.csv", "--model", "model.json", *DIAG,
+                                     "-o", OUT], "dx/dt is 0 times v"),
+    ("diagnose --max-effects 0", ["diagnose", "log.csv", "--model", "model.json", *DIAG, "--max-effects", "0",
+                                  "-o", OUT], "--max-effects: must be an integer >= 1 and <= 8"),
+    ("diagnose --max-effects 2.5", ["diagnose", "log.csv", "--model", "model.json", *DIAG, "--max-effects",
+                                    "2.5", "-o", OUT], "--max-effects: must be an integer"),
+    ("diagnose --max-effects 99", ["diagnose", "log.csv", "--model", "model.json", *DIAG, "--max-effects",
+                                   "99", "-o", OUT], "<= 8"),
+    ("diagnose, reversed table", ["diagnose", "log.csv", "--model", "model_table.json", *DIAG, "-o", OUT],
+     "hi must be > lo"),
     ("diagnose --mass 1e308", ["diagnose", "log.csv", "--model", "model.json", "--mass", "1e308",
                                "--force-constant", "20", "-o", OUT], "--mass: must be"),
     ("demo --seeds 0", ["demo", "--seeds", "0"], "--seeds: must be an integer >= 1"),

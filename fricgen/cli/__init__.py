@@ -29,7 +29,7 @@ COMMANDS = {
                                "and figures"),
     "synth-log": ("synth_log", "write a closed-loop motion log (t,x,v,i) of the paper's friction "
                                "with one hidden effect"),
-    "diagnose": ("diagnose", "name the effect a model misses in a measured log (t,x,v,i), add it, "
+    "diagnose": ("diagnose", "name the effects a model misses in a measured log (t,x,v,i), add them, "
                              "show the gap shrink"),
 }
 

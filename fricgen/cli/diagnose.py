@@ -1,4 +1,4 @@
-"""``fricgen diagnose LOG --model M``: name what a friction model misses in a measured log."""
+"""``fricgen diagnose LOG --model M``: name the effects a friction model misses in a measured log."""
 from __future__ import annotations
 
 import json
@@ -6,7 +6,7 @@ from pathlib import Path
 
 from .._io import check_folder
 from ..data import read_log_csv
-from ..diagnose.diagnoser import Diagnoser
+from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files
 from ..model import FrictionModel
 from .common import (add_json, add_model, add_output, check_targets, number, out, say,
@@ -21,6 +21,8 @@ def register(p) -> None:
                    help="nominal moving mass m, kg")
     p.add_argument("--force-constant", required=True, type=number(0, 1e6, low_open=True, unit="N/A"),
                    help="nominal force constant phi, N/A")
+    p.add_argument("--max-effects", type=number(1, MAX_EFFECTS, integer=True), default=3,
+                   help=f"most effects added, 1 to {MAX_EFFECTS} (default 3)")
     add_output(p, "folder for model.json, report.md and plots")
     add_json(p, "print the summary as one JSON object")
     p.set_defaults(run=run)
@@ -31,16 +33,22 @@ def run(args) -> int:
     check_folder(args.output, [args.model], args.force)
     model = FrictionModel.load(args.model)
     log = read_log_csv(args.log)
-    d = Diagnoser().fit(log, model, args.mass, args.force_constant)
+    d = Diagnoser(max_effects=args.max_effects).fit(log, model, args.mass, args.force_constant)
     files = render_files(d, log, Path(args.log).name)
     check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
     if args.json:
         out(json.dumps(d.summary()))
     else:
-        lines = [f"effect     {d.effect_} (confidence {d.confidence_:.2f})"]
-        if d.fitted_ is not None:
+        lines = []
+        for j, s in enumerate(d.effects_, 1):
+            lines.append(f"effect {j}   {s.effect} (p = {s.p_value:.2g}, {s.share:.0%} of the held-out "
+                         f"residual, gap {s.gap_before:.4g} -> {s.gap_after:.4g} m/s)")
             lines.append("parameters " + ", ".join(f"{k} = {format_value(v)}"
-                                                  for k, v in d.parameters().items()))
+                                                  for k, v in s.fitted.parameters().items()))
+        if not d.effects_:
+            lines.append(f"effect     none (best candidate p = {d.p_value_:.2g})")
+        for s in d.refused():
+            lines.append(f"refused    {s.effect}: {s.reason}")
         lines.append(f"where      {d.where_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
         out("\n".join(lines))

@@ -5,7 +5,7 @@ import jinja2
 
 from .. import __version__
 from .._io import resource_dir
-from ..effects import model_effects
+from ..effects import TableEffect, model_effects
 from ..model import FrictionModel, check_model_name
 
 #: The line of every generated file's head comment that tells it apart (templates/model*.j2).
@@ -27,8 +27,18 @@ def identity_context(model: FrictionModel, name: str) -> dict:
             "model_hash": model.model_hash}
 
 
-def effects_context(model: FrictionModel) -> dict:
-    """What the templates need for NAME_force_xv: the C terms and the effects left out of C."""
-    effects = model_effects(model)
-    return {"effects": [{"name": e.name, "c_expr": e.c_expr()} for e in effects if e.in_xv],
-            "effects_not_in_c": [e.name for e in effects if not e.in_xv]}
+def effects_context(model: FrictionModel, name: str) -> dict:
+    """What the templates need for NAME_force_xv: the C terms, the tables' static arrays (read
+    by NAME_interp) and the effects left out of C."""
+    terms, tables = [], []
+    for e in model_effects(model):
+        if not e.in_xv:
+            continue
+        if isinstance(e, TableEffect):
+            symbol = f"table{len(tables)}"
+            tables.append(e.c_declaration(symbol))
+            terms.append({"name": e.name, "c_expr": e.c_call(symbol, f"{name}_interp")})
+        else:
+            terms.append({"name": e.name, "c_expr": e.c_expr()})
+    return {"effects": terms, "effect_tables": tables,
+            "effects_not_in_c": [e.name for e in model_effects(model) if not e.in_xv]}

@@ -56,7 +56,7 @@ def stribeck_context(model: FrictionModel, name: str, activation_impl: str) -> d
         "offset": c_float(net.offset), "slope": c_float(net.slope),
         "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
         "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
-        **effects_context(model),
+        **effects_context(model, name),
         "negative": None,  # grey-box C has one curve (see render)
     }
 
@@ -80,7 +80,7 @@ def template_context(model: FrictionModel, name: str) -> dict:
         "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
         "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
         "tables_note": "",  # a comment above the tables when they are not plain w and b
-        **effects_context(model),  # effects, effects_not_in_c: NAME_force_xv
+        **effects_context(model, name),  # effects, effects_not_in_c: NAME_force_xv
         "negative": negative,  # the curve for v < 0 of an asymmetric model
     }
 

@@ -1,2 +1,3 @@
-"""Where simulation and measurement disagree: the force residual, the named effects that explain
-it, the held-out gap before and after, and the report."""
+"""Where simulation and measurement disagree: the force residual, the effects (named, or tables
+without a name) that explain it, selected forward under a calibrated held-out test, the held-out
+gap before and after, and the report."""

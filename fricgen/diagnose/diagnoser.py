@@ -1,4 +1,4 @@
-"""Where simulation and measurement disagree, which named effect is missing, and the gap after.
+"""Where simulation and measurement disagree, which effects are missing, and the gap after.
 
 From a measured log (t, x, v, i), a friction model (eq. 3), the nominal mass m and force
 constant phi, the force residual of eq. (18) of section 6,
@@ -7,19 +7,21 @@ constant phi, the force residual of eq. (18) of section 6,
 
 is smoothed (Savitzky-Golay, polynomial order 2) and sampled on decimated rows where the axis
 moves (|v| above the noise and the window clear of reversals and sticking, where friction is
-undetermined). Every candidate of ``fricgen.effects`` is fitted to the residual through the
-same smoothing; candidates are compared by blocked cross-validation on the first part of the
-log (the last ``holdout`` fraction is never used for fitting), and the cross-validated error
-gain over "none", in log-likelihood units of the effective sample count, less a fixed penalty,
-is the score. "none" wins unless an effect clears the penalty. The gap is the RMS velocity
-error of simulations restarted from the measured state every ``horizon`` seconds and driven
-by the measured current, on the held-out part, before and after adding the effect.
+undetermined). The last ``holdout`` fraction of the log is never used for fitting. Effects are
+selected forward (``Diagnoser``): candidates are ranked by blocked cross-validation on the
+first part, the best is refitted jointly with those already chosen, and it is added only if the
+held-out test of ``decision`` rejects "it explains nothing" at level ``alpha``, it changes the
+force by at least ``min_size`` of the friction force and the held-out gap shrinks by at least
+``min_gain``. The gap is the RMS velocity error of simulations
+restarted from the measured state every ``horizon`` seconds and driven by the measured
+current, on the held-out part.
 """
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -27,18 +29,19 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from .._validate import positive
 from ..data import MotionLog
-from ..effects import EFFECTS, Effect, Signals, model_effects, with_effects
+from ..effects import EFFECTS, TABLES, Effect, Signals, model_effects, with_effects
 from ..errors import DataError
 from ..metrics import rmse
 from ..model import FrictionModel
 from ..sim.axis import AxisState, MotorAxis
 from ..sim.effect_law import EffectLaw
+from .decision import held_out_p_value
 
 #: Fewest moving rows the fit part must keep after masking.
 MIN_ROWS = 100
 #: Most rows the residual is sampled at: long logs are decimated further, so that time and
 #: memory stop growing with the log's length beyond about MAX_ROWS windows.
-MAX_ROWS = 20_000
+MAX_ROWS = 8_000
 
 
 class ResidualProblem:
@@ -47,6 +50,9 @@ class ResidualProblem:
     def __init__(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float,
                  window: int, holdout: float, effects: Sequence[Effect] = ()):
         self.mass, self.force_constant = mass, force_constant
+        if not np.ptp(log.i) > 0:
+            raise DataError(f"the current i is constant ({log.i[0]:g} A) over the whole log; the "
+                            "diagnosis needs the measured current")
         ts = log.sample_time
         self.sample_time = ts
         self.signals = Signals(model, t=log.t, x=log.x, v=log.v, a=np.gradient(log.v, ts), i=log.i,
@@ -76,7 +82,16 @@ class ResidualProblem:
                             "that moves for most of its length")
         self.target = self.at_rows(self.raw[:, None], np.arange(self.rows.size))[:, 0]
         self.v_smooth, self.x_smooth = v_s, savgol_filter(log.x, window, 2)
-        self._ripple = None
+        # the simulations are driven by the current smoothed as the residual is, so that the
+        # gap measures the model rather than the current sensor's noise integrated by 1/m
+        self.i_smooth = savgol_filter(log.i, window, 2)
+        self._cache: dict = {}          # shared by the copies of with_target
+
+    def with_target(self, target: np.ndarray) -> "ResidualProblem":
+        """A shallow copy whose residual ``target`` (at the rows) is ``target``."""
+        other = copy.copy(self)
+        other.target = target
+        return other
 
     @property
     def n_effective(self) -> float:
@@ -109,7 +124,7 @@ class ResidualProblem:
 
     def ripple_bank(self):
         """Smoothed sin/cos regressors of position for a grid of wavenumbers (cached)."""
-        if self._ripple is None:
+        if "ripple" not in self._cache:
             x = self.signals.x
             span = float(np.ptp(x[self.rows]))
             speed = float(np.median(np.abs(self.v_smooth[self.rows])))
@@ -119,11 +134,13 @@ class ResidualProblem:
             ks = np.arange(2 * np.pi / p_max, 2 * np.pi / p_min + step, step)
             X = x[self.rows[:, None] + self.offsets]
             bank = np.empty((ks.size, self.rows.size, 2))
+            turn = np.exp(1j * step * X)           # exp(i k X) for the next k: one product
             for j, k in enumerate(ks):
-                bank[j, :, 0] = np.sin(k * X) @ self.coeffs
-                bank[j, :, 1] = np.cos(k * X) @ self.coeffs
-            self._ripple = (ks, bank)
-        return self._ripple
+                z = np.exp(1j * k * X) if j % 32 == 0 else z * turn     # exact every 32 steps
+                w = z @ self.coeffs
+                bank[j, :, 0], bank[j, :, 1] = w.imag, w.real
+            self._cache["ripple"] = (ks, bank)
+        return self._cache["ripple"]
 
 
 def cross_validated_mse(problem: ResidualProblem, cls, folds: int) -> float:
@@ -200,6 +217,9 @@ def localize(problem: ResidualProblem) -> List[dict]:
                 "detail": f"period {2 * np.pi / ks[j] * 1e3:.3g} mm, amplitude "
                           f"{math.hypot(*coef[j]):.3g} N"})
     add("acceleration", r, _quantile_labels(a), f"slope {np.dot(a, r) / np.dot(a, a):+.3g} N per m/s^2")
+    current = problem.at_rows(problem.signals.i, rows)
+    lab = _quantile_labels(current)
+    add("current", r, lab, extreme(r, lab, current, "i", "A"))
     growth = a * np.sign(v)            # d|v|/dt: > 0 while speeding up
     add("speeding up or slowing down, friction level", level, _quantile_labels(growth),
         f"mean {level[growth > 0].mean():+.3g} N while speeding up, "
@@ -219,7 +239,7 @@ def localize(problem: ResidualProblem) -> List[dict]:
 def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, horizon: int,
                substeps: int = 10) -> np.ndarray:
     """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
-    samples from ``start`` on, driven by the measured current (NaN before ``start``): the axis
+    samples from ``start`` on, driven by the measured current (smoothed; NaN before ``start``): the axis
     of eq. (18) under the model's friction and ``effects``, in Karnopp steps."""
     sig = problem.signals
     n = sig.t.size
@@ -233,7 +253,7 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
     out = np.full(n, np.nan)
     for j in range(horizon):
         k = np.minimum(starts + j, n - 1)
-        state = axis.karnopp(state, sig.i[k], problem.sample_time, substeps)
+        state = axis.karnopp(state, problem.i_smooth[k], problem.sample_time, substeps)
         k1 = starts + j + 1
         ok = k1 < n
         out[k1[ok]] = state.v[ok]
@@ -256,26 +276,83 @@ def moving_segments(problem: ResidualProblem, start: int, horizon: int) -> np.nd
 
 @dataclass
 class Candidate:
+    """One candidate of one selection step: its cross-validated residual on the fit part."""
     effect: str
-    score: float
     mse: float
-    fitted: Optional[Effect] = None
+
+
+@dataclass
+class Step:
+    """One effect considered in the forward selection, fitted jointly with those chosen before,
+    and the decision about it. ``p_value``: of the held-out test (``decision``); ``share``: the
+    fraction of the held-out residual's sum of squares it removes; ``size``: the RMS of its
+    own force there (in the joint fit), relative to the RMS friction force; ``gap_before``/``gap_after``:
+    the held-out gap without and with it; ``reason``: why it was refused ('' if added)."""
+    effect: str
+    fitted: Optional[Effect]
+    joint: List[Effect]
+    p_value: float
+    n_effective: float
+    share: float
+    size: float
+    gap_before: float
+    gap_after: float
+    added: bool
+    reason: str
+    candidates: List[Candidate]
+
+    @property
+    def gain(self) -> float:
+        """Relative reduction of the held-out gap, 1 - after / before."""
+        return 1.0 - self.gap_after / self.gap_before if self.gap_before > 0 else 0.0
+
+    def summary(self) -> dict:
+        return {"effect": self.effect, "parameters": self.fitted.parameters() if self.fitted else {},
+                "p_value": self.p_value, "share": self.share, "size": self.size, "gap_before": self.gap_before,
+                "gap_after": self.gap_after, "held_out_gain": self.gain,
+                "named": self.effect in EFFECTS}
+
+
+#: A table is tried before the named effects when its cross-validated reduction of the
+#: residual's mean square is more than this many times the best named effect's.
+TABLE_PREFERENCE = 2.0
+#: Largest --max-effects.
+MAX_EFFECTS = 8
 
 
 class Diagnoser:
-    """Name the effect a friction model misses in a measured log, and add it.
+    """Name the effects a friction model misses in a measured log, and add them.
+
+    Forward selection: at each step every named effect not yet chosen is fitted to the residual
+    of the model with the effects chosen so far and ranked by blocked cross-validation on the
+    fit part; the best is refitted jointly with the chosen ones (backfitting) and added only if
+
+    1. the held-out test (``decision.held_out_p_value``) gives p < ``alpha``, and
+    2. it is practically relevant: its force on the held-out part is at least ``min_size`` of
+       the RMS friction force (a friction model fitted to a sweep is off by about a percent;
+       such bias is real structure, significant on long logs, but not a missing effect), and
+    3. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
+       the simulation worse.
+
+    If the best named effect passes the test but not the gap, the next one is tried. When no
+    named effect is added, the tables of ``fricgen.effects.tables`` (no physical name) compete
+    in the same way; they go first when the best table's cross-validated gain is more than
+    ``TABLE_PREFERENCE`` times the best named effect's (structure no named form follows). Selection stops at ``max_effects`` or when nothing is added.
 
     Parameters: ``window`` smoothing window (s), ``holdout`` fraction of the log kept for the
-    gap, ``horizon`` restart interval of the simulations (s), ``folds`` of the blocked
-    cross-validation, ``penalty`` (log-likelihood units) an effect must clear to beat "none",
-    ``candidates`` effect names to consider (default: all), ``substeps`` per sample.
+    test and the gap, ``horizon`` restart interval of the simulations (s), ``folds`` of the
+    blocked cross-validation, ``alpha`` level of each test, ``min_size`` and ``min_gain`` (see
+    above), ``max_effects``, ``candidates`` effect names to consider (default:
+    all), ``tables`` whether tables may be offered, ``substeps`` per sample.
     """
 
     def __init__(self, window: float = 0.021, holdout: float = 0.3, horizon: float = 0.02,
-                 folds: int = 5, penalty: float = 10.0, candidates: Optional[Sequence[str]] = None,
-                 substeps: int = 10):
+                 folds: int = 5, alpha: float = 0.01, min_size: float = 0.02, min_gain: float = 0.1,
+                 max_effects: int = 3,
+                 candidates: Optional[Sequence[str]] = None, tables: bool = True, substeps: int = 10):
         self.window, self.holdout, self.horizon = window, holdout, horizon
-        self.folds, self.penalty, self.candidates, self.substeps = folds, penalty, candidates, substeps
+        self.folds, self.alpha, self.min_size, self.min_gain = folds, alpha, min_size, min_gain
+        self.max_effects, self.candidates, self.tables, self.substeps = max_effects, candidates, tables, substeps
 
     def _validate(self):
         if not 0.05 <= self.holdout <= 0.6:
@@ -286,11 +363,82 @@ class Diagnoser:
             raise ValueError(f"window must be > 0, got {self.window}")
         if not self.horizon > 0:
             raise ValueError(f"horizon must be > 0, got {self.horizon}")
+        if not 0 < self.alpha < 1:
+            raise ValueError(f"alpha must be in (0, 1), got {self.alpha}")
+        if not 0 <= self.min_size < 1:
+            raise ValueError(f"min_size must be in [0, 1), got {self.min_size}")
+        if not 0 <= self.min_gain < 1:
+            raise ValueError(f"min_gain must be in [0, 1), got {self.min_gain}")
+        if (isinstance(self.max_effects, bool) or not isinstance(self.max_effects, int)
+                or not 1 <= self.max_effects <= MAX_EFFECTS):
+            raise ValueError(f"max_effects must be an integer in [1, {MAX_EFFECTS}], got {self.max_effects!r}")
         names = list(EFFECTS) if self.candidates is None else list(self.candidates)
         for name in names:
             if name not in EFFECTS:
                 raise ValueError(f"candidates: unknown effect {name!r}; known: {', '.join(EFFECTS)}")
         return names
+
+    # -- pieces of one step
+
+    def _residual_problem(self, p: ResidualProblem, effects: Sequence[Effect], skip=None) -> ResidualProblem:
+        """``p`` whose target is the residual after ``effects`` (but ``skip``)."""
+        target = p.target.copy()
+        every = np.arange(p.rows.size)
+        for e in effects:
+            if e is not skip:
+                target -= p.predict(e, every)
+        return p.with_target(target)
+
+    def _joint_fit(self, p: ResidualProblem, chosen: List[Effect], cls) -> List[Effect]:
+        """``cls`` fitted to the residual after ``chosen``, then every effect refitted once to
+        the residual after all the others (one backfitting sweep), on the fit rows."""
+        effects = list(chosen) + [cls.fit(self._residual_problem(p, chosen), p.fit_rows)]
+        for j in range(len(effects)):
+            others = self._residual_problem(p, effects, skip=effects[j])
+            effects[j] = type(effects[j]).fit(others, p.fit_rows)
+        return effects
+
+    def _gap(self, p: ResidualProblem, effects, log: MotionLog) -> Tuple[float, np.ndarray]:
+        v_sim = resimulate(p, list(effects), p.split, self.horizon_samples_, self.substeps)
+        held = self.held_
+        ok = np.isfinite(v_sim[held])
+        return rmse(v_sim[held][ok], log.v[held][ok]), v_sim
+
+    def _consider(self, p, log, base, chosen, gap_now, ranked, classes) -> Step:
+        """Fit the ranked candidate jointly, test it on the held-out rows, check the gap."""
+        name = ranked[0].effect
+        joint = self._joint_fit(p, chosen, classes[name])
+        test = p.test_rows
+        before = p.target[test] - sum((p.predict(e, test) for e in chosen), np.zeros(test.size))
+        after = p.target[test] - sum((p.predict(e, test) for e in joint), np.zeros(test.size))
+        p_value, n_eff = held_out_p_value(before, after)
+        ss_before = float(np.sum(before ** 2))
+        share = 1.0 - float(np.sum(after ** 2)) / ss_before if ss_before > 0 else 0.0
+        friction = rmse(p.signals.friction[p.rows[test]], 0.0)
+        own = p.predict(joint[-1], test)          # the effect's own force in the joint fit
+        size = rmse(own, 0.0) / friction if friction > 0 else math.inf
+        step = Step(name, joint[-1], joint, p_value, n_eff, share, size, gap_now, math.nan, False, "", ranked)
+        if p_value >= self.alpha:
+            step.reason = f"not significant on the held-out part (p = {p_value:.2g} >= {self.alpha:g})"
+            return step
+        if size < self.min_size:
+            step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
+                           f"{self.min_size:.0%})")
+            return step
+        step.gap_after, v_sim = self._gap(p, base + joint, log)
+        if not step.gap_after <= (1.0 - self.min_gain) * gap_now:
+            step.reason = (f"the held-out gap does not shrink by {self.min_gain:.0%} "
+                           f"({gap_now:.3g} -> {step.gap_after:.3g} m/s)")
+            return step
+        step.added = True
+        self._v_sim = v_sim
+        return step
+
+    def _rank(self, q: ResidualProblem, classes) -> List[Candidate]:
+        ranked = [Candidate(name, cross_validated_mse(q, cls, self.folds)) for name, cls in classes.items()]
+        return sorted(ranked, key=lambda c: c.mse)
+
+    # -- the selection
 
     def fit(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float) -> "Diagnoser":
         names = self._validate()
@@ -301,64 +449,96 @@ class Diagnoser:
         base = model_effects(model)
         p = ResidualProblem(log, model, mass, force_constant, w, self.holdout, base)
         self.problem_ = p
-        mse_none = float(np.mean(p.target[p.fit_rows] ** 2))
-        cands = [Candidate("none", 0.0, mse_none)]
-        for name in names:
-            mse = cross_validated_mse(p, EFFECTS[name], self.folds)
-            gain = 0.5 * p.n_effective * math.log(mse_none / mse) if mse > 0 else float("inf")
-            cands.append(Candidate(name, gain - self.penalty, mse))
-        cands.sort(key=lambda c: -c.score)
-        self.candidates_ = cands
-        scores = np.array([c.score for c in cands])
-        weights = np.exp(scores - scores.max())
-        self.confidence_ = float(weights[0] / weights.sum())
-        best = cands[0]
-        self.effect_ = best.effect
-        if best.effect != "none":
-            best.fitted = EFFECTS[best.effect].fit(p, p.fit_rows)
-        self.fitted_ = best.fitted
-        added = [self.fitted_] if self.fitted_ is not None else []
-        self.model_ = with_effects(model, added)
+        self.horizon_samples_ = max(1, int(round(self.horizon / ts)))
+        self.held_ = moving_segments(p, p.split, self.horizon_samples_)
+        self.gap_before_, self.v_sim_before_ = self._gap(p, base, log)
+        self._v_sim = self.v_sim_before_
+        used = {e.name for e in base}
+        chosen: List[Effect] = []
+        self.steps_: List[Step] = []
+        gap_now = self.gap_before_
+        while len(chosen) < self.max_effects:
+            q = self._residual_problem(p, chosen)
+            taken = used | {e.name for e in chosen}
+            step = None
+            pools = [{n: EFFECTS[n] for n in names if n not in taken}]
+            if self.tables:
+                pools.append({n: c for n, c in TABLES.items() if n not in taken})
+            rankings = [self._rank(q, pool) if pool else [] for pool in pools]
+            mse_none = float(np.mean(q.target[p.fit_rows] ** 2))
+            gains = [mse_none - r[0].mse if r else 0.0 for r in rankings]
+            if len(gains) == 2 and gains[1] > TABLE_PREFERENCE * max(gains[0], 0.0):
+                # a table explains far more than any named effect: the structure is not named
+                pools, rankings = pools[::-1], rankings[::-1]
+            for pool, ranked in zip(pools, rankings):
+                while ranked:
+                    step = self._consider(p, log, base, chosen, gap_now, ranked, pool)
+                    self.steps_.append(step)
+                    # only a significant effect refused for its gap lets the next one be tried
+                    if step.added or step.p_value >= self.alpha:
+                        break
+                    ranked = ranked[1:]
+                if step is not None and step.added:
+                    break
+            if step is None or not step.added:
+                break
+            chosen = step.joint
+            gap_now = step.gap_after
+        self.added_ = chosen
+        self.effects_ = [s for s in self.steps_ if s.added]
+        # the joint refits change the parameters of earlier effects: report the final ones
+        for s, e in zip(self.effects_, chosen):
+            s.fitted = e
+        self.effect_ = self.effects_[0].effect if self.effects_ else "none"
+        self.p_value_ = self.steps_[0].p_value if self.steps_ else 1.0
+        self.model_ = with_effects(model, chosen)
         self.localization_ = localize(p)
-        self.where_ = self._where()
-        # the gap on the held-out part, before and after
-        horizon = max(1, int(round(self.horizon / ts)))
-        self.v_sim_before_ = resimulate(p, base, p.split, horizon, self.substeps)
-        self.v_sim_after_ = (resimulate(p, base + added, p.split, horizon, self.substeps)
-                             if added else self.v_sim_before_)
-        held = moving_segments(p, p.split, horizon)
-        self.gap_before_ = self._gap(self.v_sim_before_[held], log.v[held])
-        self.gap_after_ = self._gap(self.v_sim_after_[held], log.v[held])
+        self.where_ = self._where(self.localization_)
+        final = self._residual_problem(p, chosen)
+        self.localization_after_ = localize(final)
+        self.where_after_ = self._where(self.localization_after_)
+        self.v_sim_after_ = self._v_sim
+        self.gap_after_ = gap_now
         self.gap_metric_ = (f"rms velocity error (m/s) of simulations restarted from the measured "
-                            f"state every {horizon * ts:.3g} s and driven by the measured current, "
-                            f"on the held-out last {self.holdout:.0%} of the log while moving")
+                            f"state every {self.horizon_samples_ * ts:.3g} s and driven by the measured "
+                            f"current, on the held-out last {self.holdout:.0%} of the log while moving")
         test = p.test_rows
         self.force_gap_before_ = rmse(p.target[test], 0.0)
-        self.force_gap_after_ = (rmse(p.target[test], p.predict(self.fitted_, test))
-                                 if added else self.force_gap_before_)
-        self.residual_after_ = p.raw_residual(base + added)
+        self.force_gap_after_ = rmse(final.target[test], 0.0)
+        self.residual_after_ = p.raw_residual(base + chosen)
         return self
 
     @staticmethod
-    def _gap(v_sim, v_meas) -> float:
-        ok = np.isfinite(v_sim)
-        return rmse(v_sim[ok], v_meas[ok])
-
-    def _where(self) -> str:
-        top = self.localization_[0]
+    def _where(localization) -> str:
+        top = localization[0]
         if top["share"] < 0.05:
             return "nowhere beyond noise (no axis explains 5 % of the residual)"
         return f"{top['axis']}: {top['detail']} ({top['share']:.0%} of the residual)"
 
-    def parameters(self) -> Dict[str, float]:
+    @property
+    def fitted_(self) -> Optional[Effect]:
+        """The first effect added (None if none)."""
+        return self.added_[0] if self.added_ else None
+
+    def parameters(self) -> Dict[str, object]:
+        """The parameters of the first effect added ({} if none)."""
         return {} if self.fitted_ is None else self.fitted_.parameters()
+
+    def refused(self) -> List[Step]:
+        return [s for s in self.steps_ if not s.added]
 
     def summary(self) -> dict:
         """The ``--json`` object."""
-        return {"effect": self.effect_, "confidence": self.confidence_, "parameters": self.parameters(),
-                "where": self.where_, "gap_before": self.gap_before_, "gap_after": self.gap_after_,
-                "gap_metric": self.gap_metric_,
-                "candidates": [{"effect": c.effect, "score": c.score} for c in self.candidates_]}
+        return {"effect": self.effect_, "p_value": self.p_value_, "parameters": self.parameters(),
+                "effects": [s.summary() for s in self.effects_],
+                "refused": [{"effect": s.effect, "p_value": s.p_value, "reason": s.reason}
+                            for s in self.refused()],
+                "where": self.where_, "where_after": self.where_after_,
+                "gap_before": self.gap_before_, "gap_after": self.gap_after_,
+                "gap_metric": self.gap_metric_, "alpha": self.alpha, "min_size": self.min_size,
+                "min_gain": self.min_gain,
+                "candidates": [{"effect": c.effect, "cv_rms": math.sqrt(c.mse)}
+                               for c in (self.steps_[0].candidates if self.steps_ else [])]}
 
 
 def diagnose(log: MotionLog, model: FrictionModel, mass: float, force_constant: float, **kwargs) -> Diagnoser:

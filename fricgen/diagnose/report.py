@@ -10,23 +10,63 @@ import numpy as np
 
 from .._plot import png, pyplot
 from ..data import MotionLog
+from ..effects import EFFECTS
 from .diagnoser import Diagnoser
 
 
 def format_value(value) -> str:
+    if isinstance(value, list):
+        if len(value) > 6:
+            return f"{len(value)} values in [{min(value):.4g}, {max(value):.4g}]"
+        return "[" + ", ".join(format_value(v) for v in value) + "]"
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
+def verdict(d: Diagnoser) -> str:
+    """The effects added, in order, as one phrase."""
+    if not d.effects_:
+        return "none"
+    return ", then ".join(f"`{s.effect}` (p = {s.p_value:.2g})" for s in d.effects_)
+
+
 def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
-    """The human report: verdict, candidates, localization, gap, parameters, plots."""
+    """The human report: verdict, the selection steps, refusals, localization, gap, plots."""
     p = d.problem_
     lines = [f"# fricgen diagnose: {log_name}", "",
-             f"**Missing effect: `{d.effect_}`** (confidence {d.confidence_:.2f}).", "",
-             f"Where the residual lives: {d.where_}.", ""]
-    if d.fitted_ is not None:
-        lines += ["## Fitted parameters", "", "| parameter | value |", "|---|---|"]
-        lines += [f"| {k} | {format_value(v)} |" for k, v in d.parameters().items()]
-        lines += ["", "The augmented model (with this effect appended to `effects`) is `model.json`.", ""]
+             f"**Missing effects: {verdict(d)}.**", "",
+             f"Where the residual lives before: {d.where_}.", "",
+             f"After the effects added: {d.where_after_}.", ""]
+    tables = [s.effect for s in d.effects_ if s.effect not in EFFECTS]
+    if tables:
+        lines += [f"No named effect explains this structure; the model carries a table instead "
+                  f"({', '.join(f'`{t}`' for t in tables)}): a force tabulated along that signal, "
+                  "without a physical name.", ""]
+    elif d.localization_after_[0]["share"] >= 0.05:
+        lines += ["Structure remains that nothing added explains (see the refusals below).", ""]
+    lines += ["## Decision", "",
+              f"Each step ranks the effects not yet chosen by blocked {d.folds}-fold cross-validation "
+              f"on the first {1 - d.holdout:.0%} of the log, refits the best jointly with those "
+              "chosen before, and adds it only if (1) it reduces the squared force residual on the "
+              f"held-out last {d.holdout:.0%} (one-sided t-test with the effective sample size from "
+              f"the autocorrelation, p < {d.alpha:g}), (2) its force there is at least "
+              f"{d.min_size:.0%} of the RMS friction force and (3) the held-out gap shrinks by at least "
+              f"{d.min_gain:.0%}. Named effects come first; tables only when no named effect is added. "
+              f"At most {d.max_effects} effects.", "",
+              "| step | effect | p-value | share of residual | size | gap before (m/s) | "
+              "gap after (m/s) | decision |", "|---|---|---|---|---|---|---|---|"]
+    k = 0
+    for s in d.steps_:
+        k += s.added
+        after = "" if np.isnan(s.gap_after) else f"{s.gap_after:.4g}"
+        lines.append(f"| {k if s.added else ''} | {s.effect} | {s.p_value:.2g} | {s.share:.1%} | {s.size:.1%} | "
+                     f"{s.gap_before:.4g} | {after} | {'added' if s.added else 'refused: ' + s.reason} |")
+    lines.append("")
+    for j, s in enumerate(d.effects_, 1):
+        lines += [f"## Effect {j}: `{s.effect}`", "", "| parameter | value |", "|---|---|"]
+        lines += [f"| {key} | {format_value(v)} |" for key, v in s.fitted.parameters().items()]
+        lines.append("")
+    if d.effects_:
+        lines += ["The augmented model (these effects appended to `effects`) is `model.json`.", ""]
     else:
         lines += ["Nothing explains the residual beyond noise; `model.json` is the input model "
                   "unchanged.", ""]
@@ -35,17 +75,17 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
               "| | before | after |", "|---|---|---|",
               f"| velocity gap (m/s) | {d.gap_before_:.4g} | {d.gap_after_:.4g} |",
               f"| force residual rms (N) | {d.force_gap_before_:.4g} | {d.force_gap_after_:.4g} |", ""]
-    lines += ["## Candidates", "",
-              "Score: cross-validated log-likelihood gain over `none` (blocked "
-              f"{d.folds}-fold on the first {1 - d.holdout:.0%} of the log, "
-              f"{p.n_effective:.0f} effective samples) less the penalty {d.penalty:g}; "
-              "`none` scores 0.", "",
-              "| effect | score | cross-validated residual rms (N) |", "|---|---|---|"]
-    lines += [f"| {c.effect} | {c.score:.1f} | {np.sqrt(c.mse):.4g} |" for c in d.candidates_]
+    if d.steps_:
+        lines += ["## Candidates of the first step", "",
+                  "| effect | cross-validated residual rms (N) |", "|---|---|"]
+        lines += [f"| {c.effect} | {np.sqrt(c.mse):.4g} |" for c in d.steps_[0].candidates]
     lines += ["", "## Where the residual lives", "",
               "Share of the residual's sum of squares explained by binned means along each axis "
-              "(adjusted for the number of bins).", "", "| axis | share | detail |", "|---|---|---|"]
-    lines += [f"| {a['axis']} | {a['share']:.0%} | {a['detail']} |" for a in d.localization_]
+              "(adjusted for the number of bins), before and after the effects added.", "",
+              "| axis | before | after | detail (before) |", "|---|---|---|---|"]
+    after = {a["axis"]: a["share"] for a in d.localization_after_}
+    lines += [f"| {a['axis']} | {a['share']:.0%} | {after[a['axis']]:.0%} | {a['detail']} |"
+              for a in d.localization_]
     lines += ["", "## Data", "",
               f"{len(p.signals.t)} samples at {1 / p.sample_time:.6g} Hz; residual smoothed over "
               f"{p.window} samples (Savitzky-Golay, order 2); {p.rows.size} decimated rows where "
@@ -59,27 +99,32 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
 
 
 def plot_pngs(d: Diagnoser, log: MotionLog) -> Dict[str, bytes]:
-    """residuals.png (residual against x, v, a, t before and after) and velocity.png
-    (simulated and measured velocity on the held-out part); {} without matplotlib."""
+    """residuals.png (residual against x, v, a, t before and after each effect added) and
+    velocity.png (simulated and measured velocity on the held-out part); {} without matplotlib."""
     plt = pyplot()
     if plt is None:
         return {}
     p = d.problem_
     rows = np.arange(p.rows.size)
     idx = p.rows
-    before = p.target
-    after = p.at_rows(d.residual_after_, rows)
+    stages = [("before", p.target)]
+    chosen = []
+    for s in d.effects_:
+        chosen.append(s.fitted)
+        stages.append((" + ".join(e.name for e in chosen),
+                       p.at_rows(p.raw_residual(list(p.effects) + chosen), rows)))
     coords = [("position x (m)", p.x_smooth[idx]), ("velocity v (m/s)", p.v_smooth[idx]),
               ("acceleration a (m/s^2)", p.at_rows(p.signals.a, rows)), ("time t (s)", p.signals.t[idx])]
     out = {}
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True)
     for ax, (label, c) in zip(axes.flat, coords):
-        ax.plot(c, before, ".", ms=2, alpha=0.5, label="before")
-        ax.plot(c, after, ".", ms=2, alpha=0.5, label=f"after ({d.effect_})")
+        for name, r in stages:
+            ax.plot(c, r, ".", ms=2, alpha=0.5, label=name)
         ax.set_xlabel(label)
         ax.set_ylabel("force residual (N)")
-    axes.flat[0].legend(markerscale=5)
-    fig.suptitle(f"force residual phi i - m a - F(v): {d.effect_}")
+    axes.flat[0].legend(markerscale=5, fontsize=7)
+    fig.suptitle(f"force residual phi i - m a - F(v), effects added in order: "
+                 f"{', '.join(s.effect for s in d.effects_) or 'none'}")
     out["residuals.png"] = png(fig)
     t = p.signals.t
     start = p.split
@@ -87,8 +132,9 @@ def plot_pngs(d: Diagnoser, log: MotionLog) -> Dict[str, bytes]:
     fig, ax = plt.subplots(figsize=(10, 4), constrained_layout=True)
     ax.plot(t[start:stop], log.v[start:stop], "k-", lw=0.8, label="measured")
     ax.plot(t[start:stop], d.v_sim_before_[start:stop], "-", lw=0.8, label="model")
-    if d.fitted_ is not None:
-        ax.plot(t[start:stop], d.v_sim_after_[start:stop], "-", lw=0.8, label=f"model + {d.effect_}")
+    if d.effects_:
+        ax.plot(t[start:stop], d.v_sim_after_[start:stop], "-", lw=0.8,
+                label="model + " + " + ".join(s.effect for s in d.effects_))
     ax.set_xlabel("time t (s)")
     ax.set_ylabel("velocity v (m/s)")
     ax.set_title("simulations restarted from the measured state, held-out part")

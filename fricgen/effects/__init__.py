@@ -1,5 +1,6 @@
-"""Named physical effects a friction model may miss: each defined once (force law, parameters,
-JSON, fit, C expression) and carried in model.json's ``effects`` list."""
+"""Named physical effects a friction model may miss, and tables for what no named effect explains:
+each defined once (force law, parameters, JSON, fit, C expression) and carried in model.json's
+``effects`` list."""
 from __future__ import annotations
 
 from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, Effect,
@@ -7,8 +8,9 @@ from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, Eff
                       PositionRipple, ThermalDrift, effect_from_dict, force_xv, model_effects,
                       validate_effects, with_effects)
 from .signals import FrictionCurve, Signals
+from .tables import TABLES, TableEffect
 
 __all__ = ["EFFECTS", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
-           "model_effects", "validate_effects", "with_effects"]
+           "model_effects", "validate_effects", "with_effects", "TABLES", "TableEffect"]

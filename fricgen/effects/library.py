@@ -411,6 +411,9 @@ EFFECTS: Dict[str, Type[Effect]] = {cls.name: cls for cls in (
     ExtraFrictionSource, FrictionalLag, ThermalDrift)}
 #: The vocabulary: "none" and every effect name.
 VOCABULARY = ("none",) + tuple(EFFECTS)
+#: Every kind model.json's ``effects`` may hold: the named effects and the tables without a
+#: physical name (``fricgen.effects.tables`` adds those when the package is imported).
+KNOWN: Dict[str, Type[Effect]] = dict(EFFECTS)
 
 
 def effect_from_dict(d: Any) -> Effect:
@@ -418,12 +421,12 @@ def effect_from_dict(d: Any) -> Effect:
     if not isinstance(d, dict):
         raise ModelError(f"effects: each effect must be an object, got {type(d).__name__}")
     name = d.get("effect")
-    if not isinstance(name, str) or name not in EFFECTS:
-        raise ModelError(f"effects: unknown effect {name!r}; known: {', '.join(EFFECTS)}"[:200])
+    if not isinstance(name, str) or name not in KNOWN:
+        raise ModelError(f"effects: unknown effect {name!r}; known: {', '.join(KNOWN)}"[:200])
     unknown = sorted(set(d) - {"effect", "parameters"})
     if unknown:
         raise ModelError(f"effects[{name}]: unknown field {unknown[0]!r}"[:200])
-    return EFFECTS[name].from_dict(d)
+    return KNOWN[name].from_dict(d)
 
 
 def validate_effects(items: Any) -> List[dict]:

@@ -1,0 +1,229 @@
+"""Nonparametric corrections: a force tabulated along one signal, for residual structure that no
+named effect explains. They carry no physical name: ``table_position`` is "a force that depends
+on x", nothing more.
+
+A table holds ``values`` at equally spaced knots from ``lo`` to ``hi`` and is interpolated
+linearly between them (constant beyond the ends). Its smoothness (a penalty on second
+differences) is chosen by blocked cross-validation when it is fitted. The kinds:
+
+- ``table_position``: T(x), an additive force that acts at rest too;
+- ``table_position_friction``: sgn(v) T(x), a friction level that changes along the travel;
+- ``table_velocity``: T(v), a correction of the friction curve;
+- ``table_time``: T(t), an additive force that changes over the log (not emitted to C).
+
+The C form is the same interpolation in float32 (``force_f32`` mirrors it operation by
+operation); the table is a ``static const`` array inside NAME_force_xv.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar, Dict, Tuple
+
+import numpy as np
+
+from ..c_literal import c_float
+from ..errors import ModelError
+from .library import KNOWN, Effect
+
+#: Knots of a fitted table.
+KNOTS = 48
+#: Most knots a table in model.json may hold.
+MAX_KNOTS = 256
+#: Second-difference penalties tried by the cross-validation (relative to trace(H^T H) / K).
+PENALTIES = 10.0 ** np.arange(-6.0, 3.5, 1.0)
+
+
+def _positions(u, lo: float, hi: float, knots: int):
+    """Knot index k and fraction of each u (clamped to [lo, hi]) for linear interpolation."""
+    pos = np.clip((np.asarray(u, dtype=float) - lo) * ((knots - 1) / (hi - lo)), 0.0, knots - 1)
+    k = np.minimum(pos.astype(np.intp), knots - 2)
+    return k, pos - k
+
+
+def hat_basis_at_rows(problem, coord: np.ndarray, lo: float, hi: float, knots: int, rows,
+                      weight=None) -> np.ndarray:
+    """The interpolation basis of ``coord`` (full rate, optionally times ``weight``) smoothed
+    with the residual's filter at ``rows``: an (n, knots) array, built sparsely (two knots per
+    sample), so memory stays n x knots at any window length."""
+    rows = np.asarray(rows)
+    idx = problem.rows[rows][:, None] + problem.offsets
+    k, frac = _positions(coord[idx], lo, hi, knots)
+    c = np.broadcast_to(problem.coeffs, idx.shape)
+    if weight is not None:
+        c = c * weight[idx]
+    line = np.repeat(np.arange(rows.size) * knots, idx.shape[1]).reshape(idx.shape)
+    out = np.bincount((line + k).ravel(), weights=(c * (1.0 - frac)).ravel(), minlength=rows.size * knots)
+    out += np.bincount((line + k + 1).ravel(), weights=(c * frac).ravel(), minlength=rows.size * knots)
+    return out.reshape(rows.size, knots)
+
+
+def _second_differences(knots: int) -> np.ndarray:
+    return np.diff(np.eye(knots), n=2, axis=0)
+
+
+def smooth_table(H: np.ndarray, r: np.ndarray, folds: int = 5) -> Tuple[np.ndarray, float]:
+    """Table values for basis ``H`` and target ``r``: penalized least squares whose penalty is
+    chosen by blocked ``folds``-fold cross-validation. Returns the values and the penalty."""
+    knots = H.shape[1]
+    D = _second_differences(knots)
+    P = D.T @ D
+    scale = float(np.trace(H.T @ H)) / knots + 1e-300
+    ridge = 1e-9 * scale * np.eye(knots)        # knots no sample reaches stay defined
+    blocks = np.array_split(np.arange(r.size), folds)
+    best, best_err = PENALTIES[0], math.inf
+    for lam in PENALTIES:
+        err = 0.0
+        for b in blocks:
+            train = np.ones(r.size, bool)
+            train[b] = False
+            Ht, rt = H[train], r[train]
+            c = np.linalg.solve(Ht.T @ Ht + lam * scale * P + ridge, Ht.T @ rt)
+            err += float(np.sum((r[b] - H[b] @ c) ** 2))
+        if err < best_err:
+            best, best_err = lam, err
+    values = np.linalg.solve(H.T @ H + best * scale * P + ridge, H.T @ r)
+    return values, float(best)
+
+
+@dataclass(frozen=True)
+class TableEffect(Effect):
+    """Base of the tables: ``values`` at ``len(values)`` equally spaced knots on [lo, hi]."""
+
+    lo: float
+    hi: float
+    values: Tuple[float, ...]
+    #: The signal the table reads (an attribute of ``Signals``) and the word for it.
+    signal: ClassVar[str] = ""
+    #: Multiplied by sgn(v): a friction level rather than an additive force.
+    signed: ClassVar[bool] = False
+
+    @property
+    def n_params(self) -> int:
+        return len(self.values)
+
+    def parameters(self) -> Dict[str, Any]:
+        return {"lo": self.lo, "hi": self.hi, "values": list(self.values)}
+
+    def _coord(self, sig):
+        return np.asarray(getattr(sig, self.signal), dtype=float)
+
+    def force(self, sig):
+        u = self._coord(sig)
+        k, frac = _positions(u, self.lo, self.hi, len(self.values))
+        t = np.asarray(self.values)
+        out = t[k] + frac * (t[k + 1] - t[k])
+        return np.sign(np.asarray(sig.v)) * out if self.signed else out
+
+    @classmethod
+    def fit(cls, problem, rows, knots: int = KNOTS) -> "TableEffect":
+        sig = problem.signals
+        coord = np.asarray(getattr(sig, cls.signal), dtype=float)
+        inside = coord[problem.rows[rows]]
+        lo, hi = float(np.min(inside)), float(np.max(inside))
+        if not hi > lo:
+            hi = lo + 1.0
+        weight = np.sign(sig.v) if cls.signed else None
+        H = hat_basis_at_rows(problem, coord, lo, hi, knots, rows, weight)
+        values, _ = smooth_table(H, problem.target[rows])
+        return cls(lo=lo, hi=hi, values=tuple(float(c) for c in values))
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "TableEffect":
+        params = d.get("parameters")
+        where = f"effects[{cls.name}]"
+        if not isinstance(params, dict):
+            raise ModelError(f"{where}.parameters must be an object")
+        unknown = sorted(set(params) - {"lo", "hi", "values"})
+        if unknown:
+            raise ModelError(f"{where}.parameters: unknown field {unknown[0]!r}"[:200])
+        for key in ("lo", "hi"):
+            value = params.get(key)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ModelError(f"{where}.parameters.{key} must be a finite number, got {value!r}"[:200])
+        if not params["hi"] > params["lo"]:
+            raise ModelError(f"{where}.parameters: hi must be > lo, got lo {params['lo']}, hi {params['hi']}")
+        values = params.get("values")
+        if (not isinstance(values, list) or not 2 <= len(values) <= MAX_KNOTS
+                or any(isinstance(c, bool) or not isinstance(c, (int, float)) or not math.isfinite(c)
+                       for c in values)):
+            raise ModelError(f"{where}.parameters.values must be a list of 2 to {MAX_KNOTS} finite numbers")
+        return cls(lo=float(params["lo"]), hi=float(params["hi"]), values=tuple(float(c) for c in values))
+
+    # C: the table is a static const array named by the caller, read by NAME_interp
+    c_variable: ClassVar[str] = ""
+
+    def c_declaration(self, symbol: str) -> str:
+        body = ", ".join(c_float(c) for c in self.values)
+        return f"static const float {symbol}[{len(self.values)}] = {{{body}}};"
+
+    def c_call(self, symbol: str, interp: str) -> str:
+        call = (f"{interp}({symbol}, {len(self.values)}, {c_float(self.lo)}, "
+                f"{c_float((len(self.values) - 1) / (self.hi - self.lo))}, {self.c_variable})")
+        return f"sgn * {call}" if self.signed else call
+
+    def force_f32(self, v, x, base):
+        """Float32 mirror of the emitted interpolation (NAME_interp)."""
+        f32 = np.float32
+        u = np.asarray(v if self.c_variable == "v" else x, dtype=f32)
+        t = np.asarray(self.values, dtype=f32)
+        n = t.size
+        pos = (u - f32(self.lo)) * f32((n - 1) / (self.hi - self.lo))
+        inside = (pos > f32(0)) & (pos < f32(n - 1))
+        k = np.where(inside, pos, f32(0)).astype(np.intp)
+        k = np.minimum(k, n - 2)
+        frac = pos - k.astype(f32)
+        mid = t[k] + frac * (t[k + 1] - t[k])
+        out = np.where(inside, mid, np.where(pos >= f32(n - 1), t[n - 1], t[0])).astype(f32)
+        out = np.where(np.isnan(u), u, out).astype(f32)
+        if self.signed:
+            sgn = np.where(v > 0, f32(1), np.where(v < 0, f32(-1), f32(0))).astype(f32)
+            out = sgn * out
+        return out
+
+
+@dataclass(frozen=True)
+class TablePosition(TableEffect):
+    """An additive force tabulated along the position x."""
+
+    name: ClassVar[str] = "table_position"
+    signal: ClassVar[str] = "x"
+    in_xv: ClassVar[bool] = True
+    acts_at_rest: ClassVar[bool] = True
+    c_variable: ClassVar[str] = "x"
+
+
+@dataclass(frozen=True)
+class TablePositionFriction(TableEffect):
+    """A friction level tabulated along the position x: sgn(v) T(x)."""
+
+    name: ClassVar[str] = "table_position_friction"
+    signal: ClassVar[str] = "x"
+    signed: ClassVar[bool] = True
+    in_xv: ClassVar[bool] = True
+    acts_at_rest: ClassVar[bool] = True       # the simulation reads x only in external forces
+    c_variable: ClassVar[str] = "x"
+
+
+@dataclass(frozen=True)
+class TableVelocity(TableEffect):
+    """A correction of the friction curve tabulated along the velocity v."""
+
+    name: ClassVar[str] = "table_velocity"
+    signal: ClassVar[str] = "v"
+    in_xv: ClassVar[bool] = True
+    c_variable: ClassVar[str] = "v"
+
+
+@dataclass(frozen=True)
+class TableTime(TableEffect):
+    """An additive force tabulated along the time t of the log (not a function of v and x)."""
+
+    name: ClassVar[str] = "table_time"
+    signal: ClassVar[str] = "t"
+    acts_at_rest: ClassVar[bool] = True
+
+
+#: The tables, by name.
+TABLES = {cls.name: cls for cls in (TablePosition, TablePositionFriction, TableVelocity, TableTime)}
+KNOWN.update(TABLES)

@@ -1,0 +1,82 @@
+"""fricgen diagnose on logs of the independent generator (fricgen.sim.scenarios): nothing named
+on a log with nothing hidden, two effects found in one run, a shape outside the vocabulary
+corrected by a table without a physical name, and the held-out guard."""
+import numpy as np
+import pytest
+
+from fricgen.diagnose.decision import held_out_p_value
+from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.effects import EFFECTS, TABLES
+from fricgen.sim.scenarios import make_scenario
+
+FIXED = {"rate_hz": 500.0, "duration_s": 15.0}
+
+
+@pytest.fixture(scope="module")
+def runs():
+    cases = {"null": (11, ()), "pair": (12, ("position_ripple", "constant_load")),
+             "drag": (16, ("oov:local_drag",))}
+    out = {}
+    for key, (seed, hidden) in cases.items():
+        sc = make_scenario(seed, hidden, controller="pid", **FIXED)
+        out[key] = (sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant))
+    return out
+
+
+def test_nothing_is_named_when_nothing_is_hidden(runs):
+    sc, d = runs["null"]
+    assert d.effects_ == [] and d.model_.effects == sc.model.effects
+    assert d.gap_after_ == d.gap_before_
+    assert all(s.reason for s in d.steps_)
+
+
+def test_two_hidden_effects_are_found_in_one_run(runs):
+    sc, d = runs["pair"]
+    assert sorted(e for e in (s.effect for s in d.effects_) if e in EFFECTS) == sorted(sc.hidden)
+    assert d.gap_after_ <= 0.5 * d.gap_before_
+    gaps = [d.gap_before_] + [s.gap_after for s in d.effects_]
+    assert all(b < a for a, b in zip(gaps, gaps[1:]))          # every step shrinks the gap
+    assert all(s.p_value < d.alpha for s in d.effects_)
+    assert [e["effect"] for e in d.model_.effects] == [s.effect for s in d.effects_]
+
+
+def test_a_local_drag_gets_a_table_and_no_physical_name(runs):
+    sc, d = runs["drag"]
+    named = [s for s in d.effects_ if s.effect in EFFECTS]
+    assert all(s.gap_after < s.gap_before for s in named)
+    assert any(s.effect in TABLES for s in d.effects_), [(s.effect, s.reason) for s in d.steps_]
+    assert d.gap_after_ <= 0.5 * d.gap_before_
+
+
+def test_an_effect_that_does_not_shrink_the_gap_is_refused(runs):
+    """With the gain required raised beyond reach, the pair's effects are considered, pass the
+    test, and are refused for the gap, with the reason stated."""
+    sc, _ = runs["pair"]
+    d = Diagnoser(min_gain=0.999).fit(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert d.effects_ == [] and d.gap_after_ == d.gap_before_
+    refused = [s for s in d.steps_ if s.p_value < d.alpha]
+    assert refused and all("gap does not shrink" in s.reason for s in refused)
+
+
+def test_max_effects_stops_the_selection(runs):
+    sc, d = runs["pair"]
+    one = Diagnoser(max_effects=1).fit(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert len(one.effects_) == 1 and one.effect_ == d.effect_
+
+
+def test_the_held_out_test_is_calibrated_on_noise():
+    """p-values of predictions fitted to other noise: uniform, whatever the autocorrelation."""
+    rng = np.random.default_rng(5)
+    ps = []
+    for k in range(400):
+        smooth = 1 + 10 * (k % 4)                                # from white to strongly coloured
+        kernel = np.ones(smooth) / smooth
+        e = np.convolve(rng.standard_normal(2000 + smooth), kernel, "valid")[:2000]
+        pred = np.convolve(rng.standard_normal(2000 + smooth), kernel, "valid")[:2000] * 0.3
+        ps.append(held_out_p_value(e, e - pred)[0])
+    ps = np.array(ps)
+    for alpha in (0.05, 0.1, 0.25, 0.5):
+        assert np.mean(ps < alpha) <= alpha + 3 * np.sqrt(alpha * (1 - alpha) / ps.size)
+    e = rng.standard_normal(2000)
+    effect = 0.3 * np.sin(np.arange(2000) / 50.0)
+    assert held_out_p_value(e + effect, e)[0] < 1e-6

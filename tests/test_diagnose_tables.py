@@ -1,0 +1,139 @@
+"""Tables without a physical name (fricgen.effects.tables): interpolation, model.json round trip
+and validation, bit-equal C (NAME_force_xv through NAME_interp) under the strict flags, and the
+cross-validated smoothing recovering a shape no named effect has."""
+import json
+from dataclasses import replace
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen import codegen
+from fricgen.codegen.cbuild import STRICT_WARNINGS, build
+from fricgen.codegen.twin import force_xv_f32
+from fricgen.effects import TABLES, PositionRipple, Signals, force_xv, with_effects
+from fricgen.effects.tables import (TablePosition, TablePositionFriction, TableTime, TableVelocity,
+                                    smooth_table)
+from fricgen.data import prepare
+from fricgen.fit import StribeckRegressor
+from fricgen.model import FrictionModel, ModelError
+
+CC = shutil.which("gcc") or shutil.which("cc")
+needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+TABLE_EFFECTS = [TablePosition(lo=-0.05, hi=0.08, values=(0.0, 1.5, -0.25, 3.0, 2.0)),
+                 TablePositionFriction(lo=0.0, hi=0.1, values=(0.5, 0.0, 2.5)),
+                 TableVelocity(lo=-0.2, hi=0.25, values=tuple(np.sin(np.arange(12.0))))]
+
+
+@pytest.fixture(scope="module")
+def tabled(default_model):
+    return with_effects(default_model, TABLE_EFFECTS + [PositionRipple(amplitude=1.0, period=0.02, phase=0.3),
+                                                        TableTime(lo=0.0, hi=10.0, values=(0.0, 1.0))])
+
+
+def test_interpolation_is_linear_between_knots_and_constant_beyond(default_model):
+    table = TABLE_EFFECTS[0]
+    x = np.array([-1.0, -0.05, -0.05 + 0.13 / 4 * 1.5, 0.08, 1.0])
+    sig = Signals(default_model, x=x, v=np.ones(5))
+    np.testing.assert_allclose(table.force(sig), [0.0, 0.0, 0.5 * (1.5 - 0.25), 2.0, 2.0], atol=1e-12)
+    signed = TABLE_EFFECTS[1].force(Signals(default_model, x=np.full(3, 0.05), v=np.array([-1.0, 0.0, 2.0])))
+    np.testing.assert_allclose(signed, [0.0, 0.0, 0.0])
+    signed = TABLE_EFFECTS[1].force(Signals(default_model, x=np.full(3, 0.1), v=np.array([-1.0, 0.0, 2.0])))
+    np.testing.assert_allclose(signed, [-2.5, 0.0, 2.5])
+
+
+def test_tables_round_trip_through_model_json(tabled, tmp_path):
+    loaded = FrictionModel.load(tabled.save(tmp_path / "model.json"))
+    assert loaded.effects == tabled.effects
+    names = [e["effect"] for e in loaded.effects]
+    assert set(TABLES) <= set(names)
+
+
+@pytest.mark.parametrize("params, message", [
+    ({"lo": 0.0, "hi": 0.0, "values": [1.0, 2.0]}, "hi must be > lo"),
+    ({"lo": 0.0, "hi": 1.0, "values": [1.0]}, "list of 2 to 256"),
+    ({"lo": 0.0, "hi": 1.0, "values": [1.0, None]}, "list of 2 to 256"),
+    ({"lo": 0.0, "hi": 1.0, "values": [1.0] * 257}, "list of 2 to 256"),
+    ({"lo": "0", "hi": 1.0, "values": [1.0, 2.0]}, "lo must be a finite number"),
+    ({"lo": 0.0, "hi": 1.0, "values": [1.0, 2.0], "shape": "gauss"}, "unknown field 'shape'"),
+])
+def test_a_broken_table_is_refused(default_model, tmp_path, params, message):
+    d = json.loads(default_model.to_json())
+    d["effects"] = [{"effect": "table_velocity", "parameters": params}]
+    path = tmp_path / "model.json"
+    path.write_text(json.dumps(d))
+    with pytest.raises(ModelError, match=message):
+        FrictionModel.load(path)
+
+
+def test_smoothing_by_cross_validation_follows_a_bump_and_ignores_noise():
+    rng = np.random.default_rng(3)
+    u = rng.uniform(0.0, 1.0, 3000)
+    knots = 24
+    pos = u * (knots - 1)
+    k = np.minimum(pos.astype(int), knots - 2)
+    H = np.zeros((u.size, knots))
+    H[np.arange(u.size), k] = 1 - (pos - k)
+    H[np.arange(u.size), k + 1] = pos - k
+    truth = lambda s: 2.0 * np.exp(-((s - 0.4) / 0.08) ** 2)
+    values, penalty = smooth_table(H, truth(u) + rng.normal(0, 0.5, u.size))
+    grid = np.linspace(0, 1, knots)
+    assert np.sqrt(np.mean((values - truth(grid)) ** 2)) < 0.15
+    flat, flat_penalty = smooth_table(H, rng.normal(0, 0.5, u.size))
+    assert np.max(np.abs(flat)) < 0.25 and flat_penalty >= penalty
+
+
+@needs_cc
+def test_tables_in_c_equal_their_float32_twin_bit_for_bit(tabled, tmp_path):
+    codegen.emit(tabled, tmp_path, "tx")
+    header = (tmp_path / "tx.h").read_text()
+    assert "TX_N_EFFECTS_XV 4" in header and "table_time" in header
+    lib = build(tmp_path, "tx.h", "float tx_force(float v);\nfloat tx_force_xv(float v, float x);\n",
+                build_dir=tmp_path / "build")
+    rng = np.random.default_rng(1)
+    v = np.concatenate([np.linspace(-0.3, 0.3, 801), [0.0, -0.2, 0.25, 1e30, -1e30]]).astype(np.float32)
+    x = np.concatenate([rng.uniform(-0.1, 0.12, v.size - 5), [-0.05, 0.08, 0.1, 1e30, -1e30]]).astype(np.float32)
+    base = np.array([lib.tx_force(float(a)) for a in v], dtype=np.float32)
+    c = np.array([lib.tx_force_xv(float(a), float(b)) for a, b in zip(v, x)], dtype=np.float32)
+    twin = force_xv_f32(tabled, v, x, base=base)
+    # the ripple's sinf may differ by 1 ULP; every table term is bit-equal
+    scale = float(np.max(np.abs(c[:-2])))
+    assert np.max(np.abs(c[:-2].astype(float) - twin[:-2])) <= 4 * np.finfo(np.float32).eps * scale
+    tables_only = with_effects(replace(tabled, effects=()), TABLE_EFFECTS)
+    codegen.emit(tables_only, tmp_path / "t2", "ty")
+    lib2 = build(tmp_path / "t2", "ty.h", "float ty_force(float v);\nfloat ty_force_xv(float v, float x);\n",
+                 build_dir=tmp_path / "build2")
+    c2 = np.array([lib2.ty_force_xv(float(a), float(b)) for a, b in zip(v, x)], dtype=np.float32)
+    base2 = np.array([lib2.ty_force(float(a)) for a in v], dtype=np.float32)
+    np.testing.assert_array_equal(c2, force_xv_f32(tables_only, v, x, base=base2))
+    exact = force_xv(tables_only, v[:-2].astype(float), x[:-2].astype(float))
+    assert np.max(np.abs(c2[:-2] - exact)) / float(np.max(np.abs(exact))) < 1e-5
+    assert np.isnan(lib2.ty_force_xv(0.1, float("nan")))
+
+
+@needs_cc
+def test_tables_build_without_a_single_warning(tabled, tmp_path):
+    codegen.emit(tabled, tmp_path, "tx")
+    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "tx.c", "-o", "/dev/null"],
+                          cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+
+
+@needs_cc
+def test_tables_on_a_grey_box_model_build_strictly_and_equal_their_twin(bench, tmp_path):
+    """The grey-box C (templates/model_stribeck.c.j2) carries the same NAME_force_xv."""
+    grey = FrictionModel.fit(prepare(bench.train, vs_max=0.02), StribeckRegressor(), name="gb")
+    model = with_effects(grey, TABLE_EFFECTS)
+    codegen.emit(model, tmp_path, "gb")
+    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "gb.c", "-o", "/dev/null"],
+                          cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    lib = build(tmp_path, "gb.h", "float gb_force(float v);\nfloat gb_force_xv(float v, float x);\n",
+                build_dir=tmp_path / "build")
+    v = np.linspace(-0.3, 0.3, 401).astype(np.float32)
+    x = np.random.default_rng(2).uniform(-0.1, 0.12, v.size).astype(np.float32)
+    base = np.array([lib.gb_force(float(a)) for a in v], dtype=np.float32)
+    c = np.array([lib.gb_force_xv(float(a), float(b)) for a, b in zip(v, x)], dtype=np.float32)
+    np.testing.assert_array_equal(c, force_xv_f32(model, v, x, base=base))
