@@ -92,11 +92,21 @@ class Effect:
         return {"effect": self.name, "parameters": self.parameters()}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Effect":
+    def parameters_of(cls, d: dict, allowed) -> Tuple[dict, str]:
+        """``d["parameters"]`` (an object with no field outside ``allowed``) and the path to it
+        for error messages, else ``ModelError``."""
         params = d.get("parameters")
         where = f"effects[{cls.name}]"
         if not isinstance(params, dict):
             raise ModelError(f"{where}.parameters must be an object")
+        unknown = sorted(set(params) - set(allowed))
+        if unknown:
+            raise ModelError(f"{where}.parameters: unknown field {unknown[0]!r}"[:200])
+        return params, where
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Effect":
+        params, where = cls.parameters_of(d, {f.name for f in fields(cls)})
         values = {}
         for f in fields(cls):
             if f.name not in params:
@@ -113,9 +123,6 @@ class Effect:
             if f.name in cls.positive and value <= 0:
                 raise ModelError(f"{where}.parameters.{f.name} must be > 0, got {value}")
             values[f.name] = float(value)
-        unknown = sorted(set(params) - {f.name for f in fields(cls)})
-        if unknown:
-            raise ModelError(f"{where}.parameters: unknown field {unknown[0]!r}"[:200])
         return cls(**values)
 
     # C: an expression in v, x, speed (|v|), sgn (sign of v) and base (NAME_force(v))

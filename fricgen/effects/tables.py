@@ -130,13 +130,7 @@ class TableEffect(Effect):
 
     @classmethod
     def from_dict(cls, d: dict) -> "TableEffect":
-        params = d.get("parameters")
-        where = f"effects[{cls.name}]"
-        if not isinstance(params, dict):
-            raise ModelError(f"{where}.parameters must be an object")
-        unknown = sorted(set(params) - {"lo", "hi", "values"})
-        if unknown:
-            raise ModelError(f"{where}.parameters: unknown field {unknown[0]!r}"[:200])
+        params, where = cls.parameters_of(d, ("lo", "hi", "values"))
         for key in ("lo", "hi"):
             value = params.get(key)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
