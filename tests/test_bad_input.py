@@ -119,6 +119,8 @@ ROWS = [
      "--max-neurons: must be an integer >= 1"),
     ("--max-neurons with elm", ["train", "sweep.csv", "-o", OUT, "--method", "elm", "--max-neurons", "5"],
      "--max-neurons caps --method auto"),
+    ("velocity sign flipped", ["train", "sweep.csv", "-o", OUT, "--scale", "v=-1"],
+     "the force has the opposite sign of v"),
     ("--max-neurons with stribeck", ["train", "sweep.csv", "-o", OUT, "--method", "stribeck",
                                      "--max-neurons", "5"], "--method stribeck has no neurons"),
     ("--w-max 2", ["train", "sweep.csv", "-o", OUT, "--w-max", "2"], "--w-max: w_max=2.0 too small"),

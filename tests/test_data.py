@@ -100,3 +100,11 @@ def test_no_high_speed_data_is_refused(bench):
 def test_non_positive_vs_max_is_refused(bench, vs_max):
     with pytest.raises(DataError, match="vs_max must be > 0"):
         prepare(bench.train, vs_max=vs_max)
+
+
+def test_force_against_the_sign_of_v_is_refused(bench):
+    """Friction acts with the sign of v in eq. (1); a flipped v, force or current is named."""
+    flipped = Sweep(bench.train.v, -bench.train.f)
+    with pytest.raises(DataError, match="opposite sign of v"):
+        prepare(flipped, vs_max=0.02)
+    prepare(bench.train, vs_max=0.02)          # the same rows with the right sign are fine

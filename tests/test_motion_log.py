@@ -149,3 +149,27 @@ def test_too_narrow_a_velocity_range_warns_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     warnings = [line for line in err.splitlines() if line.startswith("warning:")]
     assert len(warnings) == 1 and "Stribeck region" in warnings[0], err
+
+
+def _sine_log(v_column: bool):
+    """6 s of v = 0.2 sin(pi t) at 1 kHz on a 2 kg axis whose friction differs by direction."""
+    def friction(v, fc, fs):
+        return np.sign(v) * (fc + (fs - fc) * np.exp(-(np.abs(v) / 0.01) ** 2)) + 0.4 * v
+    t = np.arange(0.0, 6.0, 1e-3)
+    v = 0.2 * np.sin(np.pi * t)
+    force = 2.0 * np.gradient(v, 1e-3) + np.where(v > 0, friction(v, 1.0, 1.5), friction(v, 0.5, 0.8))
+    x = np.cumsum(v) * 1e-3
+    return {"t": t, "x": x, **({"v": v} if v_column else {}), "force": force}
+
+
+def test_a_log_of_position_still_gets_one_curve_per_direction(tmp_path, capsys):
+    """Each direction falls back to the folded vs_max estimate when its own leaves no
+    high-speed rows for B, instead of a silent symmetric model."""
+    columns = _sine_log(v_column=False)
+    path = tmp_path / "logx.csv"
+    path.write_text(table_csv_text(columns))
+    assert main(["train", str(path), "--mass", "2", "-o", str(tmp_path / "m.json")]) == 0
+    assert "symmetry asymmetric" in capsys.readouterr().out
+    model = FrictionModel.load(tmp_path / "m.json")
+    f = model.force(np.array([0.1, -0.1]))
+    assert abs(f[0] - 1.04) < 0.05 and abs(f[1] + 0.54) < 0.05

@@ -243,6 +243,8 @@ def _choice_line(fitted) -> str:
     kind = "asymmetric (one curve per direction)" if fitted.asymmetric else "symmetric"
     if fitted.chosen_by == "one direction only":
         return ""
+    if fitted.chosen_by.startswith("asymmetric model not fittable"):
+        return f"symmetry {kind}: the {fitted.chosen_by}"
     if fitted.cv_rmse is None:
         return f"symmetry {kind}, as asked"
     sym, asym = fitted.cv_rmse

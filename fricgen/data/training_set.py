@@ -157,6 +157,9 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     if len(folded) < MIN_ROWS:
         raise DataError(f"{len(folded)} rows with v != 0, need at least {MIN_ROWS}: a friction "
                         "sweep needs motion")
+    if np.count_nonzero(folded.f < 0) > folded.f.size / 2:
+        raise DataError("the force has the opposite sign of v in most rows, yet friction acts "
+                        "with the sign of v (eq. 1): check the sign of v, force or i (or --scale)")
     check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
     check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
     estimated = vs_max is None

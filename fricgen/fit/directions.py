@@ -99,34 +99,50 @@ def prefers_asymmetric(mse: np.ndarray) -> bool:
     return bool(gain.mean() > CV_SIGMAS * se and gain.mean() > CV_MARGIN * mse[0].mean())
 
 
+def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> float:
+    """The vs_max of one direction: ``vs_max`` if given, else the direction's own estimate when
+    its training set can be built with it, else the estimate of both directions folded."""
+    if vs_max is not None:
+        return vs_max
+    own = _vs_max(half, None)
+    try:
+        prepare(half, vs_max=own, max_points=CV_POINTS)
+        return own
+    except DataError:
+        return _vs_max(sweep, None)
+
+
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                    asymmetric: Optional[bool] = None, seed=0, per_direction=None) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
     ``estimator``); ``asymmetric`` None chooses by cross-validation, True or False forces the
     model. With data in one direction only the model is symmetric (``DataError`` if the
-    asymmetric one was asked for)."""
+    asymmetric one was asked for); when a sweep of both directions cannot give each its own
+    curve, ``chosen_by`` says why."""
     per_direction = estimator if per_direction is None else per_direction
     halves = (sweep.direction(1), sweep.direction(-1))
     if asymmetric is not False:
+        one_direction = any(len(half) == 0 for half in halves)
         try:
             for half, side in zip(halves, ("v > 0", "v < 0")):
                 if len(half) < MIN_ROWS:
                     raise DataError(f"{len(half)} rows with {side}, need at least {MIN_ROWS}")
-            vs_dirs = [_vs_max(half, vs_max) for half in halves]
+            vs_dirs = [_direction_vs_max(half, sweep, vs_max) for half in halves]
             for half, vs in zip(halves, vs_dirs):
                 prepare(half, vs_max=vs, max_points=CV_POINTS)
         except DataError as exc:
             if asymmetric:
                 raise DataError(f"an asymmetric model needs a sweep of each direction: {exc}") from None
-            return DirectionsFit((_fit(sweep, estimator, vs_max),), "one direction only")
+            reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
+            return DirectionsFit((_fit(sweep, estimator, vs_max),), reason)
     if asymmetric is None:
         mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
                              per_direction=per_direction)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         if not prefers_asymmetric(mse):
             return DirectionsFit((_fit(sweep, estimator, vs_max),), "cross-validation", cv)
-        return DirectionsFit(tuple(_fit(h, per_direction, vs_max) for h in halves),
+        return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)),
                              "cross-validation", cv)
     if not asymmetric:
         return DirectionsFit((_fit(sweep, estimator, vs_max),), "forced")
-    return DirectionsFit(tuple(_fit(h, per_direction, vs_max) for h in halves), "forced")
+    return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)), "forced")
