@@ -13,7 +13,8 @@ def c_float(value: float) -> str:
     with np.errstate(over="ignore"):
         f = np.float32(value)
     if not np.isfinite(f):
-        raise ModelError(f"value {value!r} is not representable as a finite float")
+        raise ModelError(f"the model holds {float(value):.6g}, not representable as a finite C "
+                         "float (float32); it cannot be emitted")
     text = f"{float(f):.9g}"
     if not any(c in text for c in ".en"):
         text += ".0"
