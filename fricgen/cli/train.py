@@ -209,11 +209,12 @@ def run(args) -> int:
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
+    curves = [_curve_training(f) for f in fitted.fits]
     training = {"method": args.method, **options, "seed": args.seed,
                 "source": Path(args.sweep).name,
-                "vs_max_estimated": first.dataset.vs_max_estimated, **_curve_training(first)}
+                "vs_max_estimated": first.dataset.vs_max_estimated, **curves[0]}
     if fitted.asymmetric:
-        training["negative"] = _curve_training(fitted.fits[1])
+        training["negative"] = curves[1]
     if fitted.cv_rmse is not None:
         training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
     if ident is not None:
@@ -225,8 +226,8 @@ def run(args) -> int:
                                           training=training)
     reports = [] if ident is None else [ident.summary()]
     reports.append(_choice_line(fitted))
-    for label, f in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits):
-        text = fit_report(model, f.dataset, f.estimator, _errors(f.dataset, f.estimator))
+    for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):
+        text = fit_report(model, f.dataset, f.estimator, curve["metrics"])
         reports.append(text if not label else f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
     out("\n".join(r for r in reports if r))
     if ident is not None:
