@@ -1,12 +1,14 @@
 """Shared fixtures: the paper benchmark and fitted models of every headline kind, and the
 emitted C implementations of a model with their Python twins."""
 import shutil
+import subprocess
 
 import numpy as np
 import pytest
 
 from fricgen import codegen
 from fricgen.codegen import fixedpoint as fx
+from fricgen.codegen.cbuild import STRICT_WARNINGS
 from fricgen.codegen.twin import force_f32
 from fricgen.data import synthesize_benchmark
 from fricgen.fit import ELMRegressor, default_elm
@@ -125,3 +127,11 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if item.module.__name__.rpartition(".")[2] in SLOW_MODULES or item.originalname in SLOW_TESTS:
             item.add_marker(pytest.mark.slow)
+
+
+def assert_builds_strictly(folder, source, cc) -> None:
+    """``source`` in ``folder`` compiles with ``cc -std=c99`` and the strict warning flags of the
+    emitted C, without a single warning."""
+    proc = subprocess.run([cc, "-std=c99", *STRICT_WARNINGS, "-c", str(source), "-o", "/dev/null"],
+                          cwd=folder, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr

@@ -1,14 +1,14 @@
 """The asymmetric model: one curve of eq. (3) per direction, model.json format version 2, its C."""
 import copy
 import json
-import subprocess
 
 import numpy as np
 import pytest
 
+from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.codegen import parity
-from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.codegen.cbuild import build_model
 from fricgen.codegen.twin import force_f32
 from fricgen.data import Sweep, prepare, synthesize_benchmark
 from fricgen.errors import DataError, ModelError
@@ -146,9 +146,7 @@ def test_c_matches_float32_twin_and_float64_model(asym, tmp_path, impl):
 def test_asymmetric_c_builds_without_a_single_warning(asym, tmp_path, impl):
     codegen.emit(asym, tmp_path, "fa", activation_impl=impl)
     for src in sorted(p.name for p in tmp_path.glob("*.c")):
-        proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", src, "-o", "/dev/null"],
-                              cwd=tmp_path, capture_output=True, text=True)
-        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+        assert_builds_strictly(tmp_path, src, CC)
 
 
 def test_symmetric_model_emits_the_same_c_as_before(model10):

@@ -6,7 +6,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import AXIS_PAIRS, CTYPES, emit_impl, fit_model, force_fn, impl_inputs, impl_twin
+from conftest import (AXIS_PAIRS, CTYPES, assert_builds_strictly, emit_impl, fit_model, force_fn,
+                      impl_inputs, impl_twin)
 from fricgen import codegen
 from fricgen.c_literal import c_float
 from fricgen.codegen import parity
@@ -73,9 +74,7 @@ def test_emitted_c_builds_without_a_single_warning(bench, tmp_path, activation):
     model = fit_model(bench, n_hidden=10, activation=activation, scheme="standard", solver="loo")
     codegen.emit(model, tmp_path, "fm")
     for src in ("fm.c", "fric_kernel.c"):
-        proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", src, "-o", "/dev/null"],
-                              cwd=tmp_path, capture_output=True, text=True)
-        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+        assert_builds_strictly(tmp_path, src, CC)
 
 
 def _twin_tolerance(model, v):
@@ -159,9 +158,7 @@ def test_model_guard_stays_clear_of_a_user_guard_named_like_the_model(model10, t
     (tmp_path / "board.h").write_text("#ifndef MOTOR_H\n#define MOTOR_H\n#define BOARD_AXES 1\n#endif\n")
     (tmp_path / "main.c").write_text('#include "board.h"\n#include "motor.h"\n'
                                      "float axis(float v) { return motor_force(v) * BOARD_AXES; }\n")
-    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "main.c", "-o", "/dev/null"],
-                          cwd=tmp_path, capture_output=True, text=True)
-    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert_builds_strictly(tmp_path, "main.c", CC)
 
 
 @pytest.mark.parametrize("name", ["fric_ctrl", "fric_kernel", "fric_fast", "FRIC_KERNEL", "_math", "math"])

@@ -4,13 +4,13 @@ cross-validated smoothing recovering a shape no named effect has."""
 import json
 from dataclasses import replace
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
+from conftest import assert_builds_strictly
 from fricgen import codegen
-from fricgen.codegen.cbuild import STRICT_WARNINGS, build
+from fricgen.codegen.cbuild import build
 from fricgen.codegen.twin import force_xv_f32
 from fricgen.effects import TABLES, PositionRipple, Signals, force_xv, with_effects
 from fricgen.effects.tables import (TablePosition, TablePositionFriction, TableTime, TableVelocity,
@@ -116,9 +116,7 @@ def test_tables_in_c_equal_their_float32_twin_bit_for_bit(tabled, tmp_path):
 @needs_cc
 def test_tables_build_without_a_single_warning(tabled, tmp_path):
     codegen.emit(tabled, tmp_path, "tx")
-    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "tx.c", "-o", "/dev/null"],
-                          cwd=tmp_path, capture_output=True, text=True)
-    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert_builds_strictly(tmp_path, "tx.c", CC)
 
 
 @needs_cc
@@ -127,9 +125,7 @@ def test_tables_on_a_grey_box_model_build_strictly_and_equal_their_twin(bench, t
     grey = FrictionModel.fit(prepare(bench.train, vs_max=0.02), StribeckRegressor(), name="gb")
     model = with_effects(grey, TABLE_EFFECTS)
     codegen.emit(model, tmp_path, "gb")
-    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "gb.c", "-o", "/dev/null"],
-                          cwd=tmp_path, capture_output=True, text=True)
-    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert_builds_strictly(tmp_path, "gb.c", CC)
     lib = build(tmp_path, "gb.h", "float gb_force(float v);\nfloat gb_force_xv(float v, float x);\n",
                 build_dir=tmp_path / "build")
     v = np.linspace(-0.3, 0.3, 401).astype(np.float32)

@@ -2,13 +2,13 @@
 import copy
 import json
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
+from conftest import assert_builds_strictly
 from fricgen import codegen
-from fricgen.codegen.cbuild import STRICT_WARNINGS, build
+from fricgen.codegen.cbuild import build
 from fricgen.effects import (EFFECTS, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
                              FrictionalLag, InertiaMismatch, PositionRipple, Signals, ThermalDrift,
                              force_xv, with_effects)
@@ -117,9 +117,7 @@ def test_force_xv_in_c_equals_the_python_effects(augmented, tmp_path):
 @needs_cc
 def test_force_xv_builds_without_a_single_warning(augmented, tmp_path):
     codegen.emit(augmented, tmp_path, "fx")
-    proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", "fx.c", "-o", "/dev/null"],
-                          cwd=tmp_path, capture_output=True, text=True)
-    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert_builds_strictly(tmp_path, "fx.c", CC)
 
 
 def test_models_without_effects_emit_no_force_xv(default_model):

@@ -1,14 +1,14 @@
 """The grey-box eq. (1): variable projection, the honest oracle, the estimator, the default's
 choice, gross outliers, and the emitted C against its float32 twin."""
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
+from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.codegen import parity
-from fricgen.codegen.cbuild import STRICT_WARNINGS, build_model
+from fricgen.codegen.cbuild import build_model
 from fricgen.codegen.fast_sigmoid import exp_neg_error_bound, exp_neg_fast_f32
 from fricgen.codegen.twin import force_f32
 from fricgen.errors import ModelError
@@ -128,9 +128,7 @@ def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp
     assert "static const float gb_inv_stribeck[GB_N_SOURCES]" in text
     assert ("expf" in text) == (impl == "libm" and greybox_model.aim.shape != "rational")
     for src in sorted(p.name for p in tmp_path.glob("*.c")):
-        proc = subprocess.run([CC, "-std=c99", *STRICT_WARNINGS, "-c", src, "-o", "/dev/null"],
-                              cwd=tmp_path, capture_output=True, text=True)
-        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+        assert_builds_strictly(tmp_path, src, CC)
     lib = build_model(tmp_path, "gb", build_dir=tmp_path / "build")
     v = parity.parity_velocities(greybox_model.v_sat)
     c = parity.c_forces(lib, "gb", v).astype(float)
