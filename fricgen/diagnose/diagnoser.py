@@ -8,13 +8,15 @@ constant phi, the force residual of eq. (18) of section 6,
 is smoothed (Savitzky-Golay, polynomial order 2) and sampled on decimated rows where the axis
 moves (|v| above the noise and the window clear of reversals and sticking, where friction is
 undetermined). The last ``holdout`` fraction of the log is never used for fitting. Effects are
-selected forward (``Diagnoser``): candidates are ranked by blocked cross-validation on the
-first part, the best is refitted jointly with those already chosen, and it is added only if the
-held-out test of ``decision`` rejects "it explains nothing" at level ``alpha``, it changes the
-force by at least ``min_size`` of the friction force and the held-out gap shrinks by at least
-``min_gain``. The gap is the RMS velocity error of simulations
+selected by size (``Diagnoser``): sets of named effects are fitted jointly on the first part
+and ranked by an information criterion, and a set one effect larger than the chosen one is
+taken only if the held-out test of ``decision`` rejects "it explains nothing" at level
+``alpha``, it changes the force by at least ``min_size`` of the friction force and the held-out
+gap shrinks by at least ``min_gain``. The gap is the RMS velocity error of simulations
 restarted from the measured state every ``horizon`` seconds and driven by the measured
-current, on the held-out part.
+current, on the held-out part, against the measured velocity smoothed as the residual is: the
+velocity sensor's noise is not something a model can close; left in, it would set a floor under
+the gap that hides what an effect removes.
 """
 from __future__ import annotations
 
@@ -316,6 +318,12 @@ class Step:
 #: A table is tried before the named effects when its cross-validated reduction of the
 #: residual's mean square is more than this many times the best named effect's.
 TABLE_PREFERENCE = 2.0
+#: Backfitting sweeps of a joint fit.
+BACKFIT_SWEEPS = 3
+#: Sets of named effects kept at each size to grow the next size from (beam search).
+BEAM = 3
+#: Named sets tried per step (best first by the joint criterion).
+MAX_TRIES = 4
 #: Largest --max-effects.
 MAX_EFFECTS = 8
 
@@ -323,21 +331,27 @@ MAX_EFFECTS = 8
 class Diagnoser:
     """Name the effects a friction model misses in a measured log, and add them.
 
-    Forward selection: at each step every named effect not yet chosen is fitted to the residual
-    of the model with the effects chosen so far and ranked by blocked cross-validation on the
-    fit part; the best is refitted jointly with the chosen ones (backfitting) and added only if
+    Selection by size, one effect more per step. At step k the sets of k named effects are grown
+    from the ``BEAM`` best sets of k - 1 (the chosen one first): each set is fitted jointly
+    (backfitting) on the fit part and ranked by Akaike's criterion with the effective sample
+    size (``_score``). So a step may also replace an earlier choice: a one-sided asymmetry chosen
+    for what is a load plus a level change gives way to the two when the pair fits better. The
+    best set (then the next, up to ``MAX_TRIES``) is taken only if, against the chosen set,
 
     1. the held-out test (``decision.held_out_p_value``) gives p < ``alpha``, and
-    2. it is practically relevant: its force on the held-out part is at least ``min_size`` of
-       the RMS friction force (a friction model fitted to a sweep is off by about a percent;
-       such bias is real structure, significant on long logs, but not a missing effect), and
-    3. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
+    2. the fitted values are what the names say (``Effect.implausible``: no mass five times off),
+    3. it is practically relevant: the force it changes on the held-out part is at least
+       ``min_size`` of the RMS friction force (a friction model fitted to a sweep is off by
+       about a percent; such bias is real structure, significant on long logs, but not a
+       missing effect), and
+    4. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
        the simulation worse.
 
-    If the best named effect passes the test but not the gap, the next one is tried. When no
-    named effect is added, the tables of ``fricgen.effects.tables`` (no physical name) compete
-    in the same way; they go first when the best table's cross-validated gain is more than
-    ``TABLE_PREFERENCE`` times the best named effect's (structure no named form follows). Selection stops at ``max_effects`` or when nothing is added.
+    Only a set refused for its size or gap lets the next be tried. When no named set is taken,
+    the tables of ``fricgen.effects.tables`` (no physical name) are ranked by blocked
+    cross-validation and added to the chosen set in the same way; they go first when the best
+    table's gain is more than ``TABLE_PREFERENCE`` times the best named one's (structure no
+    named form follows). Selection stops at ``max_effects`` or when nothing is added.
 
     Parameters: ``window`` smoothing window (s), ``holdout`` fraction of the log kept for the
     test and the gap, ``horizon`` restart interval of the simulations (s), ``folds`` of the
@@ -390,24 +404,39 @@ class Diagnoser:
         return p.with_target(target)
 
     def _joint_fit(self, p: ResidualProblem, chosen: List[Effect], cls) -> List[Effect]:
-        """``cls`` fitted to the residual after ``chosen``, then every effect refitted once to
-        the residual after all the others (one backfitting sweep), on the fit rows."""
+        """``cls`` fitted to the residual after ``chosen``, then every effect refitted to the
+        residual after all the others (backfitting, ``BACKFIT_SWEEPS`` sweeps), on the fit rows."""
         effects = list(chosen) + [cls.fit(self._residual_problem(p, chosen), p.fit_rows)]
-        for j in range(len(effects)):
-            others = self._residual_problem(p, effects, skip=effects[j])
-            effects[j] = type(effects[j]).fit(others, p.fit_rows)
+        for _ in range(BACKFIT_SWEEPS if len(effects) > 1 else 0):
+            for j in range(len(effects)):
+                others = self._residual_problem(p, effects, skip=effects[j])
+                effects[j] = type(effects[j]).fit(others, p.fit_rows)
         return effects
+
+    @staticmethod
+    def _mse(p: ResidualProblem, effects: Sequence[Effect]) -> float:
+        """Mean square of the residual after ``effects`` on the fit rows."""
+        r = p.target[p.fit_rows] - sum((p.predict(e, p.fit_rows) for e in effects),
+                                       np.zeros(p.fit_rows.size))
+        return float(np.mean(r ** 2))
+
+    def _score(self, p: ResidualProblem, effects: Sequence[Effect]) -> float:
+        """Akaike's criterion of a joint fit on the fit rows, with the effective sample size."""
+        mse = max(self._mse(p, effects), 1e-300)
+        return p.n_effective * math.log(mse) + 2.0 * sum(e.n_params for e in effects)
 
     def _gap(self, p: ResidualProblem, effects, log: MotionLog) -> Tuple[float, np.ndarray]:
         v_sim = resimulate(p, list(effects), p.split, self.horizon_samples_, self.substeps)
         held = self.held_
         ok = np.isfinite(v_sim[held])
-        return rmse(v_sim[held][ok], log.v[held][ok]), v_sim
+        return rmse(v_sim[held][ok], p.v_smooth[held][ok]), v_sim
 
-    def _consider(self, p, log, base, chosen, gap_now, ranked, classes) -> Step:
-        """Fit the ranked candidate jointly, test it on the held-out rows, check the gap."""
+    def _consider(self, p, log, base, chosen, gap_now, ranked, classes, joint=None) -> Step:
+        """Fit the ranked candidate jointly with ``chosen`` (or take the set ``joint``), test the
+        change on the held-out rows and check the gap."""
         name = ranked[0].effect
-        joint = self._joint_fit(p, chosen, classes[name])
+        if joint is None:
+            joint = self._joint_fit(p, chosen, classes[name])
         test = p.test_rows
         before = p.target[test] - sum((p.predict(e, test) for e in chosen), np.zeros(test.size))
         after = p.target[test] - sum((p.predict(e, test) for e in joint), np.zeros(test.size))
@@ -415,11 +444,14 @@ class Diagnoser:
         ss_before = float(np.sum(before ** 2))
         share = 1.0 - float(np.sum(after ** 2)) / ss_before if ss_before > 0 else 0.0
         friction = rmse(p.signals.friction[p.rows[test]], 0.0)
-        own = p.predict(joint[-1], test)          # the effect's own force in the joint fit
-        size = rmse(own, 0.0) / friction if friction > 0 else math.inf
+        size = rmse(before - after, 0.0) / friction if friction > 0 else math.inf   # the force it changes
         step = Step(name, joint[-1], joint, p_value, n_eff, share, size, gap_now, math.nan, False, "", ranked)
         if p_value >= self.alpha:
             step.reason = f"not significant on the held-out part (p = {p_value:.2g} >= {self.alpha:g})"
+            return step
+        why = next((e.implausible() for e in joint if e.implausible()), "")
+        if why:
+            step.reason = why
             return step
         if size < self.min_size:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
@@ -433,6 +465,62 @@ class Diagnoser:
         step.added = True
         self._v_sim = v_sim
         return step
+
+    def _extensions(self, p, beam, names, used) -> List[Tuple[float, List[Effect]]]:
+        """Every set of one more named effect grown from a set of the beam, fitted jointly, best
+        first by ``_score``; each distinct set once, its effects in the order they entered."""
+        seen, out = set(), []
+        for path in beam:
+            have = {e.name for e in path}
+            for name in names:
+                key = frozenset(have | {name})
+                if name in used or name in have or key in seen:
+                    continue
+                seen.add(key)
+                joint = self._joint_fit(p, path, EFFECTS[name])
+                out.append((self._score(p, joint), joint))
+        return sorted(out, key=lambda t: t[0])
+
+    def _try(self, p, log, base, chosen, gap_now, ranked, grown, tables) -> Optional[Step]:
+        """Consider the candidates of one kind in turn: ``grown`` named sets (from
+        ``_extensions``, best first) or, if None, the ``ranked`` tables added to ``chosen``.
+        Only a significant candidate refused for its size or gap lets the next be tried."""
+        options = ([(c.effect, None) for c in ranked] if grown is None else
+                   [(None, path) for _, path in grown[:MAX_TRIES]])
+        had = {e.name for e in chosen}
+        step = None
+        for name, joint in options:
+            if joint is None:
+                step = self._consider(p, log, base, chosen, gap_now,
+                                      [c for c in ranked if c.effect == name] + ranked, tables)
+            else:
+                newcomer = [e for e in joint if e.name not in had][-1]
+                step = self._consider(p, log, base, chosen, gap_now, ranked, None, joint=joint)
+                step.effect, step.fitted = newcomer.name, newcomer
+            self.steps_.append(step)
+            if step.added:
+                self._replace(step, chosen)
+                return step
+            if step.p_value >= self.alpha:
+                return step
+        return step
+
+    def _replace(self, step: Step, chosen: List[Effect]) -> None:
+        """Book a set that is not ``chosen`` plus one effect: each of its other newcomers gets a
+        step of its own (same test), each effect it drops is marked replaced."""
+        new = {e.name for e in step.joint}
+        old = {e.name for e in chosen}
+        for e in step.joint:
+            if e.name not in old and e is not step.fitted:
+                twin = copy.copy(step)
+                twin.effect, twin.fitted = e.name, e
+                self.steps_.insert(len(self.steps_) - 1, twin)
+        gone = old - new
+        for s in self.steps_:
+            if s.added and s.effect in gone:
+                s.added = False
+                s.reason = (f"replaced: the set {', '.join(e.name for e in step.joint)} fits "
+                            "better and passes the held-out checks")
 
     def _rank(self, q: ResidualProblem, classes) -> List[Candidate]:
         ranked = [Candidate(name, cross_validated_mse(q, cls, self.folds)) for name, cls in classes.items()]
@@ -455,40 +543,44 @@ class Diagnoser:
         self._v_sim = self.v_sim_before_
         used = {e.name for e in base}
         chosen: List[Effect] = []
+        beam: List[List[Effect]] = [[]]
         self.steps_: List[Step] = []
         gap_now = self.gap_before_
         while len(chosen) < self.max_effects:
             q = self._residual_problem(p, chosen)
             taken = used | {e.name for e in chosen}
-            step = None
-            pools = [{n: EFFECTS[n] for n in names if n not in taken}]
-            if self.tables:
-                pools.append({n: c for n, c in TABLES.items() if n not in taken})
-            rankings = [self._rank(q, pool) if pool else [] for pool in pools]
+            tables = {n: c for n, c in TABLES.items() if n not in taken} if self.tables else {}
+            named = {n: EFFECTS[n] for n in names if n not in taken}
+            ranked_named = self._rank(q, named) if named else []
+            ranked_tables = self._rank(q, tables) if tables else []
             mse_none = float(np.mean(q.target[p.fit_rows] ** 2))
-            gains = [mse_none - r[0].mse if r else 0.0 for r in rankings]
-            if len(gains) == 2 and gains[1] > TABLE_PREFERENCE * max(gains[0], 0.0):
-                # a table explains far more than any named effect: the structure is not named
-                pools, rankings = pools[::-1], rankings[::-1]
-            for pool, ranked in zip(pools, rankings):
-                while ranked:
-                    step = self._consider(p, log, base, chosen, gap_now, ranked, pool)
-                    self.steps_.append(step)
-                    # only a significant effect refused for its gap lets the next one be tried
-                    if step.added or step.p_value >= self.alpha:
-                        break
-                    ranked = ranked[1:]
+            sets = self._extensions(p, beam, names, used) if named else []
+            # the named side's gain: the best single effect's, or a better set's (one that
+            # replaces an earlier choice), whose fit-part mean square is not cross-validated
+            best_set = min((self._mse(p, path) for _, path in sets[:1]), default=math.inf)
+            best_named = min([c.mse for c in ranked_named[:1]] + [best_set])
+            gain_named = mse_none - best_named if named else 0.0
+            gain_table = mse_none - ranked_tables[0].mse if ranked_tables else 0.0
+            trials = [(ranked_named, sets), (ranked_tables, None)]
+            if ranked_tables and gain_table > TABLE_PREFERENCE * max(gain_named, 0.0):
+                trials.reverse()       # a table explains far more than any named effect
+            step = None
+            for ranked, grown in trials:
+                step = self._try(p, log, base, chosen, gap_now, ranked, grown, tables)
                 if step is not None and step.added:
                     break
             if step is None or not step.added:
                 break
-            chosen = step.joint
-            gap_now = step.gap_after
-        self.added_ = chosen
+            chosen, gap_now = step.joint, step.gap_after
+            beam = [chosen] + [path for _, path in sets[:BEAM]
+                               if {e.name for e in path} != {e.name for e in chosen}][:BEAM - 1]
         self.effects_ = [s for s in self.steps_ if s.added]
         # the joint refits change the parameters of earlier effects: report the final ones
-        for s, e in zip(self.effects_, chosen):
-            s.fitted = e
+        final = {e.name: e for e in chosen}
+        for s in self.effects_:
+            s.fitted = final[s.effect]
+        chosen = [s.fitted for s in self.effects_]       # in the order they were added
+        self.added_ = chosen
         self.effect_ = self.effects_[0].effect if self.effects_ else "none"
         self.p_value_ = self.steps_[0].p_value if self.steps_ else 1.0
         self.model_ = with_effects(model, chosen)
@@ -501,7 +593,8 @@ class Diagnoser:
         self.gap_after_ = gap_now
         self.gap_metric_ = (f"rms velocity error (m/s) of simulations restarted from the measured "
                             f"state every {self.horizon_samples_ * ts:.3g} s and driven by the measured "
-                            f"current, on the held-out last {self.holdout:.0%} of the log while moving")
+                            f"current, against the measured velocity smoothed as the residual is, on "
+                            f"the held-out last {self.holdout:.0%} of the log while moving")
         test = p.test_rows
         self.force_gap_before_ = rmse(p.target[test], 0.0)
         self.force_gap_after_ = rmse(final.target[test], 0.0)

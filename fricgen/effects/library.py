@@ -16,7 +16,7 @@ smooths a full-rate signal with the same filter as the residual and samples it a
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import MISSING, asdict, dataclass, fields, replace
 from typing import Any, ClassVar, Dict, List, Sequence, Tuple, Type
 
 import numpy as np
@@ -54,6 +54,20 @@ def _sign(v):
     return np.sign(v)
 
 
+#: A fitted mass or force constant further than this factor from the nominal one is not read as
+#: a mismatch of it: a model that simulates well only with such a value is stiff or inert
+#: enough to hide any force error, and the fit is other structure in the residual.
+PLAUSIBLE_FACTOR = 5.0
+
+
+def _ratio_implausible(what: str, value: float, nominal: float) -> str:
+    ratio = value / nominal
+    if 1.0 / PLAUSIBLE_FACTOR <= ratio <= PLAUSIBLE_FACTOR:
+        return ""
+    return (f"the fitted {what} is {ratio:.3g} x the nominal one, beyond the factor "
+            f"{PLAUSIBLE_FACTOR:g} read as a mismatch")
+
+
 # ----------------------------------------------------------------------------- effects
 
 
@@ -68,6 +82,8 @@ class Effect:
     acts_at_rest: ClassVar[bool] = False
     #: Parameters that must be > 0.
     positive: ClassVar[Tuple[str, ...]] = ()
+    #: Parameters that must be >= 0.
+    non_negative: ClassVar[Tuple[str, ...]] = ()
     #: Parameters not counted as fitted (fixed by context, e.g. the nominal mass).
     fixed: ClassVar[Tuple[str, ...]] = ()
     #: Simulated through the mass or the force constant (mass_delta, force_constant_delta).
@@ -91,6 +107,10 @@ class Effect:
     def to_dict(self) -> dict:
         return {"effect": self.name, "parameters": self.parameters()}
 
+    def implausible(self) -> str:
+        """Why the fitted values cannot be what the effect's name says ('' if they can)."""
+        return ""
+
     @classmethod
     def parameters_of(cls, d: dict, allowed) -> Tuple[dict, str]:
         """``d["parameters"]`` (an object with no field outside ``allowed``) and the path to it
@@ -109,6 +129,9 @@ class Effect:
         params, where = cls.parameters_of(d, {f.name for f in fields(cls)})
         values = {}
         for f in fields(cls):
+            if f.name not in params and f.default is not MISSING:
+                values[f.name] = f.default          # a field added later: its neutral value
+                continue
             if f.name not in params:
                 raise ModelError(f"{where}.parameters: missing field {f.name!r}")
             value = params[f.name]
@@ -122,6 +145,8 @@ class Effect:
                 raise ModelError(f"{where}.parameters.{f.name} must be a finite number, got {value!r}"[:200])
             if f.name in cls.positive and value <= 0:
                 raise ModelError(f"{where}.parameters.{f.name} must be > 0, got {value}")
+            if f.name in cls.non_negative and value < 0:
+                raise ModelError(f"{where}.parameters.{f.name} must be >= 0, got {value}")
             values[f.name] = float(value)
         return cls(**values)
 
@@ -187,7 +212,11 @@ class PositionRipple(Effect):
 
 @dataclass(frozen=True)
 class DirectionAsymmetry(Effect):
-    """Friction differs between directions: g+ F(v) for v > 0, g- F(v) for v < 0."""
+    """Friction differs between directions: g+ F(v) for v > 0, g- F(v) for v < 0.
+
+    Fitted one-sided (one gain is 0, the side chosen by the smaller residual): a change in both
+    directions is a change of the friction level, which other effects name, plus a difference
+    between the directions. Two free gains would absorb a constant load or an extra source."""
 
     gain_positive: float
     gain_negative: float
@@ -205,8 +234,12 @@ class DirectionAsymmetry(Effect):
 
     @classmethod
     def fit(cls, problem, rows):
-        (gp, gn), _ = _lstsq(problem.at_rows(cls.basis(problem.signals), rows), problem.target[rows])
-        return cls(gain_positive=float(gp), gain_negative=float(gn))
+        basis, r = problem.at_rows(cls.basis(problem.signals), rows), problem.target[rows]
+        (gp,), rss_p = _lstsq(basis[:, :1], r)
+        (gn,), rss_n = _lstsq(basis[:, 1:], r)
+        if rss_p <= rss_n:
+            return cls(gain_positive=float(gp), gain_negative=0.0)
+        return cls(gain_positive=0.0, gain_negative=float(gn))
 
     def c_expr(self):
         return (f"(v > 0.0f ? {c_float(self.gain_positive)} : (v < 0.0f ? "
@@ -258,6 +291,9 @@ class InertiaMismatch(Effect):
     def mass_delta(self):
         return self.mass - self.nominal_mass
 
+    def implausible(self):
+        return _ratio_implausible("mass", self.mass, self.nominal_mass)
+
     def force(self, sig):
         return self.mass_delta * np.asarray(sig.a)
 
@@ -282,6 +318,9 @@ class ForceConstantMismatch(Effect):
     @property
     def force_constant_delta(self):
         return self.force_constant - self.nominal_force_constant
+
+    def implausible(self):
+        return _ratio_implausible("force constant", self.force_constant, self.nominal_force_constant)
 
     def force(self, sig):
         return -self.force_constant_delta * np.asarray(sig.i)
@@ -389,27 +428,57 @@ class FrictionalLag(Effect):
 
 @dataclass(frozen=True)
 class ThermalDrift(Effect):
-    """The friction level drifts with time: (offset + rate (t - t0)) F(v).
+    """The friction level drifts with time as a first-order (thermal) response:
+    (offset + rate h(t - t0)) F(v), h(s) = T (1 - exp(-s / T)), or h(s) = s when the time
+    constant T is 0 (a linear drift, the limit of a T long beside the log).
 
-    ``offset`` is the relative level change at t0 (the start of the log); it keeps a constant
-    level error of the model out of the estimate of ``rate``."""
+    ``rate`` is the initial rate of change (1/s); ``offset`` the relative level change at t0
+    (the start of the log), which keeps a constant level error of the model out of ``rate``."""
 
     rate: float
     offset: float
     t0: float
+    time_constant: float = 0.0
     name: ClassVar[str] = "thermal_drift"
     fixed: ClassVar[Tuple[str, ...]] = ("t0",)
+    non_negative: ClassVar[Tuple[str, ...]] = ("time_constant",)
+
+    @staticmethod
+    def _shape(s, time_constant):
+        s, tc = np.asarray(s, dtype=float), np.asarray(time_constant, dtype=float)
+        if not np.any(tc > 0):
+            return s
+        safe = np.where(tc > 0, tc, 1.0)
+        return np.where(tc > 0, safe * -np.expm1(-s / safe), s)
 
     def force(self, sig):
-        return (self.offset + self.rate * (np.asarray(sig.t) - self.t0)) * sig.friction
+        s = np.asarray(sig.t) - self.t0
+        return (self.offset + self.rate * self._shape(s, self.time_constant)) * sig.friction
 
     @classmethod
     def fit(cls, problem, rows):
+        """T on a log grid from a twentieth of the fitted span to five spans, refined, against
+        the linear limit; rate and offset by least squares at each T."""
         sig = problem.signals
         t0 = float(sig.t[0])
-        basis = np.column_stack([(sig.t - t0) * sig.friction, sig.friction])
-        (rate, offset), _ = _lstsq(problem.at_rows(basis, rows), problem.target[rows])
-        return cls(rate=float(rate), offset=float(offset), t0=t0)
+        r = problem.target[rows]
+        span = max(float(np.ptp(sig.t[problem.rows[rows]])), sig.sample_time)
+
+        def solve(time_constant):
+            basis = np.column_stack([cls._shape(sig.t - t0, time_constant) * sig.friction, sig.friction])
+            return _lstsq(problem.at_rows(basis, rows), r)
+
+        grid = np.linspace(math.log(span / 20.0), math.log(5.0 * span), 10)
+        log_t = _grid_then_refine(lambda g: solve(math.exp(g))[1], grid)
+        time_constant = math.exp(log_t)
+        (rate, offset), rss = solve(time_constant)
+        (rate_lin, offset_lin), rss_lin = solve(0.0)
+        # the time constant is one parameter more: kept when Akaike's criterion, with the
+        # residual's effective sample size, prefers it
+        n_eff = len(rows) * problem.n_effective / max(problem.fit_rows.size, 1)
+        if not n_eff * math.log(max(rss, 1e-300) / max(rss_lin, 1e-300)) < -2.0:
+            return cls(rate=float(rate_lin), offset=float(offset_lin), t0=t0, time_constant=0.0)
+        return cls(rate=float(rate), offset=float(offset), t0=t0, time_constant=float(time_constant))
 
 
 #: The effect library, by the exact names of the diagnosis vocabulary.
