@@ -19,7 +19,7 @@ at least halved in >= 90 %; gap after <= 0.5 x before wherever something was add
 ``confusion.png`` (confusion matrix of the singles and nulls) and the reliability table of the
 first step's p-value on null logs (observed fraction with p < alpha against alpha).
 
-    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR]
+    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR] [--per-length N]
 
 Results are appended to DIR/records.jsonl as each log finishes; a run that stops is resumed
 by running the same command again (finished cases are not repeated).
@@ -51,9 +51,11 @@ SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "as
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 
 
-def cases(small: bool):
-    """(key, kind, seed, hidden, fixed conditions) of every log of the run."""
-    n_null, per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
+def cases(small: bool, per_length: int = 0):
+    """(key, kind, seed, hidden, fixed conditions) of every log of the run; ``per_length`` null
+    logs at each length (0: 2 in a small run, 6 in a full one)."""
+    n_null, default_per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
+    per_length = per_length or default_per_length
     named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (8, 30, 4)
     out = []
     for k in range(n_null):
@@ -238,11 +240,13 @@ def main():
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
     ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")
+    ap.add_argument("--per-length", type=int, default=0, help="null logs at each length of "
+                    f"{', '.join(f'{x:g}' for x in LENGTHS)} s (default 6; 2 with --small)")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "records.jsonl"
-    todo = cases(args.small)
+    todo = cases(args.small, args.per_length)
     keys = {c[0] for c in todo}
     done = {}
     if path.exists():

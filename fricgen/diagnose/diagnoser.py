@@ -485,14 +485,13 @@ class Diagnoser:
         """Consider the candidates of one kind in turn: ``grown`` named sets (from
         ``_extensions``, best first) or, if None, the ``ranked`` tables added to ``chosen``.
         Only a significant candidate refused for its size or gap lets the next be tried."""
-        options = ([(c.effect, None) for c in ranked] if grown is None else
-                   [(None, path) for _, path in grown[:MAX_TRIES]])
+        options = ([(k, None) for k in range(len(ranked))] if grown is None else
+                   [(0, path) for _, path in grown[:MAX_TRIES]])
         had = {e.name for e in chosen}
         step = None
-        for name, joint in options:
+        for k, joint in options:
             if joint is None:
-                step = self._consider(p, log, base, chosen, gap_now,
-                                      [c for c in ranked if c.effect == name] + ranked, tables)
+                step = self._consider(p, log, base, chosen, gap_now, ranked[k:], tables)
             else:
                 newcomer = [e for e in joint if e.name not in had][-1]
                 step = self._consider(p, log, base, chosen, gap_now, ranked, None, joint=joint)
