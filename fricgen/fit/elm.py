@@ -100,6 +100,11 @@ class HiddenLayer(NamedTuple):
     x: np.ndarray
 
 
+def pinv_cutoff(s: np.ndarray, shape) -> float:
+    """Singular values of an n x m matrix up to this are treated as 0 by the pseudo-inverse."""
+    return float(s.max(initial=0.0) * max(shape) * np.finfo(float).eps)
+
+
 class SVD(NamedTuple):
     """Thin SVD of H = U diag(s) V^T."""
 
@@ -115,8 +120,7 @@ class SVD(NamedTuple):
     def filter_factors(self, C: float) -> np.ndarray:
         """Ridge filter s / (s^2 + 1/C) per singular value; C = inf is the pseudo-inverse."""
         if np.isinf(C):
-            cutoff = self.s.max(initial=0.0) * max(self.U.shape) * np.finfo(float).eps
-            keep = self.s > cutoff
+            keep = self.s > pinv_cutoff(self.s, self.U.shape)
             return np.where(keep, 1.0 / np.where(keep, self.s, 1.0), 0.0)
         return self.s / (self.s ** 2 + 1.0 / C)
 
@@ -134,6 +138,24 @@ def loo_residuals(svd: SVD, t: np.ndarray, C: float) -> np.ndarray:
     """Closed-form leave-one-out residuals (t_i - y_i) / (1 - h_ii) of the ridge fit (PRESS)."""
     y = svd.U @ (svd.filter_factors(C) * svd.s * (svd.U.T @ t))
     return (t - y) / np.maximum(1.0 - svd.hat_diagonal(C), 1e-12)
+
+
+def prefix_loo_residuals(D: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``loo_residuals(SVD.of(D[:, :m]), t, inf)`` for m = 1 .. D.shape[1], one column each.
+
+    One thin QR D = Q R serves every prefix: the hat matrix of D[:, :m] is Q_m Q_m^T when its
+    singular values (those of R[:m, :m]) are above the pseudo-inverse's cutoff, so the fitted
+    values and the leverages are running sums over the columns of Q. A prefix whose singular
+    values are not is solved by its own SVD."""
+    Q, R = np.linalg.qr(D)
+    fitted = np.cumsum(Q * (Q.T @ t), axis=1)
+    leverage = np.cumsum(Q * Q, axis=1)
+    res = (t[:, None] - fitted) / np.maximum(1.0 - leverage, 1e-12)
+    for m in range(1, D.shape[1] + 1):
+        s = np.linalg.svd(R[:m, :m], compute_uv=False)
+        if not s.min() > pinv_cutoff(s, (D.shape[0], m)):
+            res[:, m - 1] = loo_residuals(SVD.of(D[:, :m]), t, np.inf)
+    return res
 
 
 @dataclass(frozen=True)
