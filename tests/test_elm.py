@@ -6,7 +6,8 @@ from fricgen.codegen.parity import parity_velocities
 from fricgen.codegen.twin import force_f32
 from fricgen.fit.elm import (TWIN_MARGIN, ELMRegressor, EnlargedScheme, HiddenLayer, LeaveOneOut, SVD,
                              StandardScheme, accumulation_order, float32_error, float32_twin_error,
-                             log10_cond, loo_residuals, ordered_network, parity_limit, probe_inputs)
+                             log10_cond, loo_residuals, order_rows, ordered_network, parity_limit,
+                             probe_inputs)
 from fricgen.model import FrictionModel
 
 
@@ -90,7 +91,8 @@ def test_default_loo_solver_keeps_the_float32_twin_within_parity(bench, parity):
     svd = SVD.of(model.aim.hidden(d.x))
     grid = LeaveOneOut().C_grid
     above = min(C for C in grid if C > est.C_)
-    net_above = ordered_network(layer, svd.solve(d.t, above), probes)
+    rows = hidden_matrix("sigmoid", order_rows(probes, 40), est.input_weights_, est.biases_)
+    net_above = ordered_network(layer, svd.solve(d.t, above), rows)
     if TWIN_MARGIN * float32_twin_error(net_above, probes) <= parity_limit(d.t, parity):
         # the bound does not bind: C is the grid's unconstrained PRESS minimum
         assert est.C_ == min(grid, key=lambda C: np.mean(loo_residuals(svd, d.t, C) ** 2))

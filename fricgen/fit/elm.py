@@ -209,27 +209,33 @@ def accumulation_order(terms: np.ndarray) -> np.ndarray:
     The emitted C adds the terms in array order, and each float32 addition rounds the partial
     sum: with large cancelling output weights the partial sums, not the result, set the error.
     Reordering the neurons changes the float64 model only by rounding."""
-    acc, left, order = np.zeros(terms.shape[0]), list(range(terms.shape[1])), []
-    while left:
-        k = left[int(np.argmin(np.max(np.abs(acc[:, None] + terms[:, left]), axis=0)))]
-        order.append(k)
-        left.remove(k)
+    acc, used = np.zeros(terms.shape[0]), np.zeros(terms.shape[1], dtype=bool)
+    order = np.empty(terms.shape[1], dtype=int)
+    for step in range(terms.shape[1]):
+        reach = np.max(np.abs(acc[:, None] + terms), axis=0)
+        reach[used] = np.inf
+        k = int(np.argmin(reach))
+        order[step], used[k] = k, True
         acc += terms[:, k]
-    return np.array(order, dtype=int)
+    return order
 
 
 #: Uniform probes over the training inputs' range added to the inputs themselves by
 #: ``float32_twin_error``.
 TWIN_PROBES = 4097
 
-#: Rows of the probe set from which ``accumulation_order`` picks its order (every n-th).
-ORDER_ROWS = 1024
+#: Rows of the probe set from which ``accumulation_order`` picks its order (evenly spaced), at
+#: most; fewer for large networks, so that the greedy search (rows x neurons^2 operations) stays
+#: within ``ORDER_BUDGET``.
+ORDER_ROWS = 256
+ORDER_BUDGET = 10 ** 7
 
 #: Factor between the float32 error measured on the probes and the parity bound it must meet.
-#: It covers inputs between the probes (on a grid of 10^6 inputs the float32 error of the
-#: ``--method elm`` fits of ``benchmarks/scale.py`` was at most 1.46 times the probes'; the
-#: benchmark prints that ratio) and libm float functions that round differently from the twin
-#: (glibc's expf: within 1 ULP, and bit-equal for more than 99 % of inputs).
+#: It covers inputs between the probes (on a grid of 10^6 inputs the float32 error of 27
+#: ``--method elm`` fits, 1e4 to 1e6 rows and 20 to 80 neurons, was at most 1.45 times the
+#: probes'; ``benchmarks/scale.py --sections elm`` prints that ratio) and libm float functions
+#: that round differently from the twin (glibc's expf: within 1 ULP, and bit-equal for more than
+#: 99 % of inputs).
 TWIN_MARGIN = 1.5
 
 
@@ -240,19 +246,25 @@ def probe_inputs(x: np.ndarray) -> np.ndarray:
     return np.unique(np.concatenate([x, grid]).astype(np.float32))
 
 
-def ordered_network(layer: HiddenLayer, beta: np.ndarray, probes: np.ndarray) -> ElmNetwork:
-    """The network of ``layer`` and ``beta`` with its neurons in ``accumulation_order`` at the
-    probes."""
-    rows = probes[::max(1, probes.size // ORDER_ROWS)].astype(float)
-    order = accumulation_order(hidden_matrix(layer.activation, rows, layer.w, layer.b) * beta)
+def order_rows(probes: np.ndarray, n_hidden: int) -> np.ndarray:
+    """The evenly spaced probes from which ``accumulation_order`` picks the order of
+    ``n_hidden`` neurons, as float64."""
+    count = max(8, min(ORDER_ROWS, ORDER_BUDGET // n_hidden ** 2))
+    return probes[::max(1, probes.size // count)].astype(float)
+
+
+def ordered_network(layer: HiddenLayer, beta: np.ndarray, hidden_rows: np.ndarray) -> ElmNetwork:
+    """The network of ``layer`` and ``beta`` with its neurons in ``accumulation_order`` on
+    ``hidden_rows``, the hidden-layer matrix at ``order_rows``."""
+    order = accumulation_order(hidden_rows * beta)
     return ElmNetwork(layer.activation, layer.w[order], layer.b[order], beta[order])
 
 
-def float32_twin_error(net: ElmNetwork, probes: np.ndarray) -> float:
+def float32_twin_error(net: ElmNetwork, probes: np.ndarray, exact: Optional[np.ndarray] = None) -> float:
     """max |float32 eq. (7) - float64 eq. (7)| over the float32 inputs ``probes``: the error of
     the emitted C there, operation by operation in the C's order (``ElmNetwork.float32``), not an
-    estimate."""
-    exact = net(probes.astype(float))
+    estimate. ``exact``: the float64 outputs at the probes, if known."""
+    exact = net(probes.astype(float)) if exact is None else exact
     return float(np.max(np.abs(net.float32(probes).astype(float) - exact), initial=0.0))
 
 
@@ -298,10 +310,13 @@ class LeaveOneOut:
             H = (svd.U * svd.s) @ svd.Vt
             return lambda C: float32_error(H, svd.solve(t, C)) <= limit
         probes = probe_inputs(layer.x)
+        H = hidden_matrix(layer.activation, probes.astype(float), layer.w, layer.b)
+        rows = hidden_matrix(layer.activation, order_rows(probes, layer.w.size), layer.w, layer.b)
 
         def twin_within(C):
-            net = ordered_network(layer, svd.solve(t, C), probes)
-            return TWIN_MARGIN * float32_twin_error(net, probes) <= limit
+            beta = svd.solve(t, C)
+            net = ordered_network(layer, beta, rows)
+            return TWIN_MARGIN * float32_twin_error(net, probes, H @ beta) <= limit
         return twin_within
 
     def choose_C(self, svd: SVD, t: np.ndarray, layer: Optional[HiddenLayer] = None) -> float:
@@ -389,7 +404,8 @@ class ELMRegressor(Estimator):
         svd = SVD.of(H)
         layer = HiddenLayer(self.activation, w, b, x)
         self.C_ = self._solver().choose_C(svd, t, layer)
-        self.network_ = ordered_network(layer, svd.solve(t, self.C_), probe_inputs(x))
+        rows = hidden_matrix(self.activation, order_rows(probe_inputs(x), w.size), w, b)
+        self.network_ = ordered_network(layer, svd.solve(t, self.C_), rows)
         self.input_weights_, self.biases_ = self.network_.input_weights, self.network_.biases
         self.beta_ = self.network_.output_weights
         self.singular_values_ = svd.s
