@@ -257,7 +257,7 @@ def stop(procs):
 LOADS = ("none", "busy", "train", "busy/core")
 
 
-def loaded_train(folder, n=10 ** 6, repeats=3):
+def loaded_train(folder, n=10 ** 6, repeats=3, blas_threads=None):
     """fricgen train on n rows alone and beside each load of ``LOADS``, on one BLAS thread (the
     default) and on one per core (FRICGEN_BLAS_THREADS); wall and CPU seconds, best of
     ``repeats``, the loads interleaved repeat by repeat so that a change of the machine's other
@@ -271,7 +271,7 @@ def loaded_train(folder, n=10 ** 6, repeats=3):
     print(f"{'BLAS threads':>12s} " + " ".join(f"{'+ ' + k if k != 'none' else 'alone':>11s}" for k in LOADS)
           + "   wall loaded/alone; CPU seconds loaded/alone")
     results = {}
-    for threads in ("1", str(cores)):
+    for threads in blas_threads or ("1", str(cores)):
         os.environ["FRICGEN_BLAS_THREADS"] = threads
         runs = {load: [] for load in LOADS}
         for _ in range(repeats):
@@ -311,6 +311,8 @@ def main():
     ap.add_argument("--sections", default="time,models,elm,load")
     ap.add_argument("--load-repeats", type=int, default=3, help="runs per column of the load section")
     ap.add_argument("--load-rows", default="1e6", help="rows of the load section's sweep")
+    ap.add_argument("--load-blas", default=None,
+                    help="BLAS thread counts of the load section, e.g. 1 (default: 1 and one per core)")
     args = ap.parse_args()
     sizes = [int(float(s)) for s in args.sizes.split(",")]
     log_sizes = [int(float(s)) for s in args.log_sizes.split(",")]
@@ -324,7 +326,8 @@ def main():
         if "elm" in sections:
             elm_improvement(folder)
         if "load" in sections:
-            loaded_train(folder, int(float(args.load_rows)), args.load_repeats)
+            loaded_train(folder, int(float(args.load_rows)), args.load_repeats,
+                         args.load_blas.split(",") if args.load_blas else None)
         if "time" not in sections:
             return
         for flag in ("--version", "--help"):
