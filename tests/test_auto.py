@@ -5,7 +5,7 @@ import pytest
 from fricgen.fit.auto import AutoELMRegressor, forward_selection, sigmoid_dictionary
 from fricgen.data import synthesize_benchmark
 from fricgen.fit import ELMRegressor, default_elm
-from fricgen.fit.elm import SVD, float32_error, loo_residuals, parity_limit
+from fricgen.fit.elm import SVD, float32_error, loo_residuals, parity_limit, prefix_loo_residuals
 from fricgen.networks.elm import hidden_matrix
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
@@ -29,6 +29,21 @@ def test_closed_form_loo_equals_brute_force(C):
     H = hidden_matrix("sigmoid", x, rng.uniform(-8, 8, 6), rng.uniform(-4, 4, 6))
     np.testing.assert_allclose(loo_residuals(SVD.of(H), t, C), _brute_force_loo(H, t, C),
                                rtol=1e-6, atol=1e-9)
+
+
+def test_prefix_loo_residuals_equal_one_svd_per_prefix(bench):
+    """One QR for every prefix, as AutoELMRegressor scores its candidate sizes; a prefix that is
+    rank deficient (a repeated column, the 6th) falls back to its own SVD."""
+    d = bench.dataset
+    w, b = sigmoid_dictionary(0.0, 1.0, 8, (3.0, 24.0))
+    D = hidden_matrix("sigmoid", d.x, w, b)
+    order = forward_selection(D, d.t, 12)
+    cols = D[:, order[:5] + [order[2]] + order[5:]]
+    fast = prefix_loo_residuals(cols, d.t)
+    assert fast.shape == (d.t.size, cols.shape[1])
+    for m in range(1, cols.shape[1] + 1):
+        one = loo_residuals(SVD.of(cols[:, :m]), d.t, np.inf)
+        np.testing.assert_allclose(fast[:, m - 1], one, rtol=1e-7, atol=1e-9 * np.max(np.abs(d.t)))
 
 
 def test_loo_of_the_average_is_the_average_of_member_loo(bench):

@@ -1,11 +1,13 @@
 import numpy as np
 import pytest
 
-from fricgen.networks.elm import ACTIVATIONS, hidden_matrix
+from fricgen.networks.elm import ACTIVATIONS, ElmNetwork, hidden_matrix
 from fricgen.codegen.parity import parity_velocities
 from fricgen.codegen.twin import force_f32
-from fricgen.fit.elm import (ELMRegressor, EnlargedScheme, LeaveOneOut, SVD, StandardScheme,
-                             float32_error, log10_cond, loo_residuals, parity_limit)
+from fricgen.fit.elm import (TWIN_MARGIN, ELMRegressor, EnlargedScheme, HiddenLayer, LeaveOneOut, SVD,
+                             StandardScheme, accumulation_order, float32_error, float32_twin_error,
+                             log10_cond, loo_residuals, order_rows, ordered_network, parity_limit,
+                             probe_inputs)
 from fricgen.model import FrictionModel
 
 
@@ -66,27 +68,68 @@ def test_loo_solver_minimizes_press_within_the_beta_bound(xt):
     assert np.mean(loo_residuals(svd, t, elm.C_) ** 2) <= press[best]
 
 
-@pytest.mark.parametrize("parity", [1e-5, 1e-6])
-def test_default_loo_solver_keeps_the_float32_twin_within_parity(bench, parity):
-    """The parity-derived bound (eps32, the activation's float32 error, the output scaling):
-    the float32 twin of the fitted model stays within ``parity`` of max |F| on [-2 v_sat, 2 v_sat];
-    where the bound does not bind, C is the one leave-one-out prefers."""
-    d = bench.dataset
+def _parity_fit(bench, parity):
     est = ELMRegressor(n_hidden=40, scheme=EnlargedScheme(w_max=30.0),
                        solver=LeaveOneOut(parity=parity), random_state=0)
-    model = FrictionModel.fit(d, est)
-    H = model.aim.hidden(d.x)
-    assert float32_error(H, est.beta_) <= parity_limit(d.t, parity)
+    return est, FrictionModel.fit(bench.dataset, est)
+
+
+@pytest.mark.parametrize("parity", [1e-5, 1e-6])
+def test_default_loo_solver_keeps_the_float32_twin_within_parity(bench, parity):
+    """The parity bound (the float32 network on the probes, times the margin): the float32 twin
+    of the fitted model stays within ``parity`` of max |F| on [-2 v_sat, 2 v_sat]; where the bound
+    does not bind, C is the one leave-one-out prefers."""
+    d = bench.dataset
+    est, model = _parity_fit(bench, parity)
+    probes = probe_inputs(d.x)
+    assert TWIN_MARGIN * float32_twin_error(est.network_, probes) <= parity_limit(d.t, parity)
     v = parity_velocities(model.v_sat)
     v = v[np.abs(v) <= 2 * model.v_sat]
     exact = model.force(v.astype(float))
     assert np.max(np.abs(force_f32(model, v) - exact)) <= parity * np.max(np.abs(exact))
-    svd = SVD.of(H)
+    layer = HiddenLayer("sigmoid", est.input_weights_, est.biases_, d.x)
+    svd = SVD.of(model.aim.hidden(d.x))
     grid = LeaveOneOut().C_grid
     above = min(C for C in grid if C > est.C_)
-    if float32_error(H, svd.solve(d.t, above)) <= parity_limit(d.t, parity):
+    rows = hidden_matrix("sigmoid", order_rows(probes, 40), est.input_weights_, est.biases_)
+    net_above = ordered_network(layer, svd.solve(d.t, above), rows)
+    if TWIN_MARGIN * float32_twin_error(net_above, probes) <= parity_limit(d.t, parity):
         # the bound does not bind: C is the grid's unconstrained PRESS minimum
         assert est.C_ == min(grid, key=lambda C: np.mean(loo_residuals(svd, d.t, C) ** 2))
+
+
+def test_the_parity_bound_holds_between_the_probes_where_it_binds(bench):
+    """With parity 1e-6 the bound binds (the next C of the grid breaks it, and leave-one-out
+    prefers a larger C); the float32 network is then within the parity on 2e5 inputs, 50 times
+    as many as the probes, and the order of the running sum is what lets it get there: the same
+    weights summed in the drawn order are further off than the ordered ones."""
+    d, parity = bench.dataset, 1e-6
+    est, model = _parity_fit(bench, parity)
+    svd = SVD.of(model.aim.hidden(d.x))
+    press = {C: np.mean(loo_residuals(svd, d.t, C) ** 2) for C in LeaveOneOut().C_grid}
+    assert min(press, key=press.get) > est.C_                  # active: leave-one-out wants more
+    net, limit = est.network_, parity_limit(d.t, parity)
+    dense = np.linspace(0.0, 1.0, 200_001).astype(np.float32)
+    assert float32_twin_error(net, dense) <= limit
+    probes = probe_inputs(d.x)
+    rng = np.random.default_rng(0)
+    shuffled = [rng.permutation(net.n_hidden) for _ in range(5)]
+    others = [float32_twin_error(ElmNetwork(net.activation, net.input_weights[o], net.biases[o],
+                                       net.output_weights[o]), probes) for o in shuffled]
+    assert float32_twin_error(net, probes) < np.median(others)
+
+
+def test_accumulation_order_keeps_the_running_sums_small():
+    terms = np.array([[100.0, 50.0, -100.0, -50.0, 1.0],
+                      [90.0, 45.0, -95.0, -40.0, 1.0]])
+    order = accumulation_order(terms)
+    assert sorted(order) == list(range(5))
+    acc = np.zeros(2)
+    for step, k in enumerate(order):     # each step takes the term that keeps max |partial sum| least
+        left = order[step:]
+        assert np.max(np.abs(acc + terms[:, k])) == min(np.max(np.abs(acc + terms[:, j])) for j in left)
+        acc += terms[:, k]
+    assert np.max(np.abs(np.cumsum(terms[:, order], axis=1))) < np.max(np.abs(np.cumsum(terms, axis=1)))
 
 
 def test_loo_solver_parameters_are_checked():

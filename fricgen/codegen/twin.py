@@ -12,38 +12,15 @@ import numpy as np
 from ..effects import model_effects
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
+from ..networks.elm import rounded_f32
 from .fast_sigmoid import aim_fast_f32, exp_neg_fast_f32
 
 f32 = np.float32
 
 
-def _rounded(fn, z):
-    with np.errstate(over="ignore"):
-        return fn(z.astype(np.float64)).astype(f32)
-
-
-def _sigmoid(z):
-    return f32(1.0) / (f32(1.0) + _rounded(np.exp, -z))
-
-
-ACTIVATIONS_F32 = {
-    "sigmoid": _sigmoid,
-    "sine": lambda z: _rounded(np.sin, z),
-    "rbf": lambda z: _rounded(np.exp, -(z * z)),
-    "multiquadric": lambda z: _rounded(np.sqrt, f32(1.0) + z * z),
-}
-
-
 def aim_f32(net: ElmNetwork, x) -> np.ndarray:
     """Mirror of ``fric_elm_<activation>_f32``: sum_k beta_k act(w_k x + b_k), k ascending."""
-    x = np.asarray(x, dtype=f32)
-    w, b, beta = (a.astype(f32) for a in (net.input_weights, net.biases, net.output_weights))
-    act = ACTIVATIONS_F32[net.activation]
-    acc = np.zeros_like(x)
-    with np.errstate(over="ignore", invalid="ignore"):
-        for k in range(w.size):
-            acc = acc + beta[k] * act(w[k] * x + b[k])
-    return acc
+    return net.float32(x)
 
 
 def stribeck_table(net: StribeckCurve) -> np.ndarray:
@@ -53,7 +30,7 @@ def stribeck_table(net: StribeckCurve) -> np.ndarray:
 
 #: g(u) of eq. (2) in float32 as the emitted grey-box C computes it, by implementation.
 STRIBECK_SHAPES_F32 = {
-    "libm": {"gauss": lambda u: _rounded(np.exp, -(u * u)), "exponential": lambda u: _rounded(np.exp, -u),
+    "libm": {"gauss": lambda u: rounded_f32(np.exp, -(u * u)), "exponential": lambda u: rounded_f32(np.exp, -u),
              "rational": lambda u: f32(1.0) / (f32(1.0) + u)},
     "fast": {"gauss": lambda u: exp_neg_fast_f32(u * u), "exponential": exp_neg_fast_f32,
              "rational": lambda u: f32(1.0) / (f32(1.0) + u)},

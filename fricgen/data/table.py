@@ -77,6 +77,7 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
         raw = lines[skip]
     if not raw.isascii() or b"_" in raw:
         return None
+    raw = lines = None   # the parser reads the file again: hold the numbers only, not the text
     with open(path, encoding="utf-8-sig", newline="") as fh:
         for _ in range(skip):
             fh.readline()

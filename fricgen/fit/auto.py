@@ -27,17 +27,21 @@ import time
 from typing import Optional, Sequence
 
 import numpy as np
+from scipy.linalg import blas
 
 from .._validate import integer, positive
 from ..metrics import rmse
 from ..networks.elm import ElmNetwork, hidden_matrix
 from .base import Estimator
-from .elm import SVD, LeaveOneOut, log10_cond, loo_residuals
+from .elm import SVD, LeaveOneOut, log10_cond, loo_residuals, prefix_loo_residuals
 
 
 def forward_selection(D: np.ndarray, t: np.ndarray, m_max: int) -> list:
-    """Columns of D in the order orthogonal least squares picks them (largest residual drop first)."""
-    R, r = D.copy(), t.astype(float).copy()
+    """Columns of D in the order orthogonal least squares picks them (largest residual drop first).
+
+    The residual matrix R is deflated in place (a rank-one BLAS update of its Fortran-ordered
+    copy): no temporary of the size of D per step."""
+    R, r = np.array(D, dtype=float, order="F"), t.astype(float).copy()
     norms = np.einsum("ij,ij->j", R, R)
     floor = 1e-8 * norms
     selected = []
@@ -49,7 +53,7 @@ def forward_selection(D: np.ndarray, t: np.ndarray, m_max: int) -> list:
             break
         q = R[:, k] / np.sqrt(norms[k])
         selected.append(k)
-        R -= np.outer(q, q @ R)
+        R = blas.dger(-1.0, q, q @ R, a=R, overwrite_a=True)
         r -= q * (q @ r)
         norms = np.einsum("ij,ij->j", R, R)
     return selected
@@ -140,8 +144,7 @@ class AutoELMRegressor(Estimator):
                                       van_der_corput(j))
             D = hidden_matrix("sigmoid", x, w, b)
             order = forward_selection(D, t, int(self.max_hidden))
-            res = np.column_stack([loo_residuals(SVD.of(D[:, order[:m]]), t, np.inf)
-                                   for m in range(1, len(order) + 1)])
+            res = prefix_loo_residuals(D[:, order], t)
             members.append((w, b, D, order, res))
         return members
 

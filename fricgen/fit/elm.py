@@ -90,6 +90,21 @@ SCHEMES = {"standard": StandardScheme, "enlarged": EnlargedScheme}
 # ----------------------------------------------------------------------------- solvers
 
 
+class HiddenLayer(NamedTuple):
+    """The drawn hidden layer and the training inputs: what a solver needs to evaluate the
+    network as float32 firmware would."""
+
+    activation: str
+    w: np.ndarray
+    b: np.ndarray
+    x: np.ndarray
+
+
+def pinv_cutoff(s: np.ndarray, shape) -> float:
+    """Singular values of an n x m matrix up to this are treated as 0 by the pseudo-inverse."""
+    return float(s.max(initial=0.0) * max(shape) * np.finfo(float).eps)
+
+
 class SVD(NamedTuple):
     """Thin SVD of H = U diag(s) V^T."""
 
@@ -105,8 +120,7 @@ class SVD(NamedTuple):
     def filter_factors(self, C: float) -> np.ndarray:
         """Ridge filter s / (s^2 + 1/C) per singular value; C = inf is the pseudo-inverse."""
         if np.isinf(C):
-            cutoff = self.s.max(initial=0.0) * max(self.U.shape) * np.finfo(float).eps
-            keep = self.s > cutoff
+            keep = self.s > pinv_cutoff(self.s, self.U.shape)
             return np.where(keep, 1.0 / np.where(keep, self.s, 1.0), 0.0)
         return self.s / (self.s ** 2 + 1.0 / C)
 
@@ -126,11 +140,29 @@ def loo_residuals(svd: SVD, t: np.ndarray, C: float) -> np.ndarray:
     return (t - y) / np.maximum(1.0 - svd.hat_diagonal(C), 1e-12)
 
 
+def prefix_loo_residuals(D: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``loo_residuals(SVD.of(D[:, :m]), t, inf)`` for m = 1 .. D.shape[1], one column each.
+
+    One thin QR D = Q R serves every prefix: the hat matrix of D[:, :m] is Q_m Q_m^T when its
+    singular values (those of R[:m, :m]) are above the pseudo-inverse's cutoff, so the fitted
+    values and the leverages are running sums over the columns of Q. A prefix whose singular
+    values are not is solved by its own SVD."""
+    Q, R = np.linalg.qr(D)
+    fitted = np.cumsum(Q * (Q.T @ t), axis=1)
+    leverage = np.cumsum(Q * Q, axis=1)
+    res = (t[:, None] - fitted) / np.maximum(1.0 - leverage, 1e-12)
+    for m in range(1, D.shape[1] + 1):
+        s = np.linalg.svd(R[:m, :m], compute_uv=False)
+        if not s.min() > pinv_cutoff(s, (D.shape[0], m)):
+            res[:, m - 1] = loo_residuals(SVD.of(D[:, :m]), t, np.inf)
+    return res
+
+
 @dataclass(frozen=True)
 class PseudoInverse:
     """Moore-Penrose solution beta = H^+ t, eq. (13)."""
 
-    def choose_C(self, svd: SVD, t: np.ndarray) -> float:
+    def choose_C(self, svd: SVD, t: np.ndarray, layer: Optional[HiddenLayer] = None) -> float:
         return float("inf")
 
 
@@ -143,7 +175,7 @@ class Ridge:
     def __post_init__(self):
         positive("C", self.C)
 
-    def choose_C(self, svd: SVD, t: np.ndarray) -> float:
+    def choose_C(self, svd: SVD, t: np.ndarray, layer: Optional[HiddenLayer] = None) -> float:
         return float(self.C)
 
 
@@ -163,15 +195,82 @@ def float32_error(H: np.ndarray, beta: np.ndarray) -> float:
     and sqrtf are within 1 ULP), the product and the running sum add half an ULP each, and the
     errors of w, b and beta rounded to float32 are of the same order, with random signs. The
     sum of the terms' magnitudes, not |sum|, sets the error: large cancelling output weights
-    make float32 lose what float64 keeps. It is an estimate, not a worst-case bound: the float32
-    twin's error is 0.56 and 0.61 of it for the two ``--method elm`` fits of
-    ``benchmarks/scale.py --sections elm``, and up to about 1.0 of it for other seeds and C.
+    make float32 lose what float64 keeps. It is an estimate, not a worst-case bound, and it
+    ignores the order of the running sum; it is subadditive, so the estimate of an average of
+    networks is at most the largest member's (``AutoELMRegressor``).
     """
     return EPS32 * float(np.max(np.abs(H) @ np.abs(beta), initial=0.0))
 
 
+def accumulation_order(terms: np.ndarray) -> np.ndarray:
+    """An order of the columns of ``terms`` (beta_k h_k(x_i), one row per input) whose running
+    sums stay small: greedily, the next term is the one that keeps max_i |partial sum| least.
+
+    The emitted C adds the terms in array order, and each float32 addition rounds the partial
+    sum: with large cancelling output weights the partial sums, not the result, set the error.
+    Reordering the neurons changes the float64 model only by rounding."""
+    acc, used = np.zeros(terms.shape[0]), np.zeros(terms.shape[1], dtype=bool)
+    order = np.empty(terms.shape[1], dtype=int)
+    for step in range(terms.shape[1]):
+        reach = np.max(np.abs(acc[:, None] + terms), axis=0)
+        reach[used] = np.inf
+        k = int(np.argmin(reach))
+        order[step], used[k] = k, True
+        acc += terms[:, k]
+    return order
+
+
+#: Uniform probes over the training inputs' range added to the inputs themselves by
+#: ``float32_twin_error``.
+TWIN_PROBES = 4097
+
+#: Rows of the probe set from which ``accumulation_order`` picks its order (evenly spaced), at
+#: most; fewer for large networks, so that the greedy search (rows x neurons^2 operations) stays
+#: within ``ORDER_BUDGET``.
+ORDER_ROWS = 256
+ORDER_BUDGET = 10 ** 7
+
+#: Factor between the float32 error measured on the probes and the parity bound it must meet.
+#: It covers inputs between the probes (on a grid of 10^6 inputs the float32 error of 27
+#: ``--method elm`` fits, 1e4 to 1e6 rows and 20 to 80 neurons, was at most 1.45 times the
+#: probes'; ``benchmarks/scale.py --sections elm`` prints that ratio) and libm float functions
+#: that round differently from the twin (glibc's expf: within 1 ULP, and bit-equal for more than
+#: 99 % of inputs).
+TWIN_MARGIN = 1.5
+
+
+def probe_inputs(x: np.ndarray) -> np.ndarray:
+    """The training inputs and ``TWIN_PROBES`` uniform points over their range, as float32."""
+    x = np.asarray(x, dtype=float)
+    grid = np.linspace(x.min(), x.max(), TWIN_PROBES)
+    return np.unique(np.concatenate([x, grid]).astype(np.float32))
+
+
+def order_rows(probes: np.ndarray, n_hidden: int) -> np.ndarray:
+    """The evenly spaced probes from which ``accumulation_order`` picks the order of
+    ``n_hidden`` neurons, as float64."""
+    count = max(8, min(ORDER_ROWS, ORDER_BUDGET // n_hidden ** 2))
+    return probes[::max(1, probes.size // count)].astype(float)
+
+
+def ordered_network(layer: HiddenLayer, beta: np.ndarray, hidden_rows: np.ndarray) -> ElmNetwork:
+    """The network of ``layer`` and ``beta`` with its neurons in ``accumulation_order`` on
+    ``hidden_rows``, the hidden-layer matrix at ``order_rows``."""
+    order = accumulation_order(hidden_rows * beta)
+    return ElmNetwork(layer.activation, layer.w[order], layer.b[order], beta[order])
+
+
+def float32_twin_error(net: ElmNetwork, probes: np.ndarray, exact: Optional[np.ndarray] = None) -> float:
+    """max |float32 eq. (7) - float64 eq. (7)| over the float32 inputs ``probes``: the error of
+    the emitted C there, operation by operation in the C's order (``ElmNetwork.float32``), not an
+    estimate. ``exact``: the float64 outputs at the probes, if known."""
+    exact = net(probes.astype(float)) if exact is None else exact
+    return float(np.max(np.abs(net.float32(probes).astype(float) - exact), initial=0.0))
+
+
 def parity_limit(t: np.ndarray, parity: float = PARITY) -> float:
-    """The largest ``float32_error`` that keeps the emitted C within ``parity`` of max |F|.
+    """The largest float32 error of the network output that keeps the emitted C within
+    ``parity`` of max |F|.
 
     The network's output is t = K_out (F - B v) (eq. 9), so an error e in t is e / K_out newtons,
     and max |F| >= max |t| / K_out on [0, v_sat] (B v >= 0 there): e <= parity max |t| keeps
@@ -183,9 +282,12 @@ def parity_limit(t: np.ndarray, parity: float = PARITY) -> float:
 class LeaveOneOut:
     """Ridge with C chosen by minimal closed-form leave-one-out error (PRESS) over a log grid.
 
-    Only C that keep float32 firmware within the stated parity are eligible: by default
-    ``float32_error`` <= ``parity_limit`` (the bound derived from eps32, the activation's
-    float32 error and the output scaling); with ``max_beta_l1`` set, ||beta||_1 <= max_beta_l1
+    Only C that keep float32 firmware within the stated parity are eligible. Given the hidden
+    layer (``ELMRegressor``), the network with its neurons in ``accumulation_order`` is
+    evaluated in float32 exactly as the emitted C does it, on the training inputs and a uniform
+    grid (``float32_twin_error``), and ``TWIN_MARGIN`` times that error must be within
+    ``parity_limit``. Without it (the members of ``AutoELMRegressor``, whose average is emitted),
+    the estimate ``float32_error`` must be; with ``max_beta_l1`` set, ||beta||_1 <= max_beta_l1
     instead. When the best eligible C of the grid borders an ineligible one, the largest
     eligible C between them is found by bisection (in log C) and taken if its PRESS is lower.
     """
@@ -199,27 +301,41 @@ class LeaveOneOut:
         if self.max_beta_l1 is not None:
             positive("max_beta_l1", self.max_beta_l1)
 
-    def _eligible(self, svd: SVD, t: np.ndarray, H: np.ndarray, limit: float, C: float) -> bool:
-        beta = svd.solve(t, C)
-        if self.max_beta_l1 is not None:
-            return bool(np.abs(beta).sum() <= self.max_beta_l1)
-        return float32_error(H, beta) <= limit
-
-    def choose_C(self, svd: SVD, t: np.ndarray) -> float:
-        H = (svd.U * svd.s) @ svd.Vt
+    def _eligibility(self, svd: SVD, t: np.ndarray, layer: Optional[HiddenLayer]):
+        """A test C -> bool of the bound in force."""
         limit = parity_limit(t, self.parity)
+        if self.max_beta_l1 is not None:
+            return lambda C: bool(np.abs(svd.solve(t, C)).sum() <= self.max_beta_l1)
+        if layer is None:
+            H = (svd.U * svd.s) @ svd.Vt
+            return lambda C: float32_error(H, svd.solve(t, C)) <= limit
+        probes = probe_inputs(layer.x)
+        H = hidden_matrix(layer.activation, probes.astype(float), layer.w, layer.b)
+        rows = hidden_matrix(layer.activation, order_rows(probes, layer.w.size), layer.w, layer.b)
+
+        def twin_within(C):
+            beta = svd.solve(t, C)
+            net = ordered_network(layer, beta, rows)
+            return TWIN_MARGIN * float32_twin_error(net, probes, H @ beta) <= limit
+        return twin_within
+
+    def choose_C(self, svd: SVD, t: np.ndarray, layer: Optional[HiddenLayer] = None) -> float:
+        eligible = self._eligibility(svd, t, layer)
         grid = [float(C) for C in self.C_grid]
-        ok = [self._eligible(svd, t, H, limit, C) for C in grid]
-        press = [np.mean(loo_residuals(svd, t, C) ** 2) if good else np.inf for C, good in zip(grid, ok)]
-        i = int(np.argmin(press))
-        if not np.isfinite(press[i]):
+        press = [float(np.mean(loo_residuals(svd, t, C) ** 2)) for C in grid]
+        ok = {}
+        for i in sorted(range(len(grid)), key=lambda j: (press[j], j)):   # best PRESS first
+            ok[i] = eligible(grid[i])
+            if ok[i]:
+                break
+        else:
             return grid[0]
         best_C, best_press = grid[i], press[i]
-        if i + 1 < len(grid) and not ok[i + 1]:
+        if i + 1 < len(grid) and not (ok[i + 1] if i + 1 in ok else eligible(grid[i + 1])):
             lo, hi = np.log(grid[i]), np.log(grid[i + 1])
             for _ in range(12):
                 mid = 0.5 * (lo + hi)
-                lo, hi = (mid, hi) if self._eligible(svd, t, H, limit, np.exp(mid)) else (lo, mid)
+                lo, hi = (mid, hi) if eligible(np.exp(mid)) else (lo, mid)
             edge = float(np.exp(lo))
             edge_press = np.mean(loo_residuals(svd, t, edge) ** 2)
             if edge_press < best_press:
@@ -286,13 +402,14 @@ class ELMRegressor(Estimator):
         w, b = make_part(self.scheme, SCHEMES, "scheme").draw(int(self.n_hidden), as_rng(self.random_state))
         H = hidden_matrix(self.activation, x, w, b)
         svd = SVD.of(H)
-        solver = self._solver()
-        self.C_ = solver.choose_C(svd, t)
-        self.beta_ = svd.solve(t, self.C_)
-        self.input_weights_, self.biases_ = w, b
+        layer = HiddenLayer(self.activation, w, b, x)
+        self.C_ = self._solver().choose_C(svd, t, layer)
+        rows = hidden_matrix(self.activation, order_rows(probe_inputs(x), w.size), w, b)
+        self.network_ = ordered_network(layer, svd.solve(t, self.C_), rows)
+        self.input_weights_, self.biases_ = self.network_.input_weights, self.network_.biases
+        self.beta_ = self.network_.output_weights
         self.singular_values_ = svd.s
         self.loo_rmse_ = rmse(loo_residuals(svd, t, self.C_), 0.0)
-        self.network_ = ElmNetwork(self.activation, w, b, self.beta_)
         return self
 
     @property

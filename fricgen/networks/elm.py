@@ -23,6 +23,22 @@ ACTIVATIONS: Dict[str, Callable[[np.ndarray], np.ndarray]] = {
 }
 
 
+def rounded_f32(fn, z):
+    """fn(z) evaluated in double and rounded once to float: a correctly rounded libm float function."""
+    with np.errstate(over="ignore"):
+        return fn(z.astype(np.float64)).astype(np.float32)
+
+
+#: The activations in float32 as the emitted C computes them (libm's expf, sinf, sqrtf taken as
+#: correctly rounded; glibc's are within 1 ULP).
+ACTIVATIONS_F32: Dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "sigmoid": lambda z: np.float32(1.0) / (np.float32(1.0) + rounded_f32(np.exp, -z)),
+    "sine": lambda z: rounded_f32(np.sin, z),
+    "rbf": lambda z: rounded_f32(np.exp, -(z * z)),
+    "multiquadric": lambda z: rounded_f32(np.sqrt, np.float32(1.0) + z * z),
+}
+
+
 #: Inputs evaluated together by ``ElmNetwork.__call__`` (a block of H is EVAL_BLOCK x M).
 EVAL_BLOCK = 1 << 14
 
@@ -80,6 +96,18 @@ class ElmNetwork:
             block = flat[start:start + EVAL_BLOCK]
             out[start:start + block.size] = self.hidden(block) @ self.output_weights
         return out.reshape(x.shape)
+
+    def float32(self, x) -> np.ndarray:
+        """Eq. (7) as the emitted ``fric_elm_<activation>_f32`` computes it: w, b, beta and x
+        rounded to float, sum_k beta_k act(w_k x + b_k) in float32, k ascending."""
+        x = np.asarray(x, dtype=np.float32)
+        w, b, beta = (a.astype(np.float32) for a in (self.input_weights, self.biases, self.output_weights))
+        act = ACTIVATIONS_F32[self.activation]
+        acc = np.zeros_like(x)
+        with np.errstate(over="ignore", invalid="ignore"):
+            for k in range(w.size):
+                acc = acc + beta[k] * act(w[k] * x + b[k])
+        return acc
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "activation": self.activation,
