@@ -19,7 +19,7 @@ at least halved in >= 90 %; gap after <= 0.5 x before wherever something was add
 ``confusion.png`` (confusion matrix of the singles and nulls) and the reliability table of the
 first step's p-value on null logs (observed fraction with p < alpha against alpha).
 
-    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR] [--per-length N]
+    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR] [--per-length N | LENGTH:N,...]
 
 Results are appended to DIR/records.jsonl as each log finishes; a run that stops is resumed
 by running the same command again (finished cases are not repeated).
@@ -51,11 +51,11 @@ SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "as
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 
 
-def cases(small: bool, per_length: int = 0):
-    """(key, kind, seed, hidden, fixed conditions) of every log of the run; ``per_length`` null
-    logs at each length (0: 2 in a small run, 6 in a full one)."""
+def cases(small: bool, per_length=None):
+    """(key, kind, seed, hidden, fixed conditions) of every log of the run; ``per_length`` maps
+    a length to its number of null logs (missing: 2 in a small run, 6 in a full one)."""
     n_null, default_per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
-    per_length = per_length or default_per_length
+    per_length = per_length or {}
     named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (8, 30, 4)
     out = []
     for k in range(n_null):
@@ -63,7 +63,7 @@ def cases(small: bool, per_length: int = 0):
                  "noise": NOISES[(k // len(RATES)) % len(NOISES)]}
         out.append((f"null-{k}", "null", 1000 + k, (), fixed))
     for length in lengths:
-        for k in range(per_length):
+        for k in range(per_length.get(length, default_per_length)):
             out.append((f"length{length:g}-{k}", "length", 2000 + 100 * int(length) + k, (),
                         {"duration_s": length}))
     for s in range(named_seeds):
@@ -233,6 +233,21 @@ def confusion_figure(records, path: Path):
     plt.close(fig)
 
 
+def per_length_counts(text: str) -> dict:
+    """``N`` (every length) or ``LENGTH:N,...`` as {length: N}."""
+    try:
+        if ":" not in text:
+            return {length: int(text) for length in LENGTHS}
+        pairs = [part.split(":") for part in text.split(",")]
+        counts = {float(a): int(b) for a, b in pairs}
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected N or LENGTH:N,..., got {text!r}")
+    unknown = set(counts) - set(LENGTHS)
+    if unknown:
+        raise argparse.ArgumentTypeError(f"lengths must be among {LENGTHS}, got {sorted(unknown)}")
+    return counts
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="a quick run: 15 nulls, 14 s and 60 s "
@@ -240,8 +255,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
     ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")
-    ap.add_argument("--per-length", type=int, default=0, help="null logs at each length of "
-                    f"{', '.join(f'{x:g}' for x in LENGTHS)} s (default 6; 2 with --small)")
+    ap.add_argument("--per-length", type=per_length_counts, default={},
+                    help="null logs at each length of " + ", ".join(f"{x:g}" for x in LENGTHS)
+                    + " s: N for all, or LENGTH:N,... (default 6; 2 with --small)")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
