@@ -425,13 +425,13 @@ class Diagnoser:
         mse = max(self._mse(p, effects), 1e-300)
         return p.n_effective * math.log(mse) + 2.0 * sum(e.n_params for e in effects)
 
-    def _gap(self, p: ResidualProblem, effects, log: MotionLog) -> Tuple[float, np.ndarray]:
+    def _gap(self, p: ResidualProblem, effects) -> Tuple[float, np.ndarray]:
         v_sim = resimulate(p, list(effects), p.split, self.horizon_samples_, self.substeps)
         held = self.held_
         ok = np.isfinite(v_sim[held])
         return rmse(v_sim[held][ok], p.v_smooth[held][ok]), v_sim
 
-    def _consider(self, p, log, base, chosen, gap_now, ranked, classes, joint=None) -> Step:
+    def _consider(self, p, base, chosen, gap_now, ranked, classes, joint=None) -> Step:
         """Fit the ranked candidate jointly with ``chosen`` (or take the set ``joint``), test the
         change on the held-out rows and check the gap."""
         name = ranked[0].effect
@@ -457,7 +457,7 @@ class Diagnoser:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
                            f"{self.min_size:.0%})")
             return step
-        step.gap_after, v_sim = self._gap(p, base + joint, log)
+        step.gap_after, v_sim = self._gap(p, base + joint)
         if not step.gap_after <= (1.0 - self.min_gain) * gap_now:
             step.reason = (f"the held-out gap does not shrink by {self.min_gain:.0%} "
                            f"({gap_now:.3g} -> {step.gap_after:.3g} m/s)")
@@ -481,7 +481,7 @@ class Diagnoser:
                 out.append((self._score(p, joint), joint))
         return sorted(out, key=lambda t: t[0])
 
-    def _try(self, p, log, base, chosen, gap_now, ranked, grown, tables) -> Optional[Step]:
+    def _try(self, p, base, chosen, gap_now, ranked, grown, tables) -> Optional[Step]:
         """Consider the candidates of one kind in turn: ``grown`` named sets (from
         ``_extensions``, best first) or, if None, the ``ranked`` tables added to ``chosen``.
         Only a significant candidate refused for its size or gap lets the next be tried."""
@@ -491,10 +491,10 @@ class Diagnoser:
         step = None
         for k, joint in options:
             if joint is None:
-                step = self._consider(p, log, base, chosen, gap_now, ranked[k:], tables)
+                step = self._consider(p, base, chosen, gap_now, ranked[k:], tables)
             else:
                 newcomer = [e for e in joint if e.name not in had][-1]
-                step = self._consider(p, log, base, chosen, gap_now, ranked, None, joint=joint)
+                step = self._consider(p, base, chosen, gap_now, ranked, None, joint=joint)
                 step.effect, step.fitted = newcomer.name, newcomer
             self.steps_.append(step)
             if step.added:
@@ -538,7 +538,7 @@ class Diagnoser:
         self.problem_ = p
         self.horizon_samples_ = max(1, int(round(self.horizon / ts)))
         self.held_ = moving_segments(p, p.split, self.horizon_samples_)
-        self.gap_before_, self.v_sim_before_ = self._gap(p, base, log)
+        self.gap_before_, self.v_sim_before_ = self._gap(p, base)
         self._v_sim = self.v_sim_before_
         used = {e.name for e in base}
         chosen: List[Effect] = []
@@ -565,7 +565,7 @@ class Diagnoser:
                 trials.reverse()       # a table explains far more than any named effect
             step = None
             for ranked, grown in trials:
-                step = self._try(p, log, base, chosen, gap_now, ranked, grown, tables)
+                step = self._try(p, base, chosen, gap_now, ranked, grown, tables)
                 if step is not None and step.added:
                     break
             if step is None or not step.added:
