@@ -1,12 +1,14 @@
 """The named effects' own fits on a residual made of their own force: a one-sided asymmetry, a
-thermal drift with and without its time constant, and the plausibility of mass and force
-constant errors (fricgen/effects/library.py)."""
+thermal drift with and without its time constant, the plausibility of mass and force
+constant errors (fricgen/effects/library.py), and joint fits of effects alike enough that
+backfitting alone does not separate them (fricgen/diagnose/diagnoser.py)."""
 import numpy as np
 import pytest
 
-from fricgen.diagnose.diagnoser import ResidualProblem
-from fricgen.effects import (DirectionAsymmetry, ForceConstantMismatch, InertiaMismatch,
-                             ThermalDrift, effect_from_dict)
+from fricgen.diagnose.diagnoser import Diagnoser, ResidualProblem
+from fricgen.effects import (ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
+                             ForceConstantMismatch, FrictionalLag, InertiaMismatch,
+                             PositionRipple, ThermalDrift, effect_from_dict)
 from fricgen.errors import ModelError
 from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
 
@@ -38,8 +40,9 @@ def test_direction_asymmetry_is_fitted_on_one_side(problem, gains):
 
 def test_a_saturating_drift_gets_its_time_constant(problem):
     t = problem.signals.t
-    truth = ThermalDrift(rate=0.05, offset=0.02, t0=float(t[0]), time_constant=2.0)
+    truth = ThermalDrift(rate=0.05, offset=0.0, t0=float(t[0]), time_constant=2.0)
     fit = _fit(problem, truth, ThermalDrift, noise=0.05)
+    assert fit.offset == 0.0                  # a drift starts from the model's level
     assert fit.time_constant == pytest.approx(2.0, rel=0.15)
     assert fit.rate == pytest.approx(0.05, rel=0.15)
 
@@ -73,3 +76,37 @@ def test_a_mass_or_force_constant_far_off_is_not_read_as_a_mismatch(effect, plau
     assert (why == "") == plausible
     if not plausible:
         assert "x the nominal one" in why
+
+
+EXAMPLES = [PositionRipple(amplitude=0.3, period=0.05, phase=1.0), DirectionAsymmetry(0.0, 0.2),
+            ConstantLoad(load=-0.4), InertiaMismatch(mass=1.3, nominal_mass=1.0),
+            ForceConstantMismatch(force_constant=9.0, nominal_force_constant=10.0),
+            ExtraFrictionSource(fc=0.2, fs=0.5, vs=0.01, B=0.3), FrictionalLag(tau=0.05),
+            ThermalDrift(rate=0.02, offset=0.01, t0=0.0, time_constant=3.0)]
+
+
+@pytest.mark.parametrize("effect", EXAMPLES, ids=lambda e: e.name)
+def test_the_linear_parameters_rebuild_the_force(problem, effect):
+    """force = the part held + regressors @ values, and new values change only that part."""
+    sig = problem.signals
+    R, c = effect.linear(sig)
+    assert R.shape == (sig.t.size, c.size)
+    held = effect.force(sig) - R @ c
+    np.testing.assert_allclose(effect.with_coefficients(c).force(sig), effect.force(sig), atol=1e-12)
+    other = effect.with_coefficients(0.5 * c)
+    np.testing.assert_allclose(other.force(sig), held + R @ (0.5 * c), atol=1e-9)
+
+
+def test_a_force_constant_error_and_a_drift_are_separated_by_the_joint_fit(problem):
+    """-dphi i and a drift of the friction level are alike (the current carries the friction):
+    the joint fit recovers both from their sum."""
+    t0 = float(problem.signals.t[0])
+    truth = [ForceConstantMismatch(force_constant=8.5, nominal_force_constant=problem.force_constant),
+             ThermalDrift(rate=0.03, offset=0.0, t0=t0)]
+    every = np.arange(problem.rows.size)
+    q = problem.with_target(sum(problem.predict(e, every) for e in truth))
+    joint = Diagnoser()._joint_fit(q, [], ForceConstantMismatch)
+    joint = Diagnoser()._joint_fit(q, joint, ThermalDrift)
+    fcm, drift = joint
+    assert fcm.force_constant - problem.force_constant == pytest.approx(8.5 - problem.force_constant, rel=0.02)
+    assert drift.rate == pytest.approx(0.03, rel=0.05)

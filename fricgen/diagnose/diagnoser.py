@@ -408,10 +408,27 @@ class Diagnoser:
         residual after all the others (backfitting, ``BACKFIT_SWEEPS`` sweeps), on the fit rows."""
         effects = list(chosen) + [cls.fit(self._residual_problem(p, chosen), p.fit_rows)]
         for _ in range(BACKFIT_SWEEPS if len(effects) > 1 else 0):
+            effects = self._joint_linear(p, effects)
             for j in range(len(effects)):
                 others = self._residual_problem(p, effects, skip=effects[j])
                 effects[j] = type(effects[j]).fit(others, p.fit_rows)
-        return effects
+        return self._joint_linear(p, effects) if len(effects) > 1 else effects
+
+    def _joint_linear(self, p: ResidualProblem, effects: List[Effect]) -> List[Effect]:
+        """The parameters the effects' forces are linear in (``Effect.linear``), solved jointly
+        by least squares on the fit rows with the others held: backfitting alone converges
+        slowly between effects as alike as a force-constant error and a friction drift."""
+        sig, rows = p.signals, p.fit_rows
+        parts = [e.linear(sig) for e in effects]
+        regressors = np.column_stack([R for R, _ in parts])
+        if regressors.shape[1] == 0:
+            return effects
+        fixed = sum((e.force(sig) - R @ c for e, (R, c) in zip(effects, parts)), np.zeros(sig.t.size))
+        target = p.target[rows] - p.at_rows(fixed, rows)
+        coef, *_ = np.linalg.lstsq(p.at_rows(regressors, rows), target, rcond=None)
+        ends = np.cumsum([c.size for _, c in parts])
+        solved = [e.with_coefficients(c) for e, c in zip(effects, np.split(coef, ends[:-1]))]
+        return solved if self._mse(p, solved) <= self._mse(p, effects) else effects
 
     @staticmethod
     def _mse(p: ResidualProblem, effects: Sequence[Effect]) -> float:
@@ -456,6 +473,13 @@ class Diagnoser:
         if size < self.min_size:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
                            f"{self.min_size:.0%})")
+            return step
+        had = {e.name for e in chosen}
+        own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in joint if e.name not in had}
+        small = min(own, key=own.get)
+        if len(own) > 1 and own[small] < self.min_size:
+            step.reason = (f"{small} is too small to matter in the set ({own[small]:.1%} of the "
+                           f"friction force, below {self.min_size:.0%})")
             return step
         step.gap_after, v_sim = self._gap(p, base + joint)
         if not step.gap_after <= (1.0 - self.min_gain) * gap_now:
@@ -568,6 +592,14 @@ class Diagnoser:
                 step = self._try(p, base, chosen, gap_now, ranked, grown, tables)
                 if step is not None and step.added:
                     break
+            if (step is None or not step.added) and named and len(chosen) + 2 <= self.max_effects:
+                # two at once: effects that only together fit the held-out part (a drift and
+                # a force-constant error: either alone, fitted on the first part, extrapolates
+                # worse than nothing)
+                have = {e.name for e in chosen}
+                pairs = self._extensions(p, [path for _, path in sets[:BEAM]
+                                             if have <= {e.name for e in path}], names, used)
+                step = self._try(p, base, chosen, gap_now, ranked_named, pairs, tables) if pairs else step
             if step is None or not step.added:
                 break
             chosen, gap_now = step.joint, step.gap_after

@@ -107,6 +107,15 @@ class Effect:
     def to_dict(self) -> dict:
         return {"effect": self.name, "parameters": self.parameters()}
 
+    def linear(self, sig: Signals) -> Tuple[np.ndarray, np.ndarray]:
+        """The regressors (N, k) of the parameters the force is linear in, with the others held,
+        and their values (k,): force = fixed part + regressors @ values. None by default."""
+        return np.zeros((np.size(sig.v), 0)), np.zeros(0)
+
+    def with_coefficients(self, coef: np.ndarray) -> "Effect":
+        """The effect whose linear parameters (``linear``) are ``coef``."""
+        return self
+
     def implausible(self) -> str:
         """Why the fitted values cannot be what the effect's name says ('' if they can)."""
         return ""
@@ -174,6 +183,15 @@ class PositionRipple(Effect):
     def force(self, sig):
         return self.amplitude * np.sin(2 * np.pi / self.period * np.asarray(sig.x) + self.phase)
 
+    def linear(self, sig):
+        k = 2 * np.pi / self.period * np.asarray(sig.x)
+        return (np.column_stack([np.sin(k), np.cos(k)]),
+                self.amplitude * np.array([math.cos(self.phase), math.sin(self.phase)]))
+
+    def with_coefficients(self, coef):
+        a, c = coef
+        return replace(self, amplitude=float(math.hypot(a, c)), phase=float(math.atan2(c, a) % (2 * np.pi)))
+
     @classmethod
     def fit(cls, problem, rows) -> "PositionRipple":
         """Least-squares periodogram over wavenumbers (problem.ripple_bank), refined by Brent."""
@@ -232,6 +250,19 @@ class DirectionAsymmetry(Effect):
         v, f = np.asarray(sig.v), sig.friction
         return np.column_stack([np.where(v > 0, f, 0.0), np.where(v < 0, f, 0.0)])
 
+    def _sides(self):
+        return [j for j, g in enumerate((self.gain_positive, self.gain_negative)) if g != 0] or [0]
+
+    def linear(self, sig):
+        gains = np.array([self.gain_positive, self.gain_negative])
+        return self.basis(sig)[:, self._sides()], gains[self._sides()]
+
+    def with_coefficients(self, coef):
+        gains = [0.0, 0.0]
+        for j, g in zip(self._sides(), coef):
+            gains[j] = float(g)
+        return replace(self, gain_positive=gains[0], gain_negative=gains[1])
+
     @classmethod
     def fit(cls, problem, rows):
         basis, r = problem.at_rows(cls.basis(problem.signals), rows), problem.target[rows]
@@ -262,6 +293,12 @@ class ConstantLoad(Effect):
 
     def force(self, sig):
         return np.full(np.shape(sig.v if sig.v is not None else sig.x), self.load)
+
+    def linear(self, sig):
+        return np.ones((np.size(sig.v), 1)), np.array([self.load])
+
+    def with_coefficients(self, coef):
+        return replace(self, load=float(coef[0]))
 
     @classmethod
     def fit(cls, problem, rows):
@@ -297,6 +334,13 @@ class InertiaMismatch(Effect):
     def force(self, sig):
         return self.mass_delta * np.asarray(sig.a)
 
+    def linear(self, sig):
+        return np.asarray(sig.a, dtype=float)[:, None], np.array([self.mass_delta])
+
+    def with_coefficients(self, coef):
+        m = self.nominal_mass
+        return replace(self, mass=float(max(m + coef[0], 1e-3 * m)))
+
     @classmethod
     def fit(cls, problem, rows):
         (dm,), _ = _lstsq(problem.at_rows(problem.signals.a[:, None], rows), problem.target[rows])
@@ -324,6 +368,13 @@ class ForceConstantMismatch(Effect):
 
     def force(self, sig):
         return -self.force_constant_delta * np.asarray(sig.i)
+
+    def linear(self, sig):
+        return -np.asarray(sig.i, dtype=float)[:, None], np.array([self.force_constant_delta])
+
+    def with_coefficients(self, coef):
+        phi = self.nominal_force_constant
+        return replace(self, force_constant=float(max(phi + coef[0], 1e-3 * phi)))
 
     @classmethod
     def fit(cls, problem, rows):
@@ -355,6 +406,14 @@ class ExtraFrictionSource(Effect):
         """The regressors sgn(v), sgn(v) g(v, vs) and v, stacked on a last axis."""
         s = _sign(v)
         return np.stack([s, s * SHAPES[shape](v, vs), v], axis=-1)
+
+    def linear(self, sig):
+        return (self.basis(np.asarray(sig.v), self.vs, self.shape),
+                np.array([self.fc, self.fs - self.fc, self.B]))
+
+    def with_coefficients(self, coef):
+        fc, dfs, B = (float(c) for c in coef)
+        return replace(self, fc=fc, fs=fc + dfs, B=B)
 
     @classmethod
     def fit(cls, problem, rows):
@@ -428,19 +487,22 @@ class FrictionalLag(Effect):
 
 @dataclass(frozen=True)
 class ThermalDrift(Effect):
-    """The friction level drifts with time as a first-order (thermal) response:
-    (offset + rate h(t - t0)) F(v), h(s) = T (1 - exp(-s / T)), or h(s) = s when the time
-    constant T is 0 (a linear drift, the limit of a T long beside the log).
+    """The friction level drifts with time as a first-order (thermal) response from the
+    model's level at the start of the log t0: rate h(t - t0) F(v), h(s) = T (1 - exp(-s / T)),
+    or h(s) = s when the time constant T is 0 (a linear drift, the limit of a T long beside
+    the log). ``rate`` is the initial rate of change (1/s).
 
-    ``rate`` is the initial rate of change (1/s); ``offset`` the relative level change at t0
-    (the start of the log), which keeps a constant level error of the model out of ``rate``."""
+    A drift starts from nothing: a level error already there at t0 is a change of the friction
+    curve, which ``extra_friction_source`` names, and a free level would make the drift plus a
+    mass error span a force-constant error. ``offset`` (a relative level at t0) is carried for
+    the models written with one; the fit leaves it at 0."""
 
     rate: float
     offset: float
     t0: float
     time_constant: float = 0.0
     name: ClassVar[str] = "thermal_drift"
-    fixed: ClassVar[Tuple[str, ...]] = ("t0",)
+    fixed: ClassVar[Tuple[str, ...]] = ("t0", "offset")
     non_negative: ClassVar[Tuple[str, ...]] = ("time_constant",)
 
     @staticmethod
@@ -455,30 +517,37 @@ class ThermalDrift(Effect):
         s = np.asarray(sig.t) - self.t0
         return (self.offset + self.rate * self._shape(s, self.time_constant)) * sig.friction
 
+    def linear(self, sig):
+        h = self._shape(np.asarray(sig.t) - self.t0, self.time_constant)
+        return (h * sig.friction)[:, None], np.array([self.rate])
+
+    def with_coefficients(self, coef):
+        return replace(self, rate=float(coef[0]))
+
     @classmethod
     def fit(cls, problem, rows):
         """T on a log grid from a twentieth of the fitted span to five spans, refined, against
-        the linear limit; rate and offset by least squares at each T."""
+        the linear limit; the rate by least squares at each T."""
         sig = problem.signals
         t0 = float(sig.t[0])
         r = problem.target[rows]
         span = max(float(np.ptp(sig.t[problem.rows[rows]])), sig.sample_time)
 
         def solve(time_constant):
-            basis = np.column_stack([cls._shape(sig.t - t0, time_constant) * sig.friction, sig.friction])
+            basis = (cls._shape(sig.t - t0, time_constant) * sig.friction)[:, None]
             return _lstsq(problem.at_rows(basis, rows), r)
 
         grid = np.linspace(math.log(span / 20.0), math.log(5.0 * span), 10)
         log_t = _grid_then_refine(lambda g: solve(math.exp(g))[1], grid)
         time_constant = math.exp(log_t)
-        (rate, offset), rss = solve(time_constant)
-        (rate_lin, offset_lin), rss_lin = solve(0.0)
+        (rate,), rss = solve(time_constant)
+        (rate_lin,), rss_lin = solve(0.0)
         # the time constant is one parameter more: kept when Akaike's criterion, with the
         # residual's effective sample size, prefers it
         n_eff = len(rows) * problem.n_effective / max(problem.fit_rows.size, 1)
         if not n_eff * math.log(max(rss, 1e-300) / max(rss_lin, 1e-300)) < -2.0:
-            return cls(rate=float(rate_lin), offset=float(offset_lin), t0=t0, time_constant=0.0)
-        return cls(rate=float(rate), offset=float(offset), t0=t0, time_constant=float(time_constant))
+            return cls(rate=float(rate_lin), offset=0.0, t0=t0, time_constant=0.0)
+        return cls(rate=float(rate), offset=0.0, t0=t0, time_constant=float(time_constant))
 
 
 #: The effect library, by the exact names of the diagnosis vocabulary.
