@@ -83,3 +83,19 @@ def test_the_held_out_test_is_calibrated_on_noise():
     e = rng.standard_normal(2000)
     effect = 0.3 * np.sin(np.arange(2000) / 50.0)
     assert held_out_p_value(e + effect, e)[0] < 1e-6
+
+
+def test_two_effects_that_fit_only_together_are_added_in_one_step():
+    """A force-constant error and a thermal drift: each alone, fitted on the first part, does
+    not explain the held-out part; the two together do, and enter in the same step. The
+    selection then goes on from sets of their size."""
+    hidden = ("force_constant_mismatch", "thermal_drift")
+    sc = make_scenario(23, hidden, rate_hz=500.0, duration_s=15.0)
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert sorted(s.effect for s in d.effects_) == sorted(hidden)
+    first_named = next(s for s in d.steps_ if s.effect in EFFECTS)
+    assert not first_named.added and first_named.reason
+    pair = d.effects_
+    assert pair[0].joint == pair[1].joint and pair[0].p_value == pair[1].p_value
+    assert len(d.steps_) > d.steps_.index(pair[1]) + 1         # a further step was considered
+    assert d.gap_after_ <= 0.5 * d.gap_before_

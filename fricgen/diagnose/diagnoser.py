@@ -333,8 +333,9 @@ class Diagnoser:
 
     Selection by size, one effect more per step. At step k the sets of k named effects are grown
     from the ``BEAM`` best sets of k - 1 (the chosen one first): each set is fitted jointly
-    (backfitting) on the fit part and ranked by Akaike's criterion with the effective sample
-    size (``_score``). So a step may also replace an earlier choice: a one-sided asymmetry chosen
+    (backfitting, with the parameters the forces are linear in solved together after each
+    sweep, ``_joint_linear``) on the fit part and ranked by Akaike's criterion with the
+    effective sample size (``_score``). So a step may also replace an earlier choice: a one-sided asymmetry chosen
     for what is a load plus a level change gives way to the two when the pair fits better. The
     best set (then the next, up to ``MAX_TRIES``) is taken only if, against the chosen set,
 
@@ -347,7 +348,11 @@ class Diagnoser:
     4. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
        the simulation worse.
 
-    Only a set refused for its size or gap lets the next be tried. When no named set is taken,
+    Only a set refused for its size or gap lets the next be tried. When no set one larger is
+    taken, the sets two larger that contain the chosen one are tried the same way (effects that
+    fit the held-out part only together: a drift and a force-constant error, either alone fitted
+    on the first part, extrapolate worse than nothing); each newcomer of a set must change the
+    force by ``min_size`` on its own. When no named set is taken,
     the tables of ``fricgen.effects.tables`` (no physical name) are ranked by blocked
     cross-validation and added to the chosen set in the same way; they go first when the best
     table's gain is more than ``TABLE_PREFERENCE`` times the best named one's (structure no
@@ -599,7 +604,9 @@ class Diagnoser:
                 have = {e.name for e in chosen}
                 pairs = self._extensions(p, [path for _, path in sets[:BEAM]
                                              if have <= {e.name for e in path}], names, used)
-                step = self._try(p, base, chosen, gap_now, ranked_named, pairs, tables) if pairs else step
+                if pairs:
+                    step = self._try(p, base, chosen, gap_now, ranked_named, pairs, tables)
+                    sets = pairs if step.added else sets       # the next beam: sets of its size
             if step is None or not step.added:
                 break
             chosen, gap_now = step.joint, step.gap_after
