@@ -335,8 +335,9 @@ class Diagnoser:
     from the ``BEAM`` best sets of k - 1 (the chosen one first): each set is fitted jointly
     (backfitting, with the parameters the forces are linear in solved together after each
     sweep, ``_joint_linear``) on the fit part and ranked by Akaike's criterion with the
-    effective sample size (``_score``). So a step may also replace an earlier choice: a one-sided asymmetry chosen
-    for what is a load plus a level change gives way to the two when the pair fits better. The
+    effective sample size (``_score``). So a step may also replace an earlier choice: a
+    one-sided asymmetry chosen for what is a load plus a level change gives way to the two when
+    the pair fits better. The
     best set (then the next, up to ``MAX_TRIES``) is taken only if, against the chosen set,
 
     1. the held-out test (``decision.held_out_p_value``) gives p < ``alpha``, and
@@ -480,12 +481,14 @@ class Diagnoser:
                            f"{self.min_size:.0%})")
             return step
         had = {e.name for e in chosen}
-        own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in joint if e.name not in had}
-        small = min(own, key=own.get)
-        if len(own) > 1 and own[small] < self.min_size:
-            step.reason = (f"{small} is too small to matter in the set ({own[small]:.1%} of the "
-                           f"friction force, below {self.min_size:.0%})")
-            return step
+        newcomers = [e for e in joint if e.name not in had]
+        if len(newcomers) > 1:          # each effect a set names must matter on its own
+            own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in newcomers}
+            small = min(own, key=own.get)
+            if own[small] < self.min_size:
+                step.reason = (f"{small} is too small to matter in the set ({own[small]:.1%} of "
+                               f"the friction force, below {self.min_size:.0%})")
+                return step
         step.gap_after, v_sim = self._gap(p, base + joint)
         if not step.gap_after <= (1.0 - self.min_gain) * gap_now:
             step.reason = (f"the held-out gap does not shrink by {self.min_gain:.0%} "

@@ -54,6 +54,13 @@ def _sign(v):
     return np.sign(v)
 
 
+def _fit_linear(template: "Effect", problem, rows) -> "Effect":
+    """``template`` with its linear parameters (``Effect.linear``) fitted by least squares."""
+    regressors, _ = template.linear(problem.signals)
+    coef, _ = _lstsq(problem.at_rows(regressors, rows), problem.target[rows])
+    return template.with_coefficients(coef)
+
+
 #: A fitted mass or force constant further than this factor from the nominal one is not read as
 #: a mismatch of it: a model that simulates well only with such a value is stiff or inert
 #: enough to hide any force error, and the fit is other structure in the residual.
@@ -302,9 +309,7 @@ class ConstantLoad(Effect):
 
     @classmethod
     def fit(cls, problem, rows):
-        n = len(problem.signals.v)
-        (c,), _ = _lstsq(problem.at_rows(np.ones((n, 1)), rows), problem.target[rows])
-        return cls(load=float(c))
+        return _fit_linear(cls(load=0.0), problem, rows)
 
     def c_expr(self):
         return c_float(self.load)
@@ -343,9 +348,7 @@ class InertiaMismatch(Effect):
 
     @classmethod
     def fit(cls, problem, rows):
-        (dm,), _ = _lstsq(problem.at_rows(problem.signals.a[:, None], rows), problem.target[rows])
-        m = problem.mass
-        return cls(mass=float(max(m + dm, 1e-3 * m)), nominal_mass=float(m))
+        return _fit_linear(cls(mass=problem.mass, nominal_mass=problem.mass), problem, rows)
 
 
 @dataclass(frozen=True)
@@ -378,9 +381,8 @@ class ForceConstantMismatch(Effect):
 
     @classmethod
     def fit(cls, problem, rows):
-        (d,), _ = _lstsq(problem.at_rows(-problem.signals.i[:, None], rows), problem.target[rows])
         phi = problem.force_constant
-        return cls(force_constant=float(max(phi + d, 1e-3 * phi)), nominal_force_constant=float(phi))
+        return _fit_linear(cls(force_constant=phi, nominal_force_constant=phi), problem, rows)
 
 
 @dataclass(frozen=True)
