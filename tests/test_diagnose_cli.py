@@ -78,12 +78,27 @@ def _bad_inputs():
 
     def t_in_ms(c):
         c["t"][:] = 1000.0 * c["t"]
+
+    def i_almost_constant(c):
+        c["i"][:] = 1.0
+        c["i"][7] = 1.0001
+
+    def i_negated(c):
+        c["i"][:] = -c["i"]
+
+    def in_mm(c):
+        c["x"][:] = 1000.0 * c["x"]
+        c["v"][:] = 1000.0 * c["v"]
     yield "missing column", drop_i, ARGS, "missing column"
     yield "NaN", nan_v, ARGS, "NaN"
     yield "non-uniform", jitter_t, ARGS, "not uniformly sampled"
     yield "too short", short, ARGS, "need at least"
     yield "no motion", still, ARGS, "the axis never moves"
     yield "time in ms", t_in_ms, ARGS, "dx/dt is 0.001 times v"
+    yield "current constant but one sample", i_almost_constant, ARGS, "current i is constant"
+    yield "current of the wrong sign", i_negated, ARGS, "sign of the current or of the force constant"
+    yield "x and v in mm", in_mm, ARGS, "check the force constant, the mass, the units"
+    yield "force constant 1000 x off", None, ["--mass", "4", "--force-constant", "20000"], "beyond the factor 5"
     yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass: must be"
     yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant: must be"
     yield "text mass", None, ["--mass", "heavy", "--force-constant", "20"], "--mass: must be"

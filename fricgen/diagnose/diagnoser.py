@@ -31,7 +31,8 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from .._validate import positive
 from ..data import MotionLog
-from ..effects import EFFECTS, TABLES, Effect, Signals, model_effects, with_effects
+from ..effects import (EFFECTS, PLAUSIBLE_FACTOR, TABLES, Effect, Signals, model_effects,
+                       with_effects)
 from ..errors import DataError
 from ..metrics import rmse
 from ..model import FrictionModel
@@ -52,9 +53,10 @@ class ResidualProblem:
     def __init__(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float,
                  window: int, holdout: float, effects: Sequence[Effect] = ()):
         self.mass, self.force_constant = mass, force_constant
-        if not np.ptp(log.i) > 0:
-            raise DataError(f"the current i is constant ({log.i[0]:g} A) over the whole log; the "
-                            "diagnosis needs the measured current")
+        lo, hi = np.quantile(log.i, [0.01, 0.99])
+        if not hi > lo:
+            raise DataError(f"the current i is constant ({np.median(log.i):g} A) over 98 % of the "
+                            "log; the diagnosis needs the measured current")
         ts = log.sample_time
         self.sample_time = ts
         self.signals = Signals(model, t=log.t, x=log.x, v=log.v, a=np.gradient(log.v, ts), i=log.i,
@@ -83,11 +85,31 @@ class ResidualProblem:
                             f"with |v| > {self.v_min:.3g} m/s away from reversals); need a log "
                             "that moves for most of its length")
         self.target = self.at_rows(self.raw[:, None], np.arange(self.rows.size))[:, 0]
+        self._check_scale()
         self.v_smooth, self.x_smooth = v_s, savgol_filter(log.x, window, 2)
         # the simulations are driven by the current smoothed as the residual is, so that the
         # gap measures the model rather than the current sensor's noise integrated by 1/m
         self.i_smooth = savgol_filter(log.i, window, 2)
         self._cache: dict = {}          # shared by the copies of with_target
+
+    def _check_scale(self) -> None:
+        """Refuse inputs whose units or signs cannot be right: on the moving rows, phi i must
+        follow m dv/dt + F(v) (plus a constant) with a slope of the same sign and within
+        ``PLAUSIBLE_FACTOR`` of 1, else no effect of the vocabulary is what is missing."""
+        every = np.arange(self.rows.size)
+        sig = self.signals
+        model_force = self.at_rows(self.mass * sig.a + sig.friction, every)
+        motor_force = self.at_rows(self.force_constant * sig.i, every)
+        coef, *_ = np.linalg.lstsq(np.column_stack([model_force, np.ones(every.size)]), motor_force,
+                                   rcond=None)
+        slope = float(coef[0])
+        if slope <= 0:
+            raise DataError("phi i works against m dv/dt + F(v) where the axis moves (slope "
+                            f"{slope:.3g}): is the sign of the current or of the force constant inverted?")
+        if not 1.0 / PLAUSIBLE_FACTOR <= slope <= PLAUSIBLE_FACTOR:
+            raise DataError(f"phi i is {slope:.3g} x m dv/dt + F(v) where the axis moves, beyond the "
+                            f"factor {PLAUSIBLE_FACTOR:g}: check the force constant, the mass, the "
+                            "units of i, x, v and that the model is this axis'")
 
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
         """A shallow copy whose residual ``target`` (at the rows) is ``target``."""
@@ -474,7 +496,7 @@ class Diagnoser:
             return step
         why = next((e.implausible() for e in joint if e.implausible()), "")
         if why:
-            step.reason = why
+            step.reason = why if len(joint) == 1 else f"in the set {', '.join(e.name for e in joint)}: {why}"
             return step
         if size < self.min_size:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "

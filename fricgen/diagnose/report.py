@@ -10,8 +10,8 @@ import numpy as np
 
 from .._plot import png, pyplot
 from ..data import MotionLog
-from ..effects import EFFECTS
-from .diagnoser import Diagnoser
+from ..effects import EFFECTS, PLAUSIBLE_FACTOR
+from .diagnoser import TABLE_PREFERENCE, Diagnoser
 
 
 def format_value(value) -> str:
@@ -44,19 +44,25 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
     elif d.localization_after_[0]["share"] >= 0.05:
         lines += ["Structure remains that nothing added explains (see the refusals below).", ""]
     lines += ["## Decision", "",
-              f"Each step ranks the effects not yet chosen by blocked {d.folds}-fold cross-validation "
-              f"on the first {1 - d.holdout:.0%} of the log, refits the best jointly with those "
-              "chosen before, and adds it only if (1) it reduces the squared force residual on the "
-              f"held-out last {d.holdout:.0%} (one-sided t-test with the effective sample size from "
-              f"the autocorrelation, p < {d.alpha:g}), (2) its force there is at least "
-              f"{d.min_size:.0%} of the RMS friction force and (3) the held-out gap shrinks by at least "
-              f"{d.min_gain:.0%}. Named effects come first; tables only when no named effect is added. "
-              f"At most {d.max_effects} effects.", "",
+              f"Each step fits the sets of named effects one larger than the chosen set jointly on "
+              f"the first {1 - d.holdout:.0%} of the log, ranks them by Akaike's criterion, and takes "
+              "the best that (1) reduces the squared force residual on the held-out last "
+              f"{d.holdout:.0%} (one-sided t-test with the effective sample size from the "
+              f"autocorrelation, p < {d.alpha:g}), (2) has its mass and force constant within a factor "
+              f"{PLAUSIBLE_FACTOR:g} of the nominal ones, (3) changes the force there by at least "
+              f"{d.min_size:.0%} of the RMS friction force and (4) shrinks the held-out gap by at least "
+              f"{d.min_gain:.0%}. A set may drop an earlier effect (marked replaced). When no set one "
+              "larger is taken, sets two larger that keep the chosen ones are tried, each new effect "
+              f"at least {d.min_size:.0%} on its own; effects that enter together share one step "
+              "number and its figures. Tables (no physical name) compete when no named set is taken, "
+              f"or first when their cross-validated gain is more than {TABLE_PREFERENCE:g} times the "
+              f"best named one's. At most {d.max_effects} effects.", "",
               "| step | effect | p-value | share of residual | size | gap before (m/s) | "
               "gap after (m/s) | decision |", "|---|---|---|---|---|---|---|---|"]
-    k = 0
+    k, last = 0, None
     for s in d.steps_:
-        k += s.added
+        if s.added and s.joint is not last:         # effects that enter together: one step
+            k, last = k + 1, s.joint
         after = "" if np.isnan(s.gap_after) else f"{s.gap_after:.4g}"
         lines.append(f"| {k if s.added else ''} | {s.effect} | {s.p_value:.2g} | {s.share:.1%} | {s.size:.1%} | "
                      f"{s.gap_before:.4g} | {after} | {'added' if s.added else 'refused: ' + s.reason} |")

@@ -3,14 +3,14 @@ each defined once (force law, parameters, JSON, fit, C expression) and carried i
 ``effects`` list."""
 from __future__ import annotations
 
-from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, Effect,
+from .library import (EFFECTS, PLAUSIBLE_FACTOR, VOCABULARY, ConstantLoad, DirectionAsymmetry, Effect,
                       ExtraFrictionSource, ForceConstantMismatch, FrictionalLag, InertiaMismatch,
                       PositionRipple, ThermalDrift, effect_from_dict, force_xv, model_effects,
                       validate_effects, with_effects)
 from .signals import FrictionCurve, Signals
 from .tables import TABLES, TableEffect
 
-__all__ = ["EFFECTS", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
+__all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
            "model_effects", "validate_effects", "with_effects", "TABLES", "TableEffect"]
