@@ -2,6 +2,7 @@
 refused with one line, exit code 2 and nothing written."""
 import json
 
+import numpy as np
 import pytest
 
 from fricgen.cli import main
@@ -79,6 +80,11 @@ def _bad_inputs():
     def t_in_ms(c):
         c["t"][:] = 1000.0 * c["t"]
 
+    def noise_only(c):
+        rng = np.random.default_rng(3)
+        c["x"][:] = c["x"][0] + 1e-6 * rng.standard_normal(c["x"].size)
+        c["v"][:] = 1e-4 * rng.standard_normal(c["v"].size)
+
     def i_almost_constant(c):
         c["i"][:] = 1.0
         c["i"][7] = 1.0001
@@ -95,6 +101,7 @@ def _bad_inputs():
     yield "too short", short, ARGS, "need at least"
     yield "no motion", still, ARGS, "the axis never moves"
     yield "time in ms", t_in_ms, ARGS, "dx/dt is 0.001 times v"
+    yield "standing still in the noise", noise_only, ARGS, "x does not follow v"
     yield "current constant but one sample", i_almost_constant, ARGS, "current i is constant"
     yield "current of the wrong sign", i_negated, ARGS, "sign of the current or of the force constant"
     yield "x and v in mm", in_mm, ARGS, "check the force constant, the mass, the units"
@@ -128,3 +135,16 @@ def test_a_broken_model_is_refused_before_anything_is_written(files, tmp_path, c
     code = main(["diagnose", str(folder / "log.csv"), "--model", str(bad), *ARGS, "--out", str(tmp_path / "o")])
     assert code == 2 and "unknown effect" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_extra_columns_are_kept_when_numeric_and_left_out_when_text(files, tmp_path):
+    """Columns beside t, x, v, i are read when they hold numbers; a column of text is left out
+    instead of refusing the log."""
+    _, log = files
+    lines = _log_text(log, lambda c: None).splitlines()
+    body = [lines[0] + ",x_d,note"] + [f"{row},{k * 1e-3!r},ok" for k, row in enumerate(lines[1:])]
+    path = tmp_path / "extra.csv"
+    path.write_text("\n".join(body) + "\n")
+    read = read_log_csv(path)
+    np.testing.assert_array_equal(read.i, log.i)
+    assert read.extra["x_d"][2] == 2e-3 and "note" not in read.extra

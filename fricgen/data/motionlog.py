@@ -23,6 +23,9 @@ MIN_SAMPLES = 1000
 UNIFORM_TOLERANCE = 0.01
 #: The range the ratio of dx/dt to v must lie in for x, v and t to be in consistent units.
 UNITS_TOLERANCE = (0.5, 2.0)
+#: Below this correlation of dx/dt with v, x and v are not one motion in other units (the axis
+#: stands still in the sensor noise, or the columns are of different axes).
+UNRELATED_BELOW = 0.3
 
 
 def uniform_sample_time(t: np.ndarray) -> float:
@@ -70,9 +73,15 @@ class MotionLog:
         v = self.v
         if not np.any(v):
             raise DataError("column 'v' is 0 throughout: the axis never moves")
-        ratio = float(np.dot(np.gradient(self.x, ts), v) / np.dot(v, v))
+        dxdt = np.gradient(self.x, ts)
+        ratio = float(np.dot(dxdt, v) / np.dot(v, v))
         low, high = UNITS_TOLERANCE
         if not low <= ratio <= high:
+            # a constant x keeps the units message (dx/dt is 0 times v)
+            follow = float(np.corrcoef(dxdt, v)[0, 1]) if np.ptp(dxdt) > 0 else 1.0
+            if not abs(follow) >= UNRELATED_BELOW:
+                raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "
+                                "axis move beyond the sensor noise? are x and v of one axis?)")
             raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is t in ms, x in "
                             "mm, or v in other units?)")
 
@@ -86,8 +95,9 @@ class MotionLog:
 
 
 def read_log_csv(path: Union[str, Path]) -> MotionLog:
-    """Read a log CSV whose header names at least t, x, v, i (other columns are kept as extra)."""
-    columns = read_table_csv(path, COLUMNS, keep_extra=True)
+    """Read a log CSV whose header names at least t, x, v, i (other numeric columns are kept as
+    extra; a column with text in it is left out)."""
+    columns = read_table_csv(path, COLUMNS, keep_extra=True, drop_text=True)
     try:
         return MotionLog(**{c: columns[c] for c in COLUMNS},
                          extra={h: a for h, a in columns.items() if h not in COLUMNS})

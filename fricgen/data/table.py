@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import csv
+import math
 import re
 from array import array
 from pathlib import Path
@@ -30,7 +31,7 @@ def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
 
 
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
-                   keep_extra: bool = False, skip: int = 0) -> Dict[str, np.ndarray]:
+                   keep_extra: bool = False, skip: int = 0, drop_text: bool = False) -> Dict[str, np.ndarray]:
     """Read a numeric CSV whose header names (at least) the ``required`` columns.
 
     Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
@@ -38,7 +39,8 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     wrong width or a non-numeric cell raises ``DataError`` naming the file and line. The file
     is streamed: memory holds the numbers, not the text. Finiteness and lengths are for the
     caller to judge. The first ``skip`` lines (an export's preamble) are passed over unread;
-    line numbers in messages count them.
+    line numbers in messages count them. With ``drop_text``, an extra column holding text is
+    left out instead of refused.
     """
     try:
         fast = _read_plain(path, required, keep_extra, skip)
@@ -46,7 +48,8 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
             return fast
         with open(path, encoding="utf-8-sig", newline="") as fh:
             _skip_lines(path, fh, skip)
-            return _read_rows(path, csv.reader(fh), required, keep_extra, first_line=skip + 1)
+            return _read_rows(path, csv.reader(fh), required, keep_extra, first_line=skip + 1,
+                              drop_text=drop_text)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
@@ -94,7 +97,7 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
     return {h: table[:, k].copy() for k, h in enumerate(header) if keep_extra or h in required}
 
 
-def _read_rows(path, rows, required, keep_extra, first_line=1) -> Dict[str, np.ndarray]:
+def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) -> Dict[str, np.ndarray]:
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
@@ -113,6 +116,7 @@ def _read_rows(path, rows, required, keep_extra, first_line=1) -> Dict[str, np.n
                         f"(header is {','.join(header)[:80]}){hint}")
     wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
     values = array("d")
+    text = set()            # extra columns with a cell that is not a number: left out
     for n, row in enumerate(rows, start=first_line + 1):
         if not any(c.strip() for c in row):
             continue
@@ -121,10 +125,19 @@ def _read_rows(path, rows, required, keep_extra, first_line=1) -> Dict[str, np.n
         try:
             values.extend([plain_float(row[k]) for k in wanted])
         except ValueError:
-            raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
-                            f"{','.join(row)[:80]!r}") from None
+            cells = []
+            for k in wanted:
+                try:
+                    cells.append(plain_float(row[k]))
+                except ValueError:
+                    if header[k] in required or not drop_text:
+                        raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
+                                        f"{','.join(row)[:80]!r}") from None
+                    text.add(k)
+                    cells.append(math.nan)
+            values.extend(cells)
     table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))
-    return {header[k]: table[:, j].copy() for j, k in enumerate(wanted)}
+    return {header[k]: table[:, j].copy() for j, k in enumerate(wanted) if k not in text}
 
 
 def table_csv_text(columns: Dict[str, np.ndarray]) -> str:
