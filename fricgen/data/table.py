@@ -97,6 +97,14 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
     return {h: table[:, k].copy() for k, h in enumerate(header) if keep_extra or h in required}
 
 
+def _is_number(cell: str) -> bool:
+    try:
+        plain_float(cell)
+    except ValueError:
+        return False
+    return True
+
+
 def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) -> Dict[str, np.ndarray]:
     header = next(rows, None)
     if header is None:
@@ -125,17 +133,12 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
         try:
             values.extend([plain_float(row[k]) for k in wanted])
         except ValueError:
-            cells = []
-            for k in wanted:
-                try:
-                    cells.append(plain_float(row[k]))
-                except ValueError:
-                    if header[k] in required or not drop_text:
-                        raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
-                                        f"{','.join(row)[:80]!r}") from None
-                    text.add(k)
-                    cells.append(math.nan)
-            values.extend(cells)
+            bad = [k for k in wanted if not _is_number(row[k])]
+            if not drop_text or any(header[k] in required for k in bad):
+                raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
+                                f"{','.join(row)[:80]!r}") from None
+            text.update(bad)
+            values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
     table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))
     return {header[k]: table[:, j].copy() for j, k in enumerate(wanted) if k not in text}
 

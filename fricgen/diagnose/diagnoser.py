@@ -359,8 +359,8 @@ class Diagnoser:
     sweep, ``_joint_linear``) on the fit part and ranked by Akaike's criterion with the
     effective sample size (``_score``). So a step may also replace an earlier choice: a
     one-sided asymmetry chosen for what is a load plus a level change gives way to the two when
-    the pair fits better. The
-    best set (then the next, up to ``MAX_TRIES``) is taken only if, against the chosen set,
+    the pair fits better. The best set (then the next, up to ``MAX_TRIES``) is taken only if,
+    against the chosen set,
 
     1. the held-out test (``decision.held_out_p_value``) gives p < ``alpha``, and
     2. the fitted values are what the names say (``Effect.implausible``: no mass five times off),
@@ -375,8 +375,8 @@ class Diagnoser:
     taken, the sets two larger that contain the chosen one are tried the same way (effects that
     fit the held-out part only together: a drift and a force-constant error, either alone fitted
     on the first part, extrapolate worse than nothing); each newcomer of a set must change the
-    force by ``min_size`` on its own. When no named set is taken,
-    the tables of ``fricgen.effects.tables`` (no physical name) are ranked by blocked
+    force by ``min_size`` on its own. When no named set is taken, the tables of
+    ``fricgen.effects.tables`` (no physical name) are ranked by blocked
     cross-validation and added to the chosen set in the same way; they go first when the best
     table's gain is more than ``TABLE_PREFERENCE`` times the best named one's (structure no
     named form follows). Selection stops at ``max_effects`` or when nothing is added.
