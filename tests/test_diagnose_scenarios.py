@@ -99,3 +99,18 @@ def test_two_effects_that_fit_only_together_are_added_in_one_step():
     assert pair[0].joint == pair[1].joint and pair[0].p_value == pair[1].p_value
     assert len(d.steps_) > d.steps_.index(pair[1]) + 1         # a further step was considered
     assert d.gap_after_ <= 0.5 * d.gap_before_
+
+
+def test_after_a_replacement_the_gaps_chain_from_the_log_gap():
+    """A one-sided asymmetry plus a force-constant error: a constant load is chosen first and
+    then replaced. The effects listed start from the log's gap and each starts where the one
+    before ended, as --json and report.md show them."""
+    hidden = ("direction_asymmetry", "force_constant_mismatch")
+    sc = make_scenario(4028, hidden)
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert any(s.reason.startswith("replaced") for s in d.steps_)
+    effects = d.summary()["effects"]
+    assert effects[0]["gap_before"] == d.gap_before_
+    for prev, s in zip(effects, effects[1:]):
+        assert s["gap_before"] in (prev["gap_before"], prev["gap_after"])
+    assert effects[-1]["gap_after"] == d.gap_after_

@@ -110,3 +110,19 @@ def test_a_force_constant_error_and_a_drift_are_separated_by_the_joint_fit(probl
     fcm, drift = joint
     assert fcm.force_constant - problem.force_constant == pytest.approx(8.5 - problem.force_constant, rel=0.02)
     assert drift.rate == pytest.approx(0.03, rel=0.05)
+
+
+def test_the_joint_fit_decides_the_asymmetry_side_with_a_force_constant_error(problem):
+    """A force-constant error changes the friction level in both directions, so fitted first
+    alone the asymmetry may take the wrong side; the joint solve tries both sides."""
+    phi = problem.force_constant
+    truth = [DirectionAsymmetry(gain_positive=0.0, gain_negative=0.25),
+             ForceConstantMismatch(force_constant=1.15 * phi, nominal_force_constant=phi)]
+    every = np.arange(problem.rows.size)
+    q = problem.with_target(sum(problem.predict(e, every) for e in truth))
+    wrong_side = [DirectionAsymmetry(gain_positive=-0.2, gain_negative=0.0),
+                  ForceConstantMismatch(force_constant=phi, nominal_force_constant=phi)]
+    asym, fcm = Diagnoser()._joint_linear(q, wrong_side)
+    assert asym.gain_positive == 0.0
+    assert asym.gain_negative == pytest.approx(0.25, rel=0.02)
+    assert fcm.force_constant == pytest.approx(1.15 * phi, rel=0.01)

@@ -21,6 +21,7 @@ the gap that hides what an effect removes.
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
@@ -444,19 +445,25 @@ class Diagnoser:
 
     def _joint_linear(self, p: ResidualProblem, effects: List[Effect]) -> List[Effect]:
         """The parameters the effects' forces are linear in (``Effect.linear``), solved jointly
-        by least squares on the fit rows with the others held: backfitting alone converges
-        slowly between effects as alike as a force-constant error and a friction drift."""
+        by least squares on the fit rows with the others held, for each combination of the
+        effects' ``variants`` (the asymmetry's side): backfitting alone converges slowly between
+        effects as alike as a force-constant error and a friction drift."""
         sig, rows = p.signals, p.fit_rows
-        parts = [e.linear(sig) for e in effects]
-        regressors = np.column_stack([R for R, _ in parts])
-        if regressors.shape[1] == 0:
-            return effects
-        fixed = sum((e.force(sig) - R @ c for e, (R, c) in zip(effects, parts)), np.zeros(sig.t.size))
-        target = p.target[rows] - p.at_rows(fixed, rows)
-        coef, *_ = np.linalg.lstsq(p.at_rows(regressors, rows), target, rcond=None)
-        ends = np.cumsum([c.size for _, c in parts])
-        solved = [e.with_coefficients(c) for e, c in zip(effects, np.split(coef, ends[:-1]))]
-        return solved if self._mse(p, solved) <= self._mse(p, effects) else effects
+        best, best_mse = effects, self._mse(p, effects)
+        for combo in itertools.product(*(e.variants() for e in effects)):
+            parts = [e.linear(sig) for e in combo]
+            regressors = np.column_stack([R for R, _ in parts])
+            if regressors.shape[1] == 0:
+                return effects
+            fixed = sum((e.force(sig) - R @ c for e, (R, c) in zip(combo, parts)), np.zeros(sig.t.size))
+            target = p.target[rows] - p.at_rows(fixed, rows)
+            coef, *_ = np.linalg.lstsq(p.at_rows(regressors, rows), target, rcond=None)
+            ends = np.cumsum([c.size for _, c in parts])
+            solved = [e.with_coefficients(c) for e, c in zip(combo, np.split(coef, ends[:-1]))]
+            mse = self._mse(p, solved)
+            if mse <= best_mse:
+                best, best_mse = solved, mse
+        return best
 
     @staticmethod
     def _mse(p: ResidualProblem, effects: Sequence[Effect]) -> float:
@@ -638,6 +645,7 @@ class Diagnoser:
             beam = [chosen] + [path for _, path in sets[:BEAM]
                                if {e.name for e in path} != {e.name for e in chosen}][:BEAM - 1]
         self.effects_ = [s for s in self.steps_ if s.added]
+        self._chain_gaps()
         # the joint refits change the parameters of earlier effects: report the final ones
         final = {e.name: e for e in chosen}
         for s in self.effects_:
@@ -663,6 +671,16 @@ class Diagnoser:
         self.force_gap_after_ = rmse(final.target[test], 0.0)
         self.residual_after_ = p.raw_residual(base + chosen)
         return self
+
+    def _chain_gaps(self) -> None:
+        """Each added step's gap before is the gap after the effects added before it (effects
+        that entered together share theirs): a step that replaced an earlier choice was decided
+        against that choice, which the final list no longer holds."""
+        before, last = self.gap_before_, None
+        for s in self.effects_:
+            if last is not None and s.joint is not last.joint:
+                before = last.gap_after
+            s.gap_before, last = before, s
 
     @staticmethod
     def _where(localization) -> str:

@@ -123,6 +123,11 @@ class Effect:
         """The effect whose linear parameters (``linear``) are ``coef``."""
         return self
 
+    def variants(self) -> Tuple["Effect", ...]:
+        """The effect and the other discrete choices of its form a joint linear solve should
+        also try (``linear`` of each): the effect alone by default."""
+        return (self,)
+
     def implausible(self) -> str:
         """Why the fitted values cannot be what the effect's name says ('' if they can)."""
         return ""
@@ -263,6 +268,11 @@ class DirectionAsymmetry(Effect):
     def linear(self, sig):
         gains = np.array([self.gain_positive, self.gain_negative])
         return self.basis(sig)[:, self._sides()], gains[self._sides()]
+
+    def variants(self):
+        """This side and the other: which direction differs is decided jointly with the others
+        (a force-constant error changes both directions' level)."""
+        return (self, replace(self, gain_positive=self.gain_negative, gain_negative=self.gain_positive))
 
     def with_coefficients(self, coef):
         gains = [0.0, 0.0]
