@@ -69,6 +69,13 @@ def call_cost(n_hidden: int, activation: str) -> str:
             f"fast), {host_ns(n_hidden):.0f} ns on the reference x86-64 host{units}")
 
 
+def error_line(errors: dict) -> str:
+    """The training and validation errors (normalized, and in N) to four significant digits:
+    a fixed number of decimals would print a fit to clean data as 0.0000 N."""
+    return (f"errors    E_train = {errors['e_train']:.4g} ({errors['e_train_newton']:.4g} N), "
+            f"{errors['e_validation_kind']} = {errors['e_loo']:.4g} ({errors['e_loo_newton']:.4g} N)")
+
+
 def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
     """The text ``fricgen train`` prints: data, model and errors (of one curve)."""
     s = dataset.scaling
@@ -92,8 +99,7 @@ def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
                   f"{estimator.scheme}, C = {estimator.C_:.3g}",
                   f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = "
                   f"{estimator.log10_cond_:.2f}"]
-    lines.append(f"errors    E_train = {errors['e_train']:.5f} ({errors['e_train_newton']:.4f} N), "
-                 f"{errors['e_validation_kind']} = {errors['e_loo']:.5f} ({errors['e_loo_newton']:.4f} N)")
+    lines.append(error_line(errors))
     if not isinstance(estimator, StribeckRegressor):
         lines.append(call_cost(estimator.n_hidden, estimator.activation))
     return "\n".join(lines)
