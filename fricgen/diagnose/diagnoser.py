@@ -449,12 +449,12 @@ class Diagnoser:
         effects' ``variants`` (the asymmetry's side): backfitting alone converges slowly between
         effects as alike as a force-constant error and a friction drift."""
         sig, rows = p.signals, p.fit_rows
+        if not any(e.linear(sig)[1].size for e in effects):
+            return effects
         best, best_mse = effects, self._mse(p, effects)
         for combo in itertools.product(*(e.variants() for e in effects)):
             parts = [e.linear(sig) for e in combo]
             regressors = np.column_stack([R for R, _ in parts])
-            if regressors.shape[1] == 0:
-                return effects
             fixed = sum((e.force(sig) - R @ c for e, (R, c) in zip(combo, parts)), np.zeros(sig.t.size))
             target = p.target[rows] - p.at_rows(fixed, rows)
             coef, *_ = np.linalg.lstsq(p.at_rows(regressors, rows), target, rcond=None)

@@ -272,6 +272,8 @@ class DirectionAsymmetry(Effect):
     def variants(self):
         """This side and the other: which direction differs is decided jointly with the others
         (a force-constant error changes both directions' level)."""
+        if self.gain_positive == self.gain_negative:        # no side chosen: one form
+            return (self,)
         return (self, replace(self, gain_positive=self.gain_negative, gain_negative=self.gain_positive))
 
     def with_coefficients(self, coef):
