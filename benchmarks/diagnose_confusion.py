@@ -15,8 +15,10 @@ length unless fixed:
 
 Prints and checks the targets (false alarms <= 5 % overall and per length; singles correct
 >= 95 %; pairs exact set >= 90 %; out-of-vocabulary: no named effect that worsens the gap, gap
-at least halved in >= 90 %; gap after <= 0.5 x before wherever something was added), writes
-``confusion.png`` (confusion matrix of the singles and nulls) and the reliability table of the
+at least halved in >= 90 %; gap after <= 0.5 x before wherever something was added), beside
+each gap figure the truth's: the gap the user's model leaves when the current is corrected by
+the hidden effects' true force (``Scenario.hidden_force``): what knowing the hidden effects
+exactly would give on that log. Writes ``confusion.png`` (confusion matrix of the singles and nulls) and the reliability table of the
 first step's p-value on null logs (observed fraction with p < alpha against alpha).
 
     python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR] [--per-length N | LENGTH:N,...]
@@ -30,6 +32,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")          # many small factorizatio
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse
+import dataclasses
 import json
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -37,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fricgen.diagnose.diagnoser import diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, diagnose
 from fricgen.effects import EFFECTS
 from fricgen.sim.scenarios import CONTROLLERS, NAMED, OUT_OF_VOCABULARY, make_scenario
 
@@ -85,7 +88,12 @@ def run_case(case):
     sc = make_scenario(seed, hidden, **fixed)
     made = time.time()
     d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    seconds_diagnose = time.time() - made
     c = sc.conditions
+    # the oracle: the log whose current is corrected by the hidden effects' true force, i.e.
+    # the gap the user's model would leave with the true effects, shapes and parameters added
+    truth = dataclasses.replace(sc.log, i=sc.log.i - sc.hidden_force / sc.force_constant)
+    gap_truth = Diagnoser().held_out_gap(truth, sc.model, sc.mass, sc.force_constant)
     return {"key": key, "kind": kind, "seed": seed, "hidden": list(sc.hidden),
             "rate_hz": c["rate_hz"], "duration_s": c["duration_s"],
             "controller": c["controller"].get("kind", fixed.get("controller", "?")),
@@ -96,8 +104,8 @@ def run_case(case):
                        "gap_after": None if np.isnan(s.gap_after) else s.gap_after,
                        "added": s.added, "reason": s.reason} for s in d.steps_],
             "p_first": d.steps_[0].p_value if d.steps_ else 1.0,
-            "gap_before": d.gap_before_, "gap_after": d.gap_after_,
-            "seconds_generate": made - start, "seconds_diagnose": time.time() - made}
+            "gap_before": d.gap_before_, "gap_after": d.gap_after_, "gap_truth": gap_truth,
+            "seconds_generate": made - start, "seconds_diagnose": seconds_diagnose}
 
 
 def named_set(r):
@@ -107,6 +115,11 @@ def named_set(r):
 def rate(flags):
     flags = list(flags)
     return (sum(flags) / len(flags), sum(flags), len(flags)) if flags else (float("nan"), 0, 0)
+
+
+def halves(r, gap):
+    """Whether ``r[gap]`` is at most half the log's gap before the diagnosis."""
+    return r[gap] <= 0.5 * r["gap_before"]
 
 
 def verdict(ok):
@@ -176,20 +189,34 @@ def report(records, out: Path, small: bool):
     if oov:
         worse = [r for r in oov for s in r["steps"] if s["added"] and s["effect"] in EFFECTS
                  and s["gap_after"] > s["gap_before"]]
-        halved = rate(r["gap_after"] <= 0.5 * r["gap_before"] for r in oov)
+        halved = rate(halves(r, "gap_after") for r in oov)
+        reachable = [r for r in oov if halves(r, "gap_truth")]
         say(f"\nout-of-vocabulary shapes: named effects that worsen the held-out gap {len(worse)} "
             f"(target 0: {verdict(not worse)}); gap at least halved {halved[1]}/{halved[2]} = "
             f"{halved[0]:.1%} (target >= 90 %: {verdict(halved[0] >= 0.9)})")
-        say(f"{'shape':>22s} {'added':>40s} {'gap before':>11s} {'after':>10s} {'ratio':>6s}")
+        say(f"    the truth (the hidden shape itself) halves it on {len(reachable)}/{len(oov)}; "
+            f"diagnose halves it on {sum(halves(r, 'gap_after') for r in reachable)} of those")
+        say(f"{'shape':>22s} {'added':>40s} {'gap before':>11s} {'after':>10s} {'ratio':>6s} {'truth':>6s}")
         for r in sorted(oov, key=lambda r: r["key"]):
             say(f"{r['hidden'][0][4:]:>22s} {','.join(r['effects']) or 'none':>40s} "
-                f"{r['gap_before']:11.3e} {r['gap_after']:10.3e} {r['gap_after'] / r['gap_before']:6.2f}")
+                f"{r['gap_before']:11.3e} {r['gap_after']:10.3e} {r['gap_after'] / r['gap_before']:6.2f} "
+                f"{r['gap_truth'] / r['gap_before']:6.2f}")
     added = [r for r in records if r["effects"]]
-    bad = [r for r in added if not r["gap_after"] <= 0.5 * r["gap_before"]]
+    bad = [r for r in added if not halves(r, "gap_after")]
     say(f"\nheld-out gap after <= 0.5 x before wherever something was added: {len(added) - len(bad)}/"
-        f"{len(added)}   {verdict(not bad)}")
+        f"{len(added)}   {verdict(not bad)}; the truth reaches it on "
+        f"{sum(halves(r, 'gap_truth') for r in added)}/{len(added)} of them")
     for r in bad:
-        say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}: {r['gap_before']:.3e} -> {r['gap_after']:.3e}")
+        say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}: {r['gap_before']:.3e} -> "
+            f"{r['gap_after']:.3e} (truth {r['gap_truth']:.3e})")
+    say("\nthe gap after diagnose against the truth's (gap after / gap of the truth; 1 = as good "
+        "as knowing the hidden effects):")
+    for kind in ("single", "pair", "oov"):
+        ratios = [r["gap_after"] / r["gap_truth"] for r in by.get(kind, [])]
+        if ratios:
+            q = np.quantile(ratios, [0.1, 0.5, 0.9])
+            say(f"    {kind:>7s}: median {q[1]:.2f} (10 % {q[0]:.2f}, 90 % {q[2]:.2f}), within 1.25 x "
+                f"on {sum(x <= 1.25 for x in ratios)}/{len(ratios)}")
     secs = sum(r["seconds_diagnose"] for r in records)
     say(f"\n{len(records)} logs; diagnose took {secs:.0f} s in total "
         f"(median {np.median([r['seconds_diagnose'] for r in records]):.1f} s per log)")

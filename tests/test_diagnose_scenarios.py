@@ -1,6 +1,8 @@
 """fricgen diagnose on logs of the independent generator (fricgen.sim.scenarios): nothing named
 on a log with nothing hidden, two effects found in one run, a shape outside the vocabulary
 corrected by a table without a physical name, and the held-out guard."""
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -114,3 +116,28 @@ def test_after_a_replacement_the_gaps_chain_from_the_log_gap():
     for prev, s in zip(effects, effects[1:]):
         assert s["gap_before"] in (prev["gap_before"], prev["gap_after"])
     assert effects[-1]["gap_after"] == d.gap_after_
+
+
+def _truth_gap(sc):
+    """The held-out gap of the user's model on the log whose current is corrected by the
+    hidden effects' true force: what knowing them exactly would give."""
+    truth = dataclasses.replace(sc.log, i=sc.log.i - sc.hidden_force / sc.force_constant)
+    return Diagnoser().held_out_gap(truth, sc.model, sc.mass, sc.force_constant)
+
+
+def test_the_truth_closes_the_gap_the_diagnosis_is_measured_against(runs):
+    sc, d = runs["pair"]
+    assert Diagnoser().held_out_gap(sc.log, sc.model, sc.mass, sc.force_constant) == d.gap_before_
+    truth = _truth_gap(sc)
+    assert truth <= 0.5 * d.gap_before_
+    assert d.gap_after_ <= 1.5 * truth             # the diagnosis comes close to the truth
+    null, d_null = runs["null"]
+    assert _truth_gap(null) == d_null.gap_before_
+
+
+def test_a_sensor_delay_is_undone_by_its_hidden_force():
+    """The motion is logged late: the current shifted by the delay (what the hidden force
+    amounts to) leaves a smaller held-out gap than the log as it is."""
+    sc = make_scenario(14, ("oov:sensor_delay",), controller="pid", **FIXED)
+    before = Diagnoser().held_out_gap(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert _truth_gap(sc) < 0.8 * before

@@ -114,6 +114,21 @@ def test_each_hidden_effect_changes_the_current(hidden, null_fixed):
     assert sc.conditions["signature_rms"][hidden] > 3 * noise
 
 
+@pytest.mark.parametrize("hidden", [h for h in ALL_HIDDEN if h != "oov:sensor_delay"])
+def test_the_hidden_force_is_what_the_residual_sees(hidden, null_fixed):
+    """``Scenario.hidden_force`` has the sign and about the size of the residual
+    phi i - m dv/dt - F(v) it causes (least-squares gain near 1, smoothed over 10 samples);
+    the sensor delay's is checked through the held-out gap (test_diagnose_scenarios)."""
+    sc = make_scenario(0, (hidden,), **FIXED)
+    assert np.all(null_fixed.hidden_force == 0.0)
+    log, w = sc.log, 10
+    residual = _smooth(sc.force_constant * log.i - sc.mass * np.gradient(_smooth(log.v, w), log.sample_time)
+                       - sc.model.force(log.v), w)[50:-50]
+    hidden_force = _smooth(sc.hidden_force, w)[50:-50]
+    gain = np.dot(residual, hidden_force) / np.dot(hidden_force, hidden_force)
+    assert 0.5 < gain < 2.0
+
+
 def _force_lag(sc, most=15):
     """The shift k (samples) at which phi i(t) best matches m dv/dt + F(v) at t + k, all
     smoothed over 10 samples: how far the logged motion trails the logged current."""

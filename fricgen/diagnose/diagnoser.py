@@ -586,10 +586,9 @@ class Diagnoser:
         ranked = [Candidate(name, cross_validated_mse(q, cls, self.folds)) for name, cls in classes.items()]
         return sorted(ranked, key=lambda c: c.mse)
 
-    # -- the selection
-
-    def fit(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float) -> "Diagnoser":
-        names = self._validate()
+    def _prepare(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float):
+        """The residual problem of the log under the model's own effects, and the held-out gap
+        of the model as it is (``gap_before_``)."""
         mass = positive("mass", mass, DataError)
         force_constant = positive("force constant", force_constant, DataError)
         ts = log.sample_time
@@ -600,6 +599,22 @@ class Diagnoser:
         self.horizon_samples_ = max(1, int(round(self.horizon / ts)))
         self.held_ = moving_segments(p, p.split, self.horizon_samples_)
         self.gap_before_, self.v_sim_before_ = self._gap(p, base)
+        return p, base
+
+    def held_out_gap(self, log: MotionLog, model: FrictionModel, mass: float,
+                     force_constant: float) -> float:
+        """The held-out gap of the model as it is on ``log`` (``gap_before_`` of ``fit``,
+        without the selection): e.g. of a log whose current is corrected by known effects."""
+        self._validate()
+        self._prepare(log, model, mass, force_constant)
+        return self.gap_before_
+
+    # -- the selection
+
+    def fit(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float) -> "Diagnoser":
+        names = self._validate()
+        p, base = self._prepare(log, model, mass, force_constant)
+        ts = log.sample_time
         self._v_sim = self.v_sim_before_
         used = {e.name for e in base}
         chosen: List[Effect] = []

@@ -75,7 +75,8 @@ would make the loop's state depend on rounding boundaries, and stretches would n
 controller, feedforward, trajectory, noise, quantization, magnitude), each hidden effect's
 parameters (``magnitudes``) and its RMS force along the log (``signature_rms``, N; compare
 with ``force_noise`` = phi sigma_i), and the loop's ``tracking_rms`` (m) and
-``current_limit_fraction``.
+``current_limit_fraction``. ``Scenario.hidden_force`` is the hidden effects' force per sample:
+subtracted from phi i, it gives the log the truth would explain (the benchmarks' oracle).
 """
 from __future__ import annotations
 
@@ -131,6 +132,10 @@ class Scenario:
     force_constant: float
     hidden: Tuple[str, ...]
     conditions: Dict = field(default_factory=dict)
+    #: The hidden effects' summed force along the log (N per sample) as the residual
+    #: phi i - m dv/dt - F_p(v) of the logged signals sees it (``_hidden_forces``): the truth a
+    #: diagnosis is measured against (zeros when nothing is hidden).
+    hidden_force: Optional[np.ndarray] = None
 
 
 # ----------------------------------------------------------------------------- plant friction
@@ -378,7 +383,7 @@ def _effect_rng(seed, name):
 
 def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
     """Add effect ``name`` at ``k`` times its reference magnitude (module docstring), with
-    its force signature along a log (``_signature_rms``)."""
+    its force signature along a log (``_hidden_forces``)."""
     fc, vpk = ctx["coulomb"], ctx["v_peak"]
     sign = float(rng.choice([-1.0, 1.0]))
     p: dict
@@ -429,7 +434,7 @@ def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
         dphi = ctx["force_constant"] * (h.phi_factor - 1.0)
 
         def signature(q):
-            return dphi * q["i"]
+            return -dphi * q["i"]          # the nominal phi i is dphi i short of the force
         p = {"force_constant": ctx["force_constant"] * h.phi_factor,
              "nominal_force_constant": ctx["force_constant"]}
     elif name == "extra_friction_source":
@@ -501,10 +506,11 @@ def _add_effect(h: _Hidden, name: str, k: float, rng, ctx: dict) -> None:
         h.delay_wanted = max(0.002, 0.1 * fc / max(ctx["force_rate_rms"], 1e-12)) * k
 
         def signature(q):
-            """What the residual sees: m a + F at the true time minus at the logged one."""
+            """What the residual sees: m a + F of the logged motion at t is phi i(t - d)
+            (the motion is logged d late), so phi i(t) - phi i(t - d)."""
             d = h.delay_samples
-            total = q["mass"] * q["a"] + q["friction"](q["v_smooth"])
-            return np.concatenate([total[d:] - total[:-d], np.zeros(d)])
+            i = np.asarray(q["i"], dtype=float)
+            return q["phi"] * (i - np.concatenate([np.full(d, i[0]), i[:-d]]))
         p = {}
     else:   # pragma: no cover - names are checked before
         raise ValueError(name)
@@ -525,16 +531,16 @@ def _gain_signature(factor):
     return lambda q: q["base"] * (factor(q["v"], q["t"]) - 1.0)
 
 
-def _signature_rms(h: _Hidden, log: MotionLog, friction, mass, phi) -> Dict[str, float]:
-    """Each hidden effect's force along the log (its contribution to phi i - m a - F_p(v),
-    evaluated on the logged signals, a from v smoothed over 10 ms), RMS in newtons."""
+def _hidden_forces(h: _Hidden, log: MotionLog, friction, mass, phi) -> Dict[str, np.ndarray]:
+    """Each hidden effect's force along the log: its contribution to phi i - m a - F_p(v),
+    evaluated on the logged signals (a from v smoothed over 10 ms), in newtons per sample."""
     ts = log.sample_time
     w = max(1, int(round(0.01 / ts)))
     v_smooth = np.convolve(log.v, np.ones(w) / w, mode="same")
     q = {"x": log.x, "v": log.v, "t": log.t, "i": log.i, "a": np.gradient(v_smooth, ts),
          "ts": ts, "base": friction(log.v), "v_smooth": v_smooth, "friction": friction,
          "stribeck": friction.stribeck, "mass": mass, "phi": phi}
-    return {key: float(np.sqrt(np.mean(np.asarray(sig(q)) ** 2)))
+    return {key: np.broadcast_to(np.asarray(sig(q), dtype=float), log.t.shape)
             for key, sig in h.signatures.items()}
 
 
@@ -930,6 +936,7 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     (xm, vm, im), passes, seam = _stitched(loop, seams(np.abs(vd), stretch), warmup,
                                            _resolution(sensors, ctrl, phi))
     log = MotionLog(t=t, x=xm, v=vm, i=im, extra={"x_d": xd})
+    forces = _hidden_forces(h, log, friction, mass, phi)
 
     conditions = _jsonable({
         "seed": int(seed), "rate_hz": rate, "duration_s": duration, "samples": n,
@@ -947,7 +954,7 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
                          "adc_bits": sensors["adc_bits"]},
         "magnitude": float(magnitude),
         "magnitudes": _jsonable(h.parameters),
-        "signature_rms": _signature_rms(h, log, friction, mass, phi),
+        "signature_rms": {k: float(np.sqrt(np.mean(f ** 2))) for k, f in forces.items()},
         "force_noise": phi * sensors["sigma_i"],
         "passes": passes,
         "tracking_rms": float(np.sqrt(np.mean((xd - xm) ** 2))),
@@ -955,7 +962,8 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
         "seam_jump": seam,
     })
     return Scenario(log=log, model=model, mass=mass, force_constant=phi, hidden=hidden,
-                    conditions=conditions)
+                    conditions=conditions,
+                    hidden_force=sum(forces.values(), np.zeros(log.t.size)))
 
 
 def _jsonable(value):
