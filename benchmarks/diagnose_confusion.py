@@ -18,8 +18,9 @@ Prints and checks the targets (false alarms <= 5 % overall and per length; singl
 at least halved in >= 90 %; gap after <= 0.5 x before wherever something was added), beside
 each gap figure the truth's: the gap the user's model leaves when the current is corrected by
 the hidden effects' true force (``Scenario.hidden_force``): what knowing the hidden effects
-exactly would give on that log. Writes ``confusion.png`` (confusion matrix of the singles and nulls) and the reliability table of the
-first step's p-value on null logs (observed fraction with p < alpha against alpha).
+exactly would give on that log (``Scenario.truth_log``). Writes ``confusion.png`` (confusion
+matrix of the singles and nulls) and the reliability table of the first step's p-value on
+null logs (observed fraction with p < alpha against alpha).
 
     python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR] [--per-length N | LENGTH:N,...]
 
@@ -32,7 +33,6 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")          # many small factorizatio
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse
-import dataclasses
 import json
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -90,10 +90,8 @@ def run_case(case):
     d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
     seconds_diagnose = time.time() - made
     c = sc.conditions
-    # the oracle: the log whose current is corrected by the hidden effects' true force, i.e.
-    # the gap the user's model would leave with the true effects, shapes and parameters added
-    truth = dataclasses.replace(sc.log, i=sc.log.i - sc.hidden_force / sc.force_constant)
-    gap_truth = Diagnoser().held_out_gap(truth, sc.model, sc.mass, sc.force_constant)
+    # the oracle: the gap the user's model leaves with the true effects, shapes and parameters
+    gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.mass, sc.force_constant)
     return {"key": key, "kind": kind, "seed": seed, "hidden": list(sc.hidden),
             "rate_hz": c["rate_hz"], "duration_s": c["duration_s"],
             "controller": c["controller"].get("kind", fixed.get("controller", "?")),

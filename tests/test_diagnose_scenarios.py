@@ -1,8 +1,6 @@
 """fricgen diagnose on logs of the independent generator (fricgen.sim.scenarios): nothing named
 on a log with nothing hidden, two effects found in one run, a shape outside the vocabulary
 corrected by a table without a physical name, and the held-out guard."""
-import dataclasses
-
 import numpy as np
 import pytest
 
@@ -121,8 +119,7 @@ def test_after_a_replacement_the_gaps_chain_from_the_log_gap():
 def _truth_gap(sc):
     """The held-out gap of the user's model on the log whose current is corrected by the
     hidden effects' true force: what knowing them exactly would give."""
-    truth = dataclasses.replace(sc.log, i=sc.log.i - sc.hidden_force / sc.force_constant)
-    return Diagnoser().held_out_gap(truth, sc.model, sc.mass, sc.force_constant)
+    return Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.mass, sc.force_constant)
 
 
 def test_the_truth_closes_the_gap_the_diagnosis_is_measured_against(runs):

@@ -76,12 +76,12 @@ controller, feedforward, trajectory, noise, quantization, magnitude), each hidde
 parameters (``magnitudes``) and its RMS force along the log (``signature_rms``, N; compare
 with ``force_noise`` = phi sigma_i), and the loop's ``tracking_rms`` (m) and
 ``current_limit_fraction``. ``Scenario.hidden_force`` is the hidden effects' force per sample:
-subtracted from phi i, it gives the log the truth would explain (the benchmarks' oracle).
+subtracted from phi i, it gives the log the truth would explain (``Scenario.truth_log``).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Dict, Optional, Sequence, Tuple
 
@@ -136,6 +136,11 @@ class Scenario:
     #: phi i - m dv/dt - F_p(v) of the logged signals sees it (``_hidden_forces``): the truth a
     #: diagnosis is measured against (zeros when nothing is hidden).
     hidden_force: Optional[np.ndarray] = None
+
+    def truth_log(self) -> MotionLog:
+        """The log with its current corrected by ``hidden_force``: what the user's model would
+        explain with the hidden effects known exactly (the benchmarks' oracle)."""
+        return replace(self.log, i=self.log.i - self.hidden_force / self.force_constant)
 
 
 # ----------------------------------------------------------------------------- plant friction
