@@ -17,8 +17,8 @@ Prints and checks the targets (false alarms <= 5 % overall and per length; singl
 >= 95 %; pairs exact set >= 90 %; out-of-vocabulary: no named effect that worsens the gap, gap
 at least halved in >= 90 %; gap after <= 0.5 x before wherever something was added), beside
 each gap figure the truth's: the gap the user's model leaves when the current is corrected by
-the hidden effects' true force (``Scenario.hidden_force``): what knowing the hidden effects
-exactly would give on that log (``Scenario.truth_log``). Writes ``confusion.png`` (confusion
+the hidden effects' true force and the simulation uses the true mass (``Scenario.truth_log``,
+``Scenario.true_mass``): what knowing the hidden effects exactly would give on that log. Writes ``confusion.png`` (confusion
 matrix of the singles and nulls) and the reliability table of the first step's p-value on
 null logs (observed fraction with p < alpha against alpha).
 
@@ -91,7 +91,8 @@ def run_case(case):
     seconds_diagnose = time.time() - made
     c = sc.conditions
     # the oracle: the gap the user's model leaves with the true effects, shapes and parameters
-    gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.mass, sc.force_constant)
+    gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.true_mass,
+                                         sc.force_constant)
     return {"key": key, "kind": kind, "seed": seed, "hidden": list(sc.hidden),
             "rate_hz": c["rate_hz"], "duration_s": c["duration_s"],
             "controller": c["controller"].get("kind", fixed.get("controller", "?")),

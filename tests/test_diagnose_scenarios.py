@@ -118,8 +118,8 @@ def test_after_a_replacement_the_gaps_chain_from_the_log_gap():
 
 def _truth_gap(sc):
     """The held-out gap of the user's model on the log whose current is corrected by the
-    hidden effects' true force: what knowing them exactly would give."""
-    return Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.mass, sc.force_constant)
+    hidden effects' true force, simulated with the true mass: what knowing them exactly gives."""
+    return Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.true_mass, sc.force_constant)
 
 
 def test_the_truth_closes_the_gap_the_diagnosis_is_measured_against(runs):

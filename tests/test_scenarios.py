@@ -129,6 +129,19 @@ def test_the_hidden_force_is_what_the_residual_sees(hidden, null_fixed):
     assert 0.5 < gain < 2.0
 
 
+def test_the_truth_carries_a_mass_error_in_the_mass_not_the_current():
+    """A current corrected by (m_true - m) dv/dt of the measured velocity would drive the
+    gap's simulation with the velocity sensor's noise; the truth takes the true mass."""
+    sc = make_scenario(0, ("inertia_mismatch", "constant_load"), **FIXED)
+    assert sc.true_mass == pytest.approx(sc.conditions["magnitudes"]["inertia_mismatch"]["mass"])
+    assert sc.true_mass != sc.mass
+    load = sc.conditions["magnitudes"]["constant_load"]["load"]
+    assert np.allclose(sc.force_constant * (sc.log.i - sc.truth_log().i), load)
+    assert not np.allclose(sc.hidden_force, load)
+    null = make_scenario(0, (), **FIXED)
+    assert null.true_mass == null.mass and np.array_equal(null.truth_log().i, null.log.i)
+
+
 def _force_lag(sc, most=15):
     """The shift k (samples) at which phi i(t) best matches m dv/dt + F(v) at t + k, all
     smoothed over 10 samples: how far the logged motion trails the logged current."""

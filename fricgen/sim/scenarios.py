@@ -75,8 +75,9 @@ would make the loop's state depend on rounding boundaries, and stretches would n
 controller, feedforward, trajectory, noise, quantization, magnitude), each hidden effect's
 parameters (``magnitudes``) and its RMS force along the log (``signature_rms``, N; compare
 with ``force_noise`` = phi sigma_i), and the loop's ``tracking_rms`` (m) and
-``current_limit_fraction``. ``Scenario.hidden_force`` is the hidden effects' force per sample:
-subtracted from phi i, it gives the log the truth would explain (``Scenario.truth_log``).
+``current_limit_fraction``. ``Scenario.hidden_force`` is the hidden effects' force per sample.
+The truth a diagnosis is measured against is the user's model on ``Scenario.truth_log()`` (the
+current corrected by the hidden forces but a mass error's) with ``Scenario.true_mass``.
 """
 from __future__ import annotations
 
@@ -133,14 +134,19 @@ class Scenario:
     hidden: Tuple[str, ...]
     conditions: Dict = field(default_factory=dict)
     #: The hidden effects' summed force along the log (N per sample) as the residual
-    #: phi i - m dv/dt - F_p(v) of the logged signals sees it (``_hidden_forces``): the truth a
-    #: diagnosis is measured against (zeros when nothing is hidden).
+    #: phi i - m dv/dt - F_p(v) of the logged signals sees it (``_hidden_forces``; zeros when
+    #: nothing is hidden).
     hidden_force: Optional[np.ndarray] = None
+    #: The plant's mass (``mass`` unless an inertia mismatch is hidden).
+    true_mass: Optional[float] = None
+    #: The part of ``hidden_force`` that is not a mass error's (m_true - m) dv/dt.
+    force_but_mass: Optional[np.ndarray] = None
 
     def truth_log(self) -> MotionLog:
-        """The log with its current corrected by ``hidden_force``: what the user's model would
-        explain with the hidden effects known exactly (the benchmarks' oracle)."""
-        return replace(self.log, i=self.log.i - self.hidden_force / self.force_constant)
+        """The log with its current corrected by the hidden effects' force except a mass
+        error's, which ``true_mass`` carries: a correction m dv/dt from the measured velocity
+        would feed the velocity sensor's noise into the current the simulation is driven by."""
+        return replace(self.log, i=self.log.i - self.force_but_mass / self.force_constant)
 
 
 # ----------------------------------------------------------------------------- plant friction
@@ -968,7 +974,10 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     })
     return Scenario(log=log, model=model, mass=mass, force_constant=phi, hidden=hidden,
                     conditions=conditions,
-                    hidden_force=sum(forces.values(), np.zeros(log.t.size)))
+                    hidden_force=sum(forces.values(), np.zeros(log.t.size)),
+                    true_mass=law.mass,
+                    force_but_mass=sum((f for k, f in forces.items() if k != "inertia_mismatch"),
+                                       np.zeros(log.t.size)))
 
 
 def _jsonable(value):
