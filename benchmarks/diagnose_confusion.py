@@ -10,6 +10,8 @@ length unless fixed:
   and noise scales 0.5, 1, 2; lengths drawn in 5-120 s;
 - lengths: nothing hidden, at 14, 60, 300 and 1200 s (rate and the rest drawn);
 - singles: each named effect at its reference magnitude;
+- power: the singles' logs again with the effect at other multiples of its reference
+  magnitude (``--magnitudes``; 0.5 and 2 by default), for how detection grows with size;
 - pairs: two different named effects at once;
 - oov: each out-of-vocabulary shape.
 
@@ -22,7 +24,8 @@ the hidden effects' true force and the simulation uses the true mass (``Scenario
 matrix of the singles and nulls) and the reliability table of the first step's p-value on
 null logs (observed fraction with p < alpha against alpha).
 
-    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR] [--per-length N | LENGTH:N,...]
+    python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR]
+        [--per-length N | LENGTH:N,...] [--magnitudes K,...]
 
 Results are appended to DIR/records.jsonl as each log finishes; a run that stops is resumed
 by running the same command again (finished cases are not repeated).
@@ -54,9 +57,10 @@ SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "as
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 
 
-def cases(small: bool, per_length=None):
+def cases(small: bool, per_length=None, magnitudes=()):
     """(key, kind, seed, hidden, fixed conditions) of every log of the run; ``per_length`` maps
-    a length to its number of null logs (missing: 2 in a small run, 6 in a full one)."""
+    a length to its number of null logs (missing: 2 in a small run, 6 in a full one);
+    ``magnitudes`` the multiples of the reference magnitude the singles are run at again."""
     n_null, default_per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
     per_length = per_length or {}
     named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (8, 30, 4)
@@ -72,6 +76,9 @@ def cases(small: bool, per_length=None):
     for s in range(named_seeds):
         for j, e in enumerate(NAMED):
             out.append((f"single-{e}-{s}", "single", 3000 + 10 * s + j, (e,), {}))
+            for k in magnitudes:        # the same log with the effect k times as large
+                out.append((f"power{k:g}-{e}-{s}", "power", 3000 + 10 * s + j, (e,),
+                            {"magnitude": k}))
     rng = np.random.default_rng(7)
     for k in range(n_pairs):
         a, b = rng.choice(len(NAMED), 2, replace=False)
@@ -97,6 +104,7 @@ def run_case(case):
             "rate_hz": c["rate_hz"], "duration_s": c["duration_s"],
             "controller": c["controller"].get("kind", fixed.get("controller", "?")),
             "noise": c["noise"]["scale"], "trajectory": c["trajectory"]["kind"],
+            "magnitude": c["magnitude"],
             "effects": [s.effect for s in d.effects_],
             "steps": [{"effect": s.effect, "p_value": s.p_value, "size": s.size, "share": s.share,
                        "gap_before": s.gap_before,
@@ -177,6 +185,20 @@ def report(records, out: Path, small: bool):
             wrong = [str(r["effects"]) for r in rows if named_set(r) != [e]]
             say(f"    {e:>24s}: {sum(named_set(r) == [e] for r in rows)}/{len(rows)}"
                 + (f"   got {'; '.join(wrong)}" if wrong else ""))
+    power = by.get("power", [])
+    if power:
+        ks = sorted({r["magnitude"] for r in power} | {1.0})
+        say("\ndetection against size: singles found exactly, at k times the reference magnitude "
+            "(in brackets: logs where the truth halves the gap)")
+        say(f"{'':>24s} " + " ".join(f"{f'{k:g} x':>11s}" for k in ks))
+        for e in NAMED:
+            cells = []
+            for k in ks:
+                rows = [r for r in singles + power if r["hidden"] == [e]
+                        and r.get("magnitude", 1.0) == k]
+                cells.append(f"{sum(named_set(r) == [e] for r in rows)}/{len(rows)} "
+                             f"({sum(halves(r, 'gap_truth') for r in rows)})")
+            say(f"{e:>24s} " + " ".join(f"{c:>11s}" for c in cells))
     pairs = by.get("pair", [])
     if pairs:
         f, kk, nn = rate(named_set(r) == sorted(r["hidden"]) for r in pairs)
@@ -200,7 +222,7 @@ def report(records, out: Path, small: bool):
             say(f"{r['hidden'][0][4:]:>22s} {','.join(r['effects']) or 'none':>40s} "
                 f"{r['gap_before']:11.3e} {r['gap_after']:10.3e} {r['gap_after'] / r['gap_before']:6.2f} "
                 f"{r['gap_truth'] / r['gap_before']:6.2f}")
-    added = [r for r in records if r["effects"]]
+    added = [r for r in records if r["effects"] and r["kind"] != "power"]
     bad = [r for r in added if not halves(r, "gap_after")]
     say(f"\nheld-out gap after <= 0.5 x before wherever something was added: {len(added) - len(bad)}/"
         f"{len(added)}   {verdict(not bad)}; the truth reaches it on "
@@ -274,6 +296,19 @@ def per_length_counts(text: str) -> dict:
     return counts
 
 
+def magnitude_list(text: str) -> tuple:
+    """``K,...`` (positive multiples other than 1) or ``none`` as a tuple."""
+    if text.strip() == "none":
+        return ()
+    try:
+        ks = tuple(float(part) for part in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected K,... or none, got {text!r}")
+    if not all(np.isfinite(k) and k > 0 and k != 1.0 for k in ks):
+        raise argparse.ArgumentTypeError(f"multiples must be positive and not 1, got {text!r}")
+    return ks
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="a quick run: 15 nulls, 14 s and 60 s "
@@ -281,6 +316,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
     ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")
+    ap.add_argument("--magnitudes", type=magnitude_list, default=None,
+                    help="multiples of the reference magnitude the singles are run at again, "
+                    "K,... (default 0.5,2; none with --small); 'none' for none")
     ap.add_argument("--per-length", type=per_length_counts, default={},
                     help="null logs at each length of " + ", ".join(f"{x:g}" for x in LENGTHS)
                     + " s: N for all, or LENGTH:N,... (default 6; 2 with --small)")
@@ -288,7 +326,8 @@ def main():
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "records.jsonl"
-    todo = cases(args.small, args.per_length)
+    magnitudes = args.magnitudes if args.magnitudes is not None else (() if args.small else (0.5, 2.0))
+    todo = cases(args.small, args.per_length, magnitudes)
     keys = {c[0] for c in todo}
     done = {}
     if path.exists():
