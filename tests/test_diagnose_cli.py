@@ -106,6 +106,8 @@ def _bad_inputs():
     yield "current of the wrong sign", i_negated, ARGS, "sign of the current or of the force constant"
     yield "x and v in mm", in_mm, ARGS, "check the force constant, the mass, the units"
     yield "force constant 1000 x off", None, ["--mass", "4", "--force-constant", "20000"], "beyond the factor 5"
+    yield "mass in tonnes", None, ["--mass", "0.004", "--force-constant", "20"], "check the mass, its unit"
+    yield "mass in grams", None, ["--mass", "4000", "--force-constant", "20"], "check the force constant, the mass"
     yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass: must be"
     yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant: must be"
     yield "text mass", None, ["--mass", "heavy", "--force-constant", "20"], "--mass: must be"

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from fricgen.diagnose.decision import held_out_p_value
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, ResidualProblem, diagnose
 from fricgen.effects import EFFECTS, TABLES
+from fricgen.errors import DataError
 from fricgen.sim.scenarios import make_scenario
 
 FIXED = {"rate_hz": 500.0, "duration_s": 15.0}
@@ -138,3 +139,18 @@ def test_a_sensor_delay_is_undone_by_its_hidden_force():
     sc = make_scenario(14, ("oov:sensor_delay",), controller="pid", **FIXED)
     before = Diagnoser().held_out_gap(sc.log, sc.model, sc.mass, sc.force_constant)
     assert _truth_gap(sc) < 0.8 * before
+
+
+
+@pytest.mark.parametrize("factor, refused", [(1e-3, True), (0.05, True), (0.25, False), (4.0, False)])
+def test_a_mass_far_off_is_refused_before_the_diagnosis(factor, refused):
+    """Friction can hide a mass 20 or 1000 times too small from the check of phi i against
+    m dv/dt + F(v) as a whole; the accelerations alone cannot. A mass 4 times off is an
+    inertia mismatch for the diagnosis to name, not a wrong input."""
+    sc = make_scenario(3, (), controller="pid", **FIXED)
+    mass = sc.mass * factor
+    if refused:
+        with pytest.raises(DataError, match="as if the mass were"):
+            ResidualProblem(sc.log, sc.model, mass, sc.force_constant, 11, 0.3)
+    else:
+        assert ResidualProblem(sc.log, sc.model, mass, sc.force_constant, 11, 0.3).mass == mass

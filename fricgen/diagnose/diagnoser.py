@@ -111,6 +111,19 @@ class ResidualProblem:
             raise DataError(f"phi i is {slope:.3g} x m dv/dt + F(v) where the axis moves, beyond the "
                             f"factor {PLAUSIBLE_FACTOR:g}: check the force constant, the mass, the "
                             "units of i, x, v and that the model is this axis'")
+        # the mass on its own (friction can hide a mass far off): phi i = k m dv/dt + b F(v) + c
+        inertia = self.at_rows(self.mass * sig.a, every)
+        X = np.column_stack([inertia, self.at_rows(sig.friction, every), np.ones(every.size)])
+        coef, *_ = np.linalg.lstsq(X, motor_force, rcond=None)
+        resid = motor_force - X @ coef
+        n = every.size          # rows one window apart are independent (n_effective)
+        n_eff = max(n * min(self.decimation, self.window) / self.window, 4.0)
+        cov = np.linalg.pinv(X.T @ X) * float(resid @ resid) / max(n - 3, 1) * n / n_eff
+        k, se = float(coef[0]), math.sqrt(max(cov[0, 0], 0.0))
+        if k - 3.0 * se > MASS_OFF or k + 3.0 * se < 1.0 / MASS_OFF:
+            raise DataError(f"the log accelerates as if the mass were {k:.3g} x the mass given "
+                            f"({k * self.mass:.3g} kg against {self.mass:.3g} kg), beyond the factor "
+                            f"{MASS_OFF:g}: check the mass, its unit and the force constant")
 
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
         """A shallow copy whose residual ``target`` (at the rows) is ``target``."""
@@ -347,6 +360,9 @@ BACKFIT_SWEEPS = 3
 BEAM = 3
 #: Named sets tried per step (best first by the joint criterion).
 MAX_TRIES = 4
+#: A mass this many times off the one the log's accelerations ask for is a wrong input (a unit),
+#: refused before the diagnosis; up to ``PLAUSIBLE_FACTOR`` it is an inertia mismatch.
+MASS_OFF = 10.0
 #: Largest --max-effects.
 MAX_EFFECTS = 8
 
