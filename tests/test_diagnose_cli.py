@@ -150,3 +150,22 @@ def test_extra_columns_are_kept_when_numeric_and_left_out_when_text(files, tmp_p
     read = read_log_csv(path)
     np.testing.assert_array_equal(read.i, log.i)
     assert read.extra["x_d"][2] == 2e-3 and "note" not in read.extra
+
+
+def test_a_log_beyond_a_tables_range_gets_a_note(files, tmp_path, capsys):
+    """A table fitted on one stretch of travel holds its end values beyond it; a log that goes
+    further is diagnosed, with a note on stderr that says how much of it lies outside."""
+    folder, log = files
+    lo, hi = np.quantile(log.x, [0.25, 0.75])
+    d = json.loads((folder / "model.json").read_text())
+    d["effects"] = [{"effect": "table_position",
+                     "parameters": {"lo": float(lo), "hi": float(hi), "values": [0.0] * 8}}]
+    model = tmp_path / "with_table.json"
+    model.write_text(json.dumps(d))
+    code = main(["diagnose", str(folder / "log.csv"), "--model", str(model), *ARGS,
+                 "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 0
+    notes = [line for line in err.splitlines() if line.startswith("fricgen: note: ")]
+    assert len(notes) == 1 and "outside table_position's range" in notes[0], err
+    assert 45 <= int(notes[0].split("fricgen: note: ")[1].split("%")[0]) <= 55

@@ -8,6 +8,7 @@ from .._io import check_folder
 from ..data import read_log_csv
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files
+from ..effects import model_effects, range_notes
 from ..model import FrictionModel
 from .common import (add_json, add_model, add_output, check_targets, number, out, say,
                      write_folder)
@@ -36,6 +37,8 @@ def run(args) -> int:
     d = Diagnoser(max_effects=args.max_effects).fit(log, model, args.mass, args.force_constant)
     files = render_files(d, log, Path(args.log).name)
     check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
+    for note in range_notes(model_effects(model), {"x": log.x, "v": log.v, "t": log.t}):
+        say("fricgen: note: " + note)
     if args.json:
         out(json.dumps(d.summary()))
     else:

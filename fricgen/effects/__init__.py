@@ -8,9 +8,9 @@ from .library import (EFFECTS, PLAUSIBLE_FACTOR, VOCABULARY, ConstantLoad, Direc
                       PositionRipple, ThermalDrift, effect_from_dict, force_xv, model_effects,
                       validate_effects, with_effects)
 from .signals import FrictionCurve, Signals
-from .tables import TABLES, TableEffect
+from .tables import TABLES, TableEffect, range_notes
 
 __all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
-           "model_effects", "validate_effects", "with_effects", "TABLES", "TableEffect"]
+           "model_effects", "validate_effects", "with_effects", "TABLES", "TableEffect", "range_notes"]

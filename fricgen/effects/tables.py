@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar, Dict, Tuple
+from typing import Any, ClassVar, Dict, List, Tuple
 
 import numpy as np
 
@@ -216,6 +216,20 @@ class TableTime(TableEffect):
     name: ClassVar[str] = "table_time"
     signal: ClassVar[str] = "t"
     acts_at_rest: ClassVar[bool] = True
+
+
+def range_notes(effects, signals) -> List[str]:
+    """One line per table whose signal (``signals``: name -> samples, e.g. a log's x, v, t)
+    leaves the table's range on more than 1 % of the samples: there it holds its end values."""
+    notes = []
+    for e in effects:
+        if isinstance(e, TableEffect) and e.signal in signals:
+            u = np.asarray(signals[e.signal], dtype=float)
+            out = float(np.mean((u < e.lo) | (u > e.hi))) if u.size else 0.0
+            if out > 0.01:
+                notes.append(f"{out:.0%} of the log's {e.signal} lies outside {e.name}'s range "
+                             f"[{e.lo:.4g}, {e.hi:.4g}], where the table holds its end values")
+    return notes
 
 
 #: The tables, by name.
