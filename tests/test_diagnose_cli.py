@@ -7,7 +7,10 @@ import pytest
 
 from fricgen.cli import main
 from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
-from fricgen.data.motionlog import log_csv_text, read_log_csv
+from fricgen.data.motionlog import MotionLog, log_csv_text, read_log_csv
+from fricgen.diagnose.diagnoser import Diagnoser
+from fricgen.errors import DataError
+from fricgen.model import FrictionModel
 
 ARGS = ["--mass", "4", "--force-constant", "20"]
 
@@ -107,6 +110,7 @@ def _bad_inputs():
     yield "x and v in mm", in_mm, ARGS, "check the force constant, the mass, the units"
     yield "force constant 1000 x off", None, ["--mass", "4", "--force-constant", "20000"], "beyond the factor 5"
     yield "mass in tonnes", None, ["--mass", "0.004", "--force-constant", "20"], "check the mass, its unit"
+    yield "mass and phi both 1000 x", None, ["--mass", "4000", "--force-constant", "20000"], "x the model's friction"
     yield "mass in grams", None, ["--mass", "4000", "--force-constant", "20"], "check the force constant, the mass"
     yield "zero mass", None, ["--mass", "0", "--force-constant", "20"], "--mass: must be"
     yield "negative phi", None, ["--mass", "4", "--force-constant", "-2"], "--force-constant: must be"
@@ -169,3 +173,52 @@ def test_a_log_beyond_a_tables_range_gets_a_note(files, tmp_path, capsys):
     notes = [line for line in err.splitlines() if line.startswith("fricgen: note: ")]
     assert len(notes) == 1 and "outside table_position's range" in notes[0], err
     assert 45 <= int(notes[0].split("fricgen: note: ")[1].split("%")[0]) <= 55
+
+
+@pytest.mark.parametrize("rate, decimals, accepted", [(300.0, 3, True), (700.0, 4, True),
+                                                      (300.0, 2, False)])
+def test_time_written_with_few_decimals_is_read_as_the_grid_it_was_rounded_from(
+        tmp_path, rate, decimals, accepted):
+    """A uniform log whose time column was written to milliseconds (steps of 3 and 4 ms at
+    300 Hz) is the uniform grid; rounded coarser than a tenth of a step, it is not."""
+    n = 1500
+    t = 1000.0 + np.arange(n) / rate
+    lines = ["t,x,v,i"] + [f"{tk:.{decimals}f},{0.3 * k / rate!r},0.3,1.0" for k, tk in enumerate(t)]
+    path = tmp_path / "rounded.csv"
+    path.write_text("\n".join(lines) + "\n")
+    if accepted:
+        assert read_log_csv(path).sample_time == pytest.approx(1.0 / rate, rel=1e-6)
+    else:
+        with pytest.raises(DataError, match="not uniformly sampled|must increase"):
+            read_log_csv(path)
+
+
+def _with_effect(model_path, effect, parameters):
+    d = json.loads(model_path.read_text())
+    d["effects"] = [{"effect": effect, "parameters": parameters}]
+    return FrictionModel.from_dict(d)
+
+
+def test_a_carried_mass_or_force_constant_is_the_axis_whatever_is_given_now(files):
+    """model.json from a run with the wrong --mass carries the true mass; diagnosing with the
+    corrected --mass (or the old one) sees the same axis, not the correction applied twice."""
+    folder, log = files
+    plain = FrictionModel.load(folder / "model.json")
+    gap = Diagnoser().held_out_gap(log, plain, 4.0, 20.0)
+    carried = _with_effect(folder / "model.json", "inertia_mismatch", {"mass": 4.0, "nominal_mass": 12.0})
+    for mass in (4.0, 12.0):
+        assert Diagnoser().held_out_gap(log, carried, mass, 20.0) == pytest.approx(gap, rel=1e-9)
+    phi = _with_effect(folder / "model.json", "force_constant_mismatch",
+                       {"force_constant": 20.0, "nominal_force_constant": 60.0})
+    assert Diagnoser().held_out_gap(log, phi, 4.0, 20.0) == pytest.approx(gap, rel=1e-9)
+
+
+def test_a_carried_drift_starts_with_the_log(files):
+    """A drift is measured from the model's level at the start of each log, so a log whose
+    clock starts at 1000 s gets the gap of the same log starting at 0."""
+    folder, log = files
+    drift = _with_effect(folder / "model.json", "thermal_drift",
+                         {"rate": 0.02, "offset": 0.0, "t0": 0.0, "time_constant": 0.0})
+    late = MotionLog(t=log.t + 1000.0, x=log.x, v=log.v, i=log.i)
+    gap = Diagnoser().held_out_gap(log, drift, 4.0, 20.0)
+    assert Diagnoser().held_out_gap(late, drift, 4.0, 20.0) == pytest.approx(gap, rel=1e-6)

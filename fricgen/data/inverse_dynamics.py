@@ -18,7 +18,7 @@ from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..errors import DataError
-from .motionlog import MIN_SAMPLES, uniform_sample_time
+from .motionlog import MIN_SAMPLES, uniform_sample_time, uniform_time
 from .sweep import MIN_ROWS, Sweep
 
 #: Degree of the Savitzky-Golay polynomial (cubic: its derivative equals the quadratic's).
@@ -127,7 +127,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
         raise DataError(f"log has {t.size} samples, need at least {MIN_SAMPLES}")
     if not (np.isfinite(mass) and mass > 0):
         raise DataError(f"mass must be > 0, got {mass}")
-    ts = uniform_sample_time(t)
+    ts = uniform_sample_time(uniform_time(t))
     if v is None:
         v = np.gradient(x, ts)
     if not np.any(v):

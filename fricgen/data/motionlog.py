@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, Union
+from typing import Dict, Optional, Union
 
 import numpy as np
 
@@ -28,6 +28,19 @@ UNITS_TOLERANCE = (0.5, 2.0)
 UNRELATED_BELOW = 0.3
 
 
+def uniform_time(t: np.ndarray) -> np.ndarray:
+    """``t``, or the uniform grid it was rounded from when it was written with a fixed number
+    of decimals (``_rounded_grid``); ``DataError`` as ``uniform_sample_time``."""
+    try:
+        uniform_sample_time(t)
+        return t
+    except DataError:
+        grid = _rounded_grid(t)
+        if grid is None:
+            raise
+        return grid
+
+
 def uniform_sample_time(t: np.ndarray) -> float:
     """The median sampling interval of the time column ``t``; ``DataError`` unless t increases
     and every step lies within UNIFORM_TOLERANCE of it."""
@@ -41,6 +54,26 @@ def uniform_sample_time(t: np.ndarray) -> float:
         raise DataError(f"log is not uniformly sampled: step {k} is {dt[k]:.6g} s, "
                         f"median step is {ts:.6g} s")
     return ts
+
+
+def _rounded_grid(t: np.ndarray) -> Optional[np.ndarray]:
+    """The uniform grid ``t`` was rounded from (written with a fixed number of
+    decimals, e.g. milliseconds at 300 Hz), or None: every sample written to that unit and
+    within 0.75 of a unit of the least-squares line through the samples (rounding leaves half
+    a unit), the unit at most half a step."""
+    k = np.arange(t.size)
+    step, start = np.polyfit(k, t - t[0], 1)
+    grid = t[0] + start + step * k
+    scale = max(abs(float(t[0])), abs(float(t[-1])), 1.0)
+    for decimals in range(10):
+        unit = 10.0 ** -decimals
+        if unit > 0.5 * step:
+            continue
+        off = np.abs(t / unit - np.round(t / unit))
+        rounding = 8.0 * np.finfo(float).eps * scale
+        if float(np.max(off)) <= rounding / unit + 1e-9:        # t is written to this unit
+            return grid if float(np.max(np.abs(t - grid))) <= 0.75 * unit + rounding else None
+    return None
 
 
 @dataclass(frozen=True)
@@ -65,7 +98,8 @@ class MotionLog:
             object.__setattr__(self, k, a)
         if n < MIN_SAMPLES:
             raise DataError(f"log has {n} samples, need at least {MIN_SAMPLES}")
-        self._check_units(uniform_sample_time(arrays["t"]))
+        object.__setattr__(self, "t", uniform_time(self.t))
+        self._check_units(uniform_sample_time(self.t))
 
     def _check_units(self, ts: float) -> None:
         """x, v and t must agree: the least-squares ratio of dx/dt to v lies within

@@ -82,9 +82,11 @@ class ResidualProblem:
         self.fit_rows = np.flatnonzero(self.rows < self.split)
         self.test_rows = np.flatnonzero(self.rows >= self.split)
         if self.fit_rows.size < MIN_ROWS or self.test_rows.size < MIN_ROWS // 3:
-            raise DataError(f"log has too few moving samples ({self.rows.size * self.decimation} "
-                            f"with |v| > {self.v_min:.3g} m/s away from reversals); need a log "
-                            "that moves for most of its length")
+            d = self.decimation
+            raise DataError(f"log has too few moving samples (|v| > {self.v_min:.3g} m/s away from "
+                            f"reversals): {self.fit_rows.size * d} in the first {1 - holdout:.0%} and "
+                            f"{self.test_rows.size * d} in the rest, need {MIN_ROWS * d} and "
+                            f"{MIN_ROWS // 3 * d}: a longer log, or one that moves more")
         self.target = self.at_rows(self.raw[:, None], np.arange(self.rows.size))[:, 0]
         self._check_scale()
         self.v_smooth, self.x_smooth = v_s, savgol_filter(log.x, window, 2)
@@ -96,7 +98,8 @@ class ResidualProblem:
     def _check_scale(self) -> None:
         """Refuse inputs whose units or signs cannot be right: on the moving rows, phi i must
         follow m dv/dt + F(v) (plus a constant) with a slope of the same sign and within
-        ``PLAUSIBLE_FACTOR`` of 1, else no effect of the vocabulary is what is missing."""
+        ``PLAUSIBLE_FACTOR`` of 1, else no effect of the vocabulary is what is missing; and
+        regressed on m dv/dt and F(v) apart, neither slope may be ``PART_OFF`` away from 1."""
         every = np.arange(self.rows.size)
         sig = self.signals
         model_force = self.at_rows(self.mass * sig.a + sig.friction, every)
@@ -107,23 +110,34 @@ class ResidualProblem:
         if slope <= 0:
             raise DataError("phi i works against m dv/dt + F(v) where the axis moves (slope "
                             f"{slope:.3g}): is the sign of the current or of the force constant inverted?")
-        if not 1.0 / PLAUSIBLE_FACTOR <= slope <= PLAUSIBLE_FACTOR:
-            raise DataError(f"phi i is {slope:.3g} x m dv/dt + F(v) where the axis moves, beyond the "
-                            f"factor {PLAUSIBLE_FACTOR:g}: check the force constant, the mass, the "
-                            "units of i, x, v and that the model is this axis'")
-        # the mass on its own (friction can hide a mass far off): phi i = k m dv/dt + b F(v) + c
-        inertia = self.at_rows(self.mass * sig.a, every)
-        X = np.column_stack([inertia, self.at_rows(sig.friction, every), np.ones(every.size)])
+        # the parts on their own (friction can hide a mass far off, and a mass and a force
+        # constant both off by the same factor leave phi i = m dv/dt + F(v) a factor off in F):
+        # phi i = k m dv/dt + b F(v) + c
+        X = np.column_stack([self.at_rows(self.mass * sig.a, every),
+                             self.at_rows(sig.friction, every), np.ones(every.size)])
         coef, *_ = np.linalg.lstsq(X, motor_force, rcond=None)
         resid = motor_force - X @ coef
         n = every.size          # rows one window apart are independent (n_effective)
         n_eff = max(n * min(self.decimation, self.window) / self.window, 4.0)
         cov = np.linalg.pinv(X.T @ X) * float(resid @ resid) / max(n - 3, 1) * n / n_eff
-        k, se = float(coef[0]), math.sqrt(max(cov[0, 0], 0.0))
-        if k - 3.0 * se > MASS_OFF or k + 3.0 * se < 1.0 / MASS_OFF:
+        (k, b), (se_k, se_b) = coef[:2], np.sqrt(np.maximum(np.diag(cov)[:2], 0.0))
+
+        def far_off(value, se):
+            return value - 3.0 * se > PART_OFF or value + 3.0 * se < 1.0 / PART_OFF
+        implied = (f"its accelerations ask for {k * self.mass:.3g} kg against the {self.mass:.3g} kg "
+                   "given")
+        if not 1.0 / PLAUSIBLE_FACTOR <= slope <= PLAUSIBLE_FACTOR:
+            raise DataError(f"phi i is {slope:.3g} x m dv/dt + F(v) where the axis moves, beyond the "
+                            f"factor {PLAUSIBLE_FACTOR:g} ({implied}): check the force constant, the "
+                            "mass, the units of i, x, v and that the model is this axis'")
+        if far_off(k, se_k):
             raise DataError(f"the log accelerates as if the mass were {k:.3g} x the mass given "
-                            f"({k * self.mass:.3g} kg against {self.mass:.3g} kg), beyond the factor "
-                            f"{MASS_OFF:g}: check the mass, its unit and the force constant")
+                            f"({implied}), beyond the factor {PART_OFF:g}: check the mass, its unit "
+                            "and the force constant")
+        if far_off(b, se_b):
+            raise DataError(f"phi i holds {b:.3g} x the model's friction where the axis moves, beyond "
+                            f"the factor {PART_OFF:g}: check the force constant and the mass (both "
+                            "off by the same factor?) and that the model is this axis'")
 
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
         """A shallow copy whose residual ``target`` (at the rows) is ``target``."""
@@ -360,9 +374,10 @@ BACKFIT_SWEEPS = 3
 BEAM = 3
 #: Named sets tried per step (best first by the joint criterion).
 MAX_TRIES = 4
-#: A mass this many times off the one the log's accelerations ask for is a wrong input (a unit),
-#: refused before the diagnosis; up to ``PLAUSIBLE_FACTOR`` it is an inertia mismatch.
-MASS_OFF = 10.0
+#: A mass this many times off the one the log's accelerations ask for, or friction this many
+#: times the model's, is a wrong input (a unit), refused before the diagnosis; up to
+#: ``PLAUSIBLE_FACTOR`` it is an inertia mismatch, a force-constant mismatch or an extra source.
+PART_OFF = 10.0
 #: Largest --max-effects.
 MAX_EFFECTS = 8
 
@@ -609,7 +624,9 @@ class Diagnoser:
         force_constant = positive("force constant", force_constant, DataError)
         ts = log.sample_time
         w = max(5, int(round(self.window / ts)) | 1)
-        base = model_effects(model)
+        # the model's own effects as they apply to this log: a carried mass or force constant
+        # is the axis' own, a drift starts with the log
+        base = [e.for_log(mass, force_constant, float(log.t[0])) for e in model_effects(model)]
         p = ResidualProblem(log, model, mass, force_constant, w, self.holdout, base)
         self.problem_ = p
         self.horizon_samples_ = max(1, int(round(self.horizon / ts)))

@@ -123,6 +123,11 @@ class Effect:
         """The effect whose linear parameters (``linear``) are ``coef``."""
         return self
 
+    def for_log(self, mass: float, force_constant: float, t_start: float) -> "Effect":
+        """The effect carried in a model, applied to a log that starts at ``t_start`` for an
+        axis given as ``mass`` and ``force_constant``: as it is by default."""
+        return self
+
     def variants(self) -> Tuple["Effect", ...]:
         """The effect and the other discrete choices of its form a joint linear solve should
         also try (``linear`` of each): the effect alone by default."""
@@ -345,6 +350,10 @@ class InertiaMismatch(Effect):
     def mass_delta(self):
         return self.mass - self.nominal_mass
 
+    def for_log(self, mass, force_constant, t_start):
+        """The carried mass is the axis' mass, whatever mass is given now."""
+        return replace(self, nominal_mass=float(mass))
+
     def implausible(self):
         return _ratio_implausible("mass", self.mass, self.nominal_mass)
 
@@ -377,6 +386,10 @@ class ForceConstantMismatch(Effect):
     @property
     def force_constant_delta(self):
         return self.force_constant - self.nominal_force_constant
+
+    def for_log(self, mass, force_constant, t_start):
+        """The carried force constant is the axis', whatever force constant is given now."""
+        return replace(self, nominal_force_constant=float(force_constant))
 
     def implausible(self):
         return _ratio_implausible("force constant", self.force_constant, self.nominal_force_constant)
@@ -518,6 +531,10 @@ class ThermalDrift(Effect):
     name: ClassVar[str] = "thermal_drift"
     fixed: ClassVar[Tuple[str, ...]] = ("t0", "offset")
     non_negative: ClassVar[Tuple[str, ...]] = ("time_constant",)
+
+    def for_log(self, mass, force_constant, t_start):
+        """The drift starts anew with each log (from the model's level at its start)."""
+        return replace(self, t0=float(t_start))
 
     @staticmethod
     def _shape(s, time_constant):
