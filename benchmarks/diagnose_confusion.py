@@ -341,7 +341,11 @@ def main():
         with ProcessPoolExecutor(args.jobs) as pool, path.open("a") as f:
             futures = {pool.submit(run_case, c): c for c in pending}
             for fut in as_completed(futures):
-                r = fut.result()
+                try:
+                    r = fut.result()
+                except BaseException:           # stop at once, not after every pending log
+                    pool.shutdown(wait=False, cancel_futures=True)
+                    raise
                 f.write(json.dumps(r) + "\n")
                 f.flush()
                 done[r["key"]] = r
