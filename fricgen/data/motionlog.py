@@ -64,13 +64,12 @@ def _rounded_grid(t: np.ndarray) -> Optional[np.ndarray]:
     k = np.arange(t.size)
     step, start = np.polyfit(k, t - t[0], 1)
     grid = t[0] + start + step * k
-    scale = max(abs(float(t[0])), abs(float(t[-1])), 1.0)
+    rounding = 8.0 * np.finfo(float).eps * max(abs(float(t[0])), abs(float(t[-1])), 1.0)
     for decimals in range(10):
         unit = 10.0 ** -decimals
         if unit > 0.5 * step:
             continue
         off = np.abs(t / unit - np.round(t / unit))
-        rounding = 8.0 * np.finfo(float).eps * scale
         if float(np.max(off)) <= rounding / unit + 1e-9:        # t is written to this unit
             return grid if float(np.max(np.abs(t - grid))) <= 0.75 * unit + rounding else None
     return None

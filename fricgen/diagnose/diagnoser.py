@@ -118,8 +118,8 @@ class ResidualProblem:
                              self.at_rows(sig.friction, every), np.ones(every.size)])
         coef, *_ = np.linalg.lstsq(X, motor_force, rcond=None)
         resid = motor_force - X @ coef
-        n = every.size          # rows one window apart are independent (n_effective)
-        n_eff = max(n * min(self.decimation, self.window) / self.window, 4.0)
+        n = every.size
+        n_eff = max(self._independent(n), 4.0)
         cov = np.linalg.pinv(X.T @ X) * float(resid @ resid) / max(n - 3, 1) * n / n_eff
         (k, b), (se_k, se_b) = coef[:2], np.sqrt(np.maximum(np.diag(cov)[:2], 0.0))
 
@@ -148,10 +148,14 @@ class ResidualProblem:
         other.target = target
         return other
 
+    def _independent(self, rows: int) -> float:
+        """Independent samples among ``rows`` decimated rows (one per smoothing window)."""
+        return rows * min(self.decimation, self.window) / self.window
+
     @property
     def n_effective(self) -> float:
-        """Independent samples among the fit rows (one per smoothing window)."""
-        return self.fit_rows.size * min(self.decimation, self.window) / self.window
+        """Independent samples among the fit rows."""
+        return self._independent(self.fit_rows.size)
 
     def raw_residual(self, effects: Sequence[Effect]) -> np.ndarray:
         """phi i - m a - F(v) - sum of the effects' forces, per sample (unsmoothed)."""
