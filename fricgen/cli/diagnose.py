@@ -37,7 +37,7 @@ def run(args) -> int:
     d = Diagnoser(max_effects=args.max_effects).fit(log, model, args.mass, args.force_constant)
     files = render_files(d, log, Path(args.log).name)
     check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
-    for note in range_notes(model_effects(model), {"x": log.x, "v": log.v, "t": log.t}):
+    for note in range_notes(model_effects(model), log):
         say("fricgen: note: " + note)
     if args.json:
         out(json.dumps(d.summary()))

@@ -219,12 +219,12 @@ class TableTime(TableEffect):
 
 
 def range_notes(effects, signals) -> List[str]:
-    """One line per table whose signal (``signals``: name -> samples, e.g. a log's x, v, t)
-    leaves the table's range on more than 1 % of the samples: there it holds its end values."""
+    """One line per table whose signal along ``signals`` (a ``MotionLog`` or ``Signals``) leaves
+    the table's range on more than 1 % of the samples: there it holds its end values."""
     notes = []
     for e in effects:
-        if isinstance(e, TableEffect) and e.signal in signals:
-            u = np.asarray(signals[e.signal], dtype=float)
+        if isinstance(e, TableEffect):
+            u = e._coord(signals)
             out = float(np.mean((u < e.lo) | (u > e.hi))) if u.size else 0.0
             if out > 0.01:
                 notes.append(f"{out:.0%} of the log's {e.signal} lies outside {e.name}'s range "

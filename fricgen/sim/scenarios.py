@@ -133,14 +133,25 @@ class Scenario:
     force_constant: float
     hidden: Tuple[str, ...]
     conditions: Dict = field(default_factory=dict)
-    #: The hidden effects' summed force along the log (N per sample) as the residual
-    #: phi i - m dv/dt - F_p(v) of the logged signals sees it (``_hidden_forces``; zeros when
-    #: nothing is hidden).
-    hidden_force: Optional[np.ndarray] = None
+    #: Each hidden effect's force along the log (N per sample) as the residual
+    #: phi i - m dv/dt - F_p(v) of the logged signals sees it (``_hidden_forces``).
+    hidden_forces: Dict[str, np.ndarray] = field(default_factory=dict)
     #: The plant's mass (``mass`` unless an inertia mismatch is hidden).
     true_mass: Optional[float] = None
-    #: The part of ``hidden_force`` that is not a mass error's (m_true - m) dv/dt.
-    force_but_mass: Optional[np.ndarray] = None
+
+    def _summed(self, skip=()) -> np.ndarray:
+        return sum((f for k, f in self.hidden_forces.items() if k not in skip),
+                   np.zeros(self.log.t.size))
+
+    @property
+    def hidden_force(self) -> np.ndarray:
+        """The hidden effects' summed force (zeros when nothing is hidden)."""
+        return self._summed()
+
+    @property
+    def force_but_mass(self) -> np.ndarray:
+        """The part of ``hidden_force`` that is not a mass error's (m_true - m) dv/dt."""
+        return self._summed(skip=("inertia_mismatch",))
 
     def truth_log(self) -> MotionLog:
         """The log with its current corrected by the hidden effects' force except a mass
@@ -974,10 +985,7 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     })
     return Scenario(log=log, model=model, mass=mass, force_constant=phi, hidden=hidden,
                     conditions=conditions,
-                    hidden_force=sum(forces.values(), np.zeros(log.t.size)),
-                    true_mass=law.mass,
-                    force_but_mass=sum((f for k, f in forces.items() if k != "inertia_mismatch"),
-                                       np.zeros(log.t.size)))
+                    hidden_forces=forces, true_mass=law.mass)
 
 
 def _jsonable(value):
