@@ -20,7 +20,10 @@ Prints and checks the targets (false alarms <= 5 % overall and per length; singl
 at least halved in >= 90 %; gap after <= 0.5 x before wherever something was added), beside
 each gap figure the truth's: the gap the user's model leaves when the current is corrected by
 the hidden effects' true force and the simulation uses the true mass (``Scenario.truth_log``,
-``Scenario.true_mass``): what knowing the hidden effects exactly would give on that log. Writes ``confusion.png`` (confusion
+``Scenario.true_mass``): what knowing the hidden effects exactly would give on that log. Singles and pairs are also scored on the logs where
+each hidden effect is visible: the truth's gap is at least the held-out guard's ``min_gain``
+below the gap of the truth missing that effect (``Scenario.truth_log(without=...)``); where it
+is not, the guard forbids naming the effect. Writes ``confusion.png`` (confusion
 matrix of the singles and nulls) and the reliability table of the first step's p-value on
 null logs (observed fraction with p < alpha against alpha).
 
@@ -55,6 +58,8 @@ SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "as
          "extra_friction_source": "extra", "frictional_lag": "lag", "thermal_drift": "drift",
          "table": "table"}
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
+#: The held-out guard's least relative shrink of the gap, for ``visible``.
+MIN_GAIN = Diagnoser().min_gain
 
 
 def cases(small: bool, per_length=None, magnitudes=()):
@@ -97,9 +102,15 @@ def run_case(case):
     d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
     seconds_diagnose = time.time() - made
     c = sc.conditions
-    # the oracle: the gap the user's model leaves with the true effects, shapes and parameters
-    gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.true_mass,
-                                         sc.force_constant)
+    # the oracle: the gap the user's model leaves with the true effects, shapes and parameters;
+    # and the oracle missing one named effect (for a single: the user's model as it is)
+    oracle = Diagnoser()
+    gap_truth = oracle.held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)
+    gap_truth_without = {}
+    if kind in ("single", "power", "pair"):
+        gap_truth_without = {e: d.gap_before_ if len(sc.hidden) == 1 else oracle.held_out_gap(
+            sc.truth_log(without=(e,)), sc.model, sc.truth_mass((e,)), sc.force_constant)
+            for e in sc.hidden}
     return {"key": key, "kind": kind, "seed": seed, "hidden": list(sc.hidden),
             "rate_hz": c["rate_hz"], "duration_s": c["duration_s"],
             "controller": c["controller"].get("kind", fixed.get("controller", "?")),
@@ -112,6 +123,7 @@ def run_case(case):
                        "added": s.added, "reason": s.reason} for s in d.steps_],
             "p_first": d.steps_[0].p_value if d.steps_ else 1.0,
             "gap_before": d.gap_before_, "gap_after": d.gap_after_, "gap_truth": gap_truth,
+            "gap_truth_without": gap_truth_without,
             "seconds_generate": made - start, "seconds_diagnose": seconds_diagnose}
 
 
@@ -127,6 +139,13 @@ def rate(flags):
 def halves(r, gap):
     """Whether ``r[gap]`` is at most half the log's gap before the diagnosis."""
     return r[gap] <= 0.5 * r["gap_before"]
+
+
+def visible(r):
+    """Whether every hidden named effect is visible: the truth's gap is at least the held-out
+    guard's MIN_GAIN below the gap of the truth missing that effect (``gap_truth_without``)."""
+    return "gap_truth_without" in r and all(r["gap_truth"] <= (1.0 - MIN_GAIN) * g
+                                            for g in r["gap_truth_without"].values())
 
 
 def verdict(ok):
@@ -185,6 +204,7 @@ def report(records, out: Path, small: bool):
             wrong = [str(r["effects"]) for r in rows if named_set(r) != [e]]
             say(f"    {e:>24s}: {sum(named_set(r) == [e] for r in rows)}/{len(rows)}"
                 + (f"   got {'; '.join(wrong)}" if wrong else ""))
+        say(visible_line(singles))
     power = by.get("power", [])
     if power:
         ks = sorted({r["magnitude"] for r in power} | {1.0})
@@ -205,7 +225,10 @@ def report(records, out: Path, small: bool):
         say(f"\npairs of named effects: exact set {kk}/{nn} = {f:.1%}   target >= 90 %: {verdict(f >= 0.9)}")
         for r in pairs:
             if named_set(r) != sorted(r["hidden"]):
-                say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}")
+                gains = ", ".join(f"{e} {1 - r['gap_truth'] / g:.0%}" for e, g in r["gap_truth_without"].items())
+                say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}   (each effect's "
+                    f"shrink of the truth's gap: {gains})")
+        say(visible_line(pairs))
     oov = by.get("oov", [])
     if oov:
         worse = [r for r in oov for s in r["steps"] if s["added"] and s["effect"] in EFFECTS
@@ -243,6 +266,15 @@ def report(records, out: Path, small: bool):
         f"(median {np.median([r['seconds_diagnose'] for r in records]):.1f} s per log)")
     (out / "summary.txt").write_text("\n".join(lines) + "\n")
     confusion_figure(nulls + singles, out / "confusion.png")
+
+
+def visible_line(rows) -> str:
+    """The exact-set rate on the logs where ``visible`` holds."""
+    seen = [r for r in rows if visible(r)]
+    f, kk, nn = rate(named_set(r) == sorted(r["hidden"]) for r in seen)
+    return (f"    on the logs where each hidden effect shrinks the truth's gap by >= {MIN_GAIN:.0%} "
+            f"(the held-out guard's threshold; else the guard forbids naming it): {len(seen)}/"
+            f"{len(rows)} logs, exact set {kk}/{nn} = {f:.1%}")
 
 
 def confusion_figure(records, path: Path):

@@ -10,26 +10,52 @@ from .errors import ModelError
 
 #: The largest hidden layer (or rule base) a model may hold: fixed-size C tables.
 MAX_HIDDEN = 4096
+#: The magnitudes the emitted float32 C computes reliably: the sweep's speed and force scales,
+#: v_sat, the force scale, B (float32 spans 1.2e-38 to 3.4e38).
+FLOAT32_SCALE = (1e-30, 1e30)
 
 
 def _is_number(value) -> bool:
     return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
 
 
+def finite_number(value) -> bool:
+    """Whether ``value`` is a finite number as JSON gives one (not a bool)."""
+    return _is_number(value) and _finite(value)
+
+
+def _finite(value) -> bool:
+    """Whether the number ``value`` is finite as a float (an integer beyond float's range is not)."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
 def positive(name: str, value, error: Type[Exception] = ValueError, allow_inf: bool = False) -> float:
     """``value`` as a float if it is a number > 0 (finite unless ``allow_inf``), else ``error``
     naming ``name``."""
-    if not (_is_number(value) and value > 0 and (allow_inf or math.isfinite(value))):
+    if not (_is_number(value) and value > 0 and (allow_inf or _finite(value))):
         raise error(f"{name} must be > 0, got {value!r}"[:200])
     return float(value)
 
 
 def integer(name: str, value, minimum: int = 1, error: Type[Exception] = ValueError) -> int:
     """``value`` as an int if it is an integer >= ``minimum``, else ``error`` naming ``name``."""
-    if not (_is_number(value) and math.isfinite(value) and int(value) == value and value >= minimum):
+    if not (_is_number(value) and _finite(value) and int(value) == value and value >= minimum):
         what = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
         raise error(f"{name} must be {what}, got {value!r}"[:200])
     return int(value)
+
+
+def float32_scale(what: str, value: float, unit: str, hint: str,
+                  error: Type[Exception] = ValueError) -> None:
+    """``error`` unless |value| lies within FLOAT32_SCALE, where the emitted float32 C computes
+    reliably; the message ends with ``hint``."""
+    low, high = FLOAT32_SCALE
+    if not low <= abs(value) <= high:
+        raise error(f"{what} is {abs(value):.3g} {unit}; the float32 C needs it between "
+                    f"{low:g} and {high:g} ({hint})")
 
 
 # ----------------------------------------------------------------------------- JSON fields
@@ -42,8 +68,8 @@ def json_number(d: dict, key: str, where: str, positive: bool = False) -> float:
     value = d[key]
     if not _is_number(value):
         raise ModelError(f"{where}.{key} must be a number, got {type(value).__name__}")
-    if not math.isfinite(value):
-        raise ModelError(f"{where}.{key} must be finite, got {value}")
+    if not _finite(value):
+        raise ModelError(f"{where}.{key} must be finite, got {value}"[:200])
     if positive and value <= 0:
         raise ModelError(f"{where}.{key} must be > 0, got {value}")
     return float(value)
@@ -57,7 +83,7 @@ def json_vector(d: dict, key: str, where: str, positive: bool = False) -> np.nda
     if not isinstance(value, list) or not 1 <= len(value) <= MAX_HIDDEN:
         raise ModelError(f"{where}.{key} must be a list of 1 to {MAX_HIDDEN} numbers")
     for i, item in enumerate(value):
-        if not _is_number(item) or not math.isfinite(item):
+        if not _is_number(item) or not _finite(item):
             raise ModelError(f"{where}.{key}[{i}] must be a finite number, got {item!r}"[:200])
         if positive and item <= 0:
             raise ModelError(f"{where}.{key} must all be > 0, got {item}")

@@ -16,3 +16,7 @@ class ModelError(FricgenError):
 
 class UsageError(FricgenError):
     """Bad command-line input that is neither a data nor a model problem."""
+
+
+class BuildError(FricgenError):
+    """The emitted C could not be compiled (no working C compiler, or it refused the code)."""

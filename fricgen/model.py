@@ -22,7 +22,7 @@ import numpy as np
 
 from . import __version__
 from ._io import write_atomic
-from ._validate import json_number
+from ._validate import FLOAT32_SCALE, float32_scale, json_number
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict
@@ -81,6 +81,24 @@ def _reject_constant(name: str):
     raise ValueError(f"{name} is not a JSON number")
 
 
+def _unique_keys(pairs) -> dict:
+    """A JSON object's dict; ``ModelError`` when a key appears twice (JSON keeps the last
+    silently, so a hand-edited value could be lost)."""
+    d = {}
+    for key, value in pairs:
+        if key in d:
+            raise ModelError(f"key {key!r} appears twice in one object"[:200])
+        d[key] = value
+    return d
+
+
+#: A friction curve must oppose the motion up to this many times v_sat: a negative B may bend
+#: the force down beyond v_sat, not through zero.
+OPPOSES_MOTION_UP_TO = 10.0
+#: Speeds, in units of v_sat, at which a curve's force is checked (``Direction.check``).
+_CHECK_SPEEDS = np.linspace(0.0, 1.0, 129)
+
+
 def _finite_or_null(value):
     """``value`` with every non-finite float (at any depth) replaced by None."""
     if isinstance(value, dict):
@@ -130,6 +148,29 @@ class Direction:
         speed = np.abs(np.asarray(speed, dtype=float))
         return self.stribeck(speed) + self.viscous * speed
 
+    def check(self) -> "Direction":
+        """This curve, if the float32 C can run it as friction; else ``ModelError``: v_sat, the
+        force scale 1/K_out or B beyond FLOAT32_SCALE, a force on [0, v_sat] that is not finite
+        or beyond it, or a negative B that reverses the force before OPPOSES_MOTION_UP_TO v_sat."""
+        for what, value, unit in (("v_sat", self.v_sat, "m/s"),
+                                  ("the force scale 1/k_out", 1.0 / self.scaling.k_out, "N"),
+                                  ("viscous", self.viscous, "N s/m")):
+            if value != 0:
+                float32_scale(what, value, unit, "not a model for the float32 C", ModelError)
+        with np.errstate(over="ignore", invalid="ignore"):
+            force = self.magnitude(self.v_sat * _CHECK_SPEEDS)
+        worst = float(np.max(np.abs(force)))
+        if not worst <= FLOAT32_SCALE[1]:
+            raise ModelError(f"the force reaches {worst:.3g} N within [0, v_sat]; the float32 C "
+                             f"needs it below {FLOAT32_SCALE[1]:g}")
+        if self.viscous < 0:
+            reversal = -self.stribeck(self.v_sat) / self.viscous
+            if reversal < OPPOSES_MOTION_UP_TO * self.v_sat:
+                raise ModelError(f"viscous = {self.viscous:.3g} N s/m turns the friction against "
+                                 f"|v| beyond {float(reversal):.3g} m/s, within "
+                                 f"{OPPOSES_MOTION_UP_TO:g} v_sat: friction must oppose the motion")
+        return self
+
     def to_dict(self) -> dict:
         return {"aim": self.aim.to_dict(),
                 "scaling": {"k_in": self.scaling.k_in, "k_out": self.scaling.k_out},
@@ -146,7 +187,7 @@ class Direction:
         k_out = json_number(scaling, "k_out", "scaling", positive=True)
         viscous = json_number(d, "viscous", "model")
         v_sat = json_number(d, "v_sat", "model", positive=True)
-        return cls(network, Scaling(k_in, k_out), viscous, v_sat)
+        return cls(network, Scaling(k_in, k_out), viscous, v_sat).check()
 
 
 def _negative_from_dict(d: dict) -> Direction:
@@ -311,7 +352,9 @@ class FrictionModel:
             raise ModelError(f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
                              f"offset {exc.start})") from None
         try:
-            d = json.loads(text, parse_constant=_reject_constant)
+            d = json.loads(text, parse_constant=_reject_constant, object_pairs_hook=_unique_keys)
+        except ModelError as exc:
+            raise ModelError(f"{path}: {exc}") from None
         except json.JSONDecodeError as exc:
             raise ModelError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
         except RecursionError:

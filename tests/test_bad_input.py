@@ -28,6 +28,11 @@ def work(cli_inputs, tmp_path_factory):
         "duplicate_columns.csv": "v,f,f\n" + "\n".join(r + ",0" for r in body),
         "huge_forces.csv": "v,f\n" + "\n".join(f"{r.split(',')[0]},{float(r.split(',')[1]) * 1e306}"
                                                 for r in body),
+        "falling.csv": "v,f\n" + "\n".join(f"{r.split(',')[0]},{float(r.split(',')[1]) - 115 * float(r.split(',')[0])!r}"
+                                            for r in body),
+        "one_speed.csv": "v,f\n" + "0.05,3\n" * 60,
+        "coulomb_viscous.csv": "v,f\n" + "\n".join(f"{k / 300!r},{2 + 15 * k / 300!r}" for k in range(1, 61)),
+        "int400.json": (d / "model.json").read_text().replace('"viscous": ', '"viscous": ' + "9" * 400 + ', "x": '),
         "unicode_digits.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,\uff11\n" + "\n".join(body[20:]),
         "underscores.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,1_0\n" + "\n".join(body[20:]),
         "ragged.csv": "v,f\n" + "\n".join(body[:30]) + "\n0.01,1,2\n" + "\n".join(body[30:]),
@@ -52,6 +57,10 @@ def work(cli_inputs, tmp_path_factory):
     _motion_log_files(d, log)
     (d / "log_swapped.csv").write_text("\n".join(log[:100] + [log[101], log[100]] + log[102:]) + "\n")
     (d / "log_short.csv").write_text("\n".join(log[:16]) + "\n")
+    (d / "log_repeated_t.csv").write_text("\n".join(log[:100] + [log[100]] + log[100:]) + "\n")
+    (d / "log_units.csv").write_text("\n".join([log[0].replace("i", "I [A]")] + log[1:]) + "\n")
+    _edited_columns(d, log, "log_v_zero.csv", v=lambda v, x: 0.0)
+    _edited_columns(d, log, "log_x_inverted.csv", x=lambda v, x: -x)
     columns = log[0].split(",")
     for col in ("i", "x"):
         k = columns.index(col)
@@ -64,12 +73,28 @@ def work(cli_inputs, tmp_path_factory):
                        ("kind_list.json", lambda m: m["aim"].__setitem__("kind", [])),
                        ("effect_dict.json", lambda m: m.__setitem__("effects", [{"effect": {}}])),
                        ("version_true.json", lambda m: m.__setitem__("format_version", True)),
+                       ("negative_b.json", lambda m: m.__setitem__("viscous", -m["viscous"])),
                        ("model_table.json", lambda m: m.__setitem__("effects", [
                            {"effect": "table_velocity", "parameters": {"lo": 1, "hi": 0, "values": [1, 2]}}]))):
         edited = json.loads(json.dumps(model))
         edit(edited)
         (d / name).write_text(json.dumps(edited))
+    (d / "duplicate_key.json").write_text((d / "model.json").read_text().replace(
+        '"viscous": ', '"viscous": 1.0, "viscous": ', 1))
     return d
+
+
+def _edited_columns(d, log, name, **edits):
+    """log.csv with the named columns replaced by edit(v, x) of each row."""
+    header = log[0].split(",")
+    rows = []
+    for line in log[1:]:
+        cells = line.split(",")
+        v, x = (float(cells[header.index(c)]) for c in ("v", "x"))
+        for column, edit in edits.items():
+            cells[header.index(column)] = repr(float(edit(v, x)))
+        rows.append(",".join(cells))
+    (d / name).write_text("\n".join([log[0]] + rows) + "\n")
 
 
 def _motion_log_files(d, log):
@@ -109,6 +134,12 @@ ROWS = [
     ("values around 1e-300", ["train", "tiny_values.csv", "-o", OUT], "the float32 C needs it between"),
     ("duplicate column names", ["train", "duplicate_columns.csv", "-o", OUT], "appears more than once"),
     ("forces scaled by 1e306", ["train", "huge_forces.csv", "-o", OUT], "the float32 C needs it between"),
+    ("force falling at high speed", ["train", "falling.csv", "--vs-max", "0.02", "-o", OUT],
+     "friction must oppose the motion"),
+    ("a sweep at one speed", ["train", "one_speed.csv", "-o", OUT], "all at one speed"),
+    ("vs_max estimated too high", ["train", "coulomb_viscous.csv", "-o", OUT],
+     "(with vs_max estimated as"),
+    ("a log with t in ms", ["train", "log_ms.csv", *LOG, "-o", OUT], "dx/dt is 0.001 times v"),
     ("a row of the wrong width", ["train", "ragged.csv", "-o", OUT], "3 cells, the header names 2"),
     ("digits of another script", ["train", "unicode_digits.csv", "-o", OUT], "non-numeric"),
     ("'_' in a number", ["train", "underscores.csv", "-o", OUT], "non-numeric"),
@@ -130,10 +161,13 @@ ROWS = [
     ("--vs-max nan", ["train", "sweep.csv", "-o", OUT, "--vs-max", "nan"], "--vs-max: must be"),
     ("5001-digit integer in model.json", ["eval", "big_int.json"], "not valid JSON"),
     ("10**400 in model.json", ["eval", "inf_number.json"], "must be"),
+    ("400-digit integer in model.json", ["eval", "int400.json"], "model.viscous must be finite"),
     ("100000 nested [", ["eval", "nested.json"], "nested too deeply"),
     ("non-UTF-8 model.json", ["emit", "non_utf8.json", "-o", OUT], "not UTF-8 text"),
     ("NaN in model.json", ["emit", "nan.json", "-o", OUT], "NaN is not a JSON number"),
-    ("weights of 3e38", ["emit", "huge_weights.json", "-o", OUT], "beyond the float32 C's range"),
+    ("weights of 3e38", ["emit", "huge_weights.json", "-o", OUT], "the float32 C needs it below"),
+    ("a key twice in model.json", ["eval", "duplicate_key.json"], "key 'viscous' appears twice"),
+    ("negative viscous coefficient", ["emit", "negative_b.json", "-o", OUT], "friction must oppose the motion"),
     ("aim.kind a list", ["eval", "kind_list.json"], "aim.kind must be one of"),
     ("effect name an object", ["eval", "effect_dict.json"], "unknown effect {}"),
     ("format_version true", ["eval", "version_true.json"], "unknown format_version True"),
@@ -159,7 +193,15 @@ ROWS = [
      "dx/dt is 0.001 times v"),
     ("diagnose, NaN row", ["diagnose", "log_nan.csv", "--model", "model.json", *DIAG, "-o", OUT], "NaN"),
     ("diagnose, time steps back", ["diagnose", "log_swapped.csv", "--model", "model.json", *DIAG, "-o", OUT],
-     "not uniformly sampled"),
+     "t goes back by"),
+    ("diagnose, a time repeated", ["diagnose", "log_repeated_t.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "t repeats at data rows 100 and 101"),
+    ("diagnose, units in the header", ["diagnose", "log_units.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "(header is t,x,v,I [A],x_d); write the names without units ('I [A]' as 'i')"),
+    ("diagnose, v logged as 0", ["diagnose", "log_v_zero.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "column 'v' is 0 throughout while x travels"),
+    ("diagnose, x inverted", ["diagnose", "log_x_inverted.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "is x or v inverted?"),
     ("diagnose, shorter than the window", ["diagnose", "log_short.csv", "--model", "model.json", *DIAG,
                                            "-o", OUT], "need at least"),
     ("diagnose, constant current", ["diagnose", "log_constant_i.csv", "--model", "model.json", *DIAG,
@@ -285,3 +327,47 @@ def test_eval_streams_with_constant_memory_and_exact_forces(work):
     assert proc.returncode == 0
     forces = np.array(proc.stdout.split(), dtype=float)
     np.testing.assert_array_equal(forces, FrictionModel.load(work / "model.json").force(v))
+
+
+@pytest.mark.parametrize("argv", [["demo", "--seeds", "1", "-o", OUT],
+                                  ["simulate", "--backend", "c", "--duration", "0.1", "--plot", OUT]],
+                         ids=["demo", "simulate --backend c"])
+def test_no_working_c_compiler_is_one_line_and_nothing_written(tmp_path, argv):
+    out = tmp_path / "out"
+    env = dict(os.environ, CC="false")
+    proc = subprocess.run([sys.executable, "-m", "fricgen", *[str(out) if a == OUT else a for a in argv]],
+                          env=env, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2
+    errors = [line for line in proc.stderr.splitlines() if line.startswith("fricgen: error:")]
+    assert errors == [proc.stderr.splitlines()[-1]] and "cannot compile the emitted C" in errors[0]
+    assert "Traceback" not in proc.stderr and not out.exists()
+
+
+def test_eval_of_a_model_with_effects_says_they_are_not_applied(work, tmp_path):
+    model = json.loads((work / "model.json").read_text())
+    model["effects"] = [{"effect": "constant_load", "parameters": {"load": 1.0}}]
+    (tmp_path / "m.json").write_text(json.dumps(model))
+    runs = [subprocess.run([sys.executable, "-m", "fricgen", "eval", str(path)], input="0.01\n\n-0.02\n",
+                           capture_output=True, text=True) for path in (work / "model.json", tmp_path / "m.json")]
+    assert all(r.returncode == 0 for r in runs) and runs[0].stdout == runs[1].stdout
+    assert len(runs[1].stdout.split()) == 2          # blank lines are skipped
+    assert runs[0].stderr == "" and runs[1].stderr.startswith("fricgen: note: eval gives F(v)")
+    assert "constant_load" in runs[1].stderr
+
+
+@pytest.mark.parametrize("quantum", [0.0, 0.05], ids=["noise-free", "quantized to 0.05 N"])
+def test_a_spike_is_rejected_where_most_residuals_are_zero(tmp_path, capsys, quantum):
+    # noise-free or quantized force: most residuals from the running median are exactly 0, and a
+    # robust scale of 0 used to reject nothing (one +50 N row gave errors of 0.5 N to 4000 N)
+    from fricgen.model import FrictionModel
+    v = np.linspace(0.0005, 0.08, 300)
+    truth = 2.0 + 1.5 * np.exp(-(v / 0.01) ** 2) + 15.0 * v
+    f = np.round(truth / quantum) * quantum if quantum else truth.copy()
+    f[50] += 50.0                   # at 0.0137 m/s, within v_sat
+    (tmp_path / "s.csv").write_text("v,f\n" + "\n".join(f"{a!r},{b!r}" for a, b in zip(v.tolist(), f.tolist())) + "\n")
+    assert main(["train", str(tmp_path / "s.csv"), "-o", str(tmp_path / "m.json"), "--vs-max", "0.01"]) == 0
+    assert "1 training points rejected as gross outliers" in capsys.readouterr().out
+    check = np.linspace(0.002, 0.03, 50)
+    error = FrictionModel.load(tmp_path / "m.json").force(check) - (
+        2.0 + 1.5 * np.exp(-(check / 0.01) ** 2) + 15.0 * check)
+    assert np.max(np.abs(error)) < 0.1

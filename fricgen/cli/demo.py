@@ -58,15 +58,17 @@ def run(args) -> int:
 
     bench = synthesize_benchmark(preset("paper3"), seed=0)
     model = FrictionModel.fit(bench.dataset, default_elm(0), name="fm")
-    folder = Path(args.output) if args.output else Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
-    try:
-        emit(model, folder, "fm")
-        say(f"emitted C to {folder}; compiling with cffi ...")
-        lib = build_model(folder, "fm", build_dir=folder / "build")
+    work = Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
+    try:            # emitted and compiled aside: -o gets the C only, and only once it compiles
+        emit(model, work / "c", "fm")
+        say("emitted the C; compiling with cffi ...")
+        lib = build_model(work / "c", "fm", build_dir=work / "build")
         p = parity.measure(model, lib, "fm")
+        if args.output:
+            emit(model, args.output, "fm")
+            say(f"wrote the emitted C to {args.output}")
     finally:
-        if not args.output:
-            shutil.rmtree(folder, ignore_errors=True)
+        shutil.rmtree(work, ignore_errors=True)
     out(f"C parity over {p['n_velocities']} velocities: max |C - float32 twin| = "
         f"{p['max_abs_c_vs_twin']:.3g} N ({p['n_not_bit_equal']} not bit-equal), "
         f"max |C - float64 model| / max|F| = {p['max_rel_c_vs_model']:.3g}")

@@ -10,7 +10,7 @@ import numpy as np
 from ..data.table import plain_float
 from ..errors import UsageError
 from ..model import FrictionModel
-from .common import out
+from .common import out, say
 
 #: Velocities evaluated together: memory stays constant however long the input is.
 CHUNK = 1 << 16
@@ -45,6 +45,10 @@ def run(args) -> int:
     stdin = getattr(sys.stdin, "buffer", sys.stdin)
     if stdin is None or stdin.closed:
         raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")
+    if model.effects:
+        names = ", ".join(e.get("effect", "?") for e in model.effects)
+        say(f"fricgen: note: eval gives F(v) of eq. (3) alone; the model's effects ({names}) "
+            "need x, t or i and are not applied")
     velocities = _velocities(stdin)
     while chunk := list(itertools.islice(velocities, CHUNK)):
         out("\n".join(repr(f) for f in model.force(np.array(chunk)).tolist()))

@@ -6,10 +6,11 @@ from pathlib import Path
 from ..data.export import ExportLayout, merge_on_time, parse_assignments, parse_scales, read_export
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log
 from ..data.sweep import sweep_from_columns
+from ..data.table import header_cells
 from .._validate import MAX_HIDDEN
 from ..data.training_set import OUTLIER_SIGMAS, SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
-from ..errors import DataError, UsageError
+from ..errors import DataError, ModelError, UsageError
 from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_elm,
                    default_estimator)
 from ..fit.directions import CV_FOLDS, fit_directions
@@ -181,7 +182,8 @@ def training_data(args):
             raise DataError(f"{args.sweep}: {exc}") from None
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
-        raise DataError(f"{args.sweep}: {describe_missing(columns)}")
+        written = None if args.merge else header_cells(args.sweep, args.skip)
+        raise DataError(f"{args.sweep}: {describe_missing(columns, written)}")
     if args.mass is not None or args.force_constant is not None:
         raise UsageError("--mass and --force-constant apply to a motion log; "
                          f"{args.sweep} is a sweep (v, f)")
@@ -210,8 +212,11 @@ def run(args) -> int:
     estimator = _estimator(args)
     per_direction = default_elm(args.seed, max_neurons=args.max_neurons) \
         if isinstance(estimator, DefaultRegressor) else estimator
-    fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
-                            seed=args.seed, per_direction=per_direction)
+    try:
+        fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
+                                seed=args.seed, per_direction=per_direction)
+    except DataError as exc:
+        raise DataError(f"{args.sweep}: {exc}") from None
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
@@ -230,6 +235,11 @@ def run(args) -> int:
                                        for s in (1, -1)]}
     model = FrictionModel.from_directions(*(f.curve for f in fitted.fits), name=name,
                                           training=training)
+    try:
+        for curve in model.directions:
+            curve.check()
+    except ModelError as exc:
+        raise DataError(f"{args.sweep}: the fitted model is no friction model: {exc}") from None
     reports = [] if ident is None else [ident.summary()]
     reports.append(_choice_line(fitted))
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):

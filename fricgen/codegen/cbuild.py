@@ -7,6 +7,8 @@ import tempfile
 from pathlib import Path
 from typing import Iterable, Optional, Union
 
+from ..errors import BuildError
+
 #: Flags of the cffi builds: C99 without floating-point contraction, as the parity proofs assume.
 CFLAGS = ["-std=c99", "-O2", "-ffp-contract=off"]
 #: The strict warning set the emitted code must pass without a single warning.
@@ -49,7 +51,12 @@ def build_module(folder: Union[str, Path], header, cdef: str,
     ffi.set_source(module, "".join(f'#include "{h}"\n' for h in headers),
                    sources=[str(s) for s in sources], include_dirs=[str(folder)],
                    extra_compile_args=CFLAGS, libraries=["m"])
-    so_path = ffi.compile(tmpdir=str(build_dir), verbose=False)
+    try:
+        so_path = ffi.compile(tmpdir=str(build_dir), verbose=False)
+    except Exception as exc:        # cffi's and setuptools' compiler errors share no base class
+        first = next((line for line in str(exc).splitlines() if line.strip()), type(exc).__name__)
+        raise BuildError(f"cannot compile the emitted C with cffi ({first.strip()[:160]}); is a C "
+                         "compiler installed (CC)?") from exc
     spec = importlib.util.spec_from_file_location(module, so_path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)

@@ -11,15 +11,16 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..errors import DataError
-from .motionlog import MIN_SAMPLES, uniform_sample_time, uniform_time
+from .motionlog import MIN_SAMPLES, check_moves, check_units, uniform_time
 from .sweep import MIN_ROWS, Sweep
+from .table import header_hint
 
 #: Degree of the Savitzky-Golay polynomial (cubic: its derivative equals the quadratic's).
 POLYORDER = 3
@@ -127,11 +128,12 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
         raise DataError(f"log has {t.size} samples, need at least {MIN_SAMPLES}")
     if not (np.isfinite(mass) and mass > 0):
         raise DataError(f"mass must be > 0, got {mass}")
-    ts = uniform_sample_time(uniform_time(t))
+    ts = uniform_time(t)[1]
     if v is None:
         v = np.gradient(x, ts)
-    if not np.any(v):
-        raise DataError("column 'v' is 0 throughout: the axis never moves")
+    check_moves(v, x)
+    if x is not None:
+        check_units(x, v, ts)
     noise = velocity_noise(v)
     if window is None:
         light = savgol_filter(v, MIN_WINDOW, POLYORDER)
@@ -162,18 +164,18 @@ def is_log(columns: Dict[str, np.ndarray]) -> bool:
             and any(c in columns for c in LOG_DRIVE))
 
 
-def describe_missing(columns: Dict[str, np.ndarray]) -> str:
-    """Why the columns are neither a sweep (v, f) nor a log (t, v or x, force or i)."""
-    header = ",".join(columns)[:80]
+def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]] = None) -> str:
+    """Why the columns are neither a sweep (v, f) nor a log (t, v or x, force or i); ``written``:
+    the header's names as the file writes them, for the message."""
+    cells = written or list(columns)
+    header = ",".join(cells)[:80]
     if LOG_TIME in columns:
         missing = [" or ".join(group) for group in (LOG_MOTION, LOG_DRIVE)
                    if not any(c in columns for c in group)]
         return (f"a motion log needs t, v or x, and force or i: missing {' and '.join(missing)} "
-                f"(header is {header})")
-    hint = "; it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals" \
-        if any(";" in c for c in columns) else ""
+                f"(header is {header}){header_hint(cells)}")
     missing = ", ".join(repr(c) for c in ("v", "f") if c not in columns)
-    return f"missing column {missing} (header is {header}){hint}"
+    return f"missing column {missing} (header is {header}){header_hint(cells)}"
 
 
 def identify_log(columns: Dict[str, np.ndarray], mass: float,

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, Optional, Union
+from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -28,22 +28,22 @@ UNITS_TOLERANCE = (0.5, 2.0)
 UNRELATED_BELOW = 0.3
 
 
-def uniform_time(t: np.ndarray) -> np.ndarray:
-    """``t``, or the uniform grid it was rounded from when it was written with a fixed number
-    of decimals (``_rounded_grid``); ``DataError`` as ``uniform_sample_time``."""
+def uniform_time(t: np.ndarray) -> Tuple[np.ndarray, float]:
+    """``t`` and its sampling interval, or the uniform grid it was rounded from when it was
+    written with a fixed number of decimals (``_rounded_grid``) and that grid's interval;
+    ``DataError`` as ``uniform_sample_time``."""
     try:
-        uniform_sample_time(t)
-        return t
+        return t, uniform_sample_time(t)
     except DataError:
         grid = _rounded_grid(t)
         if grid is None:
             raise
-        return grid
+        return grid, float(np.median(np.diff(grid)))
 
 
 def uniform_sample_time(t: np.ndarray) -> float:
     """The median sampling interval of the time column ``t``; ``DataError`` unless t increases
-    and every step lies within UNIFORM_TOLERANCE of it."""
+    and every step lies within UNIFORM_TOLERANCE of it. Messages count data rows from 1."""
     dt = np.diff(t)
     ts = float(np.median(dt)) if dt.size else 0.0
     if not ts > 0:
@@ -51,7 +51,12 @@ def uniform_sample_time(t: np.ndarray) -> float:
     worst = float(np.max(np.abs(dt - ts)))
     if not worst <= UNIFORM_TOLERANCE * ts:
         k = int(np.argmax(np.abs(dt - ts)))
-        raise DataError(f"log is not uniformly sampled: step {k} is {dt[k]:.6g} s, "
+        rows = f"data rows {k + 1} and {k + 2}"
+        if dt[k] == 0:
+            raise DataError(f"t repeats at {rows} ({t[k]:.6g} s)")
+        if dt[k] < 0:
+            raise DataError(f"t goes back by {-dt[k]:.6g} s between {rows}: time must increase")
+        raise DataError(f"log is not uniformly sampled: t steps by {dt[k]:.6g} s between {rows}, "
                         f"median step is {ts:.6g} s")
     return ts
 
@@ -75,6 +80,34 @@ def _rounded_grid(t: np.ndarray) -> Optional[np.ndarray]:
     return None
 
 
+def check_moves(v: np.ndarray, x: Optional[np.ndarray] = None) -> None:
+    """``DataError`` when the velocity column is 0 throughout (naming x's travel if x moves)."""
+    if np.any(v):
+        return
+    if x is not None and np.ptp(x) > 0:
+        raise DataError(f"column 'v' is 0 throughout while x travels {np.ptp(x):.3g} m: is v logged?")
+    raise DataError("column 'v' is 0 throughout: the axis never moves")
+
+
+def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
+    """x, v and the sampling interval ``ts`` must agree: the least-squares ratio of dx/dt to v
+    lies within UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000)."""
+    dxdt = np.gradient(x, ts)
+    ratio = float(np.dot(dxdt, v) / np.dot(v, v))
+    low, high = UNITS_TOLERANCE
+    if not low <= ratio <= high:
+        # a constant x keeps the units message (dx/dt is 0 times v)
+        follow = float(np.corrcoef(dxdt, v)[0, 1]) if np.ptp(dxdt) > 0 else 1.0
+        if not abs(follow) >= UNRELATED_BELOW:
+            raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "
+                            "axis move beyond the sensor noise? are x and v of one axis?)")
+        if -high <= ratio <= -low:
+            raise DataError(f"x and v have opposite signs: dx/dt is {ratio:.3g} times v (is x or "
+                            "v inverted?)")
+        raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is t in ms, x in "
+                        "mm, or v in other units?)")
+
+
 @dataclass(frozen=True)
 class MotionLog:
     """A uniformly sampled log of time t, position x, velocity v and motor current i."""
@@ -93,30 +126,14 @@ class MotionLog:
                 raise DataError(f"column {k!r} has {a.size} samples, column 't' has {n}")
             if not np.all(np.isfinite(a)):
                 bad = int(np.flatnonzero(~np.isfinite(a))[0])
-                raise DataError(f"column {k!r} holds NaN or infinite value at sample {bad}")
+                raise DataError(f"column {k!r} holds NaN or infinite value at data row {bad + 1}")
             object.__setattr__(self, k, a)
         if n < MIN_SAMPLES:
             raise DataError(f"log has {n} samples, need at least {MIN_SAMPLES}")
-        object.__setattr__(self, "t", uniform_time(self.t))
-        self._check_units(uniform_sample_time(self.t))
-
-    def _check_units(self, ts: float) -> None:
-        """x, v and t must agree: the least-squares ratio of dx/dt to v lies within
-        UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000)."""
-        v = self.v
-        if not np.any(v):
-            raise DataError("column 'v' is 0 throughout: the axis never moves")
-        dxdt = np.gradient(self.x, ts)
-        ratio = float(np.dot(dxdt, v) / np.dot(v, v))
-        low, high = UNITS_TOLERANCE
-        if not low <= ratio <= high:
-            # a constant x keeps the units message (dx/dt is 0 times v)
-            follow = float(np.corrcoef(dxdt, v)[0, 1]) if np.ptp(dxdt) > 0 else 1.0
-            if not abs(follow) >= UNRELATED_BELOW:
-                raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "
-                                "axis move beyond the sensor noise? are x and v of one axis?)")
-            raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is t in ms, x in "
-                            "mm, or v in other units?)")
+        t, ts = uniform_time(self.t)
+        object.__setattr__(self, "t", t)
+        check_moves(self.v, self.x)
+        check_units(self.x, self.v, ts)
 
     def __len__(self) -> int:
         return self.t.size

@@ -6,7 +6,7 @@ import math
 import re
 from array import array
 from pathlib import Path
-from typing import Dict, Optional, Sequence, Union
+from typing import Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
@@ -24,6 +24,23 @@ def plain_float(text: str) -> float:
     if not _NUMBER.fullmatch(text):
         raise ValueError(f"not a number: {text!r}")
     return float(text)
+
+
+#: A header cell with its unit written in, e.g. "i [A]" or "v (m/s)".
+_WITH_UNIT = re.compile(r"\s*([A-Za-z_]\w*)\s*[\[(].*[\])]\s*")
+
+
+def header_hint(cells: Sequence[str]) -> str:
+    """Why a header may lack fricgen's column names ('' if no idea): it is ';'-separated, or
+    its names carry units."""
+    if any(";" in c for c in cells):
+        return "; it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"
+    for cell in cells:
+        united = _WITH_UNIT.fullmatch(cell)
+        if united:
+            return (f"; write the names without units ({cell.strip()!r} as "
+                    f"{united.group(1).lower()!r}): fricgen reads s, m, m/s, A and N")
+    return ""
 
 
 def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
@@ -56,6 +73,17 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
         raise DataError(f"{path}: not a readable CSV ({exc})") from None
     except OSError as exc:
         raise DataError(f"{path}: cannot read ({exc.strerror or exc})") from None
+
+
+def header_cells(path: Union[str, Path], skip: int = 0) -> List[str]:
+    """The header's names as written (for messages; [] if unreadable)."""
+    try:
+        with open(path, encoding="utf-8-sig", newline="") as fh:
+            for _ in range(skip):
+                fh.readline()
+            return [h.strip() for h in next(csv.reader([fh.readline()]), [])]
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return []
 
 
 def _skip_lines(path, fh, skip: int) -> None:
@@ -109,19 +137,18 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
-    header = [h.strip().lower() for h in header]
+    written = [h.strip() for h in header]
+    header = [h.lower() for h in written]
     if len(header) == 1 and ";" in header[0]:
-        raise DataError(f"{path}: the header {header[0][:40]!r} looks ';'-separated: fricgen reads "
+        raise DataError(f"{path}: the header {written[0][:40]!r} looks ';'-separated: fricgen reads "
                         "','-separated CSV with '.' decimals")
     repeated = sorted({h for h in header if h and header.count(h) > 1})
     if repeated:
         raise DataError(f"{path}: column {repeated[0]!r} appears more than once in the header")
     missing = [c for c in required if c not in header]
     if missing:
-        hint = "; it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals" \
-            if any(";" in h for h in header) else ""
         raise DataError(f"{path}: missing column {', '.join(repr(c) for c in missing)} "
-                        f"(header is {','.join(header)[:80]}){hint}")
+                        f"(header is {','.join(written)[:80]}){header_hint(written)}")
     wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
     values = array("d")
     text = set()            # extra columns with a cell that is not a number: left out

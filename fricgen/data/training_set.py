@@ -6,6 +6,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from .._validate import float32_scale
 from ..errors import DataError
 from ..model import Scaling
 from .sweep import MIN_ROWS, Sweep
@@ -18,9 +19,6 @@ SAT_FACTOR = 3.0
 MAX_TRAINING_POINTS = 4096
 #: High-speed rows further than this many robust standard deviations from the line are outliers.
 OUTLIER_SIGMAS = 6.0
-#: Magnitudes of the sweep's velocity and force scales (and of v_sat, 1/v_sat, the force scale)
-#: that the emitted float32 C represents with margin (float32 spans 1.2e-38 to 3.4e38).
-FLOAT32_SCALE = (1e-30, 1e30)
 
 
 def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
@@ -35,6 +33,17 @@ def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, fl
     slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
     with np.errstate(over="ignore", invalid="ignore"):
         return slope, float(np.median(f - slope * v))
+
+
+def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
+    """A robust standard deviation of the absolute residuals of ``values``: 1.4826 times their
+    median, or, when most are 0 (a quantized force, noise-free data), times the median of those
+    beyond rounding (1e-9 of the values' median magnitude)."""
+    scale = 1.4826 * float(np.median(residual))
+    if scale > 0:
+        return scale
+    beyond = residual[residual > 1e-9 * float(np.median(np.abs(values)))]
+    return 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
 
 
 def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
@@ -52,7 +61,7 @@ def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
     slope, intercept = _theil_sen(high.v, high.f)
     with np.errstate(over="ignore", invalid="ignore"):
         residual = np.abs(high.f - intercept - slope * high.v)
-    scale = 1.4826 * float(np.median(residual))
+    scale = robust_scale(residual, high.f)
     keep = np.isfinite(residual) & (residual <= OUTLIER_SIGMAS * scale) if scale > 0 \
         else np.isfinite(residual)
     if keep.sum() < MIN_HIGH_SPEED_ROWS or np.ptp(high.v[keep]) <= 0:
@@ -82,10 +91,7 @@ def bin_equal_counts(sweep: Sweep, bins: int) -> Sweep:
 
 def check_float32_scale(what: str, value: float, unit: str) -> None:
     """``DataError`` unless |value| lies where the emitted float32 C computes reliably."""
-    low, high = FLOAT32_SCALE
-    if not low <= abs(value) <= high:
-        raise DataError(f"{what} is {abs(value):.3g} {unit}; the float32 C needs it between "
-                        f"{low:g} and {high:g} (rescale the data's units)")
+    float32_scale(what, value, unit, "rescale the data's units", DataError)
 
 
 def estimate_vs_max(folded: Sweep) -> float:
@@ -101,6 +107,9 @@ def estimate_vs_max(folded: Sweep) -> float:
     fast = v >= np.quantile(v, 0.75)
     if fast.sum() < MIN_HIGH_SPEED_ROWS:
         raise DataError("too few data to estimate vs_max; pass --vs-max")
+    if np.ptp(v[fast]) <= 0:
+        raise DataError(f"the fastest quarter of the data is all at one speed ({v[-1]:.6g} m/s): "
+                        "cannot estimate vs_max; pass --vs-max, or sweep a range of speeds")
     coef = np.polyfit(v[fast], f[fast], 1)
     resid = f - np.polyval(coef, v)
     sigma = max(np.std(resid[fast]), 1e-12)
@@ -165,6 +174,16 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     estimated = vs_max is None
     if estimated:
         vs_max = estimate_vs_max(folded)
+        try:
+            return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated)
+        except DataError as exc:
+            raise DataError(f"{exc} (with vs_max estimated as {vs_max:.4g} m/s; pass --vs-max to "
+                            "set it)") from None
+    return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated)
+
+
+def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, estimated: bool) -> Dataset:
+    """``prepare`` of the folded sweep once vs_max is known."""
     v_sat = SAT_FACTOR * vs_max
     high = Sweep(folded.v[folded.v > v_sat], folded.f[folded.v > v_sat])
     low = Sweep(folded.v[folded.v <= v_sat], folded.f[folded.v <= v_sat])

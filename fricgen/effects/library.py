@@ -24,6 +24,7 @@ from scipy.optimize import minimize_scalar
 
 from ..c_literal import c_float
 from .signals import Signals
+from .._validate import finite_number
 from ..errors import ModelError
 from ..friction import SHAPES
 
@@ -167,7 +168,7 @@ class Effect:
                                      f"got {value!r}"[:200])
                 values[f.name] = value
                 continue
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            if not finite_number(value):
                 raise ModelError(f"{where}.parameters.{f.name} must be a finite number, got {value!r}"[:200])
             if f.name in cls.positive and value <= 0:
                 raise ModelError(f"{where}.parameters.{f.name} must be > 0, got {value}")

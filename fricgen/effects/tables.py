@@ -23,6 +23,7 @@ from typing import Any, ClassVar, Dict, List, Tuple
 import numpy as np
 
 from ..c_literal import c_float
+from .._validate import finite_number
 from ..errors import ModelError
 from .library import KNOWN, Effect
 
@@ -133,14 +134,13 @@ class TableEffect(Effect):
         params, where = cls.parameters_of(d, ("lo", "hi", "values"))
         for key in ("lo", "hi"):
             value = params.get(key)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            if not finite_number(value):
                 raise ModelError(f"{where}.parameters.{key} must be a finite number, got {value!r}"[:200])
         if not params["hi"] > params["lo"]:
             raise ModelError(f"{where}.parameters: hi must be > lo, got lo {params['lo']}, hi {params['hi']}")
         values = params.get("values")
         if (not isinstance(values, list) or not 2 <= len(values) <= MAX_KNOTS
-                or any(isinstance(c, bool) or not isinstance(c, (int, float)) or not math.isfinite(c)
-                       for c in values)):
+                or not all(finite_number(c) for c in values)):
             raise ModelError(f"{where}.parameters.values must be a list of 2 to {MAX_KNOTS} finite numbers")
         return cls(lo=float(params["lo"]), hi=float(params["hi"]), values=tuple(float(c) for c in values))
 

@@ -2,7 +2,7 @@
 
 A running median over the points in order of x follows any smooth curve, the Stribeck drop
 included, and no isolated spike moves it. Points further from it than OUTLIER_SIGMAS robust
-standard deviations (1.4826 MAD of the residuals) are gross outliers, the rule the high-speed
+standard deviations (1.4826 MAD of the residuals, ``robust_scale``) are gross outliers, the rule the high-speed
 rows of B already follow (``fricgen.data.training_set.identify_viscous``). Bounded noise, such as
 the benchmark's uniform +-0.5 N, is never rejected.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data.training_set import OUTLIER_SIGMAS
+from ..data.training_set import OUTLIER_SIGMAS, robust_scale
 from .base import inner_points
 
 #: Points in the running median's window (odd): a spike is outvoted unless 4 meet in one window.
@@ -37,7 +37,7 @@ def gross_outliers(x, t, sigmas: float = OUTLIER_SIGMAS, window: int = MEDIAN_WI
     if x.size < 2 * window:
         return np.zeros(x.size, dtype=bool)
     residual = np.abs(t - running_median(x, t, window))
-    scale = 1.4826 * float(np.median(residual))
+    scale = robust_scale(residual, t)
     if not scale > 0:
         return np.zeros(x.size, dtype=bool)
     return (residual > sigmas * scale) & inner_points(x)

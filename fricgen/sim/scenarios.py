@@ -77,7 +77,8 @@ parameters (``magnitudes``) and its RMS force along the log (``signature_rms``, 
 with ``force_noise`` = phi sigma_i), and the loop's ``tracking_rms`` (m) and
 ``current_limit_fraction``. ``Scenario.hidden_force`` is the hidden effects' force per sample.
 The truth a diagnosis is measured against is the user's model on ``Scenario.truth_log()`` (the
-current corrected by the hidden forces but a mass error's) with ``Scenario.true_mass``.
+current corrected by the hidden forces but a mass error's) with ``Scenario.truth_mass()``;
+``without`` leaves effects out of both, for whether each one is visible beside the others.
 """
 from __future__ import annotations
 
@@ -153,11 +154,18 @@ class Scenario:
         """The part of ``hidden_force`` that is not a mass error's (m_true - m) dv/dt."""
         return self._summed(skip=("inertia_mismatch",))
 
-    def truth_log(self) -> MotionLog:
+    def truth_log(self, without: Sequence[str] = ()) -> MotionLog:
         """The log with its current corrected by the hidden effects' force except a mass
-        error's, which ``true_mass`` carries: a correction m dv/dt from the measured velocity
-        would feed the velocity sensor's noise into the current the simulation is driven by."""
-        return replace(self.log, i=self.log.i - self.force_but_mass / self.force_constant)
+        error's, which ``truth_mass`` carries: a correction m dv/dt from the measured velocity
+        would feed the velocity sensor's noise into the current the simulation is driven by.
+        ``without``: hidden effects the truth leaves out (the truth missing them)."""
+        skip = ("inertia_mismatch", *without)
+        return replace(self.log, i=self.log.i - self._summed(skip) / self.force_constant)
+
+    def truth_mass(self, without: Sequence[str] = ()) -> float:
+        """The mass of the truth: the plant's, or the nominal one when ``without`` names the
+        mass error."""
+        return self.mass if "inertia_mismatch" in without else self.true_mass
 
 
 # ----------------------------------------------------------------------------- plant friction
