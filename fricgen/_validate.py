@@ -83,7 +83,7 @@ def json_vector(d: dict, key: str, where: str, positive: bool = False) -> np.nda
     if not isinstance(value, list) or not 1 <= len(value) <= MAX_HIDDEN:
         raise ModelError(f"{where}.{key} must be a list of 1 to {MAX_HIDDEN} numbers")
     for i, item in enumerate(value):
-        if not _is_number(item) or not _finite(item):
+        if not finite_number(item):
             raise ModelError(f"{where}.{key}[{i}] must be a finite number, got {item!r}"[:200])
         if positive and item <= 0:
             raise ModelError(f"{where}.{key} must all be > 0, got {item}")

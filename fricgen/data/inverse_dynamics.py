@@ -129,10 +129,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     if not (np.isfinite(mass) and mass > 0):
         raise DataError(f"mass must be > 0, got {mass}")
     ts = uniform_time(t)[1]
-    if v is None:
+    given = v is not None
+    if not given:
         v = np.gradient(x, ts)
     check_moves(v, x)
-    if x is not None:
+    if given and x is not None:
         check_units(x, v, ts)
     noise = velocity_noise(v)
     if window is None:
