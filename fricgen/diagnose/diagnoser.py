@@ -361,6 +361,11 @@ class Step:
     candidates: List[Candidate]
 
     @property
+    def beside(self) -> List[str]:
+        """The effects fitted jointly with this one: the context of its decision."""
+        return [e.name for e in self.joint if e is not self.fitted]
+
+    @property
     def gain(self) -> float:
         """Relative reduction of the held-out gap, 1 - after / before."""
         return 1.0 - self.gap_after / self.gap_before if self.gap_before > 0 else 0.0
@@ -760,8 +765,8 @@ class Diagnoser:
         """The ``--json`` object."""
         return {"effect": self.effect_, "p_value": self.p_value_, "parameters": self.parameters(),
                 "effects": [s.summary() for s in self.effects_],
-                "refused": [{"effect": s.effect, "p_value": s.p_value, "reason": s.reason}
-                            for s in self.refused()],
+                "refused": [{"effect": s.effect, "beside": s.beside, "p_value": s.p_value,
+                             "reason": s.reason} for s in self.refused()],
                 "where": self.where_, "where_after": self.where_after_,
                 "gap_before": self.gap_before_, "gap_after": self.gap_after_,
                 "gap_metric": self.gap_metric_, "alpha": self.alpha, "min_size": self.min_size,
