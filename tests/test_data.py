@@ -108,3 +108,13 @@ def test_force_against_the_sign_of_v_is_refused(bench):
     with pytest.raises(DataError, match="opposite sign of v"):
         prepare(flipped, vs_max=0.02)
     prepare(bench.train, vs_max=0.02)          # the same rows with the right sign are fine
+
+
+@pytest.mark.parametrize("note", ["", "\tnote"], ids=["numbers only", "with a text column"])
+def test_tab_separated_csv_reads_as_the_comma_separated_one(tmp_path, bench, note):
+    """The delimiter is read off the header: a tab-separated export needs no conversion (the
+    text column takes the careful reader, the numbers alone numpy's)."""
+    text = sweep_csv_text(bench.train).replace(",", "\t").splitlines()
+    rows = [text[0] + note] + [r + ("\tok" if note else "") for r in text[1:]]
+    back = read_sweep_csv(_csv(tmp_path, "\n".join(rows) + "\n"))
+    assert np.array_equal(back.v, bench.train.v) and np.array_equal(back.f, bench.train.f)

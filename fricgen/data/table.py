@@ -43,13 +43,20 @@ def header_hint(cells: Sequence[str]) -> str:
     return ""
 
 
+def _delimiter(header: str) -> str:
+    """The delimiter of a CSV, read off its header line: a tab where the line holds more tabs
+    than commas, else ','."""
+    return "\t" if header.count("\t") > header.count(",") else ","
+
+
 def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
     return DataError(f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x})")
 
 
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
                    keep_extra: bool = False, skip: int = 0, drop_text: bool = False) -> Dict[str, np.ndarray]:
-    """Read a numeric CSV whose header names (at least) the ``required`` columns.
+    """Read a numeric CSV (','- or tab-separated, as its header) whose header names (at least)
+    the ``required`` columns.
 
     Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
     others. Blank lines are skipped; a missing column, a repeated column name, a row of the
@@ -65,8 +72,11 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
             return fast
         with open(path, encoding="utf-8-sig", newline="") as fh:
             _skip_lines(path, fh, skip)
-            return _read_rows(path, csv.reader(fh), required, keep_extra, first_line=skip + 1,
-                              drop_text=drop_text)
+            start = fh.tell()
+            sep = _delimiter(fh.readline())
+            fh.seek(start)
+            return _read_rows(path, csv.reader(fh, delimiter=sep), required, keep_extra,
+                              first_line=skip + 1, drop_text=drop_text)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
@@ -81,7 +91,8 @@ def header_cells(path: Union[str, Path], skip: int = 0) -> List[str]:
         with open(path, encoding="utf-8-sig", newline="") as fh:
             for _ in range(skip):
                 fh.readline()
-            return [h.strip() for h in next(csv.reader([fh.readline()]), [])]
+            line = fh.readline()
+            return [h.strip() for h in next(csv.reader([line], delimiter=_delimiter(line)), [])]
     except (OSError, UnicodeDecodeError, csv.Error):
         return []
 
@@ -112,11 +123,13 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
     with open(path, encoding="utf-8-sig", newline="") as fh:
         for _ in range(skip):
             fh.readline()
-        header = [h.strip().lower() for h in fh.readline().split(",")]
+        line = fh.readline()
+        sep = _delimiter(line)
+        header = [h.strip().lower() for h in line.split(sep)]
         if len(set(header)) != len(header) or not set(required) <= set(header):
             return None
         try:
-            table = np.loadtxt(fh, delimiter=",", ndmin=2, dtype=float, comments=None)
+            table = np.loadtxt(fh, delimiter=sep, ndmin=2, dtype=float, comments=None)
         except ValueError:
             return None
     if table.size and table.shape[1] != len(header):
