@@ -345,7 +345,7 @@ class FrictionModel:
         try:
             if Path(path).stat().st_size > MAX_JSON_BYTES:
                 raise ModelError(f"{path}: larger than {MAX_JSON_BYTES} bytes; not a model.json")
-            text = Path(path).read_text(encoding="utf-8")
+            text = Path(path).read_text(encoding="utf-8-sig")
         except OSError as exc:
             raise ModelError(f"{path}: cannot read ({exc.strerror})") from None
         except UnicodeDecodeError as exc:

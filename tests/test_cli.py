@@ -55,6 +55,20 @@ def test_eval_prints_one_force_per_line(model_json, monkeypatch, capsys):
     assert forces == pytest.approx(expected.tolist(), rel=1e-15)
 
 
+def test_a_model_json_saved_with_a_bom_loads(model_json, tmp_path):
+    """Windows editors save UTF-8 with a byte-order mark; the model is the same."""
+    bom = tmp_path / "bom.json"
+    bom.write_bytes(b"\xef\xbb\xbf" + model_json.read_bytes())
+    assert FrictionModel.load(bom).to_json() == FrictionModel.load(model_json).to_json()
+
+
+def test_eval_reads_velocities_piped_with_a_bom(model_json, monkeypatch, capsys):
+    import io
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b"\xef\xbb\xbf0.01\n")))
+    assert main(["eval", str(model_json)]) == 0
+    assert float(capsys.readouterr().out) == FrictionModel.load(model_json).force(np.array([0.01]))[0]
+
+
 def test_emit_writes_a_self_contained_folder_and_the_controller_only_when_asked(model_json, tmp_path):
     from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES
     assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0

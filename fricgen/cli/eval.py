@@ -26,7 +26,7 @@ def _velocities(stream):
     """The velocity of every non-blank line of a binary (or text) stream."""
     for n, raw in enumerate(stream, start=1):
         try:
-            text = (raw.decode("utf-8") if isinstance(raw, bytes) else raw).strip()
+            text = (raw.decode("utf-8-sig") if isinstance(raw, bytes) else raw).strip()
         except UnicodeDecodeError:
             raise UsageError(f"stdin line {n}: not UTF-8 text") from None
         if not text:
