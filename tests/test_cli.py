@@ -69,6 +69,15 @@ def test_eval_reads_velocities_piped_with_a_bom(model_json, monkeypatch, capsys)
     assert float(capsys.readouterr().out) == FrictionModel.load(model_json).force(np.array([0.01]))[0]
 
 
+def test_eval_reads_the_unicode_minus_sign(model_json, monkeypatch, capsys):
+    """U+2212, as a number pasted from a document writes its minus, is a minus."""
+    import io
+    monkeypatch.setattr(sys, "stdin", io.StringIO("\u22120.01\n1e\u22122\n"))
+    assert main(["eval", str(model_json)]) == 0
+    forces = [float(line) for line in capsys.readouterr().out.split()]
+    assert forces == FrictionModel.load(model_json).force(np.array([-0.01, 0.01])).tolist()
+
+
 def test_emit_writes_a_self_contained_folder_and_the_controller_only_when_asked(model_json, tmp_path):
     from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES
     assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0

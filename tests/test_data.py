@@ -118,3 +118,9 @@ def test_tab_separated_csv_reads_as_the_comma_separated_one(tmp_path, bench, not
     rows = [text[0] + note] + [r + ("\tok" if note else "") for r in text[1:]]
     back = read_sweep_csv(_csv(tmp_path, "\n".join(rows) + "\n"))
     assert np.array_equal(back.v, bench.train.v) and np.array_equal(back.f, bench.train.f)
+
+
+def test_unicode_minus_signs_in_a_csv_are_minus_signs(tmp_path, bench):
+    text = sweep_csv_text(Sweep(-bench.train.v, -bench.train.f))
+    back = read_sweep_csv(_csv(tmp_path, text.replace("-", "\u2212")))
+    assert np.array_equal(back.v, -bench.train.v) and np.array_equal(back.f, -bench.train.f)

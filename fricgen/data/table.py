@@ -20,7 +20,9 @@ _NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+
 
 def plain_float(text: str) -> float:
     """``float(text)`` for a plainly written number only (no '_' separators, no digits of other
-    scripts, which Python's float would accept); else ``ValueError``."""
+    scripts, which Python's float would accept); else ``ValueError``. The minus sign U+2212, as
+    numbers copied from documents write it, is a minus."""
+    text = text.replace("\u2212", "-")
     if not _NUMBER.fullmatch(text):
         raise ValueError(f"not a number: {text!r}")
     return float(text)
