@@ -4,8 +4,9 @@ from __future__ import annotations
 import errno
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Dict, Sequence, Union
+from typing import Dict, Iterator, Sequence, Union
 
 from .errors import UsageError
 
@@ -44,9 +45,19 @@ def _same_file(a: Path, b: Path) -> bool:
         return a.resolve() == b.resolve()
 
 
+@contextmanager
+def _named(option: str, path) -> Iterator[None]:
+    """An ``OSError`` of looking at ``path`` (a name too long, no permission) as a
+    ``UsageError`` naming ``option`` and ``path``."""
+    try:
+        yield
+    except OSError as exc:
+        raise UsageError(f"{option} {path}: {exc.strerror or exc}") from None
+
+
 def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
                       force: bool = False, option: str = "-o") -> Path:
-    """The file a command may write for ``path``, else ``UsageError`` naming it.
+    """The file a command may write for ``path``, else ``UsageError`` naming ``option`` and it.
 
     A folder, FIFO or device is never replaced. A symbolic link or one of the command's
     ``inputs`` is refused unless ``force``; with ``force`` a link is written through (its
@@ -55,12 +66,19 @@ def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]]
         raise UsageError(f"{option}: empty path")
     if str(path).endswith(("/", os.sep)):
         raise UsageError(f"{option} {path}: names a folder; give a file name")
-    path = Path(path)
+    with _named(option, path):
+        return _check_destination(Path(path), inputs, force, option)
+
+
+def _check_destination(path: Path, inputs, force: bool, option: str) -> Path:
     if path.is_symlink():
         if not force:
             raise UsageError(f"{option} {path}: is a symbolic link; refusing to replace it "
                              "(--force writes to its target)")
-        path = path.resolve()
+        target = Path(os.path.realpath(path))
+        if target.is_symlink():
+            raise UsageError(f"{option} {path}: is a symbolic link that loops")
+        path = target
     if path.exists() and not path.is_file():
         kind = "a folder" if path.is_dir() else "not a regular file"
         raise UsageError(f"{option} {path}: is {kind}; refusing to replace it")
@@ -89,11 +107,19 @@ def _check_writable(folder: Path, path: Path, option: str) -> None:
 
 def check_folder(folder: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
                  force: bool = False, option: str = "-o") -> Path:
-    """``folder`` if a command may write into it: not an existing non-folder, and not the folder
-    of one of ``inputs`` (unless ``force``); else ``UsageError``."""
+    """``folder`` if a command may write into it: not an existing non-folder nor a broken
+    symbolic link, and not the folder of one of ``inputs`` (unless ``force``); else
+    ``UsageError`` naming ``option``."""
     if not str(folder).strip():
         raise UsageError(f"{option}: empty path")
-    folder = Path(folder)
+    with _named(option, folder):
+        return _check_folder(Path(folder), inputs, force, option)
+
+
+def _check_folder(folder: Path, inputs, force: bool, option: str) -> Path:
+    if folder.is_symlink() and not folder.exists():
+        raise UsageError(f"{option} {folder}: is a broken symbolic link (its target does not "
+                         "exist or loops); give a folder")
     if folder.exists() and not folder.is_dir():
         raise UsageError(f"{option} {folder}: exists and is not a folder")
     _check_writable(folder, folder, option)

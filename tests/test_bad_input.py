@@ -55,6 +55,7 @@ def work(cli_inputs, tmp_path_factory):
     cells[log[0].split(",").index("i")] = "nan"
     (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
     _motion_log_files(d, log)
+    _trial_files(d, log)
     (d / "log_swapped.csv").write_text("\n".join(log[:100] + [log[101], log[100]] + log[102:]) + "\n")
     (d / "log_short.csv").write_text("\n".join(log[:16]) + "\n")
     (d / "log_repeated_t.csv").write_text("\n".join(log[:100] + [log[100]] + log[100:]) + "\n")
@@ -97,6 +98,12 @@ def _edited_columns(d, log, name, **edits):
     (d / name).write_text("\n".join([log[0]] + rows) + "\n")
 
 
+def _trial_files(d, log):
+    """The files of TRIAL_ROWS: symbolic links that lead nowhere."""
+    (d / "broken_link").symlink_to(d / "nothing_here")
+    (d / "loop_link").symlink_to(d / "loop_link")
+
+
 def _motion_log_files(d, log):
     """The files of the motion-log and vendor-export rows: log.csv as t,v,force; as a vendor's
     drive file (preamble, own names) and load-cell file; and an asymmetric model.json."""
@@ -123,6 +130,20 @@ LOG = ["--mass", "4", "--force-constant", "20"]
 DRIVE = ["drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", "--mass", "4"]
 MERGE = ["--merge", "load.csv", "--merge-columns", "t=Stamp,force=Load"]
 DIAG = ["--mass", "4", "--force-constant", "20"]
+
+LONG = "a" * 300     # a file name longer than a file system allows
+
+#: Rows from a new-user trial: (row id, argv, words of the one error line; WORK/ is the work
+#: folder).
+TRIAL_ROWS = [
+    ("-o a name over 255 bytes", ["train", "sweep.csv", "-o", LONG + ".json"],
+     f"-o {LONG}.json: File name too long"),
+    ("folder -o a name over 255 bytes", ["emit", "model.json", "-o", LONG], f"-o {LONG}: File name too long"),
+    ("folder -o a broken symbolic link", ["emit", "model.json", "-o", "broken_link"],
+     "-o WORK/broken_link: is a broken symbolic link"),
+    ("-o a symbolic link that loops, --force", ["train", "sweep.csv", "-o", "loop_link", "--force"],
+     "-o WORK/loop_link: is a symbolic link that loops"),
+]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)
 ROWS = [
@@ -272,11 +293,12 @@ ROWS = [
 ]
 
 
-@pytest.mark.parametrize("argv, words", [r[1:] for r in ROWS], ids=[r[0] for r in ROWS])
+@pytest.mark.parametrize("argv, words", [r[1:] for r in TRIAL_ROWS + ROWS], ids=[r[0] for r in TRIAL_ROWS + ROWS])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(work, tmp_path, argv, words):
     out = tmp_path / "out"
     special = {OUT: str(out), OUT + "/": str(out) + "/", "UNDER_INPUT": str(work / "sweep.csv" / "m.json")}
-    argv = [special.get(a) or (str(work / a) if a and (work / a).exists() else a) for a in argv]
+    argv = [special.get(a) or (str(work / a) if a and os.path.lexists(work / a) else a) for a in argv]
+    words = words.replace("WORK/", f"{work}/")
     before = sorted(os.listdir(work))
     proc = subprocess.run([sys.executable, "-m", "fricgen", *argv], capture_output=True, text=True,
                           stdin=subprocess.DEVNULL, timeout=120)

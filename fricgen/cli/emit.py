@@ -1,6 +1,7 @@
 """``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder."""
 from __future__ import annotations
 
+from .._io import check_folder
 from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, render
 from ..model import FrictionModel, check_model_name
 from .common import add_output, say, write_folder
@@ -21,6 +22,7 @@ def register(p) -> None:
 
 
 def run(args) -> int:
+    check_folder(args.output, (), args.force)
     model = FrictionModel.load(args.model)
     if args.name is None:
         name = check_model_name(model.name, f"field 'name' of {args.model} (override it with --name)")
