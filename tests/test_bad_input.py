@@ -143,6 +143,10 @@ TRIAL_ROWS = [
      "-o WORK/broken_link: is a broken symbolic link"),
     ("-o a symbolic link that loops, --force", ["train", "sweep.csv", "-o", "loop_link", "--force"],
      "-o WORK/loop_link: is a symbolic link that loops"),
+    ("--scale of a quantity the file lacks", ["train", "sweep.csv", "--scale", "x=1000", "-o", OUT],
+     "--scale: x is not a column of WORK/sweep.csv (its columns: v, f)"),
+    ("--scale of a quantity neither file has", ["train", *DRIVE, *MERGE, "--scale", "i=2", "-o", OUT],
+     "--scale: i is a column of neither WORK/drive.csv (t, v) nor WORK/load.csv (t, force)"),
 ]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..data.export import ExportLayout, merge_on_time, parse_assignments, parse_scales, read_export
+from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments, parse_scales,
+                           read_export)
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log
 from ..data.sweep import sweep_from_columns
 from ..data.table import header_cells
@@ -163,9 +164,11 @@ def read_columns(args):
     if args.merge is None:
         if args.merge_columns or args.merge_skip or args.merge_shift:
             raise UsageError("--merge-columns, --merge-skip and --merge-shift need --merge FILE")
+        check_scaled(scales, {args.sweep: columns})
         return columns
     second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
         args.merge_columns, "--merge-columns")), scales)
+    check_scaled(scales, {args.sweep: columns, args.merge: second})
     return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge))
 
 

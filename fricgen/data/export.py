@@ -57,6 +57,19 @@ def parse_scales(items: Sequence[str], option: str = "--scale") -> Dict[str, flo
     return scales
 
 
+def check_scaled(scales: Mapping[str, float], files: Mapping[str, Dict[str, np.ndarray]],
+                 option: str = "--scale") -> None:
+    """``UsageError`` naming a scaled quantity that none of ``files`` (columns by file name)
+    has, and the columns each has."""
+    for name in scales:
+        if not any(name in columns for columns in files.values()):
+            listed = [(path, ", ".join(columns)[:80]) for path, columns in files.items()]
+            where = (f"is not a column of {listed[0][0]} (its columns: {listed[0][1]})"
+                     if len(listed) == 1 else "is a column of neither " +
+                     " nor ".join(f"{path} ({cols})" for path, cols in listed))
+            raise UsageError(f"{option}: {name} {where}")
+
+
 @dataclass(frozen=True)
 class ExportLayout:
     """How to read one exported file: ``skip`` preamble lines, then a header whose columns
@@ -75,7 +88,7 @@ class ExportLayout:
 def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
                 scales: Mapping[str, float] = {}) -> Dict[str, np.ndarray]:
     """The columns of ``path`` by fricgen's names, scaled to SI by ``scales`` (factor per name;
-    a name the file lacks is left for the caller)."""
+    a name the file lacks is left for the caller: ``check_scaled``)."""
     rename = {vendor.strip().lower(): name for name, vendor in layout.columns.items()}
     raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip)
     columns = {}
