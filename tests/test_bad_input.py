@@ -99,9 +99,10 @@ def _edited_columns(d, log, name, **edits):
 
 
 def _trial_files(d, log):
-    """The files of TRIAL_ROWS: symbolic links that lead nowhere."""
+    """The files of TRIAL_ROWS: symbolic links that lead nowhere, log.csv without t."""
     (d / "broken_link").symlink_to(d / "nothing_here")
     (d / "loop_link").symlink_to(d / "loop_link")
+    (d / "log_no_t.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
 
 
 def _motion_log_files(d, log):
@@ -147,6 +148,8 @@ TRIAL_ROWS = [
      "--scale: x is not a column of WORK/sweep.csv (its columns: v, f)"),
     ("--scale of a quantity neither file has", ["train", *DRIVE, *MERGE, "--scale", "i=2", "-o", OUT],
      "--scale: i is a column of neither WORK/drive.csv (t, v) nor WORK/load.csv (t, force)"),
+    ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
+     "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
 ]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)

@@ -166,12 +166,13 @@ def is_log(columns: Dict[str, np.ndarray]) -> bool:
 
 
 def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]] = None) -> str:
-    """Why the columns are neither a sweep (v, f) nor a log (t, v or x, force or i); ``written``:
+    """Why the columns are neither a sweep (v, f) nor a log (t, v or x, force or i): a log's
+    missing columns where there is t, or x, force or i but no f; else a sweep's. ``written``:
     the header's names as the file writes them, for the message."""
     cells = written or list(columns)
     header = ",".join(cells)[:80]
-    if LOG_TIME in columns:
-        missing = [" or ".join(group) for group in (LOG_MOTION, LOG_DRIVE)
+    if LOG_TIME in columns or ("f" not in columns and any(c in columns for c in ("x", *LOG_DRIVE))):
+        missing = [" or ".join(group) for group in ((LOG_TIME,), LOG_MOTION, LOG_DRIVE)
                    if not any(c in columns for c in group)]
         return (f"a motion log needs t, v or x, and force or i: missing {' and '.join(missing)} "
                 f"(header is {header}){header_hint(cells)}")
