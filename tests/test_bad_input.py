@@ -150,6 +150,8 @@ TRIAL_ROWS = [
      "--scale: i is a column of neither WORK/drive.csv (t, v) nor WORK/load.csv (t, force)"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
+    ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],
+     "the current i is constant (1.5 A) over 98 % of the log"),
 ]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)

@@ -18,7 +18,7 @@ from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..errors import DataError
-from .motionlog import MIN_SAMPLES, check_moves, check_units, uniform_time
+from .motionlog import MIN_SAMPLES, check_moves, check_units, check_varies, uniform_time
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -188,8 +188,10 @@ def identify_log(columns: Dict[str, np.ndarray], mass: float,
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
         force = columns["force"]
+        check_varies(force, "force", "N")
     elif force_constant is None:
         raise DataError("the log has a current column i but no force column; pass --force-constant (N/A)")
     else:
+        check_varies(columns["i"], "current i", "A")
         force = force_constant * columns["i"]
     return identify_friction(columns["t"], force, mass, v=columns.get("v"), x=columns.get("x"))

@@ -89,6 +89,18 @@ def check_moves(v: np.ndarray, x: Optional[np.ndarray] = None) -> None:
     raise DataError("column 'v' is 0 throughout: the axis never moves")
 
 
+def check_varies(values: np.ndarray, what: str, unit: str) -> None:
+    """``DataError`` when the finite ``values`` of a logged signal hold one value over 98 % of
+    the log (their 1 % and 99 % quantiles coincide): the signal was not really logged."""
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return
+    lo, hi = np.quantile(values, [0.01, 0.99])
+    if not hi > lo:
+        raise DataError(f"the {what} is constant ({np.median(values):g} {unit}) over 98 % of the "
+                        f"log; a log needs the measured {what}")
+
+
 def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
     """x, v and the sampling interval ``ts`` must agree: the least-squares ratio of dx/dt to v
     lies within UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000)."""

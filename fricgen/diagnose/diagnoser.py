@@ -32,6 +32,7 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from .._validate import positive
 from ..data import MotionLog
+from ..data.motionlog import check_varies
 from ..effects import (EFFECTS, PLAUSIBLE_FACTOR, TABLES, Effect, Signals, model_effects,
                        with_effects)
 from ..errors import DataError
@@ -54,10 +55,7 @@ class ResidualProblem:
     def __init__(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float,
                  window: int, holdout: float, effects: Sequence[Effect] = ()):
         self.mass, self.force_constant = mass, force_constant
-        lo, hi = np.quantile(log.i, [0.01, 0.99])
-        if not hi > lo:
-            raise DataError(f"the current i is constant ({np.median(log.i):g} A) over 98 % of the "
-                            "log; the diagnosis needs the measured current")
+        check_varies(log.i, "current i", "A")
         ts = log.sample_time
         self.sample_time = ts
         self.signals = Signals(model, t=log.t, x=log.x, v=log.v, a=np.gradient(log.v, ts), i=log.i,
