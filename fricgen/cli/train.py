@@ -6,7 +6,8 @@ from pathlib import Path
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments, parse_scales,
                            read_export)
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log
-from ..data.sweep import sweep_from_columns
+from ..data.motionlog import MIN_SAMPLES
+from ..data.sweep import MIN_ROWS, sweep_from_columns
 from ..data.table import header_cells
 from .._validate import MAX_HIDDEN
 from ..data.training_set import OUTLIER_SIGMAS, SAT_FACTOR
@@ -169,7 +170,8 @@ def read_columns(args):
     second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
         args.merge_columns, "--merge-columns")), scales)
     check_scaled(scales, {args.sweep: columns, args.merge: second})
-    return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge))
+    least = MIN_SAMPLES if is_log({**columns, **second}) else MIN_ROWS
+    return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge), least)
 
 
 def training_data(args):

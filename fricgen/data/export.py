@@ -114,11 +114,12 @@ def _increasing_time(columns: Dict[str, np.ndarray], path) -> np.ndarray:
 
 
 def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], shift: float = 0.0,
-                  names: Tuple[str, str] = ("first file", "second file")) -> Dict[str, np.ndarray]:
+                  names: Tuple[str, str] = ("first file", "second file"),
+                  min_rows: int = 2) -> Dict[str, np.ndarray]:
     """The columns of both files on the slower clock (the larger median step), over the time
     both cover: the other file's columns linearly interpolated there. The second file's sample
     at t2 happened at t2 + ``shift`` on the first file's clock. A column other than t in both
-    files is refused."""
+    files, or a common time of fewer than ``min_rows`` rows, is refused naming both files."""
     t1 = _increasing_time(first, names[0])
     t2 = _increasing_time(second, names[1]) + shift
     both = sorted((set(first) & set(second)) - {"t"})
@@ -130,6 +131,11 @@ def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], s
     if inside.sum() < 2:
         raise DataError(f"{names[0]} and {names[1]} share no time span (after the shift of "
                         f"{shift:g} s)")
+    if inside.sum() < min_rows:
+        common = ts[inside]
+        raise DataError(f"{names[0]} and {names[1]} share {common[-1] - common[0]:.3g} s "
+                        f"({int(inside.sum())} rows on the slower clock), need {min_rows} rows "
+                        f"(after the shift of {shift:g} s)")
     merged = {"t": ts[inside]}
     merged.update({k: a[inside] for k, a in slow.items() if k != "t"})
     merged.update({k: np.interp(merged["t"], tf, a) for k, a in fast.items() if k != "t"})
