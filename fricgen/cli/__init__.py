@@ -18,7 +18,7 @@ from .common import ArgumentParser, say
 
 #: The commands, in the order ``fricgen --help`` lists them: name -> (module, one-line help).
 COMMANDS = {
-    "demo": ("demo", "paper benchmark -> default model -> C -> measured parity"),
+    "demo": ("demo", "paper benchmark -> the paper's ELMs and elm_auto -> C -> measured parity"),
     "synth": ("synth", "write a measured-style friction sweep (CSV v,f)"),
     "train": ("train", "fit a friction model to a sweep or motion-log CSV; write model.json"),
     "eval": ("eval", "forces (N) for velocities read from stdin, one per line"),

@@ -10,10 +10,12 @@ from .common import add_output, add_seed, number, say, write_file
 
 def register(p) -> None:
     """The arguments of this command."""
-    p.add_argument("--preset", choices=sorted(PRESETS), default="paper3")
-    p.add_argument("--shape", choices=sorted(SHAPES), default="gauss")
+    p.add_argument("--preset", choices=sorted(PRESETS), default="paper3",
+                   help="friction parameters: paper3 is Table 1's three sources (default paper3)")
+    p.add_argument("--shape", choices=sorted(SHAPES), default="gauss",
+                   help="the Stribeck shape g of eq. (1) (default gauss)")
     p.add_argument("--noise", type=number(0, 1e6, unit="N"), default=0.5,
-                   help="uniform noise half-width, N")
+                   help="uniform noise half-width, N (default 0.5)")
     add_seed(p)
     p.add_argument("--both-signs", action="store_true", help="mirror a random half to v < 0")
     add_output(p, "the CSV to write")

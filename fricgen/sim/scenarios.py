@@ -34,7 +34,8 @@ position_ripple        0.2 F_c sin(2 pi x / P + phase), P fitting 4-40 periods i
 direction_asymmetry    friction in one (random) direction x (1 +- 0.25)
 constant_load          +-0.3 F_c
 inertia_mismatch       true mass = nominal (1 + r) or / (1 + r), r = 0.3 or more, such that
-                       |dm| a_rms = 0.25 F_c (capped at x3 / x0.5)
+                       |dm| a_rms = 0.25 F_c, r at most 2 (x3 / x0.5); at k times the
+                       reference size r is k times that (up to x(1 + 2k)), never below x0.5
 force_constant_mismatch  true phi = nominal (1 - 0.15) or (1 + 0.15)
 extra_friction_source  a further source: fc 0.25 F_c, fs 0.5 F_c, vs within the plant's,
                        stretched exponent 1-2, viscous 0.25 F_c / v_pk
