@@ -9,6 +9,7 @@ import numpy as np
 from .._validate import float32_scale
 from ..errors import DataError
 from ..model import Scaling
+from .outliers import OUTLIER_SIGMAS, gross_outliers, robust_scale
 from .sweep import MIN_ROWS, Sweep
 
 #: Fewest high-speed rows (|v| > v_sat) the regression for B needs.
@@ -17,8 +18,6 @@ MIN_HIGH_SPEED_ROWS = 5
 SAT_FACTOR = 3.0
 #: Rows in [0, v_sat] beyond which the training set is binned (``bin_equal_counts``).
 MAX_TRAINING_POINTS = 4096
-#: High-speed rows further than this many robust standard deviations from the line are outliers.
-OUTLIER_SIGMAS = 6.0
 
 
 def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
@@ -33,17 +32,6 @@ def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, fl
     slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
     with np.errstate(over="ignore", invalid="ignore"):
         return slope, float(np.median(f - slope * v))
-
-
-def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
-    """A robust standard deviation of the absolute residuals of ``values``: 1.4826 times their
-    median, or, when most are 0 (a quantized force, noise-free data), times the median of those
-    beyond rounding (1e-9 of the values' median magnitude)."""
-    scale = 1.4826 * float(np.median(residual))
-    if scale > 0:
-        return scale
-    beyond = residual[residual > 1e-9 * float(np.median(np.abs(values)))]
-    return 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
 
 
 def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
@@ -155,7 +143,9 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
     regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with
     the two added points (0, mean force of the four slowest rows) and (v_sat, f_sat), where f_sat
-    defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t).
+    defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t) over
+    the points that are no gross outliers (``fricgen.data.outliers``), which the default
+    estimator sets aside.
     Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``).
     """
     if vs_max is not None and not (np.isfinite(vs_max) and vs_max > 0):
@@ -205,7 +195,7 @@ def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, esti
     f = np.concatenate([[low.f[slowest].mean() if n_rows == len(low) else low.f[0]], low.f, [f_sat]])
     k_in = 1.0 / v_sat
     t_raw = f - viscous * v
-    peak = np.max(t_raw)
+    peak = np.max(t_raw[~gross_outliers(v, t_raw)])         # a spike must not set the scale
     if not peak > 0:
         raise DataError("friction minus viscous part is never positive: not a friction sweep")
     check_float32_scale("v_sat", v_sat, "m/s")
