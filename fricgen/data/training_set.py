@@ -39,8 +39,10 @@ def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
     and the number of rows rejected as gross outliers.
 
     Rows whose residual from a robust (Theil-Sen) line exceeds OUTLIER_SIGMAS robust standard
-    deviations (1.4826 MAD) are dropped; least squares on the others gives B. Bounded noise, such
-    as the benchmark's, is never rejected (its largest residual is under 1.4 robust sd)."""
+    deviations (1.4826 MAD) are dropped; least squares on the others gives B, in the centred and
+    scaled speed (v - mean) / sd, so that any unit of v and f gives the same line. Bounded
+    noise, such as the benchmark's, is never rejected (its largest residual is under 1.4
+    robust sd)."""
     if len(high) < MIN_HIGH_SPEED_ROWS:
         raise DataError(f"no high-speed data for B: {len(high)} rows beyond v_sat, "
                         f"need at least {MIN_HIGH_SPEED_ROWS}")
@@ -55,9 +57,12 @@ def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
     if keep.sum() < MIN_HIGH_SPEED_ROWS or np.ptp(high.v[keep]) <= 0:
         raise DataError(f"high-speed data for B: only {int(keep.sum())} of {len(high)} rows "
                         "lie on a line")
-    A = np.column_stack([np.ones(int(keep.sum())), high.v[keep]])
-    (f0, B), *_ = np.linalg.lstsq(A, high.f[keep], rcond=None)
-    return float(B), float(f0), int(len(high) - keep.sum())
+    v = high.v[keep]
+    centre, spread = float(np.mean(v)), float(np.std(v))
+    A = np.column_stack([np.ones(v.size), (v - centre) / spread])
+    (mean_f, slope), *_ = np.linalg.lstsq(A, high.f[keep], rcond=None)
+    B = slope / spread
+    return float(B), float(mean_f - B * centre), int(len(high) - keep.sum())
 
 
 def bin_equal_counts(sweep: Sweep, bins: int) -> Sweep:
@@ -100,7 +105,7 @@ def estimate_vs_max(folded: Sweep) -> float:
                         "cannot estimate vs_max; pass --vs-max, or sweep a range of speeds")
     coef = np.polyfit(v[fast], f[fast], 1)
     resid = f - np.polyval(coef, v)
-    sigma = max(np.std(resid[fast]), 1e-12)
+    sigma = max(np.std(resid[fast]), 1e-12 * float(np.median(np.abs(f))))   # noise-free data
     edges = np.quantile(v, np.linspace(0.0, 0.75, 16))
     edge = edges[1]
     for lo, hi in zip(edges[:-1], edges[1:]):
