@@ -4,12 +4,13 @@ import numpy as np
 import pytest
 
 from fricgen.effects import (DirectionAsymmetry, FrictionalLag, PositionRipple, Signals,
-                             ThermalDrift)
+                             ThermalDrift, effect_from_dict)
 from fricgen.firmware.build import Float32Plant
 from fricgen.friction import multisource, preset
 from fricgen.sim.axis import AxisState, MotorAxis
 from fricgen.sim.effect_law import EffectLaw
-from fricgen.sim.logsynth import HIDDEN_EFFECTS, LogSpec, truth_effects, truth_law
+from fricgen.sim.logsynth import (HIDDEN_EFFECTS, LogSpec, magnitude_range, truth_effect, truth_effects,
+                                  truth_law)
 
 # ----------------------------------------------------------------------------- integrators
 
@@ -130,6 +131,27 @@ def test_the_truth_law_is_the_friction_plus_the_library_effect(effect):
     assert law.mass == spec.mass + e.mass_delta
     assert law.force_constant == spec.force_constant + e.force_constant_delta
     assert law.lag_tau == e.lag_tau
+
+
+@pytest.mark.parametrize("effect", [e for e in HIDDEN_EFFECTS if e != "none"])
+def test_the_magnitude_range_ends_where_the_effect_library_refuses_the_effect(effect):
+    # a negative extra friction source, or a force constant 3 % of the nominal one (which left the
+    # axis stuck, "x does not follow v"), was accepted as a magnitude
+    low, high = magnitude_range(effect, 4.0, 20.0)
+    assert low == 0.0 and (high == float("inf") or 1.0 < high < 100.0)
+
+    def accepted(k):
+        e = truth_effect(effect, k, 4.0, 20.0)
+        try:
+            return effect_from_dict(e.to_dict()) == e and e.implausible() == ""
+        except ValueError:
+            return False
+
+    assert all(accepted(k) for k in (1e-3, 1.0, min(high, 100.0)))
+    if high < float("inf"):
+        assert not accepted(1.01 * high)
+        with pytest.raises(ValueError, match=f"> 0 and <= {high:g} for {effect}, got"):
+            LogSpec(effect=effect, magnitude=1.01 * high)
 
 
 def test_a_batch_law_gives_each_axis_exactly_its_own_law():

@@ -216,7 +216,7 @@ ROWS = [
     ("synth-log --duration inf", ["synth-log", "--duration", "inf", "-o", OUT], "--duration: must be"),
     ("synth-log --duration 1e9", ["synth-log", "--duration", "1e9", "-o", OUT], "<= 1200 s"),
     ("synth-log negative mass", ["synth-log", "--effect", "inertia_mismatch", "--magnitude", "-5",
-                                 "-o", OUT], "mass must be > 0"),
+                                 "-o", OUT], "--magnitude: must be a number > 0"),
     ("synth-log --magnitude nan", ["synth-log", "--magnitude", "nan", "-o", OUT], "--magnitude: must be"),
     ("simulate --ts 5e-324", ["simulate", "--ts", "5e-324"], "--ts: must be a number >= 1e-06"),
     ("simulate --duration 1e9", ["simulate", "--duration", "1e9"], "--duration: must be"),
@@ -301,6 +301,16 @@ ROWS = [
      "fewer than the 100000"),
     ("--merge file missing", ["train", *DRIVE, "--merge", "nothing.csv", "-o", OUT], "cannot read"),
     ("-o is the --merge file", ["train", *DRIVE, *MERGE, "-o", "load.csv"], "load.csv"),
+    ("synth-log --magnitude 0", ["synth-log", "--effect", "constant_load", "--magnitude", "0", "-o", OUT],
+     "--magnitude: must be a number > 0 and <= 100, got 0"),
+    ("synth-log negative friction source", ["synth-log", "--effect", "extra_friction_source",
+                                            "--magnitude", "-1", "-o", OUT],
+     "--magnitude: must be a number > 0"),
+    ("synth-log force constant near 0", ["synth-log", "--effect", "force_constant_mismatch", "--magnitude",
+                                         "6.6", "-o", OUT],
+     "--magnitude: must be a finite number > 0 and <= 5.33 for force_constant_mismatch, got 6.6"),
+    ("synth-log mass 5 times nominal", ["synth-log", "--effect", "inertia_mismatch", "--magnitude", "14",
+                                        "-o", OUT], "<= 13.3 for inertia_mismatch, got 14"),
 ]
 
 

@@ -124,3 +124,36 @@ def test_unicode_minus_signs_in_a_csv_are_minus_signs(tmp_path, bench):
     text = sweep_csv_text(Sweep(-bench.train.v, -bench.train.f))
     back = read_sweep_csv(_csv(tmp_path, text.replace("-", "\u2212")))
     assert np.array_equal(back.v, -bench.train.v) and np.array_equal(back.f, -bench.train.f)
+
+
+#: (factor of v, factor of f): units 1e15 apart, within the 1e-30..1e30 the loader accepts.
+UNIT_SCALES = [(1e-15, 1e-15), (1.0, 1e-15), (1e15, 1e15), (1e-15, 1.0)]
+
+
+@pytest.mark.parametrize("sv, sf", UNIT_SCALES, ids=[f"v*{a:g},f*{b:g}" for a, b in UNIT_SCALES])
+def test_the_training_set_does_not_depend_on_the_units(bench, sv, sf):
+    # B by least squares on an unscaled [1, v] design and an absolute noise floor of 1e-12 N in
+    # the vs_max estimate broke a sweep in other units (B = 1.5e-30 or 159 N s/m for 58)
+    a = prepare(bench.train)
+    b = prepare(Sweep(sv * bench.train.v, sf * bench.train.f))
+    # the scaled rows differ from the exact ones by one rounding (1.1e-16); each figure below is
+    # a sum, a median or a well-conditioned solve of them, so a few roundings at most
+    assert b.v_sat == pytest.approx(sv * a.v_sat, rel=1e-13)
+    assert b.viscous == pytest.approx(sf / sv * a.viscous, rel=1e-12)
+    assert b.scaling.k_out == pytest.approx(a.scaling.k_out / sf, rel=1e-13)
+    np.testing.assert_allclose(b.x, a.x, rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(b.t, a.t, rtol=1e-12, atol=1e-13)
+
+
+def test_training_in_other_units_gives_the_same_model_up_to_the_scale(bench):
+    from fricgen.fit import default_estimator
+    from fricgen.model import FrictionModel
+    v = np.linspace(-0.2, 0.2, 401)
+    reference = FrictionModel.fit(prepare(bench.train), default_estimator(0)).force(v)
+    for sv, sf in ((1e-15, 1e-15), (1e15, 1e15)):
+        model = FrictionModel.fit(prepare(Sweep(sv * bench.train.v, sf * bench.train.f)), default_estimator(0))
+        # the training sets agree within 1e-12 (above); the fits' solves amplify that by at most
+        # their condition numbers (cond(H^T H) < 1e8 by the parity bound), so 1e-8 of the largest
+        # force, where a unit-dependent step (another vs_max, B or choice) moves it by 1e-3 or more
+        np.testing.assert_allclose(model.force(sv * v) / sf, reference, rtol=0,
+                                   atol=1e-8 * np.max(np.abs(reference)))

@@ -14,7 +14,7 @@ from fricgen.codegen.twin import force_f32
 from fricgen.errors import ModelError
 from fricgen.firmware import build as fw
 from fricgen.fit import DefaultRegressor, OracleRegressor, StribeckRegressor
-from fricgen.fit.outliers import gross_outliers
+from fricgen.data.outliers import gross_outliers
 from fricgen.fit.stribeck import all_subsets, fit_sources
 from fricgen.friction import SHAPES, preset
 from fricgen.model import FrictionModel

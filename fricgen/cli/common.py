@@ -61,14 +61,18 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
 positive_float = number(0.0, low_open=True)
 
 
-def add_output(p, help: str, required: bool = True, default=None) -> None:
+#: What ``--force`` also overwrites in a command that emits C (``fricgen.codegen.check_overwrite``).
+FORCE_C = ", and over files fricgen did not write or that are read-only"
+
+
+def add_output(p, help: str, required: bool = True, default=None, force_also: str = "") -> None:
     """``-o/--output`` (``--out`` is an alias): the file or folder a command writes, and
-    ``--force`` to overwrite an input or write through a symbolic link."""
+    ``--force`` to overwrite an input or write through a symbolic link (and ``force_also``)."""
     p.add_argument("-o", "--output", "--out", dest="output", required=required and default is None,
                    default=default, help=help)
     p.add_argument("--force", action="store_true",
                    help="write even where -o is one of the inputs (or, for diagnose, the model's "
-                   "folder), or a symbolic link where a file goes (its target is written)")
+                   f"folder), or a symbolic link where a file goes (its target is written){force_also}")
 
 
 def out(text: str) -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..codegen import emit, parity
+from ..codegen import check_overwrite, emit, parity, render
 from .._io import check_folder
 from ..codegen.cbuild import build_model
 from ..data import synthesize_benchmark
@@ -15,14 +15,15 @@ from ..fit import DEFAULT_ELM, ELMRegressor, default_elm
 from ..friction import preset
 from ..model import FrictionModel
 from ..paper import reported as paper
-from .common import add_output, number, out, say
+from .common import FORCE_C, add_output, number, out, say
 
 
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("--seeds", type=number(1, 1000, integer=True), default=paper.SEEDS,
                    help="runs to average (default 20)")
-    add_output(p, "keep the emitted C in this folder (default: a temporary one)", required=False)
+    add_output(p, "keep the emitted C in this folder (default: a temporary one)", required=False,
+               force_also=FORCE_C)
     p.set_defaults(run=run)
 
 
@@ -40,6 +41,10 @@ def _mean_errors(make, seeds):
 def run(args) -> int:
     if args.output:
         check_folder(args.output, (), args.force)
+    bench = synthesize_benchmark(preset("paper3"), seed=0)
+    model = FrictionModel.fit(bench.dataset, default_elm(0), name="fm")
+    if args.output:                     # before the benchmark runs, as emit checks it at the end
+        check_overwrite([Path(args.output) / f for f in render(model, "fm")], args.force)
     seeds = range(args.seeds)
     say(f"paper benchmark (Table 1, 3 sources), {args.seeds} seeds")
     makers = {label: (lambda s, cfg=cfg: ELMRegressor(random_state=s, **cfg))
@@ -56,8 +61,6 @@ def run(args) -> int:
             f"{median_n:9.4f} {means[4]:10.3g} {means[5]:9.2f}   {ref}")
     out("(normalized errors depend on the unspecified K_out; compare ratios and newtons)")
 
-    bench = synthesize_benchmark(preset("paper3"), seed=0)
-    model = FrictionModel.fit(bench.dataset, default_elm(0), name="fm")
     work = Path(tempfile.mkdtemp(prefix="fricgen_demo_"))
     try:            # emitted and compiled aside: -o gets the C only, and only once it compiles
         emit(model, work / "c", "fm")
@@ -65,7 +68,7 @@ def run(args) -> int:
         lib = build_model(work / "c", "fm", build_dir=work / "build")
         p = parity.measure(model, lib, "fm")
         if args.output:
-            emit(model, args.output, "fm")
+            emit(model, args.output, "fm", force=args.force)
             say(f"wrote the emitted C to {args.output}")
     finally:
         shutil.rmtree(work, ignore_errors=True)

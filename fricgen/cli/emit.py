@@ -2,15 +2,15 @@
 from __future__ import annotations
 
 from .._io import check_folder
-from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, render
+from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite, render
 from ..model import FrictionModel, check_model_name
-from .common import add_output, say, write_folder
+from .common import FORCE_C, add_output, check_targets, say, write_folder
 
 
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("model", help="model.json")
-    add_output(p, "output folder")
+    add_output(p, "output folder", force_also=FORCE_C)
     p.add_argument("--name", help="C name prefix, not beginning with fric_ (default: the model's name)")
     p.add_argument("--activation-impl", choices=ACTIVATION_IMPLS, default="libm",
                    help="sigmoid through libm's expf, or the fast one without libm (error <= 8.7e-7)")
@@ -31,6 +31,7 @@ def run(args) -> int:
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller)
     check_name_in_folder(args.output, name)
+    check_overwrite(check_targets(args, files, [args.model]).values(), args.force)
     write_folder(args, files, [args.model])
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

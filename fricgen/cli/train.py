@@ -10,7 +10,8 @@ from ..data.motionlog import MIN_SAMPLES
 from ..data.sweep import MIN_ROWS, sweep_from_columns
 from ..data.table import header_cells
 from .._validate import MAX_HIDDEN
-from ..data.training_set import OUTLIER_SIGMAS, SAT_FACTOR
+from ..data.outliers import OUTLIER_SIGMAS
+from ..data.training_set import SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
 from ..errors import DataError, ModelError, UsageError
 from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_elm,
@@ -133,7 +134,10 @@ def validation_error(estimator) -> tuple:
 
 
 def _errors(dataset, estimator) -> dict:
-    e_train = rmse(estimator.predict(dataset.x), dataset.t)
+    """The errors of the report; E_train over the points fitted (the gross outliers the default
+    sets aside are not)."""
+    fitted = estimator.inliers_ if isinstance(estimator, DefaultRegressor) else slice(None)
+    e_train = rmse(estimator.predict(dataset.x[fitted]), dataset.t[fitted])
     kind, e_validation = validation_error(estimator)
     return {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
             "e_loo": e_validation, "e_loo_newton": e_validation / dataset.scaling.k_out,

@@ -3,9 +3,9 @@ the float32 and integer twins, cffi builds and parity figures."""
 from __future__ import annotations
 
 from .render import (ACTIVATION_IMPLS, CONTROLLER_FILES, DTYPES, FAST_RUNTIME_FILES, RUNTIME_FILES,
-                     check_name_in_folder, controller_files, emit, generated_models, render,
-                     template_context)
+                     check_name_in_folder, check_overwrite, controller_files, emit,
+                     generated_models, render, template_context)
 
 __all__ = ["ACTIVATION_IMPLS", "CONTROLLER_FILES", "DTYPES", "FAST_RUNTIME_FILES", "RUNTIME_FILES",
-           "check_name_in_folder", "controller_files", "emit", "generated_models", "render",
-           "template_context"]
+           "check_name_in_folder", "check_overwrite", "controller_files", "emit", "generated_models",
+           "render", "template_context"]

@@ -9,6 +9,7 @@ import numpy as np
 from .._validate import float32_scale
 from ..errors import DataError
 from ..model import Scaling
+from .outliers import OUTLIER_SIGMAS, gross_outliers, robust_scale
 from .sweep import MIN_ROWS, Sweep
 
 #: Fewest high-speed rows (|v| > v_sat) the regression for B needs.
@@ -17,8 +18,6 @@ MIN_HIGH_SPEED_ROWS = 5
 SAT_FACTOR = 3.0
 #: Rows in [0, v_sat] beyond which the training set is binned (``bin_equal_counts``).
 MAX_TRAINING_POINTS = 4096
-#: High-speed rows further than this many robust standard deviations from the line are outliers.
-OUTLIER_SIGMAS = 6.0
 
 
 def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
@@ -35,24 +34,15 @@ def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, fl
         return slope, float(np.median(f - slope * v))
 
 
-def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
-    """A robust standard deviation of the absolute residuals of ``values``: 1.4826 times their
-    median, or, when most are 0 (a quantized force, noise-free data), times the median of those
-    beyond rounding (1e-9 of the values' median magnitude)."""
-    scale = 1.4826 * float(np.median(residual))
-    if scale > 0:
-        return scale
-    beyond = residual[residual > 1e-9 * float(np.median(np.abs(values)))]
-    return 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
-
-
 def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
     """B and the intercept of the line f = F0 + B v through high-speed folded data (section 2),
     and the number of rows rejected as gross outliers.
 
     Rows whose residual from a robust (Theil-Sen) line exceeds OUTLIER_SIGMAS robust standard
-    deviations (1.4826 MAD) are dropped; least squares on the others gives B. Bounded noise, such
-    as the benchmark's, is never rejected (its largest residual is under 1.4 robust sd)."""
+    deviations (1.4826 MAD) are dropped; least squares on the others gives B, in the centred and
+    scaled speed (v - mean) / sd, so that any unit of v and f gives the same line. Bounded
+    noise, such as the benchmark's, is never rejected (its largest residual is under 1.4
+    robust sd)."""
     if len(high) < MIN_HIGH_SPEED_ROWS:
         raise DataError(f"no high-speed data for B: {len(high)} rows beyond v_sat, "
                         f"need at least {MIN_HIGH_SPEED_ROWS}")
@@ -67,9 +57,12 @@ def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
     if keep.sum() < MIN_HIGH_SPEED_ROWS or np.ptp(high.v[keep]) <= 0:
         raise DataError(f"high-speed data for B: only {int(keep.sum())} of {len(high)} rows "
                         "lie on a line")
-    A = np.column_stack([np.ones(int(keep.sum())), high.v[keep]])
-    (f0, B), *_ = np.linalg.lstsq(A, high.f[keep], rcond=None)
-    return float(B), float(f0), int(len(high) - keep.sum())
+    v = high.v[keep]
+    centre, spread = float(np.mean(v)), float(np.std(v))
+    A = np.column_stack([np.ones(v.size), (v - centre) / spread])
+    (mean_f, slope), *_ = np.linalg.lstsq(A, high.f[keep], rcond=None)
+    B = slope / spread
+    return float(B), float(mean_f - B * centre), int(len(high) - keep.sum())
 
 
 def bin_equal_counts(sweep: Sweep, bins: int) -> Sweep:
@@ -112,7 +105,7 @@ def estimate_vs_max(folded: Sweep) -> float:
                         "cannot estimate vs_max; pass --vs-max, or sweep a range of speeds")
     coef = np.polyfit(v[fast], f[fast], 1)
     resid = f - np.polyval(coef, v)
-    sigma = max(np.std(resid[fast]), 1e-12)
+    sigma = max(np.std(resid[fast]), 1e-12 * float(np.median(np.abs(f))))   # noise-free data
     edges = np.quantile(v, np.linspace(0.0, 0.75, 16))
     edge = edges[1]
     for lo, hi in zip(edges[:-1], edges[1:]):
@@ -155,7 +148,9 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
     regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with
     the two added points (0, mean force of the four slowest rows) and (v_sat, f_sat), where f_sat
-    defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t).
+    defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t) over
+    the points that are no gross outliers (``fricgen.data.outliers``), which the default
+    estimator sets aside.
     Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``).
     """
     if vs_max is not None and not (np.isfinite(vs_max) and vs_max > 0):
@@ -205,7 +200,7 @@ def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, esti
     f = np.concatenate([[low.f[slowest].mean() if n_rows == len(low) else low.f[0]], low.f, [f_sat]])
     k_in = 1.0 / v_sat
     t_raw = f - viscous * v
-    peak = np.max(t_raw)
+    peak = np.max(t_raw[~gross_outliers(v, t_raw)])         # a spike must not set the scale
     if not peak > 0:
         raise DataError("friction minus viscous part is never positive: not a friction sweep")
     check_float32_scale("v_sat", v_sat, "m/s")

@@ -92,6 +92,9 @@ class Effect:
     positive: ClassVar[Tuple[str, ...]] = ()
     #: Parameters that must be >= 0.
     non_negative: ClassVar[Tuple[str, ...]] = ()
+    #: (parameter, its nominal) pairs: a value further than PLAUSIBLE_FACTOR from the nominal one
+    #: is not read as this effect (``implausible``).
+    nominal_of: ClassVar[Tuple[Tuple[str, str], ...]] = ()
     #: Parameters not counted as fitted (fixed by context, e.g. the nominal mass).
     fixed: ClassVar[Tuple[str, ...]] = ()
     #: Simulated through the mass or the force constant (mass_delta, force_constant_delta).
@@ -136,7 +139,20 @@ class Effect:
 
     def implausible(self) -> str:
         """Why the fitted values cannot be what the effect's name says ('' if they can)."""
+        for p, nominal in self.nominal_of:
+            why = _ratio_implausible(p.replace("_", " "), getattr(self, p), getattr(self, nominal))
+            if why:
+                return why
         return ""
+
+    def limits(self) -> Dict[str, Tuple[float, float]]:
+        """The range [low, high] of each bounded parameter: from 0 (``positive``: above it,
+        ``non_negative``: at it too), or within PLAUSIBLE_FACTOR of its nominal (``nominal_of``)."""
+        out = {p: (0.0, math.inf) for p in (*self.positive, *self.non_negative)}
+        for p, nominal in self.nominal_of:
+            ref = getattr(self, nominal)
+            out[p] = (ref / PLAUSIBLE_FACTOR, ref * PLAUSIBLE_FACTOR)
+        return out
 
     @classmethod
     def parameters_of(cls, d: dict, allowed) -> Tuple[dict, str]:
@@ -344,6 +360,7 @@ class InertiaMismatch(Effect):
     nominal_mass: float
     name: ClassVar[str] = "inertia_mismatch"
     positive: ClassVar[Tuple[str, ...]] = ("mass", "nominal_mass")
+    nominal_of: ClassVar[Tuple[Tuple[str, str], ...]] = (("mass", "nominal_mass"),)
     fixed: ClassVar[Tuple[str, ...]] = ("nominal_mass",)
     via_dynamics: ClassVar[bool] = True
 
@@ -354,9 +371,6 @@ class InertiaMismatch(Effect):
     def for_log(self, mass, force_constant, t_start):
         """The carried mass is the axis' mass, whatever mass is given now."""
         return replace(self, nominal_mass=float(mass))
-
-    def implausible(self):
-        return _ratio_implausible("mass", self.mass, self.nominal_mass)
 
     def force(self, sig):
         return self.mass_delta * np.asarray(sig.a)
@@ -381,6 +395,7 @@ class ForceConstantMismatch(Effect):
     nominal_force_constant: float
     name: ClassVar[str] = "force_constant_mismatch"
     positive: ClassVar[Tuple[str, ...]] = ("force_constant", "nominal_force_constant")
+    nominal_of: ClassVar[Tuple[Tuple[str, str], ...]] = (("force_constant", "nominal_force_constant"),)
     fixed: ClassVar[Tuple[str, ...]] = ("nominal_force_constant",)
     via_dynamics: ClassVar[bool] = True
 
@@ -391,9 +406,6 @@ class ForceConstantMismatch(Effect):
     def for_log(self, mass, force_constant, t_start):
         """The carried force constant is the axis', whatever force constant is given now."""
         return replace(self, nominal_force_constant=float(force_constant))
-
-    def implausible(self):
-        return _ratio_implausible("force constant", self.force_constant, self.nominal_force_constant)
 
     def force(self, sig):
         return -self.force_constant_delta * np.asarray(sig.i)

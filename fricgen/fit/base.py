@@ -38,18 +38,6 @@ def interleaved_folds(x, n_folds: int, rng=None) -> np.ndarray:
     return fold
 
 
-def inner_points(x) -> np.ndarray:
-    """A mask of every point but those at the smallest and the largest x: in the eq. (9) set
-    these are the two boundary points of section 2 (the mean of the slowest rows at x = 0 and
-    the high-speed line at x = 1), not measurements. Outlier rejection leaves them alone and
-    cross-validation scores the others only (a narrow Stribeck source decides the value at
-    x = 0 alone, so leaving that one point out says nothing about the fit)."""
-    inner = np.ones(np.size(x), dtype=bool)
-    if inner.size:
-        inner[[int(np.argmin(x)), int(np.argmax(x))]] = False
-    return inner
-
-
 class NotFittedError(FricgenError, AttributeError):
     """``predict`` or ``score`` called before ``fit``."""
 

@@ -1,6 +1,6 @@
 """fricgen's default model: the grey-box eq. (1) or elm_auto, whichever cross-validates better.
 
-Gross outliers are set aside first (``fricgen.fit.outliers``). Then both candidates are fitted
+Gross outliers are set aside first (``fricgen.data.outliers``). Then both candidates are fitted
 to the rest: ``StribeckRegressor`` (S and g chosen by cross-validation) and ``AutoELMRegressor``.
 Their errors are compared on the same folds (``n_repeats`` partitions into ``n_folds``
 interleaved folds), each candidate's whole procedure refitted without each fold (for the
@@ -15,11 +15,10 @@ import time
 
 import numpy as np
 
-from ..data.training_set import OUTLIER_SIGMAS
+from ..data.outliers import MEDIAN_WINDOW, OUTLIER_SIGMAS, gross_outliers, inner_points
 from .._validate import integer
 from .auto import AutoELMRegressor
-from .base import Estimator, as_rng, inner_points, interleaved_folds
-from .outliers import MEDIAN_WINDOW, gross_outliers
+from .base import Estimator, as_rng, interleaved_folds
 from .stribeck import StribeckRegressor
 
 
@@ -87,7 +86,7 @@ class DefaultRegressor(Estimator):
         """One line: what was chosen and the cross-validated errors that chose it."""
         other = "elm_auto" if self.choice_ == "stribeck" else "stribeck"
         return (f"{self.choice_}: {self.n_repeats} x {self.n_folds}-fold cross-validated error "
-                f"{self.cv_rmse_[self.choice_]:.5f} against {self.cv_rmse_[other]:.5f} for {other}")
+                f"{self.cv_rmse_[self.choice_]:.4g} against {self.cv_rmse_[other]:.4g} for {other}")
 
     def outlier_note(self) -> str:
         return (f"{self.n_outliers_} training points rejected as gross outliers (> "

@@ -19,11 +19,12 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .._validate import integer, positive
+from ..data.outliers import inner_points
 from ..data.training_set import SAT_FACTOR
 from ..friction import SHAPES
 from ..metrics import rmse
 from ..networks.stribeck import StribeckCurve
-from .base import Estimator, inner_points, interleaved_folds
+from .base import Estimator, interleaved_folds
 
 #: Largest normalized Stribeck velocity: v_s <= vs_max = v_sat / SAT_FACTOR (``--vs-max``).
 XS_MAX = 1.0 / SAT_FACTOR

@@ -10,14 +10,14 @@ Many logs advance together in one vectorized loop.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ..data import MotionLog, synthesize_benchmark
-from ..effects import EFFECTS, Effect, effect_from_dict
-from ..errors import ModelError
+from ..effects import EFFECTS, Effect
 from ..fit import as_rng, default_elm
 from ..friction import preset
 from ..model import FrictionModel
@@ -77,19 +77,41 @@ class LogSpec:
             raise ValueError(f"noise must be >= 0, got {self.noise}")
         if not self.duration <= MAX_DURATION:
             raise ValueError(f"duration must be <= {MAX_DURATION:g} s, got {self.duration}")
-        if not np.isfinite(self.magnitude):
-            raise ValueError(f"magnitude must be finite, got {self.magnitude}")
-        for effect in truth_effects(self):
-            try:
-                effect_from_dict(effect.to_dict())      # the library's physical checks
-            except ModelError as exc:
-                raise ValueError(f"magnitude {self.magnitude:g} of {self.effect} is not "
-                                 f"physical: {str(exc).split(': ', 1)[-1]}") from None
+        low, high = magnitude_range(self.effect, self.mass, self.force_constant)
+        if not (np.isfinite(self.magnitude) and low < self.magnitude <= high):
+            upper = f" and <= {high:g}" if high < math.inf else ""
+            raise ValueError(f"magnitude must be a finite number > {low:g}{upper} for "
+                             f"{self.effect}, got {self.magnitude:g}"[:200])
+
+
+def magnitude_range(effect: str, mass: float, force_constant: float) -> Tuple[float, float]:
+    """The magnitudes k, low < k <= high, at which ``effect`` is physical and reads as what its
+    name says: k > 0 (the reference size fixes each effect's sign, and 0 hides nothing), and
+    each parameter, linear in k, within the limits the effect library sets (``Effect.limits``:
+    a positive tau, a force constant within a factor 5 of the nominal, ...). ``high`` is
+    rounded down to 3 significant digits."""
+    low, high = 0.0, math.inf
+    if effect == "none":
+        return low, high
+    at0, at1 = (truth_effect(effect, k, mass, force_constant) for k in (0.0, 1.0))
+    for name, (lo, hi) in at1.limits().items():
+        p0, dp = getattr(at0, name), getattr(at1, name) - getattr(at0, name)
+        if dp != 0:
+            ends = sorted(((lo - p0) / dp, (hi - p0) / dp))
+            low, high = max(low, ends[0]), min(high, ends[1])
+    if high < math.inf:
+        digits = 2 - math.floor(math.log10(high))
+        high = math.floor(high * 10 ** digits) / 10 ** digits
+    return low, high
 
 
 def truth_parameters(spec: LogSpec) -> Dict[str, float]:
     """The hidden effect's true parameters, named as the diagnosis reports them."""
-    k, e = spec.magnitude, spec.effect
+    return _parameters(spec.effect, spec.magnitude, spec.mass, spec.force_constant)
+
+
+def _parameters(e: str, k: float, mass: float, force_constant: float) -> Dict[str, float]:
+    """``truth_parameters`` of the effect ``e`` at magnitude ``k`` on the nominal axis."""
     if e == "position_ripple":
         return {"amplitude": RIPPLE_AMPLITUDE * k, "period": RIPPLE_PERIOD, "phase": RIPPLE_PHASE}
     if e == "direction_asymmetry":
@@ -97,9 +119,9 @@ def truth_parameters(spec: LogSpec) -> Dict[str, float]:
     if e == "constant_load":
         return {"load": LOAD * k}
     if e == "inertia_mismatch":
-        return {"mass": spec.mass * (1.0 + INERTIA * k)}
+        return {"mass": mass * (1.0 + INERTIA * k)}
     if e == "force_constant_mismatch":
-        return {"force_constant": spec.force_constant * (1.0 + FORCE_CONSTANT * k)}
+        return {"force_constant": force_constant * (1.0 + FORCE_CONSTANT * k)}
     if e == "extra_friction_source":
         return {"fc": EXTRA_SOURCE["fc"] * k, "fs": EXTRA_SOURCE["fs"] * k,
                 "vs": EXTRA_SOURCE["vs"], "B": EXTRA_SOURCE["B"] * k}
@@ -114,11 +136,16 @@ def truth_effects(spec: LogSpec) -> Tuple[Effect, ...]:
     """The hidden effect of ``spec`` as an object of the effect library (none: no effect)."""
     if spec.effect == "none":
         return ()
-    context = {"inertia_mismatch": {"nominal_mass": spec.mass},
-               "force_constant_mismatch": {"nominal_force_constant": spec.force_constant},
+    return (truth_effect(spec.effect, spec.magnitude, spec.mass, spec.force_constant),)
+
+
+def truth_effect(e: str, k: float, mass: float, force_constant: float) -> Effect:
+    """The effect ``e`` at magnitude ``k`` on the nominal axis, an object of the library."""
+    context = {"inertia_mismatch": {"nominal_mass": mass},
+               "force_constant_mismatch": {"nominal_force_constant": force_constant},
                "extra_friction_source": {"shape": TRUTH_FRICTION.shape},
                "thermal_drift": {"offset": 0.0, "t0": 0.0}}
-    return (EFFECTS[spec.effect](**truth_parameters(spec), **context.get(spec.effect, {})),)
+    return EFFECTS[e](**_parameters(e, k, mass, force_constant), **context.get(e, {}))
 
 
 def truth_law(specs: Sequence[LogSpec]) -> EffectLaw:

@@ -1,0 +1,66 @@
+"""Gross outliers: spikes that no friction curve explains, found by one rule.
+
+A point is a gross outlier when its residual from a robust fit lies further than
+OUTLIER_SIGMAS robust standard deviations (1.4826 MAD, ``robust_scale``) from it. The high-speed
+rows of B are judged against a Theil-Sen line (``fricgen.data.training_set.identify_viscous``),
+the eq. (9) training set against a running median over the points in order of x, which follows
+any smooth curve, the Stribeck drop included, and which no isolated spike moves. Bounded noise,
+such as the benchmark's uniform +-0.5 N, is never rejected.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: Points further than this many robust standard deviations from the robust fit are outliers.
+OUTLIER_SIGMAS = 6.0
+#: Points in the running median's window (odd): a spike is outvoted unless 4 meet in one window.
+MEDIAN_WINDOW = 7
+
+
+def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
+    """A robust standard deviation of the absolute residuals of ``values``: 1.4826 times their
+    median, or, when most are 0 (a quantized force, noise-free data), times the median of those
+    beyond rounding (1e-9 of the values' median magnitude)."""
+    scale = 1.4826 * float(np.median(residual))
+    if scale > 0:
+        return scale
+    beyond = residual[residual > 1e-9 * float(np.median(np.abs(values)))]
+    return 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
+
+
+def inner_points(x) -> np.ndarray:
+    """A mask of every point but those at the smallest and the largest x: in the eq. (9) set
+    these are the two boundary points of section 2 (the mean of the slowest rows at x = 0 and
+    the high-speed line at x = 1), not measurements. Outlier rejection leaves them alone and
+    cross-validation scores the others only (a narrow Stribeck source decides the value at
+    x = 0 alone, so leaving that one point out says nothing about the fit)."""
+    inner = np.ones(np.size(x), dtype=bool)
+    if inner.size:
+        inner[[int(np.argmin(x)), int(np.argmax(x))]] = False
+    return inner
+
+
+def running_median(x: np.ndarray, t: np.ndarray, window: int = MEDIAN_WINDOW) -> np.ndarray:
+    """The median of t over the ``window`` nearest points in order of x (fewer at the ends)."""
+    order = np.argsort(x, kind="stable")
+    ts = np.asarray(t, dtype=float)[order]
+    half = window // 2
+    padded = np.concatenate([np.full(half, np.nan), ts, np.full(half, np.nan)])
+    windows = np.lib.stride_tricks.sliding_window_view(padded, window)
+    smooth = np.empty_like(ts)
+    smooth[order] = np.nanmedian(windows, axis=1)
+    return smooth
+
+
+def gross_outliers(x, t, sigmas: float = OUTLIER_SIGMAS, window: int = MEDIAN_WINDOW) -> np.ndarray:
+    """A mask of the points more than ``sigmas`` robust standard deviations off the running
+    median (none when the residuals have no spread or there are too few points). The points
+    at the smallest and the largest x are never rejected (``inner_points``)."""
+    x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
+    if x.size < 2 * window:
+        return np.zeros(x.size, dtype=bool)
+    residual = np.abs(t - running_median(x, t, window))
+    scale = robust_scale(residual, t)
+    if not scale > 0:
+        return np.zeros(x.size, dtype=bool)
+    return (residual > sigmas * scale) & inner_points(x)
