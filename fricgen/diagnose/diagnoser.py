@@ -388,6 +388,8 @@ MAX_TRIES = 4
 #: times the model's, is a wrong input (a unit), refused before the diagnosis; up to
 #: ``PLAUSIBLE_FACTOR`` it is an inertia mismatch, a force-constant mismatch or an extra source.
 PART_OFF = 10.0
+#: Batches of the held-out samples for the standard error of a gap (``_closest``).
+GAP_BATCHES = 10
 #: Largest --max-effects.
 MAX_EFFECTS = 8
 #: Effects whose force lives in short stretches (the lag: at the reversals), so that their size
@@ -418,7 +420,10 @@ class Diagnoser:
     4. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
        the simulation worse.
 
-    Only a set refused for its size or gap lets the next be tried. When no set one larger is
+    Only a set refused for its size or gap lets the next be tried. Once one passes, the others
+    up to ``MAX_TRIES`` are checked as well, and of those that pass the best by the score whose
+    held-out gap is within one standard error of the smallest is taken (``_closest``): the
+    fit part can rank a drift below what it extrapolates to. When no set one larger is
     taken, the sets two larger that contain the chosen one are tried the same way (effects that
     fit the held-out part only together: a drift and a force-constant error, either alone fitted
     on the first part, extrapolate worse than nothing); each newcomer of a set must change the
@@ -596,11 +601,13 @@ class Diagnoser:
     def _try(self, p, base, chosen, gap_now, ranked, grown, tables) -> Optional[Step]:
         """Consider the candidates of one kind in turn: ``grown`` named sets (from
         ``_extensions``, best first) or, if None, the ``ranked`` tables added to ``chosen``.
-        Only a significant candidate refused for its size or gap lets the next be tried."""
+        Only a significant candidate refused for its size or gap lets the next be tried; once
+        a named set passes, the other sets up to ``MAX_TRIES`` are checked too and ``_closest``
+        chooses among those that pass."""
         options = ([(k, None) for k in range(len(ranked))] if grown is None else
                    [(0, path) for _, path in grown[:MAX_TRIES]])
         had = {e.name for e in chosen}
-        step = None
+        step, passed = None, []
         for k, joint in options:
             if joint is None:
                 step = self._consider(p, base, chosen, gap_now, ranked[k:], tables)
@@ -610,11 +617,47 @@ class Diagnoser:
                 step.effect, step.fitted = newcomer.name, newcomer
             self.steps_.append(step)
             if step.added:
-                self._replace(step, chosen)
+                passed.append((step, self._v_sim))
+                if joint is None:
+                    break
+            elif step.p_value >= self.alpha and not passed:
                 return step
-            if step.p_value >= self.alpha:
-                return step
+        if not passed:
+            return step
+        step, self._v_sim = self._closest(passed)
+        self._replace(step, chosen)
         return step
+
+    def _closest(self, passed: List[Tuple[Step, np.ndarray]]) -> Tuple[Step, np.ndarray]:
+        """Of the sets that pass the checks (with their simulations, best first by ``_score``),
+        the first whose held-out gap is within one standard error of the smallest: the first
+        part of a log can rank a set below one that extrapolates worse (a drift is small
+        there), and where the held-out part cannot tell sets apart the score decides. The
+        others are marked refused, saying why."""
+        best, v_best = min(passed, key=lambda sv: sv[0].gap_after)
+        limit = best.gap_after + self._gap_standard_error(v_best)
+        pick = next(sv for sv in passed if sv[0].gap_after <= limit)
+        names = ", ".join(e.name for e in pick[0].joint)
+        for s, _ in passed:
+            if s is not pick[0]:
+                s.added = False
+                s.reason = (f"passes, but the set {names} fits the first part better and is as "
+                            f"close to the held-out part (within one standard error)"
+                            if s.gap_after <= limit else
+                            f"passes, but the set {names} leaves a smaller held-out gap "
+                            f"({pick[0].gap_after:.3g} m/s against {s.gap_after:.3g})")
+        return pick
+
+    def _gap_standard_error(self, v_sim: np.ndarray) -> float:
+        """Standard error of a held-out gap, from the mean squared error of ``GAP_BATCHES``
+        consecutive batches of the held-out samples (their errors are correlated in time)."""
+        held = self.held_
+        e2 = (v_sim[held] - self.problem_.v_smooth[held]) ** 2
+        e2 = e2[np.isfinite(e2)]
+        if e2.size < 2 * GAP_BATCHES or not e2.mean() > 0:
+            return 0.0
+        means = np.array([b.mean() for b in np.array_split(e2, GAP_BATCHES)])
+        return float(means.std(ddof=1) / math.sqrt(GAP_BATCHES) / (2.0 * math.sqrt(e2.mean())))
 
     def _replace(self, step: Step, chosen: List[Effect]) -> None:
         """Book a set that is not ``chosen`` plus one effect: each of its other newcomers gets a
