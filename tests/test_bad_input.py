@@ -215,6 +215,8 @@ ROWS = [
     ("synth --seed -1", ["synth", "--seed", "-1", "-o", OUT], "--seed: must be"),
     ("synth-log --duration inf", ["synth-log", "--duration", "inf", "-o", OUT], "--duration: must be"),
     ("synth-log --duration 1e9", ["synth-log", "--duration", "1e9", "-o", OUT], "<= 1200 s"),
+    ("synth-log shorter than a log", ["synth-log", "--duration", "0.5", "-o", OUT],
+     "--duration: must be >= 0.999 s, the 1000 samples a log needs at 1000 Hz, got 0.5"),
     ("synth-log negative mass", ["synth-log", "--effect", "inertia_mismatch", "--magnitude", "-5",
                                  "-o", OUT], "--magnitude: must be a number > 0"),
     ("synth-log --magnitude nan", ["synth-log", "--magnitude", "nan", "-o", OUT], "--magnitude: must be"),
