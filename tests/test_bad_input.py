@@ -153,7 +153,8 @@ TRIAL_ROWS = [
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],
      "the current i is constant (1.5 A) over 98 % of the log"),
     ("--merge with a short common time", ["train", *DRIVE, *MERGE, "--merge-shift", "2.9", "-o", OUT],
-     "WORK/drive.csv and WORK/load.csv share 0.1 s (101 rows on the slower clock), need 1000 rows"),
+     "WORK/drive.csv and WORK/load.csv share 0.1 s (101 rows on the slower clock), need 1000 rows "
+     "(after the shift of 2.9 s)"),
 ]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)

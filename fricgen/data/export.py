@@ -128,14 +128,13 @@ def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], s
     slow_first = np.median(np.diff(t1)) >= np.median(np.diff(t2))
     (ts, slow), (tf, fast) = ((t1, first), (t2, second)) if slow_first else ((t2, second), (t1, first))
     inside = (ts >= max(t1[0], t2[0])) & (ts <= min(t1[-1], t2[-1]))
+    shifted = f" (after the shift of {shift:g} s)" if shift else ""
     if inside.sum() < 2:
-        raise DataError(f"{names[0]} and {names[1]} share no time span (after the shift of "
-                        f"{shift:g} s)")
+        raise DataError(f"{names[0]} and {names[1]} share no time span{shifted}")
     if inside.sum() < min_rows:
         common = ts[inside]
         raise DataError(f"{names[0]} and {names[1]} share {common[-1] - common[0]:.3g} s "
-                        f"({int(inside.sum())} rows on the slower clock), need {min_rows} rows "
-                        f"(after the shift of {shift:g} s)")
+                        f"({int(inside.sum())} rows on the slower clock), need {min_rows} rows{shifted}")
     merged = {"t": ts[inside]}
     merged.update({k: a[inside] for k, a in slow.items() if k != "t"})
     merged.update({k: np.interp(merged["t"], tf, a) for k, a in fast.items() if k != "t"})
