@@ -1,14 +1,41 @@
-"""Files out, all or nothing, and the shipped resources."""
+"""Files out, all or nothing, the shipped resources, and numbers and errors as users see them."""
 from __future__ import annotations
 
 import errno
 import os
+import re
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Dict, Iterator, Sequence, Union
 
 from .errors import UsageError
+
+#: A number as fricgen reads one: ASCII digits, '.' decimals, an optional exponent, or nan/inf.
+_NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf(?:inity)?)\s*",
+                     re.IGNORECASE)
+#: An integer as fricgen reads one: ASCII digits with an optional sign.
+_INTEGER = re.compile(r"\s*[+-]?[0-9]+\s*")
+
+
+def plain_float(text: str) -> float:
+    """``float(text)`` for a plainly written number only (no '_' separators, no digits of other
+    scripts, which Python's float would accept); else ``ValueError``. The minus sign U+2212, as
+    numbers copied from documents write it, is a minus."""
+    return _plain(text, _NUMBER, float)
+
+
+def plain_int(text: str) -> int:
+    """``int(text)`` for a plainly written integer only, as ``plain_float``."""
+    return _plain(text, _INTEGER, int)
+
+
+def _plain(text: str, pattern, kind):
+    text = text.replace("\u2212", "-")
+    if not pattern.fullmatch(text):
+        raise ValueError(f"not a number: {text!r}")
+    return kind(text)
+
 
 #: Shipped resource folders: where a wheel installs them inside the package, and where a source
 #: checkout keeps them (relative to the repository's top).

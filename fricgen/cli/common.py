@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Dict
 
-from .._io import check_destination, check_folder, write_atomic, write_files
+from .._io import check_destination, check_folder, plain_float, plain_int, write_atomic, write_files
 from ..errors import UsageError
 
 
@@ -35,7 +35,7 @@ def say(msg: str) -> None:
 def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False,
            integer: bool = False, unit: str = ""):
     """An argparse type: a finite number (an integer with ``integer``) in [low, high], or in
-    (low, high] with ``low_open``, written in ASCII digits; the error says the range."""
+    (low, high] with ``low_open``, written plainly (``plain_float``); the error says the range."""
     kind = "an integer" if integer else "a number"
     show = (lambda x: str(int(x))) if integer else (lambda x: f"{x:g}")
     bounds = [f"{'>' if low_open else '>='} {show(low)}"] if low > -math.inf else []
@@ -44,9 +44,7 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
 
     def parse(text: str):
         try:
-            if not text.isascii() or "_" in text:
-                raise ValueError(text)
-            value = int(text) if integer else float(text)
+            value = plain_int(text) if integer else plain_float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"must be {wanted}, got {text[:40]!r}") from None
         ok = math.isfinite(value) and value <= high and (value > low if low_open else value >= low)

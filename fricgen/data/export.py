@@ -15,6 +15,7 @@ from typing import Dict, Mapping, Sequence, Tuple, Union
 
 import numpy as np
 
+from .._io import plain_float
 from ..errors import DataError, UsageError
 from .table import read_table_csv
 
@@ -46,9 +47,7 @@ def parse_scales(items: Sequence[str], option: str = "--scale") -> Dict[str, flo
     scales = {}
     for name, text in parse_assignments(items, option).items():
         try:
-            if not text.isascii() or "_" in text:
-                raise ValueError(text)
-            factor = float(text)
+            factor = plain_float(text)
         except ValueError:
             raise UsageError(f"{option}: {name}={text[:40]!r} is not a number") from None
         if not (math.isfinite(factor) and factor != 0):

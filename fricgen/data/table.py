@@ -10,22 +10,8 @@ from typing import Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
+from .._io import plain_float
 from ..errors import DataError
-
-
-#: A number as fricgen reads one: ASCII digits, '.' decimals, an optional exponent, or nan/inf.
-_NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf(?:inity)?)\s*",
-                     re.IGNORECASE)
-
-
-def plain_float(text: str) -> float:
-    """``float(text)`` for a plainly written number only (no '_' separators, no digits of other
-    scripts, which Python's float would accept); else ``ValueError``. The minus sign U+2212, as
-    numbers copied from documents write it, is a minus."""
-    text = text.replace("\u2212", "-")
-    if not _NUMBER.fullmatch(text):
-        raise ValueError(f"not a number: {text!r}")
-    return float(text)
 
 
 #: A header cell with its unit written in, e.g. "i [A]" or "v (m/s)".
