@@ -9,7 +9,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Dict, Iterator, Sequence, Union
 
-from .errors import UsageError
+from .errors import DataError, UsageError
 
 #: A number as fricgen reads one: ASCII digits, '.' decimals, an optional exponent, or nan/inf.
 _NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf(?:inity)?)\s*",
@@ -35,6 +35,15 @@ def _plain(text: str, pattern, kind):
     if not pattern.fullmatch(text):
         raise ValueError(f"not a number: {text!r}")
     return kind(text)
+
+
+@contextmanager
+def named_data(name) -> Iterator[None]:
+    """A ``DataError`` raised inside, prefixed with the file (or files) ``name`` it concerns."""
+    try:
+        yield
+    except DataError as exc:
+        raise DataError(f"{name}: {exc}") from None
 
 
 #: Shipped resource folders: where a wheel installs them inside the package, and where a source

@@ -155,6 +155,8 @@ TRIAL_ROWS = [
     ("--merge with a short common time", ["train", *DRIVE, *MERGE, "--merge-shift", "2.9", "-o", OUT],
      "WORK/drive.csv and WORK/load.csv share 0.1 s (101 rows on the slower clock), need 1000 rows "
      "(after the shift of 2.9 s)"),
+    ("diagnose, a mass 100 times off", ["diagnose", "log.csv", "--model", "model.json", "--mass", "400",
+                                        "--force-constant", "20", "-o", OUT], "WORK/log.csv: phi i is 0.0"),
 ]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)
