@@ -155,6 +155,13 @@ TRIAL_ROWS = [
     ("--merge with a short common time", ["train", *DRIVE, *MERGE, "--merge-shift", "2.9", "-o", OUT],
      "WORK/drive.csv and WORK/load.csv share 0.1 s (101 rows on the slower clock), need 1000 rows "
      "(after the shift of 2.9 s)"),
+    ("--merge of a log of the wrong sign", ["train", *DRIVE, *MERGE, "--scale", "v=\u22121", "-o", OUT],
+     "WORK/drive.csv + WORK/load.csv: the force has the opposite sign of v"),
+    ("--merge of no force", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", "--merge",
+                             "load.csv", "--merge-columns", "t=Stamp,x=Load", "-o", OUT],
+     "WORK/drive.csv + WORK/load.csv: a motion log needs t, v or x, and force or i: missing force or i"),
+    ("--merge without --mass", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", *MERGE,
+                                "-o", OUT], "WORK/drive.csv + WORK/load.csv is a motion log"),
     ("diagnose, a mass 100 times off", ["diagnose", "log.csv", "--model", "model.json", "--mass", "400",
                                         "--force-constant", "20", "-o", OUT], "WORK/log.csv: phi i is 0.0"),
 ]
