@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Dict
 
-from .._io import check_destination, check_folder, plain_float, plain_int, write_atomic, write_files
+from .._io import check_destination, check_files, plain_float, plain_int, write_atomic, write_files
 from ..errors import UsageError
 
 
@@ -60,17 +60,19 @@ positive_float = number(0.0, low_open=True)
 
 
 #: What ``--force`` also overwrites in a command that emits C (``fricgen.codegen.check_overwrite``).
-FORCE_C = ", and over files fricgen did not write or that are read-only"
+FORCE_C = ", and over C files fricgen did not write"
 
 
 def add_output(p, help: str, required: bool = True, default=None, force_also: str = "") -> None:
     """``-o/--output`` (``--out`` is an alias): the file or folder a command writes, and
-    ``--force`` to overwrite an input or write through a symbolic link (and ``force_also``)."""
+    ``--force`` to overwrite an input or a read-only file or write through a symbolic link (and
+    ``force_also``)."""
     p.add_argument("-o", "--output", "--out", dest="output", required=required and default is None,
                    default=default, help=help)
     p.add_argument("--force", action="store_true",
                    help="write even where -o is one of the inputs (or, for diagnose, the model's "
-                   f"folder), or a symbolic link where a file goes (its target is written){force_also}")
+                   "folder), a read-only file, or a symbolic link where a file goes (its target is "
+                   f"written){force_also}")
 
 
 def out(text: str) -> None:
@@ -94,16 +96,19 @@ def write_file(args, text, inputs=()) -> Path:
 def check_targets(args, names, inputs=(), folder_of=()) -> Dict[str, Path]:
     """The destinations of ``names`` in the folder ``args.output``, each checked (the folder not
     that of one of ``folder_of``, no destination one of ``inputs``), by name."""
-    folder = check_folder(args.output, folder_of, args.force)
-    return {name: check_destination(folder / name, inputs, args.force) for name in names}
+    return check_files(args.output, names, inputs, folder_of, args.force)
 
 
 def write_folder(args, files: Dict[str, object], inputs=(), folder_of=()) -> Path:
     """Write every file into the folder ``args.output``, all or nothing, after checking the
     folder and every destination in it (``check_targets``)."""
-    targets = check_targets(args, files, inputs, folder_of)
-    write_files({targets[name]: text for name, text in files.items()})
+    write_targets(check_targets(args, files, inputs, folder_of), files)
     return Path(args.output)
+
+
+def write_targets(targets: Dict[str, Path], files: Dict[str, object]) -> None:
+    """Write each of ``files`` to its checked destination in ``targets`` (by name), all or nothing."""
+    write_files({targets[name]: text for name, text in files.items()})
 
 
 def add_model(p, required: bool = True, help: str = "model.json of the friction model") -> None:
