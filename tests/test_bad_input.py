@@ -36,6 +36,7 @@ def work(cli_inputs, tmp_path_factory):
         "unicode_digits.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,\uff11\n" + "\n".join(body[20:]),
         "underscores.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,1_0\n" + "\n".join(body[20:]),
         "ragged.csv": "v,f\n" + "\n".join(body[:30]) + "\n0.01,1,2\n" + "\n".join(body[30:]),
+        "semicolon_cells.csv": "v;x,f\n" + "\n".join(body),
         "big_int.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", "viscous": '
                         + "9" * 5001 + "}",
         "inf_number.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", '
@@ -168,7 +169,10 @@ TRIAL_ROWS = [
 
 #: (row id, argv (files relative to the work folder), words of the one error line)
 ROWS = [
-    ("comma decimal CSV", ["train", "comma_decimal.csv", "-o", OUT], "looks ';'-separated"),
+    ("comma decimal CSV", ["train", "comma_decimal.csv", "-o", OUT],
+     "the header 'v;f' looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"),
+    ("';' in header cells", ["train", "semicolon_cells.csv", "-o", OUT],
+     "(header is v;x,f); it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"),
     ("quoted comma decimals", ["train", "quoted_comma.csv", "-o", OUT], "non-numeric"),
     ("all v = 0", ["train", "all_zero_v.csv", "-o", OUT], "a friction sweep needs motion"),
     ("non-UTF-8 CSV", ["train", "non_utf8.csv", "-o", OUT], "not UTF-8 text"),
