@@ -1,14 +1,51 @@
-"""Files out, all or nothing, and the shipped resources."""
+"""Files out, all or nothing, the shipped resources, and numbers and errors as users see them."""
 from __future__ import annotations
 
 import errno
 import os
+import re
+import stat
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Dict, Iterator, Sequence, Union
+from typing import Dict, Iterator, Optional, Sequence, Union
 
-from .errors import UsageError
+from .errors import DataError, UsageError
+
+#: A number as fricgen reads one: ASCII digits, '.' decimals, an optional exponent, or nan/inf.
+_NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf(?:inity)?)\s*",
+                     re.IGNORECASE)
+#: An integer as fricgen reads one: ASCII digits with an optional sign.
+_INTEGER = re.compile(r"\s*[+-]?[0-9]+\s*")
+
+
+def plain_float(text: str) -> float:
+    """``float(text)`` for a plainly written number only (no '_' separators, no digits of other
+    scripts, which Python's float would accept); else ``ValueError``. The minus sign U+2212, as
+    numbers copied from documents write it, is a minus."""
+    return _plain(text, _NUMBER, float)
+
+
+def plain_int(text: str) -> int:
+    """``int(text)`` for a plainly written integer only, as ``plain_float``."""
+    return _plain(text, _INTEGER, int)
+
+
+def _plain(text: str, pattern, kind):
+    text = text.replace("\u2212", "-")
+    if not pattern.fullmatch(text):
+        raise ValueError(f"not a number: {text!r}")
+    return kind(text)
+
+
+@contextmanager
+def named_data(name) -> Iterator[None]:
+    """A ``DataError`` raised inside, prefixed with the file (or files) ``name`` it concerns."""
+    try:
+        yield
+    except DataError as exc:
+        raise DataError(f"{name}: {exc}") from None
+
 
 #: Shipped resource folders: where a wheel installs them inside the package, and where a source
 #: checkout keeps them (relative to the repository's top).
@@ -38,6 +75,17 @@ def _umask_mode() -> int:
     return 0o666 & ~mask
 
 
+def read_only(path: Path) -> bool:
+    """Whether the existing file ``path`` has no write permission for anyone (checked by its
+    mode, so that it holds for root as well)."""
+    return not path.stat().st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH)
+
+
+def _offer(force: Optional[bool], what: str = "--force to do so") -> str:
+    """The hint at ``--force`` a refusal ends with; none where the command has no --force."""
+    return "" if force is None else f" ({what})"
+
+
 def _same_file(a: Path, b: Path) -> bool:
     try:
         return os.path.samefile(a, b)
@@ -56,12 +104,13 @@ def _named(option: str, path) -> Iterator[None]:
 
 
 def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
-                      force: bool = False, option: str = "-o") -> Path:
+                      force: Optional[bool] = None, option: str = "-o") -> Path:
     """The file a command may write for ``path``, else ``UsageError`` naming ``option`` and it.
 
-    A folder, FIFO or device is never replaced. A symbolic link or one of the command's
-    ``inputs`` is refused unless ``force``; with ``force`` a link is written through (its
-    target is replaced, the link kept)."""
+    A folder, FIFO or device is never replaced. A symbolic link, a read-only file or one of the
+    command's ``inputs`` is refused unless ``force``; with ``force`` a link is written through
+    (its target is replaced, the link kept). ``force`` is None where the command has no
+    ``--force``: the refusals then do not offer it."""
     if not str(path).strip():
         raise UsageError(f"{option}: empty path")
     if str(path).endswith(("/", os.sep)):
@@ -73,8 +122,8 @@ def check_destination(path: Union[str, Path], inputs: Sequence[Union[str, Path]]
 def _check_destination(path: Path, inputs, force: bool, option: str) -> Path:
     if path.is_symlink():
         if not force:
-            raise UsageError(f"{option} {path}: is a symbolic link; refusing to replace it "
-                             "(--force writes to its target)")
+            raise UsageError(f"{option} {path}: is a symbolic link; refusing to replace it"
+                             + _offer(force, "--force writes to its target"))
         target = Path(os.path.realpath(path))
         if target.is_symlink():
             raise UsageError(f"{option} {path}: is a symbolic link that loops")
@@ -87,7 +136,9 @@ def _check_destination(path: Path, inputs, force: bool, option: str) -> Path:
         for source in inputs:
             if source is not None and Path(source).exists() and _same_file(path, Path(source)):
                 raise UsageError(f"{option} {path}: is the input {source}; refusing to overwrite "
-                                 "it (--force to do so)")
+                                 "it" + _offer(force))
+        if path.is_file() and read_only(path):
+            raise UsageError(f"{option} {path}: is read-only; refusing to overwrite it" + _offer(force))
     return path
 
 
@@ -106,10 +157,10 @@ def _check_writable(folder: Path, path: Path, option: str) -> None:
 
 
 def check_folder(folder: Union[str, Path], inputs: Sequence[Union[str, Path]] = (),
-                 force: bool = False, option: str = "-o") -> Path:
+                 force: Optional[bool] = None, option: str = "-o") -> Path:
     """``folder`` if a command may write into it: not an existing non-folder nor a broken
-    symbolic link, and not the folder of one of ``inputs`` (unless ``force``); else
-    ``UsageError`` naming ``option``."""
+    symbolic link, and not the folder of one of ``inputs`` (unless ``force``; None where the
+    command has no ``--force``); else ``UsageError`` naming ``option``."""
     if not str(folder).strip():
         raise UsageError(f"{option}: empty path")
     with _named(option, folder):
@@ -127,8 +178,18 @@ def _check_folder(folder: Path, inputs, force: bool, option: str) -> Path:
         for source in inputs:
             if source is not None and folder.exists() and _same_file(folder, Path(source).parent):
                 raise UsageError(f"{option} {folder}: holds the input {source}; refusing to write "
-                                 "into it (--force to do so)")
+                                 "into it" + _offer(force))
     return folder
+
+
+def check_files(folder: Union[str, Path], names, inputs: Sequence[Union[str, Path]] = (),
+                folder_of: Sequence[Union[str, Path]] = (), force: Optional[bool] = None,
+                option: str = "-o") -> Dict[str, Path]:
+    """The destinations of ``names`` in ``folder``, by name: the folder checked
+    (``check_folder``, not that of one of ``folder_of``) and each file (``check_destination``,
+    not one of ``inputs``)."""
+    folder = check_folder(folder, folder_of, force, option)
+    return {name: check_destination(folder / name, inputs, force, option) for name in names}
 
 
 def write_files(files: Dict[Union[str, Path], Union[str, bytes]]) -> Dict[str, Path]:

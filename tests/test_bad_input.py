@@ -36,6 +36,7 @@ def work(cli_inputs, tmp_path_factory):
         "unicode_digits.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,\uff11\n" + "\n".join(body[20:]),
         "underscores.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,1_0\n" + "\n".join(body[20:]),
         "ragged.csv": "v,f\n" + "\n".join(body[:30]) + "\n0.01,1,2\n" + "\n".join(body[30:]),
+        "semicolon_cells.csv": "v;x,f\n" + "\n".join(body),
         "big_int.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", "viscous": '
                         + "9" * 5001 + "}",
         "inf_number.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", '
@@ -153,12 +154,25 @@ TRIAL_ROWS = [
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],
      "the current i is constant (1.5 A) over 98 % of the log"),
     ("--merge with a short common time", ["train", *DRIVE, *MERGE, "--merge-shift", "2.9", "-o", OUT],
-     "WORK/drive.csv and WORK/load.csv share 0.1 s (101 rows on the slower clock), need 1000 rows"),
+     "WORK/drive.csv and WORK/load.csv share 0.1 s (101 rows on the slower clock), need 1000 rows "
+     "(after the shift of 2.9 s)"),
+    ("--merge of a log of the wrong sign", ["train", *DRIVE, *MERGE, "--scale", "v=\u22121", "-o", OUT],
+     "WORK/drive.csv + WORK/load.csv: the force has the opposite sign of v"),
+    ("--merge of no force", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", "--merge",
+                             "load.csv", "--merge-columns", "t=Stamp,x=Load", "-o", OUT],
+     "WORK/drive.csv + WORK/load.csv: a motion log needs t, v or x, and force or i: missing force or i"),
+    ("--merge without --mass", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", *MERGE,
+                                "-o", OUT], "WORK/drive.csv + WORK/load.csv is a motion log"),
+    ("diagnose, a mass 100 times off", ["diagnose", "log.csv", "--model", "model.json", "--mass", "400",
+                                        "--force-constant", "20", "-o", OUT], "WORK/log.csv: phi i is 0.0"),
 ]
 
 #: (row id, argv (files relative to the work folder), words of the one error line)
 ROWS = [
-    ("comma decimal CSV", ["train", "comma_decimal.csv", "-o", OUT], "looks ';'-separated"),
+    ("comma decimal CSV", ["train", "comma_decimal.csv", "-o", OUT],
+     "the header 'v;f' looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"),
+    ("';' in header cells", ["train", "semicolon_cells.csv", "-o", OUT],
+     "(header is v;x,f); it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"),
     ("quoted comma decimals", ["train", "quoted_comma.csv", "-o", OUT], "non-numeric"),
     ("all v = 0", ["train", "all_zero_v.csv", "-o", OUT], "a friction sweep needs motion"),
     ("non-UTF-8 CSV", ["train", "non_utf8.csv", "-o", OUT], "not UTF-8 text"),
@@ -215,6 +229,9 @@ ROWS = [
     ("synth --seed -1", ["synth", "--seed", "-1", "-o", OUT], "--seed: must be"),
     ("synth-log --duration inf", ["synth-log", "--duration", "inf", "-o", OUT], "--duration: must be"),
     ("synth-log --duration 1e9", ["synth-log", "--duration", "1e9", "-o", OUT], "<= 1200 s"),
+    ("synth-log shorter than a log", ["synth-log", "--duration", "0.5", "-o", OUT],
+     "--duration: must be >= 0.999 s, the 1000 samples a log needs at 1000 Hz, got 0.5"),
+    ("--seed in fullwidth digits", ["synth", "--seed", "\uff11", "-o", OUT], "--seed: must be an integer"),
     ("synth-log negative mass", ["synth-log", "--effect", "inertia_mismatch", "--magnitude", "-5",
                                  "-o", OUT], "--magnitude: must be a number > 0"),
     ("synth-log --magnitude nan", ["synth-log", "--magnitude", "nan", "-o", OUT], "--magnitude: must be"),
@@ -291,6 +308,8 @@ ROWS = [
     ("--merge-shift without --merge", ["train", *DRIVE, "--merge-shift", "0.004", "-o", OUT],
      "need --merge FILE"),
     ("--merge-shift nan", ["train", *DRIVE, *MERGE, "--merge-shift", "nan", "-o", OUT], "--merge-shift: must be"),
+    ("--merge-shift with '_'", ["train", *DRIVE, *MERGE, "--merge-shift", "0_1", "-o", OUT],
+     "--merge-shift: must be a number"),
     ("--merge without its time column", ["train", *DRIVE, "--merge", "load.csv", "-o", OUT],
      "no time column 't' to merge on"),
     ("--merge with no common time", ["train", *DRIVE, *MERGE, "--merge-shift", "1e5", "-o", OUT],

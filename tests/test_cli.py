@@ -79,6 +79,24 @@ def test_eval_reads_the_unicode_minus_sign(model_json, monkeypatch, capsys):
     assert forces == FrictionModel.load(model_json).force(np.array([-0.01, 0.01])).tolist()
 
 
+@pytest.mark.parametrize("text, integer, value", [("\u22120.004", False, -0.004), ("1e\u22123", False, 1e-3),
+                                                  (" \u22127 ", True, -7), ("+12", True, 12)])
+def test_number_options_read_the_unicode_minus_sign_as_tables_do(text, integer, value):
+    from fricgen.cli.common import number
+    from fricgen.data.table import plain_float
+    assert number(integer=integer)(text) == value
+    assert plain_float(text) == value
+
+
+@pytest.mark.parametrize("text, integer", [("\uff11", False), ("1_0", False), ("1.5", True), ("1e3", True),
+                                           ("\u2212", False)])
+def test_number_options_refuse_what_tables_refuse(text, integer):
+    import argparse
+    from fricgen.cli.common import number
+    with pytest.raises(argparse.ArgumentTypeError):
+        number(integer=integer)(text)
+
+
 def test_emit_writes_a_self_contained_folder_and_the_controller_only_when_asked(model_json, tmp_path):
     from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES
     assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0

@@ -8,6 +8,7 @@ from fricgen.cli import main
 from fricgen.data.export import ExportLayout, merge_on_time, read_export
 from fricgen.data.inverse_dynamics import identify_friction, is_log
 from fricgen.data.table import table_csv_text
+from fricgen.errors import DataError
 from fricgen.friction import multisource, preset
 from fricgen.model import FrictionModel
 from fricgen.sim.identification import DirectionalFriction, SweepRun, simulate_sweep_run
@@ -128,6 +129,20 @@ def test_merge_uses_the_slower_clock_and_the_shift(tmp_path):
     np.testing.assert_allclose(merged["force"], 3.0 + 2.0 * merged["t"], atol=1e-12)
     swapped = merge_on_time(fast, slow, shift=-0.004)
     assert np.median(np.diff(swapped["t"])) == pytest.approx(1 / 1500.0)
+
+
+@pytest.mark.parametrize("shift, said", [(0.0, ""), (0.5, " (after the shift of 0.5 s)")],
+                         ids=["no shift", "a shift"])
+def test_merge_messages_mention_the_shift_only_when_one_is_given(shift, said):
+    first = {"t": np.arange(100) / 100.0, "v": np.ones(100)}
+    second = {"t": np.arange(100) / 100.0 + 0.5 - shift, "force": np.ones(100)}
+    with pytest.raises(DataError) as short:
+        merge_on_time(first, second, shift, ("a.csv", "b.csv"), min_rows=80)
+    assert str(short.value).endswith("need 80 rows" + said)
+    second["t"] += 10.0
+    with pytest.raises(DataError) as apart:
+        merge_on_time(first, second, shift, ("a.csv", "b.csv"))
+    assert str(apart.value) == "a.csv and b.csv share no time span" + said
 
 
 def test_read_export_skips_maps_and_scales(tmp_path):

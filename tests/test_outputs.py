@@ -93,8 +93,35 @@ def _read_only(folder):
     os.chmod(folder / "fm.c", 0o444)
 
 
+def _read_only_file(d, name):
+    """``d/name``, an existing file no one may write (its folders made)."""
+    path = d / name
+    if not path.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text("keep me\n")
+        os.chmod(path, 0o444)
+    return path
+
+
+LOG = ["--mass", "4", "--force-constant", "20"]
+
 #: (name, argv given the work folder, the words of the one error line)
 REFUSED = [
+    ("train -o a read-only file", lambda d: ["train", str(d / "sweep.csv"), "-o",
+                                             str(_read_only_file(d, "ro.json"))],
+     "-o WORK/ro.json: is read-only; refusing to overwrite it (--force to do so)"),
+    ("synth -o a read-only file", lambda d: ["synth", "-o", str(_read_only_file(d, "ro.csv"))],
+     "-o WORK/ro.csv: is read-only"),
+    ("synth-log -o a read-only file", lambda d: ["synth-log", "--duration", "1", "-o",
+                                                 str(_read_only_file(d, "ro_log.csv"))],
+     "-o WORK/ro_log.csv: is read-only"),
+    ("diagnose -o over a read-only report", lambda d: [
+        "diagnose", str(d / "log.csv"), "--model", str(d / "model.json"), *LOG, "-o",
+        str(_read_only_file(d, "diag/report.md").parent)], "-o WORK/diag/report.md: is read-only"),
+    ("simulate --plot over a read-only figure", lambda d: [
+        "simulate", "--model", str(d / "model.json"), "--duration", "0.1", "--plot",
+        str(_read_only_file(d, "plots/simulate_none.png").parent)],
+     "--plot WORK/plots/simulate_none.png: is read-only; refusing to overwrite it\n"),   # no --force
     ("train -o the input", lambda d: ["train", str(d / "sweep.csv"), "-o", str(d / "sweep.csv")],
      "is the input"),
     ("train -o a folder", lambda d: ["train", str(d / "sweep.csv"), "-o", str(d)], "is a folder"),
@@ -134,6 +161,7 @@ def test_unsafe_destinations_are_refused_with_one_line_and_nothing_changes(workd
     before = _snapshot(workdir)
     assert main(argv) == 2
     err = capsys.readouterr().err
+    words = words.replace("WORK/", f"{workdir}/")
     assert err.count("\n") == 1 and err.startswith("fricgen: error: ") and words in err, err
     assert _snapshot(workdir) == before
 
@@ -146,6 +174,13 @@ def test_force_overwrites_an_input_and_writes_through_a_symlink(workdir, tmp_pat
     link.symlink_to(tmp_path / "real.json")
     assert main(["train", str(sweep), "-o", str(link), "--vs-max", "0.02", "--force"]) == 0
     assert link.is_symlink() and (tmp_path / "real.json").read_text().startswith("{")
+
+
+def test_force_replaces_a_read_only_file(workdir, tmp_path, capsys):
+    target = _read_only_file(tmp_path, "m.json")
+    assert main(["train", str(workdir / "sweep.csv"), "-o", str(target), "--vs-max", "0.02",
+                 "--force"]) == 0
+    assert target.read_text().startswith("{")
 
 
 def test_emit_replaces_its_own_files_and_with_force_any(workdir, tmp_path, capsys):

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Dict
 
-from .._io import check_destination, check_folder, write_atomic, write_files
+from .._io import check_destination, check_files, plain_float, plain_int, write_atomic, write_files
 from ..errors import UsageError
 
 
@@ -35,7 +35,7 @@ def say(msg: str) -> None:
 def number(low: float = -math.inf, high: float = math.inf, low_open: bool = False,
            integer: bool = False, unit: str = ""):
     """An argparse type: a finite number (an integer with ``integer``) in [low, high], or in
-    (low, high] with ``low_open``, written in ASCII digits; the error says the range."""
+    (low, high] with ``low_open``, written plainly (``plain_float``); the error says the range."""
     kind = "an integer" if integer else "a number"
     show = (lambda x: str(int(x))) if integer else (lambda x: f"{x:g}")
     bounds = [f"{'>' if low_open else '>='} {show(low)}"] if low > -math.inf else []
@@ -44,9 +44,7 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
 
     def parse(text: str):
         try:
-            if not text.isascii() or "_" in text:
-                raise ValueError(text)
-            value = int(text) if integer else float(text)
+            value = plain_int(text) if integer else plain_float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"must be {wanted}, got {text[:40]!r}") from None
         ok = math.isfinite(value) and value <= high and (value > low if low_open else value >= low)
@@ -62,17 +60,19 @@ positive_float = number(0.0, low_open=True)
 
 
 #: What ``--force`` also overwrites in a command that emits C (``fricgen.codegen.check_overwrite``).
-FORCE_C = ", and over files fricgen did not write or that are read-only"
+FORCE_C = ", and over C files fricgen did not write"
 
 
 def add_output(p, help: str, required: bool = True, default=None, force_also: str = "") -> None:
     """``-o/--output`` (``--out`` is an alias): the file or folder a command writes, and
-    ``--force`` to overwrite an input or write through a symbolic link (and ``force_also``)."""
+    ``--force`` to overwrite an input or a read-only file or write through a symbolic link (and
+    ``force_also``)."""
     p.add_argument("-o", "--output", "--out", dest="output", required=required and default is None,
                    default=default, help=help)
     p.add_argument("--force", action="store_true",
                    help="write even where -o is one of the inputs (or, for diagnose, the model's "
-                   f"folder), or a symbolic link where a file goes (its target is written){force_also}")
+                   "folder), a read-only file, or a symbolic link where a file goes (its target is "
+                   f"written){force_also}")
 
 
 def out(text: str) -> None:
@@ -96,16 +96,19 @@ def write_file(args, text, inputs=()) -> Path:
 def check_targets(args, names, inputs=(), folder_of=()) -> Dict[str, Path]:
     """The destinations of ``names`` in the folder ``args.output``, each checked (the folder not
     that of one of ``folder_of``, no destination one of ``inputs``), by name."""
-    folder = check_folder(args.output, folder_of, args.force)
-    return {name: check_destination(folder / name, inputs, args.force) for name in names}
+    return check_files(args.output, names, inputs, folder_of, args.force)
 
 
 def write_folder(args, files: Dict[str, object], inputs=(), folder_of=()) -> Path:
     """Write every file into the folder ``args.output``, all or nothing, after checking the
     folder and every destination in it (``check_targets``)."""
-    targets = check_targets(args, files, inputs, folder_of)
-    write_files({targets[name]: text for name, text in files.items()})
+    write_targets(check_targets(args, files, inputs, folder_of), files)
     return Path(args.output)
+
+
+def write_targets(targets: Dict[str, Path], files: Dict[str, object]) -> None:
+    """Write each of ``files`` to its checked destination in ``targets`` (by name), all or nothing."""
+    write_files({targets[name]: text for name, text in files.items()})
 
 
 def add_model(p, required: bool = True, help: str = "model.json of the friction model") -> None:

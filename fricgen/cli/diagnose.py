@@ -4,7 +4,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .._io import check_folder
+from .._io import check_folder, named_data
 from ..data import read_log_csv
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files
@@ -34,7 +34,8 @@ def run(args) -> int:
     check_folder(args.output, [args.model], args.force)
     model = FrictionModel.load(args.model)
     log = read_log_csv(args.log)
-    d = Diagnoser(max_effects=args.max_effects).fit(log, model, args.mass, args.force_constant)
+    with named_data(args.log):
+        d = Diagnoser(max_effects=args.max_effects).fit(log, model, args.mass, args.force_constant)
     files = render_files(d, log, Path(args.log).name)
     check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
     for note in range_notes(model_effects(model), log):

@@ -4,7 +4,7 @@ from __future__ import annotations
 from .._io import check_folder
 from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite, render
 from ..model import FrictionModel, check_model_name
-from .common import FORCE_C, add_output, check_targets, say, write_folder
+from .common import FORCE_C, add_output, check_targets, say, write_targets
 
 
 def register(p) -> None:
@@ -31,7 +31,8 @@ def run(args) -> int:
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller)
     check_name_in_folder(args.output, name)
-    check_overwrite(check_targets(args, files, [args.model]).values(), args.force)
-    write_folder(args, files, [args.model])
+    targets = check_targets(args, files, [args.model])
+    check_overwrite(targets.values(), args.force)
+    write_targets(targets, files)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from ..data.table import plain_float
+from .._io import plain_float
 from ..errors import UsageError
 from ..model import FrictionModel
 from .common import out, say

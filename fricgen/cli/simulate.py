@@ -8,7 +8,6 @@ are none, exact and that model.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 from ..control.backstepping import AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
@@ -16,9 +15,9 @@ from ..control.c_controller import c_controllers
 from ..control.loop import DEFAULT_DURATION, compensations, default_axis, simulate
 from ..errors import UsageError
 from ..model import FrictionModel
-from .._io import check_folder, write_files
+from .._io import check_files, check_folder
 from .._plot import png, pyplot
-from .common import add_json, add_model, number, out, say
+from .common import add_json, add_model, number, out, say, write_targets
 
 
 def register(p) -> None:
@@ -59,6 +58,8 @@ def run(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     variants = compensations(axis, model)
+    if args.plot:
+        targets = check_files(args.plot, [plot_name(v) for v in variants], [args.model], option="--plot")
     if args.backend == "c":
         say("emitting the models and fric_ctrl as C and compiling them with cffi ...")
         ctrls = c_controllers(variants, settings)
@@ -74,7 +75,7 @@ def run(args) -> int:
     out(json.dumps(report, indent=1) if args.json else table(report))
     if args.plot:
         pngs = plot_runs(runs)
-        write_files({Path(args.plot) / name: data for name, data in pngs.items()})
+        write_targets(targets, pngs)
         say(f"wrote {', '.join(sorted(pngs)) or 'no plots'} to {args.plot}")
     return 0
 
@@ -90,6 +91,11 @@ def table(report: dict) -> str:
         lines.append(f"{name:8s} {1e3 * m['rms_e1']:10.4f} {1e3 * m['max_e1']:10.4f} "
                      f"{m['rms_i']:8.3f} {m['max_i']:8.3f} {m['m_o_hat']:8.4f} {m['k_hat']:7.4f}{note}")
     return "\n".join(lines)
+
+
+def plot_name(variant: str) -> str:
+    """The file of a variant's figure."""
+    return f"simulate_{variant}.png"
 
 
 def plot_runs(runs: dict) -> dict:
@@ -113,5 +119,5 @@ def plot_runs(runs: dict) -> dict:
         axes[2].set_xlabel("t (s)")
         axes[0].set_title(f"compensation: {name}")
         fig.tight_layout()
-        pngs[f"simulate_{name}.png"] = png(fig)
+        pngs[plot_name(name)] = png(fig)
     return pngs

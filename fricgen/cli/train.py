@@ -22,7 +22,7 @@ from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
 from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
 from ..networks.elm import ACTIVATIONS
-from .._io import check_destination
+from .._io import check_destination, named_data
 from .common import add_output, add_seed, number, out, positive_float, say, write_file
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
@@ -178,25 +178,28 @@ def read_columns(args):
     return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge), least)
 
 
+def source_name(args) -> str:
+    """The input as messages name it: the file, or both files of a merge ("a.csv + b.csv")."""
+    return " + ".join(str(f) for f in (args.sweep, args.merge) if f)
+
+
 def training_data(args):
     """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
     columns = read_columns(args)
+    source = source_name(args)
     if is_log(columns):
         if args.mass is None:
-            raise UsageError(f"{args.sweep} is a motion log (t, v or x, force or i): pass --mass (kg) "
+            raise UsageError(f"{source} is a motion log (t, v or x, force or i): pass --mass (kg) "
                              "for the inverse dynamics")
-        try:
+        with named_data(source):
             ident = identify_log(columns, args.mass, args.force_constant)
-        except DataError as exc:
-            raise DataError(f"{args.sweep}: {exc}") from None
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)
-        raise DataError(f"{args.sweep}: {describe_missing(columns, written)}")
+        raise DataError(f"{source}: {describe_missing(columns, written)}")
     if args.mass is not None or args.force_constant is not None:
-        raise UsageError("--mass and --force-constant apply to a motion log; "
-                         f"{args.sweep} is a sweep (v, f)")
-    return sweep_from_columns(columns, args.sweep), None
+        raise UsageError(f"--mass and --force-constant apply to a motion log; {source} is a sweep (v, f)")
+    return sweep_from_columns(columns, source), None
 
 
 def stribeck_warning(ident, fits) -> str:
@@ -221,11 +224,9 @@ def run(args) -> int:
     estimator = _estimator(args)
     per_direction = default_elm(args.seed, max_neurons=args.max_neurons) \
         if isinstance(estimator, DefaultRegressor) else estimator
-    try:
+    with named_data(source_name(args)):
         fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
                                 seed=args.seed, per_direction=per_direction)
-    except DataError as exc:
-        raise DataError(f"{args.sweep}: {exc}") from None
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
@@ -248,7 +249,7 @@ def run(args) -> int:
         for curve in model.directions:
             curve.check()
     except ModelError as exc:
-        raise DataError(f"{args.sweep}: the fitted model is no friction model: {exc}") from None
+        raise DataError(f"{source_name(args)}: the fitted model is no friction model: {exc}") from None
     reports = [] if ident is None else [ident.summary()]
     reports.append(_choice_line(fitted))
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):

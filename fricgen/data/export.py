@@ -15,6 +15,7 @@ from typing import Dict, Mapping, Sequence, Tuple, Union
 
 import numpy as np
 
+from .._io import plain_float
 from ..errors import DataError, UsageError
 from .table import read_table_csv
 
@@ -46,9 +47,7 @@ def parse_scales(items: Sequence[str], option: str = "--scale") -> Dict[str, flo
     scales = {}
     for name, text in parse_assignments(items, option).items():
         try:
-            if not text.isascii() or "_" in text:
-                raise ValueError(text)
-            factor = float(text)
+            factor = plain_float(text)
         except ValueError:
             raise UsageError(f"{option}: {name}={text[:40]!r} is not a number") from None
         if not (math.isfinite(factor) and factor != 0):
@@ -128,14 +127,13 @@ def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], s
     slow_first = np.median(np.diff(t1)) >= np.median(np.diff(t2))
     (ts, slow), (tf, fast) = ((t1, first), (t2, second)) if slow_first else ((t2, second), (t1, first))
     inside = (ts >= max(t1[0], t2[0])) & (ts <= min(t1[-1], t2[-1]))
+    shifted = f" (after the shift of {shift:g} s)" if shift else ""
     if inside.sum() < 2:
-        raise DataError(f"{names[0]} and {names[1]} share no time span (after the shift of "
-                        f"{shift:g} s)")
+        raise DataError(f"{names[0]} and {names[1]} share no time span{shifted}")
     if inside.sum() < min_rows:
         common = ts[inside]
         raise DataError(f"{names[0]} and {names[1]} share {common[-1] - common[0]:.3g} s "
-                        f"({int(inside.sum())} rows on the slower clock), need {min_rows} rows "
-                        f"(after the shift of {shift:g} s)")
+                        f"({int(inside.sum())} rows on the slower clock), need {min_rows} rows{shifted}")
     merged = {"t": ts[inside]}
     merged.update({k: a[inside] for k, a in slow.items() if k != "t"})
     merged.update({k: np.interp(merged["t"], tf, a) for k, a in fast.items() if k != "t"})

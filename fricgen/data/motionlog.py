@@ -12,6 +12,7 @@ from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
 
+from .._io import named_data
 from ..errors import DataError
 from .table import read_table_csv, table_csv_text
 
@@ -160,11 +161,9 @@ def read_log_csv(path: Union[str, Path]) -> MotionLog:
     """Read a log CSV whose header names at least t, x, v, i (other numeric columns are kept as
     extra; a column with text in it is left out)."""
     columns = read_table_csv(path, COLUMNS, keep_extra=True, drop_text=True)
-    try:
+    with named_data(path):
         return MotionLog(**{c: columns[c] for c in COLUMNS},
                          extra={h: a for h, a in columns.items() if h not in COLUMNS})
-    except DataError as exc:
-        raise DataError(f"{path}: {exc}") from None
 
 
 def log_csv_text(log: MotionLog) -> str:

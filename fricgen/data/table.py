@@ -10,33 +10,23 @@ from typing import Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
+from .._io import plain_float
 from ..errors import DataError
-
-
-#: A number as fricgen reads one: ASCII digits, '.' decimals, an optional exponent, or nan/inf.
-_NUMBER = re.compile(r"\s*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf(?:inity)?)\s*",
-                     re.IGNORECASE)
-
-
-def plain_float(text: str) -> float:
-    """``float(text)`` for a plainly written number only (no '_' separators, no digits of other
-    scripts, which Python's float would accept); else ``ValueError``. The minus sign U+2212, as
-    numbers copied from documents write it, is a minus."""
-    text = text.replace("\u2212", "-")
-    if not _NUMBER.fullmatch(text):
-        raise ValueError(f"not a number: {text!r}")
-    return float(text)
 
 
 #: A header cell with its unit written in, e.g. "i [A]" or "v (m/s)".
 _WITH_UNIT = re.compile(r"\s*([A-Za-z_]\w*)\s*[\[(].*[\])]\s*")
 
 
+#: What a header with ';' in it is told.
+_SEMICOLONS = "looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"
+
+
 def header_hint(cells: Sequence[str]) -> str:
     """Why a header may lack fricgen's column names ('' if no idea): it is ';'-separated, or
     its names carry units."""
     if any(";" in c for c in cells):
-        return "; it looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"
+        return f"; it {_SEMICOLONS}"
     for cell in cells:
         united = _WITH_UNIT.fullmatch(cell)
         if united:
@@ -155,8 +145,7 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
     written = [h.strip() for h in header]
     header = [h.lower() for h in written]
     if len(header) == 1 and ";" in header[0]:
-        raise DataError(f"{path}: the header {written[0][:40]!r} looks ';'-separated: fricgen reads "
-                        "','-separated CSV with '.' decimals")
+        raise DataError(f"{path}: the header {written[0][:40]!r} {_SEMICOLONS}")
     repeated = sorted({h for h in header if h and header.count(h) > 1})
     if repeated:
         raise DataError(f"{path}: column {repeated[0]!r} appears more than once in the header")

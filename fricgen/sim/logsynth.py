@@ -17,6 +17,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..data import MotionLog, synthesize_benchmark
+from ..data.motionlog import MIN_SAMPLES
 from ..effects import EFFECTS, Effect
 from ..fit import as_rng, default_elm
 from ..friction import preset
@@ -77,11 +78,20 @@ class LogSpec:
             raise ValueError(f"noise must be >= 0, got {self.noise}")
         if not self.duration <= MAX_DURATION:
             raise ValueError(f"duration must be <= {MAX_DURATION:g} s, got {self.duration}")
+        if self.n_samples < MIN_SAMPLES:
+            shortest = (MIN_SAMPLES - 1) / self.sample_rate
+            raise ValueError(f"duration must be >= {shortest:g} s, the {MIN_SAMPLES} samples a log "
+                             f"needs at {self.sample_rate:g} Hz, got {self.duration:g}")
         low, high = magnitude_range(self.effect, self.mass, self.force_constant)
         if not (np.isfinite(self.magnitude) and low < self.magnitude <= high):
             upper = f" and <= {high:g}" if high < math.inf else ""
             raise ValueError(f"magnitude must be a finite number > {low:g}{upper} for "
                              f"{self.effect}, got {self.magnitude:g}"[:200])
+
+    @property
+    def n_samples(self) -> int:
+        """The samples of the log: ``duration`` at ``sample_rate``, both ends included."""
+        return int(round(self.duration * self.sample_rate)) + 1
 
 
 def magnitude_range(effect: str, mass: float, force_constant: float) -> Tuple[float, float]:
@@ -206,7 +216,7 @@ def synthesize_logs(specs: Sequence[LogSpec], model: Optional[FrictionModel] = N
             raise ValueError(f"specs must share {', '.join(shared)}")
     model = nominal_model() if model is None else model
     ts = 1.0 / first.sample_rate
-    n = int(round(first.duration * first.sample_rate)) + 1
+    n = first.n_samples
     t = np.arange(n) * ts
     refs = [reference_trajectory(t, s.seed) for s in specs]
     xd, vd, ad = (np.stack([r[k] for r in refs], axis=1) for k in range(3))
