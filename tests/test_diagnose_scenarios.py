@@ -168,3 +168,17 @@ def test_a_lag_below_the_relevance_bound_is_judged_by_the_gap():
     assert lag.size < d.min_size and lag.reason == ""
     assert lag.gap_after <= (1.0 - SHORT_LIVED_GAIN) * lag.gap_before
     assert any(s.reason.startswith("too small") for s in d.steps_ if s.effect != "frictional_lag")
+
+
+def test_a_set_the_first_part_ranks_lower_is_taken_when_it_extrapolates_better():
+    """A mass error with a drift: on the first part of the log a phi error with an extra
+    source fits better (the drift is still small there), but it leaves several times the
+    held-out gap of the true pair, which passes as well; the step takes the true pair and says
+    why the other gave way."""
+    sc = make_scenario(4017, ("thermal_drift", "inertia_mismatch"))
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert sorted(s.effect for s in d.effects_) == ["inertia_mismatch", "thermal_drift"], \
+        [(s.effect, s.reason) for s in d.steps_]
+    gave_way = [s for s in d.steps_ if "leaves a smaller held-out gap" in s.reason]
+    assert any({"force_constant_mismatch", "extra_friction_source"} <= {e.name for e in s.joint}
+               and s.gap_after > 2 * d.gap_after_ for s in gave_way)
