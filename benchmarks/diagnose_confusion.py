@@ -120,7 +120,7 @@ def run_case(case):
             "steps": [{"effect": s.effect, "p_value": s.p_value, "size": s.size, "share": s.share,
                        "gap_before": s.gap_before,
                        "gap_after": None if np.isnan(s.gap_after) else s.gap_after,
-                       "added": s.added, "reason": s.reason} for s in d.steps_],
+                       "added": s.added, "reason": s.reason, "beside": s.beside} for s in d.steps_],
             "p_first": d.steps_[0].p_value if d.steps_ else 1.0,
             "gap_before": d.gap_before_, "gap_after": d.gap_after_, "gap_truth": gap_truth,
             "gap_truth_without": gap_truth_without,

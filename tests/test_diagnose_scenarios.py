@@ -182,3 +182,16 @@ def test_a_set_the_first_part_ranks_lower_is_taken_when_it_extrapolates_better()
     gave_way = [s for s in d.steps_ if "leaves a smaller held-out gap" in s.reason]
     assert any({"force_constant_mismatch", "extra_friction_source"} <= {e.name for e in s.joint}
                and s.gap_after > 2 * d.gap_after_ for s in gave_way)
+
+
+def test_a_mass_error_is_not_read_as_a_scaled_force_balance():
+    """A mass three times the nominal one with a phi error: a phi error a third of the nominal
+    one with an extra source that cancels two thirds of the model's friction moves the axis
+    alike (the force balance of eq. 18 divided by three), and its force residual is a third as
+    large. Compared per unit of mass, the true pair is taken."""
+    sc = make_scenario(4019, ("force_constant_mismatch", "inertia_mismatch"))
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert sorted(s.effect for s in d.effects_) == ["force_constant_mismatch", "inertia_mismatch"], \
+        [(s.effect, s.reason) for s in d.steps_]
+    mass = next(s.fitted for s in d.effects_ if s.effect == "inertia_mismatch").mass
+    assert 2.0 < mass / sc.mass < 4.0

@@ -524,8 +524,12 @@ class Diagnoser:
         return float(np.mean(r ** 2))
 
     def _score(self, p: ResidualProblem, effects: Sequence[Effect]) -> float:
-        """Akaike's criterion of a joint fit on the fit rows, with the effective sample size."""
-        mse = max(self._mse(p, effects), 1e-300)
+        """Akaike's criterion of a joint fit on the fit rows, with the effective sample size, of
+        the residual in acceleration (the force residual over the set's mass, eq. 18): a mass
+        error and a force-constant error with the friction scaled alike move the axis alike,
+        and only per unit of mass do their residuals compare."""
+        mass = p.mass + sum(e.mass_delta for e in (*p.effects, *effects))
+        mse = max(self._mse(p, effects) / mass ** 2, 1e-300)
         return p.n_effective * math.log(mse) + 2.0 * sum(e.n_params for e in effects)
 
     def _gap(self, p: ResidualProblem, effects) -> Tuple[float, np.ndarray]:
