@@ -406,7 +406,7 @@ class Diagnoser:
     from the ``BEAM`` best sets of k - 1 (the chosen one first): each set is fitted jointly
     (backfitting, with the parameters the forces are linear in solved together after each
     sweep, ``_joint_linear``) on the fit part and ranked by Akaike's criterion with the
-    effective sample size (``_score``). So a step may also replace an earlier choice: a
+    effective sample size, of the residual per unit of the set's mass (``_score``). So a step may also replace an earlier choice: a
     one-sided asymmetry chosen for what is a load plus a level change gives way to the two when
     the pair fits better. The best set (then the next, up to ``MAX_TRIES``) is taken only if,
     against the chosen set,

@@ -45,7 +45,8 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
         lines += ["Structure remains that nothing added explains (see the refusals below).", ""]
     lines += ["## Decision", "",
               f"Each step fits the sets of named effects one larger than the chosen set jointly on "
-              f"the first {1 - d.holdout:.0%} of the log, ranks them by Akaike's criterion, and takes "
+              f"the first {1 - d.holdout:.0%} of the log, ranks them by Akaike's criterion "
+              "of the residual per unit of mass, and takes "
               "the best that (1) reduces the squared force residual on the held-out last "
               f"{d.holdout:.0%} (one-sided t-test with the effective sample size from the "
               f"autocorrelation, p < {d.alpha:g}), (2) has its mass and force constant within a factor "
