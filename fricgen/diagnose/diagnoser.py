@@ -534,9 +534,13 @@ class Diagnoser:
 
     def _gap(self, p: ResidualProblem, effects) -> Tuple[float, np.ndarray]:
         v_sim = resimulate(p, list(effects), p.split, self.horizon_samples_, self.substeps)
+        return rmse(self._held_errors(v_sim), 0.0), v_sim
+
+    def _held_errors(self, v_sim: np.ndarray) -> np.ndarray:
+        """The simulated minus the smoothed measured velocity on the held-out samples (finite ones)."""
         held = self.held_
-        ok = np.isfinite(v_sim[held])
-        return rmse(v_sim[held][ok], p.v_smooth[held][ok]), v_sim
+        e = v_sim[held] - self.problem_.v_smooth[held]
+        return e[np.isfinite(e)]
 
     def _consider(self, p, base, chosen, gap_now, ranked, classes, joint=None) -> Step:
         """Fit the ranked candidate jointly with ``chosen`` (or take the set ``joint``), test the
@@ -655,9 +659,7 @@ class Diagnoser:
     def _gap_standard_error(self, v_sim: np.ndarray) -> float:
         """Standard error of a held-out gap, from the mean squared error of ``GAP_BATCHES``
         consecutive batches of the held-out samples (their errors are correlated in time)."""
-        held = self.held_
-        e2 = (v_sim[held] - self.problem_.v_smooth[held]) ** 2
-        e2 = e2[np.isfinite(e2)]
+        e2 = self._held_errors(v_sim) ** 2
         if e2.size < 2 * GAP_BATCHES or not e2.mean() > 0:
             return 0.0
         means = np.array([b.mean() for b in np.array_split(e2, GAP_BATCHES)])
