@@ -9,7 +9,7 @@ import pytest
 from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.codegen.cbuild import build
-from fricgen.effects import (EFFECTS, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
+from fricgen.effects import (EFFECTS, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource, ForceConstantMismatch,
                              FrictionalLag, InertiaMismatch, PositionRipple, Signals, ThermalDrift,
                              force_xv, with_effects)
 from fricgen.codegen.twin import force_xv_f32
@@ -123,3 +123,13 @@ def test_force_xv_builds_without_a_single_warning(augmented, tmp_path):
 def test_models_without_effects_emit_no_force_xv(default_model):
     files = codegen.render(default_model, "fm")
     assert "force_xv" not in files["fm.h"] and "force_xv" not in files["fm.c"]
+
+
+@pytest.mark.parametrize("effect, expected", [
+    (InertiaMismatch(mass=1.5, nominal_mass=1.0), 0.5),
+    (InertiaMismatch(mass=0.5, nominal_mass=1.0), 0.5),
+    (ForceConstantMismatch(force_constant=9.0, nominal_force_constant=10.0), 0.1),
+    (ConstantLoad(load=3.0), 0.0),
+])
+def test_mismatch_is_how_far_a_value_is_from_its_nominal_one(effect, expected):
+    assert effect.mismatch() == pytest.approx(expected)

@@ -392,11 +392,14 @@ PART_OFF = 10.0
 GAP_BATCHES = 10
 #: Largest --max-effects.
 MAX_EFFECTS = 8
-#: Effects whose force lives in short stretches (the lag: at the reversals), so that their size
-#: over the whole log understates them. Below ``min_size`` they are judged by the held-out gap
-#: alone, which must then shrink by ``SHORT_LIVED_GAIN`` rather than ``min_gain``.
+#: Effects whose size over the whole log understates them, judged below ``min_size`` by the
+#: held-out gap alone, which must then shrink by ``UNDERSTATED_GAIN`` rather than ``min_gain``:
+#: those whose force lives in short stretches (the lag: at the reversals), and a mass or force
+#: constant at least ``MISMATCH_RELEVANT`` off the nominal one (a mass half the nominal one on
+#: a slow log changes the force by 2 % of the friction, and detunes any controller built on it).
 SHORT_LIVED = ("frictional_lag",)
-SHORT_LIVED_GAIN = 0.25
+MISMATCH_RELEVANT = 0.1
+UNDERSTATED_GAIN = 0.25
 
 
 class Diagnoser:
@@ -406,7 +409,7 @@ class Diagnoser:
     from the ``BEAM`` best sets of k - 1 (the chosen one first): each set is fitted jointly
     (backfitting, with the parameters the forces are linear in solved together after each
     sweep, ``_joint_linear``) on the fit part and ranked by Akaike's criterion with the
-    effective sample size, of the residual per unit of the set's mass (``_score``). So a step may also replace an earlier choice: a
+    effective sample size (``_score``). So a step may also replace an earlier choice: a
     one-sided asymmetry chosen for what is a load plus a level change gives way to the two when
     the pair fits better. The best set (then the next, up to ``MAX_TRIES``) is taken only if,
     against the chosen set,
@@ -416,15 +419,16 @@ class Diagnoser:
     3. it is practically relevant: the force it changes on the held-out part is at least
        ``min_size`` of the RMS friction force (a friction model fitted to a sweep is off by
        about a percent; such bias is real structure, significant on long logs, but not a
-       missing effect), and
+       missing effect; for a lag or a mass or force constant ``MISMATCH_RELEVANT`` off, see
+       ``UNDERSTATED_GAIN``), and
     4. the held-out gap shrinks by at least ``min_gain`` (relative): never an effect that makes
        the simulation worse.
 
     Only a set refused for its size or gap lets the next be tried. Once one passes, the others
-    up to ``MAX_TRIES`` are checked as well, and of those that pass the best by the score whose
-    held-out gap is within one standard error of the smallest is taken (``_closest``): the
-    fit part can rank a drift below what it extrapolates to. When no set one larger is
-    taken, the sets two larger that contain the chosen one are tried the same way (effects that
+    up to ``MAX_TRIES`` are checked as well, and of those that pass and whose held-out gap is
+    within one standard error of the smallest, the best by the score per unit of mass is taken
+    (``_closest``): the fit part can rank a drift below what it extrapolates to. When no set
+    one larger is taken, the sets two larger that contain the chosen one are tried the same way (effects that
     fit the held-out part only together: a drift and a force-constant error, either alone fitted
     on the first part, extrapolate worse than nothing); each newcomer of a set must change the
     force by ``min_size`` on its own. When no named set is taken, the tables of
@@ -523,13 +527,15 @@ class Diagnoser:
                                        np.zeros(p.fit_rows.size))
         return float(np.mean(r ** 2))
 
-    def _score(self, p: ResidualProblem, effects: Sequence[Effect]) -> float:
-        """Akaike's criterion of a joint fit on the fit rows, with the effective sample size, of
-        the residual in acceleration (the force residual over the set's mass, eq. 18): a mass
-        error and a force-constant error with the friction scaled alike move the axis alike,
-        and only per unit of mass do their residuals compare."""
-        mass = p.mass + sum(e.mass_delta for e in (*p.effects, *effects))
-        mse = max(self._mse(p, effects) / mass ** 2, 1e-300)
+    def _score(self, p: ResidualProblem, effects: Sequence[Effect], per_mass: bool = False) -> float:
+        """Akaike's criterion of a joint fit on the fit rows, with the effective sample size;
+        ``per_mass``: of the residual in acceleration, the force residual over the set's mass
+        (eq. 18), as the held-out gap sees it. A mass three times the nominal one and a force
+        constant a third of the nominal one with the friction cut to a third move the axis
+        alike, but the second's force residual is a third as large."""
+        mse = max(self._mse(p, effects), 1e-300)
+        if per_mass:
+            mse /= (p.mass + sum(e.mass_delta for e in (*p.effects, *effects))) ** 2
         return p.n_effective * math.log(mse) + 2.0 * sum(e.n_params for e in effects)
 
     def _gap(self, p: ResidualProblem, effects) -> Tuple[float, np.ndarray]:
@@ -570,9 +576,9 @@ class Diagnoser:
         if size < self.min_size:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
                            f"{self.min_size:.0%})")
-            if not all(e.name in SHORT_LIVED for e in newcomers):
+            if not all(e.name in SHORT_LIVED or e.mismatch() >= MISMATCH_RELEVANT for e in newcomers):
                 return step
-            gain = SHORT_LIVED_GAIN
+            gain = UNDERSTATED_GAIN
         if len(newcomers) > 1:          # each effect a set names must matter on its own
             own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in newcomers}
             small = min(own, key=own.get)
@@ -637,20 +643,22 @@ class Diagnoser:
         return step
 
     def _closest(self, passed: List[Tuple[Step, np.ndarray]]) -> Tuple[Step, np.ndarray]:
-        """Of the sets that pass the checks (with their simulations, best first by ``_score``),
-        the first whose held-out gap is within one standard error of the smallest: the first
-        part of a log can rank a set below one that extrapolates worse (a drift is small
-        there), and where the held-out part cannot tell sets apart the score decides. The
-        others are marked refused, saying why."""
+        """Of the sets that pass the checks (with their simulations), the best by ``_score``
+        per unit of mass among those whose held-out gap is within one standard error of the
+        smallest: the first part of a log can rank a set below one that extrapolates worse (a
+        drift is small there), and where the held-out part cannot tell sets apart the score
+        decides, in the units the gap sees. The others are marked refused, saying why."""
         best, v_best = min(passed, key=lambda sv: sv[0].gap_after)
         limit = best.gap_after + self._gap_standard_error(v_best)
-        pick = next(sv for sv in passed if sv[0].gap_after <= limit)
+        p = self.problem_
+        pick = min((sv for sv in passed if sv[0].gap_after <= limit),
+                   key=lambda sv: self._score(p, sv[0].joint, per_mass=True))
         names = ", ".join(e.name for e in pick[0].joint)
         for s, _ in passed:
             if s is not pick[0]:
                 s.added = False
-                s.reason = (f"passes, but the set {names} fits the first part better and is as "
-                            f"close to the held-out part (within one standard error)"
+                s.reason = (f"passes, but the set {names} fits the first part better (per unit of "
+                            f"mass) and is as close to the held-out part (within one standard error)"
                             if s.gap_after <= limit else
                             f"passes, but the set {names} leaves a smaller held-out gap "
                             f"({pick[0].gap_after:.3g} m/s against {s.gap_after:.3g})")

@@ -11,7 +11,7 @@ import numpy as np
 from .._plot import png, pyplot
 from ..data import MotionLog
 from ..effects import EFFECTS, PLAUSIBLE_FACTOR
-from .diagnoser import TABLE_PREFERENCE, Diagnoser
+from .diagnoser import MISMATCH_RELEVANT, TABLE_PREFERENCE, UNDERSTATED_GAIN, Diagnoser
 
 
 def format_value(value) -> str:
@@ -45,14 +45,16 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
         lines += ["Structure remains that nothing added explains (see the refusals below).", ""]
     lines += ["## Decision", "",
               f"Each step fits the sets of named effects one larger than the chosen set jointly on "
-              f"the first {1 - d.holdout:.0%} of the log, ranks them by Akaike's criterion "
-              "of the residual per unit of mass, and takes "
+              f"the first {1 - d.holdout:.0%} of the log, ranks them by Akaike's criterion, and takes "
               "the best that (1) reduces the squared force residual on the held-out last "
               f"{d.holdout:.0%} (one-sided t-test with the effective sample size from the "
               f"autocorrelation, p < {d.alpha:g}), (2) has its mass and force constant within a factor "
               f"{PLAUSIBLE_FACTOR:g} of the nominal ones, (3) changes the force there by at least "
-              f"{d.min_size:.0%} of the RMS friction force and (4) shrinks the held-out gap by at least "
-              f"{d.min_gain:.0%}. A set may drop an earlier effect (marked replaced). When no set one "
+              f"{d.min_size:.0%} of the RMS friction force (a frictional lag, or a mass or force "
+              f"constant {MISMATCH_RELEVANT:.0%} off the nominal one, may instead shrink the gap by "
+              f"{UNDERSTATED_GAIN:.0%}) and (4) shrinks the held-out gap by at least "
+              f"{d.min_gain:.0%}; of the sets that pass, among those within one standard error of the "
+              "smallest held-out gap, the best by the criterion per unit of mass. A set may drop an earlier effect (marked replaced). When no set one "
               "larger is taken, sets two larger that keep the chosen ones are tried, each new effect "
               f"at least {d.min_size:.0%} on its own; effects that enter together share one step "
               "number and its figures. Tables (no physical name) compete when no named set is taken, "

@@ -145,6 +145,12 @@ class Effect:
                 return why
         return ""
 
+    def mismatch(self) -> float:
+        """How far the fitted values are from their nominal ones (``nominal_of``): the largest
+        |value / nominal - 1| (0 for an effect without nominal values)."""
+        return max((abs(getattr(self, p) / getattr(self, nominal) - 1.0)
+                    for p, nominal in self.nominal_of), default=0.0)
+
     def limits(self) -> Dict[str, Tuple[float, float]]:
         """The range [low, high] of each bounded parameter: from 0 (``positive``: above it,
         ``non_negative``: at it too), or within PLAUSIBLE_FACTOR of its nominal (``nominal_of``)."""
