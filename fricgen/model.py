@@ -10,6 +10,7 @@ it is used, and raises ``ModelError`` with one line that names the field.
 """
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import math
@@ -21,7 +22,7 @@ from typing import Any, Dict, Optional, Tuple, Union
 import numpy as np
 
 from . import __version__
-from ._io import write_atomic
+from ._io import read_only, write_atomic
 from ._validate import FLOAT32_SCALE, float32_scale, json_number
 from .effects import validate_effects
 from .errors import ModelError
@@ -302,7 +303,13 @@ class FrictionModel:
         of the pseudo-inverse, is written as null)."""
         return json.dumps(_finite_or_null(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
-    def save(self, path: Union[str, Path]) -> Path:
+    def save(self, path: Union[str, Path], force: bool = False) -> Path:
+        """Write model.json to ``path`` all or nothing. An existing read-only file is refused
+        (``PermissionError``) unless ``force``: writing a new file and renaming it into place
+        would otherwise replace it, which writing into it would not."""
+        if not force and Path(path).is_file() and read_only(Path(path)):
+            raise PermissionError(errno.EACCES, "read-only file; save(..., force=True) replaces it",
+                                  str(path))
         return write_atomic(path, self.to_json())
 
     @classmethod

@@ -37,6 +37,18 @@ def test_save_load_round_trip(tmp_path, default_model):
     assert back.name == default_model.name
 
 
+def test_save_refuses_a_read_only_file_unless_forced(tmp_path, default_model):
+    path = tmp_path / "m.json"
+    path.write_text("kept\n")
+    path.chmod(0o444)
+    with pytest.raises(PermissionError, match="read-only"):
+        default_model.save(path)
+    assert path.read_text() == "kept\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json"]
+    default_model.save(path, force=True)
+    assert FrictionModel.load(path).model_hash == default_model.model_hash
+
+
 def _mutations():
     yield "missing aim", lambda d: d.pop("aim"), "aim"
     yield "missing scaling", lambda d: d.pop("scaling"), "scaling"
