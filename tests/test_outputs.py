@@ -122,6 +122,9 @@ REFUSED = [
         "simulate", "--model", str(d / "model.json"), "--duration", "0.1", "--plot",
         str(_read_only_file(d, "plots/simulate_none.png").parent)],
      "--plot WORK/plots/simulate_none.png: is read-only; refusing to overwrite it\n"),   # no --force
+    ("reproduce -o over a read-only report", lambda d: [
+        "reproduce", "--quick", "-o", str(_read_only_file(d, "paper/report.md").parent)],
+     "-o WORK/paper/report.md: is read-only; refusing to overwrite it (--force to do so)"),
     ("train -o the input", lambda d: ["train", str(d / "sweep.csv"), "-o", str(d / "sweep.csv")],
      "is the input"),
     ("train -o a folder", lambda d: ["train", str(d / "sweep.csv"), "-o", str(d)], "is a folder"),

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 
-from .._io import check_folder
 from .._plot import pyplot
 from ..paper import reported as paper
 from ..paper.experiments import fitted_seed0, reproduce
@@ -17,7 +16,8 @@ from .common import add_output, check_targets, number, out, say, write_folder
 
 
 def run(args) -> int:
-    check_folder(args.output, (), args.force)
+    # every file the run will write, checked before the experiments (minutes) begin
+    check_targets(args, ["results.json", "report.md", *(FIGURES if pyplot() is not None else ())])
     seeds = args.seeds if args.seeds is not None else (3 if args.quick else paper.SEEDS)
     say(f"reproducing the paper on {seeds} seeds with {args.jobs} job(s)"
          f"{' (quick)' if args.quick else ''}")
