@@ -119,6 +119,9 @@ def _motion_log_files(d, log):
         ",".join(r) for r in zip(cols["t"], cols["v"])) + "\n")
     (d / "load.csv").write_text("Stamp,Load\n" + "\n".join(
         ",".join(r) for r in zip(cols["t"], force)) + "\n")
+    lines = (d / "load.csv").read_text().splitlines()
+    lines[5] = lines[5].partition(",")[0] + ",nan"          # data row 5
+    (d / "load_nan.csv").write_text("\n".join(lines) + "\n")
     (d / "jitter.csv").write_text("t,v,force\n" + "\n".join(
         f"{float(t) * (1 + 0.3 * (k % 2 == 1) / (k + 1))!r},{v},{f}"
         for k, (t, v, f) in enumerate(zip(cols["t"], cols["v"], force))) + "\n")
@@ -316,6 +319,9 @@ ROWS = [
      "share no time span"),
     ("--merge of a column in both files", ["train", *DRIVE, "--merge", "log_force.csv", "-o", OUT],
      "column 'v' is in"),
+    ("--merge file with a NaN", ["train", *DRIVE, "--merge", "load_nan.csv", "--merge-columns",
+                                 "t=Stamp,force=Load", "--merge-shift", "-0.002", "-o", OUT],
+     "WORK/load_nan.csv: column 'force' holds NaN or infinite value at data row 5"),
     ("--merge-skip past the end", ["train", *DRIVE, *MERGE, "--merge-skip", "100000", "-o", OUT],
      "fewer than the 100000"),
     ("--merge file missing", ["train", *DRIVE, "--merge", "nothing.csv", "-o", OUT], "cannot read"),

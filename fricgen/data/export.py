@@ -17,6 +17,7 @@ import numpy as np
 
 from .._io import plain_float
 from ..errors import DataError, UsageError
+from .motionlog import check_finite
 from .table import read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
@@ -119,6 +120,9 @@ def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], s
     both cover: the other file's columns linearly interpolated there. The second file's sample
     at t2 happened at t2 + ``shift`` on the first file's clock. A column other than t in both
     files, or a common time of fewer than ``min_rows`` rows, is refused naming both files."""
+    for columns, name in zip((first, second), names):       # rows counted in each file
+        for k, values in columns.items():
+            check_finite(k, values, str(name))
     t1 = _increasing_time(first, names[0])
     t2 = _increasing_time(second, names[1]) + shift
     both = sorted((set(first) & set(second)) - {"t"})

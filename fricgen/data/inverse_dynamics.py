@@ -18,7 +18,7 @@ from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..errors import DataError
-from .motionlog import MIN_SAMPLES, check_moves, check_units, check_varies, uniform_time
+from .motionlog import MIN_SAMPLES, check_finite, check_moves, check_units, check_varies, uniform_time
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -121,9 +121,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     (odd samples) overrides ``choose_window``."""
     columns = {"t": t, "force": force, "v": v, "x": x}
     for name, values in columns.items():
-        if values is not None and not np.all(np.isfinite(values)):
-            bad = int(np.flatnonzero(~np.isfinite(values))[0])
-            raise DataError(f"column {name!r} holds NaN or infinite value at data row {bad + 1}")
+        if values is not None:
+            check_finite(name, values)
     if t.size < MIN_SAMPLES:
         raise DataError(f"log has {t.size} samples, need at least {MIN_SAMPLES}")
     if not (np.isfinite(mass) and mass > 0):

@@ -90,6 +90,15 @@ def check_moves(v: np.ndarray, x: Optional[np.ndarray] = None) -> None:
     raise DataError("column 'v' is 0 throughout: the axis never moves")
 
 
+def check_finite(name: str, values: np.ndarray, where: str = "") -> None:
+    """``DataError`` naming the first data row (from 1) where the column ``name`` is NaN or
+    infinite, after ``where`` (the file) when given."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise DataError(f"{where + ': ' if where else ''}column {name!r} holds NaN or infinite "
+                        f"value at data row {int(bad[0]) + 1}")
+
+
 def check_varies(values: np.ndarray, what: str, unit: str) -> None:
     """``DataError`` when the finite ``values`` of a logged signal hold one value over 98 % of
     the log (their 1 % and 99 % quantiles coincide): the signal was not really logged."""
@@ -137,9 +146,7 @@ class MotionLog:
         for k, a in arrays.items():
             if a.size != n:
                 raise DataError(f"column {k!r} has {a.size} samples, column 't' has {n}")
-            if not np.all(np.isfinite(a)):
-                bad = int(np.flatnonzero(~np.isfinite(a))[0])
-                raise DataError(f"column {k!r} holds NaN or infinite value at data row {bad + 1}")
+            check_finite(k, a)
             object.__setattr__(self, k, a)
         if n < MIN_SAMPLES:
             raise DataError(f"log has {n} samples, need at least {MIN_SAMPLES}")
