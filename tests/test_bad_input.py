@@ -103,6 +103,8 @@ def _trial_files(d, log):
     """The files of TRIAL_ROWS: symbolic links that lead nowhere, log.csv without t."""
     (d / "broken_link").symlink_to(d / "nothing_here")
     (d / "loop_link").symlink_to(d / "loop_link")
+    (d / "empty.csv").write_text("")
+    (d / "blank.csv").write_text("\n\n")
     (d / "log_no_t.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
 
 
@@ -119,6 +121,9 @@ def _motion_log_files(d, log):
         ",".join(r) for r in zip(cols["t"], cols["v"])) + "\n")
     (d / "load.csv").write_text("Stamp,Load\n" + "\n".join(
         ",".join(r) for r in zip(cols["t"], force)) + "\n")
+    mm = [header] + [[repr(float(c) * (1000.0 if h in ("x", "v", "x_d") else 1.0)) for h, c in zip(header, row)]
+                     for row in (line.split(",") for line in log[1:])]
+    (d / "log_mm.csv").write_text("\n".join(",".join(r) for r in mm) + "\n")        # x and v in mm
     lines = (d / "load.csv").read_text().splitlines()
     lines[5] = lines[5].partition(",")[0] + ",nan"          # data row 5
     (d / "load_nan.csv").write_text("\n".join(lines) + "\n")
@@ -152,6 +157,9 @@ TRIAL_ROWS = [
      "--scale: x is not a column of WORK/sweep.csv (its columns: v, f)"),
     ("--scale of a quantity neither file has", ["train", *DRIVE, *MERGE, "--scale", "i=2", "-o", OUT],
      "--scale: i is a column of neither WORK/drive.csv (t, v) nor WORK/load.csv (t, force)"),
+    ("train, an empty file", ["train", "empty.csv", "-o", OUT], "WORK/empty.csv: empty file"),
+    ("train, a file of blank lines", ["train", "blank.csv", "-o", OUT],
+     "WORK/blank.csv: the header line is blank; the first line must name the columns"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],
@@ -319,6 +327,9 @@ ROWS = [
      "share no time span"),
     ("--merge of a column in both files", ["train", *DRIVE, "--merge", "log_force.csv", "-o", OUT],
      "column 'v' is in"),
+    ("train, a log in mm with the mass in kg", ["train", "log_mm.csv", *LOG, "-o", OUT],
+     "x the force where the axis moves (RMS), yet the force is m dv/dt plus friction (eq. 18): "
+     "check the mass and the units of t, x, v and of the force or i"),
     ("--merge file with a NaN", ["train", *DRIVE, "--merge", "load_nan.csv", "--merge-columns",
                                  "t=Stamp,force=Load", "--merge-shift", "-0.002", "-o", OUT],
      "WORK/load_nan.csv: column 'force' holds NaN or infinite value at data row 5"),

@@ -188,3 +188,7 @@ def test_a_log_of_position_still_gets_one_curve_per_direction(tmp_path, capsys):
     model = FrictionModel.load(tmp_path / "m.json")
     f = model.force(np.array([0.1, -0.1]))
     assert abs(f[0] - 1.04) < 0.05 and abs(f[1] + 0.54) < 0.05
+
+
+def test_csv_text_writes_no_negative_zero():
+    assert table_csv_text({"v": np.array([-0.0, -1.0, 0.0])}) == "v\n0.0\n-1.0\n0.0\n"

@@ -32,6 +32,9 @@ MAX_WINDOW_FRACTION = 0.05
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
 MOVING_FRACTION = 1e-3
+#: m dv/dt this many times the force (RMS where the axis moves) is a wrong mass or unit: the
+#: force is m dv/dt plus a friction that opposes the motion, not one that cancels m dv/dt.
+INERTIA_OFF = 10.0
 
 
 def robust_sd(values: np.ndarray) -> float:
@@ -144,6 +147,14 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     friction = f_s - mass * a_s
     threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
     direction = np.sign(v_s) * (np.abs(v_s) > threshold)
+    moving = direction != 0
+    if moving.any():
+        inertia = float(np.sqrt(np.mean((mass * a_s[moving]) ** 2)))
+        drive = float(np.sqrt(np.mean(f_s[moving] ** 2)))
+        if inertia > INERTIA_OFF * drive:
+            raise DataError(f"m dv/dt is {inertia / drive:.3g} x the force where the axis moves (RMS), "
+                            "yet the force is m dv/dt plus friction (eq. 18): check the mass and the "
+                            "units of t, x, v and of the force or i")
     steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & (direction != 0)
     steady[:window // 2] = steady[-(window // 2):] = False
     if steady.sum() < MIN_ROWS:
@@ -183,6 +194,8 @@ def identify_log(columns: Dict[str, np.ndarray], mass: float,
                  force_constant: Optional[float] = None) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
     ``force_constant`` (N/A)."""
+    for name, values in columns.items():        # named as the file has them (i, not force)
+        check_finite(name, values)
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")

@@ -116,6 +116,8 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
         for _ in range(skip):
             fh.readline()
         line = fh.readline()
+        if not line.strip():        # an empty file or a blank header: the careful reader says which
+            return None
         sep = _delimiter(line)
         header = [h.strip().lower() for h in line.split(sep)]
         if len(set(header)) != len(header) or not set(required) <= set(header):
@@ -142,6 +144,8 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
+    if not any(h.strip() for h in header):
+        raise DataError(f"{path}: the header line is blank; the first line must name the columns")
     written = [h.strip() for h in header]
     header = [h.lower() for h in written]
     if len(header) == 1 and ";" in header[0]:
@@ -175,9 +179,9 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
 
 
 def table_csv_text(columns: Dict[str, np.ndarray]) -> str:
-    """CSV text of named columns (in the given order), floats written to round-trip."""
+    """CSV text of named columns (in the given order), floats written to round-trip (-0.0 as 0.0)."""
     names = list(columns)
     lines = [",".join(names)]
-    lines += [",".join(repr(float(c)) for c in row)
+    lines += [",".join(repr(float(c) + 0.0) for c in row)
               for row in zip(*(np.asarray(columns[k]).tolist() for k in names))]
     return "\n".join(lines) + "\n"
