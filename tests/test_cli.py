@@ -146,7 +146,7 @@ def test_train_refuses_bad_sweeps(tmp_path, capsys, body, message):
 def test_train_refuses_non_positive_vs_max(sweep_csv, tmp_path, capsys, vs_max):
     out = tmp_path / "model.json"
     _assert_refused(capsys, ["train", str(sweep_csv), "-o", str(out), f"--vs-max={vs_max}"],
-                    "--vs-max: must be a number > 0", out)
+                    "--vs-max: must be a finite number > 0", out)
 
 
 def test_train_refuses_missing_file(tmp_path, capsys):

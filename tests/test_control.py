@@ -245,11 +245,11 @@ def test_cli_simulate_with_a_model_compares_it_and_draws_plots(capsys, tmp_path,
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--ts", "0"], "--ts: must be a number >= 1e-06"),
-    (["--ts=-1e-3"], "--ts: must be a number >= 1e-06"),
-    (["--ts", "5e-324"], "--ts: must be a number >= 1e-06"),
-    (["--duration", "nan"], "--duration: must be a number > 0"),
-    (["--duration", "1e9"], "--duration: must be a number > 0 and <= 3600"),
+    (["--ts", "0"], "--ts: must be a finite number >= 1e-06"),
+    (["--ts=-1e-3"], "--ts: must be a finite number >= 1e-06"),
+    (["--ts", "5e-324"], "--ts: must be a finite number >= 1e-06"),
+    (["--duration", "nan"], "--duration: must be a finite number > 0"),
+    (["--duration", "1e9"], "--duration: must be a finite number > 0 and <= 3600"),
     (["--ts", "0.1", "--duration", "0.5"], "--duration must cover"),
     (["--model", "/nonexistent/model.json"], "cannot read"),
 ])

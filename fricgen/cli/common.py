@@ -40,6 +40,7 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
     show = (lambda x: str(int(x))) if integer else (lambda x: f"{x:g}")
     bounds = [f"{'>' if low_open else '>='} {show(low)}"] if low > -math.inf else []
     bounds += [f"<= {show(high)}"] if high < math.inf else []
+    kind = kind if integer else "a finite number"
     wanted = f"{kind} {' and '.join(bounds)}{' ' + unit if unit and bounds else ''}".strip()
 
     def parse(text: str):
