@@ -163,3 +163,19 @@ def test_grey_box_firmware_on_the_emulated_cortex_m4f_equals_its_twin(greybox_mo
         assert np.max(np.abs(out.astype(float) - twin)) <= 8 * EPS32 * np.max(np.abs(twin))
     exact = greybox_model.force(v.astype(float))
     assert np.max(np.abs(out - exact)) <= 1e-5 * np.max(np.abs(exact))
+
+
+def test_a_parameter_the_data_do_not_determine_has_an_infinite_standard_error():
+    """A Stribeck velocity whose g has no slope at any sample (a zero Jacobian column): pinv
+    would give it a standard error of 0; it is undetermined, and the others keep theirs."""
+    from fricgen.fit.stribeck import SourcesFit
+    from fricgen.networks.stribeck import StribeckCurve
+    rng = np.random.default_rng(0)
+    J = rng.normal(size=(50, 5))
+    curve = StribeckCurve("gauss", 1.0, np.array([0.5, 0.2]), np.array([0.01, 0.1]))
+    full = SourcesFit(curve, rng.normal(scale=0.01, size=50), J, 1).standard_errors()
+    J[:, 3] = 0.0                        # theta_1 moves nothing
+    se = SourcesFit(curve, rng.normal(scale=0.01, size=50), J, 1).standard_errors()
+    assert np.isinf(se["stribeck"][0]) and np.isfinite(se["stribeck"][1])
+    assert np.isfinite(se["offset"]) and np.all(np.isfinite(se["amplitudes"]))
+    assert np.all(np.isfinite(full["stribeck"])) and np.all(full["stribeck"] > 0)

@@ -1,6 +1,7 @@
 """``fricgen train``: fit a friction model to a sweep or a motion log CSV and write model.json."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments, parse_scales,
@@ -116,12 +117,18 @@ def greybox_lines(estimator: StribeckRegressor, dataset) -> list:
     broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s up to {estimator.xs_max_ / k_in:.4g} m/s"
     lines = [f"model     grey-box eq. (1): {net.n_sources} {net.shape} source(s){broad}, chosen by "
              f"AIC among {len(estimator.candidates_)} fits",
-             f"coulomb   sum f_c = {net.offset / k_out:.5g} +- {se['offset'] / k_out:.2g} N"]
+             f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, 'N')}"]
     for k in range(net.n_sources):
-        lines.append(f"source {k + 1:<2d} f_s - f_c = {net.amplitudes[k] / k_out:.5g} +- "
-                     f"{se['amplitudes'][k] / k_out:.2g} N, v_s = {net.stribeck[k] / k_in:.5g} +- "
-                     f"{se['stribeck'][k] / k_in:.2g} m/s")
+        lines.append(f"source {k + 1:<2d} f_s - f_c = "
+                     f"{_estimate(net.amplitudes[k] / k_out, se['amplitudes'][k] / k_out, 'N')}, "
+                     f"v_s = {_estimate(net.stribeck[k] / k_in, se['stribeck'][k] / k_in, 'm/s')}")
     return lines
+
+
+def _estimate(value: float, se: float, unit: str) -> str:
+    """'value +- se unit', or a word where the data do not determine the parameter."""
+    return (f"{value:.5g} +- {se:.2g} {unit}" if math.isfinite(se) else
+            f"{value:.5g} {unit} (not determined by the data)")
 
 
 def validation_error(estimator) -> tuple:

@@ -30,6 +30,9 @@ from .base import Estimator, interleaved_folds
 XS_MAX = 1.0 / SAT_FACTOR
 #: Smallest normalized Stribeck velocity searched (a drop within 0.1 % of v_sat).
 XS_MIN = 1e-3
+#: Singular values of the Jacobian below this fraction of the largest leave their parameters
+#: undetermined (an infinite standard error).
+UNDETERMINED = 1e-9
 #: Bounds on the normalized Stribeck velocities ``StribeckRegressor`` searches below: vs_max,
 #: then v_sat (a broad source, for curves that are no sum of Stribeck curves).
 XS_BOUNDS = (XS_MAX, 1.0)
@@ -95,11 +98,17 @@ class SourcesFit:
         return n * float(np.log(rss)) + 2 * p + 2 * p * (p + 1) / max(n - p - 1, 1)
 
     def standard_errors(self) -> dict:
-        """Standard errors of c, a_k and xs_k from sigma^2 (J^T J)^-1, sigma^2 = RSS / (n - p)."""
+        """Standard errors of c, a_k and xs_k from sigma^2 (J^T J)^-1, sigma^2 = RSS / (n - p);
+        infinite for a parameter along which J is rank-deficient (singular values below
+        ``UNDETERMINED`` of the largest): the data do not determine it, e.g. a Stribeck velocity
+        below every measured speed but v = 0, where g's slope is 0."""
         n, p = self.jacobian.shape
         sigma2 = float(self.residuals @ self.residuals) / max(n - p, 1)
-        cov = sigma2 * np.linalg.pinv(self.jacobian.T @ self.jacobian)
-        se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        _, sv, vt = np.linalg.svd(self.jacobian, full_matrices=False)
+        kept = sv > UNDETERMINED * sv[0]
+        variance = sigma2 * np.sum((vt[kept] / sv[kept, None]) ** 2, axis=0)
+        undetermined = np.any(np.abs(vt[~kept]) > 1e-6, axis=0)
+        se = np.where(undetermined, np.inf, np.sqrt(variance))
         s = self.curve.n_sources
         return {"offset": float(se[0]), "amplitudes": se[1:1 + s],
                 "stribeck": self.curve.stribeck * se[1 + s:]}
