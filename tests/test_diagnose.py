@@ -152,3 +152,10 @@ def test_invalid_settings_are_refused(results):
             Diagnoser(max_effects=bad).fit(log, d.problem_.signals.model, 4.0, 20.0)
     with pytest.raises(ValueError, match="alpha"):
         Diagnoser(alpha=0.0).fit(log, d.problem_.signals.model, 4.0, 20.0)
+
+
+@pytest.mark.parametrize("p, sentence, cell", [(0.0012, "p = 0.0012", "0.0012"), (0.0, "p < 1e-300", "< 1e-300"),
+                                                (0.5, "p = 0.5", "0.5")])
+def test_a_p_value_that_underflows_is_written_as_a_bound(p, sentence, cell):
+    from fricgen.diagnose.decision import p_text, p_value_text
+    assert p_text(p) == sentence and p_value_text(p) == cell

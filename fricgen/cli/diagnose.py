@@ -6,6 +6,7 @@ from pathlib import Path
 
 from .._io import check_folder, named_data
 from ..data import read_log_csv
+from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files
 from ..effects import model_effects, range_notes
@@ -45,14 +46,14 @@ def run(args) -> int:
     else:
         lines = []
         for j, s in enumerate(d.effects_, 1):
-            lines.append(f"effect {j}   {s.effect} (p = {s.p_value:.2g}, {s.share:.0%} of the held-out "
+            lines.append(f"effect {j}   {s.effect} ({p_text(s.p_value)}, {s.share:.0%} of the held-out "
                          f"residual, gap {s.gap_before:.4g} -> {s.gap_after:.4g} m/s)")
             lines.append("parameters " + ", ".join(f"{k} = {format_value(v)}"
                                                   for k, v in s.fitted.parameters().items()))
         if not d.effects_:
-            lines.append(f"effect     none (best candidate p = {d.p_value_:.2g})")
+            lines.append(f"effect     none (best candidate {p_text(d.p_value_)})")
         for s in d.refused():
-            beside = f" (beside {', '.join(s.beside)})" if s.beside else ""
+            beside = f" (with {', '.join(s.beside)})" if s.beside else ""
             lines.append(f"refused    {s.effect}{beside}: {s.reason}")
         lines.append(f"where      {d.where_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")

@@ -55,3 +55,13 @@ def held_out_p_value(before: np.ndarray, after: np.ndarray):
         return (0.0 if beta > 0 else 1.0), n_eff
     stat = beta * pp / math.sqrt(var)
     return float(student_t.sf(stat, max(n_eff - 1.0, 1.0))), n_eff
+
+
+def p_value_text(p: float) -> str:
+    """A p-value as text: two digits, or '< 1e-300' where it underflows to 0."""
+    return f"{p:.2g}" if p > 0 else "< 1e-300"
+
+
+def p_text(p: float) -> str:
+    """'p = 0.0012', or 'p < 1e-300' where the p-value underflows to 0."""
+    return f"p = {p:.2g}" if p > 0 else "p < 1e-300"

@@ -11,6 +11,7 @@ import numpy as np
 from .._plot import png, pyplot
 from ..data import MotionLog
 from ..effects import EFFECTS, PLAUSIBLE_FACTOR
+from .decision import p_text, p_value_text
 from .diagnoser import MISMATCH_RELEVANT, TABLE_PREFERENCE, UNDERSTATED_GAIN, Diagnoser
 
 
@@ -26,7 +27,7 @@ def verdict(d: Diagnoser) -> str:
     """The effects added, in order, as one phrase."""
     if not d.effects_:
         return "none"
-    return ", then ".join(f"`{s.effect}` (p = {s.p_value:.2g})" for s in d.effects_)
+    return ", then ".join(f"`{s.effect}` ({p_text(s.p_value)})" for s in d.effects_)
 
 
 def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
@@ -67,7 +68,8 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
         if s.added and s.joint is not last:         # effects that enter together: one step
             k, last = k + 1, s.joint
         after = "" if np.isnan(s.gap_after) else f"{s.gap_after:.4g}"
-        lines.append(f"| {k if s.added else ''} | {s.effect} | {s.p_value:.2g} | {s.share:.1%} | {s.size:.1%} | "
+        effect = s.effect if s.added or not s.beside else f"{s.effect} (with {', '.join(s.beside)})"
+        lines.append(f"| {k if s.added else ''} | {effect} | {p_value_text(s.p_value)} | {s.share:.1%} | {s.size:.1%} | "
                      f"{s.gap_before:.4g} | {after} | {'added' if s.added else 'refused: ' + s.reason} |")
     lines.append("")
     for j, s in enumerate(d.effects_, 1):
