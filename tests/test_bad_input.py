@@ -124,6 +124,9 @@ def _motion_log_files(d, log):
     mm = [header] + [[repr(float(c) * (1000.0 if h in ("x", "v", "x_d") else 1.0)) for h, c in zip(header, row)]
                      for row in (line.split(",") for line in log[1:])]
     (d / "log_mm.csv").write_text("\n".join(",".join(r) for r in mm) + "\n")        # x and v in mm
+    ma = [header] + [[repr(float(c) * (1000.0 if h == "i" else 1.0)) for h, c in zip(header, row)]
+                     for row in (line.split(",") for line in log[1:])]
+    (d / "log_mA.csv").write_text("\n".join(",".join(r) for r in ma) + "\n")        # i in mA
     lines = (d / "load.csv").read_text().splitlines()
     lines[5] = lines[5].partition(",")[0] + ",nan"          # data row 5
     (d / "load_nan.csv").write_text("\n".join(lines) + "\n")
@@ -330,6 +333,10 @@ ROWS = [
     ("train, a log in mm with the mass in kg", ["train", "log_mm.csv", *LOG, "-o", OUT],
      "x the force where the axis moves (RMS), yet the force is m dv/dt plus friction (eq. 18): "
      "check the mass and the units of t, x, v and of the force or i"),
+    ("train, a log with i in mA", ["train", "log_mA.csv", *LOG, "-o", OUT],
+     "the log accelerates as if the mass were"),
+    ("train, the mass in tonnes", ["train", "log.csv", "--mass", "0.004", "--force-constant", "20", "-o", OUT],
+     "the log accelerates as if the mass were"),
     ("--merge file with a NaN", ["train", *DRIVE, "--merge", "load_nan.csv", "--merge-columns",
                                  "t=Stamp,force=Load", "--merge-shift", "-0.002", "-o", OUT],
      "WORK/load_nan.csv: column 'force' holds NaN or infinite value at data row 5"),

@@ -32,8 +32,8 @@ MAX_WINDOW_FRACTION = 0.05
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
 MOVING_FRACTION = 1e-3
-#: m dv/dt this many times the force (RMS where the axis moves) is a wrong mass or unit: the
-#: force is m dv/dt plus a friction that opposes the motion, not one that cancels m dv/dt.
+#: m dv/dt this many times the force (RMS where the axis moves), or a force that follows m dv/dt
+#: this many times over, is a wrong mass or unit (``_check_inertia``).
 INERTIA_OFF = 10.0
 
 
@@ -149,12 +149,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     direction = np.sign(v_s) * (np.abs(v_s) > threshold)
     moving = direction != 0
     if moving.any():
-        inertia = float(np.sqrt(np.mean((mass * a_s[moving]) ** 2)))
-        drive = float(np.sqrt(np.mean(f_s[moving] ** 2)))
-        if inertia > INERTIA_OFF * drive:
-            raise DataError(f"m dv/dt is {inertia / drive:.3g} x the force where the axis moves (RMS), "
-                            "yet the force is m dv/dt plus friction (eq. 18): check the mass and the "
-                            "units of t, x, v and of the force or i")
+        _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], moving.sum() * _centre_weight(window))
     steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & (direction != 0)
     steady[:window // 2] = steady[-(window // 2):] = False
     if steady.sum() < MIN_ROWS:
@@ -163,6 +158,28 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
                           window=int(window), sample_time=ts, velocity_noise=noise,
                           independent=float(steady.sum()) * _centre_weight(window))
+
+
+def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, independent: float) -> None:
+    """``DataError`` when the force where the axis moves cannot be m dv/dt plus friction: m dv/dt
+    ``INERTIA_OFF`` times the force (RMS), or the force following m dv/dt with a slope more than
+    ``INERTIA_OFF`` (3 standard errors clear; regressed with sgn(v), v and a constant for the
+    friction) -- a mass, force or current in the wrong unit. A small slope is no proof: the noise
+    of dv/dt pulls it towards 0."""
+    ratio = float(np.sqrt(np.mean(inertia ** 2) / max(np.mean(force ** 2), 1e-300)))
+    if ratio > INERTIA_OFF:
+        raise DataError(f"m dv/dt is {ratio:.3g} x the force where the axis moves (RMS), yet the "
+                        "force is m dv/dt plus friction (eq. 18): check the mass and the units of "
+                        "t, x, v and of the force or i")
+    X = np.column_stack([inertia, np.sign(v), v, np.ones(v.size)])
+    coef, *_ = np.linalg.lstsq(X, force, rcond=None)
+    r = force - X @ coef
+    n = v.size
+    cov = np.linalg.pinv(X.T @ X) * float(r @ r) / max(n - 4, 1) * n / max(independent, 4.0)
+    k, se = float(coef[0]), float(np.sqrt(max(cov[0, 0], 0.0)))
+    if k - 3.0 * se > INERTIA_OFF:
+        raise DataError(f"the log accelerates as if the mass were {k:.3g} x the mass given: check "
+                        "the mass and the units of the force or i (mA for A?) and of the force constant")
 
 
 #: The columns that make a CSV a motion log rather than a sweep (v, f).
