@@ -18,6 +18,7 @@ from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..errors import DataError
+from ..metrics import least_squares_errors
 from .motionlog import MIN_SAMPLES, check_finite, check_moves, check_units, check_varies, uniform_time
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
@@ -171,12 +172,9 @@ def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, indepe
         raise DataError(f"m dv/dt is {ratio:.3g} x the force where the axis moves (RMS), yet the "
                         "force is m dv/dt plus friction (eq. 18): check the mass and the units of "
                         "t, x, v and of the force or i")
-    X = np.column_stack([inertia, np.sign(v), v, np.ones(v.size)])
-    coef, *_ = np.linalg.lstsq(X, force, rcond=None)
-    r = force - X @ coef
-    n = v.size
-    cov = np.linalg.pinv(X.T @ X) * float(r @ r) / max(n - 4, 1) * n / max(independent, 4.0)
-    k, se = float(coef[0]), float(np.sqrt(max(cov[0, 0], 0.0)))
+    coef, se = least_squares_errors(np.column_stack([inertia, np.sign(v), v, np.ones(v.size)]),
+                                    force, independent)
+    k, se = float(coef[0]), float(se[0])
     if k - 3.0 * se > INERTIA_OFF:
         raise DataError(f"the log accelerates as if the mass were {k:.3g} x the mass given: check "
                         "the mass and the units of the force or i (mA for A?) and of the force constant")

@@ -36,7 +36,7 @@ from ..data.motionlog import check_varies
 from ..effects import (EFFECTS, PLAUSIBLE_FACTOR, TABLES, Effect, Signals, model_effects,
                        with_effects)
 from ..errors import DataError
-from ..metrics import rmse
+from ..metrics import least_squares_errors, rmse
 from ..model import FrictionModel
 from ..sim.axis import AxisState, MotorAxis
 from ..sim.effect_law import EffectLaw
@@ -114,12 +114,8 @@ class ResidualProblem:
         # phi i = k m dv/dt + b F(v) + c
         X = np.column_stack([self.at_rows(self.mass * sig.a, every),
                              self.at_rows(sig.friction, every), np.ones(every.size)])
-        coef, *_ = np.linalg.lstsq(X, motor_force, rcond=None)
-        resid = motor_force - X @ coef
-        n = every.size
-        n_eff = max(self._independent(n), 4.0)
-        cov = np.linalg.pinv(X.T @ X) * float(resid @ resid) / max(n - 3, 1) * n / n_eff
-        (k, b), (se_k, se_b) = coef[:2], np.sqrt(np.maximum(np.diag(cov)[:2], 0.0))
+        coef, se = least_squares_errors(X, motor_force, self._independent(every.size))
+        (k, b), (se_k, se_b) = coef[:2], se[:2]
 
         def far_off(value, se, both_ways=True):
             return value - 3.0 * se > PART_OFF or (both_ways and value + 3.0 * se < 1.0 / PART_OFF)
