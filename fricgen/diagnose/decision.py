@@ -64,4 +64,4 @@ def p_value_text(p: float) -> str:
 
 def p_text(p: float) -> str:
     """'p = 0.0012', or 'p < 1e-300' where the p-value underflows to 0."""
-    return f"p = {p:.2g}" if p > 0 else "p < 1e-300"
+    return f"p {'= ' if p > 0 else ''}{p_value_text(p)}"

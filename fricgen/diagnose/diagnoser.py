@@ -424,9 +424,9 @@ class Diagnoser:
     up to ``MAX_TRIES`` are checked as well, and of those that pass and whose held-out gap is
     within one standard error of the smallest, the best by the score per unit of mass is taken
     (``_closest``): the fit part can rank a drift below what it extrapolates to. When no set
-    one larger is taken, the sets two larger that contain the chosen one are tried the same way (effects that
-    fit the held-out part only together: a drift and a force-constant error, either alone fitted
-    on the first part, extrapolate worse than nothing); each newcomer of a set must change the
+    one larger is taken, the sets two larger that contain the chosen one are tried the same way
+    (effects that fit the held-out part only together: a drift and a force-constant error,
+    either alone fitted on the first part, extrapolate worse than nothing); each newcomer of a set must change the
     force by ``min_size`` on its own. When no named set is taken, the tables of
     ``fricgen.effects.tables`` (no physical name) are ranked by blocked
     cross-validation and added to the chosen set in the same way; they go first when the best
