@@ -36,11 +36,10 @@ def number(low: float = -math.inf, high: float = math.inf, low_open: bool = Fals
            integer: bool = False, unit: str = ""):
     """An argparse type: a finite number (an integer with ``integer``) in [low, high], or in
     (low, high] with ``low_open``, written plainly (``plain_float``); the error says the range."""
-    kind = "an integer" if integer else "a number"
+    kind = "an integer" if integer else "a finite number"
     show = (lambda x: str(int(x))) if integer else (lambda x: f"{x:g}")
     bounds = [f"{'>' if low_open else '>='} {show(low)}"] if low > -math.inf else []
     bounds += [f"<= {show(high)}"] if high < math.inf else []
-    kind = kind if integer else "a finite number"
     wanted = f"{kind} {' and '.join(bounds)}{' ' + unit if unit and bounds else ''}".strip()
 
     def parse(text: str):

@@ -53,8 +53,7 @@ def run(args) -> int:
         if not d.effects_:
             lines.append(f"effect     none (best candidate {p_text(d.p_value_)})")
         for s in d.refused():
-            beside = f" (with {', '.join(s.beside)})" if s.beside else ""
-            lines.append(f"refused    {s.effect}{beside}: {s.reason}")
+            lines.append(f"refused    {s.label}: {s.reason}")
         lines.append(f"where      {d.where_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
         out("\n".join(lines))

@@ -151,7 +151,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     moving = direction != 0
     if moving.any():
         _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], moving.sum() * _centre_weight(window))
-    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & (direction != 0)
+    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & moving
     steady[:window // 2] = steady[-(window // 2):] = False
     if steady.sum() < MIN_ROWS:
         raise DataError(f"the axis moves in only {int(steady.sum())} rows (|v| > {threshold:.3g} "

@@ -360,6 +360,11 @@ class Step:
         return [e.name for e in self.joint if e is not self.fitted]
 
     @property
+    def label(self) -> str:
+        """The effect, and for a refused one the effects it was fitted with: 'e (with a, b)'."""
+        return self.effect if self.added or not self.beside else f"{self.effect} (with {', '.join(self.beside)})"
+
+    @property
     def gain(self) -> float:
         """Relative reduction of the held-out gap, 1 - after / before."""
         return 1.0 - self.gap_after / self.gap_before if self.gap_before > 0 else 0.0
@@ -426,8 +431,8 @@ class Diagnoser:
     (``_closest``): the fit part can rank a drift below what it extrapolates to. When no set
     one larger is taken, the sets two larger that contain the chosen one are tried the same way
     (effects that fit the held-out part only together: a drift and a force-constant error,
-    either alone fitted on the first part, extrapolate worse than nothing); each newcomer of a set must change the
-    force by ``min_size`` on its own. When no named set is taken, the tables of
+    either alone fitted on the first part, extrapolate worse than nothing); each newcomer of a
+    set must change the force by ``min_size`` on its own. When no named set is taken, the tables of
     ``fricgen.effects.tables`` (no physical name) are ranked by blocked
     cross-validation and added to the chosen set in the same way; they go first when the best
     table's gain is more than ``TABLE_PREFERENCE`` times the best named one's (structure no

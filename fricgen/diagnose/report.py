@@ -56,7 +56,8 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
               f"{UNDERSTATED_GAIN:.0%}) and (4) shrinks the held-out gap by at least "
               f"{d.min_gain:.0%}; of the sets that pass, among those within one standard error of the "
               "smallest held-out gap, the best by the criterion per unit of mass. A set may drop an "
-              "earlier effect (marked replaced). When no set one larger is taken, sets two larger that keep the chosen ones are tried, each new effect "
+              "earlier effect (marked replaced). When no set one larger is taken, sets two larger "
+              "that keep the chosen ones are tried, each new effect "
               f"at least {d.min_size:.0%} on its own; effects that enter together share one step "
               "number and its figures. Tables (no physical name) compete when no named set is taken, "
               f"or first when their cross-validated gain is more than {TABLE_PREFERENCE:g} times the "
@@ -68,8 +69,7 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
         if s.added and s.joint is not last:         # effects that enter together: one step
             k, last = k + 1, s.joint
         after = "" if np.isnan(s.gap_after) else f"{s.gap_after:.4g}"
-        effect = s.effect if s.added or not s.beside else f"{s.effect} (with {', '.join(s.beside)})"
-        lines.append(f"| {k if s.added else ''} | {effect} | {p_value_text(s.p_value)} | {s.share:.1%} | "
+        lines.append(f"| {k if s.added else ''} | {s.label} | {p_value_text(s.p_value)} | {s.share:.1%} | "
                      f"{s.size:.1%} | {s.gap_before:.4g} | {after} | "
                      f"{'added' if s.added else 'refused: ' + s.reason} |")
     lines.append("")
