@@ -379,8 +379,10 @@ class Step:
 #: A table is tried before the named effects when its cross-validated reduction of the
 #: residual's mean square is more than this many times the best named effect's.
 TABLE_PREFERENCE = 2.0
-#: Backfitting sweeps of a joint fit.
-BACKFIT_SWEEPS = 3
+#: Most backfitting sweeps of a joint fit, and the relative fall of its mean square below
+#: which a sweep ends it (slow pairs such as a drift beside an extra source need many).
+BACKFIT_SWEEPS = 8
+BACKFIT_TOLERANCE = 1e-3
 #: Sets of named effects kept at each size to grow the next size from (beam search).
 BEAM = 3
 #: Named sets tried per step (best first by the joint criterion).
@@ -490,14 +492,26 @@ class Diagnoser:
 
     def _joint_fit(self, p: ResidualProblem, chosen: List[Effect], cls) -> List[Effect]:
         """``cls`` fitted to the residual after ``chosen``, then every effect refitted to the
-        residual after all the others (backfitting, ``BACKFIT_SWEEPS`` sweeps), on the fit rows."""
+        residual after all the others (backfitting), on the fit rows, until a sweep lowers the
+        mean square by less than ``BACKFIT_TOLERANCE`` (at most ``BACKFIT_SWEEPS`` sweeps)."""
         effects = list(chosen) + [cls.fit(self._residual_problem(p, chosen), p.fit_rows)]
-        for _ in range(BACKFIT_SWEEPS if len(effects) > 1 else 0):
-            effects = self._joint_linear(p, effects)
-            for j in range(len(effects)):
-                others = self._residual_problem(p, effects, skip=effects[j])
-                effects[j] = type(effects[j]).fit(others, p.fit_rows)
-        return self._joint_linear(p, effects) if len(effects) > 1 else effects
+        if len(effects) == 1:
+            return effects
+        effects = self._joint_linear(p, effects)
+        mse = self._mse(p, effects)
+        for _ in range(BACKFIT_SWEEPS):
+            swept = list(effects)
+            for j in range(len(swept)):
+                others = self._residual_problem(p, swept, skip=swept[j])
+                swept[j] = type(swept[j]).fit(others, p.fit_rows)
+            swept = self._joint_linear(p, swept)
+            new = self._mse(p, swept)
+            if not new < mse:
+                break
+            effects, done, mse = swept, new > (1.0 - BACKFIT_TOLERANCE) * mse, new
+            if done:
+                break
+        return effects
 
     def _joint_linear(self, p: ResidualProblem, effects: List[Effect]) -> List[Effect]:
         """The parameters the effects' forces are linear in (``Effect.linear``), solved jointly
