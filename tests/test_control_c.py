@@ -24,6 +24,8 @@ import pytest
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, emit
+from fricgen.codegen.render import controller_files
+from fricgen.errors import UsageError
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.c_controller import CController, build_controller, float32_twin
 from fricgen.control.loop import default_axis, simulate
@@ -116,3 +118,21 @@ def test_cli_simulate_c_backend_runs_the_emitted_model_in_c(capsys):
     assert report["variants"]["elm"]["friction_in"] == "c"
     assert report["variants"]["exact"]["friction_in"] == "python"
     assert all(m["finite"] for m in report["variants"].values())
+
+
+@pytest.mark.parametrize("spoil", ["read-only", "foreign"])
+def test_build_controller_refuses_a_runtime_file_it_may_not_replace(default_model, tmp_path, spoil):
+    target = tmp_path / "fric_ctrl.c"
+    if spoil == "read-only":
+        target.write_text(controller_files()["fric_ctrl.c"])
+        target.chmod(0o444)
+    else:
+        target.write_text("/* the user's own controller */\n")
+    before = target.read_text()
+    with pytest.raises(UsageError, match="fric_ctrl.c"):
+        build_controller({"fm": default_model}, tmp_path)
+    assert target.read_text() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fric_ctrl.c"]     # nothing written
+    target.chmod(0o644)
+    module = build_controller({"fm": default_model}, tmp_path, force=True)
+    assert module.lib.fm_force(0.1) == pytest.approx(float(default_model.force(0.1)), rel=1e-5)

@@ -15,7 +15,7 @@ import numpy as np
 
 from .._io import write_all_atomic
 from ..codegen import emit
-from ..codegen.render import controller_files
+from ..codegen.render import check_overwrite, controller_files
 from ..codegen.cbuild import build_module, model_cdef
 from ..codegen.twin import force_f32
 from ..model import FrictionModel
@@ -24,19 +24,24 @@ from .backstepping import AdaptiveBackstepping
 from .c_abi import CDEF, STATUS, param_values
 
 
-def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=None):
+def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=None,
+                     force: bool = False):
     """Emit each model under its C name (the key) and the controller runtime into ``folder``
     (default: a new temporary folder, removed after the build), compile them all, and return the
-    cffi module (``module.lib.NAME_force``, ``module.lib.fric_ctrl_step``, ``module.ffi``)."""
+    cffi module (``module.lib.NAME_force``, ``module.lib.fric_ctrl_step``, ``module.ffi``).
+    Files in ``folder`` that fricgen did not write, or read-only ones, are refused before
+    anything is written, unless ``force`` (``check_overwrite``)."""
     tmp = folder is None
     folder = Path(tempfile.mkdtemp(prefix="fricgen_ctrl_") if tmp else folder)
     try:
+        runtime = controller_files()
+        check_overwrite([folder / fname for fname in runtime], force)
         headers, cdefs = [], []
         for name, model in (models or {}).items():
-            emit(model, folder, name)
+            emit(model, folder, name, force=force)
             headers.append(f"{name}.h")
             cdefs.append(model_cdef(name))
-        write_all_atomic(folder, controller_files())
+        write_all_atomic(folder, runtime)
         return build_module(folder, headers + ["fric_ctrl.h"], "".join(cdefs) + CDEF,
                             build_dir=folder / "build")
     finally:
