@@ -57,7 +57,9 @@ DEFAULT_MODEL_NAME = "friction_model"
 def check_c_identifier(name: Any, what: str = "name") -> str:
     """A C identifier of file scope: at most 63 characters, no keyword, no leading underscore
     (C99 7.1.3 reserves every file-scope name that begins with one)."""
-    if not isinstance(name, str) or not _IDENT.match(name) or name in _C_KEYWORDS:
+    if isinstance(name, str) and name in _C_KEYWORDS:
+        raise ModelError(f"{what} must not be a C keyword, got {name!r}")
+    if not isinstance(name, str) or not _IDENT.match(name):
         raise ModelError(f"{what} must be a C identifier (letters, digits, _; 1-63 characters), "
                          f"got {name!r}"[:200])
     if name.startswith("_"):

@@ -77,6 +77,17 @@ def test_forward_selection_is_greedy_least_squares():
         assert rss(order[:m]) == pytest.approx(min(others), rel=1e-6)
 
 
+@pytest.mark.parametrize("force", [lambda v: 5.0 + 10.0 * v, lambda v: 5.0 + 0.0 * v])
+def test_exact_data_with_few_rows_fits(force):
+    """Exact data on fewer rows than the dictionary has units: the selection stops at the rows
+    (it used to pick a unit more, past the leave-one-out residuals it had) and the fit is close."""
+    x = np.linspace(0.001, 0.1, 20)
+    w, b = sigmoid_dictionary(x.min(), x.max(), 40, (5.0, 40.0))
+    assert len(forward_selection(hidden_matrix("sigmoid", x, w, b), force(x), 64)) <= x.size
+    fit = AutoELMRegressor().fit(x, force(x))
+    np.testing.assert_allclose(fit.predict(x), force(x), atol=1e-3 * np.max(force(x)))
+
+
 def test_dictionary_centres_cover_the_range_and_steepness_scales():
     w, b = sigmoid_dictionary(0.0, 2.0, 5, (4.0, 8.0))
     assert w[-1] == 0.0 and b[-1] == 0.0                       # the constant unit

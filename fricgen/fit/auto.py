@@ -37,7 +37,8 @@ from .elm import SVD, LeaveOneOut, log10_cond, loo_residuals, prefix_loo_residua
 
 
 def forward_selection(D: np.ndarray, t: np.ndarray, m_max: int) -> list:
-    """Columns of D in the order orthogonal least squares picks them (largest residual drop first).
+    """Columns of D in the order orthogonal least squares picks them (largest residual drop first),
+    at most ``m_max`` and at most as many as D has rows.
 
     The residual matrix R is deflated in place (a rank-one BLAS update of its Fortran-ordered
     copy): no temporary of the size of D per step."""
@@ -45,7 +46,7 @@ def forward_selection(D: np.ndarray, t: np.ndarray, m_max: int) -> list:
     norms = np.einsum("ij,ij->j", R, R)
     floor = 1e-8 * norms
     selected = []
-    for _ in range(min(m_max, D.shape[1])):
+    for _ in range(min(m_max, *D.shape)):       # never more columns than rows
         gain = np.where(norms > floor, (R.T @ r) ** 2 / np.maximum(norms, 1e-300), -1.0)
         gain[selected] = -1.0
         k = int(np.argmax(gain))
