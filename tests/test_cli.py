@@ -115,6 +115,17 @@ def test_console_script_runs(model_json, tmp_path):
     assert float(proc.stdout) == pytest.approx(float(FrictionModel.load(model_json).force(0.02)))
 
 
+def test_a_model_float32_c_cannot_follow_is_reported_by_train_and_refused_by_emit(
+        sweep_csv, tmp_path, capsys):
+    model = tmp_path / "pinv.json"
+    assert main(["train", str(sweep_csv), "-o", str(model), "--vs-max", "0.02", "--method", "elm",
+                 "--solver", "pinv", "--scheme", "standard", "--neurons", "20"]) == 0
+    line = next(t for t in capsys.readouterr().out.splitlines() if t.startswith("float32"))
+    assert "output weights cancel" in line and line.endswith("emit refuses it")
+    _assert_refused(capsys, ["emit", str(model), "-o", str(tmp_path / "out")],
+                    "in float32 C this model is off by", tmp_path / "out")
+
+
 def _bad_csv(tmp_path, body):
     p = tmp_path / "bad.csv"
     p.write_text(body)

@@ -14,6 +14,7 @@ from .._validate import MAX_HIDDEN
 from ..data.outliers import OUTLIER_SIGMAS
 from ..data.training_set import SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
+from ..codegen.parity import float32_problem
 from ..errors import DataError, ModelError, UsageError
 from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_elm,
                    default_estimator)
@@ -262,6 +263,9 @@ def run(args) -> int:
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):
         text = fit_report(model, f.dataset, f.estimator, curve["metrics"])
         reports.append(text if not label else f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
+    problem = float32_problem(model)
+    if problem:
+        reports.append(f"float32   {problem}; emit refuses it")
     out("\n".join(r for r in reports if r))
     if ident is not None:
         warning = stribeck_warning(ident, fitted.fits)

@@ -16,6 +16,7 @@ from .context import (GENERATED_MARKER, RUNTIME_MARKER, effects_context, identit
                       template_environment)
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixedpoint import render_fixed
+from .parity import check_float32
 from .twin import stribeck_table
 
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
@@ -158,6 +159,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
             raise ModelError("emit writes one curve per direction for ELM curves only; this "
                              "asymmetric model has a grey-box curve (train it with --method elm_auto)")
         check_float32_range(model)
+        check_float32(model, activation_impl)
         ctx = stribeck_context(model, name, activation_impl)
         files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
                  f"{name}.c": env.get_template("model_stribeck.c.j2").render(ctx)}
@@ -181,6 +183,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
             w, b, _ = fast_tables(model.negative.aim)
             ctx["negative"].update(input_weights=c_array(w), biases=c_array(b))
         runtime_files = FAST_RUNTIME_FILES
+    check_float32(model, activation_impl)
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}
     runtime = resource_dir("c_runtime")
