@@ -153,13 +153,16 @@ class Direction:
 
     def check(self) -> "Direction":
         """This curve, if the float32 C can run it as friction; else ``ModelError``: v_sat, the
-        force scale 1/K_out or B beyond FLOAT32_SCALE, a force on [0, v_sat] that is not finite
+        force scale 1/K_out, B or a Stribeck velocity of eq. (1) beyond FLOAT32_SCALE, a force on [0, v_sat] that is not finite
         or beyond it, or a negative B that reverses the force before OPPOSES_MOTION_UP_TO v_sat."""
         for what, value, unit in (("v_sat", self.v_sat, "m/s"),
                                   ("the force scale 1/k_out", 1.0 / self.scaling.k_out, "N"),
                                   ("viscous", self.viscous, "N s/m")):
             if value != 0:
                 float32_scale(what, value, unit, "not a model for the float32 C", ModelError)
+        for k, xs in enumerate(getattr(self.aim, "stribeck", ())):     # eq. (1)'s, normalized
+            float32_scale(f"aim.stribeck[{k}]", xs, "(normalized)", "not a model for the float32 C",
+                          ModelError)
         with np.errstate(over="ignore", invalid="ignore"):
             force = self.magnitude(self.v_sat * _CHECK_SPEEDS)
         worst = float(np.max(np.abs(force)))

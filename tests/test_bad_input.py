@@ -76,6 +76,9 @@ def work(cli_inputs, tmp_path_factory):
                        ("effect_dict.json", lambda m: m.__setitem__("effects", [{"effect": {}}])),
                        ("version_true.json", lambda m: m.__setitem__("format_version", True)),
                        ("negative_b.json", lambda m: m.__setitem__("viscous", -m["viscous"])),
+                       ("tiny_stribeck.json", lambda m: m.__setitem__("aim", {
+                           "kind": "stribeck", "shape": "gauss", "offset": 0.99, "amplitudes": [0.01],
+                           "stribeck": [1e-40], "slope": 0.0})),
                        ("model_table.json", lambda m: m.__setitem__("effects", [
                            {"effect": "table_velocity", "parameters": {"lo": 1, "hi": 0, "values": [1, 2]}}]))):
         edited = json.loads(json.dumps(model))
@@ -228,6 +231,9 @@ ROWS = [
     ("weights of 3e38", ["emit", "huge_weights.json", "-o", OUT], "the float32 C needs it below"),
     ("a key twice in model.json", ["eval", "duplicate_key.json"], "key 'viscous' appears twice"),
     ("negative viscous coefficient", ["emit", "negative_b.json", "-o", OUT], "friction must oppose the motion"),
+    ("a Stribeck velocity of 1e-40", ["eval", "tiny_stribeck.json"], "aim.stribeck[0] is 1e-40 (normalized)"),
+    ("a Stribeck velocity of 1e-40, emitted", ["emit", "tiny_stribeck.json", "-o", OUT],
+     "aim.stribeck[0] is 1e-40 (normalized)"),
     ("aim.kind a list", ["eval", "kind_list.json"], "aim.kind must be one of"),
     ("effect name an object", ["eval", "effect_dict.json"], "unknown effect {}"),
     ("format_version true", ["eval", "version_true.json"], "unknown format_version True"),
