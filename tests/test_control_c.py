@@ -120,6 +120,23 @@ def test_cli_simulate_c_backend_runs_the_emitted_model_in_c(capsys):
     assert all(m["finite"] for m in report["variants"].values())
 
 
+def test_cli_simulate_c_backend_runs_a_grey_box_model_in_c(tmp_path, capsys):
+    sweep, model = tmp_path / "sweep.csv", tmp_path / "m.json"
+    assert main(["synth", "--preset", "paper3", "-o", str(sweep)]) == 0
+    assert main(["train", str(sweep), "-o", str(model), "--vs-max", "0.02", "--method", "stribeck"]) == 0
+    capsys.readouterr()
+    reports = {}
+    for backend in ("c", "python"):
+        assert main(["simulate", "--model", str(model), "--backend", backend, "--json",
+                     "--duration", "0.5"]) == 0
+        reports[backend] = json.loads(capsys.readouterr().out)["variants"]
+    c = reports["c"]
+    assert (c["model"]["friction_in"], c["exact"]["friction_in"], c["none"]["friction_in"]) == (
+        "c", "python", "none")
+    # float32 C against the float64 Python loop: the same tracking to a percent
+    assert c["model"]["rms_e1"] == pytest.approx(reports["python"]["model"]["rms_e1"], rel=0.01)
+
+
 @pytest.mark.parametrize("spoil", ["read-only", "foreign"])
 def test_build_controller_refuses_a_runtime_file_it_may_not_replace(default_model, tmp_path, spoil):
     target = tmp_path / "fric_ctrl.c"

@@ -71,7 +71,8 @@ def run(args) -> int:
               "variants": {name: run.metrics() for name, run in runs.items()}}
     if args.backend == "c":
         for name, ctrl in ctrls.items():
-            report["variants"][name]["friction_in"] = "c" if ctrl.c_friction else "python"
+            report["variants"][name]["friction_in"] = (
+                "c" if ctrl.c_friction else "none" if variants[name] is None else "python")
     out(json.dumps(report, indent=1) if args.json else table(report))
     if args.plot:
         pngs = plot_runs(runs)
@@ -88,6 +89,8 @@ def table(report: dict) -> str:
              f"{'m_o_hat':>8s} {'k_hat':>7s}"]
     for name, m in report["variants"].items():
         note = "" if m["finite"] else "  (unstable: diverged)"
+        if m.get("friction_in") == "python":
+            note += "  (friction computed in Python)"
         lines.append(f"{name:8s} {1e3 * m['rms_e1']:10.4f} {1e3 * m['max_e1']:10.4f} "
                      f"{m['rms_i']:8.3f} {m['max_i']:8.3f} {m['m_o_hat']:8.4f} {m['k_hat']:7.4f}{note}")
     return "\n".join(lines)

@@ -19,7 +19,7 @@ from ..codegen.render import check_overwrite, controller_files
 from ..codegen.cbuild import build_module, model_cdef
 from ..codegen.twin import force_f32
 from ..model import FrictionModel
-from ..networks import ElmNetwork
+from ..networks import ElmNetwork, StribeckCurve
 from .backstepping import AdaptiveBackstepping
 from .c_abi import CDEF, STATUS, param_values
 
@@ -111,12 +111,13 @@ def float32_twin(settings: AdaptiveBackstepping, model: Optional[FrictionModel] 
 def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveBackstepping,
                   folder=None) -> Dict[str, CController]:
     """One C controller per compensation variant (as ``fricgen.simulation.compare`` makes
-    Python ones): ELM models are emitted as C (``VARIANT_force`` through a function pointer);
-    other compensations (none, the true friction, a fuzzy model) are evaluated in Python and
-    passed to ``fric_ctrl_step`` as a float."""
+    Python ones): friction models (ELM or eq. (1)) are emitted as C (``VARIANT_force`` through
+    a function pointer; a model emit refuses is refused here); other compensations (none, the
+    true friction, a fuzzy model) are evaluated in Python and passed to ``fric_ctrl_step`` as a
+    float."""
 
     models = {name: comp for name, comp in compensation.items()
-              if isinstance(comp, FrictionModel) and isinstance(comp.aim, ElmNetwork)}
+              if isinstance(comp, FrictionModel) and isinstance(comp.aim, (ElmNetwork, StribeckCurve))}
     module = build_controller(models, folder)
     return {name: CController(module, settings.clone(compensation=comp),
                               f"{name}_force" if name in models else None)
