@@ -157,3 +157,17 @@ def test_training_in_other_units_gives_the_same_model_up_to_the_scale(bench):
         # force, where a unit-dependent step (another vs_max, B or choice) moves it by 1e-3 or more
         np.testing.assert_allclose(model.force(sv * v) / sf, reference, rtol=0,
                                    atol=1e-8 * np.max(np.abs(reference)))
+
+
+def test_noise_free_high_speed_rows_lose_none_but_a_spike():
+    """On exact data the Stribeck remainder bends the high-speed rows off the line by far less
+    than any gross outlier (7e-4 N here); the MAD alone is then ~0 and named those rows
+    outliers (with 5 rows: 'only 4 of 5 rows lie on a line'). A 1 N spike is still dropped."""
+    v = np.linspace(0.03, 0.1, 50)
+    f = 8.0 + 6.0 * np.exp(-(v / 0.01) ** 2) + 60.0 * v
+    for rows in (slice(None), slice(0, 50, 12)):
+        B, _, rejected = identify_viscous(Sweep(v[rows], f[rows]))
+        assert rejected == 0 and B == pytest.approx(60.0, rel=1e-3)
+    spiked = f.copy()
+    spiked[20] += 1.0
+    assert identify_viscous(Sweep(v, spiked))[2] == 1

@@ -13,19 +13,24 @@ import numpy as np
 
 #: Points further than this many robust standard deviations from the robust fit are outliers.
 OUTLIER_SIGMAS = 6.0
+#: The least robust standard deviation, relative to the values' median magnitude: on noise-free
+#: data no deviation below OUTLIER_SIGMAS times this (0.06 % of a typical force) is gross.
+SCALE_FLOOR = 1e-3
 #: Points in the running median's window (odd): a spike is outvoted unless 4 meet in one window.
 MEDIAN_WINDOW = 7
 
 
 def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
     """A robust standard deviation of the absolute residuals of ``values``: 1.4826 times their
-    median, or, when most are 0 (a quantized force, noise-free data), times the median of those
-    beyond rounding (1e-9 of the values' median magnitude)."""
+    median, or, when most are 0 (a quantized force), times the median of those beyond rounding
+    (1e-9 of the values' median magnitude); never below ``SCALE_FLOOR`` of that magnitude
+    (noise-free data: the curve's own bend off a line or a running median is no outlier)."""
+    typical = float(np.median(np.abs(values)))
     scale = 1.4826 * float(np.median(residual))
-    if scale > 0:
-        return scale
-    beyond = residual[residual > 1e-9 * float(np.median(np.abs(values)))]
-    return 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
+    if not scale > 0:
+        beyond = residual[residual > 1e-9 * typical]
+        scale = 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
+    return max(scale, SCALE_FLOOR * typical)
 
 
 def inner_points(x) -> np.ndarray:
