@@ -80,11 +80,13 @@ def test_invalid_model_json_is_named(default_model, label, mutate, message):
 
 
 @pytest.mark.parametrize("name", ["", "1abc", "fm-1", "fm;system(\"rm -rf /\");", "int", "static",
-                                  "a" * 64, "fm\n#include <stdio.h>", "fm */ int x; /*", 42, None])
+                                  "a" * 64, "fm\n#include <stdio.h>", "fm */ int x; /*", 42, None,
+                                  [1], {"a": 1}])
 def test_hostile_names_are_refused(default_model, name):
     d = copy.deepcopy(default_model.to_dict())
     d["name"] = name
-    with pytest.raises(ModelError, match="name must be a C identifier"):
+    message = "name must not be a C keyword" if name in ("int", "static") else "name must be a C identifier"
+    with pytest.raises(ModelError, match=message):
         FrictionModel.from_dict(d)
 
 

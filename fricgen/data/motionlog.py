@@ -118,7 +118,7 @@ def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
     ratio = float(np.dot(dxdt, v) / np.dot(v, v))
     low, high = UNITS_TOLERANCE
     if not low <= ratio <= high:
-        # a constant x keeps the units message (dx/dt is 0 times v)
+        check_varies(x, "position x", "m")          # x not logged: not a matter of units
         follow = float(np.corrcoef(dxdt, v)[0, 1]) if np.ptp(dxdt) > 0 else 1.0
         if not abs(follow) >= UNRELATED_BELOW:
             raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "
