@@ -13,6 +13,7 @@ length unless fixed:
 - power: the singles' logs again with the effect at other multiples of its reference
   magnitude (``--magnitudes``; 0.5 and 2 by default), for how detection grows with size;
 - pairs: two different named effects at once;
+- triples: three (no target in the issue; scored as pairs are);
 - oov: each out-of-vocabulary shape.
 
 Prints and checks the targets (false alarms <= 5 % overall and per length; singles correct
@@ -68,7 +69,7 @@ def cases(small: bool, per_length=None, magnitudes=()):
     ``magnitudes`` the multiples of the reference magnitude the singles are run at again."""
     n_null, default_per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 6, LENGTHS)
     per_length = per_length or {}
-    named_seeds, n_pairs, oov_seeds = (1, 6, 1) if small else (8, 30, 4)
+    named_seeds, n_pairs, n_triples, oov_seeds = (1, 6, 2, 1) if small else (8, 30, 12, 4)
     out = []
     for k in range(n_null):
         fixed = {"rate_hz": RATES[k % len(RATES)], "controller": CONTROLLERS[k % len(CONTROLLERS)],
@@ -88,6 +89,10 @@ def cases(small: bool, per_length=None, magnitudes=()):
     for k in range(n_pairs):
         a, b = rng.choice(len(NAMED), 2, replace=False)
         out.append((f"pair-{k}", "pair", 4000 + k, (NAMED[a], NAMED[b]), {}))
+    rng = np.random.default_rng(11)
+    for k in range(n_triples):
+        out.append((f"triple-{k}", "triple", 6000 + k,
+                    tuple(NAMED[j] for j in rng.choice(len(NAMED), 3, replace=False)), {}))
     for s in range(oov_seeds):
         for j, shape in enumerate(OUT_OF_VOCABULARY):
             out.append((f"oov-{shape}-{s}", "oov", 5000 + 10 * s + j, ("oov:" + shape,), {}))
@@ -107,7 +112,7 @@ def run_case(case):
     oracle = Diagnoser()
     gap_truth = oracle.held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)
     gap_truth_without = {}
-    if kind in ("single", "power", "pair"):
+    if kind in ("single", "power", "pair", "triple"):
         gap_truth_without = {e: d.gap_before_ if len(sc.hidden) == 1 else oracle.held_out_gap(
             sc.truth_log(without=(e,)), sc.model, sc.truth_mass((e,)), sc.force_constant)
             for e in sc.hidden}
@@ -219,16 +224,20 @@ def report(records, out: Path, small: bool):
                 cells.append(f"{sum(named_set(r) == [e] for r in rows)}/{len(rows)} "
                              f"({sum(halves(r, 'gap_truth') for r in rows)})")
             say(f"{e:>24s} " + " ".join(f"{c:>11s}" for c in cells))
-    pairs = by.get("pair", [])
-    if pairs:
-        f, kk, nn = rate(named_set(r) == sorted(r["hidden"]) for r in pairs)
-        say(f"\npairs of named effects: exact set {kk}/{nn} = {f:.1%}   target >= 90 %: {verdict(f >= 0.9)}")
-        for r in pairs:
+    for kind, label, target in (("pair", "pairs", 0.9), ("triple", "triples", None)):
+        sets = by.get(kind, [])
+        if not sets:
+            continue
+        f, kk, nn = rate(named_set(r) == sorted(r["hidden"]) for r in sets)
+        say(f"\n{label} of named effects: exact set {kk}/{nn} = {f:.1%}   "
+            + (f"target >= 90 %: {verdict(f >= target)}" if target else "no target"))
+        for r in sets:
             if named_set(r) != sorted(r["hidden"]):
                 gains = ", ".join(f"{e} {1 - r['gap_truth'] / g:.0%}" for e, g in r["gap_truth_without"].items())
                 say(f"    {r['key']} hidden {r['hidden']} -> {r['effects']}   (each effect's "
-                    f"shrink of the truth's gap: {gains})")
-        say(visible_line(pairs))
+                    f"shrink of the truth's gap: {gains}; gap {r['gap_after'] / r['gap_before']:.3f} "
+                    f"of before, the truth {r['gap_truth'] / r['gap_before']:.3f})")
+        say(visible_line(sets))
     oov = by.get("oov", [])
     if oov:
         worse = [r for r in oov for s in r["steps"] if s["added"] and s["effect"] in EFFECTS
@@ -255,7 +264,7 @@ def report(records, out: Path, small: bool):
             f"{r['gap_after']:.3e} (truth {r['gap_truth']:.3e})")
     say("\nthe gap after diagnose against the truth's (gap after / gap of the truth; 1 = as good "
         "as knowing the hidden effects):")
-    for kind in ("single", "pair", "oov"):
+    for kind in ("single", "pair", "triple", "oov"):
         ratios = [r["gap_after"] / r["gap_truth"] for r in by.get(kind, [])]
         if ratios:
             q = np.quantile(ratios, [0.1, 0.5, 0.9])
@@ -344,7 +353,7 @@ def magnitude_list(text: str) -> tuple:
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="a quick run: 15 nulls, 14 s and 60 s "
-                    "lengths, one seed per effect and shape, 6 pairs")
+                    "lengths, one seed per effect and shape, 6 pairs, 2 triples")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
     ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")

@@ -384,7 +384,7 @@ TABLE_PREFERENCE = 2.0
 BACKFIT_SWEEPS = 8
 BACKFIT_TOLERANCE = 1e-3
 #: Sets of named effects kept at each size to grow the next size from (beam search).
-BEAM = 3
+BEAM = 5
 #: Named sets tried per step (best first by the joint criterion).
 MAX_TRIES = 4
 #: A mass this many times off the one the log's accelerations ask for, or friction this many
