@@ -14,7 +14,7 @@ import numpy as np
 #: Points further than this many robust standard deviations from the robust fit are outliers.
 OUTLIER_SIGMAS = 6.0
 #: The least robust standard deviation, relative to the values' median magnitude: on noise-free
-#: data no deviation below OUTLIER_SIGMAS times this (0.06 % of a typical force) is gross.
+#: data no deviation below OUTLIER_SIGMAS times this (0.6 % of a typical force) is gross.
 SCALE_FLOOR = 1e-3
 #: Points in the running median's window (odd): a spike is outvoted unless 4 meet in one window.
 MEDIAN_WINDOW = 7

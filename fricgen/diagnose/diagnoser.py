@@ -508,8 +508,9 @@ class Diagnoser:
             new = self._mse(p, swept)
             if not new < mse:
                 break
-            effects, done, mse = swept, new > (1.0 - BACKFIT_TOLERANCE) * mse, new
-            if done:
+            converged = new > (1.0 - BACKFIT_TOLERANCE) * mse
+            effects, mse = swept, new
+            if converged:
                 break
         return effects
 
