@@ -4,10 +4,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
+
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments, parse_scales,
                            read_export)
-from ..data.inverse_dynamics import describe_missing, identify_log, is_log
-from ..data.motionlog import MIN_SAMPLES
+from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, identify_log, is_log
 from ..data.sweep import MIN_ROWS, sweep_from_columns
 from ..data.table import header_cells
 from .._validate import MAX_HIDDEN
@@ -16,9 +17,9 @@ from ..data.training_set import SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
 from ..codegen.parity import float32_problem
 from ..errors import DataError, ModelError, UsageError
-from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor, default_elm,
-                   default_estimator)
-from ..fit.directions import CV_FOLDS, fit_directions
+from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor,
+                   default_elm, default_estimator)
+from ..fit.directions import CV_FOLDS, fit_friction
 from ..fit.stribeck import XS_MAX
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
@@ -182,7 +183,7 @@ def read_columns(args):
     second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
         args.merge_columns, "--merge-columns")), scales)
     check_scaled(scales, {args.sweep: columns, args.merge: second})
-    least = MIN_SAMPLES if is_log({**columns, **second}) else MIN_ROWS
+    least = MIN_LOG_ROWS if is_log({**columns, **second}) else MIN_ROWS
     return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge), least)
 
 
@@ -196,9 +197,6 @@ def training_data(args):
     columns = read_columns(args)
     source = source_name(args)
     if is_log(columns):
-        if args.mass is None:
-            raise UsageError(f"{source} is a motion log (t, v or x, force or i): pass --mass (kg) "
-                             "for the inverse dynamics")
         with named_data(source):
             ident = identify_log(columns, args.mass, args.force_constant)
         return ident.sweep, ident
@@ -224,6 +222,25 @@ def stribeck_warning(ident, fits) -> str:
     return ""
 
 
+def axis_record(sweep, ident, asymmetric: bool) -> dict:
+    """model.json's ``training.axis``: the mass, force constant and constant force that training
+    identified or was given (null for a sweep; the offset null where the asymmetric model's
+    curves hold it), and the speed range of the data."""
+    speed = np.abs(sweep.v[sweep.v != 0])
+    record = {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
+              "offset": None, "offset_se": None,
+              "speed_min": float(speed.min()), "speed_max": float(speed.max())}
+    if ident is not None:
+        body = ident.body
+        record.update(mass=body.mass, mass_se=body.mass_se,
+                      mass_from="data" if body.mass_identified else "option")
+        if not asymmetric:
+            record.update(offset=body.offset, offset_se=body.offset_se)
+        if ident.force_constant is not None:
+            record["force_constant"] = ident.force_constant[0]
+    return record
+
+
 def run(args) -> int:
     inputs = [args.sweep] + ([args.merge] if args.merge else [])
     check_destination(args.output, inputs, args.force)
@@ -233,8 +250,8 @@ def run(args) -> int:
     per_direction = default_elm(args.seed, max_neurons=args.max_neurons) \
         if isinstance(estimator, DefaultRegressor) else estimator
     with named_data(source_name(args)):
-        fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
-                                seed=args.seed, per_direction=per_direction)
+        fitted = fit_friction(sweep, estimator, per_direction, ident, vs_max=args.vs_max,
+                              asymmetric=args.asymmetric, seed=args.seed)
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
@@ -246,9 +263,10 @@ def run(args) -> int:
         training["negative"] = curves[1]
     if fitted.cv_rmse is not None:
         training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
+    training["axis"] = axis_record(sweep, ident, fitted.asymmetric)
     if ident is not None:
-        training["log"] = {"mass": args.mass, "force_constant": args.force_constant,
-                           "window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
+        training["log"] = {"window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
+                           "independent": ident.independent,
                            "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
                                        for s in (1, -1)]}
     model = FrictionModel.from_directions(*(f.curve for f in fitted.fits), name=name,
@@ -258,7 +276,7 @@ def run(args) -> int:
             curve.check()
     except ModelError as exc:
         raise DataError(f"{source_name(args)}: the fitted model is no friction model: {exc}") from None
-    reports = [] if ident is None else [ident.summary()]
+    reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
     reports.append(_choice_line(fitted))
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):
         text = fit_report(model, f.dataset, f.estimator, curve["metrics"])
@@ -286,7 +304,7 @@ def _choice_line(fitted) -> str:
     if fitted.cv_rmse is None:
         return f"symmetry {kind}, as asked"
     sym, asym = fitted.cv_rmse
-    return (f"symmetry {kind} by {CV_FOLDS}-fold cross-validation: held-out RMS "
+    return (f"symmetry {kind} by {CV_FOLDS}-fold {fitted.chosen_by}: held-out RMS "
             f"{sym:.4g} N symmetric, {asym:.4g} N asymmetric")
 
 

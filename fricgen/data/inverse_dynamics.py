@@ -10,7 +10,7 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
@@ -19,7 +19,8 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..errors import DataError
 from ..metrics import least_squares_errors
-from .motionlog import MIN_SAMPLES, check_finite, check_moves, check_units, check_varies, uniform_time
+from .idim import RigidBody, identify_mass, identify_rigid_body
+from .motionlog import check_finite, check_moves, check_units, check_varies, uniform_time
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -33,6 +34,13 @@ MAX_WINDOW_FRACTION = 0.05
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
 MOVING_FRACTION = 1e-3
+#: Fewest rows of a log: the smoothing and the noise estimate need a few windows.
+MIN_LOG_ROWS = 4 * MIN_WINDOW
+#: Independent samples (rows kept times the filter's variance ratio) per fitted parameter.
+SAMPLES_PER_PARAMETER = 10
+#: Fewest independent samples a log must give: those of the four parameters of the smallest
+#: friction law (Coulomb, viscous, a Stribeck drop and its velocity).
+MIN_INDEPENDENT = 4 * SAMPLES_PER_PARAMETER
 #: m dv/dt this many times the force (RMS where the axis moves), or a force that follows m dv/dt
 #: this many times over, is a wrong mass or unit (``_check_inertia``).
 INERTIA_OFF = 10.0
@@ -94,6 +102,9 @@ class Identification:
     sample_time: float      # s
     velocity_noise: float   # m/s, standard deviation
     independent: float      # rows kept times the filter's variance ratio
+    body: RigidBody         # mass and constant force, identified or given
+    #: (K, its standard error) of a current log: the error None when K was given
+    force_constant: Optional[Tuple[float, Optional[float]]] = None
 
     @property
     def n_kept(self) -> int:
@@ -114,22 +125,58 @@ class Identification:
             f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
             f"{self.velocity_noise:.3g} m/s",
             f"velocity  {lo:.4g} to {hi:.4g} m/s; speeds {moving.min():.3g} to {moving.max():.3g} m/s",
-        ])
+        ] + self.body_lines())
+
+    def body_lines(self) -> list:
+        """The mass and the constant force, each with its standard error or its source."""
+        b = self.body
+        mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} kg identified by inverse dynamics"
+                if b.mass_identified else f"{b.mass:.5g} kg as given")
+        lines = [f"mass      {mass}"]
+        if self.force_constant is not None and self.force_constant[1] is not None:
+            k, k_se = self.force_constant
+            lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} N/A identified from the "
+                         "mass given (the current determines M/K)")
+        return lines
+
+    def offset_line(self, asymmetric: bool) -> str:
+        """The constant force o: beside a symmetric model, or held in an asymmetric one."""
+        if self.body.offset is None:
+            return ("offset    not determined: the log moves one way only, where a constant force "
+                    "is one with the friction")
+        o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} N"
+        if asymmetric:
+            return (f"{o}: the even part of the force, held in the two curves (a constant force "
+                    "and a friction that differs between the directions are not told apart)")
+        return (f"{o}: a constant force beside the friction (the even part of the force, which "
+                "the symmetric model leaves out; compensate it apart)")
+
+    @property
+    def parameter_budget(self) -> int:
+        """The most friction parameters the log supports: one per SAMPLES_PER_PARAMETER
+        independent samples."""
+        return int(self.independent // SAMPLES_PER_PARAMETER)
 
 
-def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional[np.ndarray] = None,
-                      x: Optional[np.ndarray] = None, window: Optional[int] = None) -> Identification:
-    """Friction samples F = f - m dv/dt of a log (eq. 18) at the rows where the axis moves.
+def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = None,
+                      v: Optional[np.ndarray] = None, x: Optional[np.ndarray] = None,
+                      window: Optional[int] = None, use: Optional[np.ndarray] = None) -> Identification:
+    """Friction samples F = f - m dv/dt of a log (eq. 18) at the rows where the axis moves, m
+    identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
+    even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
+    it in its curves (``offset_line``).
 
     ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
-    (odd samples) overrides ``choose_window``."""
+    (odd samples) overrides ``choose_window``. ``use`` (a mask of rows) confines everything
+    identified to those rows, less half a window at each edge, so that a held-out block of time
+    leaks nothing into it."""
     columns = {"t": t, "force": force, "v": v, "x": x}
     for name, values in columns.items():
         if values is not None:
             check_finite(name, values)
-    if t.size < MIN_SAMPLES:
-        raise DataError(f"log has {t.size} samples, need at least {MIN_SAMPLES}")
-    if not (np.isfinite(mass) and mass > 0):
+    if t.size < MIN_LOG_ROWS:
+        raise DataError(f"log has {t.size} samples, need at least {MIN_LOG_ROWS}")
+    if mass is not None and not (np.isfinite(mass) and mass > 0):
         raise DataError(f"mass must be > 0, got {mass}")
     ts = uniform_time(t)[1]
     given = v is not None
@@ -139,26 +186,56 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     if given and x is not None:
         check_units(x, v, ts)
     noise = velocity_noise(v)
+    use = np.ones(t.size, dtype=bool) if use is None else np.asarray(use, dtype=bool)
     if window is None:
-        light = savgol_filter(v, MIN_WINDOW, POLYORDER)
-        window = choose_window(force, np.abs(light) > MOVING_SIGMAS * noise, mass, noise, ts)
+        rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
+        guess = mass
+        if guess is None:                   # the mass at the force's own window, then refined
+            first = choose_window(force, rows, 0.0, noise, ts)
+            guess = _mass_at(first, ts, v, force, noise, use)
+        window = choose_window(force, rows, guess, noise, ts)
+    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
+    if not moving.any():
+        raise DataError("the axis never moves beyond the velocity noise")
+    independent = moving.sum() * _centre_weight(window)
+    if mass is not None:
+        _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], independent)
+    body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass)
+    friction = f_s - body.mass * a_s
+    direction = np.sign(v_s) * moving
+    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & moving
+    steady[:window // 2] = steady[-(window // 2):] = False
+    kept = float(steady.sum()) * _centre_weight(window)
+    if steady.sum() < MIN_ROWS or kept < MIN_INDEPENDENT:
+        raise DataError(f"the axis moves steadily in only {int(steady.sum())} rows (about "
+                        f"{kept:.0f} independent samples; no reversal within {window} samples), "
+                        f"need {MIN_ROWS} rows and {MIN_INDEPENDENT} independent samples: log "
+                        "longer or more varied motion")
+    return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
+                          window=int(window), sample_time=ts, velocity_noise=noise,
+                          independent=kept, body=body)
+
+
+def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
+              use: np.ndarray):
+    """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
+    (whole windows) where the axis moves: |v| above MOVING_SIGMAS noise and MOVING_FRACTION of
+    the top speed."""
     v_s = savgol_filter(v, window, POLYORDER)
     a_s = savgol_filter(v, window, POLYORDER, deriv=1, delta=ts)
     f_s = savgol_filter(force, window, POLYORDER)
-    friction = f_s - mass * a_s
     threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
-    direction = np.sign(v_s) * (np.abs(v_s) > threshold)
-    moving = direction != 0
-    if moving.any():
-        _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], moving.sum() * _centre_weight(window))
-    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & moving
-    steady[:window // 2] = steady[-(window // 2):] = False
-    if steady.sum() < MIN_ROWS:
-        raise DataError(f"the axis moves in only {int(steady.sum())} rows (|v| > {threshold:.3g} "
-                        f"m/s, no reversal within {window} samples), need at least {MIN_ROWS}")
-    return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
-                          window=int(window), sample_time=ts, velocity_noise=noise,
-                          independent=float(steady.sum()) * _centre_weight(window))
+    return v_s, a_s, f_s, (np.abs(v_s) > threshold) & minimum_filter1d(use, window)
+
+
+def _mass_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
+             use: np.ndarray) -> float:
+    """The mass identified with the signals smoothed by ``window`` (``data.idim``)."""
+    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
+    if not moving.any():
+        raise DataError("the axis never moves beyond the velocity noise")
+    return identify_mass(a_s[moving], v_s[moving], f_s[moving],
+                         moving.sum() * _centre_weight(window))[0]
 
 
 def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, independent: float) -> None:
@@ -205,20 +282,30 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
     return f"missing column {missing} (header is {header}){header_hint(cells)}"
 
 
-def identify_log(columns: Dict[str, np.ndarray], mass: float,
+def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
                  force_constant: Optional[float] = None) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
-    ``force_constant`` (N/A)."""
+    ``force_constant`` (N/A). A current without a force constant determines M/K and the friction
+    over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so."""
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
+    t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x")}
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
-        force = columns["force"]
-        check_varies(force, "force", "N")
-    elif force_constant is None:
-        raise DataError("the log has a current column i but no force column; pass --force-constant (N/A)")
-    else:
-        check_varies(columns["i"], "current i", "A")
-        force = force_constant * columns["i"]
-    return identify_friction(columns["t"], force, mass, v=columns.get("v"), x=columns.get("x"))
+        check_varies(columns["force"], "force", "N")
+        return identify_friction(t, columns["force"], mass, **motion)
+    current = columns["i"]
+    check_varies(current, "current i", "A")
+    if force_constant is not None:
+        return replace(identify_friction(t, force_constant * current, mass, **motion),
+                       force_constant=(float(force_constant), None))
+    in_amperes = identify_friction(t, current, None, **motion).body     # m/K, o/K
+    if mass is None:
+        raise DataError(f"the log has a current i but no force: it determines M/K = "
+                        f"{in_amperes.mass:.4g} +- {in_amperes.mass_se:.2g} kg/(N/A) and the "
+                        "friction in A, not M nor the force in N: pass --force-constant (N/A), "
+                        "or --mass (kg) to identify K")
+    k = mass / in_amperes.mass
+    k_se = k * in_amperes.mass_se / in_amperes.mass
+    return replace(identify_friction(t, k * current, mass, **motion), force_constant=(k, k_se))

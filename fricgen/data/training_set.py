@@ -142,7 +142,8 @@ class Dataset:
 
 
 def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float] = None,
-            viscous: Optional[float] = None, max_points: int = MAX_TRAINING_POINTS) -> Dataset:
+            viscous: Optional[float] = None, max_points: int = MAX_TRAINING_POINTS,
+            independence: float = 1.0) -> Dataset:
     """Turn a sweep into the eq. (9) training set of section 2.
 
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
@@ -151,7 +152,10 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t) over
     the points that are no gross outliers (``fricgen.data.outliers``), which the default
     estimator sets aside.
-    Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``).
+    Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``), and
+    into as many bins as independent samples when a row is only ``independence`` of one (a
+    smoothed log's rows): each training point then stands for one sample, as eq. (9)'s fits
+    and their cross-validations assume.
     """
     if vs_max is not None and not (np.isfinite(vs_max) and vs_max > 0):
         raise DataError(f"vs_max must be > 0, got {vs_max}")
@@ -170,14 +174,15 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     if estimated:
         vs_max = estimate_vs_max(folded)
         try:
-            return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated)
+            return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated, independence)
         except DataError as exc:
             raise DataError(f"{exc} (with vs_max estimated as {vs_max:.4g} m/s; pass --vs-max to "
                             "set it)") from None
-    return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated)
+    return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated, independence)
 
 
-def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, estimated: bool) -> Dataset:
+def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, estimated: bool,
+             independence: float = 1.0) -> Dataset:
     """``prepare`` of the folded sweep once vs_max is known."""
     v_sat = SAT_FACTOR * vs_max
     high = Sweep(folded.v[folded.v > v_sat], folded.f[folded.v > v_sat])
@@ -195,7 +200,7 @@ def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, esti
         f_sat = f0 + viscous * v_sat
     slowest = np.argsort(low.v)[:4]
     n_rows = len(low)
-    low = bin_equal_counts(low, max_points)
+    low = bin_equal_counts(low, min(max_points, max(MIN_ROWS, int(n_rows * independence))))
     v = np.concatenate([[0.0], low.v, [v_sat]])
     f = np.concatenate([[low.f[slowest].mean() if n_rows == len(low) else low.f[0]], low.f, [f_sat]])
     k_in = 1.0 / v_sat

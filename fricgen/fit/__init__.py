@@ -25,11 +25,12 @@ def default_elm(random_state=0, max_neurons=None) -> AutoELMRegressor:
     return AutoELMRegressor(max_neurons=max_neurons, random_state=random_state)
 
 
-def default_estimator(random_state=0, max_neurons=None) -> DefaultRegressor:
+def default_estimator(random_state=0, max_neurons=None, max_parameters=None) -> DefaultRegressor:
     """The estimator ``fricgen train`` uses unless told otherwise: the grey-box eq. (1) or the
     automatic ELM (at most ``max_neurons`` units), whichever has the smaller cross-validated
-    error, gross outliers set aside."""
-    return DefaultRegressor(random_state=random_state, max_neurons=max_neurons)
+    error, gross outliers set aside; at most ``max_parameters`` parameters (a log's budget)."""
+    return DefaultRegressor(random_state=random_state, max_neurons=max_neurons,
+                            max_parameters=max_parameters)
 
 
 __all__ = ["Estimator", "NotFittedError", "as_rng", "ELMRegressor", "AutoELMRegressor",

@@ -19,13 +19,26 @@ from ..data.outliers import MEDIAN_WINDOW, OUTLIER_SIGMAS, gross_outliers, inner
 from .._validate import integer
 from .auto import AutoELMRegressor
 from .base import Estimator, as_rng, interleaved_folds
-from .stribeck import StribeckRegressor
+from .stribeck import SOURCES, StribeckRegressor
+
+
+def elm_units(budget: int) -> int:
+    """The most ELM units within ``budget`` parameters: 2 per unit (its weight, and its place
+    chosen from the dictionary) plus B."""
+    return max(1, (int(budget) - 1) // 2)
+
+
+def greybox_sources(budget: int, sources=SOURCES) -> tuple:
+    """The numbers of eq. (1) sources within ``budget`` parameters: 2 S + 2 (c, a_k, v_sk and
+    B); the fewest of ``sources`` when none fits."""
+    return tuple(s for s in sources if 2 * s + 2 <= int(budget)) or (min(sources),)
 
 
 class DefaultRegressor(Estimator):
     """Grey-box eq. (1) or elm_auto by repeated ``n_folds``-fold cross-validated error, after
     setting aside the points more than ``outlier_sigmas`` robust sd off a running median;
-    ``max_neurons`` caps the ELM's units.
+    ``max_neurons`` caps the ELM's units; ``max_parameters`` caps both models' parameters (the
+    effective samples of a log support so many; ``elm_units``, ``greybox_sources``).
 
     After ``fit``: ``network_``, ``choice_`` ("stribeck" or "elm_auto"), ``chosen_`` (the fitted
     winner), ``greybox_`` and ``elm_`` (both fitted candidates), ``cv_rmse_`` ({choice: error}),
@@ -33,15 +46,24 @@ class DefaultRegressor(Estimator):
     """
 
     def __init__(self, random_state=0, n_folds: int = 5, n_repeats: int = 2,
-                 outlier_sigmas: float = OUTLIER_SIGMAS, max_neurons=None):
+                 outlier_sigmas: float = OUTLIER_SIGMAS, max_neurons=None, max_parameters=None):
         self.random_state = random_state
         self.max_neurons = max_neurons
+        self.max_parameters = max_parameters
         self.n_folds = n_folds
         self.n_repeats = n_repeats
         self.outlier_sigmas = outlier_sigmas
 
     def _elm(self) -> AutoELMRegressor:
-        return AutoELMRegressor(max_neurons=self.max_neurons, random_state=self.random_state)
+        cap = self.max_neurons
+        if self.max_parameters is not None:
+            budget = elm_units(self.max_parameters)
+            cap = budget if cap is None else min(cap, budget)
+        return AutoELMRegressor(max_neurons=cap, random_state=self.random_state)
+
+    def _greybox(self) -> StribeckRegressor:
+        sources = SOURCES if self.max_parameters is None else greybox_sources(self.max_parameters)
+        return StribeckRegressor(n_folds=self.n_folds, sources=sources)
 
     def fit(self, x, t) -> "DefaultRegressor":
         x, t = self._inputs(x, t)
@@ -51,7 +73,7 @@ class DefaultRegressor(Estimator):
         self.inliers_ = ~gross_outliers(x, t, self.outlier_sigmas)
         self.n_outliers_ = int(x.size - self.inliers_.sum())
         x, t = x[self.inliers_], t[self.inliers_]
-        self.greybox_ = StribeckRegressor(n_folds=self.n_folds).fit(x, t)
+        self.greybox_ = self._greybox().fit(x, t)
         self.elm_ = self._elm().fit(x, t)
         rng = as_rng(self.random_state)
         inner = inner_points(x)                                    # scored: the measured points

@@ -18,7 +18,10 @@ import numpy as np
 from ..data import MIN_ROWS, Dataset, Sweep, estimate_vs_max, prepare
 from ..errors import DataError
 from ..model import Direction
+from .auto import AutoELMRegressor
 from .base import as_rng
+from .default import DefaultRegressor, elm_units, greybox_sources
+from .stribeck import StribeckRegressor
 
 #: Folds of the cross-validation that chooses between the models.
 CV_FOLDS = 5
@@ -49,7 +52,7 @@ class DirectionsFit:
     """The fitted curves ((both) or (positive, negative)) and how the choice was made."""
 
     fits: Tuple[FittedDirection, ...]
-    chosen_by: str                      # "forced", "cross-validation" or "one direction only"
+    chosen_by: str      # "forced", "cross-validation [in blocks of time]", "one direction only"
     cv_rmse: Optional[Tuple[float, float]] = None   # (symmetric, asymmetric), N
 
     @property
@@ -62,29 +65,40 @@ def _vs_max(sweep: Sweep, vs_max: Optional[float]) -> float:
 
 
 def _fit(sweep: Sweep, estimator, vs_max: Optional[float],
-         max_points: Optional[int] = None) -> FittedDirection:
+         max_points: Optional[int] = None, independence: float = 1.0) -> FittedDirection:
     """The curve fitted to ``sweep`` (folded) by a fresh copy of ``estimator``."""
-    kwargs = {} if max_points is None else {"max_points": max_points}
+    kwargs = {"independence": independence}
+    if max_points is not None:
+        kwargs["max_points"] = max_points
     dataset = prepare(sweep, vs_max=vs_max, **kwargs)
     fitted = clone(estimator)
     return FittedDirection(Direction.fit(dataset, fitted), dataset, fitted)
 
 
+def row_folds(n: int, folds: int, seed=0, blocks: bool = False) -> np.ndarray:
+    """The fold of each of ``n`` rows: contiguous blocks of rows (``blocks``: rows in time order,
+    as a log's, whose neighbours share their noise through smoothing) or a random partition."""
+    if blocks:
+        return np.arange(n) * folds // n
+    return as_rng(seed).permutation(n) % folds
+
+
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
-                   folds: int = CV_FOLDS, seed=0, per_direction=None) -> np.ndarray:
-    """Held-out mean squared force errors (N^2) per fold: row 0 the symmetric model, row 1
-    the asymmetric one (its curves fitted by ``per_direction``, default ``estimator``).
-    ``vs_max`` holds (both, positive, negative)."""
+                   folds: int = CV_FOLDS, seed=0, per_direction=None, blocks: bool = False,
+                   independence: float = 1.0) -> np.ndarray:
+    """Held-out mean squared force errors (N^2) per fold (``row_folds``): row 0 the symmetric
+    model, row 1 the asymmetric one (its curves fitted by ``per_direction``, default
+    ``estimator``). ``vs_max`` holds (both, positive, negative)."""
     per_direction = estimator if per_direction is None else per_direction
     moving = sweep.v != 0
     v, f = sweep.v[moving], sweep.f[moving]
-    fold = as_rng(seed).permutation(v.size) % folds
+    fold = row_folds(v.size, folds, seed, blocks)
     mse = np.zeros((2, folds))
     for k in range(folds):
         train, test = Sweep(v[fold != k], f[fold != k]), fold == k
-        both = _fit(train, estimator, vs_max[0], CV_POINTS).curve
-        pos = _fit(train.direction(1), per_direction, vs_max[1], CV_POINTS).curve
-        neg = _fit(train.direction(-1), per_direction, vs_max[2], CV_POINTS).curve
+        both = _fit(train, estimator, vs_max[0], CV_POINTS, independence).curve
+        pos = _fit(train.direction(1), per_direction, vs_max[1], CV_POINTS, independence).curve
+        neg = _fit(train.direction(-1), per_direction, vs_max[2], CV_POINTS, independence).curve
         sign, speed, target = np.sign(v[test]), np.abs(v[test]), np.sign(v[test]) * f[test]
         mse[0, k] = np.mean((both.magnitude(speed) - target) ** 2)
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))
@@ -113,10 +127,13 @@ def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> flo
 
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
-                   asymmetric: Optional[bool] = None, seed=0, per_direction=None) -> DirectionsFit:
+                   asymmetric: Optional[bool] = None, seed=0, per_direction=None,
+                   blocks: bool = False, independence: float = 1.0) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
-    ``estimator``); ``asymmetric`` None chooses by cross-validation, True or False forces the
-    model. With data in one direction only the model is symmetric (``DataError`` if the
+    ``estimator``); ``asymmetric`` None chooses by cross-validation (in contiguous ``blocks`` of
+    rows for a log's samples, in time order), True or False forces the model. ``independence``
+    (the share of an independent sample in a row, a smoothed log's) bins each curve's training
+    set to its effective samples (``prepare``). With data in one direction only the model is symmetric (``DataError`` if the
     asymmetric one was asked for); when a sweep of both directions cannot give each its own
     curve, ``chosen_by`` says why."""
     per_direction = estimator if per_direction is None else per_direction
@@ -134,15 +151,48 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
             if asymmetric:
                 raise DataError(f"an asymmetric model needs a sweep of each direction: {exc}") from None
             reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
-            return DirectionsFit((_fit(sweep, estimator, vs_max),), reason)
+            return DirectionsFit((_fit(sweep, estimator, vs_max, None, independence),), reason)
     if asymmetric is None:
         mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
-                             per_direction=per_direction)
+                             per_direction=per_direction, blocks=blocks,
+                             independence=independence)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
+        how = "cross-validation in blocks of time" if blocks else "cross-validation"
         if not prefers_asymmetric(mse):
-            return DirectionsFit((_fit(sweep, estimator, vs_max),), "cross-validation", cv)
-        return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)),
-                             "cross-validation", cv)
+            return DirectionsFit((_fit(sweep, estimator, vs_max, None, independence),), how, cv)
+        return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
+                                   for h, vs in zip(halves, vs_dirs)), how, cv)
     if not asymmetric:
-        return DirectionsFit((_fit(sweep, estimator, vs_max),), "forced")
-    return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)), "forced")
+        return DirectionsFit((_fit(sweep, estimator, vs_max, None, independence),), "forced")
+    return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence) for h, vs in zip(halves, vs_dirs)),
+                         "forced")
+
+
+def within_budget(estimator, budget: int):
+    """A copy of a chosen-size estimator (the default, elm_auto, the grey-box) that fits at most
+    ``budget`` parameters (``DefaultRegressor.max_parameters``); an ELM of a given size as it is."""
+    estimator = clone(estimator)
+    if isinstance(estimator, DefaultRegressor):
+        return estimator.set_params(max_parameters=budget)
+    if isinstance(estimator, AutoELMRegressor):
+        cap = elm_units(budget)
+        return estimator.set_params(max_neurons=min(cap, estimator.max_neurons or cap))
+    if isinstance(estimator, StribeckRegressor):
+        return estimator.set_params(sources=greybox_sources(budget, estimator.sources))
+    return estimator
+
+
+def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max=None,
+                 asymmetric=None, seed=0) -> DirectionsFit:
+    """``fit_directions`` as ``fricgen train`` runs it. For a log (``ident``, its
+    ``Identification``): cross-validation in blocks of time, training sets binned to the
+    effective samples, and at most the parameters they support (``within_budget``; each
+    direction has about half of them)."""
+    if ident is None:
+        return fit_directions(sweep, estimator, vs_max=vs_max, asymmetric=asymmetric, seed=seed,
+                              per_direction=per_direction)
+    per_direction = estimator if per_direction is None else per_direction
+    return fit_directions(sweep, within_budget(estimator, ident.parameter_budget), vs_max=vs_max,
+                          asymmetric=asymmetric, seed=seed,
+                          per_direction=within_budget(per_direction, ident.parameter_budget // 2),
+                          blocks=True, independence=ident.independent / ident.n_kept)

@@ -1,0 +1,90 @@
+"""The axis's mass and constant force by inverse dynamics (IDIM-LS), jointly with its friction.
+
+Eq. (18) with a constant force o (gravity on an inclined axis, a cable's pull) reads
+f = m dv/dt + F(v) + o. Before F is modelled it is stood in for by a flexible basis that is
+linear in its coefficients: per direction of motion a Coulomb level, a viscous slope and
+Stribeck drops exp(-|v| / v_k) on a log grid of the measured speeds. Ordinary least squares then
+gives m with a standard error whose residual variance counts the rows correlated by smoothing
+as fewer (``least_squares_errors``).
+
+The offset is the even part of the force: at the mass found, o is fitted beside an odd friction
+(the same basis times sgn v). A friction that differs between the directions cannot be told
+apart from it on moving rows (1 = [v > 0] + [v < 0]), which the report says.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from ..errors import DataError
+from ..metrics import least_squares_errors
+
+#: Stribeck drops in the stand-in friction basis, per direction.
+STRIBECK_TERMS = 3
+#: The identified mass must stand this many standard errors above 0.
+MASS_SIGMAS = 3.0
+
+
+def friction_basis(v: np.ndarray, odd: bool) -> np.ndarray:
+    """Columns spanning a friction law of v: [1, |v|, exp(-|v| / v_k)] per direction (``odd``
+    False), or those of one odd law, times sgn v (``odd`` True). The v_k are log-spaced between
+    twice the 2 % and half the 98 % quantile of |v|."""
+    speed = np.abs(v)
+    lo, hi = np.quantile(speed, [0.02, 0.98])
+    grid = np.geomspace(max(2.0 * lo, 1e-12), max(0.5 * hi, 2.0 * lo, 1e-12), STRIBECK_TERMS)
+    terms = [np.ones_like(speed), speed] + [np.exp(-speed / g) for g in grid]
+    if odd:
+        return np.column_stack([np.sign(v) * c for c in terms])
+    return np.column_stack([(np.sign(v) == s) * c for s in (1, -1) for c in terms])
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """What inverse dynamics found or was told: m (kg) and o (N), with standard errors (None
+    where a value was given, not identified)."""
+
+    mass: float
+    mass_se: Optional[float]
+    offset: float
+    offset_se: float
+
+    @property
+    def mass_identified(self) -> bool:
+        return self.mass_se is not None
+
+
+def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float):
+    """m and its standard error from f = m a + F(v) + o over moving rows (F by
+    ``friction_basis`` per direction, which also absorbs o). ``DataError`` when the
+    accelerations do not determine a positive mass."""
+    coef, se = least_squares_errors(np.column_stack([a, friction_basis(v, odd=False)]), force,
+                                    independent)
+    mass, mass_se = float(coef[0]), float(se[0])
+    if not mass > MASS_SIGMAS * mass_se:
+        raise DataError(f"the log's accelerations do not determine the mass (m = {mass:.3g} +- "
+                        f"{mass_se:.2g} kg by inverse dynamics): pass --mass, or log motion "
+                        "that accelerates and brakes")
+    return mass, mass_se
+
+
+def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float,
+                    independent: float):
+    """o and its standard error from f - m a = o + F(v), F odd (``friction_basis``)."""
+    basis = np.column_stack([np.ones_like(v), friction_basis(v, odd=True)])
+    coef, se = least_squares_errors(basis, force - mass * a, independent)
+    return float(coef[0]), float(se[0])
+
+
+def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
+                        mass: Optional[float] = None) -> RigidBody:
+    """The mass (unless given) and the offset of the axis from smoothed dv/dt, v and force at
+    rows where it moves."""
+    mass_se = None
+    if mass is None:
+        mass, mass_se = identify_mass(a, v, force, independent)
+    offset = offset_se = None
+    if np.any(v > 0) and np.any(v < 0):
+        offset, offset_se = identify_offset(a, v, force, mass, independent)
+    return RigidBody(float(mass), mass_se, offset, offset_se)

@@ -1,0 +1,132 @@
+"""The axis from its own log: mass, constant force and force constant by inverse dynamics
+(``data.idim``), time-block cross-validation and the parameter budget of short logs."""
+import json
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.data.idim import identify_mass, identify_rigid_body
+from fricgen.data.inverse_dynamics import identify_friction
+from fricgen.data.table import table_csv_text
+from fricgen.errors import DataError
+from fricgen.fit.directions import row_folds
+from fricgen.friction import preset
+from fricgen.sim.identification import SweepRun, simulate_sweep_run
+
+from independent_axis import MASS, friction, run_up
+
+FRICTION = preset("paper3")
+RUN = SweepRun(duration=8.0, rate=1500.0)
+OFFSET = -2.5
+
+
+@pytest.fixture(scope="module")
+def offset_log():
+    """A noisy identification run of a symmetric friction with a constant force added."""
+    s = simulate_sweep_run(FRICTION, RUN)
+    rng = np.random.default_rng(11)
+    n = s["t"].size
+    return {"t": s["t"], "v": s["v"] + 3e-4 * rng.standard_normal(n),
+            "force": s["force"] + OFFSET + 0.5 * rng.standard_normal(n)}
+
+
+def test_mass_and_offset_recovered_within_their_standard_errors(offset_log):
+    ident = identify_friction(offset_log["t"], offset_log["force"], None, v=offset_log["v"])
+    body = ident.body
+    assert body.mass_identified and 0 < body.mass_se < 0.05 * RUN.mass
+    assert abs(body.mass - RUN.mass) < 4 * body.mass_se
+    assert abs(body.offset - OFFSET) < 4 * body.offset_se and body.offset_se < 0.1
+
+
+def test_a_given_mass_is_kept_and_the_offset_still_identified(offset_log):
+    ident = identify_friction(offset_log["t"], offset_log["force"], 1.1 * RUN.mass, v=offset_log["v"])
+    assert ident.body.mass == 1.1 * RUN.mass and ident.body.mass_se is None
+    assert abs(ident.body.offset - OFFSET) < 0.2
+
+
+def test_a_log_without_acceleration_does_not_determine_the_mass():
+    rng = np.random.default_rng(0)
+    v = 0.1 + 0.001 * rng.standard_normal(500)          # cruising: a is noise
+    with pytest.raises(DataError, match="do not determine the mass"):
+        identify_mass(0.01 * rng.standard_normal(500), v, 5.0 + 0.1 * rng.standard_normal(500), 500)
+
+
+def test_a_log_moving_one_way_leaves_the_offset_undetermined():
+    rng = np.random.default_rng(1)
+    a = rng.standard_normal(400)
+    v = np.linspace(0.05, 0.5, 400)
+    body = identify_rigid_body(a, v, 3.0 * a + friction(v) + 0.1 * rng.standard_normal(400), 400)
+    assert abs(body.mass - 3.0) < 0.05 and body.offset is None
+
+
+def test_held_out_rows_leak_nothing_into_the_identification(offset_log):
+    n = offset_log["t"].size
+    block = (np.arange(n) >= n // 3) & (np.arange(n) < 2 * n // 3)
+    full = identify_friction(offset_log["t"], offset_log["force"], None, v=offset_log["v"])
+    part = identify_friction(offset_log["t"], offset_log["force"], None, v=offset_log["v"],
+                             use=~block)
+    assert part.n_kept < full.n_kept - block.sum() // 2
+    assert abs(part.body.mass - RUN.mass) < 4 * part.body.mass_se
+    spoiled = offset_log["force"] + np.where(block, 1e3, 0.0)   # the block's force garbled
+    again = identify_friction(offset_log["t"], spoiled, None, v=offset_log["v"], use=~block,
+                              window=part.window)
+    assert again.body == part.body
+    assert np.array_equal(again.sweep.f, part.sweep.f)
+
+
+def test_row_folds_in_blocks_are_contiguous():
+    folds = row_folds(103, 5, blocks=True)
+    assert np.all(np.diff(folds) >= 0) and set(folds) == set(range(5))
+    assert max(np.bincount(folds)) - min(np.bincount(folds)) <= 1
+
+
+def _write(tmp_path, name, columns):
+    path = tmp_path / name
+    path.write_text(table_csv_text(columns))
+    return path
+
+
+def test_train_without_mass_identifies_it_and_records_the_axis(offset_log, tmp_path, capsys):
+    log = _write(tmp_path, "log.csv", offset_log)
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "--method", "elm", "--neurons", "20", "--vs-max", "0.02",
+                 "-o", str(out)]) == 0
+    report = capsys.readouterr().out
+    assert "identified by inverse dynamics" in report and "offset" in report
+    axis = json.loads(out.read_text())["training"]["axis"]
+    assert axis["mass_from"] == "data" and abs(axis["mass"] - RUN.mass) < 4 * axis["mass_se"]
+    assert axis["speed_max"] == pytest.approx(np.abs(offset_log["v"]).max(), rel=0.05)
+
+
+def test_a_current_log_without_force_constant_says_what_it_determines(offset_log, tmp_path, capsys):
+    k = 2.5
+    log = _write(tmp_path, "i.csv", {"t": offset_log["t"], "v": offset_log["v"],
+                                     "i": offset_log["force"] / k})
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "M/K" in err[0] and "--force-constant" in err[0]
+    assert not out.exists()
+    # with the mass, the force constant is identified
+    assert main(["train", str(log), "--mass", str(RUN.mass), "--method", "elm", "--neurons", "10",
+                 "--vs-max", "0.02", "-o", str(out)]) == 0
+    report = capsys.readouterr().out
+    assert "force     constant K" in report
+    ident_k = json.loads(out.read_text())["training"]["axis"]["force_constant"]
+    assert ident_k == pytest.approx(k, rel=0.03)
+
+
+def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp_path, capsys):
+    t, x, force, _ = run_up()
+    assert t.size == 420
+    log = _write(tmp_path, "runup.csv", {"t": t, "x": x, "force": force})
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "-o", str(out)]) == 0
+    capsys.readouterr()
+    model = json.loads(out.read_text())
+    training = model["training"]
+    n = training["n_hidden"]
+    parameters = 2 * n + 2 if training["choice"] == "stribeck" else 2 * n + 1
+    assert parameters <= training["log"]["independent"] // 10
+    assert abs(model["training"]["axis"]["mass"] - MASS) < 0.05 * MASS
