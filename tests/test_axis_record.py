@@ -148,6 +148,7 @@ def test_diagnose_takes_mass_and_force_constant_from_the_axis(diag_files, tmp_pa
     from_axis = capsys.readouterr()
     assert "fricgen: mass from the model's axis: m = 4 kg (identified from the data)" in from_axis.err
     assert "fricgen: force constant from the model's axis: phi = 20 N/A" in from_axis.err
+    assert FrictionModel.load(tmp_path / "a" / "model.json").axis.mass == 4.0   # kept
     assert main(["diagnose", log, "--model", str(diag_files / "plain.json"), "--json",
                  "--mass", "4", "--force-constant", "20", "-o", str(tmp_path / "b")]) == 0
     assert json.loads(from_axis.out) == json.loads(capsys.readouterr().out)
@@ -220,3 +221,13 @@ def test_v_max_with_float_is_refused(model10, tmp_path, capsys):
     assert err == ("fricgen: error: --v-max sets the input range of --dtype q15 or q31; float "
                    "takes any speed\n")
     assert not (tmp_path / "c").exists()
+
+
+def test_simulate_warns_when_the_reference_asks_more_than_the_motor_gives(model10, tmp_path, capsys):
+    """A 0.05 kg axis with ~44 N of friction: the mass-scaled motor gives 4.5 N."""
+    path = model10.save(tmp_path / "m.json")
+    assert main(["simulate", "--model", str(path), "--mass", "0.05", "--duration", "0.1"]) == 0
+    err = capsys.readouterr().err
+    assert "more than the simulated motor's 4.5 N: the current saturates" in err
+    assert main(["simulate", "--model", str(path), "--mass", "5", "--duration", "0.1"]) == 0
+    assert "warning" not in capsys.readouterr().err
