@@ -61,8 +61,8 @@ class Plant:
     text: str
 
 
-def model_plant(model: FrictionModel, mass: float, offset: float = 0.0, speed_max: float = None,
-                mass_text: str = "") -> Plant:
+def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
+                speed_max: Optional[float] = None, mass_text: str = "") -> Plant:
     """The axis a model was trained on: eq. (18) with mass ``mass`` (kg), the model itself as its
     friction (sticking at rest up to F(0+)) and the constant force ``offset`` (N, along +x).
 
@@ -82,14 +82,14 @@ def model_plant(model: FrictionModel, mass: float, offset: float = 0.0, speed_ma
                  f"{speeds}")
 
 
-def builtin_plant(why: str, speed_max: float = None) -> Plant:
+def builtin_plant(why: str, speed_max: Optional[float] = None) -> Plant:
     """The built-in 2 kg axis of ``default_axis()`` (Table 1 friction); ``why`` says why."""
     trajectory, speeds = reference_within(speed_max)
     return Plant(default_axis(), DEFAULT_PHI_N, trajectory,
                  f"plant: built-in {DEFAULT_MASS:g} kg axis (Table 1 friction); {why}; {speeds}")
 
 
-def reference_within(speed_max: float = None):
+def reference_within(speed_max: Optional[float] = None):
     """``reversing()`` with its peak speeds scaled down to at most ``speed_max`` (m/s; None: the
     defaults, 0.02 to 0.2 m/s), and a text that gives them."""
     low, high = DEFAULT_SPEEDS
