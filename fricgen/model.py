@@ -23,6 +23,7 @@ import numpy as np
 
 from . import __version__
 from ._io import read_only, write_atomic
+from .axis import Axis
 from ._validate import FLOAT32_SCALE, float32_scale, json_number
 from .effects import validate_effects
 from .errors import ModelError
@@ -246,6 +247,13 @@ class FrictionModel:
         return (self.positive,) if self.negative is None else (self.positive, self.negative)
 
     @property
+    def axis(self) -> Optional[Axis]:
+        """The axis of the training data (``training.axis``: mass, force constant, offset,
+        speed range), or None for a model whose training recorded none."""
+        record = self.training.get("axis")
+        return None if record is None else Axis.from_dict(record)
+
+    @property
     def format_version(self) -> int:
         """The model.json format version that holds this model: 1 if symmetric, else 2."""
         return SYMMETRIC_FORMAT_VERSION if self.negative is None else FORMAT_VERSION
@@ -346,6 +354,8 @@ class FrictionModel:
         training = d.get("training", {})
         if not isinstance(training, dict):
             raise ModelError("training must be an object")
+        if training.get("axis") is not None:
+            Axis.from_dict(training["axis"])
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
                    v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
                    negative=negative)

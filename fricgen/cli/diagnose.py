@@ -10,6 +10,7 @@ from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files
 from ..effects import model_effects, range_notes
+from ..errors import UsageError
 from ..model import FrictionModel
 from .common import (add_json, add_model, add_output, check_targets, number, out, say,
                      write_folder)
@@ -19,10 +20,10 @@ def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("log", help="measured log CSV with columns t, x, v, i (uniformly sampled)")
     add_model(p)
-    p.add_argument("--mass", required=True, type=number(0, 1e6, low_open=True, unit="kg"),
-                   help="nominal moving mass m, kg")
-    p.add_argument("--force-constant", required=True, type=number(0, 1e6, low_open=True, unit="N/A"),
-                   help="nominal force constant phi, N/A")
+    p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
+                   help="nominal moving mass m, kg (default: the mass of the model's axis record)")
+    p.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
+                   help="nominal force constant phi, N/A (default: that of the model's axis record)")
     p.add_argument("--max-effects", type=number(1, MAX_EFFECTS, integer=True), default=3,
                    help=f"most effects added, 1 to {MAX_EFFECTS} (default 3)")
     add_output(p, "folder for model.json, report.md and plots")
@@ -30,13 +31,35 @@ def register(p) -> None:
     p.set_defaults(run=run)
 
 
+def nominal_axis(model: FrictionModel, mass, force_constant):
+    """The nominal mass and force constant: the options, else the model's axis record; and
+    one line per value taken from the record. ``UsageError`` when neither gives one."""
+    axis = model.axis
+    notes = []
+    if mass is None:
+        if axis is None or axis.mass is None:
+            raise UsageError("--mass is required: the model's axis record gives no mass "
+                             f"({'it has none' if axis is None else 'it was trained on a sweep'})")
+        mass = axis.mass
+        notes.append(f"mass from the model's axis: {axis.mass_text}")
+    if force_constant is None:
+        if axis is None or axis.force_constant is None:
+            raise UsageError("--force-constant is required: the model's axis record gives none")
+        force_constant = axis.force_constant
+        notes.append(f"force constant from the model's axis: phi = {force_constant:.4g} N/A")
+    return mass, force_constant, notes
+
+
 def run(args) -> int:
     inputs = [args.model, args.log]
     check_folder(args.output, [args.model], args.force)
     model = FrictionModel.load(args.model)
+    mass, force_constant, notes = nominal_axis(model, args.mass, args.force_constant)
     log = read_log_csv(args.log)
+    for note in notes:
+        say("fricgen: " + note)
     with named_data(args.log):
-        d = Diagnoser(max_effects=args.max_effects).fit(log, model, args.mass, args.force_constant)
+        d = Diagnoser(max_effects=args.max_effects).fit(log, model, mass, force_constant)
     files = render_files(d, log, Path(args.log).name)
     check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
     for note in range_notes(model_effects(model), log):

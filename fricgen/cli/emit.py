@@ -3,8 +3,10 @@ from __future__ import annotations
 
 from .._io import check_folder
 from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite, render
+from ..codegen.fixedpoint import covered_speed, input_range
+from ..errors import UsageError
 from ..model import FrictionModel, check_model_name
-from .common import FORCE_C, add_output, check_targets, say, write_targets
+from .common import FORCE_C, add_output, check_targets, number, say, write_targets
 
 
 def register(p) -> None:
@@ -16,9 +18,23 @@ def register(p) -> None:
                    help="sigmoid through libm's expf, or the fast one without libm (error <= 8.7e-7)")
     p.add_argument("--dtype", choices=DTYPES, default="float",
                    help="float, or integer-only fixed point for MCUs without FPU")
+    p.add_argument("--v-max", type=number(0, 1e6, low_open=True, unit="m/s"),
+                   help="q15/q31: the fastest speed the fixed-point input must hold, m/s (default: "
+                   "the fastest speed of the model's training data, from its axis record)")
     p.add_argument("--with-controller", action="store_true",
                    help="also write the adaptive backstepping controller fric_ctrl.{h,c} (float)")
     p.set_defaults(run=run)
+
+
+def input_range_note(model: FrictionModel, dtype: str, v_max) -> str:
+    """One line on the speeds the fixed-point input covers, and where that range came from."""
+    v_range = input_range(model, dtype, v_max)
+    cover = covered_speed(model, v_max)
+    if cover is None:
+        return (f"fricgen: warning: the {dtype} C takes |v| < {v_range:g} m/s (2 v_sat): faster "
+                "speeds clamp there; the model records no speed range (--v-max sets one)")
+    source = "--v-max" if v_max is not None else "the model's axis: its training speeds"
+    return f"fricgen: the {dtype} C takes |v| < {v_range:g} m/s, covering {cover:.4g} m/s ({source})"
 
 
 def run(args) -> int:
@@ -28,11 +44,15 @@ def run(args) -> int:
         name = check_model_name(model.name, f"field 'name' of {args.model} (override it with --name)")
     else:
         name = check_model_name(args.name, "--name")
+    if args.v_max is not None and args.dtype == "float":
+        raise UsageError("--v-max sets the input range of --dtype q15 or q31; float takes any speed")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
-                   with_controller=args.with_controller)
+                   with_controller=args.with_controller, v_max=args.v_max)
     check_name_in_folder(args.output, name)
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)
     write_targets(targets, files)
+    if args.dtype != "float":
+        say(input_range_note(model, args.dtype, args.v_max))
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

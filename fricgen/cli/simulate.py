@@ -4,6 +4,11 @@ Without ``--model`` the truth is the paper benchmark friction (Table 1) and the 
 none, exact (the true friction), elm (fricgen's default model trained on the paper data) and
 fuzzy (the ANFIS baseline). With ``--model`` the variants
 are none, exact and that model.
+
+The plant is the built-in 2 kg axis, unless the model's axis record (``training.axis``) gives a
+mass, or ``--mass`` does: then the plant is that axis, with the model as its friction and the
+record's offset as a constant force, and the variants are none and the model (exact
+compensation is the model's). A model with a speed range keeps the reference within it.
 """
 from __future__ import annotations
 
@@ -12,7 +17,8 @@ import json
 from ..control.backstepping import AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
-from ..control.loop import DEFAULT_DURATION, compensations, default_axis, simulate
+from ..control.loop import (DEFAULT_DURATION, builtin_plant, compensations, model_plant,
+                            peak_force, simulate)
 from ..errors import UsageError
 from ..model import FrictionModel
 from .._io import check_files, check_folder
@@ -24,6 +30,9 @@ def register(p) -> None:
     """The arguments of this command."""
     add_model(p, required=False, help="model.json to compensate with (default: fricgen's default "
               "model trained on the paper benchmark, plus the fuzzy baseline)")
+    p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
+                   help="simulate the model's axis with this mass, kg (default: the mass of the "
+                   "model's axis record, if any; else the built-in 2 kg axis)")
     p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of eq. (12)")
     p.add_argument("--ts", type=number(1e-6, 0.1, unit="s"), default=1e-3,
                    help="sampling time, s (default 1e-3)")
@@ -50,9 +59,11 @@ def run(args) -> int:
                          f"{args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} are simulated")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
-    axis = default_axis()
     model = FrictionModel.load(args.model) if args.model else None
-    settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input)
+    plant = choose_plant(model, args.mass)
+    axis = plant.axis
+    settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,
+                                    phi_n=plant.phi_n)
     try:
         settings.validate()
     except ValueError as exc:
@@ -65,8 +76,14 @@ def run(args) -> int:
         ctrls = c_controllers(variants, settings)
     else:
         ctrls = {name: settings.clone(compensation=comp) for name, comp in variants.items()}
-    runs = dict(zip(ctrls, simulate(axis, list(ctrls.values()), duration=args.duration)))
-    report = {"law": args.law, "ts": args.ts, "duration": args.duration,
+    thrust = axis.law.force_constant * axis.law.i_max
+    needed = peak_force(plant, args.duration, args.ts)
+    if needed > thrust:
+        say(f"fricgen: warning: the reference needs up to {needed:.4g} N, more than the simulated "
+            f"motor's {thrust:.4g} N: the current saturates")
+    runs = dict(zip(ctrls, simulate(axis, list(ctrls.values()), plant.trajectory,
+                                    duration=args.duration)))
+    report = {"plant": plant.text, "law": args.law, "ts": args.ts, "duration": args.duration,
               "backend": args.backend, "friction_input": args.friction_input,
               "variants": {name: run.metrics() for name, run in runs.items()}}
     if args.backend == "c":
@@ -81,9 +98,29 @@ def run(args) -> int:
     return 0
 
 
+def choose_plant(model, mass=None):
+    """The plant ``simulate`` runs: the model's axis when ``mass`` (``--mass``) or the model's
+    axis record gives a mass, else the built-in axis; the reference within the model's speeds."""
+    if model is None:
+        if mass is not None:
+            raise UsageError("--mass sets the mass of the model's axis: it needs --model")
+        return builtin_plant("the paper benchmark")
+    record = model.axis
+    speed_max = record.speed_max if record is not None else None
+    offset = (record.offset or 0.0) if record is not None else 0.0
+    if mass is not None:
+        return model_plant(model, mass, offset, speed_max, f"m = {mass:.4g} kg (--mass)")
+    if record is not None and record.mass is not None:
+        return model_plant(model, record.mass, offset, speed_max, record.mass_text)
+    why = ("the model carries no axis" if record is None else
+           "the model's axis has no mass (trained on a sweep); --mass simulates that axis")
+    return builtin_plant(why, speed_max)
+
+
 def table(report: dict) -> str:
     """The variant table: rms and max tracking error, rms current, final adaptive parameters."""
-    lines = [f"law ({report['law']}), Ts = {report['ts']:g} s, {report['duration']:g} s simulated, "
+    lines = [report["plant"],
+             f"law ({report['law']}), Ts = {report['ts']:g} s, {report['duration']:g} s simulated, "
              f"{report['backend']} controller, friction model at {report['friction_input']}",
              f"{'variant':8s} {'rms_e1 mm':>10s} {'max_e1 mm':>10s} {'rms_i A':>8s} {'max_i A':>8s} "
              f"{'m_o_hat':>8s} {'k_hat':>7s}"]

@@ -5,7 +5,9 @@ For MCUs without FPU, eq. (3) and eq. (7)-(8) are evaluated in integers only:
 I/O, 64-bit products and accumulator. Every quantity q has a binary scale: value = q 2^-F.
 The scales are chosen from the model's ranges (``FixedSpec.of``):
 
-- input velocity: F_v so that |v| < V_RANGE = the smallest power of two >= 2 v_sat;
+- input velocity: F_v so that |v| < V_RANGE = the smallest power of two >= 2 v_sat that also
+  holds the covered speed ``v_max`` (``input_range``): given, else the fastest speed of the
+  model's training data (``training.axis.speed_max``), else none;
 - output force: F_f so that |F| < the smallest power of two >= 1.1 max |F| on |v| <= V_RANGE;
 - w, b, beta: the finest scale that holds the largest magnitude of each table;
 - z = w x + b: the finest scale that holds max |w|, |b|, |w + b| (x in [0, 1]);
@@ -21,7 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict
+from typing import Dict, Optional
 
 import numpy as np
 
@@ -78,6 +80,24 @@ class ConstMul:
         return (np.asarray(x, dtype=np.int64) * self.mant + (1 << (self.shift - 1))) >> self.shift
 
 
+def covered_speed(model: FrictionModel, v_max: Optional[float] = None) -> Optional[float]:
+    """The speed (m/s) the fixed-point input must hold: ``v_max``, else the model's
+    ``axis.speed_max``, else None (only 2 v_sat is covered)."""
+    if v_max is not None:
+        return float(v_max)
+    axis = model.axis
+    return None if axis is None else axis.speed_max
+
+
+def input_range(model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> float:
+    """V_RANGE (m/s): the smallest power of two >= 2 v_sat in which ``covered_speed`` is
+    representable; the emitted C takes |v| < V_RANGE (a caller clamps faster speeds there)."""
+    bits = DTYPE_PARAMS[dtype]["bits"]
+    cover = covered_speed(model, v_max)
+    need = 2 * model.v_sat if cover is None else max(2 * model.v_sat, cover * (1 + 2.0 ** -(bits - 2)))
+    return 2.0 ** _ceil_log2(need)
+
+
 @dataclass(frozen=True)
 class FixedSpec:
     """Scales and integer tables of a fixed-point model (all derived from the model's ranges)."""
@@ -112,7 +132,8 @@ class FixedSpec:
         return _TERM_SHIFT[self.dtype]
 
     @classmethod
-    def of(cls, model: FrictionModel, dtype: str) -> "FixedSpec":
+    def of(cls, model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> "FixedSpec":
+        """The scales for ``model`` in ``dtype``, its input covering ``v_max`` (``input_range``)."""
         if dtype not in DTYPE_PARAMS:
             raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
         net = model.aim
@@ -120,7 +141,7 @@ class FixedSpec:
             raise ModelError("fixed-point emission covers ELM models with sigmoid activation only")
         p = DTYPE_PARAMS[dtype]
         bits = p["bits"]
-        v_range = 2.0 ** _ceil_log2(2 * model.v_sat)
+        v_range = input_range(model, dtype, v_max)
         f_v = (bits - 1) - _ceil_log2(v_range)
         grid = np.linspace(0.0, 1.0, 4001)
         aim = net(grid)
@@ -239,11 +260,18 @@ def _c_int_array(values, per_line: int = 8) -> str:
     return c_list((str(int(v)) for v in np.asarray(values).ravel()), per_line)
 
 
-def render_fixed(model: FrictionModel, name: str, dtype: str,
-                 max_rel_error: float = 0.025) -> Dict[str, str]:
-    """NAME.h and NAME.c of the fixed-point model (no runtime files, no float, no libm)."""
+def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: float = 0.025,
+                 v_max: Optional[float] = None) -> Dict[str, str]:
+    """NAME.h and NAME.c of the fixed-point model (no runtime files, no float, no libm), its
+    input covering ``v_max`` m/s (default: the model's training speeds; ``input_range``)."""
     ident = identity_context(model, name)
-    spec = FixedSpec.of(model, dtype)
+    spec = FixedSpec.of(model, dtype, v_max)
+    cover = covered_speed(model, v_max)
+    if cover is None:
+        covers = "2 v_sat only: the model records no training speeds"
+    else:
+        covers = (f"{cover:.4g} m/s" + (" (--v-max)" if v_max is not None else
+                                         ", the fastest speed of the model's training data"))
     bound = error_bound(spec, model)
     f_range = 2.0 ** (spec.bits - 1 - spec.f_f)
     if not bound <= max_rel_error * f_range:
@@ -254,6 +282,7 @@ def render_fixed(model: FrictionModel, name: str, dtype: str,
     ctx = {
         **ident, "dtype": dtype, "n_hidden": spec.w.size, "bits": spec.bits,
         "stype": st, "wtype": wt, "f_v": spec.f_v, "f_f": spec.f_f, "error_bound": f"{bound:.3g}",
+        "covers": covers,
         "v_range": 2.0 ** (spec.bits - 1 - spec.f_v), "f_range": f_range,
         "w": _c_int_array(spec.w), "b": _c_int_array(spec.b), "beta": _c_int_array(spec.beta),
         "sig": ",\n".join("    {" + ", ".join(str(int(c)) for c in row) + "}" for row in spec.sig_coeffs),

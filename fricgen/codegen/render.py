@@ -132,10 +132,15 @@ def controller_files() -> Dict[str, str]:
 
 
 def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
-           dtype: str = "float", with_controller: bool = False) -> Dict[str, str]:
+           dtype: str = "float", with_controller: bool = False,
+           v_max: Optional[float] = None) -> Dict[str, str]:
     """All files of the emitted folder, by file name: NAME.h, NAME.c and the runtime, plus the
-    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``."""
+    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``. ``v_max`` (m/s): the
+    speed a fixed-point input must cover (default: the model's training speeds)."""
     name = model.name if name is None else name
+    if v_max is not None and dtype == "float":
+        raise ModelError("v_max sets the input range of fixed point (--dtype q15 or q31); float "
+                         "takes any speed")
     if with_controller and dtype != "float":
         raise ModelError(f"the controller runtime is float; it cannot be emitted with --dtype {dtype}")
     if activation_impl not in ACTIVATION_IMPLS:
@@ -152,7 +157,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
-        return render_fixed(model, name, dtype)
+        return render_fixed(model, name, dtype, v_max=v_max)
     env = template_environment()
     if isinstance(model.aim, StribeckCurve):
         if model.negative is not None:
@@ -252,12 +257,13 @@ def check_name_in_folder(out_dir: Union[str, Path], name: str) -> None:
 
 def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
          activation_impl: str = "libm", dtype: str = "float",
-         with_controller: bool = False, force: bool = False) -> Dict[str, Path]:
+         with_controller: bool = False, force: bool = False,
+         v_max: Optional[float] = None) -> Dict[str, Path]:
     """Render everything first, check the folder's models and that every file it replaces is
     fricgen's own and writable (``check_overwrite``, skipped with ``force``), then write each
     file atomically into ``out_dir``."""
     name = model.name if name is None else name
-    files = render(model, name, activation_impl, dtype, with_controller)
+    files = render(model, name, activation_impl, dtype, with_controller, v_max)
     check_name_in_folder(out_dir, name)
     check_overwrite([Path(out_dir) / fname for fname in files], force)
     return write_all_atomic(out_dir, files)

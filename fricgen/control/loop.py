@@ -25,9 +25,14 @@ from .backstepping import AdaptiveBackstepping
 DEFAULT_DURATION = 4.0
 #: RK4 steps per controller sample.
 DEFAULT_SUBSTEPS = 10
+#: The built-in axis: mass (kg), true force constant (N/A), the controller's nominal one (N/A).
+DEFAULT_MASS, DEFAULT_FORCE_CONSTANT, DEFAULT_PHI_N = 2.0, 18.0, 20.0
+#: The peak speeds of the built-in reference (``reversing()``), m/s.
+DEFAULT_SPEEDS = (0.02, 0.2)
 
 
-def default_axis(friction=None, mass: float = 2.0, force_constant: float = 18.0,
+def default_axis(friction=None, mass: float = DEFAULT_MASS,
+                 force_constant: float = DEFAULT_FORCE_CONSTANT,
                  i_max: float = 10.0, load: float = 0.0) -> MotorAxis:
     """The controlled axis of section 6: a linear permanent-magnet motor, eq. (18), with thrust
     phi i (eq. 2 of section 6).
@@ -43,6 +48,68 @@ def default_axis(friction=None, mass: float = 2.0, force_constant: float = 18.0,
     effects = (ConstantLoad(load=float(load)),) if load else ()
     return MotorAxis(EffectLaw(friction, effects, mass=mass, force_constant=force_constant,
                                i_max=i_max))
+
+
+@dataclass(frozen=True)
+class Plant:
+    """An axis to simulate, the nominal force constant its controller assumes (N/A), the
+    reference it follows, and one line that says what it is."""
+
+    axis: MotorAxis
+    phi_n: float
+    trajectory: object
+    text: str
+
+
+def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
+                speed_max: Optional[float] = None, mass_text: str = "") -> Plant:
+    """The axis a model was trained on: eq. (18) with mass ``mass`` (kg), the model itself as its
+    friction (sticking at rest up to F(0+)) and the constant force ``offset`` (N, along +x).
+
+    Its motor is the built-in one scaled with the mass (phi = 9 N/A per kg, the controller
+    assuming 10 N/A per kg, 10 A): m / phi, and so the controller's gains and loop bandwidth,
+    stay those of the built-in axis. The reference reverses at peak speeds up to
+    min(0.2 m/s, ``speed_max``), the fastest speed the model was trained on.
+    """
+    scale = mass / DEFAULT_MASS
+    axis = default_axis(model, mass=mass, force_constant=DEFAULT_FORCE_CONSTANT * scale,
+                        load=-offset)
+    trajectory, speeds = reference_within(speed_max)
+    offset_text = f", offset {offset:.4g} N as a constant force" if offset else ""
+    return Plant(axis, DEFAULT_PHI_N * scale, trajectory,
+                 f"plant: the model's axis, {mass_text or f'm = {mass:.4g} kg'}{offset_text}, "
+                 f"friction = the model; motor {DEFAULT_FORCE_CONSTANT * scale:.4g} N/A, 10 A; "
+                 f"{speeds}")
+
+
+def builtin_plant(why: str, speed_max: Optional[float] = None) -> Plant:
+    """The built-in 2 kg axis of ``default_axis()`` (Table 1 friction); ``why`` says why."""
+    trajectory, speeds = reference_within(speed_max)
+    return Plant(default_axis(), DEFAULT_PHI_N, trajectory,
+                 f"plant: built-in {DEFAULT_MASS:g} kg axis (Table 1 friction); {why}; {speeds}")
+
+
+def reference_within(speed_max: Optional[float] = None):
+    """``reversing()`` with its peak speeds scaled down to at most ``speed_max`` (m/s; None: the
+    defaults, 0.02 to 0.2 m/s), and a text that gives them."""
+    low, high = DEFAULT_SPEEDS
+    if speed_max is not None and speed_max < high:
+        low, high = low * speed_max / high, speed_max
+        where = f" (within the model's training speeds, up to {speed_max:.4g} m/s)"
+    else:
+        where = "" if speed_max is None else \
+            f" (the model was trained up to {speed_max:.4g} m/s)"
+    return reversing(low, high), f"reference peak speeds {low:.3g} to {high:.3g} m/s{where}"
+
+
+def peak_force(plant: Plant, duration: float, ts: float) -> float:
+    """The largest force the plant's reference asks of the motor: m |x_d''| + |F(x_d')| +
+    |offset| along it, N."""
+    law = plant.axis.law
+    ref = sampled(plant.trajectory, np.arange(0.0, duration, ts))
+    friction = np.abs(law.sliding_friction(ref[:, 1], ref[:, 0] * 0, ref[:, 1] * 0))
+    load = np.abs(law.external_force(ref[:, 0], ref[:, 1], ref[:, 0] * 0))
+    return float(np.max(law.mass * np.abs(ref[:, 2]) + friction + load))
 
 
 @dataclass(frozen=True)
@@ -159,9 +226,11 @@ def fuzzy_model(name: str = "fuzzy_model", bench=None) -> FrictionModel:
 
 def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
                   with_fuzzy: bool = True) -> Dict[str, Optional[object]]:
-    """The compensation variants to compare: none, exact (the axis' true friction), and
-    ``model`` as "model", or else the default model as "elm" and the fuzzy baseline as "fuzzy"."""
-    variants: Dict[str, Optional[object]] = {"none": None, "exact": axis.law.friction}
+    """The compensation variants to compare: none, exact (the axis' true friction, unless that
+    is ``model``), and ``model`` as "model", or else the default model as "elm" and the fuzzy baseline as "fuzzy"."""
+    variants: Dict[str, Optional[object]] = {"none": None}
+    if axis.law.friction is not model:        # else exact compensation is the model's
+        variants["exact"] = axis.law.friction
     if model is None:
         bench = paper_benchmark()
         variants["elm"] = default_model(bench=bench)
