@@ -73,24 +73,21 @@ class MatFile:
 
     def columns(self, required: Iterable[str], wanted: Iterable[str] = ()) -> Dict[str, np.ndarray]:
         """The vectors of the length of the ``required`` variables and of the vectors among
-        ``wanted`` (all of one length, else ``DataError`` naming two; a required variable the
-        file lacks, or that is no vector, is a ``DataError`` too). Vectors of another length
-        are not columns of this table and are left out."""
+        ``wanted``, which must all have one length (else ``DataError`` naming the first and one
+        of another length; a required variable the file lacks, or that is no vector, is a
+        ``DataError`` too). Vectors of another length are no columns of this table: left out."""
         named = list(dict.fromkeys([*required, *(w for w in wanted if w in self.vectors)]))
         for name in named:
             self._check_vector(name)
-        lengths = {name: self.vectors[name].size for name in named}
-        if len(set(lengths.values())) > 1:
-            ordered = sorted(lengths.items(), key=lambda kv: kv[1])
-            (a, na), (b, nb) = ordered[0], ordered[-1]
-            raise DataError(f"{self.path}: variables {a!r} ({na} values) and {b!r} ({nb} values) "
-                            "differ in length")
-        if lengths:
-            n = next(iter(lengths.values()))
-        else:                               # nothing named: the most common length
+        sizes = [self.vectors[name].size for name in named]
+        for name, size in zip(named, sizes):
+            if size != sizes[0]:
+                raise DataError(f"{self.path}: variables {named[0]!r} ({sizes[0]} values) and "
+                                f"{name!r} ({size} values) differ in length")
+        if not sizes:                       # nothing named: the most common length
             sizes = [a.size for a in self.vectors.values()]
-            n = max(sizes, key=sizes.count, default=0)
-        return {k: a for k, a in self.vectors.items() if a.size == n}
+            sizes = [max(sizes, key=sizes.count, default=0)]
+        return {k: a for k, a in self.vectors.items() if a.size == sizes[0]}
 
     def _check_vector(self, name: str) -> None:
         if name in self.vectors:
