@@ -122,6 +122,8 @@ def log_files(tmp_path_factory):
     (d / "log.csv").write_text(table_csv_text({"t": log.t, "x": log.x, "v": log.v, "i": milli * 1e-3}))
     savemat(d / "log.mat", {"time": log.t[:, None], "pos": log.x[:, None], "vel": log.v[:, None],
                             "cur_mA": milli[:, None], "mA": 1e-3})
+    savemat(d / "pos.mat", {"time": log.t, "pos": log.x, "vel": log.v})
+    savemat(d / "drive.mat", {"stamp": log.t, "cur_mA": milli, "mA": 1e-3})
     savemat(d / "named.mat", {"t": log.t, "x": log.x, "v": log.v, "i": log.i, "x_d": log.extra["x_d"]})
     (d / "named.csv").write_text(table_csv_text({"t": log.t, "x": log.x, "v": log.v, "i": log.i,
                                                  "x_d": log.extra["x_d"]}))
@@ -129,14 +131,18 @@ def log_files(tmp_path_factory):
 
 
 def test_training_on_a_matlab_file_equals_training_on_the_csv(log_files, tmp_path):
+    # the same log as one CSV, one MATLAB file, and two MATLAB files merged on their (equal) clocks
     common = ["--mass", "4", "--force-constant", "20", "--method", "elm", "--neurons", "12",
               "--vs-max", "0.02", "--symmetric"]
     assert main(["train", str(log_files / "log.csv"), *common, "-o", str(tmp_path / "csv.json")]) == 0
     assert main(["train", str(log_files / "log.mat"), "--columns", "t=time,x=pos,v=vel,i=cur_mA",
                  "--scale", "i=mA", *common, "-o", str(tmp_path / "mat.json")]) == 0
-    models = [json.loads((tmp_path / name).read_text()) for name in ("csv.json", "mat.json")]
-    assert [m["training"].pop("source") for m in models] == ["log.csv", "log.mat"]
-    assert models[0] == models[1]
+    assert main(["train", str(log_files / "pos.mat"), "--columns", "t=time,x=pos,v=vel", "--merge",
+                 str(log_files / "drive.mat"), "--merge-columns", "t=stamp,i=cur_mA", "--scale", "i=mA",
+                 *common, "-o", str(tmp_path / "merged.json")]) == 0
+    models = [json.loads((tmp_path / name).read_text()) for name in ("csv.json", "mat.json", "merged.json")]
+    assert [m["training"].pop("source") for m in models] == ["log.csv", "log.mat", "pos.mat"]
+    assert models[0] == models[1] == models[2]
 
 
 def test_diagnose_reads_a_log_from_a_matlab_file(log_files):
