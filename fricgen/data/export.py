@@ -86,7 +86,7 @@ def _factor(name: str, factor: Factor, path, mat: Optional[MatFile], option: str
     return value
 
 
-def check_scaled(scales: Mapping[str, float], files: Mapping[str, Dict[str, np.ndarray]],
+def check_scaled(scales: Mapping[str, Factor], files: Mapping[str, Dict[str, np.ndarray]],
                  option: str = "--scale") -> None:
     """``UsageError`` naming a scaled quantity that none of ``files`` (columns by file name)
     has, and the columns each has."""
