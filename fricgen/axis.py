@@ -1,10 +1,10 @@
 """The axis record of model.json (``training.axis``): what training identified or was told
 about the axis that produced the data, besides its friction.
 
-    m v' = phi i - F(v) + offset            (eq. 18 of section 6, with a constant force)
+    phi i = m v' + F(v) + offset            (eq. 18 of section 6, with a constant force)
 
-``mass`` (kg) and ``offset`` (N, the constant force acting on the axis, positive along +x:
-gravity on an inclined axis, a cable) come with their standard errors when training identified
+``mass`` (kg) and ``offset`` (N, the constant part of the drive force, as IDIM-LS writes it:
+the drive holds -offset of gravity on an inclined axis, or of a cable's pull) come with their standard errors when training identified
 them from a motion log; ``force_constant`` phi (N/A) is what training was told (null when the
 log held a force column); ``speed_min`` and ``speed_max`` (m/s) bound |v| of the training data.
 A sweep gives no mass, force constant or offset (null). The record does not take part in the

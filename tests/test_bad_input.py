@@ -56,6 +56,7 @@ def work(cli_inputs, tmp_path_factory):
     cells[log[0].split(",").index("i")] = "nan"
     (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
     _motion_log_files(d, log)
+    _matlab_files(d, log)
     _trial_files(d, log)
     (d / "log_swapped.csv").write_text("\n".join(log[:100] + [log[101], log[100]] + log[102:]) + "\n")
     (d / "log_short.csv").write_text("\n".join(log[:16]) + "\n")
@@ -100,6 +101,21 @@ def _edited_columns(d, log, name, **edits):
             cells[header.index(column)] = repr(float(edit(v, x)))
         rows.append(",".join(cells))
     (d / name).write_text("\n".join([log[0]] + rows) + "\n")
+
+
+def _matlab_files(d, log):
+    """log.csv as MATLAB files: with scalars and variables that are no columns; without v; as
+    v7.3 (its header), truncated, and without variables."""
+    from scipy.io import savemat
+    header = log[0].split(",")
+    cols = {h: np.array([float(line.split(",")[k]) for line in log[1:]])[:, None] for k, h in enumerate(header)}
+    savemat(d / "log.mat", {**cols, "phi": 20.0, "zero": 0.0, "note": "axis 1", "meta": {"rate": 1e3},
+                            "gains": np.ones((3, 4)), "short": np.arange(7.0)})
+    savemat(d / "log_no_v.mat", {k: a for k, a in cols.items() if k != "v"})
+    raw = (d / "log.mat").read_bytes()
+    (d / "v73.mat").write_bytes(raw[:124] + b"\x00\x02IM" + b"\x89HDF\r\n\x1a\n" + bytes(100))
+    (d / "truncated.mat").write_bytes(raw[:300])
+    savemat(d / "no_variables.mat", {})
 
 
 def _trial_files(d, log):
@@ -323,6 +339,40 @@ ROWS = [
     ("--columns onto an existing name", ["train", "log.csv", *LOG, "--columns", "v=x", "-o", OUT],
      "column 'v' appears twice once the columns are named"),
     ("--scale not a number", ["train", *DRIVE, *MERGE, "--scale", "v=rpm", "-o", OUT], "is not a number"),
+    ("MATLAB v7.3 file", ["train", "v73.mat", *LOG, "-o", OUT], "WORK/v73.mat: a MATLAB v7.3 (HDF5) file, "
+     "which fricgen does not read; save it in MATLAB with save(FILE, '-v7')"),
+    ("MATLAB file truncated", ["train", "truncated.mat", *LOG, "-o", OUT],
+     "WORK/truncated.mat: not a readable MATLAB file"),
+    ("MATLAB file without variables", ["train", "no_variables.mat", *LOG, "-o", OUT],
+     "WORK/no_variables.mat: a MATLAB file without variables"),
+    ("MATLAB file --skip", ["train", "log.mat", "--skip", "2", *LOG, "-o", OUT],
+     "WORK/log.mat is a MATLAB file: it has no preamble lines to skip"),
+    ("MATLAB file --merge-skip", ["train", *DRIVE, "--merge", "log.mat", "--merge-skip", "1", "-o", OUT],
+     "WORK/log.mat is a MATLAB file: it has no preamble lines to skip"),
+    ("MATLAB struct as column", ["train", "log.mat", "--columns", "x=meta", *LOG, "-o", OUT],
+     "WORK/log.mat: variable 'meta' is a 1x1 struct; a column is a real vector (N,1) or (1,N)"),
+    ("MATLAB text as column", ["train", "log.mat", "--columns", "x=note", *LOG, "-o", OUT],
+     "WORK/log.mat: variable 'note' is text"),
+    ("MATLAB matrix as column", ["train", "log.mat", "--columns", "x=gains", *LOG, "-o", OUT],
+     "WORK/log.mat: variable 'gains' is a 3x4 matrix, not a vector"),
+    ("MATLAB scalar as column", ["train", "log.mat", "--columns", "i=phi", *LOG, "-o", OUT],
+     "WORK/log.mat: variable 'phi' is a scalar (1x1), not a column"),
+    ("MATLAB variable the file lacks", ["train", "log.mat", "--columns", "i=current", *LOG, "-o", OUT],
+     "WORK/log.mat: no variable 'current' (its vectors: t, x, v, i, x_d, short)"),
+    ("MATLAB vectors of unequal length", ["train", "log.mat", "--columns", "x=short", *LOG, "-o", OUT],
+     "WORK/log.mat: variables 'short' (7 values) and 't' (3001 values) differ in length"),
+    ("--scale by a MATLAB variable that is no scalar", ["train", "log.mat", "--scale", "i=gains", *LOG,
+                                                        "-o", OUT],
+     "--scale: i='gains' is neither a number nor a scalar variable of WORK/log.mat (gains is a 3x4 "
+     "matrix, not a vector) (its scalars: phi, zero)"),
+    ("--scale by a MATLAB scalar of 0", ["train", "log.mat", "--scale", "i=zero", *LOG, "-o", OUT],
+     "--scale: i=zero, the variable of WORK/log.mat, must be finite and not 0, got 0"),
+    ("--scale by a name, of a CSV", ["train", "log.csv", "--scale", "i=phi", *LOG, "-o", OUT],
+     "--scale: i='phi' is not a number"),
+    ("diagnose, a MATLAB v7.3 file", ["diagnose", "v73.mat", "--model", "model.json", *DIAG, "-o", OUT],
+     "WORK/v73.mat: a MATLAB v7.3 (HDF5) file"),
+    ("diagnose, a MATLAB file without v", ["diagnose", "log_no_v.mat", "--model", "model.json", *DIAG,
+                                           "-o", OUT], "WORK/log_no_v.mat: no variable 'v'"),
     ("--scale 0", ["train", *DRIVE, *MERGE, "--scale", "v=0", "-o", OUT], "must be finite and not 0"),
     ("--scale inf", ["train", *DRIVE, *MERGE, "--scale", "force=inf", "-o", OUT], "must be finite and not 0"),
     ("--scale of an unknown quantity", ["train", *DRIVE, *MERGE, "--scale", "rpm=2", "-o", OUT],

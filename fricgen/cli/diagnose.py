@@ -5,7 +5,7 @@ import json
 from pathlib import Path
 
 from .._io import check_folder, named_data
-from ..data import read_log_csv
+from ..data import read_log
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files
@@ -18,7 +18,8 @@ from .common import (add_json, add_model, add_output, check_targets, number, out
 
 def register(p) -> None:
     """The arguments of this command."""
-    p.add_argument("log", help="measured log CSV with columns t, x, v, i (uniformly sampled)")
+    p.add_argument("log", help="measured log with columns t, x, v, i (uniformly sampled): a CSV, or a "
+                   "MATLAB .mat file with these variables")
     add_model(p)
     p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
                    help="nominal moving mass m, kg (default: the mass of the model's axis record)")
@@ -55,7 +56,7 @@ def run(args) -> int:
     check_folder(args.output, [args.model], args.force)
     model = FrictionModel.load(args.model)
     mass, force_constant, notes = nominal_axis(model, args.mass, args.force_constant)
-    log = read_log_csv(args.log)
+    log = read_log(args.log)
     for note in notes:
         say("fricgen: " + note)
     with named_data(args.log):

@@ -311,7 +311,8 @@ def _choice_line(fitted) -> str:
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("sweep", help="CSV with columns v (m/s) and f (N) (a sweep), or t (s), v (m/s) "
-                   "or x (m), and force (N) or i (A) (a motion log, with --mass)")
+                   "or x (m), and force (N) or i (A) (a motion log, with --mass); or a MATLAB .mat "
+                   "file, its vectors the columns")
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
                    "(default: estimated from the data)")
@@ -344,15 +345,15 @@ def register(p) -> None:
                      help="force constant, N/A, for a log with current i instead of force")
     export = p.add_argument_group("vendor exports")
     export.add_argument("--skip", type=number(0, 1e6, integer=True), default=0,
-                        help="preamble lines before the header (default 0)")
+                        help="preamble lines before the header (default 0; not for a .mat file)")
     export.add_argument("--columns", action="append", default=[], metavar="NAME=COLUMN,...",
-                        help="the file's column of each quantity (t, x, v, f, force, i), e.g. "
-                        "'t=Time [s],v=Speed [rpm]'")
+                        help="the file's column (a .mat file's variable) of each quantity (t, x, v, "
+                        "f, force, i), e.g. 't=Time [s],v=Speed [rpm]'")
     export.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR,...",
-                        help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s); "
-                        "applies to both files")
-    export.add_argument("--merge", metavar="FILE", help="a second instrument's CSV, merged on time "
-                        "onto the slower of the two clocks (linear interpolation)")
+                        help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s), "
+                        "or by a scalar variable of a .mat file, e.g. force=gtau; applies to both files")
+    export.add_argument("--merge", metavar="FILE", help="a second instrument's CSV or .mat, merged on "
+                        "time onto the slower of the two clocks (linear interpolation)")
     export.add_argument("--merge-columns", action="append", default=[], metavar="NAME=COLUMN,...",
                         help="--columns of the --merge file")
     export.add_argument("--merge-skip", type=number(0, 1e6, integer=True), default=0,

@@ -64,7 +64,8 @@ class Plant:
 def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
                 speed_max: Optional[float] = None, mass_text: str = "") -> Plant:
     """The axis a model was trained on: eq. (18) with mass ``mass`` (kg), the model itself as its
-    friction (sticking at rest up to F(0+)) and the constant force ``offset`` (N, along +x).
+    friction (sticking at rest up to F(0+)) and the constant force ``offset`` (N, the constant
+    part of the drive force: an external force of -offset along +x, ``fricgen.axis``).
 
     Its motor is the built-in one scaled with the mass (phi = 9 N/A per kg, the controller
     assuming 10 N/A per kg, 10 A): m / phi, and so the controller's gains and loop bandwidth,
@@ -73,7 +74,7 @@ def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
     """
     scale = mass / DEFAULT_MASS
     axis = default_axis(model, mass=mass, force_constant=DEFAULT_FORCE_CONSTANT * scale,
-                        load=-offset)
+                        load=offset)
     trajectory, speeds = reference_within(speed_max)
     offset_text = f", offset {offset:.4g} N as a constant force" if offset else ""
     return Plant(axis, DEFAULT_PHI_N * scale, trajectory,

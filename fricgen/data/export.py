@@ -2,26 +2,31 @@
 
 An ``ExportLayout`` says how to read one file: the lines before its header, and which of its
 columns hold fricgen's quantities (``t`` s, ``x`` m, ``v`` m/s, ``f`` or ``force`` N, ``i`` A).
-``read_export`` reads the file with the one CSV reader (``table.read_table_csv``), names the
-columns, and multiplies each by its scale factor; ``merge_on_time`` joins a second instrument's
-file whose clock runs ``shift`` seconds behind, on the slower of the two clocks.
+``read_export`` reads the file with the one CSV reader (``table.read_table_csv``), or a MATLAB
+file's vectors as columns (``matfile``), names the columns, and multiplies each by its scale
+factor (a number, or a MATLAB file's scalar variable); ``merge_on_time`` joins a second
+instrument's file whose clock runs ``shift`` seconds behind, on the slower of the two clocks.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, Mapping, Sequence, Tuple, Union
+from typing import Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from .._io import plain_float
 from ..errors import DataError, UsageError
+from .matfile import MatFile, is_matfile, read_matfile
 from .motionlog import check_finite
 from .table import read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
 QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A"}
+
+#: A scale factor: a number, or the name of a MATLAB file's scalar variable (``read_export``).
+Factor = Union[float, str]
 
 
 def parse_assignments(items: Sequence[str], option: str) -> Dict[str, str]:
@@ -43,21 +48,45 @@ def parse_assignments(items: Sequence[str], option: str) -> Dict[str, str]:
     return out
 
 
-def parse_scales(items: Sequence[str], option: str = "--scale") -> Dict[str, float]:
-    """The factors of ``--scale v=0.000333333,t=1e-3``: finite numbers other than 0."""
-    scales = {}
+def parse_scales(items: Sequence[str], option: str = "--scale") -> Dict[str, Factor]:
+    """The factors of ``--scale v=0.000333333,t=1e-3``: finite numbers other than 0, or (text
+    that is no number) the name of a scalar variable of a MATLAB file, ``force=gtau``, which
+    ``read_export`` looks up in the file."""
+    scales: Dict[str, Factor] = {}
     for name, text in parse_assignments(items, option).items():
         try:
             factor = plain_float(text)
         except ValueError:
-            raise UsageError(f"{option}: {name}={text[:40]!r} is not a number") from None
-        if not (math.isfinite(factor) and factor != 0):
-            raise UsageError(f"{option}: the factor of {name} must be finite and not 0, got {text[:40]}")
+            scales[name] = text
+            continue
+        _check_factor(factor, f"{option}: the factor of {name}", text)
         scales[name] = factor
     return scales
 
 
-def check_scaled(scales: Mapping[str, float], files: Mapping[str, Dict[str, np.ndarray]],
+def _check_factor(factor: float, what: str, text: str) -> None:
+    if not (math.isfinite(factor) and factor != 0):
+        raise UsageError(f"{what} must be finite and not 0, got {text[:40]}")
+
+
+def _factor(name: str, factor: Factor, path, mat: Optional[MatFile], option: str = "--scale") -> float:
+    """The number ``factor`` is: itself, or the value of the scalar variable of ``mat`` it names
+    (``UsageError`` for a CSV file, or a name that is no scalar of ``mat``, listing them)."""
+    if not isinstance(factor, str):
+        return factor
+    if mat is None:
+        raise UsageError(f"{option}: {name}={factor[:40]!r} is not a number")
+    key = factor.lower()
+    if key not in mat.scalars:
+        what = f" ({factor} is {mat.others[key]})" if key in mat.others else ""
+        raise UsageError(f"{option}: {name}={factor[:40]!r} is neither a number nor a scalar variable "
+                         f"of {path}{what} (its scalars: {', '.join(mat.scalars)[:80] or 'none'})")
+    value = mat.scalars[key]
+    _check_factor(value, f"{option}: {name}={factor}, the variable of {path},", f"{value:g}")
+    return value
+
+
+def check_scaled(scales: Mapping[str, Factor], files: Mapping[str, Dict[str, np.ndarray]],
                  option: str = "--scale") -> None:
     """``UsageError`` naming a scaled quantity that none of ``files`` (columns by file name)
     has, and the columns each has."""
@@ -86,11 +115,19 @@ class ExportLayout:
 
 
 def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
-                scales: Mapping[str, float] = {}) -> Dict[str, np.ndarray]:
-    """The columns of ``path`` by fricgen's names, scaled to SI by ``scales`` (factor per name;
-    a name the file lacks is left for the caller: ``check_scaled``)."""
+                scales: Mapping[str, Factor] = {}) -> Dict[str, np.ndarray]:
+    """The columns of ``path`` (a CSV, or a MATLAB file's vectors) by fricgen's names, scaled to
+    SI by ``scales`` (factor per name; a name the file lacks is left for the caller:
+    ``check_scaled``)."""
     rename = {vendor.strip().lower(): name for name, vendor in layout.columns.items()}
-    raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip)
+    mat = None
+    if is_matfile(path):
+        if layout.skip:
+            raise UsageError(f"{path} is a MATLAB file: it has no preamble lines to skip")
+        mat = read_matfile(path)
+        raw = mat.columns(rename, [q for q in QUANTITIES if q not in layout.columns])
+    else:
+        raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip)
     columns = {}
     for header, values in raw.items():
         name = rename.get(header, header)
@@ -100,7 +137,7 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         columns[name] = values
     for name, factor in scales.items():
         if name in columns:
-            columns[name] = columns[name] * factor
+            columns[name] = columns[name] * _factor(name, factor, path, mat)
     return columns
 
 

@@ -1,4 +1,5 @@
-"""Measured motion logs: CSV with columns t (s), x (m), v (m/s), i (A), sampled uniformly.
+"""Measured motion logs: CSV with columns t (s), x (m), v (m/s), i (A), sampled uniformly (or a
+MATLAB file with these variables).
 
 A log comes from any controller. Extra columns (e.g. ``x_d``) are kept but not interpreted.
 ``read_log_csv`` validates everything before anything uses it and raises ``DataError`` with one
@@ -14,6 +15,7 @@ import numpy as np
 
 from .._io import named_data
 from ..errors import DataError
+from .matfile import is_matfile, read_matfile
 from .table import read_table_csv, table_csv_text
 
 #: The columns every log must have.
@@ -164,10 +166,21 @@ class MotionLog:
         return float((self.t[-1] - self.t[0]) / (self.t.size - 1))
 
 
+def read_log(path: Union[str, Path]) -> MotionLog:
+    """Read a log CSV (``read_log_csv``) or a MATLAB file (``matfile``) whose vector variables
+    include t, x, v, i (other vectors of their length are kept as extra)."""
+    if not is_matfile(path):
+        return read_log_csv(path)
+    return _log_of(read_matfile(path).columns(COLUMNS), path)
+
+
 def read_log_csv(path: Union[str, Path]) -> MotionLog:
     """Read a log CSV whose header names at least t, x, v, i (other numeric columns are kept as
     extra; a column with text in it is left out)."""
-    columns = read_table_csv(path, COLUMNS, keep_extra=True, drop_text=True)
+    return _log_of(read_table_csv(path, COLUMNS, keep_extra=True, drop_text=True), path)
+
+
+def _log_of(columns: Dict[str, np.ndarray], path) -> MotionLog:
     with named_data(path):
         return MotionLog(**{c: columns[c] for c in COLUMNS},
                          extra={h: a for h, a in columns.items() if h not in COLUMNS})
