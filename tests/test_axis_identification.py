@@ -75,10 +75,12 @@ def test_held_out_rows_leak_nothing_into_the_identification(offset_log):
     assert np.array_equal(again.sweep.f, part.sweep.f)
 
 
-def test_row_folds_in_blocks_are_contiguous():
-    folds = row_folds(103, 5, blocks=True)
-    assert np.all(np.diff(folds) >= 0) and set(folds) == set(range(5))
-    assert max(np.bincount(folds)) - min(np.bincount(folds)) <= 1
+def test_row_folds_deal_contiguous_blocks_to_the_folds():
+    folds = row_folds(1000, 5, blocks=30)
+    starts = np.flatnonzero(np.diff(folds)) + 1
+    assert np.all(np.diff(starts) == 30) and starts[0] == 30      # blocks of 30 rows
+    assert set(folds) == set(range(5)) and np.all(folds[::30][:6] == [0, 1, 2, 3, 4, 0])
+    assert np.array_equal(row_folds(12, 5, blocks=100), np.arange(12) // 2 % 5)   # >= 5 blocks
 
 
 def _write(tmp_path, name, columns):

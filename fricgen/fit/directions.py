@@ -25,6 +25,9 @@ from .stribeck import StribeckRegressor
 
 #: Folds of the cross-validation that chooses between the models.
 CV_FOLDS = 5
+#: A log's cross-validation blocks span this many smoothing windows: far beyond the rows that
+#: smoothing correlates.
+BLOCK_WINDOWS = 10
 #: Training points per direction in a cross-validation fit (binned as ``prepare`` does).
 CV_POINTS = 512
 #: The asymmetric model's mean gain must exceed this fraction of the symmetric model's error.
@@ -75,16 +78,18 @@ def _fit(sweep: Sweep, estimator, vs_max: Optional[float],
     return FittedDirection(Direction.fit(dataset, fitted), dataset, fitted)
 
 
-def row_folds(n: int, folds: int, seed=0, blocks: bool = False) -> np.ndarray:
-    """The fold of each of ``n`` rows: contiguous blocks of rows (``blocks``: rows in time order,
-    as a log's, whose neighbours share their noise through smoothing) or a random partition."""
+def row_folds(n: int, folds: int, seed=0, blocks: int = 0) -> np.ndarray:
+    """The fold of each of ``n`` rows: contiguous blocks of ``blocks`` rows dealt to the folds in
+    turn (rows in time order, as a log's, whose neighbours share their noise through smoothing;
+    many blocks, so that no fold holds out a whole phase of the motion, such as its fastest
+    part), or a random partition (``blocks`` 0)."""
     if blocks:
-        return np.arange(n) * folds // n
+        return (np.arange(n) // max(1, min(int(blocks), n // folds))) % folds
     return as_rng(seed).permutation(n) % folds
 
 
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
-                   folds: int = CV_FOLDS, seed=0, per_direction=None, blocks: bool = False,
+                   folds: int = CV_FOLDS, seed=0, per_direction=None, blocks: int = 0,
                    independence: float = 1.0) -> np.ndarray:
     """Held-out mean squared force errors (N^2) per fold (``row_folds``): row 0 the symmetric
     model, row 1 the asymmetric one (its curves fitted by ``per_direction``, default
@@ -128,10 +133,10 @@ def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> flo
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                    asymmetric: Optional[bool] = None, seed=0, per_direction=None,
-                   blocks: bool = False, independence: float = 1.0) -> DirectionsFit:
+                   blocks: int = 0, independence: float = 1.0) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
     ``estimator``); ``asymmetric`` None chooses by cross-validation (in contiguous ``blocks`` of
-    rows for a log's samples, in time order), True or False forces the model. ``independence``
+    rows, ``row_folds``, for a log's samples in time order), True or False forces the model. ``independence``
     (the share of an independent sample in a row, a smoothed log's) bins each curve's training
     set to its effective samples (``prepare``). With data in one direction only the model is symmetric (``DataError`` if the
     asymmetric one was asked for); when a sweep of both directions cannot give each its own
@@ -185,7 +190,8 @@ def within_budget(estimator, budget: int):
 def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max=None,
                  asymmetric=None, seed=0) -> DirectionsFit:
     """``fit_directions`` as ``fricgen train`` runs it. For a log (``ident``, its
-    ``Identification``): cross-validation in blocks of time, training sets binned to the
+    ``Identification``): cross-validation in blocks of BLOCK_WINDOWS smoothing windows of time,
+    training sets binned to the
     effective samples, and at most the parameters they support (``within_budget``; each
     direction has about half of them)."""
     if ident is None:
@@ -195,4 +201,5 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
     return fit_directions(sweep, within_budget(estimator, ident.parameter_budget), vs_max=vs_max,
                           asymmetric=asymmetric, seed=seed,
                           per_direction=within_budget(per_direction, ident.parameter_budget // 2),
-                          blocks=True, independence=ident.independent / ident.n_kept)
+                          blocks=BLOCK_WINDOWS * ident.window,
+                          independence=ident.independent / ident.n_kept)
