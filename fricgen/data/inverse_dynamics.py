@@ -10,12 +10,15 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Tuple
+from functools import lru_cache
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
+from numpy.polynomial import Polynomial
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
-from scipy.signal import savgol_coeffs, savgol_filter
+from scipy.signal import oaconvolve, savgol_coeffs, savgol_filter
 
 from ..errors import DataError
 from ..metrics import least_squares_errors
@@ -29,6 +32,11 @@ POLYORDER = 3
 MIN_WINDOW, WINDOW_RATIO = 7, 1.25
 #: The largest window, as a fraction of the log.
 MAX_WINDOW_FRACTION = 0.05
+#: Windows (samples) from which ``smooth`` convolves by FFT: the direct sum costs O(window)
+#: per sample, the FFT O(log window).
+FFT_WINDOW = 64
+#: ``choose_window`` reports its progress at most this often (s), and not before.
+PROGRESS_SECONDS = 2.0
 #: The axis moves where |v| exceeds this many standard deviations of the velocity noise.
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
@@ -49,38 +57,81 @@ def velocity_noise(v: np.ndarray) -> float:
     return robust_sd(np.diff(v, 2)) / np.sqrt(6.0)
 
 
+@lru_cache(maxsize=256)
+def _coeffs(window: int, deriv: int = 0, delta: float = 1.0) -> np.ndarray:
+    """``savgol_coeffs`` of the cubic (read-only, computed once per window: O(window) each)."""
+    c = savgol_coeffs(window, POLYORDER, deriv=deriv, delta=delta)
+    c.flags.writeable = False
+    return c
+
+
 def _centre_weight(window: int) -> float:
     """The weight of the centre sample in the smoothed value: the variance ratio of the filter."""
-    return float(savgol_coeffs(window, POLYORDER)[window // 2])
+    return float(_coeffs(window)[window // 2])
+
+
+def smooth(signal: np.ndarray, window: int, deriv: int = 0, delta: float = 1.0) -> np.ndarray:
+    """``savgol_filter(signal, window, POLYORDER, deriv, delta)`` (mode 'interp'): the cubic
+    Savitzky-Golay smoothing (``deriv`` 1: its derivative) of ``signal``. From ``FFT_WINDOW``
+    samples on, the interior is convolved by overlap-add FFT (``scipy.signal.oaconvolve``,
+    O(n log window) instead of O(n window)) and the ``window // 2`` samples at each end are the
+    cubic fitted to the first and last ``window`` samples, as ``savgol_filter`` does: equal to
+    it within rounding (about 1e-12 relative)."""
+    if window < FFT_WINDOW:
+        return savgol_filter(signal, window, POLYORDER, deriv=deriv, delta=delta)
+    half = window // 2
+    out = np.empty(signal.size)
+    out[half:-half] = oaconvolve(signal, _coeffs(window, deriv, delta), mode="valid")
+    k = np.arange(window, dtype=float)
+    for ends, at in ((slice(None, window), slice(None, half)), (slice(-window, None), slice(-half, None))):
+        cubic = Polynomial.fit(k, signal[ends], POLYORDER).deriv(deriv)
+        out[at] = cubic(k[at]) / delta ** deriv
+    return out
 
 
 def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
     """Generalized cross-validation of smoothing ``signal`` with ``window`` over ``rows``:
     mean (signal - smooth(signal))^2 / (1 - h0)^2, h0 the centre weight. It estimates the error
     of predicting a sample from its neighbours, noise and bias together."""
-    residual = (signal - savgol_filter(signal, window, POLYORDER))[rows]
+    residual = (signal - smooth(signal, window))[rows]
     return float(np.mean(residual ** 2)) / (1.0 - _centre_weight(window)) ** 2
 
 
 def derivative_noise(window: int, sample_time: float) -> float:
     """The standard deviation of the Savitzky-Golay derivative of unit white noise."""
-    return float(np.linalg.norm(savgol_coeffs(window, POLYORDER, deriv=1, delta=sample_time)))
+    return float(np.linalg.norm(_coeffs(window, 1, sample_time)))
 
 
-def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
-                  sample_time: float) -> int:
-    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
-    the generalized cross-validation score of smoothing the force (its noise, and the bias where
-    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
-    velocity noise leaves in the derivative."""
-    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * rows.size))
+def candidate_windows(n_rows: int) -> List[int]:
+    """The odd windows ``choose_window`` scores for a log of ``n_rows``: from MIN_WINDOW up to
+    MAX_WINDOW_FRACTION of the log, each about WINDOW_RATIO times the last."""
+    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * n_rows))
     windows, w = [], float(MIN_WINDOW)
     while int(w) | 1 <= largest:
         if not windows or int(w) | 1 != windows[-1]:
             windows.append(int(w) | 1)
         w *= WINDOW_RATIO
-    scores = [gcv_score(force, window, rows)
-              + (mass * v_noise * derivative_noise(window, sample_time)) ** 2 for window in windows]
+    return windows
+
+
+def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
+                  sample_time: float, progress: Optional[Callable[[str], None]] = None) -> int:
+    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
+    the generalized cross-validation score of smoothing the force (its noise, and the bias where
+    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
+    velocity noise leaves in the derivative. ``progress`` (a callable taking one line) hears
+    how far the search is once it has run PROGRESS_SECONDS, and then at most that often."""
+    windows = candidate_windows(rows.size)
+    start = last = time.perf_counter()
+    scores = []
+    for window in windows:
+        scores.append(gcv_score(force, window, rows)
+                      + (mass * v_noise * derivative_noise(window, sample_time)) ** 2)
+        now = time.perf_counter()
+        if progress is not None and now - last >= PROGRESS_SECONDS:
+            progress(f"smoothing window: scored {len(scores)} of {len(windows)} windows (up to "
+                     f"{window} samples) in {now - start:.0f} s")
+            last = now
     return windows[int(np.argmin(scores))]
 
 
@@ -118,11 +169,12 @@ class Identification:
 
 
 def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional[np.ndarray] = None,
-                      x: Optional[np.ndarray] = None, window: Optional[int] = None) -> Identification:
+                      x: Optional[np.ndarray] = None, window: Optional[int] = None,
+                      progress: Optional[Callable[[str], None]] = None) -> Identification:
     """Friction samples F = f - m dv/dt of a log (eq. 18) at the rows where the axis moves.
 
     ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
-    (odd samples) overrides ``choose_window``."""
+    (odd samples) overrides ``choose_window``, which reports to ``progress``."""
     columns = {"t": t, "force": force, "v": v, "x": x}
     for name, values in columns.items():
         if values is not None:
@@ -141,10 +193,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: float, v: Optional
     noise = velocity_noise(v)
     if window is None:
         light = savgol_filter(v, MIN_WINDOW, POLYORDER)
-        window = choose_window(force, np.abs(light) > MOVING_SIGMAS * noise, mass, noise, ts)
-    v_s = savgol_filter(v, window, POLYORDER)
-    a_s = savgol_filter(v, window, POLYORDER, deriv=1, delta=ts)
-    f_s = savgol_filter(force, window, POLYORDER)
+        window = choose_window(force, np.abs(light) > MOVING_SIGMAS * noise, mass, noise, ts, progress)
+    v_s = smooth(v, window)
+    a_s = smooth(v, window, deriv=1, delta=ts)
+    f_s = smooth(force, window)
     friction = f_s - mass * a_s
     threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
     direction = np.sign(v_s) * (np.abs(v_s) > threshold)
@@ -205,10 +257,10 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
     return f"missing column {missing} (header is {header}){header_hint(cells)}"
 
 
-def identify_log(columns: Dict[str, np.ndarray], mass: float,
-                 force_constant: Optional[float] = None) -> Identification:
+def identify_log(columns: Dict[str, np.ndarray], mass: float, force_constant: Optional[float] = None,
+                 progress: Optional[Callable[[str], None]] = None) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
-    ``force_constant`` (N/A)."""
+    ``force_constant`` (N/A); ``progress`` as there."""
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
     if "force" in columns:
@@ -221,4 +273,5 @@ def identify_log(columns: Dict[str, np.ndarray], mass: float,
     else:
         check_varies(columns["i"], "current i", "A")
         force = force_constant * columns["i"]
-    return identify_friction(columns["t"], force, mass, v=columns.get("v"), x=columns.get("x"))
+    return identify_friction(columns["t"], force, mass, v=columns.get("v"), x=columns.get("x"),
+                             progress=progress)
