@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from scipy.signal import savgol_coeffs, savgol_filter
 
+from fricgen import _progress
 from fricgen.data import inverse_dynamics as idm
 from fricgen.data.inverse_dynamics import (FFT_WINDOW, MAX_WINDOW_FRACTION, MIN_WINDOW, POLYORDER,
                                            WINDOW_RATIO, candidate_windows, choose_window,
@@ -85,7 +86,7 @@ def test_candidate_windows_are_odd_geometric_and_within_the_fraction():
 def test_progress_goes_to_the_callback_not_to_stderr(monkeypatch, capsys):
     t, v, force = _log(n=20000)
     heard = []
-    monkeypatch.setattr(idm, "PROGRESS_SECONDS", 0.0)      # report after every window
+    monkeypatch.setattr(_progress, "PROGRESS_SECONDS", 0.0)      # report after every window
     quiet = identify_friction(t, force, 4.0, v=v)
     told = identify_friction(t, force, 4.0, v=v, progress=heard.append)
     assert told.window == quiet.window

@@ -200,7 +200,7 @@ def training_data(args):
             raise UsageError(f"{source} is a motion log (t, v or x, force or i): pass --mass (kg) "
                              "for the inverse dynamics")
         with named_data(source):
-            ident = identify_log(columns, args.mass, args.force_constant)
+            ident = identify_log(columns, args.mass, args.force_constant, progress=say)
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)
@@ -234,7 +234,7 @@ def run(args) -> int:
         if isinstance(estimator, DefaultRegressor) else estimator
     with named_data(source_name(args)):
         fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
-                                seed=args.seed, per_direction=per_direction)
+                                seed=args.seed, per_direction=per_direction, progress=say)
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}

@@ -10,7 +10,6 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Callable, Dict, List, Optional, Tuple
@@ -20,6 +19,7 @@ from numpy.polynomial import Polynomial
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import oaconvolve, savgol_coeffs, savgol_filter
 
+from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from .motionlog import MIN_SAMPLES, check_finite, check_moves, check_units, check_varies, uniform_time
@@ -35,8 +35,6 @@ MAX_WINDOW_FRACTION = 0.05
 #: Windows (samples) from which ``smooth`` convolves by FFT: the direct sum costs O(window)
 #: per sample, the FFT O(log window).
 FFT_WINDOW = 64
-#: ``choose_window`` reports its progress at most this often (s), and not before.
-PROGRESS_SECONDS = 2.0
 #: The axis moves where |v| exceeds this many standard deviations of the velocity noise.
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
@@ -120,18 +118,14 @@ def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: flo
     the generalized cross-validation score of smoothing the force (its noise, and the bias where
     the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
     velocity noise leaves in the derivative. ``progress`` (a callable taking one line) hears
-    how far the search is once it has run PROGRESS_SECONDS, and then at most that often."""
+    how far the search is when it takes long (``fricgen._progress.Progress``)."""
     windows = candidate_windows(rows.size)
-    start = last = time.perf_counter()
+    report = Progress(progress)
     scores = []
     for window in windows:
         scores.append(gcv_score(force, window, rows)
                       + (mass * v_noise * derivative_noise(window, sample_time)) ** 2)
-        now = time.perf_counter()
-        if progress is not None and now - last >= PROGRESS_SECONDS:
-            progress(f"smoothing window: scored {len(scores)} of {len(windows)} windows (up to "
-                     f"{window} samples) in {now - start:.0f} s")
-            last = now
+        report(f"smoothing window: scored {len(scores)} of {len(windows)} windows, up to {window} samples")
     return windows[int(np.argmin(scores))]
 
 
