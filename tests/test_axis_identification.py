@@ -71,8 +71,10 @@ def test_held_out_rows_leak_nothing_into_the_identification(offset_log):
     spoiled = offset_log["force"] + np.where(block, 1e3, 0.0)   # the block's force garbled
     again = identify_friction(offset_log["t"], spoiled, None, v=offset_log["v"], use=~block,
                               window=part.window)
-    assert again.body == part.body
-    assert np.array_equal(again.sweep.f, part.sweep.f)
+    # equal but for rounding (long windows filter by FFT, which spreads rounding over the log)
+    assert again.body.mass == pytest.approx(part.body.mass, rel=1e-9)
+    assert again.body.offset == pytest.approx(part.body.offset, rel=1e-9, abs=1e-9)
+    assert np.allclose(again.sweep.f, part.sweep.f, rtol=1e-9, atol=1e-9)
 
 
 def test_row_folds_deal_contiguous_blocks_to_the_folds():

@@ -3,6 +3,7 @@ import pytest
 
 from fricgen.data import (DataError, Sweep, estimate_vs_max, identify_viscous, prepare,
                           read_sweep_csv, sweep_csv_text, synthesize_benchmark)
+from fricgen.friction import preset
 
 
 def test_benchmark_follows_section_2(bench, paper_friction):
@@ -171,3 +172,25 @@ def test_noise_free_high_speed_rows_lose_none_but_a_spike():
     spiked = f.copy()
     spiked[20] += 1.0
     assert identify_viscous(Sweep(v, spiked))[2] == 1
+
+
+@pytest.mark.parametrize("quantum", [0.0, 1e-3])
+def test_vs_max_bins_are_the_half_open_velocity_intervals(quantum):
+    """estimate_vs_max takes each bin [lo, hi) as a slice of the sorted speeds: the same
+    rows as the masks v >= lo and v < hi, also where quantized speeds tie at an edge."""
+    rng = np.random.default_rng(1)
+    v = rng.uniform(0.0, 0.2, 3000)
+    v = np.round(v / quantum) * quantum if quantum else v
+    f = preset("paper3")(v) + rng.normal(0.0, 0.3, v.size)
+    order = np.argsort(v)
+    vs, fs = v[order], f[order]
+    fast = vs >= np.quantile(vs, 0.75)
+    resid = fs - np.polyval(np.polyfit(vs[fast], fs[fast], 1), vs)
+    sigma = np.std(resid[fast])
+    edges = np.quantile(vs, np.linspace(0.0, 0.75, 16))
+    edge = edges[1]
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        inside = (vs >= lo) & (vs < hi)
+        if inside.sum() >= 3 and resid[inside].mean() > 3 * sigma / np.sqrt(inside.sum()):
+            edge = hi
+    assert estimate_vs_max(Sweep(v, f)) == edge / 2.0

@@ -198,7 +198,7 @@ def training_data(args):
     source = source_name(args)
     if is_log(columns):
         with named_data(source):
-            ident = identify_log(columns, args.mass, args.force_constant)
+            ident = identify_log(columns, args.mass, args.force_constant, progress=say)
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)
@@ -251,7 +251,7 @@ def run(args) -> int:
         if isinstance(estimator, DefaultRegressor) else estimator
     with named_data(source_name(args)):
         fitted = fit_friction(sweep, estimator, per_direction, ident, vs_max=args.vs_max,
-                              asymmetric=args.asymmetric, seed=args.seed)
+                              asymmetric=args.asymmetric, seed=args.seed, progress=say)
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}

@@ -11,12 +11,15 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Dict, List, Optional, Tuple
+from functools import lru_cache
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
+from numpy.polynomial import Polynomial
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
-from scipy.signal import savgol_coeffs, savgol_filter
+from scipy.signal import oaconvolve, savgol_coeffs, savgol_filter
 
+from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from .idim import RigidBody, identify_mass, identify_rigid_body
@@ -30,6 +33,9 @@ POLYORDER = 3
 MIN_WINDOW, WINDOW_RATIO = 7, 1.25
 #: The largest window, as a fraction of the log.
 MAX_WINDOW_FRACTION = 0.05
+#: Windows (samples) from which ``smooth`` convolves by FFT: the direct sum costs O(window)
+#: per sample, the FFT O(log window).
+FFT_WINDOW = 64
 #: The axis moves where |v| exceeds this many standard deviations of the velocity noise.
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
@@ -57,38 +63,77 @@ def velocity_noise(v: np.ndarray) -> float:
     return robust_sd(np.diff(v, 2)) / np.sqrt(6.0)
 
 
+@lru_cache(maxsize=256)
+def _coeffs(window: int, deriv: int = 0, delta: float = 1.0) -> np.ndarray:
+    """``savgol_coeffs`` of the cubic (read-only, computed once per window: O(window) each)."""
+    c = savgol_coeffs(window, POLYORDER, deriv=deriv, delta=delta)
+    c.flags.writeable = False
+    return c
+
+
 def _centre_weight(window: int) -> float:
     """The weight of the centre sample in the smoothed value: the variance ratio of the filter."""
-    return float(savgol_coeffs(window, POLYORDER)[window // 2])
+    return float(_coeffs(window)[window // 2])
+
+
+def smooth(signal: np.ndarray, window: int, deriv: int = 0, delta: float = 1.0) -> np.ndarray:
+    """``savgol_filter(signal, window, POLYORDER, deriv, delta)`` (mode 'interp'): the cubic
+    Savitzky-Golay smoothing (``deriv`` 1: its derivative) of ``signal``. From ``FFT_WINDOW``
+    samples on, the interior is convolved by overlap-add FFT (``scipy.signal.oaconvolve``,
+    O(n log window) instead of O(n window)) and the ``window // 2`` samples at each end are the
+    cubic fitted to the first and last ``window`` samples, as ``savgol_filter`` does: equal to
+    it within rounding (about 1e-12 relative)."""
+    if window < FFT_WINDOW:
+        return savgol_filter(signal, window, POLYORDER, deriv=deriv, delta=delta)
+    half = window // 2
+    out = np.empty(signal.size)
+    out[half:-half] = oaconvolve(signal, _coeffs(window, deriv, delta), mode="valid")
+    k = np.arange(window, dtype=float)
+    for ends, at in ((slice(None, window), slice(None, half)), (slice(-window, None), slice(-half, None))):
+        cubic = Polynomial.fit(k, signal[ends], POLYORDER).deriv(deriv)
+        out[at] = cubic(k[at]) / delta ** deriv
+    return out
 
 
 def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
     """Generalized cross-validation of smoothing ``signal`` with ``window`` over ``rows``:
     mean (signal - smooth(signal))^2 / (1 - h0)^2, h0 the centre weight. It estimates the error
     of predicting a sample from its neighbours, noise and bias together."""
-    residual = (signal - savgol_filter(signal, window, POLYORDER))[rows]
+    residual = (signal - smooth(signal, window))[rows]
     return float(np.mean(residual ** 2)) / (1.0 - _centre_weight(window)) ** 2
 
 
 def derivative_noise(window: int, sample_time: float) -> float:
     """The standard deviation of the Savitzky-Golay derivative of unit white noise."""
-    return float(np.linalg.norm(savgol_coeffs(window, POLYORDER, deriv=1, delta=sample_time)))
+    return float(np.linalg.norm(_coeffs(window, 1, sample_time)))
 
 
-def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
-                  sample_time: float) -> int:
-    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
-    the generalized cross-validation score of smoothing the force (its noise, and the bias where
-    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
-    velocity noise leaves in the derivative."""
-    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * rows.size))
+def candidate_windows(n_rows: int) -> List[int]:
+    """The odd windows ``choose_window`` scores for a log of ``n_rows``: from MIN_WINDOW up to
+    MAX_WINDOW_FRACTION of the log, each about WINDOW_RATIO times the last."""
+    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * n_rows))
     windows, w = [], float(MIN_WINDOW)
     while int(w) | 1 <= largest:
         if not windows or int(w) | 1 != windows[-1]:
             windows.append(int(w) | 1)
         w *= WINDOW_RATIO
-    scores = [gcv_score(force, window, rows)
-              + (mass * v_noise * derivative_noise(window, sample_time)) ** 2 for window in windows]
+    return windows
+
+
+def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
+                  sample_time: float, progress: Optional[Callable[[str], None]] = None) -> int:
+    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
+    the generalized cross-validation score of smoothing the force (its noise, and the bias where
+    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
+    velocity noise leaves in the derivative. ``progress`` (a callable taking one line) hears
+    how far the search is when it takes long (``fricgen._progress.Progress``)."""
+    windows = candidate_windows(rows.size)
+    report = Progress(progress)
+    scores = []
+    for window in windows:
+        scores.append(gcv_score(force, window, rows)
+                      + (mass * v_noise * derivative_noise(window, sample_time)) ** 2)
+        report(f"smoothing window: scored {len(scores)} of {len(windows)} windows, up to {window} samples")
     return windows[int(np.argmin(scores))]
 
 
@@ -160,14 +205,15 @@ class Identification:
 
 def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = None,
                       v: Optional[np.ndarray] = None, x: Optional[np.ndarray] = None,
-                      window: Optional[int] = None, use: Optional[np.ndarray] = None) -> Identification:
+                      window: Optional[int] = None, use: Optional[np.ndarray] = None,
+                      progress: Optional[Callable[[str], None]] = None) -> Identification:
     """Friction samples F = f - m dv/dt of a log (eq. 18) at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
     it in its curves (``offset_line``).
 
     ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
-    (odd samples) overrides ``choose_window``. ``use`` (a mask of rows) confines everything
+    (odd samples) overrides ``choose_window``, which reports to ``progress``. ``use`` (a mask of rows) confines everything
     identified to those rows, less half a window at each edge, so that a held-out block of time
     leaks nothing into it."""
     columns = {"t": t, "force": force, "v": v, "x": x}
@@ -191,9 +237,9 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
         guess = mass
         if guess is None:                   # the mass at the force's own window, then refined
-            first = choose_window(force, rows, 0.0, noise, ts)
+            first = choose_window(force, rows, 0.0, noise, ts, progress)
             guess = _mass_at(first, ts, v, force, noise, use)
-        window = choose_window(force, rows, guess, noise, ts)
+        window = choose_window(force, rows, guess, noise, ts, progress)
     v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
     if not moving.any():
         raise DataError("the axis never moves beyond the velocity noise")
@@ -221,9 +267,9 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
     (whole windows) where the axis moves: |v| above MOVING_SIGMAS noise and MOVING_FRACTION of
     the top speed."""
-    v_s = savgol_filter(v, window, POLYORDER)
-    a_s = savgol_filter(v, window, POLYORDER, deriv=1, delta=ts)
-    f_s = savgol_filter(force, window, POLYORDER)
+    v_s = smooth(v, window)
+    a_s = smooth(v, window, deriv=1, delta=ts)
+    f_s = smooth(force, window)
     threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
     return v_s, a_s, f_s, (np.abs(v_s) > threshold) & minimum_filter1d(use, window)
 
@@ -283,10 +329,12 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
 
 
 def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
-                 force_constant: Optional[float] = None) -> Identification:
+                 force_constant: Optional[float] = None,
+                 progress: Optional[Callable[[str], None]] = None) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
     ``force_constant`` (N/A). A current without a force constant determines M/K and the friction
-    over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so."""
+    over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so.
+    ``progress`` as there."""
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x")}

@@ -108,9 +108,9 @@ def estimate_vs_max(folded: Sweep) -> float:
     sigma = max(np.std(resid[fast]), 1e-12 * float(np.median(np.abs(f))))   # noise-free data
     edges = np.quantile(v, np.linspace(0.0, 0.75, 16))
     edge = edges[1]
-    for lo, hi in zip(edges[:-1], edges[1:]):
-        inside = (v >= lo) & (v < hi)
-        if inside.sum() >= 3 and resid[inside].mean() > 3 * sigma / np.sqrt(inside.sum()):
+    starts = np.searchsorted(v, edges)          # v is sorted: bin [lo, hi) is one slice of it
+    for lo, hi, k0, k1 in zip(edges[:-1], edges[1:], starts[:-1], starts[1:]):
+        if k1 - k0 >= 3 and resid[k0:k1].mean() > 3 * sigma / np.sqrt(k1 - k0):
             edge = hi
     return float(edge / 2.0)
 
@@ -198,9 +198,10 @@ def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, esti
         if f0 is None:
             raise DataError("no high-speed data to anchor the force at v_sat")
         f_sat = f0 + viscous * v_sat
-    slowest = np.argsort(low.v)[:4]
     n_rows = len(low)
-    low = bin_equal_counts(low, min(max_points, max(MIN_ROWS, int(n_rows * independence))))
+    bins = min(max_points, max(MIN_ROWS, int(n_rows * independence)))
+    slowest = np.argsort(low.v)[:4] if n_rows <= bins else None   # binned: low.f[0] instead
+    low = bin_equal_counts(low, bins)
     v = np.concatenate([[0.0], low.v, [v_sat]])
     f = np.concatenate([[low.f[slowest].mean() if n_rows == len(low) else low.f[0]], low.f, [f_sat]])
     k_in = 1.0 / v_sat

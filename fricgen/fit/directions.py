@@ -11,10 +11,11 @@ simpler model.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
+from .._progress import Progress
 from ..data import MIN_ROWS, Dataset, Sweep, estimate_vs_max, prepare
 from ..errors import DataError
 from ..model import Direction
@@ -90,11 +91,14 @@ def row_folds(n: int, folds: int, seed=0, blocks: int = 0) -> np.ndarray:
 
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
                    folds: int = CV_FOLDS, seed=0, per_direction=None, blocks: int = 0,
-                   independence: float = 1.0) -> np.ndarray:
+                   independence: float = 1.0,
+                   progress: Optional[Callable[[str], None]] = None) -> np.ndarray:
     """Held-out mean squared force errors (N^2) per fold (``row_folds``): row 0 the symmetric
     model, row 1 the asymmetric one (its curves fitted by ``per_direction``, default
-    ``estimator``). ``vs_max`` holds (both, positive, negative)."""
+    ``estimator``). ``vs_max`` holds (both, positive, negative). ``progress`` hears of each fold done when
+    they take long (``fricgen._progress.Progress``)."""
     per_direction = estimator if per_direction is None else per_direction
+    report = Progress(progress)
     moving = sweep.v != 0
     v, f = sweep.v[moving], sweep.f[moving]
     fold = row_folds(v.size, folds, seed, blocks)
@@ -108,6 +112,7 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
         mse[0, k] = np.mean((both.magnitude(speed) - target) ** 2)
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))
         mse[1, k] = np.mean((asym - target) ** 2)
+        report(f"symmetry: cross-validated {k + 1} of {folds} folds")
     return mse
 
 
@@ -133,10 +138,11 @@ def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> flo
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                    asymmetric: Optional[bool] = None, seed=0, per_direction=None,
-                   blocks: int = 0, independence: float = 1.0) -> DirectionsFit:
+                   blocks: int = 0, independence: float = 1.0,
+                   progress: Optional[Callable[[str], None]] = None) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
     ``estimator``); ``asymmetric`` None chooses by cross-validation (in contiguous ``blocks`` of
-    rows, ``row_folds``, for a log's samples in time order), True or False forces the model. ``independence``
+    rows, ``row_folds``, for a log's samples in time order), True or False forces the model; its folds are told to ``progress``. ``independence``
     (the share of an independent sample in a row, a smoothed log's) bins each curve's training
     set to its effective samples (``prepare``). With data in one direction only the model is symmetric (``DataError`` if the
     asymmetric one was asked for); when a sweep of both directions cannot give each its own
@@ -160,7 +166,7 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
     if asymmetric is None:
         mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
                              per_direction=per_direction, blocks=blocks,
-                             independence=independence)
+                             independence=independence, progress=progress)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         how = "cross-validation in blocks of time" if blocks else "cross-validation"
         if not prefers_asymmetric(mse):

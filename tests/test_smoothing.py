@@ -1,0 +1,94 @@
+"""The Savitzky-Golay smoothing of the inverse dynamics (eq. 18) in time linear in the log:
+the FFT path equals ``savgol_filter``, and the window chosen is the one the direct filter chooses."""
+import numpy as np
+import pytest
+from scipy.signal import savgol_coeffs, savgol_filter
+
+from fricgen import _progress
+from fricgen.data import inverse_dynamics as idm
+from fricgen.data.inverse_dynamics import (FFT_WINDOW, MAX_WINDOW_FRACTION, MIN_WINDOW, POLYORDER,
+                                           WINDOW_RATIO, candidate_windows, choose_window,
+                                           identify_friction, smooth)
+from fricgen.friction import preset
+
+#: Rounding of an FFT convolution against the direct sum, relative to the signal's scale: about
+#: 1e-14 measured; 1e-9 leaves room for any FFT library and still tells a wrong kernel or edge.
+EQUAL = 1e-9
+
+
+def _log(n=30000, ts=1e-3, force_noise=2.0, seed=0):
+    """A back-and-forth move at 1 kHz (0.2 m/s peak, one cycle per 6 s) on a 4 kg axis with the
+    paper's friction, the force noisy enough for a window beyond ``FFT_WINDOW``."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * ts
+    v = 0.2 * np.sin(2 * np.pi * t / 6.0)
+    a = 0.2 * 2 * np.pi / 6.0 * np.cos(2 * np.pi * t / 6.0)
+    force = np.sign(v) * preset("paper3")(np.abs(v)) + 4.0 * a
+    return t, v + 5e-4 * rng.standard_normal(n), force + force_noise * rng.standard_normal(n)
+
+
+def _direct_choice(force, rows, mass, v_noise, ts):
+    """``choose_window`` as it was before the FFT path: ``savgol_filter`` for every window."""
+    windows = candidate_windows(rows.size)
+    scores = []
+    for w in windows:
+        residual = (force - savgol_filter(force, w, POLYORDER))[rows]
+        h0 = savgol_coeffs(w, POLYORDER)[w // 2]
+        noise = np.linalg.norm(savgol_coeffs(w, POLYORDER, deriv=1, delta=ts))
+        scores.append(np.mean(residual ** 2) / (1 - h0) ** 2 + (mass * v_noise * noise) ** 2)
+    return windows[int(np.argmin(scores))], np.array(scores)
+
+
+@pytest.mark.parametrize("window", [FFT_WINDOW - 1, FFT_WINDOW + 1, 101, 1001, 29999])
+@pytest.mark.parametrize("deriv, delta", [(0, 1.0), (1, 1e-3)])
+def test_fft_smoothing_equals_savgol_filter_including_the_ends(window, deriv, delta):
+    _, v, force = _log()
+    for signal in (v, force):
+        direct = savgol_filter(signal, window, POLYORDER, deriv=deriv, delta=delta)
+        fast = smooth(signal, window, deriv, delta)
+        scale = np.max(np.abs(direct))
+        assert np.max(np.abs(fast - direct)) <= EQUAL * scale
+        half = window // 2                                  # the polynomial-fitted ends alone
+        assert np.max(np.abs(fast[:half] - direct[:half])) <= EQUAL * scale
+        assert np.max(np.abs(fast[-half:] - direct[-half:])) <= EQUAL * scale
+
+
+def test_short_windows_are_savgol_filter_bit_for_bit():
+    _, v, _ = _log(n=5000)
+    np.testing.assert_array_equal(smooth(v, FFT_WINDOW - 1, 1, 1e-3),
+                                  savgol_filter(v, FFT_WINDOW - 1, POLYORDER, deriv=1, delta=1e-3))
+
+
+@pytest.mark.parametrize("force_noise", [0.05, 2.0, 8.0])
+def test_the_window_chosen_is_the_direct_filters_choice(force_noise):
+    t, v, force = _log(force_noise=force_noise)
+    noise = idm.velocity_noise(v)
+    rows = np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > idm.MOVING_SIGMAS * noise
+    expected, scores = _direct_choice(force, rows, 4.0, noise, 1e-3)
+    assert choose_window(force, rows, 4.0, noise, 1e-3) == expected
+    fast = [idm.gcv_score(force, w, rows) + (4.0 * noise * idm.derivative_noise(w, 1e-3)) ** 2
+            for w in candidate_windows(rows.size)]
+    np.testing.assert_allclose(fast, scores, rtol=EQUAL)
+    if force_noise == 8.0:
+        assert expected > FFT_WINDOW                        # the FFT path made this choice
+
+
+def test_candidate_windows_are_odd_geometric_and_within_the_fraction():
+    windows = candidate_windows(200000)
+    assert windows[0] == MIN_WINDOW and all(w % 2 == 1 for w in windows)
+    assert windows[-1] <= MAX_WINDOW_FRACTION * 200000 < windows[-1] * WINDOW_RATIO + 2
+    ratios = np.diff(windows) / np.array(windows[:-1])
+    assert np.all(ratios > 0) and np.all(ratios < WINDOW_RATIO + 2 / MIN_WINDOW)
+    assert candidate_windows(1000) == [7, 9, 11, 13, 17, 21, 27, 33, 41]   # up to 5 % of 1000
+    assert candidate_windows(10) == [MIN_WINDOW]            # never fewer than the smallest
+
+
+def test_progress_goes_to_the_callback_not_to_stderr(monkeypatch, capsys):
+    t, v, force = _log(n=20000)
+    heard = []
+    monkeypatch.setattr(_progress, "PROGRESS_SECONDS", 0.0)      # report after every window
+    quiet = identify_friction(t, force, 4.0, v=v)
+    told = identify_friction(t, force, 4.0, v=v, progress=heard.append)
+    assert told.window == quiet.window
+    assert len(heard) == len(candidate_windows(t.size)) and "smoothing window" in heard[0]
+    assert capsys.readouterr() == ("", "")
