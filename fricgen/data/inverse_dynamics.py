@@ -337,7 +337,7 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
     ``progress`` as there."""
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
-    t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x")}
+    t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress}
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")

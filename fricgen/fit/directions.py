@@ -194,7 +194,7 @@ def within_budget(estimator, budget: int):
 
 
 def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max=None,
-                 asymmetric=None, seed=0) -> DirectionsFit:
+                 asymmetric=None, seed=0, progress=None) -> DirectionsFit:
     """``fit_directions`` as ``fricgen train`` runs it. For a log (``ident``, its
     ``Identification``): cross-validation in blocks of BLOCK_WINDOWS smoothing windows of time,
     training sets binned to the
@@ -202,10 +202,10 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
     direction has about half of them)."""
     if ident is None:
         return fit_directions(sweep, estimator, vs_max=vs_max, asymmetric=asymmetric, seed=seed,
-                              per_direction=per_direction)
+                              per_direction=per_direction, progress=progress)
     per_direction = estimator if per_direction is None else per_direction
     return fit_directions(sweep, within_budget(estimator, ident.parameter_budget), vs_max=vs_max,
                           asymmetric=asymmetric, seed=seed,
                           per_direction=within_budget(per_direction, ident.parameter_budget // 2),
                           blocks=BLOCK_WINDOWS * ident.window,
-                          independence=ident.independent / ident.n_kept)
+                          independence=ident.independent / ident.n_kept, progress=progress)
