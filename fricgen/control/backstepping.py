@@ -175,15 +175,14 @@ class AdaptiveBackstepping:
 
     def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
         """One sample: measured x, v and the reference; returns the current i, updates A_hat."""
-        f = self._f
-        x, v, xd, xd_dot, xd_ddot = f(x), f(v), f(xd), f(xd_dot), f(xd_ddot)
         return self.step_with_force(x, v, xd, xd_dot, xd_ddot,
                                     self.compensation_force(x, v, xd, xd_dot))
 
     def compensation_force(self, x, v, xd, xd_dot):
-        """F_Fm at ``friction_velocity`` (inputs in the controller's precision), or 0 where that
-        velocity is not finite (the C ``fric_ctrl_step_fn`` does not call the model there)."""
-        u = self.friction_velocity(x, v, xd, xd_dot)
+        """F_Fm at ``friction_velocity`` in the controller's precision, or 0 where that velocity
+        is not finite (the C ``fric_ctrl_step_fn`` does not call the model there)."""
+        f = self._f
+        u = self.friction_velocity(f(x), f(v), f(xd), f(xd_dot))
         return self.friction_force(u) if math.isfinite(u) else self._f(0.0)
 
     def friction_velocity(self, x, v, xd, xd_dot):

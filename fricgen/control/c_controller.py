@@ -11,8 +11,6 @@ import tempfile
 from pathlib import Path
 from typing import Dict, Optional
 
-import numpy as np
-
 from .._io import write_all_atomic
 from ..codegen import emit
 from ..codegen.render import check_overwrite, controller_files
@@ -88,15 +86,21 @@ class CController:
     def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
         """One ``fric_ctrl_step_fn`` (or ``fric_ctrl_step``): the current; ``flags_`` holds the
         flags it returned."""
-        lib = self.module.lib
-        if self._fn is not None:
-            self.flags_ = lib.fric_ctrl_step_fn(self._c, x, v, xd, xd_dot, xd_ddot, self._fn,
-                                                self._current)
-        else:
-            f = np.float32
-            force = self._twin.compensation_force(f(x), f(v), f(xd), f(xd_dot))
-            self.flags_ = lib.fric_ctrl_step(self._c, x, v, xd, xd_dot, xd_ddot, float(force),
-                                             self._current)
+        if self._fn is None:
+            return self.step_with_force(x, v, xd, xd_dot, xd_ddot,
+                                        self.compensation_force(x, v, xd, xd_dot))
+        self.flags_ = self.module.lib.fric_ctrl_step_fn(self._c, x, v, xd, xd_dot, xd_ddot,
+                                                        self._fn, self._current)
+        return self._current[0]
+
+    def compensation_force(self, x, v, xd, xd_dot):
+        """F_Fm as the float32 twin evaluates ``settings.compensation`` (in Python)."""
+        return self._twin.compensation_force(x, v, xd, xd_dot)
+
+    def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
+        """One ``fric_ctrl_step`` with the force given: the current; ``flags_`` as ``step``."""
+        self.flags_ = self.module.lib.fric_ctrl_step(self._c, x, v, xd, xd_dot, xd_ddot,
+                                                     float(friction), self._current)
         return self._current[0]
 
     @property
