@@ -14,22 +14,9 @@ from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.faults import Glitched, random_glitches
 from fricgen.control.loop import default_axis, simulate
 from fricgen.firmware import flag_matrix as fm
-from fricgen.friction import preset
-from fricgen.model import FrictionModel
-from fricgen.networks import StribeckCurve
 
 CC = shutil.which("cc") or shutil.which("gcc")
 pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
-
-
-def greybox(bench):
-    """Table 1 as a grey-box model of eq. (3) (gauss shape) with the benchmark's scaling."""
-    d, friction = bench.dataset, preset("paper3", "gauss")
-    k_in, k_out = d.scaling.k_in, d.scaling.k_out
-    curve = StribeckCurve("gauss", k_out * sum(s.fc for s in friction.sources),
-                          np.array([k_out * (s.fs - s.fc) for s in friction.sources]),
-                          np.array([k_in * s.vs for s in friction.sources]))
-    return FrictionModel(curve, d.scaling, friction.viscous, d.v_sat, name="gb")
 
 
 def runtime_folder(tmp_path):
@@ -54,7 +41,7 @@ def test_fast_math_is_a_compile_error(tmp_path, flag, source):
 @pytest.fixture(scope="module")
 def matrix(tmp_path_factory, bench, model10):
     tmp = tmp_path_factory.mktemp("flag_matrix")
-    models = {"fm": model10, "gb": greybox(bench)}
+    models = {"fm": model10, "gb": fm.table1_greybox(bench)}
     for name, model in models.items():
         codegen.emit(model, tmp / "src", name, activation_impl="fast", with_controller=True)
     settings = AdaptiveBackstepping(compensation=model10)

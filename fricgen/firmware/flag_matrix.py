@@ -35,6 +35,20 @@ HOST_COMPILERS = ("gcc", "clang")
 _FMA = re.compile(r"^(vfn?m(add|sub)\w*|vfn?m[as](\.f32)?|fn?m(add|sub))$")
 
 
+def table1_greybox(bench, shape: str = "gauss", name: str = "gb"):
+    """Table 1 itself as a grey-box model of eq. (3) with the scaling of ``bench`` (a
+    ``synthesize_benchmark`` result): a model with eq. (1)'s exponentials to build."""
+    from ..friction import preset
+    from ..model import FrictionModel
+    from ..networks import StribeckCurve
+    d, friction = bench.dataset, preset("paper3", shape)
+    k_in, k_out = d.scaling.k_in, d.scaling.k_out
+    curve = StribeckCurve(shape, k_out * sum(s.fc for s in friction.sources),
+                          np.array([k_out * (s.fs - s.fc) for s in friction.sources]),
+                          np.array([k_in * s.vs for s in friction.sources]))
+    return FrictionModel(curve, d.scaling, friction.viscous, d.v_sat, name=name)
+
+
 def host_fma_flags() -> List[str]:
     """["-mfma"] on an x86-64 host whose CPU has FMA, else [] (AArch64 always has it)."""
     if platform.machine() not in ("x86_64", "AMD64"):
