@@ -26,6 +26,9 @@ import numpy as np
 from ..codegen.cbuild import STRICT_WARNINGS
 from ..codegen.twin import force_f32
 from ..control.c_abi import params_initializer
+from ..friction import preset
+from ..model import FrictionModel
+from ..networks import StribeckCurve
 from . import build as fw
 
 STDS = ("c99", "gnu99")
@@ -38,9 +41,6 @@ _FMA = re.compile(r"^(vfn?m(add|sub)\w*|vfn?m[as](\.f32)?|fn?m(add|sub))$")
 def table1_greybox(bench, shape: str = "gauss", name: str = "gb"):
     """Table 1 itself as a grey-box model of eq. (3) with the scaling of ``bench`` (a
     ``synthesize_benchmark`` result): a model with eq. (1)'s exponentials to build."""
-    from ..friction import preset
-    from ..model import FrictionModel
-    from ..networks import StribeckCurve
     d, friction = bench.dataset, preset("paper3", shape)
     k_in, k_out = d.scaling.k_in, d.scaling.k_out
     curve = StribeckCurve(shape, k_out * sum(s.fc for s in friction.sources),
