@@ -1,6 +1,31 @@
 /* fricgen C runtime: adaptive backstepping position control, section 6 (see fric_ctrl.h).
  * Every operation is a float operation in a fixed order; fricgen.control.AdaptiveBackstepping
  * with dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit`. */
+/* Float semantics that do not depend on the compiler's flags (the same block opens fric_kernel.h,
+ * fric_fast.h and fric_ctrl.c; tests/test_flag_matrix.py checks that the copies agree).
+ * Every float operation of the runtime and of the model code that includes this header is
+ * rounded as written, which is what makes it bit-equal to its Python twin:
+ * - -ffast-math and -ffinite-math-only are refused: they fold fric_fast.c's rounding trick
+ *   (exp(-1) came out as 0.5) and drop the NaN checks the contracts rely on.
+ * - Contraction of a * b + c into a fused multiply-add (GCC's default in its GNU modes, e.g.
+ *   -std=gnu99; clang's default within one expression) is turned off for the rest of the
+ *   translation unit. GCC ignores `#pragma STDC FP_CONTRACT` but honours
+ *   `#pragma GCC optimize ("fp-contract=off")` for the functions defined after it (GCC 12,
+ *   -std=gnu99 -O2 -mfma: 17 vfmadd in fric_fast.o without it, 0 with it, same code size).
+ * Other flags that relax IEEE arithmetic one by one (-fassociative-math, -freciprocal-math)
+ * define no macro and cannot be detected here: do not build the runtime with them. */
+#ifndef FRIC_FP_SEMANTICS
+#define FRIC_FP_SEMANTICS
+#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && (__FINITE_MATH_ONLY__ > 0))
+#error "fricgen runtime: -ffast-math / -ffinite-math-only change its results; build it without them"
+#endif
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize ("fp-contract=off")
+#else
+#pragma STDC FP_CONTRACT OFF
+#endif
+#endif /* FRIC_FP_SEMANTICS */
+
 #include "fric_ctrl.h"
 
 #include <math.h>
@@ -23,8 +48,18 @@ void fric_ctrl_default_params(fric_ctrl_params_t *p)
     p->i_max = 10.0f;
     p->m_o_hat0 = 0.1f;
     p->k_hat0 = 1.0f;
+    p->m_o_min = 0.01f;
+    p->m_o_max = 1.0f;
+    p->k_min = 0.0f;
+    p->k_max = 10.0f;
     p->law = FRIC_CTRL_LAW_C;
     p->friction_at = FRIC_CTRL_FRICTION_AT_V;
+}
+
+/* lo <= value <= hi (false for NaN) */
+static int fric_ctrl_within(float value, float lo, float hi)
+{
+    return value >= lo && value <= hi;
 }
 
 static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
@@ -32,7 +67,8 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
     const float *g = p->gamma;
     int k;
     const float checked[] = {p->k1, p->k2, g[0], g[1], g[2], g[3], p->delta, p->ts, p->phi_n,
-                             p->i_max, p->m_o_hat0, p->k_hat0};
+                             p->i_max, p->m_o_hat0, p->k_hat0, p->m_o_min, p->m_o_max,
+                             p->k_min, p->k_max};
     for (k = 0; k < (int)(sizeof checked / sizeof checked[0]); ++k) {
         if (!isfinite(checked[k])) {
             return 0;
@@ -44,6 +80,11 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
     }
     /* Gamma symmetric positive definite: g00 > 0 and det = g00 g11 - g01^2 > 0 */
     if (g[1] != g[2] || !(g[0] > 0.0f) || !(g[0] * g[3] > g[1] * g[2])) {
+        return 0;
+    }
+    if (!(p->m_o_min < p->m_o_max) || !(p->k_min < p->k_max)
+        || !fric_ctrl_within(p->m_o_hat0, p->m_o_min, p->m_o_max)
+        || !fric_ctrl_within(p->k_hat0, p->k_min, p->k_max)) {
         return 0;
     }
     if (p->law != FRIC_CTRL_LAW_A && p->law != FRIC_CTRL_LAW_B && p->law != FRIC_CTRL_LAW_C) {
@@ -66,59 +107,115 @@ fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p)
     c->e1 = 0.0f;
     c->e2 = 0.0f;
     c->i = 0.0f;
+    c->flags = FRIC_CTRL_STEP_OK;
     return FRIC_CTRL_OK;
 }
 
-float fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                     float friction)
+/* The updated estimate a + da projected onto [lo, hi]; a NaN (inf - inf in da) keeps a. */
+static float fric_ctrl_project(float a, float updated, float lo, float hi,
+                               fric_ctrl_flags_t *flags)
 {
-    const float k1 = c->p.k1;
-    const float *g = c->p.gamma;
-    const float a0 = c->m_o_hat;
-    const float a1 = c->k_hat;
-    const float e1 = xd - x;
-    const float vd = xd_dot + k1 * e1;                     /* eq. (3) */
-    const float e2 = vd - v;                               /* eq. (5) */
-    const float vd_dot = xd_ddot + k1 * (e2 - k1 * e1);   /* eq. (7) */
-    const float xi0 = vd_dot;                              /* eq. (10) */
-    const float xi1 = friction / c->p.phi_n;
-    const float d_hat = a0 * xi0 + a1 * xi1;               /* eq. (9) */
-    float i = d_hat + c->p.k2 * e2 + e1;                   /* eq. (28) */
-    float sigma;
-    float g_xi0, g_xi1, g_a0, g_a1;
+    if (isnan(updated)) {
+        *flags |= FRIC_CTRL_PROJECTED;
+        return a;
+    }
+    if (updated < lo) {
+        *flags |= FRIC_CTRL_PROJECTED;
+        return lo;
+    }
+    if (updated > hi) {
+        *flags |= FRIC_CTRL_PROJECTED;
+        return hi;
+    }
+    return updated;
+}
 
-    if (i > c->p.i_max) {
+static fric_ctrl_flags_t fric_ctrl_fault(fric_ctrl_t *c, float *current)
+{
+    c->i = 0.0f;
+    c->flags = FRIC_CTRL_INPUT_FAULT;
+    *current = 0.0f;
+    return FRIC_CTRL_INPUT_FAULT;
+}
+
+fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
+                                 float xd_ddot, float friction, float *current)
+{
+    float k1, a0, a1, e1, vd, e2, vd_dot, xi0, xi1, d_hat, demand, i, sigma;
+    float g_xi0, g_xi1, g_a0, g_a1;
+    const float *g;
+    fric_ctrl_flags_t flags = FRIC_CTRL_STEP_OK;
+
+    if (c == NULL || current == NULL) {
+        return FRIC_CTRL_FAULT_NULL;
+    }
+    if (!isfinite(x) || !isfinite(v) || !isfinite(xd) || !isfinite(xd_dot) || !isfinite(xd_ddot)
+        || !isfinite(friction)) {
+        return fric_ctrl_fault(c, current);
+    }
+    k1 = c->p.k1;
+    g = c->p.gamma;
+    a0 = c->m_o_hat;
+    a1 = c->k_hat;
+    e1 = xd - x;
+    vd = xd_dot + k1 * e1;                       /* eq. (3) */
+    e2 = vd - v;                                 /* eq. (5) */
+    vd_dot = xd_ddot + k1 * (e2 - k1 * e1);     /* eq. (7) */
+    xi0 = vd_dot;                                /* eq. (10) */
+    xi1 = friction / c->p.phi_n;
+    d_hat = a0 * xi0 + a1 * xi1;                 /* eq. (9) */
+    demand = d_hat + c->p.k2 * e2 + e1;          /* eq. (28) */
+    if (isnan(demand)) {                         /* inf - inf from huge finite inputs */
+        return fric_ctrl_fault(c, current);
+    }
+    if (!(demand <= c->p.i_max)) {
         i = c->p.i_max;
-    } else if (i < -c->p.i_max) {
+        flags = FRIC_CTRL_SATURATED;
+    } else if (!(demand >= -c->p.i_max)) {
         i = -c->p.i_max;
-    }
-    if (c->p.law == FRIC_CTRL_LAW_A) {
-        sigma = 0.0f;
-    } else if (c->p.law == FRIC_CTRL_LAW_B) {
-        sigma = c->p.delta;
+        flags = FRIC_CTRL_SATURATED;
     } else {
-        sigma = c->p.delta * sqrtf(e1 * e1 + e2 * e2);
+        i = demand;
     }
-    g_xi0 = g[0] * xi0 + g[1] * xi1;                       /* eq. (12): Gamma xi, Gamma A */
-    g_xi1 = g[2] * xi0 + g[3] * xi1;
-    g_a0 = g[0] * a0 + g[1] * a1;
-    g_a1 = g[2] * a0 + g[3] * a1;
-    c->m_o_hat = a0 + c->p.ts * (e2 * g_xi0 - sigma * g_a0);
-    c->k_hat = a1 + c->p.ts * (e2 * g_xi1 - sigma * g_a1);
+    if (flags == FRIC_CTRL_STEP_OK) {            /* adaptation frozen while saturated */
+        if (c->p.law == FRIC_CTRL_LAW_A) {
+            sigma = 0.0f;
+        } else if (c->p.law == FRIC_CTRL_LAW_B) {
+            sigma = c->p.delta;
+        } else {
+            sigma = c->p.delta * sqrtf(e1 * e1 + e2 * e2);
+        }
+        g_xi0 = g[0] * xi0 + g[1] * xi1;         /* eq. (12): Gamma xi, Gamma A */
+        g_xi1 = g[2] * xi0 + g[3] * xi1;
+        g_a0 = g[0] * a0 + g[1] * a1;
+        g_a1 = g[2] * a0 + g[3] * a1;
+        c->m_o_hat = fric_ctrl_project(a0, a0 + c->p.ts * (e2 * g_xi0 - sigma * g_a0),
+                                       c->p.m_o_min, c->p.m_o_max, &flags);
+        c->k_hat = fric_ctrl_project(a1, a1 + c->p.ts * (e2 * g_xi1 - sigma * g_a1),
+                                     c->p.k_min, c->p.k_max, &flags);
+    }
     c->e1 = e1;
     c->e2 = e2;
     c->i = i;
-    return i;
+    c->flags = flags;
+    *current = i;
+    return flags;
 }
 
-float fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                        fric_ctrl_friction_fn friction)
+fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
+                                    float xd_ddot, fric_ctrl_friction_fn friction,
+                                    float *current)
 {
     float force = 0.0f;
+    if (c == NULL || current == NULL) {
+        return FRIC_CTRL_FAULT_NULL;
+    }
     if (friction != NULL) {
         const float u = c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD
                             ? xd_dot + c->p.k1 * (xd - x) : v;
-        force = friction(u);
+        if (isfinite(u)) {
+            force = friction(u);
+        }
     }
-    return fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force);
+    return fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
 }

@@ -7,19 +7,37 @@
  *   v_d'  = xd'' + k1 (e2 - k1 e1)         xi = [v_d', F_Fm / phi_n]
  *   i     = m_o_hat xi0 + k_hat xi1 + k2 e2 + e1, limited to [-i_max, i_max]
  *   A    += ts (e2 Gamma xi - sigma Gamma A),  A = [m_o_hat, k_hat], sigma = 0 (law a),
- *           delta (law b), delta sqrt(e1^2 + e2^2) (law c)
+ *           delta (law b), delta sqrt(e1^2 + e2^2) (law c); each estimate then projected onto
+ *           its interval [m_o_min, m_o_max], [k_min, k_max]
  * F_Fm is the friction compensation force in newtons, e.g. an emitted model's NAME_force.
  *
  * Usage:
- *   fric_ctrl_params_t p; fric_ctrl_t c;
+ *   fric_ctrl_params_t p; fric_ctrl_t c; float i;
  *   fric_ctrl_default_params(&p);  p.ts = 1e-3f;  ...
  *   if (fric_ctrl_init(&c, &p) != FRIC_CTRL_OK) { ... bad parameters ... }
- *   every ts:  i = fric_ctrl_step_fn(&c, x, v, xd, xd_dot, xd_ddot, NAME_force);
+ *   every ts:  flags = fric_ctrl_step_fn(&c, x, v, xd, xd_dot, xd_ddot, NAME_force, &i);
  * or, with the force computed elsewhere:
- *              i = fric_ctrl_step(&c, x, v, xd, xd_dot, xd_ddot, NAME_force(v));
- * Units: m, m/s, m/s^2, s, N, A. The returned current is to be held until the next sample.
- * Finite inputs give a current within [-i_max, i_max]; a NaN input makes the current and the
- * adaptive parameters NaN (check the inputs, or call fric_ctrl_init again to recover). */
+ *              flags = fric_ctrl_step(&c, x, v, xd, xd_dot, xd_ddot, NAME_force(v), &i);
+ * Units: m, m/s, m/s^2, s, N, A. The current i is to be held until the next sample.
+ *
+ * The contract of a step, for a c that fric_ctrl_init accepted and nothing else wrote since:
+ * - Whatever the inputs (NaN, +-inf, huge or denormal floats), the current written is finite
+ *   and within [-i_max, i_max], and m_o_hat, k_hat stay finite within their intervals.
+ * - A non-finite input (x, v, xd, xd_dot, xd_ddot, or the friction force), or finite inputs so
+ *   large that the demanded current is NaN (an overflow, inf - inf), is an input fault: the
+ *   current is 0 A (not the last one: a dead sensor must not keep the axis driven), the
+ *   estimates and e1, e2 are left as they were, the step returns FRIC_CTRL_INPUT_FAULT.
+ * - A demand beyond +-i_max (an overflow to +-inf included) gives +-i_max and
+ *   FRIC_CTRL_SATURATED; the estimates are not adapted in that step (no wind-up).
+ * - An estimate that the adaptive law would move out of its interval is set to the nearer end,
+ *   and the step returns FRIC_CTRL_PROJECTED.
+ * - Nothing is remembered of a faulty sample: the first step with finite inputs after a glitch
+ *   computes exactly what it would have computed with the same estimates before it, so the
+ *   controller recovers as the closed loop does from the error the glitch left.
+ * - A NULL c or current returns FRIC_CTRL_FAULT_NULL and writes nothing.
+ * The float operations are those written here, in this order, each rounded to float (the file
+ * refuses -ffast-math and turns contraction to fused multiply-add off);
+ * fricgen.control.AdaptiveBackstepping(dtype="float32") computes the same bits. */
 #ifndef FRIC_CTRL_H
 #define FRIC_CTRL_H
 
@@ -27,12 +45,12 @@
 extern "C" {
 #endif
 
-#define FRIC_CTRL_VERSION 2
+#define FRIC_CTRL_VERSION 3
 
-/* fricgen.control.c_abi mirrors the enums and structs below (fricgen's tests check that both
- * agree). The enums' size is the compiler's choice: int on most hosts, the smallest that fits
- * under arm-none-eabi-gcc (-fshort-enums is the AAPCS default there), so build the runtime and
- * its callers with the same compiler settings. */
+/* fricgen.control.c_abi mirrors the enums, flags and structs below (fricgen's tests check that
+ * both agree). The enums' size is the compiler's choice: int on most hosts, the smallest that
+ * fits under arm-none-eabi-gcc (-fshort-enums is the AAPCS default there), so build the runtime
+ * and its callers with the same compiler settings. */
 
 /* Return codes of fric_ctrl_init. */
 typedef enum {
@@ -55,6 +73,14 @@ typedef enum {
     FRIC_CTRL_FRICTION_AT_VD = 1
 } fric_ctrl_friction_at_t;
 
+/* What a step returns: 0 (FRIC_CTRL_STEP_OK) or an OR of the flags below. */
+typedef unsigned int fric_ctrl_flags_t;
+#define FRIC_CTRL_STEP_OK 0u
+#define FRIC_CTRL_FAULT_NULL 1u   /* c or current is NULL: nothing written */
+#define FRIC_CTRL_INPUT_FAULT 2u  /* an input not finite, or a NaN demand: current 0 A, no update */
+#define FRIC_CTRL_SATURATED 4u    /* the demand was beyond +-i_max: current +-i_max, no update */
+#define FRIC_CTRL_PROJECTED 8u    /* an estimate was held at an end of its interval */
+
 /* Friction compensation model: force in newtons at velocity v (m/s). */
 typedef float (*fric_ctrl_friction_fn)(float v);
 
@@ -66,41 +92,49 @@ typedef struct {
     float ts;           /* sampling time, s, > 0 */
     float phi_n;        /* nominal force constant, N/A, > 0 */
     float i_max;        /* current limit, A, > 0 */
-    float m_o_hat0;     /* initial m_o_hat = m / phi, kg A / N */
-    float k_hat0;       /* initial k_hat (1: trust the friction model) */
+    float m_o_hat0;     /* initial m_o_hat = m / phi, kg A / N, in [m_o_min, m_o_max] */
+    float k_hat0;       /* initial k_hat (1: trust the friction model), in [k_min, k_max] */
+    float m_o_min;      /* interval of m_o_hat, m_o_min < m_o_max */
+    float m_o_max;
+    float k_min;        /* interval of k_hat, k_min < k_max */
+    float k_max;
     fric_ctrl_law_t law;                  /* FRIC_CTRL_LAW_A, _B or _C */
     fric_ctrl_friction_at_t friction_at;  /* FRIC_CTRL_FRICTION_AT_V or _AT_VD
                                              (fric_ctrl_step_fn only) */
 } fric_ctrl_params_t;
 
 typedef struct {
-    fric_ctrl_params_t p;  /* copy of the parameters */
-    float m_o_hat;         /* adaptive parameters A = [m_o_hat, k_hat] */
+    fric_ctrl_params_t p;     /* copy of the parameters */
+    float m_o_hat;            /* adaptive parameters A = [m_o_hat, k_hat] */
     float k_hat;
-    float e1;              /* last tracking error xd - x, m */
-    float e2;              /* last velocity error v_d - v, m/s */
-    float i;               /* last current command, A (after the limit) */
+    float e1;                 /* last tracking error xd - x, m (of the last fault-free step) */
+    float e2;                 /* last velocity error v_d - v, m/s (likewise) */
+    float i;                  /* last current command, A (after the limit) */
+    fric_ctrl_flags_t flags;  /* what the last step returned */
 } fric_ctrl_t;
 
 /* fricgen's defaults for a 2 kg linear motor axis with phi ~ 20 N/A at ts = 1 ms:
  * k1 = 80, k2 = 40, Gamma = diag(1, 20), delta = 0.005, phi_n = 20, i_max = 10,
- * A0 = [0.1, 1], law c, friction at v. */
+ * A0 = [0.1, 1], law c, friction at v; the estimates within a factor 10 of A0:
+ * m_o_hat in [0.01, 1] kg A/N, k_hat in [0, 10] (0: no compensation). A NULL p is ignored. */
 void fric_ctrl_default_params(fric_ctrl_params_t *p);
 
-/* Check the parameters and reset the controller (A = A0, errors and current 0).
+/* Check the parameters and reset the controller (A = A0, errors, current and flags 0).
  * Returns FRIC_CTRL_OK, FRIC_CTRL_ERR_NULL or FRIC_CTRL_ERR_PARAM (c is then untouched). */
 fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
 
 /* One sample: measured position x and velocity v, reference xd, xd', xd'', and the friction
- * compensation force friction (N; 0 for none). Returns the current command (A) and updates
- * the adaptive parameters. */
-float fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                     float friction);
+ * compensation force friction (N; 0 for none). Writes the current command (A) to *current,
+ * updates the adaptive parameters, and returns the flags (see the contract above). */
+fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
+                                 float xd_ddot, float friction, float *current);
 
 /* As fric_ctrl_step, the force taken from friction(v) or friction(v_d) (p.friction_at);
- * friction may be NULL (no compensation). */
-float fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot, float xd_ddot,
-                        fric_ctrl_friction_fn friction);
+ * friction may be NULL (no compensation). The model is not called at a non-finite velocity
+ * (the force is then 0). */
+fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
+                                    float xd_ddot, fric_ctrl_friction_fn friction,
+                                    float *current);
 
 #ifdef __cplusplus
 }

@@ -114,7 +114,8 @@ def xt(bench):
 
 #: Tests of more than a few seconds (wheel install, cross builds under QEMU, sanitizer fuzz, the
 #: quick paper reproduction, the diagnosis matrix, long closed loops): ``-m "not slow"`` skips them.
-SLOW_MODULES = {"test_install", "test_firmware", "test_hardening", "test_experiments", "test_bad_input",
+SLOW_MODULES = {"test_install", "test_firmware", "test_flag_matrix", "test_hardening", "test_experiments",
+                "test_bad_input",
                 "test_diagnose_scenarios"}
 SLOW_TESTS = {"test_the_hidden_effect_is_named", "test_emulated_asymmetric_fast_model_is_bit_equal_to_python_twin",
               "test_errors_and_parameters_stay_bounded_under_law_c_with_a_constant_disturbance",

@@ -9,7 +9,7 @@ import pytest
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.codegen.render import controller_files
 from fricgen.control.backstepping import AdaptiveBackstepping
-from fricgen.control.c_abi import ENUMS, STRUCTS, VERSION, params_initializer
+from fricgen.control.c_abi import ENUMS, FLAGS, STRUCTS, VERSION, params_initializer
 from fricgen.control.c_controller import CController, build_controller
 
 CC = shutil.which("cc") or shutil.which("gcc")
@@ -43,8 +43,10 @@ def test_header_declares_the_tables_enums_with_their_enumerators_in_order():
 
 def test_header_values_field_types_and_field_order_agree_with_the_table(tmp_path):
     checks, prints = [], ['    printf("FRIC_CTRL_VERSION %d\\n", FRIC_CTRL_VERSION);\n']
-    for enum in ENUMS:
+    for enum in ENUMS + (FLAGS,):
         prints += [f'    printf("{m.name} %d\\n", (int){m.name});\n' for m in enum.members]
+    # the cffi declarations (FLAGS.cdef) say unsigned int
+    prints.append(f'    printf("{FLAGS.ctype} %d\\n", (int)(sizeof({FLAGS.ctype}) == sizeof(unsigned)));\n')
     for ctype, fields in STRUCTS.items():
         # each field's C type must be the table's: a pointer of the other type would not compile
         checks.append(f"void check_{ctype}(const {ctype} *s)\n{{\n")
@@ -60,7 +62,8 @@ def test_header_values_field_types_and_field_order_agree_with_the_table(tmp_path
                                                      "".join(checks)).splitlines())
 
     assert int(out["FRIC_CTRL_VERSION"]) == VERSION
-    for enum in ENUMS:
+    assert int(out[FLAGS.ctype]) == 1
+    for enum in ENUMS + (FLAGS,):
         for m in enum.members:
             assert int(out[m.name]) == m.value, m.name
     for ctype, fields in STRUCTS.items():

@@ -208,11 +208,23 @@ def test_elm_compensation_tracks_like_exact_and_far_better_than_none(default_mod
     assert rms["elm"] <= 0.3 * rms["none"]
 
 
+class BlowsUp(AdaptiveBackstepping):
+    """A controller that stops being finite at sample 50 (the real one cannot: its output stays
+    within +-i_max whatever it is fed, see test_control_faults.py)."""
+
+    def reset(self):
+        self.k_ = 0
+        return super().reset()
+
+    def step(self, *args):
+        self.k_ += 1
+        return super().step(*args) if self.k_ < 50 else float("nan")
+
+
 def test_a_diverging_run_is_cut_short_and_reported_not_finite():
-    axis = default_axis(i_max=1e30)
-    ctrl = AdaptiveBackstepping(ts=0.02, k1=400.0, k2=400.0, i_max=1e30)
-    run, = simulate(axis, [ctrl], duration=2.0, substeps=2)
+    run, = simulate(default_axis(), [BlowsUp(ts=0.02)], duration=2.0, substeps=2)
     m = run.metrics()
+    assert run.n_finite == 49
     assert not m["finite"] and np.isfinite(m["rms_e1"])
 
 

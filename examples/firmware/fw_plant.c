@@ -60,9 +60,10 @@ int fw_closed_loop_run(const fw_loop_t *loop)
     s.x = 0.0f;
     s.v = 0.0f;
     for (k = 0; k < loop->n; ++k) {
-        const float i = fric_ctrl_step_fn(&ctrl, s.x, s.v, loop->xd[k], loop->xd_dot[k],
-                                          loop->xd_ddot[k], loop->friction);
+        float i = 0.0f;
         char *p = line;
+        (void)fric_ctrl_step_fn(&ctrl, s.x, s.v, loop->xd[k], loop->xd_dot[k], loop->xd_ddot[k],
+                                loop->friction, &i);
         *p++ = 'c';
         *p++ = 'l';
         p = fw_hex(p, s.x);

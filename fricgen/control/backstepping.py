@@ -19,6 +19,11 @@ The adaptation laws of eq. (12) (cited as 31a-c) are
 integrated with a forward Euler step of the sampling time Ts, as firmware does. The Lyapunov
 function (11) proves e1, e2 uniformly ultimately bounded for k1 > 0, k2 > 1/2 (eq. 14).
 
+The contract of fric_ctrl.h holds here too: each estimate is projected onto its interval
+(``a_min``, ``a_max``); adaptation is frozen while the demand saturates at +-i_max; a
+non-finite input (or a NaN demand from huge ones) gives 0 A and leaves the estimates as they
+were. ``flags_`` holds what the C step returns (``c_abi.FLAGS``).
+
 The controller computes in float64, or in float32 (``dtype="float32"``), then it is the exact
 Python twin of ``fric_ctrl_step`` in ``c_runtime/fric_ctrl.c``: the same operations in the same
 order, each rounded to float.
@@ -30,8 +35,15 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from .c_abi import FRICTION_INPUT, LAW
+from .c_abi import FLAGS, FRICTION_INPUT, LAW
 from .gamma import gamma_matrix
+
+
+def _pair(name: str, value) -> np.ndarray:
+    a = np.asarray(value, dtype=float)
+    if a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be 2 finite numbers [m_o_hat, k_hat], got {value!r}")
+    return a
 
 
 def _check(name: str, value, low: float, strict: bool = True) -> float:
@@ -40,6 +52,18 @@ def _check(name: str, value, low: float, strict: bool = True) -> float:
     if not ok:
         raise ValueError(f"{name} must be {'>' if strict else '>='} {low:g}, got {value}")
     return value
+
+
+def _project(a, updated, lo, hi):
+    """(the updated estimate projected onto [lo, hi], whether it was moved): a NaN
+    (inf - inf) keeps ``a`` (``fric_ctrl_project``)."""
+    if math.isnan(updated):
+        return a, True
+    if updated < lo:
+        return lo, True
+    if updated > hi:
+        return hi, True
+    return updated, False
 
 
 class AdaptiveBackstepping:
@@ -56,18 +80,22 @@ class AdaptiveBackstepping:
     delta: leakage of laws (b) and (c), >= 0 (unused by law a).
     ts: sampling time, s. phi_n: nominal force constant phi_N, N/A. i_max: current limit, A.
     a0: initial [m_o_hat, k_hat] (m_o in kg A/N, k dimensionless).
+    a_min, a_max: the intervals the estimates are projected onto, [m_o_min, k_min] and
+        [m_o_max, k_max]; by default within a factor 10 of the default a0: m_o_hat in
+        [0.01, 1], k_hat in [0, 10] (0: no compensation). a_min < a_max, a0 within.
     dtype: "float64", or "float32" for the twin of the C controller.
     friction_input: "v" evaluates F_Fm at the measured velocity (eq. 10), "vd" at the virtual
         control v_d (eq. 3), which keeps compensating while the axis sticks at a reversal.
 
     After ``reset()``: ``a_`` (the adaptive parameters), and after each ``step``: ``e1_``,
-    ``e2_``, ``i_``.
+    ``e2_``, ``i_`` and ``flags_`` (as the C's fric_ctrl_t).
     """
 
     def __init__(self, compensation: Optional[Callable] = None, law: str = "c", k1: float = 80.0,
                  k2: float = 40.0, gamma=(1.0, 20.0), delta: float = 0.005, ts: float = 1e-3,
                  phi_n: float = 20.0, i_max: float = 10.0, a0: Tuple[float, float] = (0.1, 1.0),
-                 dtype: str = "float64", friction_input: str = "v"):
+                 dtype: str = "float64", friction_input: str = "v",
+                 a_min: Tuple[float, float] = (0.01, 0.0), a_max: Tuple[float, float] = (1.0, 10.0)):
         self.compensation = compensation
         self.law = law
         self.k1 = k1
@@ -80,9 +108,11 @@ class AdaptiveBackstepping:
         self.a0 = a0
         self.dtype = dtype
         self.friction_input = friction_input
+        self.a_min = a_min
+        self.a_max = a_max
 
     _PARAMS = ("compensation", "law", "k1", "k2", "gamma", "delta", "ts", "phi_n", "i_max", "a0",
-               "dtype", "friction_input")
+               "dtype", "friction_input", "a_min", "a_max")
 
     def get_params(self) -> dict:
         """The constructor parameters, by name."""
@@ -103,9 +133,13 @@ class AdaptiveBackstepping:
         _check("ts", self.ts, 0.0)
         _check("phi_n", self.phi_n, 0.0)
         _check("i_max", self.i_max, 0.0)
-        a0 = np.asarray(self.a0, dtype=float)
-        if a0.shape != (2,) or not np.all(np.isfinite(a0)):
-            raise ValueError(f"a0 must be 2 finite numbers [m_o_hat, k_hat], got {self.a0!r}")
+        a0 = _pair("a0", self.a0)
+        lo, hi = _pair("a_min", self.a_min), _pair("a_max", self.a_max)
+        if not np.all(lo < hi):
+            raise ValueError(f"a_min must be < a_max, got {self.a_min!r} and {self.a_max!r}")
+        if not np.all((lo <= a0) & (a0 <= hi)):
+            raise ValueError(f"a0 must lie within [a_min, a_max] = [{self.a_min!r}, {self.a_max!r}], "
+                             f"got {self.a0!r}")
         if self.compensation is not None and not callable(self.compensation):
             raise ValueError(f"compensation must be None or a callable F(v), "
                              f"got {type(self.compensation).__name__}")
@@ -127,8 +161,10 @@ class AdaptiveBackstepping:
         self._k1, self._k2, self._delta, self._ts, self._phi_n, self._i_max = (
             f(p) for p in (self.k1, self.k2, self.delta, self.ts, self.phi_n, self.i_max))
         self._law = self.law
+        self._bounds = tuple((f(lo), f(hi)) for lo, hi in zip(self.a_min, self.a_max))
         self.a_ = [f(a) for a in self.a0]
         self.e1_ = self.e2_ = self.i_ = f(0.0)
+        self.flags_ = 0
         return self
 
     def friction_force(self, v) -> float:
@@ -139,10 +175,15 @@ class AdaptiveBackstepping:
 
     def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
         """One sample: measured x, v and the reference; returns the current i, updates A_hat."""
+        return self.step_with_force(x, v, xd, xd_dot, xd_ddot,
+                                    self.compensation_force(x, v, xd, xd_dot))
+
+    def compensation_force(self, x, v, xd, xd_dot):
+        """F_Fm at ``friction_velocity`` in the controller's precision, or 0 where that velocity
+        is not finite (the C ``fric_ctrl_step_fn`` does not call the model there)."""
         f = self._f
-        x, v, xd, xd_dot, xd_ddot = f(x), f(v), f(xd), f(xd_dot), f(xd_ddot)
-        u = self.friction_velocity(x, v, xd, xd_dot)
-        return self.step_with_force(x, v, xd, xd_dot, xd_ddot, self.friction_force(u))
+        u = self.friction_velocity(f(x), f(v), f(xd), f(xd_dot))
+        return self.friction_force(u) if math.isfinite(u) else self._f(0.0)
 
     def friction_velocity(self, x, v, xd, xd_dot):
         """Where F_Fm is evaluated: the measured v (eq. 10), or v_d = x_d' + k1 (x_d - x) with
@@ -152,23 +193,32 @@ class AdaptiveBackstepping:
         return v
 
     def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
-        """``step`` with the compensation force F_Fm(v) given (the C ``fric_ctrl_step``)."""
+        """``step`` with the compensation force F_Fm(v) given (the C ``fric_ctrl_step``):
+        returns the current, ``flags_`` says what happened (see the module doc)."""
         f = self._f
+        x, v, xd, xd_dot, xd_ddot, friction = (f(a) for a in (x, v, xd, xd_dot, xd_ddot, friction))
+        if not all(math.isfinite(a) for a in (x, v, xd, xd_dot, xd_ddot, friction)):
+            return self._fault()
         k1, k2 = self._k1, self._k2
         g00, g01, g10, g11 = self._g
         a0, a1 = self.a_
-        e1 = f(xd) - f(x)                                   # tracking error
-        vd = f(xd_dot) + k1 * e1                            # eq. (3)
-        e2 = vd - f(v)                                      # eq. (5)
-        vd_dot = f(xd_ddot) + k1 * (e2 - k1 * e1)           # eq. (7)
+        e1 = xd - x                                         # tracking error
+        vd = xd_dot + k1 * e1                               # eq. (3)
+        e2 = vd - v                                         # eq. (5)
+        vd_dot = xd_ddot + k1 * (e2 - k1 * e1)              # eq. (7)
         xi0 = vd_dot                                        # eq. (10)
-        xi1 = f(friction) / self._phi_n
+        xi1 = friction / self._phi_n
         d_hat = a0 * xi0 + a1 * xi1                         # eq. (9)
-        i = d_hat + k2 * e2 + e1                            # eq. (28)
-        if i > self._i_max:
-            i = self._i_max
-        elif i < -self._i_max:
-            i = -self._i_max
+        demand = d_hat + k2 * e2 + e1                       # eq. (28)
+        if math.isnan(demand):                              # inf - inf from huge finite inputs
+            return self._fault()
+        self.e1_, self.e2_ = e1, e2
+        if not demand <= self._i_max:
+            self.flags_, self.i_ = FLAGS.value("saturated"), self._i_max
+            return self.i_
+        if not demand >= -self._i_max:
+            self.flags_, self.i_ = FLAGS.value("saturated"), -self._i_max
+            return self.i_
         if self._law == "a":
             sigma = f(0.0)
         elif self._law == "b":
@@ -179,10 +229,18 @@ class AdaptiveBackstepping:
         g_xi1 = g10 * xi0 + g11 * xi1
         g_a0 = g00 * a0 + g01 * a1
         g_a1 = g10 * a0 + g11 * a1
-        self.a_ = [a0 + self._ts * (e2 * g_xi0 - sigma * g_a0),
-                   a1 + self._ts * (e2 * g_xi1 - sigma * g_a1)]
-        self.e1_, self.e2_, self.i_ = e1, e2, i
-        return i
+        updated = (a0 + self._ts * (e2 * g_xi0 - sigma * g_a0),
+                   a1 + self._ts * (e2 * g_xi1 - sigma * g_a1))
+        projected = [_project(a, new, lo, hi) for a, new, (lo, hi) in zip(self.a_, updated, self._bounds)]
+        self.a_ = [a for a, _ in projected]
+        self.flags_ = FLAGS.value("projected") if any(moved for _, moved in projected) else 0
+        self.i_ = demand
+        return demand
+
+    def _fault(self):
+        """An input fault: 0 A, estimates and errors left as they were."""
+        self.flags_, self.i_ = FLAGS.value("input fault"), self._f(0.0)
+        return self.i_
 
     @property
     def adaptive_parameters(self) -> Tuple[float, float]:

@@ -1,6 +1,7 @@
 """The C ABI of the controller (c_runtime/fric_ctrl.h) as one table.
 
-It lists the header's enums (status codes, adaptation laws, friction input), the fields of
+It lists the header's enums (status codes, adaptation laws, friction input), the flags a step
+returns, the fields of
 ``fric_ctrl_params_t`` and ``fric_ctrl_t`` in order, and how each parameter comes from an
 ``AdaptiveBackstepping`` (``settings``). The cffi declarations (``CDEF``), the parameters of
 ``CController`` (``param_values``) and the firmware's C initializer (``params_initializer``)
@@ -18,7 +19,7 @@ from ..c_literal import c_float
 from .gamma import gamma_matrix
 
 #: FRIC_CTRL_VERSION of the header.
-VERSION = 2
+VERSION = 3
 
 
 @dataclass(frozen=True)
@@ -53,9 +54,26 @@ class CEnum:
         """The key of the enumerator with ``value``, or the value as text if there is none."""
         return next((m.key for m in self.members if m.value == value), str(value))
 
+    def value(self, key: str) -> int:
+        """The value of the enumerator of ``key``."""
+        return self.member(key).value
+
     def cdef(self) -> str:
         body = ", ".join(f"{m.name} = {m.value}" for m in self.members)
         return f"typedef enum {{ {body} }} {self.ctype};\n"
+
+
+@dataclass(frozen=True)
+class CFlags(CEnum):
+    """Bit flags of the header: ``typedef unsigned int ctype;`` and one ``#define`` each."""
+
+    def cdef(self) -> str:
+        return f"typedef unsigned int {self.ctype};\n" + "".join(
+            f"#define {m.name} {m.value}\n" for m in self.members)
+
+    def keys_of(self, value: int) -> Tuple[str, ...]:
+        """The keys of the flags set in ``value`` (those of 0: ("ok",))."""
+        return tuple(m.key for m in self.members if m.value & value) or (self.key_of(0),)
 
 
 def _enum(ctype: str, *members: Tuple[str, int, str]) -> CEnum:
@@ -77,6 +95,13 @@ FRICTION_INPUT = _enum("fric_ctrl_friction_at_t",
                        ("FRIC_CTRL_FRICTION_AT_V", 0, "v"),
                        ("FRIC_CTRL_FRICTION_AT_VD", 1, "vd"))
 ENUMS = (STATUS, LAW, FRICTION_INPUT)
+#: What fric_ctrl_step and fric_ctrl_step_fn return (and fric_ctrl_t.flags holds): an OR of these.
+FLAGS = CFlags("fric_ctrl_flags_t", tuple(Enumerator(*m) for m in (
+    ("FRIC_CTRL_STEP_OK", 0, "ok"),
+    ("FRIC_CTRL_FAULT_NULL", 1, "NULL pointer"),
+    ("FRIC_CTRL_INPUT_FAULT", 2, "input fault"),
+    ("FRIC_CTRL_SATURATED", 4, "saturated"),
+    ("FRIC_CTRL_PROJECTED", 8, "projected"))))
 
 #: A parameter's value: a float, the floats of an array, or an enumerator.
 Value = Union[float, List[float], Enumerator]
@@ -114,6 +139,10 @@ PARAMS = (
     Field("i_max", "float", attrgetter("i_max")),
     Field("m_o_hat0", "float", lambda s: s.a0[0]),
     Field("k_hat0", "float", lambda s: s.a0[1]),
+    Field("m_o_min", "float", lambda s: s.a_min[0]),
+    Field("m_o_max", "float", lambda s: s.a_max[0]),
+    Field("k_min", "float", lambda s: s.a_min[1]),
+    Field("k_max", "float", lambda s: s.a_max[1]),
     Field("law", LAW.ctype, lambda s: LAW.member(s.law)),
     Field("friction_at", FRICTION_INPUT.ctype, lambda s: FRICTION_INPUT.member(s.friction_input)),
 )
@@ -125,6 +154,7 @@ STATE = (
     Field("e1", "float"),
     Field("e2", "float"),
     Field("i", "float"),
+    Field("flags", FLAGS.ctype),
 )
 STRUCTS = {"fric_ctrl_params_t": PARAMS, "fric_ctrl_t": STATE}
 
@@ -133,7 +163,7 @@ def function_declarations() -> str:
     line breaks dropped): the header is the one place they are written."""
     text = re.sub(r"/\*.*?\*/", " ", (resource_dir("c_runtime") / "fric_ctrl.h").read_text(),
                   flags=re.S)
-    found = re.findall(r"^\s*(?:void|float|fric_ctrl_status_t)\s+fric_ctrl_\w+\s*\([^;{]*\)\s*;",
+    found = re.findall(r"^\s*(?:void|float|fric_ctrl_status_t|fric_ctrl_flags_t)\s+fric_ctrl_\w+\s*\([^;{]*\)\s*;",
                        text, flags=re.M)
     return "".join(" ".join(proto.split()) + "\n" for proto in found)
 
@@ -144,7 +174,7 @@ def _struct_cdef(ctype: str, fields: Tuple[Field, ...]) -> str:
 
 
 #: The cffi declarations of fric_ctrl.h.
-CDEF = ("".join(e.cdef() for e in ENUMS)
+CDEF = ("".join(e.cdef() for e in ENUMS + (FLAGS,))
         + "typedef float (*fric_ctrl_friction_fn)(float v);\n"
         + "".join(_struct_cdef(ctype, fields) for ctype, fields in STRUCTS.items())
         + function_declarations())

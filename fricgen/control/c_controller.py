@@ -1,7 +1,7 @@
 """The C controller (c_runtime/fric_ctrl.c) with an emitted model, loaded through cffi.
 
 ``CController`` has the interface of ``AdaptiveBackstepping`` (``ts``, ``reset``, ``step``,
-``adaptive_parameters``), so ``fricgen.simulation.simulate`` runs the C firmware code in the
+``flags_``, ``adaptive_parameters``), so ``fricgen.simulation.simulate`` runs the C firmware code in the
 same closed loop as the Python controller.
 """
 from __future__ import annotations
@@ -10,8 +10,6 @@ import shutil
 import tempfile
 from pathlib import Path
 from typing import Dict, Optional
-
-import numpy as np
 
 from .._io import write_all_atomic
 from ..codegen import emit
@@ -81,16 +79,29 @@ class CController:
         if code != STATUS.member("ok").value:
             raise ValueError(f"fric_ctrl_init rejected the parameters: {STATUS.key_of(code)}")
         self._fn = ffi.addressof(lib, self.c_friction) if self.c_friction else None
+        self._current = ffi.new("float *")
+        self.flags_ = 0
         return self
 
     def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
-        lib = self.module.lib
-        if self._fn is not None:
-            return lib.fric_ctrl_step_fn(self._c, x, v, xd, xd_dot, xd_ddot, self._fn)
-        twin = self._twin
-        f = np.float32
-        u = twin.friction_velocity(f(x), f(v), f(xd), f(xd_dot))
-        return lib.fric_ctrl_step(self._c, x, v, xd, xd_dot, xd_ddot, float(twin.friction_force(u)))
+        """One ``fric_ctrl_step_fn`` (or ``fric_ctrl_step``): the current; ``flags_`` holds the
+        flags it returned."""
+        if self._fn is None:
+            return self.step_with_force(x, v, xd, xd_dot, xd_ddot,
+                                        self.compensation_force(x, v, xd, xd_dot))
+        self.flags_ = self.module.lib.fric_ctrl_step_fn(self._c, x, v, xd, xd_dot, xd_ddot,
+                                                        self._fn, self._current)
+        return self._current[0]
+
+    def compensation_force(self, x, v, xd, xd_dot):
+        """F_Fm as the float32 twin evaluates ``settings.compensation`` (in Python)."""
+        return self._twin.compensation_force(x, v, xd, xd_dot)
+
+    def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
+        """One ``fric_ctrl_step`` with the force given: the current; ``flags_`` as ``step``."""
+        self.flags_ = self.module.lib.fric_ctrl_step(self._c, x, v, xd, xd_dot, xd_ddot,
+                                                     float(friction), self._current)
+        return self._current[0]
 
     @property
     def adaptive_parameters(self):

@@ -32,6 +32,8 @@ QEMU = "qemu-system-arm"
 #: Flags of every cross build: C99, no floating-point contraction (so the Python twins stay
 #: exact), one section per function so the linker drops what nobody calls.
 COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-ffunction-sections", "-fdata-sections"]
+#: The part of COMMON_FLAGS that is not the language and optimization (``lang_flags`` replace those).
+SECTION_FLAGS = ["-ffunction-sections", "-fdata-sections"]
 
 
 @dataclass(frozen=True)
@@ -89,11 +91,15 @@ def _run(cmd: Sequence[str], timeout: float = 120) -> subprocess.CompletedProces
 
 
 def compile_objects(sources: Iterable[Union[str, Path]], target_name: str, out_dir: Union[str, Path],
-                    include_dirs: Iterable[Union[str, Path]] = (), strict: bool = True) -> List[Path]:
-    """Compile each C source to an object for ``target_name`` (strict warnings: -Werror)."""
+                    include_dirs: Iterable[Union[str, Path]] = (), strict: bool = True,
+                    lang_flags: Optional[Sequence[str]] = None) -> List[Path]:
+    """Compile each C source to an object for ``target_name`` (strict warnings: -Werror).
+    ``lang_flags`` (e.g. ["-std=gnu99", "-Os"]) replace COMMON_FLAGS' language, optimization
+    and contraction flags."""
     tgt, out_dir = target(target_name), Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    flags = COMMON_FLAGS + list(tgt.cpu_flags) + (STRICT_WARNINGS if strict else ["-Wall", "-Wextra"])
+    base = COMMON_FLAGS if lang_flags is None else list(lang_flags) + SECTION_FLAGS
+    flags = base + list(tgt.cpu_flags) + (STRICT_WARNINGS if strict else ["-Wall", "-Wextra"])
     flags += [f"-I{d}" for d in include_dirs]
     objects = []
     for src in sources:
@@ -117,21 +123,25 @@ def link(objects: Iterable[Path], target_name: str, elf: Union[str, Path], gc_se
 def build_firmware(model_dir: Union[str, Path], config_h: str, target_name: str,
                    out_dir: Union[str, Path], extra_sources: Sequence[Union[str, Path]] = (),
                    strict_model: bool = True, gc_sections: bool = True,
-                   include_dirs: Sequence[Union[str, Path]] = (), strict_extra: bool = False) -> Path:
+                   include_dirs: Sequence[Union[str, Path]] = (), strict_extra: bool = False,
+                   lang_flags: Optional[Sequence[str]] = None) -> Path:
     """The firmware ELF: harness + startup + every .c of ``model_dir`` (+ ``extra_sources``).
 
     ``config_h`` is the text of fw_config.h (see ``config_float``); the model's own files are
-    compiled with the strict warning set, ``extra_sources`` too with ``strict_extra``.
+    compiled with the strict warning set, ``extra_sources`` too with ``strict_extra``; every
+    file with ``lang_flags`` (``compile_objects``). The model's objects are in
+    ``out_dir / "model"``.
     """
     fw, out_dir, model_dir = firmware_dir(), Path(out_dir), Path(model_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "fw_config.h").write_text(config_h)
     incs = [out_dir, model_dir, fw] + [Path(d) for d in include_dirs]
-    objs = compile_objects(sorted(model_dir.glob("*.c")), target_name, out_dir / "model", incs, strict_model)
+    objs = compile_objects(sorted(model_dir.glob("*.c")), target_name, out_dir / "model", incs, strict_model,
+                           lang_flags)
     objs += compile_objects(list(extra_sources), target_name, out_dir / "extra", incs,
-                            strict=strict_extra)
+                            strict=strict_extra, lang_flags=lang_flags)
     objs += compile_objects([fw / "startup.c", fw / "fw_main.c"], target_name, out_dir / "fw", incs,
-                            strict=False)
+                            strict=False, lang_flags=lang_flags)
     return link(objs, target_name, out_dir / "fw.elf", gc_sections)
 
 

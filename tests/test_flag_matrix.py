@@ -1,0 +1,98 @@
+"""Meaning that does not depend on flags: the runtime refuses -ffast-math, and the runtime with
+emitted models (an ELM and a grey-box eq. (1) model, both --activation-impl fast: no libm) and
+the controller on glitched inputs give the twins' bits under every compiler x -std x -O on this
+machine (gcc, clang, arm-none-eabi-gcc under QEMU when installed), with no fused multiply-add."""
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen import codegen
+from fricgen._io import resource_dir
+from fricgen.control.backstepping import AdaptiveBackstepping
+from fricgen.control.faults import Glitched, random_glitches
+from fricgen.control.loop import default_axis, simulate
+from fricgen.firmware import flag_matrix as fm
+
+CC = shutil.which("cc") or shutil.which("gcc")
+pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+
+def runtime_folder(tmp_path):
+    return shutil.copytree(resource_dir("c_runtime"), tmp_path / "runtime")
+
+
+def test_the_float_semantics_block_is_the_same_in_every_runtime_file(tmp_path):
+    blocks = fm.fp_blocks(runtime_folder(tmp_path))
+    assert set(blocks) == {"fric_kernel.h", "fric_fast.h", "fric_ctrl.c"}
+    assert len(set(blocks.values())) == 1
+
+
+@pytest.mark.parametrize("flag", ["-ffast-math", "-ffinite-math-only"])
+@pytest.mark.parametrize("source", ["fric_kernel.c", "fric_fast.c", "fric_ctrl.c"])
+def test_fast_math_is_a_compile_error(tmp_path, flag, source):
+    folder = runtime_folder(tmp_path)
+    proc = subprocess.run([CC, "-std=c99", "-O2", flag, "-c", source, "-o", "/dev/null"],
+                          cwd=folder, capture_output=True, text=True)
+    assert proc.returncode != 0 and "-ffast-math" in proc.stderr
+
+
+@pytest.fixture(scope="module")
+def matrix(tmp_path_factory, bench, model10):
+    tmp = tmp_path_factory.mktemp("flag_matrix")
+    models = {"fm": model10, "gb": fm.table1_greybox(bench)}
+    for name, model in models.items():
+        codegen.emit(model, tmp / "src", name, activation_impl="fast", with_controller=True)
+    settings = AdaptiveBackstepping(compensation=model10)
+    glitched = Glitched(settings.clone(dtype="float32"),
+                        random_glitches(1000, np.random.default_rng(3), 30, first=100))
+    simulate(default_axis(), [glitched], duration=1.0, substeps=2)
+    v = np.concatenate([np.linspace(-2 * model10.v_sat, 2 * model10.v_sat, 201),
+                        [0.0, -0.0, 1e3, -1e3, np.nan, np.inf]]).astype(np.float32)
+    flag_sets = fm.available_flag_sets()
+    rows = fm.run_matrix(tmp / "src", list(models), flag_sets, tmp / "out", v, glitched.rows_,
+                         settings)
+    return rows, fm.twin_lines(models, "fast", v, glitched.rows_, settings)
+
+
+def test_every_build_equals_the_twins_bit_for_bit(matrix):
+    rows, twin = matrix
+    print("\n".join(f"{r.flags.label}: fma {r.fma}, "
+                    f"{fm.first_difference(r.lines, twin) or 'bit-equal'}" for r in rows))
+    assert {r.flags.std for r in rows} == {"c99", "gnu99"} and len(rows) >= 6
+    assert any(line.startswith("c ") and int(line.split()[2], 16) & 2 for line in twin)  # faults
+    for r in rows:
+        assert fm.first_difference(r.lines, twin) is None, r.flags.label
+
+
+def test_no_build_contains_a_fused_multiply_add(matrix):
+    rows, _ = matrix
+    assert all(r.fma == 0 for r in rows), {r.flags.label: r.fma for r in rows if r.fma}
+
+
+def test_the_fma_counter_sees_contraction(tmp_path):
+    """The count above is not vacuous: a * b + c under -std=gnu99 -O2 (with FMA available)."""
+    src = tmp_path / "mad.c"
+    src.write_text("float mad(float a, float b, float c) { return a * b + c; }\n")
+    flags = fm.host_fma_flags()
+    if not flags:
+        pytest.skip("the host has no FMA instruction")
+    subprocess.run(["gcc", "-std=gnu99", "-O2", *flags, "-c", str(src), "-o", str(tmp_path / "m.o")],
+                   check=True)
+    assert fm.fma_count([tmp_path / "m.o"], "objdump") == 1
+
+
+def test_without_the_block_gnu99_contracts_and_the_bits_differ(tmp_path, model10):
+    """What the block buys: the same runtime without it, under gcc -std=gnu99 -O2."""
+    if not fm.host_fma_flags() or shutil.which("gcc") is None:
+        pytest.skip("the host has no FMA instruction (or no gcc)")
+    codegen.emit(model10, tmp_path / "src", "fm", activation_impl="fast", with_controller=True)
+    assert fm.strip_fp_blocks(tmp_path / "src") == ["fric_ctrl.c", "fric_fast.h"]
+    v = np.linspace(-2 * model10.v_sat, 2 * model10.v_sat, 201).astype(np.float32)
+    rows = np.zeros((1, 6), dtype=np.float32)
+    settings = AdaptiveBackstepping()
+    row, = fm.run_matrix(tmp_path / "src", ["fm"], [fm.FlagSet("gcc", "gnu99", "-O2")],
+                         tmp_path / "out", v, rows, settings)
+    assert row.fma > 0
+    assert fm.first_difference(row.lines, fm.twin_lines({"fm": model10}, "fast", v, rows, settings))
