@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Dict, Iterable, Union
 
 import numpy as np
+from scipy.io import loadmat
 
 from ..errors import DataError
 
@@ -105,7 +106,6 @@ def read_matfile(path: Union[str, Path]) -> MatFile:
     """The variables of the MATLAB file ``path``; ``DataError`` in one line for a v7.3 file
     (with the hint to save it as v7), an unreadable one, one without variables, or two names
     that differ only in case."""
-    from scipy.io import loadmat          # scipy loads only for MATLAB files
 
     try:
         with open(path, "rb"):
