@@ -4,9 +4,11 @@
 paper) or split by the sign of v, each direction with its own B, v_sat, scaling and network
 (a fresh copy of the given estimator, so any network kind). Unless told which, it chooses by
 K-fold cross-validation of the force in newtons on held-out rows: the asymmetric model must
-beat the symmetric one in every sense of the paired fold differences (mean gain above two
-standard errors and above CV_MARGIN of the error), so data of a symmetric axis keep the
-simpler model.
+beat the symmetric one in every sense of the paired fold comparisons (the mean log ratio of
+the fold errors above two standard errors, and the mean gain above CV_MARGIN of the error), so
+data of a symmetric axis keep the simpler model. Ratios, not differences: a fold of a log that
+holds out a phase of the motion is hard for both models, and its large difference must not
+drown the others.
 """
 from __future__ import annotations
 
@@ -117,10 +119,14 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
 
 
 def prefers_asymmetric(mse: np.ndarray) -> bool:
-    """Whether the paired fold differences favour the asymmetric model (see the module)."""
-    gain = mse[0] - mse[1]
-    se = gain.std(ddof=1) / np.sqrt(gain.size)
-    return bool(gain.mean() > CV_SIGMAS * se and gain.mean() > CV_MARGIN * mse[0].mean())
+    """Whether the paired fold comparisons favour the asymmetric model (see the module)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.log(mse[0]) - np.log(mse[1])
+    if not np.all(np.isfinite(ratio)):                  # an exact fit: compare the errors only
+        ratio = np.sign(mse[0] - mse[1])
+    se = ratio.std(ddof=1) / np.sqrt(ratio.size)
+    gain = float(mse[0].mean() - mse[1].mean())
+    return bool(ratio.mean() > CV_SIGMAS * se and gain > CV_MARGIN * mse[0].mean())
 
 
 def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> float:
