@@ -15,10 +15,10 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ..data import MIN_ROWS, Dataset, Sweep, estimate_vs_max, prepare
+from ..data import MIN_ROWS, Dataset, Sweep, choose_vs_max, prepare
 from ..errors import DataError
 from ..model import Direction
-from .base import as_rng
+from .base import as_rng, interleaved_folds
 
 #: Folds of the cross-validation that chooses between the models.
 CV_FOLDS = 5
@@ -57,11 +57,18 @@ class DirectionsFit:
         return len(self.fits) == 2
 
 
-def _vs_max(sweep: Sweep, vs_max: Optional[float]) -> float:
-    return vs_max if vs_max is not None else estimate_vs_max(sweep.folded())
+def _vs_max(sweep: Sweep, vs_max: Optional[float]):
+    """``vs_max`` if given, else the choice of ``choose_vs_max`` on the folded sweep (its folds
+    from ``interleaved_folds``), which ``prepare`` takes in its place."""
+    if vs_max is not None:
+        return vs_max
+    folded = sweep.folded()
+    if np.ptp(folded.v) <= 0:
+        return None                     # prepare names the problem
+    return choose_vs_max(folded, interleaved_folds(folded.v, CV_FOLDS))
 
 
-def _fit(sweep: Sweep, estimator, vs_max: Optional[float],
+def _fit(sweep: Sweep, estimator, vs_max,
          max_points: Optional[int] = None) -> FittedDirection:
     """The curve fitted to ``sweep`` (folded) by a fresh copy of ``estimator``."""
     kwargs = {} if max_points is None else {"max_points": max_points}
@@ -100,8 +107,8 @@ def prefers_asymmetric(mse: np.ndarray) -> bool:
 
 
 def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> float:
-    """The vs_max of one direction: ``vs_max`` if given, else the direction's own estimate when
-    its training set can be built with it, else the estimate of both directions folded."""
+    """The vs_max of one direction: ``vs_max`` if given, else the direction's own choice when
+    its training set can be built with it, else the choice of both directions folded."""
     if vs_max is not None:
         return vs_max
     own = _vs_max(half, None)
@@ -136,11 +143,12 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
             reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
             return DirectionsFit((_fit(sweep, estimator, vs_max),), reason)
     if asymmetric is None:
-        mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
+        both = _vs_max(sweep, vs_max)
+        mse = cross_validate(sweep, estimator, (both, *vs_dirs), seed=seed,
                              per_direction=per_direction)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         if not prefers_asymmetric(mse):
-            return DirectionsFit((_fit(sweep, estimator, vs_max),), "cross-validation", cv)
+            return DirectionsFit((_fit(sweep, estimator, both),), "cross-validation", cv)
         return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)),
                              "cross-validation", cv)
     if not asymmetric:
