@@ -201,3 +201,12 @@ def test_noise_free_high_speed_rows_lose_none_but_a_spike():
     spiked = f.copy()
     spiked[20] += 1.0
     assert identify_viscous(Sweep(v, spiked))[2] == 1
+
+
+def test_a_short_coulomb_viscous_sweep_is_fitted_not_refused():
+    """60 clean rows of f = 2 + 15 v (no Stribeck drop): the old estimate put vs_max so high that
+    13 rows were left below v_sat and train refused; every candidate now leaves MIN_ROWS."""
+    v = np.arange(1, 61) / 300
+    dataset = prepare(Sweep(v, 2 + 15 * v))
+    assert dataset.n_rows >= 20
+    assert dataset.viscous == pytest.approx(15.0, rel=0.05)

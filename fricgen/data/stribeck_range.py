@@ -25,7 +25,7 @@ from scipy.optimize import nnls
 
 from ..errors import DataError
 from ..friction import SHAPES
-from .sweep import Sweep
+from .sweep import MIN_ROWS, Sweep
 from .viscous import MIN_HIGH_SPEED_ROWS, SAT_FACTOR, bin_equal_counts, identify_viscous
 
 #: Candidate values of vs_max in the grid (log-spaced).
@@ -75,14 +75,15 @@ def speed_folds(v: np.ndarray, folds: int = FOLDS) -> np.ndarray:
 
 
 def candidate_grid(v: np.ndarray, n: int = CANDIDATES) -> np.ndarray:
-    """Log-spaced vs_max values from the speed below which EDGE_FRACTION of the rows lie to
-    the speed beyond which as many lie (at least 2 MIN_HIGH_SPEED_ROWS), both / SAT_FACTOR;
-    empty when that leaves no range."""
+    """Log-spaced vs_max values from the speed below which EDGE_FRACTION of the rows lie (at
+    least MIN_ROWS) to the speed beyond which as many lie (at least 2 MIN_HIGH_SPEED_ROWS), both
+    / SAT_FACTOR; empty when that leaves no range."""
     speeds = np.sort(v[v > 0])
     fast = max(2 * MIN_HIGH_SPEED_ROWS, int(EDGE_FRACTION * speeds.size))
-    if speeds.size <= fast + MIN_HIGH_SPEED_ROWS:
+    slow = max(MIN_ROWS, int(EDGE_FRACTION * speeds.size))     # prepare needs MIN_ROWS below
+    if speeds.size <= fast + slow:
         return np.empty(0)
-    lo = speeds[int(EDGE_FRACTION * speeds.size)] / SAT_FACTOR
+    lo = speeds[slow] / SAT_FACTOR
     hi = speeds[-fast - 1] / SAT_FACTOR
     if not (lo > 0 and hi > lo):
         return np.empty(0)
