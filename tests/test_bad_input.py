@@ -31,7 +31,6 @@ def work(cli_inputs, tmp_path_factory):
         "falling.csv": "v,f\n" + "\n".join(f"{r.split(',')[0]},{float(r.split(',')[1]) - 115 * float(r.split(',')[0])!r}"
                                             for r in body),
         "one_speed.csv": "v,f\n" + "0.05,3\n" * 60,
-        "coulomb_viscous.csv": "v,f\n" + "\n".join(f"{k / 300!r},{2 + 15 * k / 300!r}" for k in range(1, 61)),
         "int400.json": (d / "model.json").read_text().replace('"viscous": ', '"viscous": ' + "9" * 400 + ', "x": '),
         "unicode_digits.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,\uff11\n" + "\n".join(body[20:]),
         "underscores.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,1_0\n" + "\n".join(body[20:]),
@@ -216,8 +215,6 @@ ROWS = [
     ("force falling at high speed", ["train", "falling.csv", "--vs-max", "0.02", "-o", OUT],
      "friction must oppose the motion"),
     ("a sweep at one speed", ["train", "one_speed.csv", "-o", OUT], "all at one speed"),
-    ("vs_max estimated too high", ["train", "coulomb_viscous.csv", "-o", OUT],
-     "(with vs_max estimated as"),
     ("a log with t in ms", ["train", "log_ms.csv", *LOG, "-o", OUT], "dx/dt is 0.001 times v"),
     ("a row of the wrong width", ["train", "ragged.csv", "-o", OUT], "3 cells, the header names 2"),
     ("digits of another script", ["train", "unicode_digits.csv", "-o", OUT], "non-numeric"),

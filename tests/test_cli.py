@@ -42,9 +42,12 @@ def test_training_errors_keep_their_digits_when_small():
     assert "E_train = 2.5e-07 (3.2e-06 N)" in line and "E_loo = 0.01235 (1.5 N)" in line
 
 
-def test_train_without_vs_max_says_it_estimated(sweep_csv, tmp_path, capsys):
+def test_train_without_vs_max_reports_the_cross_validated_choice(sweep_csv, tmp_path, capsys):
     assert main(["train", str(sweep_csv), "-o", str(tmp_path / "m.json")]) == 0
-    assert "estimated from the data" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "vs_max chosen from the data" in out
+    line = next(t for t in out.splitlines() if t.startswith("vs_max "))
+    assert "chosen by 5-fold CV over" in line and line.count(" N)") >= 3
 
 
 def test_eval_prints_one_force_per_line(model_json, monkeypatch, capsys):

@@ -86,12 +86,17 @@ def error_line(errors: dict) -> str:
 def fit_report(model: FrictionModel, dataset, estimator, errors=None) -> str:
     """The text ``fricgen train`` prints: data, model and errors (of one curve)."""
     s = dataset.scaling
-    vs_note = " (estimated from the data; pass --vs-max to set it)" if dataset.vs_max_estimated else ""
+    chosen = dataset.stribeck_range
+    vs_note = " (vs_max chosen from the data; pass --vs-max to set it)" if chosen else ""
+    joint = chosen is not None and not chosen.linear_region
     lines = [
         f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
         f"{vs_note}" + (f"; the {dataset.n_rows} rows there averaged in bins of equal count"
                         if dataset.binned else ""),
-        f"viscous   B = {dataset.viscous:.6g} N s/m from {dataset.n_high_speed} high-speed points"
+    ] + ([f"vs_max    {chosen.describe()}"] if chosen else []) + [
+        f"viscous   B = {dataset.viscous:.6g} N s/m "
+        + ("fitted with the Stribeck sources (no linear high-speed region)" if joint else
+           f"from {dataset.n_high_speed} high-speed points")
         + (f" ({dataset.n_outliers} rejected as gross outliers, > {OUTLIER_SIGMAS:g} robust sd "
            "off the line)" if dataset.n_outliers else ""),
         f"scaling   K_in = {s.k_in:.6g} 1/(m/s), K_out = {s.k_out:.6g} 1/N",
@@ -315,7 +320,7 @@ def register(p) -> None:
                    "file, its vectors the columns")
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
-                   "(default: estimated from the data)")
+                   "(default: chosen by cross-validation from the data)")
     p.add_argument("--method", choices=["auto", "elm_auto", "stribeck", "elm"],
                    help="auto: the grey-box eq. (1) or the automatic ELM, whichever has the "
                    "smaller cross-validated error (default); elm_auto: the automatic ELM; "

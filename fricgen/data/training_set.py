@@ -1,118 +1,27 @@
 """From a sweep to the eq. (9) training set: B identification, vs_max, normalization."""
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Optional, Tuple
+from dataclasses import dataclass, replace
+from typing import Optional, Tuple, Union
 
 import numpy as np
 
 from .._validate import float32_scale
 from ..errors import DataError
 from ..model import Scaling
-from .outliers import OUTLIER_SIGMAS, gross_outliers, robust_scale
+from .outliers import gross_outliers
+from .stribeck_range import StribeckRange, choose_vs_max
 from .sweep import MIN_ROWS, Sweep
+from .viscous import (MIN_HIGH_SPEED_ROWS, SAT_FACTOR, bin_equal_counts,  # noqa: F401 (re-exported)
+                      identify_viscous)
 
-#: Fewest high-speed rows (|v| > v_sat) the regression for B needs.
-MIN_HIGH_SPEED_ROWS = 5
-#: v_sat = SAT_FACTOR * vs_max: beyond it g(v, v_s) ~ 0 and eq. (3) saturates the network input.
-SAT_FACTOR = 3.0
 #: Rows in [0, v_sat] beyond which the training set is binned (``bin_equal_counts``).
 MAX_TRAINING_POINTS = 4096
-
-
-def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
-    """A line through (v, f) that gross outliers cannot move: the median of pairwise slopes
-    over at most ``most`` rows spread over the velocity order, and the median intercept."""
-    order = np.argsort(v)
-    pick = order[np.unique(np.linspace(0, v.size - 1, min(most, v.size)).astype(int))]
-    dv = v[pick][:, None] - v[pick][None, :]
-    df = f[pick][:, None] - f[pick][None, :]
-    with np.errstate(invalid="ignore", over="ignore"):
-        slopes = (df / dv)[np.triu(dv != 0, 1)]
-    slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
-    with np.errstate(over="ignore", invalid="ignore"):
-        return slope, float(np.median(f - slope * v))
-
-
-def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
-    """B and the intercept of the line f = F0 + B v through high-speed folded data (section 2),
-    and the number of rows rejected as gross outliers.
-
-    Rows whose residual from a robust (Theil-Sen) line exceeds OUTLIER_SIGMAS robust standard
-    deviations (1.4826 MAD) are dropped; least squares on the others gives B, in the centred and
-    scaled speed (v - mean) / sd, so that any unit of v and f gives the same line. Bounded
-    noise, such as the benchmark's, is never rejected (its largest residual is under 1.4
-    robust sd)."""
-    if len(high) < MIN_HIGH_SPEED_ROWS:
-        raise DataError(f"no high-speed data for B: {len(high)} rows beyond v_sat, "
-                        f"need at least {MIN_HIGH_SPEED_ROWS}")
-    if np.ptp(high.v) <= 0:
-        raise DataError("high-speed data for B spans no velocity range")
-    slope, intercept = _theil_sen(high.v, high.f)
-    with np.errstate(over="ignore", invalid="ignore"):
-        residual = np.abs(high.f - intercept - slope * high.v)
-    scale = robust_scale(residual, high.f)
-    keep = np.isfinite(residual) & (residual <= OUTLIER_SIGMAS * scale) if scale > 0 \
-        else np.isfinite(residual)
-    if keep.sum() < MIN_HIGH_SPEED_ROWS or np.ptp(high.v[keep]) <= 0:
-        raise DataError(f"high-speed data for B: only {int(keep.sum())} of {len(high)} rows "
-                        "lie on a line")
-    v = high.v[keep]
-    centre, spread = float(np.mean(v)), float(np.std(v))
-    A = np.column_stack([np.ones(v.size), (v - centre) / spread])
-    (mean_f, slope), *_ = np.linalg.lstsq(A, high.f[keep], rcond=None)
-    B = slope / spread
-    return float(B), float(mean_f - B * centre), int(len(high) - keep.sum())
-
-
-def bin_equal_counts(sweep: Sweep, bins: int) -> Sweep:
-    """``sweep`` itself if it has at most ``bins`` rows; else the means of v and f over
-    ``bins`` groups of consecutive speeds with equal counts (+-1).
-
-    Equal counts keep the least-squares objective of the full data (each bin mean stands for
-    the same number of rows), and each mean carries sqrt(count) times less noise. Within a bin
-    the curve is nearly linear: the averaging bias, f'' w^2 / 24 for a bin of width w, is far
-    below the noise for the bins of a dense sweep."""
-    if len(sweep) <= bins:
-        return sweep
-    order = np.argsort(sweep.v, kind="stable")
-    starts = np.linspace(0, len(sweep), bins + 1).astype(int)[:-1]
-    counts = np.diff(np.append(starts, len(sweep)))
-    return Sweep(np.add.reduceat(sweep.v[order], starts) / counts,
-                 np.add.reduceat(sweep.f[order], starts) / counts)
 
 
 def check_float32_scale(what: str, value: float, unit: str) -> None:
     """``DataError`` unless |value| lies where the emitted float32 C computes reliably."""
     float32_scale(what, value, unit, "rescale the data's units", DataError)
-
-
-def estimate_vs_max(folded: Sweep) -> float:
-    """Estimate vs_max from a folded sweep when the user gives none.
-
-    A line is fitted to the fastest quarter of the data (assumed free of the Stribeck effect);
-    the excess force over that line is averaged in velocity bins, and the fastest bin whose
-    excess still stands 3 standard errors above zero marks the end of the Stribeck region.
-    Eq. (2) shapes have fallen to a few percent at 2 v_s, so vs_max is taken as half that edge.
-    """
-    order = np.argsort(folded.v)
-    v, f = folded.v[order], folded.f[order]
-    fast = v >= np.quantile(v, 0.75)
-    if fast.sum() < MIN_HIGH_SPEED_ROWS:
-        raise DataError("too few data to estimate vs_max; pass --vs-max")
-    if np.ptp(v[fast]) <= 0:
-        raise DataError(f"the fastest quarter of the data is all at one speed ({v[-1]:.6g} m/s): "
-                        "cannot estimate vs_max; pass --vs-max, or sweep a range of speeds")
-    coef = np.polyfit(v[fast], f[fast], 1)
-    resid = f - np.polyval(coef, v)
-    sigma = max(np.std(resid[fast]), 1e-12 * float(np.median(np.abs(f))))   # noise-free data
-    edges = np.quantile(v, np.linspace(0.0, 0.75, 16))
-    edge = edges[1]
-    starts = np.searchsorted(v, edges)          # v is sorted: bin [lo, hi) is one slice of it
-    for lo, hi, k0, k1 in zip(edges[:-1], edges[1:], starts[:-1], starts[1:]):
-        if k1 - k0 >= 3 and resid[k0:k1].mean() > 3 * sigma / np.sqrt(k1 - k0):
-            edge = hi
-    return float(edge / 2.0)
 
 
 @dataclass(frozen=True)
@@ -124,11 +33,17 @@ class Dataset:
     scaling: Scaling
     viscous: float
     v_sat: float
-    vs_max_estimated: bool = False
     n_high_speed: int = 0
     n_outliers: int = 0
     #: Rows in [0, v_sat] before binning (x.size - 2 when the sweep was not binned).
     n_rows: int = 0
+    #: How vs_max was chosen when not given (``choose_vs_max``), else None.
+    stribeck_range: Optional[StribeckRange] = None
+
+    @property
+    def vs_max_estimated(self) -> bool:
+        """Whether vs_max was chosen from the data (not given)."""
+        return self.stribeck_range is not None
 
     @property
     def binned(self) -> bool:
@@ -141,9 +56,9 @@ class Dataset:
         return self.scaling.k_in * v, self.scaling.k_out * (np.asarray(f, dtype=float) - self.viscous * v)
 
 
-def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float] = None,
+def prepare(sweep: Sweep, vs_max: Union[None, float, StribeckRange] = None, f_sat: Optional[float] = None,
             viscous: Optional[float] = None, max_points: int = MAX_TRAINING_POINTS,
-            independence: float = 1.0) -> Dataset:
+            folds=None, independence: float = 1.0) -> Dataset:
     """Turn a sweep into the eq. (9) training set of section 2.
 
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
@@ -152,11 +67,17 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
     defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t) over
     the points that are no gross outliers (``fricgen.data.outliers``), which the default
     estimator sets aside.
+    Without ``vs_max`` it is chosen by cross-validation (``choose_vs_max``, on ``folds``: the
+    fold of each moving row, default interleaved by speed), or ``vs_max`` is such a choice
+    made before; where the data have no linear high-speed region, B is fitted with the rest
+    and v_sat is the fastest speed.
     Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``), and
     into as many bins as independent samples when a row is only ``independence`` of one (a
     smoothed log's rows): each training point then stands for one sample, as eq. (9)'s fits
     and their cross-validations assume.
     """
+    chosen = vs_max if isinstance(vs_max, StribeckRange) else None
+    vs_max = None if chosen else vs_max
     if vs_max is not None and not (np.isfinite(vs_max) and vs_max > 0):
         raise DataError(f"vs_max must be > 0, got {vs_max}")
     if len(sweep) < MIN_ROWS:
@@ -170,18 +91,25 @@ def prepare(sweep: Sweep, vs_max: Optional[float] = None, f_sat: Optional[float]
                         "with the sign of v (eq. 1): check the sign of v, force or i (or --scale)")
     check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
     check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
-    estimated = vs_max is None
-    if estimated:
-        vs_max = estimate_vs_max(folded)
-        try:
-            return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated, independence)
-        except DataError as exc:
-            raise DataError(f"{exc} (with vs_max estimated as {vs_max:.4g} m/s; pass --vs-max to "
-                            "set it)") from None
-    return _prepare(folded, vs_max, f_sat, viscous, max_points, estimated, independence)
+    if vs_max is not None:
+        return _prepare(folded, vs_max, f_sat, viscous, max_points, independence)
+    if chosen is None:
+        if np.ptp(folded.v) <= 0:
+            raise DataError(f"the data are all at one speed ({folded.v[0]:.6g} m/s): cannot "
+                            "choose vs_max; pass --vs-max, or sweep a range of speeds")
+        chosen = choose_vs_max(folded, folds)
+    if not chosen.linear_region:
+        viscous = chosen.viscous if viscous is None else viscous
+        f_sat = chosen.f_sat if f_sat is None else f_sat
+    try:
+        dataset = _prepare(folded, chosen.vs_max, f_sat, viscous, max_points, independence)
+    except DataError as exc:
+        raise DataError(f"{exc} (with vs_max chosen as {chosen.vs_max:.4g} m/s; pass --vs-max to "
+                        "set it)") from None
+    return replace(dataset, stribeck_range=chosen)
 
 
-def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, estimated: bool,
+def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int,
              independence: float = 1.0) -> Dataset:
     """``prepare`` of the folded sweep once vs_max is known."""
     v_sat = SAT_FACTOR * vs_max
@@ -215,5 +143,5 @@ def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int, esti
         check_float32_scale("the viscous coefficient B", viscous, "N s/m")
     scaling = Scaling(k_in=float(k_in), k_out=float(1.0 / peak))
     return Dataset(x=k_in * v, t=scaling.k_out * t_raw, scaling=scaling, viscous=float(viscous),
-                   v_sat=float(v_sat), vs_max_estimated=estimated, n_high_speed=len(high),
+                   v_sat=float(v_sat), n_high_speed=len(high),
                    n_outliers=n_outliers, n_rows=n_rows)

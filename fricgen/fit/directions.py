@@ -18,11 +18,11 @@ from typing import Callable, Optional, Tuple
 import numpy as np
 
 from .._progress import Progress
-from ..data import MIN_ROWS, Dataset, Sweep, estimate_vs_max, prepare
+from ..data import MIN_ROWS, Dataset, Sweep, choose_vs_max, prepare
 from ..errors import DataError
 from ..model import Direction
 from .auto import AutoELMRegressor
-from .base import as_rng
+from .base import as_rng, interleaved_folds
 from .default import DefaultRegressor, elm_units, greybox_sources
 from .stribeck import StribeckRegressor
 
@@ -66,11 +66,21 @@ class DirectionsFit:
         return len(self.fits) == 2
 
 
-def _vs_max(sweep: Sweep, vs_max: Optional[float]) -> float:
-    return vs_max if vs_max is not None else estimate_vs_max(sweep.folded())
+def _vs_max(sweep: Sweep, vs_max: Optional[float], blocks: int = 0):
+    """``vs_max`` if given, else the choice of ``choose_vs_max`` on the folded sweep (its folds
+    from ``interleaved_folds``, or a log's ``blocks`` of time, ``row_folds``), which ``prepare``
+    takes in its place."""
+    if vs_max is not None:
+        return vs_max
+    folded = sweep.folded()
+    if np.ptp(folded.v) <= 0:
+        return None                     # prepare names the problem
+    folds = row_folds(len(folded), CV_FOLDS, blocks=blocks) if blocks else \
+        interleaved_folds(folded.v, CV_FOLDS)
+    return choose_vs_max(folded, folds)
 
 
-def _fit(sweep: Sweep, estimator, vs_max: Optional[float],
+def _fit(sweep: Sweep, estimator, vs_max,
          max_points: Optional[int] = None, independence: float = 1.0) -> FittedDirection:
     """The curve fitted to ``sweep`` (folded) by a fresh copy of ``estimator``."""
     kwargs = {"independence": independence}
@@ -129,17 +139,17 @@ def prefers_asymmetric(mse: np.ndarray) -> bool:
     return bool(ratio.mean() > CV_SIGMAS * se and gain > CV_MARGIN * mse[0].mean())
 
 
-def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> float:
-    """The vs_max of one direction: ``vs_max`` if given, else the direction's own estimate when
-    its training set can be built with it, else the estimate of both directions folded."""
+def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float], blocks: int = 0):
+    """The vs_max of one direction: ``vs_max`` if given, else the direction's own choice when
+    its training set can be built with it, else the choice of both directions folded."""
     if vs_max is not None:
         return vs_max
-    own = _vs_max(half, None)
+    own = _vs_max(half, None, blocks)
     try:
         prepare(half, vs_max=own, max_points=CV_POINTS)
         return own
     except DataError:
-        return _vs_max(sweep, None)
+        return _vs_max(sweep, None, blocks)
 
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
@@ -148,11 +158,12 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                    progress: Optional[Callable[[str], None]] = None) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
     ``estimator``); ``asymmetric`` None chooses by cross-validation (in contiguous ``blocks`` of
-    rows, ``row_folds``, for a log's samples in time order), True or False forces the model; its folds are told to ``progress``. ``independence``
-    (the share of an independent sample in a row, a smoothed log's) bins each curve's training
-    set to its effective samples (``prepare``). With data in one direction only the model is symmetric (``DataError`` if the
-    asymmetric one was asked for); when a sweep of both directions cannot give each its own
-    curve, ``chosen_by`` says why."""
+    rows, ``row_folds``, for a log's samples in time order; its folds told to ``progress``),
+    True or False forces the model. Without ``vs_max`` each curve's is chosen on the same kind
+    of folds. ``independence`` (the share of an independent sample in a row, a smoothed log's)
+    bins each curve's training set to its effective samples (``prepare``). With data in one
+    direction only the model is symmetric (``DataError`` if the asymmetric one was asked for);
+    when a sweep of both directions cannot give each its own curve, ``chosen_by`` says why."""
     per_direction = estimator if per_direction is None else per_direction
     halves = (sweep.direction(1), sweep.direction(-1))
     if asymmetric is not False:
@@ -161,28 +172,31 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
             for half, side in zip(halves, ("v > 0", "v < 0")):
                 if len(half) < MIN_ROWS:
                     raise DataError(f"{len(half)} rows with {side}, need at least {MIN_ROWS}")
-            vs_dirs = [_direction_vs_max(half, sweep, vs_max) for half in halves]
+            vs_dirs = [_direction_vs_max(half, sweep, vs_max, blocks) for half in halves]
             for half, vs in zip(halves, vs_dirs):
                 prepare(half, vs_max=vs, max_points=CV_POINTS)
         except DataError as exc:
             if asymmetric:
                 raise DataError(f"an asymmetric model needs a sweep of each direction: {exc}") from None
             reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
-            return DirectionsFit((_fit(sweep, estimator, vs_max, None, independence),), reason)
+            return DirectionsFit((_fit(sweep, estimator, _vs_max(sweep, vs_max, blocks), None,
+                                       independence),), reason)
     if asymmetric is None:
-        mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
+        both = _vs_max(sweep, vs_max, blocks)
+        mse = cross_validate(sweep, estimator, (both, *vs_dirs), seed=seed,
                              per_direction=per_direction, blocks=blocks,
                              independence=independence, progress=progress)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         how = "cross-validation in blocks of time" if blocks else "cross-validation"
         if not prefers_asymmetric(mse):
-            return DirectionsFit((_fit(sweep, estimator, vs_max, None, independence),), how, cv)
+            return DirectionsFit((_fit(sweep, estimator, both, None, independence),), how, cv)
         return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
                                    for h, vs in zip(halves, vs_dirs)), how, cv)
     if not asymmetric:
-        return DirectionsFit((_fit(sweep, estimator, vs_max, None, independence),), "forced")
-    return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence) for h, vs in zip(halves, vs_dirs)),
-                         "forced")
+        return DirectionsFit((_fit(sweep, estimator, _vs_max(sweep, vs_max, blocks), None,
+                                   independence),), "forced")
+    return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
+                               for h, vs in zip(halves, vs_dirs)), "forced")
 
 
 def within_budget(estimator, budget: int):

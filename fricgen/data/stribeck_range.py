@@ -1,0 +1,171 @@
+"""The Stribeck range of a sweep: vs_max, hence v_sat = SAT_FACTOR vs_max and the rows that
+give B (section 2), chosen by K-fold cross-validation of the force in newtons.
+
+Each candidate vs_max of a log-spaced grid over the data's speeds runs the steps of ``prepare``
+on the training folds, with a cheap stand-in for the grey-box fit: B and the anchor F0 from the
+rows beyond v_sat (``identify_viscous``), then eq. (1) with a fixed dictionary of Stribeck
+velocities of every shape up to vs_max (the grey-box's bound) and non-negative amplitudes
+(a linear fit), saturated at v_sat as eq. (3) is. A v_sat inside the Stribeck drop bends the
+line that gives B, a vs_max below a Stribeck velocity cannot follow the drop, and a v_sat far
+beyond it leaves few rows for B: each shows up as held-out error. Of the candidates within one
+standard error (of the paired row differences) of the best, the smallest vs_max is chosen.
+
+One more candidate has no linear high-speed region: B is fitted with the rest (eq. (1) with the
+dictionary up to a third of the fastest speed, plus B v) and v_sat is the fastest speed. It is
+chosen when it beats the best vs_max by more than one standard error, or when no vs_max leaves
+enough rows beyond v_sat; it never refuses data that span speeds.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+import numpy as np
+from scipy.optimize import nnls
+
+from ..errors import DataError
+from ..friction import SHAPES
+from .sweep import MIN_ROWS, Sweep
+from .viscous import MIN_HIGH_SPEED_ROWS, SAT_FACTOR, bin_equal_counts, identify_viscous
+
+#: Candidate values of vs_max in the grid (log-spaced).
+CANDIDATES = 10
+#: Folds of the cross-validation (``speed_folds``, by default).
+FOLDS = 5
+#: Stribeck velocities of each shape in the proxy's dictionary (log-spaced up to vs_max).
+DICTIONARY = 8
+#: The smallest candidate puts this fraction of the rows within [0, v_sat]; the largest
+#: leaves this fraction (and at least 2 MIN_HIGH_SPEED_ROWS) beyond it.
+EDGE_FRACTION = 0.1
+
+
+@dataclass(frozen=True)
+class StribeckRange:
+    """The chosen vs_max and how: ``curve`` holds (vs_max m/s, held-out RMS N) of each
+    candidate scored; ``linear_region`` is False when no candidate left enough rows beyond
+    v_sat, and then ``viscous`` is B fitted with the rest and ``f_sat`` the force at v_sat."""
+
+    vs_max: float
+    curve: Tuple[Tuple[float, float], ...]
+    folds: int
+    joint_rmse: float
+    linear_region: bool = True
+    viscous: Optional[float] = None
+    f_sat: Optional[float] = None
+
+    def describe(self) -> str:
+        """One line for the fit report."""
+        points = ", ".join(f"{v:.3g} ({e:.3g} N)" for i, (v, e) in enumerate(self.curve)
+                           if i % 2 == 0 or v == self.vs_max)      # every other, and the choice
+        joint = f"B fitted with the Stribeck sources ({self.joint_rmse:.3g} N)"
+        if self.linear_region:
+            return f"{self.vs_max:.3g} m/s chosen by {self.folds}-fold CV over {points}; {joint}"
+        return (f"{self.vs_max:.3g} m/s: no linear high-speed region; {joint} beats "
+                + (f"every vs_max by {self.folds}-fold CV: {points}" if points else
+                   "(too few rows to fit B to the fastest ones)")
+                + "; v_sat is the fastest speed")
+
+
+def speed_folds(v: np.ndarray, folds: int = FOLDS) -> np.ndarray:
+    """The rows sorted by speed dealt to ``folds`` folds in turn (every fold spans the range):
+    ``fricgen.fit.base.interleaved_folds`` without a Generator, which the fit layer passes."""
+    fold = np.empty(v.size, dtype=int)
+    fold[np.argsort(v, kind="stable")] = np.arange(v.size) % folds
+    return fold
+
+
+def candidate_grid(v: np.ndarray, n: int = CANDIDATES) -> np.ndarray:
+    """Log-spaced vs_max values from the speed below which EDGE_FRACTION of the rows lie (at
+    least MIN_ROWS) to the speed beyond which as many lie (at least 2 MIN_HIGH_SPEED_ROWS), both
+    / SAT_FACTOR; empty when that leaves no range."""
+    speeds = np.sort(v[v > 0])
+    fast = max(2 * MIN_HIGH_SPEED_ROWS, int(EDGE_FRACTION * speeds.size))
+    slow = max(MIN_ROWS, int(EDGE_FRACTION * speeds.size))     # prepare needs MIN_ROWS below
+    if speeds.size <= fast + slow:
+        return np.empty(0)
+    lo = speeds[slow] / SAT_FACTOR
+    hi = speeds[-fast - 1] / SAT_FACTOR
+    if not (lo > 0 and hi > lo):
+        return np.empty(0)
+    return np.geomspace(lo, hi, n)
+
+
+def _dictionary(v: np.ndarray, stribeck: np.ndarray) -> np.ndarray:
+    """[1, g(v, v_k) for every shape g and every v_k]: eq. (1) with fixed Stribeck velocities."""
+    return np.column_stack([np.ones_like(v)] + [g(v, s) for g in SHAPES.values() for s in stribeck])
+
+
+def _nonnegative_fit(A: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Least squares with every coefficient >= 0 (the columns scaled to a unit maximum)."""
+    scale = np.abs(A).max(axis=0)
+    scale[scale == 0] = 1.0
+    return nnls(A / scale, f)[0] / scale
+
+
+def _proxy(v: np.ndarray, f: np.ndarray, vs_max: Optional[float]):
+    """The cheap stand-in for ``prepare`` plus a grey-box fit, trained on (v, f): B and F0 from
+    the rows beyond v_sat, then eq. (1) with DICTIONARY Stribeck velocities of every shape up to
+    vs_max (the grey-box's bound) and non-negative amplitudes, fitted to the rows within [0,
+    v_sat] and the anchor (v_sat, F0 + B v_sat). ``vs_max`` None: no linear region; v_sat is
+    the fastest speed and B is fitted with the rest. Returns the force as a function of speed
+    (eq. (3): saturated at v_sat) and B."""
+    if vs_max is None:
+        v_sat = float(v.max())
+        stribeck = np.geomspace(v_sat / SAT_FACTOR / 50, v_sat / SAT_FACTOR, DICTIONARY)
+        coef = _nonnegative_fit(np.column_stack([v, _dictionary(v, stribeck)]), f)
+        B, coef = float(coef[0]), coef[1:]
+    else:
+        v_sat = SAT_FACTOR * vs_max
+        high = v > v_sat
+        B, f0, _ = identify_viscous(Sweep(v[high], f[high]))
+        if (~high).sum() < 2:
+            raise DataError("too few rows within [0, v_sat]")
+        stribeck = np.geomspace(vs_max / 50, vs_max, DICTIONARY)
+        x = np.append(v[~high], v_sat)
+        coef = _nonnegative_fit(_dictionary(x, stribeck), np.append(f[~high] - B * v[~high], f0))
+    return (lambda u: _dictionary(np.minimum(u, v_sat), stribeck) @ coef + B * u), B
+
+
+def _held_out(v, f, folds, vs_max) -> np.ndarray:
+    """The proxy's held-out error (N) at every row, each fold predicted by the others."""
+    held_out = np.empty_like(f)
+    for k in np.unique(folds):
+        out = folds == k
+        held_out[out] = _proxy(v[~out], f[~out], vs_max)[0](v[out]) - f[out]
+    return held_out
+
+
+def _within_one_se(squared: np.ndarray, reference: int) -> np.ndarray:
+    """Whether each candidate's mean held-out squared error (candidates x rows) exceeds the
+    ``reference`` one's by at most one standard error of the paired row differences."""
+    diff = squared - squared[reference]
+    se = diff.std(axis=1, ddof=1) / np.sqrt(diff.shape[1])
+    return diff.mean(axis=1) <= se
+
+
+def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> StribeckRange:
+    """vs_max of a folded sweep by cross-validation (see the module). ``folds``: the fold of
+    each row (default ``speed_folds``)."""
+    v, f = folded.v, folded.f
+    folds = speed_folds(v) if folds is None else np.asarray(folds)
+    n_folds = len(np.unique(folds))
+    scored, squared = [], []
+    for vs_max in candidate_grid(v):
+        try:
+            error = _held_out(v, f, folds, vs_max)
+        except DataError:
+            continue
+        scored.append((float(vs_max), float(np.sqrt(np.mean(error ** 2)))))
+        squared.append(error ** 2)
+    joint = _held_out(v, f, folds, None) ** 2
+    joint_rmse = float(np.sqrt(joint.mean()))
+    if scored:
+        squared = np.array(squared)
+        best = int(np.argmin(squared.mean(axis=1)))
+        chosen = int(np.flatnonzero(_within_one_se(squared, best)).min())
+        if _within_one_se(np.array([squared[best], joint]), 1)[0]:
+            return StribeckRange(scored[chosen][0], tuple(scored), n_folds, joint_rmse)
+    curve, B = _proxy(v, f, None)
+    top = float(v.max())
+    return StribeckRange(top / SAT_FACTOR, tuple(scored), n_folds, joint_rmse, False, B,
+                         float(curve(np.array([top]))[0]))
