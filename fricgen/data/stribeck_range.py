@@ -155,6 +155,8 @@ def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> Stribeck
             error = _held_out(v, f, folds, vs_max)
         except DataError:
             continue
+        if not np.all(np.isfinite(error)):       # a fold the proxy cannot fit: no candidate
+            continue
         scored.append((float(vs_max), float(np.sqrt(np.mean(error ** 2)))))
         squared.append(error ** 2)
     joint = _held_out(v, f, folds, None) ** 2
@@ -163,7 +165,7 @@ def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> Stribeck
         squared = np.array(squared)
         best = int(np.argmin(squared.mean(axis=1)))
         chosen = int(np.flatnonzero(_within_one_se(squared, best)).min())
-        if _within_one_se(np.array([squared[best], joint]), 1)[0]:
+        if not np.all(np.isfinite(joint)) or _within_one_se(np.array([squared[best], joint]), 1)[0]:
             return StribeckRange(scored[chosen][0], tuple(scored), n_folds, joint_rmse)
     curve, B = _proxy(v, f, None)
     top = float(v.max())
