@@ -306,3 +306,25 @@ def test_grey_box_and_mixed_asymmetric_c_matches_its_twin_and_the_model(curves, 
 def test_fixed_point_refuses_grey_box_and_mixed_asymmetric_models(curves, kinds):
     with pytest.raises(ModelError, match="emits symmetric models; this one is asymmetric"):
         codegen.render(_model(curves, kinds), "fb", dtype="q31")
+
+
+def test_default_train_keeps_the_better_model_per_direction_and_it_emits(tmp_path, capsys):
+    """The default (grey-box eq. (1) or elm_auto) fits each direction of an asymmetric sweep;
+    the report names each direction's choice and its estimated vs_max, and ``emit`` writes its
+    C. (--asymmetric spares the test the cross-validation of the symmetry.)"""
+    sweep = _two_directions(1.2)
+    csv = tmp_path / "both.csv"
+    np.savetxt(csv, np.column_stack([sweep.v, sweep.f]), delimiter=",", header="v,f", comments="")
+    model_json = tmp_path / "m.json"
+    assert main(["train", str(csv), "--asymmetric", "-o", str(model_json)]) == 0
+    report = capsys.readouterr().out
+    assert report.count("  chose     ") == 2 and report.count("  outliers  ") == 2
+    assert report.count("(estimated from the data; pass --vs-max to set it)") == 2
+    model = FrictionModel.load(model_json)
+    training = json.loads(model_json.read_text())["training"]
+    kinds = [c.aim.kind for c in model.directions]
+    assert [training["choice"], training["negative"]["choice"]] == [
+        "elm_auto" if k == "elm" else k for k in kinds]
+    assert "stribeck" in kinds                       # Table 1 data: eq. (1) wins somewhere
+    assert main(["emit", str(model_json), "-o", str(tmp_path / "c")]) == 0
+    assert "_aim_negative" in (tmp_path / "c" / "friction_model.c").read_text()

@@ -230,11 +230,9 @@ def run(args) -> int:
     name = check_model_name(args.name, "--name")
     sweep, ident = training_data(args)
     estimator = _estimator(args)
-    per_direction = default_elm(args.seed, max_neurons=args.max_neurons) \
-        if isinstance(estimator, DefaultRegressor) else estimator
     with named_data(source_name(args)):
         fitted = fit_directions(sweep, estimator, vs_max=args.vs_max, asymmetric=args.asymmetric,
-                                seed=args.seed, per_direction=per_direction)
+                                seed=args.seed)
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}

@@ -10,7 +10,7 @@ simpler model.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional, Tuple
 
 import numpy as np
@@ -62,20 +62,22 @@ def _vs_max(sweep: Sweep, vs_max: Optional[float]) -> float:
 
 
 def _fit(sweep: Sweep, estimator, vs_max: Optional[float],
-         max_points: Optional[int] = None) -> FittedDirection:
-    """The curve fitted to ``sweep`` (folded) by a fresh copy of ``estimator``."""
+         max_points: Optional[int] = None, estimated: bool = False) -> FittedDirection:
+    """The curve fitted to ``sweep`` (folded) by a fresh copy of ``estimator``; ``estimated``:
+    ``vs_max`` is an estimate from the data (so the dataset says, as ``prepare`` does)."""
     kwargs = {} if max_points is None else {"max_points": max_points}
     dataset = prepare(sweep, vs_max=vs_max, **kwargs)
+    if estimated:
+        dataset = replace(dataset, vs_max_estimated=True)
     fitted = clone(estimator)
     return FittedDirection(Direction.fit(dataset, fitted), dataset, fitted)
 
 
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
-                   folds: int = CV_FOLDS, seed=0, per_direction=None) -> np.ndarray:
+                   folds: int = CV_FOLDS, seed=0) -> np.ndarray:
     """Held-out mean squared force errors (N^2) per fold: row 0 the symmetric model, row 1
-    the asymmetric one (its curves fitted by ``per_direction``, default ``estimator``).
-    ``vs_max`` holds (both, positive, negative)."""
-    per_direction = estimator if per_direction is None else per_direction
+    the asymmetric one (each curve a fresh copy of ``estimator``). ``vs_max`` holds (both,
+    positive, negative)."""
     moving = sweep.v != 0
     v, f = sweep.v[moving], sweep.f[moving]
     fold = as_rng(seed).permutation(v.size) % folds
@@ -83,8 +85,8 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
     for k in range(folds):
         train, test = Sweep(v[fold != k], f[fold != k]), fold == k
         both = _fit(train, estimator, vs_max[0], CV_POINTS).curve
-        pos = _fit(train.direction(1), per_direction, vs_max[1], CV_POINTS).curve
-        neg = _fit(train.direction(-1), per_direction, vs_max[2], CV_POINTS).curve
+        pos = _fit(train.direction(1), estimator, vs_max[1], CV_POINTS).curve
+        neg = _fit(train.direction(-1), estimator, vs_max[2], CV_POINTS).curve
         sign, speed, target = np.sign(v[test]), np.abs(v[test]), np.sign(v[test]) * f[test]
         mse[0, k] = np.mean((both.magnitude(speed) - target) ** 2)
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))
@@ -113,13 +115,12 @@ def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float]) -> flo
 
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
-                   asymmetric: Optional[bool] = None, seed=0, per_direction=None) -> DirectionsFit:
-    """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
-    ``estimator``); ``asymmetric`` None chooses by cross-validation, True or False forces the
-    model. With data in one direction only the model is symmetric (``DataError`` if the
-    asymmetric one was asked for); when a sweep of both directions cannot give each its own
-    curve, ``chosen_by`` says why."""
-    per_direction = estimator if per_direction is None else per_direction
+                   asymmetric: Optional[bool] = None, seed=0) -> DirectionsFit:
+    """Fit one curve (symmetric) or two (asymmetric, each by its own copy of ``estimator``, so
+    the default chooses its model per direction); ``asymmetric`` None chooses by
+    cross-validation, True or False forces the model. With data in one direction only the model
+    is symmetric (``DataError`` if the asymmetric one was asked for); when a sweep of both
+    directions cannot give each its own curve, ``chosen_by`` says why."""
     halves = (sweep.direction(1), sweep.direction(-1))
     if asymmetric is not False:
         one_direction = any(len(half) == 0 for half in halves)
@@ -136,13 +137,16 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
             reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
             return DirectionsFit((_fit(sweep, estimator, vs_max),), reason)
     if asymmetric is None:
-        mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed,
-                             per_direction=per_direction)
+        mse = cross_validate(sweep, estimator, (_vs_max(sweep, vs_max), *vs_dirs), seed=seed)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         if not prefers_asymmetric(mse):
             return DirectionsFit((_fit(sweep, estimator, vs_max),), "cross-validation", cv)
-        return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)),
-                             "cross-validation", cv)
+        return DirectionsFit(_fit_halves(halves, estimator, vs_dirs, vs_max), "cross-validation", cv)
     if not asymmetric:
         return DirectionsFit((_fit(sweep, estimator, vs_max),), "forced")
-    return DirectionsFit(tuple(_fit(h, per_direction, vs) for h, vs in zip(halves, vs_dirs)), "forced")
+    return DirectionsFit(_fit_halves(halves, estimator, vs_dirs, vs_max), "forced")
+
+
+def _fit_halves(halves, estimator, vs_dirs, vs_max: Optional[float]) -> Tuple[FittedDirection, ...]:
+    """The curves of the two directions, each with its vs_max (estimated unless ``vs_max``)."""
+    return tuple(_fit(h, estimator, vs, estimated=vs_max is None) for h, vs in zip(halves, vs_dirs))
