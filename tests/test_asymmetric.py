@@ -8,8 +8,10 @@ import pytest
 from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.codegen import parity
-from fricgen.codegen.cbuild import build_model
-from fricgen.codegen.twin import force_f32
+from fricgen.c_literal import c_float
+from fricgen.codegen.cbuild import build, build_model, model_cdef
+from fricgen.codegen.fast_sigmoid import aim_fast_f32
+from fricgen.codegen.twin import force_f32, stribeck_aim_f32
 from fricgen.data import Sweep, prepare, synthesize_benchmark
 from fricgen.errors import DataError, ModelError
 from fricgen.cli import main
@@ -17,7 +19,7 @@ from fricgen.fit import ELMRegressor, StribeckRegressor
 from fricgen.fit.directions import fit_directions
 from fricgen.fit.elm import EnlargedScheme
 from fricgen.firmware import build as fw
-from fricgen.friction import preset
+from fricgen.friction import multisource, preset
 from fricgen.model import Direction, FrictionModel
 from fricgen.networks import StribeckCurve
 from fricgen.sim.effect_law import EffectLaw
@@ -108,15 +110,23 @@ def test_simulator_and_diagnosis_law_use_the_asymmetric_force(asym):
     np.testing.assert_array_equal(law.sliding_friction(v, 0.0 * v, np.abs(v)), asym.force(v))
 
 
+def _curve_tolerance(curve, speed):
+    """The libm bound of one curve at the speeds ``speed``: a few ULP of each term of eq. (7)
+    (as test_codegen) or eq. (1), and of B |v|."""
+    net = curve.aim
+    if isinstance(net, StribeckCurve):
+        terms, n = abs(net.offset) + abs(net.slope) + np.abs(net.amplitudes).sum(), net.n_sources
+    else:
+        terms = np.abs(net.hidden(curve.network_input(speed)) * net.output_weights).sum(axis=1)
+        n = net.n_hidden
+    return (n + 3) * EPS32 * (terms / curve.scaling.k_out + np.abs(curve.viscous * speed))
+
+
 def _twin_tolerance(model, v):
-    """The per-velocity bound of test_codegen for the curve of each velocity's direction."""
+    """The per-velocity bound for the curve of each velocity's direction."""
     bound = np.zeros_like(v)
-    for sign, curve in zip((1, -1), model.directions):
-        rows = v >= 0 if sign > 0 else v < 0
-        net = curve.aim
-        terms = np.abs(net.hidden(curve.network_input(v[rows])) * net.output_weights).sum(axis=1)
-        bound[rows] = (net.n_hidden + 3) * EPS32 * (terms / curve.scaling.k_out
-                                                    + np.abs(curve.viscous * v[rows]))
+    for rows, curve in zip((v >= 0, v < 0), model.directions):
+        bound[rows] = _curve_tolerance(curve, np.abs(v[rows]))
     return bound + 1e-30
 
 
@@ -206,25 +216,115 @@ def test_emulated_asymmetric_fast_model_is_bit_equal_to_python_twin(asym, target
     assert np.array_equal(out.view(np.uint32), force_f32(asym, v, "fast").view(np.uint32))
 
 
-def test_default_train_fits_elm_curves_per_direction_that_emit(tmp_path):
-    """The default's grey-box C holds one curve, so an asymmetric model takes elm_auto per
-    direction: ``train`` then ``emit`` work on a sweep of both directions."""
+def _table1_like(scale_force, scale_vs, scale_b, shape="gauss"):
+    """Table 1 with every f_c and f_s times ``scale_force``, v_s times ``scale_vs``, B times ``scale_b``."""
+    return multisource([scale_force * s.fc for s in preset("paper3").sources],
+                       [scale_force * s.fs for s in preset("paper3").sources],
+                       [scale_vs * s.vs for s in preset("paper3").sources],
+                       [scale_b * s.B for s in preset("paper3").sources], shape)
+
+
+@pytest.fixture(scope="module")
+def curves():
+    """Grey-box (eq. (1)) and ELM curves of two directions that differ in every constant of
+    eq. (3): v >= 0 fitted to Table 1 (vs_max 0.02), v < 0 to Table 1 with 30 % more friction,
+    Stribeck velocities 1.5 x (vs_max 0.03) and 0.6 B, of the exponential shape."""
+    data = {1: synthesize_benchmark(preset("paper3"), seed=0).dataset,
+            -1: synthesize_benchmark(_table1_like(1.3, 1.5, 0.6, "exponential"), seed=1).dataset}
+    return {(kind, sign): Direction.fit(d, StribeckRegressor() if kind == "stribeck" else _elm10())
+            for sign, d in data.items() for kind in ("stribeck", "elm")}
+
+
+#: The (v >= 0, v < 0) curve kinds of the asymmetric models whose C is checked: grey-box in both
+#: directions, and each mixture (each direction chose its own model).
+KINDS = [("stribeck", "stribeck"), ("stribeck", "elm"), ("elm", "stribeck")]
+
+
+def _model(curves, kinds):
+    return FrictionModel.from_directions(curves[kinds[0], 1], curves[kinds[1], -1], name="fb")
+
+
+def test_the_two_directions_differ_in_every_constant_of_eq3(curves):
+    pos, neg = curves["stribeck", 1], curves["stribeck", -1]
+    for a, b in ((pos.v_sat, neg.v_sat), (pos.scaling.k_in, neg.scaling.k_in),
+                 (pos.scaling.k_out, neg.scaling.k_out), (pos.viscous, neg.viscous)):
+        assert abs(a - b) > 0.1 * max(abs(a), abs(b))
+    assert (pos.aim.shape, neg.aim.shape) == ("gauss", "exponential")
+
+
+def _aim_twin(curve, x, impl):
+    net = curve.aim
+    if isinstance(net, StribeckCurve):
+        return stribeck_aim_f32(net, x, impl)
+    return aim_fast_f32(net, x) if impl == "fast" else net.float32(x)
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+@pytest.mark.parametrize("kinds", KINDS, ids=["+".join(k) for k in KINDS])
+def test_grey_box_and_mixed_asymmetric_c_matches_its_twin_and_the_model(curves, kinds, impl, tmp_path):
+    model = _model(curves, kinds)
+    pos, neg = model.directions
+    codegen.emit(model, tmp_path, "fb", activation_impl=impl)
+    for src in sorted(p.name for p in tmp_path.glob("*.c")):
+        assert_builds_strictly(tmp_path, src, CC)
+    h = (tmp_path / "fb.h").read_text()
+    for curve, suffix in ((pos, ""), (neg, "_NEGATIVE")):
+        size = ("N_SOURCES", curve.aim.n_sources) if curve.aim.kind == "stribeck" else (
+            "N_HIDDEN", curve.aim.n_hidden)
+        assert f"#define FB_{size[0]}{suffix} {size[1]}\n" in h
+    assert "#define FB_ASYMMETRIC 1" in h
+    assert f"#define FB_V_SAT {c_float(pos.v_sat)}\n" in h
+    assert f"#define FB_V_SAT_NEGATIVE {c_float(neg.v_sat)}\n" in h
+    cdef = model_cdef("fb") + "float fb_aim_negative(float x);\n"
+    lib = build(tmp_path, "fb.h", cdef, build_dir=tmp_path / "build")
+    x = np.linspace(0.0, 1.0, 1001, dtype=np.float32)
+    for fn, curve in ((lib.fb_aim, pos), (lib.fb_aim_negative, neg)):
+        c_aim = np.array([fn(float(u)) for u in x], dtype=np.float32)
+        twin_aim = _aim_twin(curve, x, impl)
+        if impl == "fast":                                  # no libm: bit for bit
+            assert np.array_equal(c_aim, twin_aim)
+        else:                                               # expf within 1 ULP
+            assert np.max(np.abs(c_aim - twin_aim)) <= 4 * EPS32 * np.max(np.abs(twin_aim))
+    v = parity.parity_velocities(max(pos.v_sat, neg.v_sat))
+    c = parity.c_forces(lib, "fb", v).astype(float)
+    twin = force_f32(model, v, impl).astype(float)
+    if impl == "fast":
+        assert np.array_equal(c, twin)
+    else:
+        assert np.all(np.abs(c - twin) <= _twin_tolerance(model, v.astype(float)))
+        assert np.mean(c == twin) > 0.99
+    exact = model.force(v.astype(float))
+    assert np.max(np.abs(c - exact)) <= 1e-7 * np.max(np.abs(exact))   # 2.6e-8 measured
+    inside = np.abs(v) <= min(pos.v_sat, neg.v_sat)
+    assert np.all(c[inside & (v > 0)] > 0) and np.all(c[inside & (v < 0)] < 0)
+    assert lib.fb_force(0.0) == 0.0 and lib.fb_force(-0.01) != -lib.fb_force(0.01)
+    out = [lib.fb_force(e) for e in (float("nan"), float("inf"), -float("inf"))]
+    assert np.isnan(out[0]) and out[1] == np.inf and out[2] == -np.inf
+
+
+@pytest.mark.parametrize("kinds", KINDS, ids=["+".join(k) for k in KINDS])
+def test_fixed_point_refuses_grey_box_and_mixed_asymmetric_models(curves, kinds):
+    with pytest.raises(ModelError, match="emits symmetric models; this one is asymmetric"):
+        codegen.render(_model(curves, kinds), "fb", dtype="q31")
+
+
+def test_default_train_keeps_the_better_model_per_direction_and_it_emits(tmp_path, capsys):
+    """The default (grey-box eq. (1) or elm_auto) fits each direction of an asymmetric sweep;
+    the report names each direction's choice and its estimated vs_max, and ``emit`` writes its
+    C. (--asymmetric spares the test the cross-validation of the symmetry.)"""
     sweep = _two_directions(1.2)
     csv = tmp_path / "both.csv"
     np.savetxt(csv, np.column_stack([sweep.v, sweep.f]), delimiter=",", header="v,f", comments="")
     model_json = tmp_path / "m.json"
-    assert main(["train", str(csv), "--vs-max", "0.02", "-o", str(model_json)]) == 0
+    assert main(["train", str(csv), "--asymmetric", "-o", str(model_json)]) == 0
+    report = capsys.readouterr().out
+    assert report.count("  chose     ") == 2 and report.count("  outliers  ") == 2
+    assert report.count("(vs_max chosen from the data; pass --vs-max to set it)") == 2
     model = FrictionModel.load(model_json)
-    assert model.negative is not None
-    assert all(c.aim.kind == "elm" for c in model.directions)
+    training = json.loads(model_json.read_text())["training"]
+    kinds = [c.aim.kind for c in model.directions]
+    assert [training["choice"], training["negative"]["choice"]] == [
+        "elm_auto" if k == "elm" else k for k in kinds]
+    assert "stribeck" in kinds                       # Table 1 data: eq. (1) wins somewhere
     assert main(["emit", str(model_json), "-o", str(tmp_path / "c")]) == 0
-    assert any("_aim_negative" in p.read_text() for p in (tmp_path / "c").glob("*.c"))
-
-
-def test_emit_refuses_an_asymmetric_model_with_a_grey_box_curve(model10):
-    bench = synthesize_benchmark(preset("paper3"), seed=0)
-    data = prepare(bench.train, vs_max=0.02)
-    grey = Direction.fit(data, StribeckRegressor())
-    model = FrictionModel.from_directions(grey, model10.positive, name="fg")
-    with pytest.raises(ModelError, match="ELM curves only"):
-        codegen.render(model)
+    assert "_aim_negative" in (tmp_path / "c" / "friction_model.c").read_text()

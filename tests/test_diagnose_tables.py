@@ -121,7 +121,7 @@ def test_tables_build_without_a_single_warning(tabled, tmp_path):
 
 @needs_cc
 def test_tables_on_a_grey_box_model_build_strictly_and_equal_their_twin(bench, tmp_path):
-    """The grey-box C (templates/model_stribeck.c.j2) carries the same NAME_force_xv."""
+    """The grey-box C (templates/curve.c.j2) carries the same NAME_force_xv."""
     grey = FrictionModel.fit(prepare(bench.train, vs_max=0.02), StribeckRegressor(), name="gb")
     model = with_effects(grey, TABLE_EFFECTS)
     codegen.emit(model, tmp_path, "gb")

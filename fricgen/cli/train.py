@@ -252,10 +252,8 @@ def run(args) -> int:
     name = check_model_name(args.name, "--name")
     sweep, ident = training_data(args)
     estimator = _estimator(args)
-    per_direction = default_elm(args.seed, max_neurons=args.max_neurons) \
-        if isinstance(estimator, DefaultRegressor) else estimator
     with named_data(source_name(args)):
-        fitted = fit_friction(sweep, estimator, per_direction, ident, vs_max=args.vs_max,
+        fitted = fit_friction(sweep, estimator, None, ident, vs_max=args.vs_max,
                               asymmetric=args.asymmetric, seed=args.seed, progress=say)
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {

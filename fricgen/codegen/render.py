@@ -1,4 +1,4 @@
-"""Render a FrictionModel as fixed-size C (templates/ + c_runtime/), eq. (3) and eq. (7)."""
+"""Render a FrictionModel as fixed-size C (templates/ + c_runtime/): eq. (3), curves of eq. (7) or (1)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -27,64 +27,59 @@ FAST_RUNTIME_FILES = ("fric_fast.h", "fric_fast.c")
 CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
 
 
-def _curve_context(curve) -> dict:
-    """The tables and constants of one curve of eq. (3) (a model, or a ``Direction``)."""
-    net = curve.aim
-    if not isinstance(net, ElmNetwork):
-        raise ModelError("emit writes one curve per direction for ELM curves only; this "
-                         "asymmetric model has a grey-box curve (train it with --method elm_auto)")
-    return {"n_hidden": net.n_hidden, "input_weights": c_array(net.input_weights),
-            "biases": c_array(net.biases), "output_weights": c_array(net.output_weights),
-            "k_in": c_float(curve.scaling.k_in), "inv_k_out": c_float(1.0 / curve.scaling.k_out),
-            "viscous": c_float(curve.viscous), "v_sat": c_float(curve.v_sat)}
-
-
 #: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
 STRIBECK_C_SHAPES = {
     "libm": {"gauss": "expf(-(u * u))", "exponential": "expf(-u)", "rational": "1.0f / (1.0f + u)"},
     "fast": {"gauss": "fric_exp_neg_fast_f32(u * u)", "exponential": "fric_exp_neg_fast_f32(u)",
              "rational": "1.0f / (1.0f + u)"},
 }
+#: The header each kind of curve needs in NAME.c, by implementation.
+CURVE_HEADERS = {("elm", "libm"): '"fric_kernel.h"', ("elm", "fast"): '"fric_fast.h"',
+                 ("stribeck", "libm"): "<math.h>", ("stribeck", "fast"): '"fric_fast.h"'}
 
 
-def stribeck_context(model: FrictionModel, name: str, activation_impl: str) -> dict:
-    """What templates/model_stribeck.c.j2 needs for the grey-box curve of eq. (1)."""
-    net = model.aim
-    return {
-        **identity_context(model, name), "kind": net.kind, "n_sources": net.n_sources,
-        "shape": net.shape, "fast": activation_impl == "fast",
-        "g_expr": STRIBECK_C_SHAPES[activation_impl][net.shape],
-        "inv_stribeck": c_array(stribeck_table(net)), "amplitudes": c_array(net.amplitudes),
-        "offset": c_float(net.offset), "slope": c_float(net.slope),
-        "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
-        "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
-        **effects_context(model, name),
-        "negative": None,  # grey-box C has one curve (see render)
-    }
+def curve_context(curve, name: str, activation_impl: str, negative: bool = False) -> dict:
+    """What templates/curve.c.j2 needs for one curve of eq. (3) (a model, or a ``Direction``):
+    its C symbols (``NAME_negative_...``, ``NAME_aim_negative`` and ``..._NEGATIVE`` macros for
+    the curve for v < 0) and its tables and constants, every number a checked C literal; an
+    ELM (eq. (7)) or the grey-box eq. (1)."""
+    net, suffix = curve.aim, "_NEGATIVE" if negative else ""
+    ctx = {"kind": net.kind, "sym": f"{name}_negative" if negative else name,
+           "aim_fn": f"{name}_aim_negative" if negative else f"{name}_aim",
+           "v_sat_macro": f"{name.upper()}_V_SAT{suffix}",
+           "header": CURVE_HEADERS[net.kind, activation_impl],
+           "k_in": c_float(curve.scaling.k_in), "inv_k_out": c_float(1.0 / curve.scaling.k_out),
+           "viscous": c_float(curve.viscous), "v_sat": c_float(curve.v_sat)}
+    if isinstance(net, StribeckCurve):
+        return {**ctx, "size": f"{name.upper()}_N_SOURCES{suffix}", "n": net.n_sources,
+                "shape": net.shape, "what": "grey-box", "equation": "eq. (1)",
+                "describe": f"grey-box eq. (1), {net.n_sources} {net.shape} Stribeck sources",
+                "g_expr": STRIBECK_C_SHAPES[activation_impl][net.shape],
+                "inv_stribeck": c_array(stribeck_table(net)), "amplitudes": c_array(net.amplitudes),
+                "offset": c_float(net.offset), "slope": c_float(net.slope)}
+    ctx.update(size=f"{name.upper()}_N_HIDDEN{suffix}", n=net.n_hidden, what="network",
+               equation="eq. (7)", describe=f"{net.n_hidden} {net.activation} neurons",
+               kernel=f"fric_elm_{net.activation}_f32", tables_note="",
+               input_weights=c_array(net.input_weights), biases=c_array(net.biases),
+               output_weights=c_array(net.output_weights))
+    if activation_impl == "fast":
+        check_fast_model(curve)
+        w, b, _ = fast_tables(net)  # t = w' x + b' = -log2(e) (w x + b), see fric_fast.h
+        ctx.update(kernel="fric_elm_sigmoid_fast_f32", input_weights=c_array(w), biases=c_array(b),
+                   tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
+    return ctx
 
 
-def template_context(model: FrictionModel, name: str) -> dict:
-    """Everything the templates need, every number already a checked C literal."""
-    ident = identity_context(model, name)
-    net = model.aim
-    if not isinstance(net, ElmNetwork):
-        raise ModelError(f"emit supports ELM and grey-box models; this model's AIM is "
-                         f"{type(net).__name__}")
-    negative = None if model.negative is None else _curve_context(model.negative)
-    if negative is not None and model.negative.aim.activation != net.activation:
-        raise ModelError("emit needs one activation for both directions; this model has "
-                         f"{net.activation} and {model.negative.aim.activation}")
-    return {
-        **ident, "kind": net.kind, "n_hidden": net.n_hidden, "activation": net.activation,
-        "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
-        "output_weights": c_array(net.output_weights),
-        "k_in": c_float(model.scaling.k_in), "inv_k_out": c_float(1.0 / model.scaling.k_out),
-        "viscous": c_float(model.viscous), "v_sat": c_float(model.v_sat),
-        "kernel": f"fric_elm_{net.activation}_f32", "kernel_header": "fric_kernel.h",
-        "tables_note": "",  # a comment above the tables when they are not plain w and b
-        **effects_context(model, name),  # effects, effects_not_in_c: NAME_force_xv
-        "negative": negative,  # the curve for v < 0 of an asymmetric model
-    }
+def template_context(model: FrictionModel, name: str, activation_impl: str = "libm") -> dict:
+    """Everything templates/model.c.j2 and model.h.j2 need: the curve for v >= 0 (``positive``,
+    the only one of a symmetric model) and the curve for v < 0 (``negative``, None unless the
+    model is asymmetric), each an ELM or the grey-box eq. (1) (``curve_context``)."""
+    curves = [curve_context(c, name, activation_impl, negative=k == 1)
+              for k, c in enumerate(model.directions)]
+    return {**identity_context(model, name), "positive": curves[0],
+            "negative": curves[1] if len(curves) == 2 else None,
+            "includes": list(dict.fromkeys(c["header"] for c in curves)),
+            **effects_context(model, name)}  # effects, effects_not_in_c: NAME_force_xv
 
 
 #: ``--activation-impl``: libm's expf (the default) or the fast sigmoid without libm (fric_fast.c).
@@ -148,51 +143,28 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     if dtype not in DTYPES:
         raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
     if dtype != "float":
-        if any(isinstance(c.aim, StribeckCurve) for c in model.directions):
-            raise ModelError(f"--dtype {dtype} emits ELM models; emit this grey-box model with "
-                             "--dtype float")
         if model.negative is not None:
             raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
                              "(emit it with --dtype float)")
+        if isinstance(model.aim, StribeckCurve):
+            raise ModelError(f"--dtype {dtype} emits ELM models; emit this grey-box model with "
+                             "--dtype float")
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
         return render_fixed(model, name, dtype, v_max=v_max)
-    env = template_environment()
-    if isinstance(model.aim, StribeckCurve):
-        if model.negative is not None:
-            raise ModelError("emit writes one curve per direction for ELM curves only; this "
-                             "asymmetric model has a grey-box curve (train it with --method elm_auto)")
-        check_float32_range(model)
-        check_float32(model, activation_impl)
-        ctx = stribeck_context(model, name, activation_impl)
-        files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
-                 f"{name}.c": env.get_template("model_stribeck.c.j2").render(ctx)}
-        runtime = resource_dir("c_runtime")         # the folder's runtime, as for an ELM
-        files.update({f: (runtime / f).read_text()
-                      for f in (FAST_RUNTIME_FILES if activation_impl == "fast" else RUNTIME_FILES)})
-        if with_controller:
-            files.update(controller_files())
-        return files
-    ctx = template_context(model, name)
+    for curve in model.directions:
+        if not isinstance(curve.aim, (ElmNetwork, StribeckCurve)):
+            raise ModelError(f"emit supports ELM and grey-box models; this model's AIM is "
+                             f"{type(curve.aim).__name__}")
     check_float32_range(model)
-    runtime_files = RUNTIME_FILES
-    if activation_impl == "fast":
-        for curve in model.directions:
-            check_fast_model(curve)
-        w, b, _ = fast_tables(model.aim)  # t = w' x + b' = -log2(e) (w x + b), see fric_fast.h
-        ctx.update(kernel="fric_elm_sigmoid_fast_f32", kernel_header="fric_fast.h",
-                   input_weights=c_array(w), biases=c_array(b),
-                   tables_note="w and b times -log2(e): t = w x + b, sigma = 1 / (1 + 2^t)")
-        if model.negative is not None:
-            w, b, _ = fast_tables(model.negative.aim)
-            ctx["negative"].update(input_weights=c_array(w), biases=c_array(b))
-        runtime_files = FAST_RUNTIME_FILES
+    ctx = template_context(model, name, activation_impl)
     check_float32(model, activation_impl)
+    env = template_environment()
     files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
              f"{name}.c": env.get_template("model.c.j2").render(ctx)}
-    runtime = resource_dir("c_runtime")
-    for fname in runtime_files:
+    runtime = resource_dir("c_runtime")         # the folder's runtime, also for grey-box curves
+    for fname in FAST_RUNTIME_FILES if activation_impl == "fast" else RUNTIME_FILES:
         files[fname] = (runtime / fname).read_text()
     if with_controller:
         files.update(controller_files())

@@ -56,11 +56,11 @@ def force_f32(model: FrictionModel, v, activation_impl: str = "libm") -> np.ndar
     """Mirror of the emitted ``NAME_force`` (eq. 3) in float32; ``activation_impl`` as in emit."""
     if activation_impl not in ("libm", "fast"):
         raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
-    if isinstance(model.aim, StribeckCurve):
-        def aim_twin(net, x):
+    def aim_twin(net, x):                   # each curve's own kind: ELM or eq. (1)
+        if isinstance(net, StribeckCurve):
             return stribeck_aim_f32(net, x, activation_impl)
-    else:
-        aim_twin = aim_fast_f32 if activation_impl == "fast" else aim_f32
+        return aim_fast_f32(net, x) if activation_impl == "fast" else aim_f32(net, x)
+
     v = np.asarray(v, dtype=f32)
     speed = np.abs(v)
     stribeck = _stribeck_f32(model, speed, aim_twin)
