@@ -22,7 +22,7 @@ from scipy.io import loadmat
 from scipy.signal import butter, decimate, filtfilt
 
 from fricgen.data.inverse_dynamics import identify_friction
-from fricgen.fit import default_elm, default_estimator
+from fricgen.fit import default_estimator
 from fricgen.fit.directions import fit_friction
 from fricgen.model import FrictionModel
 
@@ -87,7 +87,7 @@ def reproduce(t, qm, force):
 def fricgen_fit(t, qm, force, use, vs_max=None, seed=0):
     """The default of ``fricgen train`` on the log's rows ``use``: its model and identification."""
     ident = identify_friction(t, force, None, x=qm, use=use)
-    fitted = fit_friction(ident.sweep, default_estimator(seed), default_elm(seed), ident, vs_max=vs_max)
+    fitted = fit_friction(ident.sweep, default_estimator(seed), None, ident, vs_max=vs_max)
     model = FrictionModel.from_directions(*(f.curve for f in fitted.fits))
     offset = 0.0 if fitted.asymmetric else ident.body.offset     # held in the curves if asymmetric
     return model, ident, offset

@@ -18,7 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from independent_axis import MASS, friction, run_up  # noqa: E402
 
 from fricgen.data.inverse_dynamics import identify_friction  # noqa: E402
-from fricgen.fit import default_elm, default_estimator  # noqa: E402
+from fricgen.fit import default_estimator  # noqa: E402
 from fricgen.fit.directions import fit_friction  # noqa: E402
 from fricgen.model import FrictionModel  # noqa: E402
 
@@ -41,7 +41,7 @@ def main():
     for seed in seeds:
         t, x, force, v_true = run_up(seed)
         ident = identify_friction(t, force, None, x=x)
-        fitted = fit_friction(ident.sweep, default_estimator(0), default_elm(0), ident)
+        fitted = fit_friction(ident.sweep, default_estimator(0), None, ident)
         model = FrictionModel.from_directions(*(f.curve for f in fitted.fits))
         chosen = fitted.fits[0].estimator.chosen_
         n = chosen.n_hidden
