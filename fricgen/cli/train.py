@@ -314,7 +314,7 @@ def _choice_line(fitted) -> str:
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("sweep", help="CSV with columns v (m/s) and f (N) (a sweep), or t (s), v (m/s) "
-                   "or x (m), and force (N) or i (A) (a motion log, with --mass); or a MATLAB .mat "
+                   "or x (m), and force (N) or i (A) (a motion log); or a MATLAB .mat "
                    "file, its vectors the columns")
     add_output(p, "model.json to write (default model.json)", default="model.json")
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
@@ -343,7 +343,8 @@ def register(p) -> None:
                           help="one curve for both directions, F(-v) = -F(v)")
     log = p.add_argument_group("motion logs (inverse dynamics, eq. 18: F = force - m dv/dt)")
     log.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
-                     help="moving mass of the axis, kg (needed for a log)")
+                     help="moving mass of the axis, kg (default: identified from the log by inverse "
+                     "dynamics; with a current log and no --force-constant, K is identified instead)")
     log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
                      help="force constant, N/A, for a log with current i instead of force")
     export = p.add_argument_group("vendor exports")
