@@ -73,7 +73,7 @@ def _vs_max(sweep: Sweep, vs_max: Optional[float], blocks: int = 0):
     if vs_max is not None:
         return vs_max
     folded = sweep.folded()
-    if np.ptp(folded.v) <= 0:
+    if len(folded) < MIN_ROWS or np.ptp(folded.v) <= 0:
         return None                     # prepare names the problem
     folds = row_folds(len(folded), CV_FOLDS, blocks=blocks) if blocks else \
         interleaved_folds(folded.v, CV_FOLDS)
