@@ -56,6 +56,23 @@ class Dataset:
         return self.scaling.k_in * v, self.scaling.k_out * (np.asarray(f, dtype=float) - self.viscous * v)
 
 
+def checked_fold(sweep: Sweep) -> Sweep:
+    """The folded sweep, if it can be friction data at all; else ``DataError``: too few rows or
+    moving rows, a force against the motion, or speeds or forces beyond the float32 C."""
+    if len(sweep) < MIN_ROWS:
+        raise DataError(f"sweep has {len(sweep)} rows, need at least {MIN_ROWS}")
+    folded = sweep.folded()
+    if len(folded) < MIN_ROWS:
+        raise DataError(f"{len(folded)} rows with v != 0, need at least {MIN_ROWS}: a friction "
+                        "sweep needs motion")
+    if np.count_nonzero(folded.f < 0) > folded.f.size / 2:
+        raise DataError("the force has the opposite sign of v in most rows, yet friction acts "
+                        "with the sign of v (eq. 1): check the sign of v, force or i (or --scale)")
+    check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
+    check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
+    return folded
+
+
 def prepare(sweep: Sweep, vs_max: Union[None, float, StribeckRange] = None, f_sat: Optional[float] = None,
             viscous: Optional[float] = None, max_points: int = MAX_TRAINING_POINTS,
             folds=None, independence: float = 1.0) -> Dataset:
@@ -80,17 +97,7 @@ def prepare(sweep: Sweep, vs_max: Union[None, float, StribeckRange] = None, f_sa
     vs_max = None if chosen else vs_max
     if vs_max is not None and not (np.isfinite(vs_max) and vs_max > 0):
         raise DataError(f"vs_max must be > 0, got {vs_max}")
-    if len(sweep) < MIN_ROWS:
-        raise DataError(f"sweep has {len(sweep)} rows, need at least {MIN_ROWS}")
-    folded = sweep.folded()
-    if len(folded) < MIN_ROWS:
-        raise DataError(f"{len(folded)} rows with v != 0, need at least {MIN_ROWS}: a friction "
-                        "sweep needs motion")
-    if np.count_nonzero(folded.f < 0) > folded.f.size / 2:
-        raise DataError("the force has the opposite sign of v in most rows, yet friction acts "
-                        "with the sign of v (eq. 1): check the sign of v, force or i (or --scale)")
-    check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
-    check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
+    folded = checked_fold(sweep)
     if vs_max is not None:
         return _prepare(folded, vs_max, f_sat, viscous, max_points, independence)
     if chosen is None:

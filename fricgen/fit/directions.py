@@ -19,6 +19,7 @@ import numpy as np
 
 from .._progress import Progress
 from ..data import MIN_ROWS, Dataset, Sweep, choose_vs_max, prepare
+from ..data.training_set import checked_fold
 from ..errors import DataError
 from ..model import Direction
 from .auto import AutoELMRegressor
@@ -72,9 +73,12 @@ def _vs_max(sweep: Sweep, vs_max: Optional[float], blocks: int = 0):
     takes in its place."""
     if vs_max is not None:
         return vs_max
-    folded = sweep.folded()
-    if len(folded) < MIN_ROWS or np.ptp(folded.v) <= 0:
+    try:
+        folded = checked_fold(sweep)
+    except DataError:
         return None                     # prepare names the problem
+    if np.ptp(folded.v) <= 0:
+        return None
     folds = row_folds(len(folded), CV_FOLDS, blocks=blocks) if blocks else \
         interleaved_folds(folded.v, CV_FOLDS)
     return choose_vs_max(folded, folds)
