@@ -23,7 +23,7 @@ def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, fl
     pick = order[np.unique(np.linspace(0, v.size - 1, min(most, v.size)).astype(int))]
     dv = v[pick][:, None] - v[pick][None, :]
     df = f[pick][:, None] - f[pick][None, :]
-    with np.errstate(invalid="ignore", over="ignore"):
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):   # ties: masked out
         slopes = (df / dv)[np.triu(dv != 0, 1)]
     slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
     with np.errstate(over="ignore", invalid="ignore"):
