@@ -13,6 +13,31 @@ MAX_HIDDEN = 4096
 #: The magnitudes the emitted float32 C computes reliably: the sweep's speed and force scales,
 #: v_sat, the force scale, B (float32 spans 1.2e-38 to 3.4e38).
 FLOAT32_SCALE = (1e-30, 1e30)
+#: The largest magnitude a float32 holds (FLT_MAX): every number the C tables hold stays below.
+FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+#: The physical range of a real servo axis, from a micro stage to a heavy gantry, in SI units
+#: (``fricgen.data.plausibility`` checks data against it, ``FrictionModel`` a model.json):
+#: the fastest speed of the data, m/s (1 um/s scans to 20 m/s linear motors and belt drives);
+#: v_sat = 3 vs_max, m/s (Stribeck velocities of 0.1 um/s to 0.7 m/s); the largest friction
+#: force, N (10 uN in a flexure stage to 100 kN in a heavy gantry); the moving mass, kg (1 g to
+#: 100 t).
+PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
+            "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg")}
+#: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
+ACCEPT_UNUSUAL = "--accept-unusual"
+
+
+def physical_problem(quantity: str, what: str, value: float) -> str:
+    """'' if ``value`` (a magnitude) lies within PHYSICAL[quantity], else the clause saying it does
+    not: "WHAT is 199 m/s, beyond the 20 m/s of any real axis"."""
+    low, high, unit = PHYSICAL[quantity]
+    value = abs(float(value))
+    if value > high:
+        return f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of any real axis"
+    if value < low:
+        return f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of any real axis"
+    return ""
 
 
 def _is_number(value) -> bool:

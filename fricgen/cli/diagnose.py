@@ -12,7 +12,7 @@ from ..diagnose.report import format_value, render_files
 from ..effects import model_effects, range_notes
 from ..errors import UsageError
 from ..model import FrictionModel
-from .common import (add_json, add_model, add_output, check_targets, number, out, say,
+from .common import (load_model, add_json, add_model, add_output, check_targets, number, out, say,
                      write_folder)
 
 
@@ -54,7 +54,7 @@ def nominal_axis(model: FrictionModel, mass, force_constant):
 def run(args) -> int:
     inputs = [args.model, args.log]
     check_folder(args.output, [args.model], args.force)
-    model = FrictionModel.load(args.model)
+    model = load_model(args.model)
     mass, force_constant, notes = nominal_axis(model, args.mass, args.force_constant)
     log = read_log(args.log)
     for note in notes:

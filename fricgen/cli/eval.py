@@ -10,7 +10,7 @@ import numpy as np
 from .._io import plain_float
 from ..errors import UsageError
 from ..model import FrictionModel
-from .common import out, say
+from .common import load_model, out, say
 
 #: Velocities evaluated together: memory stays constant however long the input is.
 CHUNK = 1 << 16
@@ -41,7 +41,7 @@ def _velocities(stream):
 
 
 def run(args) -> int:
-    model = FrictionModel.load(args.model)
+    model = load_model(args.model)
     stdin = getattr(sys.stdin, "buffer", sys.stdin)
     if stdin is None or stdin.closed:
         raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")
