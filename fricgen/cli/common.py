@@ -175,7 +175,7 @@ def source_name(path, merge=None) -> str:
     return " + ".join(str(f) for f in (path, merge) if f)
 
 
-def read_data(args, path, min_rows=None):
+def read_data(args, path, min_rows=None, drop_text: bool = False):
     """The columns of ``path`` by fricgen's names, read with the vendor-export options of
     ``args`` (``add_export_options``): the preamble skipped, vendor names mapped, units scaled,
     and a second instrument's file merged on time (``min_rows(columns)``: the fewest common rows
@@ -186,7 +186,7 @@ def read_data(args, path, min_rows=None):
     from ..data.plausibility import check_columns, check_merge_shift
     scales = parse_scales(args.scale)
     columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns")),
-                          scales)
+                          scales, drop_text)
     if args.merge is None:
         if args.merge_columns or args.merge_skip or args.merge_shift or args.merge_scale:
             raise UsageError("--merge-columns, --merge-skip, --merge-scale and --merge-shift need "
@@ -195,7 +195,8 @@ def read_data(args, path, min_rows=None):
     else:
         merge_scales = parse_scales(args.merge_scale, "--merge-scale")
         second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
-            args.merge_columns, "--merge-columns")), {**scales, **merge_scales})
+            args.merge_columns, "--merge-columns")), {**scales, **merge_scales}, drop_text,
+            "--merge-columns")
         check_scaled({k: f for k, f in scales.items() if k not in merge_scales},
                      {path: columns, args.merge: second})
         check_scaled(merge_scales, {args.merge: second}, "--merge-scale")

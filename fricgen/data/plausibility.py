@@ -38,6 +38,8 @@ CHECK_ROWS = 100_000
 #: A merge shift is off when the force fits the motion at another shift this much better
 #: (residual variance) and that shift is this many of the slower clock's steps away.
 SHIFT_GAIN, SHIFT_STEPS = 2.0, 5
+#: Shifts tried over the span, before the best is refined tenfold.
+COARSE_SHIFTS = 401
 
 
 def _thin(n: int) -> slice:
@@ -137,7 +139,7 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
                       names, accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
     """The given ``shift`` of the second file's clock near the one at which the force (of either
     file) best fits the motion of the other (least squares of eq. 18 with Coulomb and viscous
-    friction, over shifts of up to a quarter of the shorter file's span); refused (or warned)
+    friction, over every shift that leaves half the shorter file's span in common); refused (or warned)
     when another shift fits SHIFT_GAIN times better SHIFT_STEPS samples or more away."""
     if _force_of(second) and not _force_of(first):
         motion, force, sign = first, second, 1.0
@@ -169,11 +171,13 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
         return float(np.mean((y - design @ coef) ** 2))
 
     given = sign * shift
-    reach = 0.25 * span
-    coarse = given + np.linspace(-reach, reach, 101)
+    # every shift that leaves half the shorter span in common, the given one among them
+    coarse = np.append(np.linspace(tm[0] - tf[-1] + 0.5 * span, tm[-1] - tf[0] - 0.5 * span,
+                                   COARSE_SHIFTS), given)
     scores = np.array([residual(s) for s in coarse])
     best = float(coarse[int(np.argmin(scores))])
-    fine = best + np.arange(-3, 4) * (coarse[1] - coarse[0]) / 3
+    width = (coarse[1] - coarse[0])
+    fine = best + np.linspace(-width, width, 21)
     fine_scores = np.array([residual(s) for s in fine])
     best = float(fine[int(np.argmin(fine_scores))])
     at_given, at_best = residual(given), float(min(fine_scores.min(), scores.min()))
@@ -183,8 +187,9 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
         suggested = sign * best
         _refuse_or_warn(f"--merge-shift {shift:g} s looks off: the force of {names[1 if sign > 0 else 0]} "
                         f"fits the motion of {names[0 if sign > 0 else 1]} best at a shift of about "
-                        f"{suggested:.4g} s (residual {math.sqrt(at_best):.3g} against "
-                        f"{math.sqrt(at_given):.3g} at {shift:g} s); check the clocks",
+                        f"{suggested:.4g} s (RMS residual {math.sqrt(at_best):.3g} against "
+                        f"{math.sqrt(at_given):.3g} {'A' if name == 'i' else 'N'} at {shift:g} s); "
+                        "check the clocks",
                         accept_unusual, warn)
 
 

@@ -35,6 +35,19 @@ def header_hint(cells: Sequence[str]) -> str:
     return ""
 
 
+#: A cell that is the part of a number after a thousands separator: "1,740.65" splits into 1 and 740.65.
+_THOUSANDS_TAIL = re.compile(r"\d{3}(\.\d*)?")
+
+
+def _thousands_hint(row: Sequence[str], width: int) -> str:
+    """Why a row has more cells than the header, when its numbers look written with ','
+    between thousands ('' if not)."""
+    if len(row) > width and any(_THOUSANDS_TAIL.fullmatch(c.strip()) for c in row[1:]):
+        return ("; are its numbers written with ',' between thousands (1,740.65)? fricgen reads "
+                "them without (1740.65)")
+    return ""
+
+
 def _delimiter(header: str) -> str:
     """The delimiter of a CSV, read off its header line: a tab where the line holds more tabs
     than commas, else ','."""
@@ -164,7 +177,8 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
         if not any(c.strip() for c in row):
             continue
         if len(row) != len(header):
-            raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}")
+            raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}"
+                            f"{_thousands_hint(row, len(header))}")
         try:
             values.extend([plain_float(row[k]) for k in wanted])
         except ValueError:
