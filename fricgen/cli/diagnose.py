@@ -14,8 +14,9 @@ from ..diagnose.report import format_value, render_files, written_by_diagnose
 from ..effects import model_effects, range_notes
 from ..errors import UsageError
 from ..model import FrictionModel
-from .common import (add_export_options, add_json, add_model, add_output, check_targets, load_model,
-                     number, out, read_data, say, source_name, write_folder)
+from .inputs import add_export_options, load_model, read_data, source_name
+from .common import (add_json, add_model, add_output, check_targets,
+                     number, out, say, write_folder)
 
 
 def register(p) -> None:

@@ -6,7 +6,8 @@ from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_over
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..errors import UsageError
 from ..model import FrictionModel, check_model_name
-from .common import load_model, FORCE_C, add_output, check_targets, number, say, write_targets
+from .inputs import load_model
+from .common import FORCE_C, add_output, check_targets, number, say, write_targets
 
 
 def register(p) -> None:

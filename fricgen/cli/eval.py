@@ -10,7 +10,8 @@ import numpy as np
 from .._io import plain_float
 from ..errors import UsageError
 from ..model import FrictionModel
-from .common import load_model, out, say
+from .inputs import load_model
+from .common import out, say
 
 #: Velocities evaluated together: memory stays constant however long the input is.
 CHUNK = 1 << 16

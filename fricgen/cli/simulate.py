@@ -23,7 +23,8 @@ from ..errors import UsageError
 from ..model import FrictionModel
 from .._io import check_files, check_folder
 from .._plot import png, pyplot
-from .common import load_model, add_json, add_model, number, out, say, write_targets
+from .inputs import load_model
+from .common import add_json, add_model, number, out, say, write_targets
 
 
 def register(p) -> None:

@@ -24,9 +24,10 @@ from ..metrics import rmse
 from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
 from ..networks.elm import ACTIVATIONS
 from .._io import check_destination, named_data
-from .common import (add_export_options, add_output, add_seed, number, out, positive_float,
-                     read_data, say, write_file)
-from .common import source_name as common_source_name
+from .inputs import add_export_options, read_data
+from .inputs import source_name as common_source_name
+from .common import (add_output, add_seed, number, out, positive_float,
+                     say, write_file)
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
 _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
