@@ -24,6 +24,10 @@ FLOAT32_MAX = float(np.finfo(np.float32).max)
 #: 100 t).
 PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
             "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg")}
+#: Within PHYSICAL, beyond what most axes do (a warning line, no refusal): the fastest speed
+#: above 5 m/s, v_sat above 0.3 m/s (Stribeck velocities above 0.1 m/s): speeds in m/min or
+#: mm/s read as m/s land there.
+USUAL_MAX = {"speed": 5.0, "v_sat": 0.3}
 #: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
 ACCEPT_UNUSUAL = "--accept-unusual"
 
@@ -38,6 +42,18 @@ def physical_problem(quantity: str, what: str, value: float) -> str:
     if value < low:
         return f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of any real axis"
     return ""
+
+
+def unusual(quantity: str, what: str, value: float) -> str:
+    """'' if ``value`` lies within USUAL_MAX[quantity], else the clause saying it is unusual,
+    with the units that would explain it: "WHAT is 15 m/s, faster than most axes (5 m/s): in
+    m/min? --scale v=0.0166667 converts it"."""
+    high, unit = USUAL_MAX[quantity], PHYSICAL[quantity][2]
+    value = abs(float(value))
+    if value <= high:
+        return ""
+    return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is v in m/min "
+            "(--scale v=0.0166667) or mm/s (--scale v=0.001)?")
 
 
 def _is_number(value) -> bool:

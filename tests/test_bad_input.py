@@ -151,6 +151,11 @@ def _plausibility_files(d, log):
     (d / "drive_ms.csv").write_text("# drive export\nTime [ms],Pos,Speed\n" + "".join(
         f"{1000 * float(t)!r},{x},{v}\n" for t, x, v in zip(col["t"], col["x"], col["v"])))
     (d / "current.csv").write_text("Stamp,Current\n" + "".join(f"{t},{i}\n" for t, i in zip(col["t"], col["i"])))
+    (d / "thousands_quoted.csv").write_text("v,f\n" + "".join(f'{a!r},"{1000 * b:,.1f}"\n'
+                                                               for a, b in zip(v.tolist(), f.tolist())))
+    slow = np.abs(v) < 0.015
+    (d / "sweep_slow_mm.csv").write_text("v,f\n" + "".join(f"{1000 * a!r},{b!r}\n"
+                                                           for a, b in zip(v[slow].tolist(), f[slow].tolist())))
     (d / "notes").mkdir()
     (d / "notes" / "report.md").write_text("# my own notes\n")
 
@@ -221,8 +226,6 @@ TRIAL_ROWS = [
     ("--merge of no force", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", "--merge",
                              "load.csv", "--merge-columns", "t=Stamp,x=Load", "-o", OUT],
      "WORK/drive.csv + WORK/load.csv: a motion log needs t, v or x, and force or i: missing force or i"),
-    ("--merge without --mass", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,v=Speed", *MERGE,
-                                "-o", OUT], "WORK/drive.csv + WORK/load.csv is a motion log"),
     ("diagnose, a mass 100 times off", ["diagnose", "log.csv", "--model", "model.json", "--mass", "400",
                                         "--force-constant", "20", "-o", OUT], "WORK/log.csv: phi i is 0.0"),
 ]
@@ -236,8 +239,7 @@ PLAUSIBILITY_ROWS = [
        "are the columns v and f swapped? (--accept-unusual to use the data as they are)")
       for m in ([], ["--method", "elm_auto"], ["--method", "stribeck"], ["--symmetric"])],
     ("a sweep in mm/s", ["train", "sweep_mm.csv", "-o", OUT],
-     "the fastest speed |v| is 198.9 m/s, above the 20 m/s of any real axis; is v in mm/s? "
-     "--scale v=0.001 converts it"),
+     "m/s, above the 20 m/s of any real axis; is v in mm/s? --scale v=0.001 converts it"),
     ("a decimal point dropped from viscous", ["eval", "dropped_decimal.json"],
      "the largest force on [0, v_sat] is"),
     ("a decimal point dropped from viscous, emitted", ["emit", "dropped_decimal.json", "-o", OUT],
@@ -257,6 +259,10 @@ PLAUSIBILITY_ROWS = [
      "--columns: v='Sped': WORK/drive.csv has no such column (header is Time,Speed); did you mean 'Speed'?"),
     ("a CSV with thousands separators", ["train", "thousands.csv", "-o", OUT],
      "3 cells, the header names 2; are its numbers written with ',' between thousands (1,740.65)?"),
+    ("a CSV with quoted thousands separators", ["train", "thousands_quoted.csv", "-o", OUT],
+     "are its numbers written with ',' between thousands (1,740.65)?"),
+    ("a slow sweep in mm/s", ["train", "sweep_slow_mm.csv", "-o", OUT],
+     "above the 5 m/s of most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?)"),
     ("--merge-scale without --merge", ["train", *DRIVE, "--merge-scale", "t=0.001", "-o", OUT],
      "need --merge FILE"),
     ("--merge-scale of a quantity the merge file lacks", ["train", *DRIVE, *MERGE, "--merge-scale", "v=2",
@@ -372,9 +378,8 @@ ROWS = [
     ("demo --seeds 0", ["demo", "--seeds", "0"], "--seeds: must be an integer >= 1"),
     ("reproduce --jobs 0", ["reproduce", "--jobs", "0", "-o", OUT], "--jobs: must be"),
     ("unknown option", ["train", "sweep.csv", "--nuerons", "3"], "unrecognized arguments"),
-    ("log without --mass", ["train", "log.csv", "-o", OUT], "is a motion log (t, v or x, force or i): pass --mass"),
-    ("log of current without --force-constant", ["train", "log.csv", "--mass", "4", "-o", OUT],
-     "pass --force-constant"),
+    ("log of current without --mass or --force-constant", ["train", "log.csv", "-o", OUT],
+     "it determines M/K = "),
     ("log of force with --force-constant", ["train", "log_force.csv", *LOG, "-o", OUT],
      "--force-constant applies to a current column"),
     ("sweep with --mass", ["train", "sweep.csv", "--mass", "4", "-o", OUT], "apply to a motion log"),
@@ -399,7 +404,8 @@ ROWS = [
     ("--columns a column twice", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,x=time",
                                   "-o", OUT], "'time' is mapped to more than one quantity"),
     ("--columns a column the file lacks", ["train", "drive.csv", "--skip", "2", "--columns",
-                                           "t=Time,v=Velocity", "-o", OUT], "missing column 'velocity'"),
+                                           "t=Time,v=Velocity", "-o", OUT],
+     "--columns: v='Velocity': WORK/drive.csv has no such column (header is Time,Speed)"),
     ("--columns onto an existing name", ["train", "log.csv", *LOG, "--columns", "v=x", "-o", OUT],
      "column 'v' appears twice once the columns are named"),
     ("--scale not a number", ["train", *DRIVE, *MERGE, "--scale", "v=rpm", "-o", OUT], "is not a number"),

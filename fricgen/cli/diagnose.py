@@ -14,7 +14,8 @@ from ..diagnose.report import format_value, render_files, written_by_diagnose
 from ..effects import model_effects, range_notes
 from ..errors import UsageError
 from ..model import FrictionModel
-from .inputs import add_export_options, load_model, read_data, source_name
+from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
+                     source_name)
 from .common import (add_json, add_model, add_output, check_targets,
                      number, out, say, write_folder)
 
@@ -57,6 +58,11 @@ def nominal_axis(model: FrictionModel, mass, force_constant):
 
 
 def run(args) -> int:
+    with data_warnings(args):
+        return _run(args)
+
+
+def _run(args) -> int:
     inputs = [args.model, args.log] + ([args.merge] if args.merge else [])
     check_folder(args.output, [args.model], args.force)
     model = load_model(args.model)
@@ -72,6 +78,7 @@ def run(args) -> int:
     files = render_files(d, log, Path(args.log).name)
     targets = check_targets(args, files, inputs, folder_of=[args.model])  # before any result is printed
     check_overwrite(targets.values(), args.force, written=written_by_diagnose)
+    say_data_warnings(args)
     for note in range_notes(model_effects(model), log):
         say("fricgen: note: " + note)
     if args.json:

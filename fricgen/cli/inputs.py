@@ -2,11 +2,13 @@
 and model.json with a warning when it was edited after training."""
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments,
                            parse_scales, read_export)
 from ..data.inverse_dynamics import is_log
 from ..data.plausibility import check_columns, check_merge_shift
-from ..errors import UsageError
+from ..errors import FricgenError, UsageError
 from ..model import FrictionModel
 from .common import number, say
 
@@ -84,7 +86,40 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
         names = (path, args.merge)
         least = min_rows({**columns, **second}) if min_rows else 2
         merged = merge_on_time(columns, second, args.merge_shift, names, least)
-        check_merge_shift(columns, second, args.merge_shift, names, args.accept_unusual, say)
+        check_merge_shift(columns, second, args.merge_shift, names, args.accept_unusual, _warn(args))
         columns = merged
-    check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual, say)
+    check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual,
+                  _warn(args))
     return columns
+
+
+def _warn(args):
+    """Where the data checks put a warning line: kept for ``data_warnings`` when it runs, else
+    said at once."""
+    held = getattr(args, "data_warnings", None)
+    return say if held is None else held.append
+
+
+@contextmanager
+def data_warnings(args):
+    """Hold the warning lines of the data checks (``read_data``) while a command runs: said by
+    ``say_data_warnings`` before its results, or, when the command then fails, added to its one
+    error line (a speed in m/min warned about explains a fit that then fails)."""
+    args.data_warnings = []
+    try:
+        yield
+    except FricgenError as exc:
+        notes = [w.partition(": warning: ")[2] or w for w in args.data_warnings]
+        args.data_warnings = []
+        if notes:
+            raise type(exc)(f"{exc} (and: {'; '.join(notes)})") from None
+        raise
+    finally:
+        say_data_warnings(args)
+
+
+def say_data_warnings(args) -> None:
+    """Say the warning lines ``data_warnings`` holds, once."""
+    for line in getattr(args, "data_warnings", None) or ():
+        say(line)
+    args.data_warnings = []

@@ -9,7 +9,7 @@ import numpy as np
 from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, identify_log, is_log
 from ..data.sweep import MIN_ROWS, sweep_from_columns
 from ..data.table import header_cells
-from .._validate import ACCEPT_UNUSUAL, MAX_HIDDEN, physical_problem
+from .._validate import ACCEPT_UNUSUAL, MAX_HIDDEN, USUAL_MAX, physical_problem, unusual
 from ..data.outliers import OUTLIER_SIGMAS
 from ..data.training_set import SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
@@ -24,7 +24,7 @@ from ..metrics import rmse
 from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
 from ..networks.elm import ACTIVATIONS
 from .._io import check_destination, named_data
-from .inputs import add_export_options, read_data
+from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
 from .common import (add_output, add_seed, number, out, positive_float,
                      say, write_file)
@@ -231,6 +231,11 @@ def axis_record(sweep, ident, asymmetric: bool) -> dict:
 
 
 def run(args) -> int:
+    with data_warnings(args):
+        return _run(args)
+
+
+def _run(args) -> int:
     inputs = [args.sweep] + ([args.merge] if args.merge else [])
     check_destination(args.output, inputs, args.force)
     name = check_model_name(args.name, "--name")
@@ -267,7 +272,7 @@ def run(args) -> int:
             curve.check()
     except ModelError as exc:
         raise DataError(f"{source_name(args)}: the fitted model is no friction model: {exc}") from None
-    check_fitted(model, ident, source_name(args), args.accept_unusual)
+    check_fitted(model, ident, source_name(args), args.accept_unusual, float(np.max(np.abs(sweep.v))))
     reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
     reports.append(_choice_line(fitted))
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):
@@ -276,6 +281,7 @@ def run(args) -> int:
     problem = float32_problem(model)
     if problem:
         reports.append(f"float32   {problem}; emit refuses it")
+    say_data_warnings(args)
     out("\n".join(r for r in reports if r))
     if ident is not None:
         warning = stribeck_warning(ident, fitted.fits)
@@ -286,16 +292,23 @@ def run(args) -> int:
     return 0
 
 
-def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool) -> None:
+def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool, fastest: float) -> None:
     """The fitted curves and the identified mass within the physical bounds of a real axis
     (``Direction.check_physical``, ``_validate.PHYSICAL``): refused, or with ``accept_unusual``
-    one warning line each."""
+    one warning line each; a v_sat beyond ``USUAL_MAX`` is one warning line, unless the data's
+    fastest speed ``fastest`` was (``data.plausibility``)."""
     problems = []
     for curve in model.directions:
         try:
             curve.check_physical()
         except ModelError as exc:
             problems.append(f"the fitted model's {str(exc).split(' (a digit')[0]}")
+    said = fastest > USUAL_MAX["speed"]            # the data's speed was warned about already
+    for curve in model.directions:
+        note = "" if any(problems) or said else unusual("v_sat", "the fitted model's v_sat", curve.v_sat)
+        if note:
+            say(f"fricgen: warning: {source}: {note}")
+            break
     if ident is not None and ident.body.mass_identified:
         problems.append(physical_problem("mass", "the identified mass", ident.body.mass))
     for problem in filter(None, problems):

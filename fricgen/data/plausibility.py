@@ -20,7 +20,7 @@ from typing import Callable, Dict, Optional
 
 import numpy as np
 
-from .._validate import ACCEPT_UNUSUAL, PHYSICAL, physical_problem
+from .._validate import ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, physical_problem, unusual
 from ..errors import DataError
 from .outliers import running_median
 
@@ -33,6 +33,8 @@ SWAP_RATIO = 0.5
 #: The force scatters about any curve of v by more than this share of its median level: no
 #: friction curve is in the data (a fit would explain nothing).
 NOTHING_EXPLAINED = 0.5
+#: The share of rows whose magnitudes the bounds leave out (glitches; ``_top``).
+TOP_SHARE = 0.01
 #: Rows the shape and shift checks look at (evenly thinned beyond).
 CHECK_ROWS = 100_000
 #: A merge shift is off when the force fits the motion at another shift this much better
@@ -66,20 +68,26 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
     return ""
 
 
+def _top(values: np.ndarray) -> float:
+    """The largest magnitude of ``values`` but for the top TOP_SHARE of rows: a glitch row (a
+    gross outlier, which training sets aside) is no unit."""
+    return float(np.quantile(np.abs(values), 1.0 - TOP_SHARE))
+
+
 def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bool = False,
                  warn: Callable[[str], None] = print) -> None:
     """The fastest speed (|v|, or |dx/dt| of a log without v) and the largest force (|f|,
-    |force|) within ``_validate.PHYSICAL``; else one line naming the column and the --scale that
+    |force|), each but for the top 1 % of rows (``_top``), within ``_validate.PHYSICAL``; else one line naming the column and the --scale that
     brings it there."""
     checks = []
     if "v" in columns:
-        checks.append(("v", "speed", "the fastest speed |v|", float(np.max(np.abs(columns["v"])))))
+        checks.append(("v", "speed", "the fastest speed |v|", _top(columns["v"])))
     elif {"x", "t"} <= set(columns) and columns["t"].size > 1 and np.all(np.diff(columns["t"]) > 0):
-        speed = float(np.max(np.abs(np.diff(columns["x"]) / np.diff(columns["t"]))))
-        checks.append(("x", "speed", "the fastest speed |dx/dt|", speed))
+        checks.append(("x", "speed", "the fastest speed |dx/dt|",
+                       _top(np.diff(columns["x"]) / np.diff(columns["t"]))))
     for name in ("f", "force"):
         if name in columns:
-            checks.append((name, "force", f"the largest force |{name}|", float(np.max(np.abs(columns[name])))))
+            checks.append((name, "force", f"the largest force |{name}|", _top(columns[name])))
     for column, quantity, what, value in checks:
         if value == 0:
             continue                # no motion or no force: the readers name that
@@ -87,6 +95,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
         if problem:
             _refuse_or_warn(f"{source}: {problem}{_unit_hint(column, quantity, value)}",
                             accept_unusual, warn)
+        elif quantity in USUAL_MAX and unusual(quantity, what, value):
+            warn(f"fricgen: warning: {source}: {unusual(quantity, what, value)}")
 
 
 def _scatter(a: np.ndarray, b: np.ndarray) -> float:

@@ -39,6 +39,10 @@ def header_hint(cells: Sequence[str]) -> str:
 _THOUSANDS_TAIL = re.compile(r"\d{3}(\.\d*)?")
 
 
+#: A number written with ',' between thousands, as one (quoted) cell: "15,998.7".
+_GROUPED = re.compile(r"[-+]?\d{1,3}(,\d{3})+(\.\d*)?")
+
+
 def _thousands_hint(row: Sequence[str], width: int) -> str:
     """Why a row has more cells than the header, when its numbers look written with ','
     between thousands ('' if not)."""
@@ -184,8 +188,10 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
         except ValueError:
             bad = [k for k in wanted if not _is_number(row[k])]
             if not drop_text or any(header[k] in required for k in bad):
+                grouped = any(_GROUPED.fullmatch(row[k].strip()) for k in bad)
                 raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
-                                f"{','.join(row)[:80]!r}") from None
+                                f"{','.join(row)[:80]!r}"
+                                f"{_thousands_hint(['', '000'], 1) if grouped else ''}") from None
             text.update(bad)
             values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
     table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))
