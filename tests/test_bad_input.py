@@ -249,8 +249,8 @@ PLAUSIBILITY_ROWS = [
      "aim.input_weights[0] is beyond 3.403e+38, the largest float32"),
     ("--scale t applies to both files", ["diagnose", *DRIVE_MS, "--model", "model.json", *DIAG, "-o", OUT],
      "is one timed in ms? (--scale applies to both files; --merge-scale t=FACTOR to the --merge file alone)"),
-    ("--merge-shift off by a second", ["train", *DRIVE, *MERGE, "--merge-shift", "1", "-o", OUT],
-     "--merge-shift 1 s looks off: the force of WORK/load.csv fits the motion of WORK/drive.csv best at a "
+    ("--merge-shift off by half a second", ["train", *DRIVE, *MERGE, "--merge-shift", "0.5", "-o", OUT],
+     "--merge-shift 0.5 s looks off: the force of WORK/load.csv fits the motion of WORK/drive.csv best at a "
      "shift of about"),
     ("diagnose -o over a report.md fricgen did not write", ["diagnose", "log.csv", "--model", "model.json",
                                                             *DIAG, "-o", "notes"],

@@ -149,7 +149,8 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
                       names, accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
     """The given ``shift`` of the second file's clock near the one at which the force (of either
     file) best fits the motion of the other (least squares of eq. 18 with Coulomb and viscous
-    friction, over every shift that leaves half the shorter file's span in common); refused (or warned)
+    friction, on the middle half of the force file's span, over every shift that keeps it
+    within the motion file's); refused (or warned)
     when another shift fits SHIFT_GAIN times better SHIFT_STEPS samples or more away."""
     if _force_of(second) and not _force_of(first):
         motion, force, sign = first, second, 1.0
@@ -166,28 +167,31 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
     if not (step > 0 and span > 40 * step):
         return
 
+    # the middle half of the force file, the same samples at every shift tried, so that the
+    # residuals compare (a shorter overlap of simpler motion would fit better at a wrong shift)
+    middle = (tf >= tf[0] + 0.25 * (tf[-1] - tf[0])) & (tf <= tf[0] + 0.75 * (tf[-1] - tf[0]))
+    rows = np.flatnonzero(middle)[_thin(int(middle.sum()))]
+    if rows.size < 20:
+        return
+    y = force[name][rows]
+    low, high = tm[0] - tf[rows[0]], tm[-1] - tf[rows[-1]]     # shifts that keep them in the motion
+
     def residual(s: float) -> float:
         # the force file's sample at tf happened at tf + s on the motion file's clock
-        t_f = tf + s
-        inside = (t_f >= tm[0]) & (t_f <= tm[-1])
-        rows = np.flatnonzero(inside)[_thin(int(inside.sum()))]
-        if rows.size < 20 or (t_f[rows[-1]] - t_f[rows[0]]) < 0.5 * span:
-            return math.inf
-        design = _regressors(motion, t_f[rows])
+        design = _regressors(motion, tf[rows] + s)
         if design is None:
             return math.inf
-        y = force[name][rows]
         coef, *_ = np.linalg.lstsq(design, y, rcond=None)
         return float(np.mean((y - design @ coef) ** 2))
 
     given = sign * shift
-    # every shift that leaves half the shorter span in common, the given one among them
-    coarse = np.append(np.linspace(tm[0] - tf[-1] + 0.5 * span, tm[-1] - tf[0] - 0.5 * span,
-                                   COARSE_SHIFTS), given)
+    if not low <= given <= high:
+        return                      # the merge's own check names a short common span
+    coarse = np.append(np.linspace(low, high, COARSE_SHIFTS), given)
     scores = np.array([residual(s) for s in coarse])
     best = float(coarse[int(np.argmin(scores))])
-    width = (coarse[1] - coarse[0])
-    fine = best + np.linspace(-width, width, 21)
+    width = (high - low) / (COARSE_SHIFTS - 1)
+    fine = np.clip(best + np.linspace(-width, width, 21), low, high)
     fine_scores = np.array([residual(s) for s in fine])
     best = float(fine[int(np.argmin(fine_scores))])
     at_given, at_best = residual(given), float(min(fine_scores.min(), scores.min()))
