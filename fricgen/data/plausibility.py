@@ -81,13 +81,13 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     brings it there."""
     checks = []
     if "v" in columns:
-        checks.append(("v", "speed", "the fastest speed |v|", _top(columns["v"])))
+        checks.append(("v", "speed", "|v| (99th percentile)", _top(columns["v"])))
     elif {"x", "t"} <= set(columns) and columns["t"].size > 1 and np.all(np.diff(columns["t"]) > 0):
-        checks.append(("x", "speed", "the fastest speed |dx/dt|",
+        checks.append(("x", "speed", "|dx/dt| (99th percentile)",
                        _top(np.diff(columns["x"]) / np.diff(columns["t"]))))
     for name in ("f", "force"):
         if name in columns:
-            checks.append((name, "force", f"the largest force |{name}|", _top(columns[name])))
+            checks.append((name, "force", f"|{name}| (99th percentile)", _top(columns[name])))
     for column, quantity, what, value in checks:
         if value == 0:
             continue                # no motion or no force: the readers name that
