@@ -16,10 +16,14 @@ def pyplot():
     return plt
 
 
+#: The PNG "Software" text of every figure fricgen writes: how ``diagnose`` knows its own plots.
+PNG_SOFTWARE = "fricgen"
+
+
 def png(fig, dpi: int = 100) -> bytes:
     """The figure as PNG bytes (nothing touches the disk); the figure is closed."""
     plt = pyplot()
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
+    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": PNG_SOFTWARE})
     plt.close(fig)
     return buf.getvalue()

@@ -13,6 +13,47 @@ MAX_HIDDEN = 4096
 #: The magnitudes the emitted float32 C computes reliably: the sweep's speed and force scales,
 #: v_sat, the force scale, B (float32 spans 1.2e-38 to 3.4e38).
 FLOAT32_SCALE = (1e-30, 1e30)
+#: The largest magnitude a float32 holds (FLT_MAX): every number the C tables hold stays below.
+FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+#: The physical range of a real servo axis, from a micro stage to a heavy gantry, in SI units
+#: (``fricgen.data.plausibility`` checks data against it, ``FrictionModel`` a model.json):
+#: the fastest speed of the data, m/s (1 um/s scans to 20 m/s linear motors and belt drives);
+#: v_sat = 3 vs_max, m/s (Stribeck velocities of 0.1 um/s to 0.7 m/s); the largest friction
+#: force, N (10 uN in a flexure stage to 100 kN in a heavy gantry); the moving mass, kg (1 g to
+#: 100 t).
+PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
+            "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg")}
+#: Within PHYSICAL, beyond what most axes do (a warning line, no refusal): the fastest speed
+#: above 5 m/s, v_sat above 0.3 m/s (Stribeck velocities above 0.1 m/s): speeds in m/min or
+#: mm/s read as m/s land there.
+USUAL_MAX = {"speed": 5.0, "v_sat": 0.3}
+#: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
+ACCEPT_UNUSUAL = "--accept-unusual"
+
+
+def physical_problem(quantity: str, what: str, value: float) -> str:
+    """'' if ``value`` (a magnitude) lies within PHYSICAL[quantity], else the clause saying it does
+    not: "WHAT is 199 m/s, beyond the 20 m/s of any real axis"."""
+    low, high, unit = PHYSICAL[quantity]
+    value = abs(float(value))
+    if value > high:
+        return f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of any real axis"
+    if value < low:
+        return f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of any real axis"
+    return ""
+
+
+def unusual(quantity: str, what: str, value: float) -> str:
+    """'' if ``value`` lies within USUAL_MAX[quantity], else the clause saying it is unusual,
+    with the units that would explain it: "WHAT is 15 m/s, faster than most axes (5 m/s): in
+    m/min? --scale v=0.0166667 converts it"."""
+    high, unit = USUAL_MAX[quantity], PHYSICAL[quantity][2]
+    value = abs(float(value))
+    if value <= high:
+        return ""
+    return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is v in m/min "
+            "(--scale v=0.0166667) or mm/s (--scale v=0.001)?")
 
 
 def _is_number(value) -> bool:

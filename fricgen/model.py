@@ -24,7 +24,8 @@ import numpy as np
 from . import __version__
 from ._io import read_only, write_atomic
 from .axis import Axis
-from ._validate import FLOAT32_SCALE, float32_scale, json_number
+from ._validate import (ACCEPT_UNUSUAL, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, finite_number,
+                        float32_scale, json_number, physical_problem)
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict
@@ -99,8 +100,28 @@ def _unique_keys(pairs) -> dict:
 #: A friction curve must oppose the motion up to this many times v_sat: a negative B may bend
 #: the force down beyond v_sat, not through zero.
 OPPOSES_MOTION_UP_TO = 10.0
+#: The largest friction force of a real axis, N (``_validate.PHYSICAL``).
+PHYSICAL_FORCE_MAX = PHYSICAL["force"][1]
 #: Speeds, in units of v_sat, at which a curve's force is checked (``Direction.check``).
 _CHECK_SPEEDS = np.linspace(0.0, 1.0, 129)
+#: How far K_in v_sat may be from 1 (eq. (9): K_in = 1/v_sat, written and read back in float64).
+K_IN_TOLERANCE = 1e-9
+
+
+def _float32_overflow(value, where: str) -> str:
+    """The path of the first number in ``value`` (nested dicts and lists, as JSON gives them)
+    beyond FLOAT32_MAX, where the C's float tables would hold infinity; '' if none."""
+    if isinstance(value, dict):
+        items = ((f"{where}.{k}", v) for k, v in value.items())
+    elif isinstance(value, list):
+        items = ((f"{where}[{k}]", v) for k, v in enumerate(value))
+    else:
+        return where if finite_number(value) and abs(value) > FLOAT32_MAX else ""
+    for path, item in items:
+        found = _float32_overflow(item, path)
+        if found:
+            return found
+    return ""
 
 
 def _finite_or_null(value):
@@ -178,6 +199,21 @@ class Direction:
                                  f"{OPPOSES_MOTION_UP_TO:g} v_sat: friction must oppose the motion")
         return self
 
+    def check_physical(self) -> "Direction":
+        """This curve, if it is one of a real axis (``_validate.PHYSICAL``): v_sat within the
+        bounds of v_sat, and the largest force on [0, v_sat] within those of a friction force;
+        else ``ModelError`` naming the field (a decimal point lost by a hand edit, other units)."""
+        problem = physical_problem("v_sat", "v_sat", self.v_sat)
+        if not problem:
+            worst = float(np.max(np.abs(self.magnitude(self.v_sat * _CHECK_SPEEDS))))
+            problem = physical_problem("force", "the largest force on [0, v_sat]", worst)
+            if problem and self.viscous * self.v_sat > PHYSICAL_FORCE_MAX:
+                problem = f"viscous = {self.viscous:.6g} N s/m: {problem}"
+        if problem:
+            raise ModelError(f"{problem} (a digit or decimal point lost, or other units? "
+                             f"{ACCEPT_UNUSUAL} at training accepts it)")
+        return self
+
     def to_dict(self) -> dict:
         return {"aim": self.aim.to_dict(),
                 "scaling": {"k_in": self.scaling.k_in, "k_out": self.scaling.k_out},
@@ -194,6 +230,14 @@ class Direction:
         k_out = json_number(scaling, "k_out", "scaling", positive=True)
         viscous = json_number(d, "viscous", "model")
         v_sat = json_number(d, "v_sat", "model", positive=True)
+        if not abs(k_in * v_sat - 1.0) <= K_IN_TOLERANCE:
+            raise ModelError(f"scaling.k_in ({k_in:.6g} 1/(m/s)) times v_sat ({v_sat:.6g} m/s) is "
+                             f"{k_in * v_sat:.6g}; eq. (9) needs k_in = 1/v_sat (was one of them edited?)")
+        for key in ("aim", "scaling", "viscous", "v_sat"):
+            where = _float32_overflow(d.get(key), key)
+            if where:
+                raise ModelError(f"{where} is beyond {FLOAT32_MAX:.4g}, the largest float32: the C "
+                                 "would hold infinity there")
         return cls(network, Scaling(k_in, k_out), viscous, v_sat).check()
 
 
@@ -232,6 +276,9 @@ class FrictionModel:
     effects: Tuple[dict, ...] = ()
     training: Dict[str, Any] = field(default_factory=dict)
     negative: Optional[Direction] = None
+    #: The ``model_hash`` model.json recorded (None for a model not read from one, or read from
+    #: a file written before the field existed).
+    recorded_hash: Optional[str] = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "symmetric", self.negative is None)
@@ -295,21 +342,40 @@ class FrictionModel:
 
     __call__ = force
 
-    def to_dict(self) -> dict:
-        d = {"format": FORMAT, "format_version": self.format_version,
-             "fricgen_version": __version__, "name": self.name, **self.positive.to_dict(),
-             "symmetric": self.symmetric, "effects": list(self.effects), "training": self.training}
+    def _force_fields(self) -> dict:
+        """The fields of model.json that determine the force (what ``model_hash`` covers)."""
+        d = {**self.positive.to_dict(), "symmetric": self.symmetric, "effects": list(self.effects)}
         if self.negative is not None:
             d["negative"] = self.negative.to_dict()
+        return d
+
+    def to_dict(self) -> dict:
+        core = self._force_fields()
+        d = {"format": FORMAT, "format_version": self.format_version,
+             "fricgen_version": __version__, "name": self.name, "model_hash": self.model_hash,
+             **{k: core[k] for k in ("aim", "scaling", "viscous", "v_sat", "symmetric", "effects")},
+             "training": self.training}
+        if self.negative is not None:
+            d["negative"] = core["negative"]
         return d
 
     @property
     def model_hash(self) -> str:
         """SHA-256 (first 16 hex digits) of everything that determines the force."""
-        d = self.to_dict()
-        core = {k: d[k] for k in ("aim", "scaling", "viscous", "v_sat", "symmetric", "effects",
-                                  "negative") if k in d}
+        core = _finite_or_null(self._force_fields())
         return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
+
+    @property
+    def edited_after_training(self) -> bool:
+        """Whether model.json recorded a ``model_hash`` its force fields no longer give."""
+        return self.recorded_hash is not None and self.recorded_hash != self.model_hash
+
+    def hash_warning(self, path) -> str:
+        """The one-line warning for a model.json edited after training ('' if it was not)."""
+        if not self.edited_after_training:
+            return ""
+        return (f"fricgen: warning: {path}: edited after training (model_hash {self.recorded_hash} "
+                f"recorded, its content gives {self.model_hash})")
 
     def to_json(self) -> str:
         """model.json's text: strict JSON (a non-finite number in ``training``, such as the C
@@ -356,9 +422,18 @@ class FrictionModel:
             raise ModelError("training must be an object")
         if training.get("axis") is not None:
             Axis.from_dict(training["axis"])
+        if training.get("accept_unusual") is not True:
+            for where, curve in (("", positive), ("negative: ", negative)):
+                try:
+                    curve is None or curve.check_physical()
+                except ModelError as exc:
+                    raise ModelError(f"{where}{exc}") from None
+        recorded = d.get("model_hash")
+        if recorded is not None and not isinstance(recorded, str):
+            raise ModelError(f"model_hash must be a string, got {type(recorded).__name__}")
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
                    v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
-                   negative=negative)
+                   negative=negative, recorded_hash=recorded)
 
     @classmethod
     def load(cls, path: Union[str, Path]) -> "FrictionModel":

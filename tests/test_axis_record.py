@@ -231,3 +231,24 @@ def test_simulate_warns_when_the_reference_asks_more_than_the_motor_gives(model1
     assert "more than the simulated motor's 4.5 N: the current saturates" in err
     assert main(["simulate", "--model", str(path), "--mass", "5", "--duration", "0.1"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_q15_bound_holds_over_all_65536_inputs_of_a_sweep_to_10_v_sat(model10, tmp_path):
+    """The header's error bound holds for every q15 input of the declared range when the axis
+    reaches 10 v_sat (the range then is 1 m/s for v_sat = 0.06 m/s); the header says the range,
+    that faster speeds are clamped to it, and that the output saturates."""
+    record = {**SWEEP, "speed_max": 10 * model10.v_sat}
+    model = with_axis(model10, record)
+    spec = fx.FixedSpec.of(model, "q15")
+    v_range = 2.0 ** (15 - spec.f_v)
+    assert v_range >= 10 * model10.v_sat
+    v_q = np.arange(-2 ** 15, 2 ** 15, dtype=np.int64)
+    error = np.abs(fx.force_q(spec, v_q) * 2.0 ** -spec.f_f - model.force(v_q * 2.0 ** -spec.f_v))
+    bound = fx.error_bound(spec, model)
+    assert float(error.max()) <= bound
+    folder = tmp_path / "q15"
+    assert main(["emit", str(model.save(tmp_path / "m.json")), "-o", str(folder), "--dtype", "q15",
+                 "--name", "fm"]) == 0
+    header = (folder / "fm.h").read_text()
+    assert f"|v| < {v_range:g} m/s" in header and f"<= {bound:.3g} N" in header
+    assert "clamp faster speeds to the range" in header and "saturated" in header

@@ -57,6 +57,7 @@ def work(cli_inputs, tmp_path_factory):
     _motion_log_files(d, log)
     _matlab_files(d, log)
     _trial_files(d, log)
+    _plausibility_files(d, log)
     (d / "log_swapped.csv").write_text("\n".join(log[:100] + [log[101], log[100]] + log[102:]) + "\n")
     (d / "log_short.csv").write_text("\n".join(log[:16]) + "\n")
     (d / "log_repeated_t.csv").write_text("\n".join(log[:100] + [log[100]] + log[100:]) + "\n")
@@ -124,6 +125,38 @@ def _trial_files(d, log):
     (d / "empty.csv").write_text("")
     (d / "blank.csv").write_text("\n\n")
     (d / "log_no_t.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
+
+
+def _plausibility_files(d, log):
+    """The files of PLAUSIBILITY_ROWS: the sweep with v and f swapped, in mm/s, with thousands
+    separators; the model hand-edited; a drive export timed in ms beside a current file timed in
+    s; and a folder holding a report.md the user wrote."""
+    rows = [line.split(",") for line in (d / "sweep.csv").read_text().splitlines()[1:]]
+    v, f = np.array(rows, dtype=float).T
+    (d / "sweep_swapped.csv").write_text("v,f\n" + "".join(f"{b!r},{a!r}\n" for a, b in zip(v.tolist(), f.tolist())))
+    (d / "sweep_mm.csv").write_text("v,f\n" + "".join(f"{1000 * a!r},{b!r}\n" for a, b in zip(v.tolist(), f.tolist())))
+    (d / "thousands.csv").write_text("v,f\n" + "".join(f"{1000 * a:,.3f},{100 * b:,.2f}\n"
+                                                        for a, b in zip(v.tolist(), f.tolist())))
+    model = json.loads((d / "model.json").read_text())
+    for name, key, value in (("dropped_decimal.json", "viscous", float(str(model["viscous"]).replace(".", ""))),
+                             ("v_sat_edited.json", "v_sat", 45.6375)):
+        (d / name).write_text(json.dumps({**model, key: value}))
+    aim = json.loads(json.dumps(model["aim"]))
+    aim["input_weights"][0] = 1e39
+    (d / "float32_overflow.json").write_text(json.dumps({**model, "aim": aim}))
+    header = log[0].split(",")
+    cells = [line.split(",") for line in log[1:]]
+    col = {h: [c[k] for c in cells] for k, h in enumerate(header)}
+    (d / "drive_ms.csv").write_text("# drive export\nTime [ms],Pos,Speed\n" + "".join(
+        f"{1000 * float(t)!r},{x},{v}\n" for t, x, v in zip(col["t"], col["x"], col["v"])))
+    (d / "current.csv").write_text("Stamp,Current\n" + "".join(f"{t},{i}\n" for t, i in zip(col["t"], col["i"])))
+    (d / "thousands_quoted.csv").write_text("v,f\n" + "".join(f'{a!r},"{1000 * b:,.1f}"\n'
+                                                               for a, b in zip(v.tolist(), f.tolist())))
+    slow = np.abs(v) < 0.015
+    (d / "sweep_slow_mm.csv").write_text("v,f\n" + "".join(f"{1000 * a!r},{b!r}\n"
+                                                           for a, b in zip(v[slow].tolist(), f[slow].tolist())))
+    (d / "notes").mkdir()
+    (d / "notes" / "report.md").write_text("# my own notes\n")
 
 
 def _motion_log_files(d, log):
@@ -197,6 +230,46 @@ TRIAL_ROWS = [
                                         "--force-constant", "20", "-o", OUT], "WORK/log.csv: phi i is 0.0"),
 ]
 
+#: Well-formed input that cannot be right (the cases of the plausibility issue): (row id, argv,
+#: words of the one error line).
+DRIVE_MS = ["drive_ms.csv", "--skip", "1", "--columns", "t=Time [ms],x=Pos,v=Speed", "--scale", "t=0.001",
+            "--merge", "current.csv", "--merge-columns", "t=Stamp,i=Current"]
+PLAUSIBILITY_ROWS = [
+    *[(f"swapped sweep columns, {' '.join(m) or 'default'}", ["train", "sweep_swapped.csv", *m, "-o", OUT],
+       "are the columns v and f swapped? (--accept-unusual to use the data as they are)")
+      for m in ([], ["--method", "elm_auto"], ["--method", "stribeck"], ["--symmetric"])],
+    ("a sweep in mm/s", ["train", "sweep_mm.csv", "-o", OUT],
+     "m/s, above the 20 m/s of any real axis; is v in mm/s? --scale v=0.001 converts it"),
+    ("a decimal point dropped from viscous", ["eval", "dropped_decimal.json"],
+     "the largest force on [0, v_sat] is"),
+    ("a decimal point dropped from viscous, emitted", ["emit", "dropped_decimal.json", "-o", OUT],
+     "above the 100000 N of any real axis"),
+    ("v_sat edited, k_in not", ["eval", "v_sat_edited.json"], "eq. (9) needs k_in = 1/v_sat"),
+    ("a weight beyond float32, eval", ["eval", "float32_overflow.json"],
+     "aim.input_weights[0] is beyond 3.403e+38, the largest float32"),
+    ("--scale t applies to both files", ["diagnose", *DRIVE_MS, "--model", "model.json", *DIAG, "-o", OUT],
+     "is one timed in ms? (--scale applies to both files; --merge-scale t=FACTOR to the --merge file alone)"),
+    ("--merge-shift off by half a second", ["train", *DRIVE, *MERGE, "--merge-shift", "0.5", "-o", OUT],
+     "--merge-shift 0.5 s looks off: the force of WORK/load.csv fits the motion of WORK/drive.csv best at a "
+     "shift of about"),
+    ("diagnose -o over a report.md fricgen did not write", ["diagnose", "log.csv", "--model", "model.json",
+                                                            *DIAG, "-o", "notes"],
+     "-o WORK/notes/report.md: was not written by fricgen; refusing to overwrite it (--force to do so)"),
+    ("a typo in --columns", ["train", *DRIVE[:3], "--columns", "t=Time,v=Sped", "--mass", "4", "-o", OUT],
+     "--columns: v='Sped': WORK/drive.csv has no such column (header is Time,Speed); did you mean 'Speed'?"),
+    ("a CSV with thousands separators", ["train", "thousands.csv", "-o", OUT],
+     "3 cells, the header names 2; are its numbers written with ',' between thousands (1,740.65)?"),
+    ("a CSV with quoted thousands separators", ["train", "thousands_quoted.csv", "-o", OUT],
+     "are its numbers written with ',' between thousands (1,740.65)?"),
+    ("a slow sweep in mm/s", ["train", "sweep_slow_mm.csv", "-o", OUT],
+     "above the 5 m/s of most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?)"),
+    ("--merge-scale without --merge", ["train", *DRIVE, "--merge-scale", "t=0.001", "-o", OUT],
+     "need --merge FILE"),
+    ("--merge-scale of a quantity the merge file lacks", ["train", *DRIVE, *MERGE, "--merge-scale", "v=2",
+                                                          "-o", OUT],
+     "--merge-scale: v is not a column of WORK/load.csv (its columns: t, force)"),
+]
+
 #: (row id, argv (files relative to the work folder), words of the one error line)
 ROWS = [
     ("comma decimal CSV", ["train", "comma_decimal.csv", "-o", OUT],
@@ -207,9 +280,9 @@ ROWS = [
     ("all v = 0", ["train", "all_zero_v.csv", "-o", OUT], "a friction sweep needs motion"),
     ("non-UTF-8 CSV", ["train", "non_utf8.csv", "-o", OUT], "not UTF-8 text"),
     ("cell of 200000 digits", ["train", "long_cell.csv", "-o", OUT], "NaN or infinite"),
-    ("values around 1e-300", ["train", "tiny_values.csv", "-o", OUT], "the float32 C needs it between"),
+    ("values around 1e-300", ["train", "tiny_values.csv", "-o", OUT], "below the 1e-06 m/s of any real axis"),
     ("duplicate column names", ["train", "duplicate_columns.csv", "-o", OUT], "appears more than once"),
-    ("forces scaled by 1e306", ["train", "huge_forces.csv", "-o", OUT], "the float32 C needs it between"),
+    ("forces scaled by 1e306", ["train", "huge_forces.csv", "-o", OUT], "above the 100000 N of any real axis"),
     ("force falling at high speed", ["train", "falling.csv", "--vs-max", "0.02", "-o", OUT],
      "friction must oppose the motion"),
     ("a sweep at one speed", ["train", "one_speed.csv", "-o", OUT], "all at one speed"),
@@ -318,7 +391,7 @@ ROWS = [
      "not allowed with argument"),
     ("asymmetric model as q15", ["emit", "asym.json", "--dtype", "q15", "-o", OUT], "emits symmetric models"),
     ("vendor file without --skip", ["train", "drive.csv", "--columns", "t=Time,v=Speed", "--mass", "4",
-                                    "-o", OUT], "missing column 'time', 'speed'"),
+                                    "-o", OUT], "its header looks to be line 3: --skip 2"),
     ("--skip -1", ["train", *DRIVE, "--skip", "-1", "-o", OUT], "--skip: must be an integer >= 0"),
     ("--skip past the end", ["train", "sweep.csv", "--skip", "100000", "-o", OUT], "fewer than the 100000"),
     ("--columns without =", ["train", *DRIVE, "--columns", "v", "-o", OUT], "expected NAME=VALUE"),
@@ -329,7 +402,8 @@ ROWS = [
     ("--columns a column twice", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,x=time",
                                   "-o", OUT], "'time' is mapped to more than one quantity"),
     ("--columns a column the file lacks", ["train", "drive.csv", "--skip", "2", "--columns",
-                                           "t=Time,v=Velocity", "-o", OUT], "missing column 'velocity'"),
+                                           "t=Time,v=Velocity", "-o", OUT],
+     "--columns: v='Velocity': WORK/drive.csv has no such column (header is Time,Speed)"),
     ("--columns onto an existing name", ["train", "log.csv", *LOG, "--columns", "v=x", "-o", OUT],
      "column 'v' appears twice once the columns are named"),
     ("--scale not a number", ["train", *DRIVE, *MERGE, "--scale", "v=rpm", "-o", OUT], "is not a number"),
@@ -366,7 +440,7 @@ ROWS = [
     ("diagnose, a MATLAB v7.3 file", ["diagnose", "v73.mat", "--model", "model.json", *DIAG, "-o", OUT],
      "WORK/v73.mat: a MATLAB v7.3 (HDF5) file"),
     ("diagnose, a MATLAB file without v", ["diagnose", "log_no_v.mat", "--model", "model.json", *DIAG,
-                                           "-o", OUT], "WORK/log_no_v.mat: no variable 'v'"),
+                                           "-o", OUT], "WORK/log_no_v.mat: a log needs the columns t, x, v, i: missing v"),
     ("--scale 0", ["train", *DRIVE, *MERGE, "--scale", "v=0", "-o", OUT], "must be finite and not 0"),
     ("--scale inf", ["train", *DRIVE, *MERGE, "--scale", "force=inf", "-o", OUT], "must be finite and not 0"),
     ("--scale of an unknown quantity", ["train", *DRIVE, *MERGE, "--scale", "rpm=2", "-o", OUT],
@@ -383,8 +457,7 @@ ROWS = [
     ("--merge of a column in both files", ["train", *DRIVE, "--merge", "log_force.csv", "-o", OUT],
      "column 'v' is in"),
     ("train, a log in mm with the mass in kg", ["train", "log_mm.csv", *LOG, "-o", OUT],
-     "x the force where the axis moves (RMS), yet the force is m dv/dt plus friction (eq. 18): "
-     "check the mass and the units of t, x, v and of the force or i"),
+     "is v in mm/s? --scale v=0.001 converts it"),
     ("train, a log with i in mA", ["train", "log_mA.csv", *LOG, "-o", OUT],
      "the log accelerates as if the mass were"),
     ("train, the mass in tonnes", ["train", "log.csv", "--mass", "0.004", "--force-constant", "20", "-o", OUT],
@@ -409,7 +482,8 @@ ROWS = [
 ]
 
 
-@pytest.mark.parametrize("argv, words", [r[1:] for r in TRIAL_ROWS + ROWS], ids=[r[0] for r in TRIAL_ROWS + ROWS])
+@pytest.mark.parametrize("argv, words", [r[1:] for r in TRIAL_ROWS + PLAUSIBILITY_ROWS + ROWS],
+                         ids=[r[0] for r in TRIAL_ROWS + PLAUSIBILITY_ROWS + ROWS])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(work, tmp_path, argv, words):
     out = tmp_path / "out"
     special = {OUT: str(out), OUT + "/": str(out) + "/", "UNDER_INPUT": str(work / "sweep.csv" / "m.json")}
@@ -484,6 +558,7 @@ def test_no_working_c_compiler_is_one_line_and_nothing_written(tmp_path, argv):
 def test_eval_of_a_model_with_effects_says_they_are_not_applied(work, tmp_path):
     model = json.loads((work / "model.json").read_text())
     model["effects"] = [{"effect": "constant_load", "parameters": {"load": 1.0}}]
+    del model["model_hash"]         # a model written before the hash was recorded: no warning
     (tmp_path / "m.json").write_text(json.dumps(model))
     runs = [subprocess.run([sys.executable, "-m", "fricgen", "eval", str(path)], input="0.01\n\n-0.02\n",
                            capture_output=True, text=True) for path in (work / "model.json", tmp_path / "m.json")]

@@ -98,7 +98,7 @@ def _bad_inputs():
     def in_mm(c):
         c["x"][:] = 1000.0 * c["x"]
         c["v"][:] = 1000.0 * c["v"]
-    yield "missing column", drop_i, ARGS, "missing column"
+    yield "missing column", drop_i, ARGS, "a log needs the columns t, x, v, i: missing i (header is t,x,v)"
     yield "NaN", nan_v, ARGS, "NaN"
     yield "non-uniform", jitter_t, ARGS, "not uniformly sampled"
     yield "too short", short, ARGS, "need at least"
@@ -107,7 +107,7 @@ def _bad_inputs():
     yield "standing still in the noise", noise_only, ARGS, "x does not follow v"
     yield "current constant but one sample", i_almost_constant, ARGS, "current i is constant"
     yield "current of the wrong sign", i_negated, ARGS, "sign of the current or of the force constant"
-    yield "x and v in mm", in_mm, ARGS, "check the force constant, the mass, the units"
+    yield "x and v in mm", in_mm, ARGS, "is v in mm/s? --scale v=0.001 converts it"
     yield "force constant 1000 x off", None, ["--mass", "4", "--force-constant", "20000"], "beyond the factor 5"
     yield "mass in tonnes", None, ["--mass", "0.004", "--force-constant", "20"], "check the mass, its unit"
     yield "mass and phi both 1000 x", None, ["--mass", "4000", "--force-constant", "20000"], "x the model's friction"

@@ -3,7 +3,8 @@
 Every command is one module of this package with ``register(parser)``, which adds its
 arguments, and ``run(args) -> int``. Only the module of the command being run is imported, so
 ``fricgen --version`` and ``fricgen --help`` load no numerics. Every command reports bad input
-as one line ``fricgen: error: ...`` on stderr, exits with code 2, and leaves no output file.
+as one line ``fricgen: error: ...`` on stderr, exits with code 2, and leaves no output file;
+Ctrl-C is one line and exit code 130, and leaves no output file either.
 """
 from __future__ import annotations
 
@@ -53,6 +54,9 @@ def build_parser(argv=None) -> ArgumentParser:
     return parser
 
 
+#: The exit code of a command interrupted by Ctrl-C (128 + SIGINT, as a shell reports it).
+INTERRUPTED = 130
+
 #: The environment variables that set the BLAS thread count when numpy loads.
 BLAS_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
@@ -74,7 +78,7 @@ def pin_blas_threads(environ=os.environ) -> None:
 
 
 def main(argv=None) -> int:
-    """Run one command; any problem is one stderr line and exit code 2. Warnings of the
+    """Run one command; any problem is one stderr line and exit code 2 (Ctrl-C: one line, 130). Warnings of the
     numerics (a rank-deficient fit, an overflow the checks already handle) stay silent.
     Numerics run on one BLAS thread unless FRICGEN_BLAS_THREADS says otherwise (set before
     numpy loads with the command's module; in a process that imported numpy before, the
@@ -92,6 +96,10 @@ def main(argv=None) -> int:
         where = f"{exc.filename}: " if exc.filename else ""
         say(f"fricgen: error: {where}{exc.strerror or exc}")
         return 2
+    except KeyboardInterrupt:
+        # files are written all or nothing (``_io.write_files`` undoes a write it was in)
+        say("fricgen: interrupted; nothing written")
+        return INTERRUPTED
 
 
 if __name__ == "__main__":

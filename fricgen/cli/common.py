@@ -123,3 +123,4 @@ def add_seed(p) -> None:
 
 def add_json(p, help: str = "print the result as one JSON object") -> None:
     p.add_argument("--json", action="store_true", help=help)
+

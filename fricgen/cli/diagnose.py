@@ -5,21 +5,25 @@ import json
 from pathlib import Path
 
 from .._io import check_folder, named_data
-from ..data import read_log
+from ..codegen.render import check_overwrite
+from ..data.motionlog import MIN_SAMPLES, log_from_columns
+from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
-from ..diagnose.report import format_value, render_files
+from ..diagnose.report import format_value, render_files, written_by_diagnose
 from ..effects import model_effects, range_notes
 from ..errors import UsageError
 from ..model import FrictionModel
-from .common import (add_json, add_model, add_output, check_targets, number, out, say,
-                     write_folder)
+from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
+                     source_name)
+from .common import (add_json, add_model, add_output, check_targets,
+                     number, out, say, write_folder)
 
 
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("log", help="measured log with columns t, x, v, i (uniformly sampled): a CSV, or a "
-                   "MATLAB .mat file with these variables")
+                   "MATLAB .mat file with these variables (a vendor's export: see the options below)")
     add_model(p)
     p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
                    help="nominal moving mass m, kg (default: the mass of the model's axis record)")
@@ -27,7 +31,9 @@ def register(p) -> None:
                    help="nominal force constant phi, N/A (default: that of the model's axis record)")
     p.add_argument("--max-effects", type=number(1, MAX_EFFECTS, integer=True), default=3,
                    help=f"most effects added, 1 to {MAX_EFFECTS} (default 3)")
-    add_output(p, "folder for model.json, report.md and plots")
+    add_output(p, "folder for model.json, report.md and plots",
+               force_also=", and over files in it that diagnose did not write")
+    add_export_options(p)
     add_json(p, "print the summary as one JSON object")
     p.set_defaults(run=run)
 
@@ -52,17 +58,27 @@ def nominal_axis(model: FrictionModel, mass, force_constant):
 
 
 def run(args) -> int:
-    inputs = [args.model, args.log]
+    with data_warnings(args):
+        return _run(args)
+
+
+def _run(args) -> int:
+    inputs = [args.model, args.log] + ([args.merge] if args.merge else [])
     check_folder(args.output, [args.model], args.force)
-    model = FrictionModel.load(args.model)
+    model = load_model(args.model)
     mass, force_constant, notes = nominal_axis(model, args.mass, args.force_constant)
-    log = read_log(args.log)
+    columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
+    source = source_name(args.log, args.merge)
+    log = log_from_columns(columns, source, None if args.merge or args.columns else
+                           header_cells(args.log, args.skip))
     for note in notes:
         say("fricgen: " + note)
-    with named_data(args.log):
+    with named_data(source):
         d = Diagnoser(max_effects=args.max_effects).fit(log, model, mass, force_constant)
     files = render_files(d, log, Path(args.log).name)
-    check_targets(args, files, inputs, folder_of=[args.model])     # before any result is printed
+    targets = check_targets(args, files, inputs, folder_of=[args.model])  # before any result is printed
+    check_overwrite(targets.values(), args.force, written=written_by_diagnose)
+    say_data_warnings(args)
     for note in range_notes(model_effects(model), log):
         say("fricgen: note: " + note)
     if args.json:

@@ -6,6 +6,7 @@ from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_over
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..errors import UsageError
 from ..model import FrictionModel, check_model_name
+from .inputs import load_model
 from .common import FORCE_C, add_output, check_targets, number, say, write_targets
 
 
@@ -39,7 +40,7 @@ def input_range_note(model: FrictionModel, dtype: str, v_max) -> str:
 
 def run(args) -> int:
     check_folder(args.output, (), args.force)
-    model = FrictionModel.load(args.model)
+    model = load_model(args.model)
     if args.name is None:
         name = check_model_name(model.name, f"field 'name' of {args.model} (override it with --name)")
     else:

@@ -10,6 +10,7 @@ import numpy as np
 from .._io import plain_float
 from ..errors import UsageError
 from ..model import FrictionModel
+from .inputs import load_model
 from .common import out, say
 
 #: Velocities evaluated together: memory stays constant however long the input is.
@@ -41,7 +42,7 @@ def _velocities(stream):
 
 
 def run(args) -> int:
-    model = FrictionModel.load(args.model)
+    model = load_model(args.model)
     stdin = getattr(sys.stdin, "buffer", sys.stdin)
     if stdin is None or stdin.closed:
         raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")

@@ -23,6 +23,7 @@ from ..errors import UsageError
 from ..model import FrictionModel
 from .._io import check_files, check_folder
 from .._plot import png, pyplot
+from .inputs import load_model
 from .common import add_json, add_model, number, out, say, write_targets
 
 
@@ -59,7 +60,7 @@ def run(args) -> int:
                          f"{args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} are simulated")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
-    model = FrictionModel.load(args.model) if args.model else None
+    model = load_model(args.model) if args.model else None
     plant = choose_plant(model, args.mass)
     axis = plant.axis
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,

@@ -6,12 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments, parse_scales,
-                           read_export)
 from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, identify_log, is_log
 from ..data.sweep import MIN_ROWS, sweep_from_columns
 from ..data.table import header_cells
-from .._validate import MAX_HIDDEN
+from .._validate import ACCEPT_UNUSUAL, MAX_HIDDEN, USUAL_MAX, physical_problem, unusual
 from ..data.outliers import OUTLIER_SIGMAS
 from ..data.training_set import SAT_FACTOR
 from ..codegen.cost import cortex_m4f_instructions, host_ns
@@ -26,7 +24,10 @@ from ..metrics import rmse
 from ..model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
 from ..networks.elm import ACTIVATIONS
 from .._io import check_destination, named_data
-from .common import add_output, add_seed, number, out, positive_float, say, write_file
+from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
+from .inputs import source_name as common_source_name
+from .common import (add_output, add_seed, number, out, positive_float,
+                     say, write_file)
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
 _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
@@ -175,26 +176,14 @@ def _curve_training(fit) -> dict:
 
 
 def read_columns(args):
-    """The input's columns by fricgen's names: the preamble skipped, vendor names mapped, units
-    scaled, and a second instrument's file merged on time (the vendor-export options)."""
-    scales = parse_scales(args.scale)
-    columns = read_export(args.sweep, ExportLayout(args.skip, parse_assignments(args.columns, "--columns")),
-                          scales)
-    if args.merge is None:
-        if args.merge_columns or args.merge_skip or args.merge_shift:
-            raise UsageError("--merge-columns, --merge-skip and --merge-shift need --merge FILE")
-        check_scaled(scales, {args.sweep: columns})
-        return columns
-    second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
-        args.merge_columns, "--merge-columns")), scales)
-    check_scaled(scales, {args.sweep: columns, args.merge: second})
-    least = MIN_LOG_ROWS if is_log({**columns, **second}) else MIN_ROWS
-    return merge_on_time(columns, second, args.merge_shift, (args.sweep, args.merge), least)
+    """The input's columns by fricgen's names, read with the vendor-export options
+    (``common.read_data``): a merge needs the rows of a log or of a sweep."""
+    return read_data(args, args.sweep, lambda c: MIN_LOG_ROWS if is_log(c) else MIN_ROWS)
 
 
 def source_name(args) -> str:
     """The input as messages name it: the file, or both files of a merge ("a.csv + b.csv")."""
-    return " + ".join(str(f) for f in (args.sweep, args.merge) if f)
+    return common_source_name(args.sweep, args.merge)
 
 
 def training_data(args):
@@ -247,6 +236,11 @@ def axis_record(sweep, ident, asymmetric: bool) -> dict:
 
 
 def run(args) -> int:
+    with data_warnings(args):
+        return _run(args)
+
+
+def _run(args) -> int:
     inputs = [args.sweep] + ([args.merge] if args.merge else [])
     check_destination(args.output, inputs, args.force)
     name = check_model_name(args.name, "--name")
@@ -267,6 +261,8 @@ def run(args) -> int:
     if fitted.cv_rmse is not None:
         training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
     training["axis"] = axis_record(sweep, ident, fitted.asymmetric)
+    if args.accept_unusual:
+        training["accept_unusual"] = True
     if ident is not None:
         training["log"] = {"window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
                            "independent": ident.independent,
@@ -279,6 +275,7 @@ def run(args) -> int:
             curve.check()
     except ModelError as exc:
         raise DataError(f"{source_name(args)}: the fitted model is no friction model: {exc}") from None
+    check_fitted(model, ident, source_name(args), args.accept_unusual, float(np.max(np.abs(sweep.v))))
     reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
     reports.append(_choice_line(fitted))
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):
@@ -287,6 +284,7 @@ def run(args) -> int:
     problem = float32_problem(model)
     if problem:
         reports.append(f"float32   {problem}; emit refuses it")
+    say_data_warnings(args)
     out("\n".join(r for r in reports if r))
     if ident is not None:
         warning = stribeck_warning(ident, fitted.fits)
@@ -295,6 +293,31 @@ def run(args) -> int:
     write_file(args, model.to_json(), inputs)
     say(f"wrote {args.output} (model {model.model_hash})")
     return 0
+
+
+def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool, fastest: float) -> None:
+    """The fitted curves and the identified mass within the physical bounds of a real axis
+    (``Direction.check_physical``, ``_validate.PHYSICAL``): refused, or with ``accept_unusual``
+    one warning line each; a v_sat beyond ``USUAL_MAX`` is one warning line, unless the data's
+    fastest speed ``fastest`` was (``data.plausibility``)."""
+    problems = []
+    for curve in model.directions:
+        try:
+            curve.check_physical()
+        except ModelError as exc:
+            problems.append(f"the fitted model's {str(exc).split(' (a digit')[0]}")
+    said = fastest > USUAL_MAX["speed"]            # the data's speed was warned about already
+    for curve in model.directions:
+        note = "" if any(problems) or said else unusual("v_sat", "the fitted model's v_sat", curve.v_sat)
+        if note:
+            say(f"fricgen: warning: {source}: {note}")
+            break
+    if ident is not None and ident.body.mass_identified:
+        problems.append(physical_problem("mass", "the identified mass", ident.body.mass))
+    for problem in filter(None, problems):
+        if not accept_unusual:
+            raise DataError(f"{source}: {problem}; are the units SI ({ACCEPT_UNUSUAL} to keep it)?")
+        say(f"fricgen: warning: {source}: {problem}; kept ({ACCEPT_UNUSUAL})")
 
 
 def _choice_line(fitted) -> str:
@@ -347,23 +370,7 @@ def register(p) -> None:
                      "dynamics; with a current log and no --force-constant, K is identified instead)")
     log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
                      help="force constant, N/A, for a log with current i instead of force")
-    export = p.add_argument_group("vendor exports")
-    export.add_argument("--skip", type=number(0, 1e6, integer=True), default=0,
-                        help="preamble lines before the header (default 0; not for a .mat file)")
-    export.add_argument("--columns", action="append", default=[], metavar="NAME=COLUMN,...",
-                        help="the file's column (a .mat file's variable) of each quantity (t, x, v, "
-                        "f, force, i), e.g. 't=Time [s],v=Speed [rpm]'")
-    export.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR,...",
-                        help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s), "
-                        "or by a scalar variable of a .mat file, e.g. force=gtau; applies to both files")
-    export.add_argument("--merge", metavar="FILE", help="a second instrument's CSV or .mat, merged on "
-                        "time onto the slower of the two clocks (linear interpolation)")
-    export.add_argument("--merge-columns", action="append", default=[], metavar="NAME=COLUMN,...",
-                        help="--columns of the --merge file")
-    export.add_argument("--merge-skip", type=number(0, 1e6, integer=True), default=0,
-                        help="preamble lines of the --merge file")
-    export.add_argument("--merge-shift", type=number(-1e6, 1e6, unit="s"), default=0.0,
-                        help="seconds to add to the --merge file's time to reach the first file's clock")
+    add_export_options(p)
     p.add_argument("--name", default=DEFAULT_MODEL_NAME,
                    help=f"model name, a C identifier not beginning with fric_ (default {DEFAULT_MODEL_NAME})")
     p.set_defaults(run=run)

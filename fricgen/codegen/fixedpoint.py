@@ -283,7 +283,7 @@ def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: flo
         **ident, "dtype": dtype, "n_hidden": spec.w.size, "bits": spec.bits,
         "stype": st, "wtype": wt, "f_v": spec.f_v, "f_f": spec.f_f, "error_bound": f"{bound:.3g}",
         "covers": covers,
-        "v_range": 2.0 ** (spec.bits - 1 - spec.f_v), "f_range": f_range,
+        "v_range": f"{2.0 ** (spec.bits - 1 - spec.f_v):g}", "f_range": f"{f_range:g}",
         "w": _c_int_array(spec.w), "b": _c_int_array(spec.b), "beta": _c_int_array(spec.beta),
         "sig": ",\n".join("    {" + ", ".join(str(int(c)) for c in row) + "}" for row in spec.sig_coeffs),
         "n_seg": spec.sig_coeffs.shape[0],

@@ -9,6 +9,7 @@ instrument's file whose clock runs ``shift`` seconds behind, on the slower of th
 """
 from __future__ import annotations
 
+import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,10 +21,13 @@ from .._io import plain_float
 from ..errors import DataError, UsageError
 from .matfile import MatFile, is_matfile, read_matfile
 from .motionlog import check_finite
-from .table import read_table_csv
+from .table import header_cells, read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
 QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A"}
+
+#: Two files whose time spans differ by this factor or more are not timed in one unit.
+SPAN_RATIO = 100.0
 
 #: A scale factor: a number, or the name of a MATLAB file's scalar variable (``read_export``).
 Factor = Union[float, str]
@@ -114,11 +118,43 @@ class ExportLayout:
             raise UsageError(f"column {repeated[0]!r} is mapped to more than one quantity")
 
 
+def _header_line(path, layout: ExportLayout, lines: int = 50) -> int:
+    """The line (from 1) among the first ``lines`` whose cells hold every column ``layout``
+    maps, or 0: where the header of a file with a longer preamble is."""
+    wanted = {v.strip().lower() for v in layout.columns.values()}
+    for k in range(lines):
+        cells = header_cells(path, k)
+        if not cells:
+            return 0
+        if wanted <= {c.strip().lower() for c in cells}:
+            return k + 1
+    return 0
+
+
+def _check_mapped(path, layout: ExportLayout, option: str) -> None:
+    """``UsageError`` naming a column ``layout`` maps that the CSV's header lacks, with the
+    header's closest name (a typo is no matter of units)."""
+    cells = header_cells(path, layout.skip)
+    if not cells:
+        return                          # unreadable: the reader says why
+    names = {c.strip().lower(): c for c in cells}
+    for quantity, vendor in layout.columns.items():
+        if vendor.strip().lower() not in names:
+            close = difflib.get_close_matches(vendor.strip().lower(), list(names), n=1, cutoff=0.5)
+            line = _header_line(path, layout)
+            hint = (f"; did you mean {names[close[0]]!r}?" if close else
+                    f"; its header looks to be line {line}: --skip {line - 1}" if line else "")
+            raise UsageError(f"{option}: {quantity}={vendor[:40]!r}: {path} has no such column "
+                             f"(header is {','.join(cells)[:80]}){hint}")
+
+
 def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
-                scales: Mapping[str, Factor] = {}) -> Dict[str, np.ndarray]:
+                scales: Mapping[str, Factor] = {}, drop_text: bool = False,
+                option: str = "--columns") -> Dict[str, np.ndarray]:
     """The columns of ``path`` (a CSV, or a MATLAB file's vectors) by fricgen's names, scaled to
     SI by ``scales`` (factor per name; a name the file lacks is left for the caller:
-    ``check_scaled``)."""
+    ``check_scaled``). ``drop_text``: a CSV's unmapped column holding text is left out.
+    ``option`` names the layout's columns in messages (a column the header lacks)."""
     rename = {vendor.strip().lower(): name for name, vendor in layout.columns.items()}
     mat = None
     if is_matfile(path):
@@ -127,7 +163,8 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         mat = read_matfile(path)
         raw = mat.columns(rename, [q for q in QUANTITIES if q not in layout.columns])
     else:
-        raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip)
+        _check_mapped(path, layout, option)
+        raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text)
     columns = {}
     for header, values in raw.items():
         name = rename.get(header, header)
@@ -169,6 +206,11 @@ def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], s
     (ts, slow), (tf, fast) = ((t1, first), (t2, second)) if slow_first else ((t2, second), (t1, first))
     inside = (ts >= max(t1[0], t2[0])) & (ts <= min(t1[-1], t2[-1]))
     shifted = f" (after the shift of {shift:g} s)" if shift else ""
+    spans = (t1[-1] - t1[0]) / (t2[-1] - t2[0])
+    if not 1 / SPAN_RATIO < spans < SPAN_RATIO:
+        shifted += (f"; {names[0]} spans {spans:.3g} times the time of {names[1]}: is one timed in "
+                    "ms? (--scale applies to both files; --merge-scale t=FACTOR to the --merge "
+                    "file alone)")
     if inside.sum() < 2:
         raise DataError(f"{names[0]} and {names[1]} share no time span{shifted}")
     if inside.sum() < min_rows:

@@ -16,7 +16,7 @@ import numpy as np
 from .._io import named_data
 from ..errors import DataError
 from .matfile import is_matfile, read_matfile
-from .table import read_table_csv, table_csv_text
+from .table import header_hint, read_table_csv, table_csv_text
 
 #: The columns every log must have.
 COLUMNS = ("t", "x", "v", "i")
@@ -178,6 +178,18 @@ def read_log_csv(path: Union[str, Path]) -> MotionLog:
     """Read a log CSV whose header names at least t, x, v, i (other numeric columns are kept as
     extra; a column with text in it is left out)."""
     return _log_of(read_table_csv(path, COLUMNS, keep_extra=True, drop_text=True), path)
+
+
+def log_from_columns(columns: Dict[str, np.ndarray], path, written=None) -> MotionLog:
+    """The log of ``columns`` read from ``path`` (by fricgen's names, e.g. by
+    ``export.read_export``); ``DataError`` naming the columns of COLUMNS it lacks (``written``:
+    the header's names as the file writes them, for the hint on units in names)."""
+    missing = [c for c in COLUMNS if c not in columns]
+    if missing:
+        cells = written or list(columns)
+        raise DataError(f"{path}: a log needs the columns {', '.join(COLUMNS)}: missing "
+                        f"{', '.join(missing)} (header is {','.join(cells)[:80]}){header_hint(cells)}")
+    return _log_of(columns, path)
 
 
 def _log_of(columns: Dict[str, np.ndarray], path) -> MotionLog:

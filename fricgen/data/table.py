@@ -35,6 +35,23 @@ def header_hint(cells: Sequence[str]) -> str:
     return ""
 
 
+#: A cell that is the part of a number after a thousands separator: "1,740.65" splits into 1 and 740.65.
+_THOUSANDS_TAIL = re.compile(r"\d{3}(\.\d*)?")
+
+
+#: A number written with ',' between thousands, as one (quoted) cell: "15,998.7".
+_GROUPED = re.compile(r"[-+]?\d{1,3}(,\d{3})+(\.\d*)?")
+
+
+def _thousands_hint(row: Sequence[str], width: int) -> str:
+    """Why a row has more cells than the header, when its numbers look written with ','
+    between thousands ('' if not)."""
+    if len(row) > width and any(_THOUSANDS_TAIL.fullmatch(c.strip()) for c in row[1:]):
+        return ("; are its numbers written with ',' between thousands (1,740.65)? fricgen reads "
+                "them without (1740.65)")
+    return ""
+
+
 def _delimiter(header: str) -> str:
     """The delimiter of a CSV, read off its header line: a tab where the line holds more tabs
     than commas, else ','."""
@@ -164,14 +181,17 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
         if not any(c.strip() for c in row):
             continue
         if len(row) != len(header):
-            raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}")
+            raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}"
+                            f"{_thousands_hint(row, len(header))}")
         try:
             values.extend([plain_float(row[k]) for k in wanted])
         except ValueError:
             bad = [k for k in wanted if not _is_number(row[k])]
             if not drop_text or any(header[k] in required for k in bad):
+                grouped = any(_GROUPED.fullmatch(row[k].strip()) for k in bad)
                 raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
-                                f"{','.join(row)[:80]!r}") from None
+                                f"{','.join(row)[:80]!r}"
+                                f"{_thousands_hint(['', '000'], 1) if grouped else ''}") from None
             text.update(bad)
             values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
     table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))

@@ -4,11 +4,13 @@ Everything is rendered in memory: ``render_files`` returns DIR's files by name.
 """
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Dict
 
 import numpy as np
 
-from .._plot import png, pyplot
+from .._plot import PNG_SOFTWARE, png, pyplot
+from ..model import FORMAT
 from ..data import MotionLog
 from ..effects import EFFECTS, PLAUSIBLE_FACTOR
 from .decision import p_text, p_value_text
@@ -30,10 +32,14 @@ def verdict(d: Diagnoser) -> str:
     return ", then ".join(f"`{s.effect}` ({p_text(s.p_value)})" for s in d.effects_)
 
 
+#: The first line of report.md begins with this (then the log's name).
+REPORT_TITLE = "# fricgen diagnose: "
+
+
 def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
     """The human report: verdict, the selection steps, refusals, localization, gap, plots."""
     p = d.problem_
-    lines = [f"# fricgen diagnose: {log_name}", "",
+    lines = [f"{REPORT_TITLE}{log_name}", "",
              f"**Missing effects: {verdict(d)}.**", "",
              f"Where the residual lives before: {d.where_}.", "",
              f"After the effects added: {d.where_after_}.", ""]
@@ -153,6 +159,22 @@ def plot_pngs(d: Diagnoser, log: MotionLog) -> Dict[str, bytes]:
     ax.legend()
     out["velocity.png"] = png(fig)
     return out
+
+
+def written_by_diagnose(path) -> bool:
+    """Whether the file ``path`` is one ``diagnose`` writes: report.md under its title line, a
+    model.json of fricgen's format, or a plot whose PNG names fricgen as its software."""
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError:
+        return False
+    if path.suffix == ".png":
+        return PNG_SOFTWARE.encode() in head
+    if path.suffix == ".json":
+        return f'"format": "{FORMAT}"'.encode() in head
+    return head.startswith(REPORT_TITLE.encode())
 
 
 def render_files(d: Diagnoser, log: MotionLog, log_name: str) -> Dict[str, object]:

@@ -1,0 +1,125 @@
+"""What commands read: data files through the vendor-export options (``train``, ``diagnose``),
+and model.json with a warning when it was edited after training."""
+from __future__ import annotations
+
+from contextlib import contextmanager
+
+from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments,
+                           parse_scales, read_export)
+from ..data.inverse_dynamics import is_log
+from ..data.plausibility import check_columns, check_merge_shift
+from ..errors import FricgenError, UsageError
+from ..model import FrictionModel
+from .common import number, say
+
+
+def load_model(path):
+    """``FrictionModel.load(path)``, and one warning line when the file was edited after training
+    (its recorded model_hash no longer matches its content)."""
+    model = FrictionModel.load(path)
+    warning = model.hash_warning(path)
+    if warning:
+        say(warning)
+    return model
+
+
+# ----------------------------------------------------------------------------- vendor exports
+
+
+def add_export_options(p) -> None:
+    """The vendor-export options every command that reads data takes (``read_data``): a preamble,
+    the file's column names, units, a second instrument's file merged on time, and
+    ``--accept-unusual`` for data outside the physical bounds of a real axis."""
+    export = p.add_argument_group("vendor exports")
+    export.add_argument("--skip", type=number(0, 1e6, integer=True), default=0,
+                        help="preamble lines before the header (default 0; not for a .mat file)")
+    export.add_argument("--columns", action="append", default=[], metavar="NAME=COLUMN,...",
+                        help="the file's column (a .mat file's variable) of each quantity (t, x, v, "
+                        "f, force, i), e.g. 't=Time [s],v=Speed [rpm]'")
+    export.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR,...",
+                        help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s), "
+                        "or by a scalar variable of a .mat file, e.g. force=gtau; applies to the "
+                        "--merge file too, for the quantities --merge-scale does not name")
+    export.add_argument("--merge", metavar="FILE", help="a second instrument's CSV or .mat, merged on "
+                        "time onto the slower of the two clocks (linear interpolation)")
+    export.add_argument("--merge-columns", action="append", default=[], metavar="NAME=COLUMN,...",
+                        help="--columns of the --merge file")
+    export.add_argument("--merge-skip", type=number(0, 1e6, integer=True), default=0,
+                        help="preamble lines of the --merge file")
+    export.add_argument("--merge-scale", action="append", default=[], metavar="NAME=FACTOR,...",
+                        help="--scale of the --merge file alone, e.g. t=0.001 when only it is "
+                        "timed in ms (overrides --scale there)")
+    export.add_argument("--merge-shift", type=number(-1e6, 1e6, unit="s"), default=0.0,
+                        help="seconds to add to the --merge file's time to reach the first file's clock")
+    export.add_argument("--accept-unusual", action="store_true",
+                        help="use data (and write a model) beyond the physical bounds of a real axis "
+                        "or that look swapped, with a warning instead of a refusal (--force means "
+                        "overwrite)")
+
+
+def source_name(path, merge=None) -> str:
+    """The input as messages name it: the file, or both files of a merge ("a.csv + b.csv")."""
+    return " + ".join(str(f) for f in (path, merge) if f)
+
+
+def read_data(args, path, min_rows=None, drop_text: bool = False):
+    """The columns of ``path`` by fricgen's names, read with the vendor-export options of
+    ``args`` (``add_export_options``): the preamble skipped, vendor names mapped, units scaled,
+    and a second instrument's file merged on time (``min_rows(columns)``: the fewest common rows
+    the merged data need); then checked for plausibility (``data.plausibility``)."""
+    scales = parse_scales(args.scale)
+    columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns")),
+                          scales, drop_text)
+    if args.merge is None:
+        if args.merge_columns or args.merge_skip or args.merge_shift or args.merge_scale:
+            raise UsageError("--merge-columns, --merge-skip, --merge-scale and --merge-shift need "
+                             "--merge FILE")
+        check_scaled(scales, {path: columns})
+    else:
+        merge_scales = parse_scales(args.merge_scale, "--merge-scale")
+        second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
+            args.merge_columns, "--merge-columns")), {**scales, **merge_scales}, drop_text,
+            "--merge-columns")
+        check_scaled({k: f for k, f in scales.items() if k not in merge_scales},
+                     {path: columns, args.merge: second})
+        check_scaled(merge_scales, {args.merge: second}, "--merge-scale")
+        names = (path, args.merge)
+        least = min_rows({**columns, **second}) if min_rows else 2
+        merged = merge_on_time(columns, second, args.merge_shift, names, least)
+        check_merge_shift(columns, second, args.merge_shift, names, args.accept_unusual, _warn(args))
+        columns = merged
+    check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual,
+                  _warn(args))
+    return columns
+
+
+def _warn(args):
+    """Where the data checks put a warning line: kept for ``data_warnings`` when it runs, else
+    said at once."""
+    held = getattr(args, "data_warnings", None)
+    return say if held is None else held.append
+
+
+@contextmanager
+def data_warnings(args):
+    """Hold the warning lines of the data checks (``read_data``) while a command runs: said by
+    ``say_data_warnings`` before its results, or, when the command then fails, added to its one
+    error line (a speed in m/min warned about explains a fit that then fails)."""
+    args.data_warnings = []
+    try:
+        yield
+    except FricgenError as exc:
+        notes = [w.partition(": warning: ")[2] or w for w in args.data_warnings]
+        args.data_warnings = []
+        if notes:
+            raise type(exc)(f"{exc} (and: {'; '.join(notes)})") from None
+        raise
+    finally:
+        say_data_warnings(args)
+
+
+def say_data_warnings(args) -> None:
+    """Say the warning lines ``data_warnings`` holds, once."""
+    for line in getattr(args, "data_warnings", None) or ():
+        say(line)
+    args.data_warnings = []

@@ -1,0 +1,219 @@
+"""Plausibility of well-formed data: columns that are numbers, yet cannot be the axis they claim.
+
+Each check returns nothing when the data are plausible; otherwise it refuses with one
+``DataError`` line naming the column and the likely cause, or, where the user said the data
+really are unusual (``--accept-unusual``), gives that line back as a warning:
+
+- ``check_bounds``: the fastest speed and the largest force within ``_validate.PHYSICAL`` (a
+  speed in mm/s read as m/s, a force in mN), with the ``--scale`` that would bring it there;
+- ``check_sweep_shape``: a sweep whose force follows the speed as friction does (section 2:
+  the force of eq. (1) is a function of v, from a Coulomb level at low speed): swapped columns
+  (the speed then never comes near 0, and v follows f more closely than f follows v), or a force
+  that scatters about any curve of v by more than its own level (a fit would explain nothing);
+- ``check_merge_shift``: the ``--merge-shift`` of two instruments' files near the one at which
+  the force best fits the motion (f = m dv/dt + friction, eq. 18, searched over shifts).
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable, Dict, Optional
+
+import numpy as np
+
+from .._validate import ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, physical_problem, unusual
+from ..errors import DataError
+from .outliers import running_median
+
+#: A sweep whose slowest speed exceeds this share of its fastest never nears v = 0, where
+#: friction has its Coulomb level and Stribeck drop (a speed column that holds forces).
+SLOWEST_SHARE = 0.2
+#: v follows f this much more closely than f follows v (robust scatter about a running median,
+#: relative to the level): the columns are the other way round.
+SWAP_RATIO = 0.5
+#: The force scatters about any curve of v by more than this share of its median level: no
+#: friction curve is in the data (a fit would explain nothing).
+NOTHING_EXPLAINED = 0.5
+#: The share of rows whose magnitudes the bounds leave out (glitches; ``_top``).
+TOP_SHARE = 0.01
+#: Rows the shape and shift checks look at (evenly thinned beyond).
+CHECK_ROWS = 100_000
+#: A merge shift is off when the force fits the motion at another shift this much better
+#: (residual variance) and that shift is this many of the slower clock's steps away.
+SHIFT_GAIN, SHIFT_STEPS = 2.0, 5
+#: Shifts tried over the span, before the best is refined tenfold.
+COARSE_SHIFTS = 401
+
+
+def _thin(n: int) -> slice:
+    return slice(None, None, max(1, math.ceil(n / CHECK_ROWS)))
+
+
+def _refuse_or_warn(message: str, accept_unusual: bool, warn: Callable[[str], None]) -> None:
+    if not accept_unusual:
+        raise DataError(f"{message} ({ACCEPT_UNUSUAL} to use the data as they are)")
+    warn(f"fricgen: warning: {message}; used as it is ({ACCEPT_UNUSUAL})")
+
+
+def _unit_hint(column: str, quantity: str, value: float) -> str:
+    """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
+    ``value`` into PHYSICAL[quantity], or ''."""
+    low, high, unit = PHYSICAL[quantity]
+    step = 1e-3 if value > high else 1e3
+    for k in range(1, 5):
+        factor = step ** k
+        if low <= value * factor <= high:
+            prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
+            named = f"is {column} in {prefix}{unit}? " if prefix else ""
+            return f"; {named}--scale {column}={factor:g} converts it"
+    return ""
+
+
+def _top(values: np.ndarray) -> float:
+    """The largest magnitude of ``values`` but for the top TOP_SHARE of rows: a glitch row (a
+    gross outlier, which training sets aside) is no unit."""
+    return float(np.quantile(np.abs(values), 1.0 - TOP_SHARE))
+
+
+def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bool = False,
+                 warn: Callable[[str], None] = print) -> None:
+    """The fastest speed (|v|, or |dx/dt| of a log without v) and the largest force (|f|,
+    |force|), each but for the top 1 % of rows (``_top``), within ``_validate.PHYSICAL``; else one line naming the column and the --scale that
+    brings it there."""
+    checks = []
+    if "v" in columns:
+        checks.append(("v", "speed", "|v| (99th percentile)", _top(columns["v"])))
+    elif {"x", "t"} <= set(columns) and columns["t"].size > 1 and np.all(np.diff(columns["t"]) > 0):
+        checks.append(("x", "speed", "|dx/dt| (99th percentile)",
+                       _top(np.diff(columns["x"]) / np.diff(columns["t"]))))
+    for name in ("f", "force"):
+        if name in columns:
+            checks.append((name, "force", f"|{name}| (99th percentile)", _top(columns[name])))
+    for column, quantity, what, value in checks:
+        if value == 0:
+            continue                # no motion or no force: the readers name that
+        problem = physical_problem(quantity, what, value)
+        if problem:
+            _refuse_or_warn(f"{source}: {problem}{_unit_hint(column, quantity, value)}",
+                            accept_unusual, warn)
+        elif quantity in USUAL_MAX and unusual(quantity, what, value):
+            warn(f"fricgen: warning: {source}: {unusual(quantity, what, value)}")
+
+
+def _scatter(a: np.ndarray, b: np.ndarray) -> float:
+    """How closely b follows a: the robust standard deviation of b about its running median in
+    order of a, relative to the median |b|."""
+    level = float(np.median(np.abs(b)))
+    spread = 1.4826 * float(np.median(np.abs(b - running_median(a, b))))
+    return spread / level if level > 0 else math.inf
+
+
+def check_sweep_shape(v: np.ndarray, f: np.ndarray, source: str, accept_unusual: bool = False,
+                      warn: Callable[[str], None] = print) -> None:
+    """A sweep (v, f) whose force follows the speed as friction does: refused (or, with
+    ``accept_unusual``, warned) when its columns look swapped or its force follows no curve of v.
+    Runs before any fit, so every method sees the same answer."""
+    keep = _thin(v.size)
+    moving = v[keep] != 0
+    speed, force = np.abs(v[keep][moving]), (np.sign(v[keep]) * f[keep])[moving]
+    if speed.size < 20:
+        return                      # the sweep reader names too few rows
+    f_on_v, v_on_f = _scatter(speed, force), _scatter(force, speed)
+    slowest = float(speed.min()) / float(speed.max())
+    if SLOWEST_SHARE < slowest < 1 and v_on_f < SWAP_RATIO * f_on_v:
+        _refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of its "
+                        f"fastest) and v follows f more closely than f follows v: are the columns v "
+                        "and f swapped?", accept_unusual, warn)
+    elif f_on_v > NOTHING_EXPLAINED:
+        _refuse_or_warn(f"{source}: f scatters about any curve of v by {f_on_v:.0%} of its median "
+                        "level: no friction curve is in it (is f the force of this axis, the sensor "
+                        "connected?)", accept_unusual, warn)
+
+
+def _regressors(columns: Dict[str, np.ndarray], t: np.ndarray) -> Optional[np.ndarray]:
+    """The columns of f = m dv/dt + F_c sgn(v) + B v + o at the times ``t`` (eq. 18 with
+    Coulomb and viscous friction), or None without v or x."""
+    if "v" in columns:
+        v = np.interp(t, columns["t"], columns["v"])
+    elif "x" in columns:
+        v = np.gradient(np.interp(t, columns["t"], columns["x"]), t)
+    else:
+        return None
+    return np.column_stack([np.gradient(v, t), np.sign(v), v, np.ones_like(v)])
+
+
+def _force_of(columns: Dict[str, np.ndarray]) -> Optional[str]:
+    return next((k for k in ("force", "f", "i") if k in columns), None)
+
+
+def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], shift: float,
+                      names, accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
+    """The given ``shift`` of the second file's clock near the one at which the force (of either
+    file) best fits the motion of the other (least squares of eq. 18 with Coulomb and viscous
+    friction, on the middle half of the force file's span, over every shift that keeps it
+    within the motion file's); refused (or warned)
+    when another shift fits SHIFT_GAIN times better SHIFT_STEPS samples or more away."""
+    if _force_of(second) and not _force_of(first):
+        motion, force, sign = first, second, 1.0
+    elif _force_of(first) and not _force_of(second):
+        motion, force, sign = second, first, -1.0
+    else:
+        return
+    tm, tf = motion.get("t"), force.get("t")
+    if tm is None or tf is None or tm.size < 20 or tf.size < 20:
+        return
+    name = _force_of(force)
+    step = max(float(np.median(np.diff(tm))), float(np.median(np.diff(tf))))
+    span = min(tm[-1] - tm[0], tf[-1] - tf[0])
+    if not (step > 0 and span > 40 * step):
+        return
+
+    # the middle half of the force file, the same samples at every shift tried, so that the
+    # residuals compare (a shorter overlap of simpler motion would fit better at a wrong shift)
+    middle = (tf >= tf[0] + 0.25 * (tf[-1] - tf[0])) & (tf <= tf[0] + 0.75 * (tf[-1] - tf[0]))
+    rows = np.flatnonzero(middle)[_thin(int(middle.sum()))]
+    if rows.size < 20:
+        return
+    y = force[name][rows]
+    low, high = tm[0] - tf[rows[0]], tm[-1] - tf[rows[-1]]     # shifts that keep them in the motion
+
+    def residual(s: float) -> float:
+        # the force file's sample at tf happened at tf + s on the motion file's clock
+        design = _regressors(motion, tf[rows] + s)
+        if design is None:
+            return math.inf
+        coef, *_ = np.linalg.lstsq(design, y, rcond=None)
+        return float(np.mean((y - design @ coef) ** 2))
+
+    given = sign * shift
+    if not low <= given <= high:
+        return                      # the merge's own check names a short common span
+    coarse = np.append(np.linspace(low, high, COARSE_SHIFTS), given)
+    scores = np.array([residual(s) for s in coarse])
+    best = float(coarse[int(np.argmin(scores))])
+    width = (high - low) / (COARSE_SHIFTS - 1)
+    fine = np.clip(best + np.linspace(-width, width, 21), low, high)
+    fine_scores = np.array([residual(s) for s in fine])
+    best = float(fine[int(np.argmin(fine_scores))])
+    at_given, at_best = residual(given), float(min(fine_scores.min(), scores.min()))
+    if not (math.isfinite(at_given) and at_best > 0):
+        return
+    if abs(best - given) >= SHIFT_STEPS * step and at_given > SHIFT_GAIN * at_best:
+        suggested = sign * best
+        _refuse_or_warn(f"--merge-shift {shift:g} s looks off: the force of {names[1 if sign > 0 else 0]} "
+                        f"fits the motion of {names[0 if sign > 0 else 1]} best at a shift of about "
+                        f"{suggested:.4g} s (RMS residual {math.sqrt(at_best):.3g} against "
+                        f"{math.sqrt(at_given):.3g} {'A' if name == 'i' else 'N'} at {shift:g} s); "
+                        "check the clocks",
+                        accept_unusual, warn)
+
+
+def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
+                  accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
+    """Every data check that applies to the columns read from ``source``: for a sweep its shape
+    (``check_sweep_shape``, first: swapped columns also break the bounds), then the physical
+    bounds."""
+    if not all(np.all(np.isfinite(values)) for values in columns.values()):
+        return                      # the readers name the row
+    if not is_log and {"v", "f"} <= set(columns):
+        check_sweep_shape(columns["v"], columns["f"], source, accept_unusual, warn)
+    check_bounds(columns, source, accept_unusual, warn)

@@ -1,0 +1,174 @@
+"""Well-formed input that is wrong gets a refusal or the right answer with one warning line; the
+commands that read data share one reader; Ctrl-C is one line. (The refusals are rows of
+tests/test_bad_input.py; these are the cases that answer.)"""
+import json
+import signal
+
+import numpy as np
+import pytest
+
+from conftest import copy_of
+from fricgen.cli import INTERRUPTED, main
+from fricgen.data.plausibility import check_merge_shift, check_sweep_shape
+from fricgen.errors import DataError
+from fricgen.model import FrictionModel
+
+
+@pytest.fixture
+def work(cli_inputs, tmp_path):
+    return copy_of(cli_inputs, tmp_path / "work")
+
+
+def _one_line(text: str) -> str:
+    assert text.count("\n") == 1, text
+    return text
+
+
+def test_model_json_records_its_hash_and_a_hand_edit_gets_one_warning(work):
+    model = json.loads((work / "model.json").read_text())
+    loaded = FrictionModel.load(work / "model.json")
+    assert model["model_hash"] == loaded.model_hash and not loaded.edited_after_training
+    model["viscous"] *= 1.1
+    (work / "edited.json").write_text(json.dumps(model))
+    edited = FrictionModel.load(work / "edited.json")
+    assert edited.edited_after_training
+    warning = edited.hash_warning(work / "edited.json")
+    assert warning.startswith("fricgen: warning: ") and "edited after training" in warning
+    assert "\n" not in warning
+    # the edited model is still evaluated as written: a warning, not a refusal
+    assert edited.force(0.1) == pytest.approx(loaded.force(0.1) + 0.1 * 0.1 * model["viscous"] / 1.1)
+
+
+def test_eval_of_an_edited_model_warns_once_on_stderr(work):
+    import subprocess
+    import sys
+    model = json.loads((work / "model.json").read_text())
+    model["viscous"] *= 1.1
+    (work / "edited.json").write_text(json.dumps(model))
+    runs = [subprocess.run([sys.executable, "-m", "fricgen", "eval", str(work / name)], input="0.05\n",
+                           capture_output=True, text=True) for name in ("model.json", "edited.json")]
+    assert [r.returncode for r in runs] == [0, 0] and runs[0].stderr == ""
+    assert _one_line(runs[1].stderr).startswith("fricgen: warning: ")
+    assert float(runs[1].stdout) > float(runs[0].stdout)
+
+
+def test_ctrl_c_is_one_line_exit_130_and_nothing_written(work, tmp_path, capsys):
+    rng = np.random.default_rng(0)
+    v = rng.uniform(1e-4, 0.2, 40_000)
+    f = 2 + 1.5 * np.exp(-(v / 0.01) ** 2) + 15 * v + rng.normal(0, 0.1, v.size)
+    (tmp_path / "big.csv").write_text("v,f\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(v.tolist(), f.tolist())))
+
+    def interrupt(*_):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    signal.setitimer(signal.ITIMER_REAL, 0.3)
+    try:
+        code = main(["train", str(tmp_path / "big.csv"), "-o", str(tmp_path / "m.json")])
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    captured = capsys.readouterr()
+    assert code == INTERRUPTED == 130
+    assert _one_line(captured.err) == "fricgen: interrupted; nothing written\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.csv", "work"]
+
+
+def test_unusual_data_are_kept_with_accept_unusual_and_the_model_loads(work, tmp_path, capsys):
+    rows = [line.split(",") for line in (work / "sweep.csv").read_text().splitlines()[1:]]
+    (tmp_path / "mm.csv").write_text("v,f\n" + "".join(f"{1000 * float(a)!r},{b}\n" for a, b in rows))
+    assert main(["train", str(tmp_path / "mm.csv"), "-o", str(tmp_path / "m.json"), "--accept-unusual"]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if line.startswith("fricgen: warning")]
+    assert any("is v in mm/s?" in w for w in warnings)
+    model = FrictionModel.load(tmp_path / "m.json")         # accepted at training: loads
+    assert model.training["accept_unusual"] is True and model.v_sat > 2.0
+
+
+def test_the_sweep_converted_with_scale_gives_the_truth(work, tmp_path):
+    # the sweep in mm/s, read with --scale v=0.001, trains the model of the sweep in m/s
+    rows = [line.split(",") for line in (work / "sweep.csv").read_text().splitlines()[1:]]
+    (tmp_path / "mm.csv").write_text("v,f\n" + "".join(f"{1000 * float(a)!r},{b}\n" for a, b in rows))
+    for name, extra in (("sweep.csv", []), ("mm.csv", ["--scale", "v=0.001"])):
+        src = work / name if name == "sweep.csv" else tmp_path / name
+        assert main(["train", str(src), "-o", str(tmp_path / f"{name}.json"), "--vs-max", "0.02",
+                     "--method", "stribeck", *extra]) == 0
+    a, b = (FrictionModel.load(tmp_path / f"{n}.json") for n in ("sweep.csv", "mm.csv"))
+    v = np.linspace(0.001, 0.2, 50)
+    np.testing.assert_allclose(b.force(v), a.force(v), rtol=1e-6)
+
+
+def test_diagnose_reads_an_export_with_train_s_options(work, tmp_path, capsys):
+    # a drive export timed in ms (preamble, vendor names) and a current file timed in s, merged:
+    # the same diagnosis as the plain log
+    log = (work / "log.csv").read_text().splitlines()
+    header = log[0].split(",")
+    col = {h: [line.split(",")[k] for line in log[1:]] for k, h in enumerate(header)}
+    (tmp_path / "drive.csv").write_text("# export\nTime [ms],Pos,Speed\n" + "".join(
+        f"{1000 * float(t)!r},{x},{v}\n" for t, x, v in zip(col["t"], col["x"], col["v"])))
+    (tmp_path / "current.csv").write_text("Stamp,Current\n" + "".join(f"{t},{i}\n" for t, i in zip(col["t"], col["i"])))
+    common = ["--model", str(work / "model.json"), "--mass", "4", "--force-constant", "20", "--json"]
+    assert main(["diagnose", str(work / "log.csv"), *common, "-o", str(tmp_path / "a")]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert main(["diagnose", str(tmp_path / "drive.csv"), "--skip", "1", "--columns",
+                 "t=Time [ms],x=Pos,v=Speed", "--scale", "t=0.001", "--merge", str(tmp_path / "current.csv"),
+                 "--merge-columns", "t=Stamp,i=Current", "--merge-scale", "t=1", *common,
+                 "-o", str(tmp_path / "b")]) == 0
+    exported = json.loads(capsys.readouterr().out)
+    # the ms clock scaled back to s differs from the plain log's by roundings (1e-16 relative),
+    # which the diagnosis carries as 1e-11 or less: the same answer
+    _assert_close(exported, plain, rel=1e-8)
+    # diagnose replaces its own report in a folder it wrote
+    assert main(["diagnose", str(work / "log.csv"), *common, "-o", str(tmp_path / "a")]) == 0
+
+
+def _assert_close(a, b, rel):
+    """a equals b, numbers within ``rel`` (nested dicts and lists)."""
+    if isinstance(a, dict):
+        assert a.keys() == b.keys()
+        for k in a:
+            _assert_close(a[k], b[k], rel)
+    elif isinstance(a, list):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            _assert_close(x, y, rel)
+    elif isinstance(a, float):
+        assert a == pytest.approx(b, rel=rel, abs=1e-12)
+    else:
+        assert a == b
+
+
+def test_a_friction_sweep_passes_and_its_swap_is_refused():
+    v = np.geomspace(1e-4, 0.2, 300)
+    f = 10 + 5 * np.exp(-(v / 0.005) ** 2) + 40 * v + np.random.default_rng(1).uniform(-0.5, 0.5, v.size)
+    check_sweep_shape(v, f, "s.csv")                    # friction: nothing said
+    with pytest.raises(DataError, match="are the columns v and f swapped"):
+        check_sweep_shape(f, v, "s.csv")
+    with pytest.raises(DataError, match="no friction curve is in it"):
+        check_sweep_shape(v, np.random.default_rng(2).normal(0.1, 1.0, v.size), "s.csv")
+    warned = []
+    check_sweep_shape(f, v, "s.csv", accept_unusual=True, warn=warned.append)
+    assert len(warned) == 1 and warned[0].startswith("fricgen: warning: ")
+
+
+def test_the_merge_shift_is_checked_against_the_best_fitting_one(cli_inputs):
+    rows = np.array([line.split(",") for line in (cli_inputs / "log.csv").read_text().splitlines()[1:]],
+                    dtype=float)
+    t, v, i = rows[:, 0], rows[:, 2], rows[:, 3]
+    motion = {"t": t, "v": v}
+    for true in (0.0, 0.004, -0.7):
+        force = {"t": t - true, "force": 20 * i}        # its clock runs `true` s behind
+        check_merge_shift(motion, force, true, ("a", "b"))             # right: nothing said
+        if abs(true) > 0.1:
+            with pytest.raises(DataError, match=r"--merge-shift 0 s looks off: .* about -0\.(69|70)"):
+                check_merge_shift(motion, force, 0.0, ("a", "b"))
+
+
+def test_a_sweep_in_m_per_min_trains_with_one_warning_naming_the_unit(tmp_path, capsys):
+    # 0.25 m/s written as 15 m/min, Stribeck velocity 5 mm/s: within the bounds of a real axis
+    # (v_sat 0.9 "m/s"), beyond most axes' speeds
+    v = np.geomspace(2e-4, 0.25, 300)
+    f = 10 + 6 * np.exp(-(v / 0.005) ** 2) + 40 * v + np.random.default_rng(7).normal(0, 0.2, v.size)
+    (tmp_path / "m_min.csv").write_text("v,f\n" + "".join(f"{60 * a!r},{b!r}\n" for a, b in zip(v.tolist(), f.tolist())))
+    assert main(["train", str(tmp_path / "m_min.csv"), "-o", str(tmp_path / "m.json")]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warnings) == 1 and "is v in m/min (--scale v=0.0166667)" in warnings[0]
