@@ -5,7 +5,7 @@ repeated end to end with continuous position. Each size is trained in a fresh pr
 row per size gives wall seconds, CPU seconds (user + system: the wall time of an idle machine,
 as training runs on one thread), peak resident memory (getrusage of the child) and the
 smoothing window chosen; the last line says whether the largest log is within the target
-(issue 36: 2e6 rows in <= 30 s and <= 1 GB), by wall time and by CPU time.
+(2e6 rows in <= 30 s and <= 1 GB), by wall time and by CPU time.
 
     python benchmarks/log_scale.py [--sizes 2.5e5,5e5,1e6,2e6]
 """
@@ -26,7 +26,7 @@ from scale import measure, write_log  # noqa: E402
 
 from fricgen.sim.logsynth import LogSpec, synthesize_log  # noqa: E402
 
-#: The target of issue 36 for the largest log.
+#: The target for the largest log.
 TARGET_ROWS, TARGET_SECONDS, TARGET_MIB = 2_000_000, 30.0, 1024.0
 
 
