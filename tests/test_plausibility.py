@@ -163,12 +163,14 @@ def test_the_merge_shift_is_checked_against_the_best_fitting_one(cli_inputs):
                 check_merge_shift(motion, force, 0.0, ("a", "b"))
 
 
-def test_a_sweep_in_m_per_min_trains_with_one_warning_naming_the_unit(tmp_path, capsys):
-    # 0.25 m/s written as 15 m/min, Stribeck velocity 5 mm/s: within the bounds of a real axis
-    # (v_sat 0.9 "m/s"), beyond most axes' speeds
+def test_a_sweep_in_m_per_min_is_refused_naming_the_unit(tmp_path, capsys):
+    # 0.25 m/s written as 15 m/min, Stribeck velocity 5 mm/s: speeds beyond most axes, and no
+    # linear high-speed region in this geometric sweep, so v_sat is its fastest "speed", 15 m/s:
+    # beyond any real axis
     v = np.geomspace(2e-4, 0.25, 300)
     f = 10 + 6 * np.exp(-(v / 0.005) ** 2) + 40 * v + np.random.default_rng(7).normal(0, 0.2, v.size)
     (tmp_path / "m_min.csv").write_text("v,f\n" + "".join(f"{60 * a!r},{b!r}\n" for a, b in zip(v.tolist(), f.tolist())))
-    assert main(["train", str(tmp_path / "m_min.csv"), "-o", str(tmp_path / "m.json")]) == 0
-    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
-    assert len(warnings) == 1 and "is v in m/min (--scale v=0.0166667)" in warnings[0]
+    assert main(["train", str(tmp_path / "m_min.csv"), "-o", str(tmp_path / "m.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is v in m/min (--scale v=0.0166667)" in err[0]
+    assert not (tmp_path / "m.json").exists()
