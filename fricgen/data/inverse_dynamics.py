@@ -271,7 +271,8 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
     a_s = smooth(v, window, deriv=1, delta=ts)
     f_s = smooth(force, window)
     threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
-    return v_s, a_s, f_s, (np.abs(v_s) > threshold) & minimum_filter1d(use, window)
+    whole = minimum_filter1d(use.astype(np.int8), window).astype(bool)    # whole windows of use
+    return v_s, a_s, f_s, (np.abs(v_s) > threshold) & whole
 
 
 def _mass_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
