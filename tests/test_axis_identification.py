@@ -82,7 +82,7 @@ def test_row_folds_deal_contiguous_blocks_to_the_folds():
     starts = np.flatnonzero(np.diff(folds)) + 1
     assert np.all(np.diff(starts) == 30) and starts[0] == 30      # blocks of 30 rows
     assert set(folds) == set(range(5)) and np.all(folds[::30][:6] == [0, 1, 2, 3, 4, 0])
-    assert np.array_equal(row_folds(12, 5, blocks=100), np.arange(12) // 2 % 5)   # >= 5 blocks
+    assert np.array_equal(row_folds(400, 5, blocks=100), np.arange(400) // 20 % 5)  # 4 per fold
 
 
 def _write(tmp_path, name, columns):

@@ -137,10 +137,14 @@ def _held_out(v, f, folds, vs_max) -> np.ndarray:
 
 def _within_one_se(squared: np.ndarray, reference: int) -> np.ndarray:
     """Whether each candidate's mean held-out squared error (candidates x rows) exceeds the
-    ``reference`` one's by at most one standard error of the paired row differences."""
+    ``reference`` one's by at most one standard error of the paired row differences, and by at
+    most the standard error of the reference's own mean."""
     diff = squared - squared[reference]
     se = diff.std(axis=1, ddof=1) / np.sqrt(diff.shape[1])
-    return diff.mean(axis=1) <= se
+    own = squared[reference].std(ddof=1) / np.sqrt(squared.shape[1])
+    # and within the reference's own standard error: a candidate that blows up on one fold has
+    # so wide a paired spread that it would pass the first test alone
+    return (diff.mean(axis=1) <= se) & (diff.mean(axis=1) <= own)
 
 
 def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> StribeckRange:

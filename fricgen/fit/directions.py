@@ -32,6 +32,9 @@ CV_FOLDS = 5
 #: A log's cross-validation blocks span this many smoothing windows: far beyond the rows that
 #: smoothing correlates.
 BLOCK_WINDOWS = 10
+#: ... and each fold gets at least this many of them (shorter blocks on a short log), so that a
+#: fold of a run-up is not one whole range of speeds, which every model would extrapolate to.
+BLOCKS_PER_FOLD = 4
 #: Training points per direction in a cross-validation fit (binned as ``prepare`` does).
 CV_POINTS = 512
 #: The asymmetric model's mean gain must exceed this fraction of the symmetric model's error.
@@ -101,7 +104,7 @@ def row_folds(n: int, folds: int, seed=0, blocks: int = 0) -> np.ndarray:
     many blocks, so that no fold holds out a whole phase of the motion, such as its fastest
     part), or a random partition (``blocks`` 0)."""
     if blocks:
-        return (np.arange(n) // max(1, min(int(blocks), n // folds))) % folds
+        return (np.arange(n) // max(1, min(int(blocks), n // (BLOCKS_PER_FOLD * folds)))) % folds
     return as_rng(seed).permutation(n) % folds
 
 
