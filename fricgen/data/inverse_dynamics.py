@@ -241,8 +241,6 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
             guess = _mass_at(first, ts, v, force, noise, use)
         window = choose_window(force, rows, guess, noise, ts, progress)
     v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
-    if not moving.any():
-        raise DataError("the axis never moves beyond the velocity noise")
     independent = moving.sum() * _centre_weight(window)
     if mass is not None:
         _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], independent)
@@ -266,21 +264,22 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
               use: np.ndarray):
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
     (whole windows) where the axis moves: |v| above MOVING_SIGMAS noise and MOVING_FRACTION of
-    the top speed."""
+    the top speed; ``DataError`` when there are none."""
     v_s = smooth(v, window)
     a_s = smooth(v, window, deriv=1, delta=ts)
     f_s = smooth(force, window)
     threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
     whole = minimum_filter1d(use.astype(np.int8), window).astype(bool)    # whole windows of use
-    return v_s, a_s, f_s, (np.abs(v_s) > threshold) & whole
+    moving = (np.abs(v_s) > threshold) & whole
+    if not moving.any():
+        raise DataError("the axis never moves beyond the velocity noise")
+    return v_s, a_s, f_s, moving
 
 
 def _mass_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
              use: np.ndarray) -> float:
     """The mass identified with the signals smoothed by ``window`` (``data.idim``)."""
     v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
-    if not moving.any():
-        raise DataError("the axis never moves beyond the velocity noise")
     return identify_mass(a_s[moving], v_s[moving], f_s[moving],
                          moving.sum() * _centre_weight(window))[0]
 
