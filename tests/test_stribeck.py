@@ -15,7 +15,8 @@ from fricgen.errors import ModelError
 from fricgen.firmware import build as fw
 from fricgen.fit import DefaultRegressor, OracleRegressor, StribeckRegressor
 from fricgen.data.outliers import gross_outliers
-from fricgen.fit.stribeck import all_subsets, fit_sources
+from fricgen.fit.stribeck import (AIC_CONTENDERS, AVERAGING_SCALE, akaike_weights, all_subsets,
+                                  as_fit, fit_sources)
 from fricgen.friction import SHAPES, preset
 from fricgen.model import FrictionModel
 from fricgen.networks import StribeckCurve
@@ -60,9 +61,35 @@ def test_the_grey_box_chooses_the_shape_that_made_the_data(shape):
     se = est.standard_errors_
     assert se["amplitudes"].shape == se["stribeck"].shape == (est.n_sources_,)
     assert np.all(np.isfinite(se["stribeck"])) and np.all(se["stribeck"] > 0)
-    key = (est.shape_, est.n_sources_, est.xs_max_)
-    assert est.candidates_[key] == min(est.candidates_.values()) and len(est.candidates_) > 6
+    assert est.candidates_[est.best_] == min(est.candidates_.values()) and len(est.candidates_) > 6
+    assert est.best_ in est.weights_ and abs(sum(est.weights_.values()) - 1.0) < 1e-12
     assert est.cv_rmse_ > est.train_rmse_ * 0.9
+
+
+def test_akaike_weights_favour_the_smaller_aic_and_drop_the_far_ones():
+    w = akaike_weights({"a": 10.0, "b": 10.0 + AVERAGING_SCALE, "c": 10.0 + AIC_CONTENDERS + 0.1})
+    assert set(w) == {"a", "b"} and abs(w["a"] + w["b"] - 1.0) < 1e-15
+    assert w["a"] / w["b"] == pytest.approx(np.e, rel=1e-12)
+
+
+def test_the_average_of_close_fits_is_matched_by_one_curve_of_eq1():
+    """A one-source and a two-source fit weighted 1/2 each average to a two-source curve: the
+    match finds it."""
+    lo = StribeckCurve("gauss", 0.4, np.array([0.6]), np.array([0.05]))
+    t = lo(X)
+    est = StribeckRegressor(shapes=("gauss",), sources=(1, 2))
+    est.xs_min_, est.candidates_ = 1e-3, {("gauss", 1, 1.0): 0.0, ("gauss", 2, 1.0): 0.0}
+    est.fits_ = {("gauss", 1, 1.0): as_fit(lo, X, t),
+                 ("gauss", 2, 1.0): as_fit(StribeckCurve("gauss", 0.4, np.array([0.2, 0.4]),
+                                                         np.array([0.05, 0.2])), X, t)}
+    est.weights_ = {k: 0.5 for k in est.fits_}
+    est.best_ = ("gauss", 1, 1.0)
+    average = 0.5 * (lo(X) + est.fits_[("gauss", 2, 1.0)].curve(X))
+    match = est._average(X, t, ("gauss",), (1, 2))
+    assert match.curve.n_sources == 2 and np.max(np.abs(match.curve(X) - average)) < 1e-6
+    np.testing.assert_allclose(match.residuals, t - match.curve(X))
+    est.weights_ = {est.best_: 1.0}                    # a single contender is the fit itself
+    assert est._average(X, t, ("gauss",), (1, 2)) is est.fits_[est.best_]
 
 
 def test_sources_that_cancel_with_huge_amplitudes_are_not_chosen(xt):
@@ -89,6 +116,17 @@ def test_the_default_chooses_eq1_on_stribeck_data_and_the_elm_elsewhere():
     step = 1.0 / (1.0 + np.exp(-40.0 * (X - 0.6))) + np.random.default_rng(4).uniform(-0.01, 0.01, X.size)
     elm = DefaultRegressor().fit(X, step)
     assert elm.choice_ == "elm_auto" and elm.cv_rmse_["elm_auto"] < elm.cv_rmse_["stribeck"]
+
+
+def test_a_steep_drop_that_the_running_median_suspects_is_kept():
+    """Next to v = 0 a narrow Stribeck drop outruns the running median: its points are suspects,
+    and the fitted models explain them, so none is rejected."""
+    truth = StribeckCurve("exponential", 0.4, np.array([1.0]), np.array([0.01]))
+    t = truth(X) + np.random.default_rng(0).uniform(-0.01, 0.01, X.size)
+    assert gross_outliers(X, t)[1:3].all()
+    est = DefaultRegressor().fit(X, t)
+    assert est.n_outliers_ == 0 and est.inliers_.all()
+    assert np.max(np.abs(est.predict(X[1:3]) - truth(X[1:3]))) < 0.02
 
 
 def test_the_default_sets_spikes_aside(xt):

@@ -123,14 +123,24 @@ def greybox_lines(estimator: StribeckRegressor, dataset) -> list:
     net, se = estimator.network_, estimator.standard_errors_
     k_in, k_out = dataset.scaling.k_in, dataset.scaling.k_out
     broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s up to {estimator.xs_max_ / k_in:.4g} m/s"
-    lines = [f"model     grey-box eq. (1): {net.n_sources} {net.shape} source(s){broad}, chosen by "
-             f"AIC among {len(estimator.candidates_)} fits",
+    lines = [f"model     grey-box eq. (1): {net.n_sources} {net.shape} source(s){broad}, "
+             f"{_origin(estimator)}",
              f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, 'N')}"]
     for k in range(net.n_sources):
         lines.append(f"source {k + 1:<2d} f_s - f_c = "
                      f"{_estimate(net.amplitudes[k] / k_out, se['amplitudes'][k] / k_out, 'N')}, "
                      f"v_s = {_estimate(net.stribeck[k] / k_in, se['stribeck'][k] / k_in, 'm/s')}")
     return lines
+
+
+def _origin(estimator: StribeckRegressor) -> str:
+    """Where the grey-box curve comes from: the best fit by AICc, or the average of the close ones."""
+    n, (shape, s, _) = len(estimator.weights_), estimator.best_
+    if n == 1:
+        return f"chosen by AICc among {len(estimator.candidates_)} fits"
+    return (f"matching the AICc-weighted average of {n} close fits among "
+            f"{len(estimator.candidates_)} (best alone: {s} {shape}, weight "
+            f"{estimator.weights_[estimator.best_]:.2f})")
 
 
 def _estimate(value: float, se: float, unit: str) -> str:

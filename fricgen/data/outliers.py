@@ -3,9 +3,12 @@
 A point is a gross outlier when its residual from a robust fit lies further than
 OUTLIER_SIGMAS robust standard deviations (1.4826 MAD, ``robust_scale``) from it. The high-speed
 rows of B are judged against a Theil-Sen line (``fricgen.data.training_set.identify_viscous``),
-the eq. (9) training set against a running median over the points in order of x, which follows
-any smooth curve, the Stribeck drop included, and which no isolated spike moves. Bounded noise,
-such as the benchmark's uniform +-0.5 N, is never rejected.
+the eq. (9) training set against a running median over the points in order of x, which no
+isolated spike moves. A running median lags where the curve is steepest (a narrow Stribeck drop
+next to v = 0), so its suspects are confirmed against a smooth model fitted to every point (``unexplained``;
+the default's eq. (1), which no isolated spike bends): a suspect that it explains within
+OUTLIER_SIGMAS of its robust residual spread on the other points is kept. Bounded noise, such as the benchmark's uniform +-0.5 N, is never
+rejected.
 """
 from __future__ import annotations
 
@@ -69,3 +72,16 @@ def gross_outliers(x, t, sigmas: float = OUTLIER_SIGMAS, window: int = MEDIAN_WI
     if not scale > 0:
         return np.zeros(x.size, dtype=bool)
     return (residual > sigmas * scale) & inner_points(x)
+
+
+def unexplained(t, suspects, predictions, sigmas: float = OUTLIER_SIGMAS) -> np.ndarray:
+    """The ``suspects`` (a mask) that no model explains: off each of ``predictions`` (smooth
+    models evaluated at every point) by more than ``sigmas`` robust standard deviations of that
+    model's residuals on the other points."""
+    t = np.asarray(t, dtype=float)
+    confirmed = np.asarray(suspects, dtype=bool).copy()
+    for prediction in predictions:
+        residual = np.abs(t - prediction)
+        scale = robust_scale(residual[~suspects], t)
+        confirmed &= residual > sigmas * scale
+    return confirmed

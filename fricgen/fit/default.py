@@ -1,7 +1,8 @@
 """fricgen's default model: the grey-box eq. (1) or elm_auto, whichever cross-validates better.
 
-Gross outliers are set aside first (``fricgen.data.outliers``). Then both candidates are fitted
-to the rest: ``StribeckRegressor`` (S and g chosen by cross-validation) and ``AutoELMRegressor``.
+Gross outliers are set aside first (``fricgen.data.outliers``: the suspects of a running median
+that eq. (1), fitted to every point, does not explain). Then both candidates are fitted to the
+rest: ``StribeckRegressor`` (S and g chosen by cross-validation) and ``AutoELMRegressor``.
 Their errors are compared on the same folds (``n_repeats`` partitions into ``n_folds``
 interleaved folds), each candidate's whole procedure refitted without each fold (for the
 grey-box model, S and g are chosen again on the fold's training points), scored on the
@@ -15,7 +16,8 @@ import time
 
 import numpy as np
 
-from ..data.outliers import MEDIAN_WINDOW, OUTLIER_SIGMAS, gross_outliers, inner_points
+from ..data.outliers import (MEDIAN_WINDOW, OUTLIER_SIGMAS, gross_outliers, inner_points,
+                              unexplained)
 from .._validate import integer
 from .auto import AutoELMRegressor
 from .base import Estimator, as_rng, interleaved_folds
@@ -70,11 +72,17 @@ class DefaultRegressor(Estimator):
         integer("n_folds", self.n_folds, minimum=2)
         integer("n_repeats", self.n_repeats)
         start = time.perf_counter()
-        self.inliers_ = ~gross_outliers(x, t, self.outlier_sigmas)
-        self.n_outliers_ = int(x.size - self.inliers_.sum())
+        suspects = gross_outliers(x, t, self.outlier_sigmas)
+        outliers, everything = suspects, None
+        if suspects.any():                    # confirmed against eq. (1) fitted to every point
+            everything = self._greybox().fit(x, t)
+            outliers = unexplained(t, suspects, [everything.predict(x)], self.outlier_sigmas)
+        self.greybox_ = everything if everything is not None and not outliers.any() else \
+            self._greybox().fit(x[~outliers], t[~outliers])
+        self.elm_ = self._elm().fit(x[~outliers], t[~outliers])
+        self.inliers_ = ~outliers
+        self.n_outliers_ = int(outliers.sum())
         x, t = x[self.inliers_], t[self.inliers_]
-        self.greybox_ = self._greybox().fit(x, t)
-        self.elm_ = self._elm().fit(x, t)
         rng = as_rng(self.random_state)
         inner = inner_points(x)                                    # scored: the measured points
         squared = {"stribeck": 0.0, "elm_auto": 0.0}

@@ -5,8 +5,8 @@ reads t(x) = c + sum_k a_k g(x, xs_k): linear in (c, a_k) (c gathers every f_ck,
 f_sk - f_ck) and nonlinear in the S Stribeck velocities xs_k = K_in v_sk. ``fit_sources``
 eliminates the linear part (variable projection, with Kaufman's Jacobian) and finds
 theta_k = log xs_k by multi-start nonlinear least squares from every S-subset of a log grid.
-``StribeckRegressor`` chooses S and g by Akaike's criterion (AICc) and reports every parameter with its
-standard error.
+``StribeckRegressor`` averages the fits of every S and g close in Akaike's criterion (AICc) and
+reports every parameter of the result with its standard error.
 """
 from __future__ import annotations
 
@@ -46,6 +46,12 @@ AMPLITUDE_MAX = 10.0
 AIC_CONTENDERS = 10.0
 #: The number of sources ``StribeckRegressor`` considers by default.
 SOURCES = (1, 2, 3, 4)
+#: The contenders are averaged with weights exp(-(AICc - best) / AVERAGING_SCALE): Akaike's
+#: weights at twice their usual scale of 2, because the AICc of fits that differ in shape or S
+#: by a source the noise hides differ by noise of a few units (set on sweeps of seeds 200-229).
+AVERAGING_SCALE = 4.0
+#: Points of the dense grid over [0, 1] on which the average is matched by one curve.
+AVERAGING_GRID = 201
 
 
 def _shape_and_slope(shape: str, x: np.ndarray, xs: float):
@@ -114,6 +120,22 @@ class SourcesFit:
                 "stribeck": self.curve.stribeck * se[1 + s:]}
 
 
+def as_fit(curve: StribeckCurve, x, t, n_starts: int = 0) -> SourcesFit:
+    """``curve`` as a fit to the points (x, t): its residuals and its Jacobian there."""
+    A, dA = _basis(curve.shape, x, curve.stribeck)
+    return SourcesFit(curve, t - curve(x), np.column_stack([A, dA * curve.amplitudes]), n_starts)
+
+
+def akaike_weights(aic: dict) -> dict:
+    """{key: weight} of the contenders (within AIC_CONTENDERS of the best AICc): exp(-delta /
+    AVERAGING_SCALE), summing to 1."""
+    best = min(aic.values())
+    raw = {k: np.exp(-(a - best) / AVERAGING_SCALE) for k, a in aic.items()
+           if a <= best + AIC_CONTENDERS}
+    total = sum(raw.values())
+    return {k: w / total for k, w in raw.items()}
+
+
 def _amplitude_sum(coef: np.ndarray) -> float:
     return float(np.sum(np.abs(coef[1:])))
 
@@ -171,11 +193,9 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
     xs = np.exp(best.x)
     order = np.argsort(xs)
     xs = xs[order]
-    A, dA = _basis(shape, x, xs)
+    A, _ = _basis(shape, x, xs)
     coef, *_ = np.linalg.lstsq(A, t, rcond=None)
-    r = t - A @ coef
-    curve = StribeckCurve(shape, float(coef[0]), coef[1:], xs)
-    return SourcesFit(curve, r, np.column_stack([A, dA * coef[1:]]), len(starts))
+    return as_fit(StribeckCurve(shape, float(coef[0]), coef[1:], xs), x, t, len(starts))
 
 
 def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: float = XS_MIN,
@@ -194,12 +214,14 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: 
 
 
 class StribeckRegressor(Estimator):
-    """Grey-box eq. (1): S sources of one shape g, with S in ``sources`` and g in ``shapes``
-    chosen by Akaike's criterion (AICc, closed form; on the benchmark it picks models as good as the
-    true structure, where cross-validation is too noisy to tell them apart). ``cv_rmse_`` is the
-    ``n_folds``-fold cross-validated error of the whole procedure (``interleaved_folds``; each
-    fold's refit starts from the full fit's Stribeck velocities, and S and g are chosen again
-    by AIC on each fold's training points).
+    """Grey-box eq. (1): S sources of one shape g, fitted for every S in ``sources`` and g in
+    ``shapes``. The fits close in Akaike's criterion (AICc, closed form) are averaged with the
+    weights ``akaike_weights`` and the average is matched by one curve of eq. (1) (``_average``):
+    picking the single best fit lets a wrong shape with an extra source win on noise, where
+    the average of the close fits stays near the truth. ``cv_rmse_`` is the ``n_folds``-fold
+    cross-validated error of the whole procedure (``interleaved_folds``; each fold's refit
+    starts from the full fit's Stribeck velocities, and the fold's average is weighted by the
+    AICc on its training points).
 
     The Stribeck velocities are searched below each bound of ``xs_bounds`` in turn: the first
     is vs_max (``--vs-max`` bounds the Stribeck velocities; normalized, 1 / SAT_FACTOR), the
@@ -210,8 +232,9 @@ class StribeckRegressor(Estimator):
     optimum of S - 1 sources plus each grid value (a new source anywhere).
 
     After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``, ``xs_max_``
-    (the bound of the chosen fit), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S, bound): AIC}), ``fits_`` (each
-    candidate's ``SourcesFit``), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
+    (the largest bound among the contenders), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S,
+    bound): AICc}), ``fits_`` (each candidate's ``SourcesFit``), ``best_`` (the key of the
+    smallest AICc), ``weights_`` ({key: weight} of the contenders), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
     amplitudes, stribeck; normalized units), ``fit_seconds_``.
     """
 
@@ -259,11 +282,13 @@ class StribeckRegressor(Estimator):
         self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items() if f.admissible}
         if not self.candidates_:
             raise ValueError(f"no fit of eq. (1) keeps sum |a_k| <= {AMPLITUDE_MAX:g}")
-        key = min(self.candidates_, key=lambda k: (self.candidates_[k], k[1]))
-        best = fits[key]
-        self.network_ = best.curve
-        self.shape_, self.n_sources_, self.xs_max_ = key
         self.fits_ = fits
+        self.weights_ = akaike_weights(self.candidates_)
+        self.best_ = min(self.candidates_, key=lambda k: (self.candidates_[k], k[1]))
+        best = self._average(x, t, shapes, sources)
+        self.network_ = best.curve
+        self.shape_, self.n_sources_ = best.curve.shape, best.curve.n_sources
+        self.xs_max_ = max(k[2] for k in self.weights_)
         self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
         self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x)], 0.0)
         self.train_rmse_ = best.rmse
@@ -271,24 +296,45 @@ class StribeckRegressor(Estimator):
         self.fit_seconds_ = time.perf_counter() - start
         return self
 
+    def _average(self, x, t, shapes, sources) -> SourcesFit:
+        """The contenders' average (``weights_``) as one curve of eq. (1): the closest, on the
+        points and a dense grid, of one shape with S from the best contender's to the largest
+        contender's, started from the fits of that shape and S; the best contender alone when
+        it is the only one (or no such curve keeps sum |a_k| <= AMPLITUDE_MAX)."""
+        best = self.best_
+        if len(self.weights_) == 1:
+            return self.fits_[best]
+        grid = np.union1d(x, np.linspace(x.min(), x.max(), AVERAGING_GRID))
+        target = sum(w * self.fits_[k].curve(grid) for k, w in self.weights_.items())
+        bound = max(k[2] for k in self.weights_)
+        largest = max(k[1] for k in self.weights_)
+        matches = []
+        for shape in shapes:
+            for s in (s for s in sources if best[1] <= s <= largest):
+                starts = [f.theta for k, f in self.fits_.items() if k[:2] == (shape, s)]
+                if starts:
+                    match = fit_sources(grid, target, shape, starts, self.xs_min_, bound)
+                    if match.admissible:
+                        matches.append(match)
+        if not matches:
+            return self.fits_[best]
+        return as_fit(min(matches, key=lambda m: m.rmse).curve, x, t, len(matches))
+
     def held_out_residuals(self, x, t, folds) -> np.ndarray:
         """The whole procedure validated on ``folds`` of the points it was fitted to: without
-        each fold, every candidate within AIC_CONTENDERS of the best is refitted (started from
-        its full fit) and the candidate is chosen again by AIC; the residual at each point is
-        that of the fold's choice."""
+        each fold, every contender (``weights_``) is refitted (started from its full fit) and the
+        contenders are averaged again by the fold's AICc; the residual at each point is that of
+        the fold's average."""
         x, t = self._inputs(x, t)
-        keys = list(self.candidates_)
-        best = min(self.candidates_.values())
-        contenders = {k for k in keys if self.candidates_[k] <= best + AIC_CONTENDERS}
-        keys = [k for k in keys if k in contenders]
+        keys = list(self.weights_)
         refits = [cross_validated_residuals(x, t, self.fits_[k], folds, self.xs_min_, k[2])
-                  if k in contenders
-                  else None for k in keys]
+                  for k in keys]
         held_out = np.empty_like(t)
         for fold in np.unique(folds):
-            pick = min(range(len(keys)), key=lambda j: (refits[j][1][int(fold)]
-                                                       + self._penalty[keys[j][2]], keys[j][1]))
-            held_out[folds == fold] = refits[pick][0][folds == fold]
+            out = folds == fold
+            aic = {j: refits[j][1][int(fold)] + self._penalty[k[2]] for j, k in enumerate(keys)}
+            aic = {j: a for j, a in aic.items() if np.isfinite(a)} or {keys.index(self.best_): 0.0}
+            held_out[out] = sum(w * refits[j][0][out] for j, w in akaike_weights(aic).items())
         return held_out
 
     @property
