@@ -81,3 +81,23 @@ def test_the_tutorial_commands_run_as_written(tmp_path):
         done = subprocess.run(command, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True)
         assert done.returncode == 0, f"{line}\n{done.stderr}"
     assert (tmp_path / "out" / "fm.h").is_file() and (tmp_path / "diag" / "model.json").is_file()
+
+
+@pytest.mark.slow
+def test_the_python_tutorial_runs_as_written(tmp_path, monkeypatch):
+    blocks = re.findall(r"```python\n(.*?)```", (DOCS / "python.md").read_text(encoding="utf-8"), flags=re.S)
+    assert len(blocks) >= 4
+    monkeypatch.chdir(tmp_path)
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, "docs/python.md", "exec"), namespace)
+    assert (tmp_path / "out" / "fm.c").is_file() and namespace["same"].model_hash == namespace["model"].model_hash
+    assert namespace["d"].summary()["effect"] == "position_ripple"
+
+
+def test_the_readme_python_example_runs(tmp_path, monkeypatch):
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = re.search(r"```python\n(.*?)```", text, flags=re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    assert (tmp_path / "model.json").is_file() and (tmp_path / "out" / "fm.h").is_file()
