@@ -258,13 +258,52 @@ def _negative_from_dict(d: dict) -> Direction:
 
 @dataclass(frozen=True)
 class FrictionModel:
-    """Eq. (3): F(v) = AIM(K_in min(|v|, v_sat)) / K_out sgn(v) + B v.
+    """A friction model, eq. (3), sec. 2: F(v) = AIM(K_in min(|v|, v_sat)) / K_out sgn(v) + B v.
 
     The network is trained on t = K_out (F - B v) (eq. 9), so its output is divided by K_out
     (the paper's eq. (3) writes the inverse scaling as K_out). Beyond v_sat = 3 vs_max the network
     input saturates. The model is odd: F(-v) = -F(v) exactly, unless it is asymmetric:
     then ``negative`` (a ``Direction``) gives F for v < 0, F(v) = -negative.magnitude(|v|),
-    and aim, scaling, viscous, v_sat are the curve for v >= 0.
+    and aim, scaling, viscous, v_sat are the curve for v >= 0. ``fricgen.train`` fits one;
+    ``load`` and ``save`` read and write model.json.
+
+    Parameters
+    ----------
+    aim : network
+        The trained network of eq. (3) (``fricgen.networks``: ELM, grey-box eq. (1), ANFIS).
+    scaling : Scaling
+        K_in (1/(m/s)) and K_out (1/N) of eq. (9).
+    viscous : float
+        B, N s/m.
+    v_sat : float
+        Speed beyond which the network input saturates, m/s.
+    name : str, default "friction_model"
+        The model's name, a C identifier (the prefix of the emitted C).
+    symmetric : bool
+        Derived: True unless ``negative`` is given.
+    effects : tuple of dict
+        Effects appended by ``fricgen diagnose``.
+    training : dict
+        How it was trained (model.json's ``training``); not part of the hash.
+    negative : Direction, optional
+        The curve for v < 0 of an asymmetric model.
+    recorded_hash : str, optional
+        The ``model_hash`` model.json recorded.
+
+    Notes
+    -----
+    .. math:: F(v) = \\frac{\\mathrm{AIM}(K_{in} \\min(|v|, v_{sat}))}{K_{out}} \\operatorname{sgn}(v) + B v
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
+    >>> bool(model.force(-0.05) == -model.force(0.05))
+    True
+    >>> path = model.save(tmp / "model.json")
+    >>> fricgen.FrictionModel.load(path).model_hash == model.model_hash
+    True
     """
 
     aim: Any
@@ -333,8 +372,19 @@ class FrictionModel:
         return np.where(v < 0, self.negative.stribeck(v), positive)
 
     def force(self, v) -> np.ndarray:
-        """Friction force in newtons for any sign of v, eq. (3); each direction's own curve
-        when the model is asymmetric."""
+        """Friction force for any sign of v, eq. (3), sec. 2; each direction's own curve
+        when the model is asymmetric.
+
+        Parameters
+        ----------
+        v : array_like
+            Velocities, m/s.
+
+        Returns
+        -------
+        numpy.ndarray
+            Forces, N, of the shape of ``v``.
+        """
         v = np.asarray(v, dtype=float)
         if self.negative is None:
             return np.sign(v) * self.stribeck(v) + self.viscous * v
@@ -383,9 +433,22 @@ class FrictionModel:
         return json.dumps(_finite_or_null(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
     def save(self, path: Union[str, Path], force: bool = False) -> Path:
-        """Write model.json to ``path`` all or nothing. An existing read-only file is refused
-        (``PermissionError``) unless ``force``: writing a new file and renaming it into place
-        would otherwise replace it, which writing into it would not."""
+        """Write model.json to ``path`` all or nothing.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write.
+        force : bool, default False
+            Replace a read-only file. Without it an existing read-only file is refused
+            (``PermissionError``): writing a new file and renaming it into place would otherwise
+            replace it, which writing into it would not.
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
         if not force and Path(path).is_file() and read_only(Path(path)):
             raise PermissionError(errno.EACCES, "read-only file; save(..., force=True) replaces it",
                                   str(path))
@@ -437,8 +500,22 @@ class FrictionModel:
 
     @classmethod
     def load(cls, path: Union[str, Path]) -> "FrictionModel":
-        """Read and validate a model.json; every problem is one ``ModelError`` line naming
-        ``path``."""
+        """Read and validate a model.json.
+
+        Parameters
+        ----------
+        path : str or Path
+            The model.json to read.
+
+        Returns
+        -------
+        FrictionModel
+
+        Raises
+        ------
+        ModelError
+            Any problem of the file, in one line naming ``path``.
+        """
         try:
             if Path(path).stat().st_size > MAX_JSON_BYTES:
                 raise ModelError(f"{path}: larger than {MAX_JSON_BYTES} bytes; not a model.json")

@@ -1,0 +1,86 @@
+"""The public API: every exported name imports, the documented ones carry numpydoc sections that
+name every argument, their examples run (doctest), and ``import fricgen`` loads no numerics."""
+import doctest
+import importlib
+import inspect
+import re
+import subprocess
+import sys
+
+import pytest
+
+import fricgen
+
+#: Modules whose docstring examples run here.
+DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model"]
+#: Public objects held to numpydoc: Parameters naming every argument, and Examples.
+NUMPYDOC = ["train", "FitReport", "FrictionModel", "FrictionModel.force", "FrictionModel.save",
+            "FrictionModel.load"]
+SUBPACKAGES = ["fit", "data", "codegen", "networks", "effects", "sim", "control", "diagnose"]
+
+
+def test_every_public_name_imports_and_has_a_docstring():
+    assert "train" in fricgen.__all__ and "FrictionModel" in fricgen.__all__
+    for name in fricgen.__all__:
+        value = getattr(fricgen, name)
+        assert name == "__version__" or inspect.getdoc(value), name
+    for package in SUBPACKAGES:
+        module = importlib.import_module(f"fricgen.{package}")
+        assert module.__all__, package
+        for name in module.__all__:
+            assert hasattr(module, name), f"fricgen.{package}.{name}"
+
+
+def test_an_unknown_name_is_an_attribute_error():
+    with pytest.raises(AttributeError, match="no attribute 'trian'"):
+        fricgen.trian
+
+
+def test_import_fricgen_and_help_load_no_numpy():
+    code = ("import sys, fricgen, fricgen.cli; fricgen.cli.build_parser(['--help']); "
+            "print('numpy' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"
+
+
+def _section(doc: str, title: str) -> str:
+    match = re.search(rf"^{title}\n-+\n(.*?)(?=^\w[\w ]*\n-+\n|\Z)", doc, flags=re.S | re.M)
+    return match.group(1) if match else ""
+
+
+def _object(path: str):
+    value = fricgen
+    for part in path.split("."):
+        value = getattr(value, part)
+    return value
+
+
+@pytest.mark.parametrize("path", NUMPYDOC)
+def test_numpydoc_names_every_argument(path):
+    value = _object(path)
+    doc = inspect.getdoc(value)
+    arguments = [p for p in inspect.signature(value).parameters if p not in ("self", "cls")]
+    documented = re.findall(r"^(\w+) :", _section(doc, "Parameters") + _section(doc, "Attributes"),
+                            flags=re.M)
+    assert [a for a in arguments if a not in documented] == [], path
+    if not path.count("."):
+        assert ">>>" in _section(doc, "Examples"), path
+
+
+def test_the_numpydoc_check_sees_an_undocumented_argument():
+    def f(a, b):
+        """Do.
+
+        Parameters
+        ----------
+        a : int
+        """
+    documented = re.findall(r"^(\w+) :", _section(inspect.getdoc(f), "Parameters"), flags=re.M)
+    assert documented == ["a"]
+
+
+@pytest.mark.parametrize("name", DOCTESTED)
+def test_docstring_examples_run(name, tmp_path):
+    module = importlib.import_module(name)
+    result = doctest.testmod(module, extraglobs={"tmp": tmp_path}, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0, result
