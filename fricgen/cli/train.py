@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,7 @@ from ..codegen.parity import float32_problem
 from ..errors import DataError, ModelError, UsageError
 from ..fit import (DEFAULT_ELM, DefaultRegressor, ELMRegressor, StribeckRegressor,
                    default_elm, default_estimator)
-from ..fit.directions import CV_FOLDS, fit_friction
+from ..fit.directions import CV_FOLDS, DirectionsFit, fit_friction
 from ..fit.stribeck import XS_MAX
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..metrics import rmse
@@ -186,13 +187,14 @@ def source_name(args) -> str:
     return common_source_name(args.sweep, args.merge)
 
 
-def training_data(args):
-    """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
+def training_data(args, progress=say):
+    """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``,
+    its long steps told to ``progress``)."""
     columns = read_columns(args)
     source = source_name(args)
     if is_log(columns):
         with named_data(source):
-            ident = identify_log(columns, args.mass, args.force_constant, progress=say)
+            ident = identify_log(columns, args.mass, args.force_constant, progress=progress)
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)
@@ -240,15 +242,28 @@ def run(args) -> int:
         return _run(args)
 
 
-def _run(args) -> int:
-    inputs = [args.sweep] + ([args.merge] if args.merge else [])
-    check_destination(args.output, inputs, args.force)
+@dataclass(frozen=True)
+class Trained:
+    """What ``train_model`` gives: the model, its fitted curves, the sweep they were fitted to
+    and, for a motion log, its identification."""
+
+    model: FrictionModel
+    fitted: DirectionsFit
+    sweep: object
+    ident: object
+
+
+def train_model(args, estimator=None, progress=say) -> Trained:
+    """Everything ``fricgen train`` does but print and write: read ``args.sweep`` (with the
+    export options), identify a log, fit the estimator of the options (or ``estimator``), and
+    check the model; ``progress`` hears of long steps. ``fricgen fleet`` runs it per log."""
     name = check_model_name(args.name, "--name")
-    sweep, ident = training_data(args)
-    estimator = _estimator(args)
+    sweep, ident = training_data(args, progress)
+    if estimator is None:
+        estimator = _estimator(args)
     with named_data(source_name(args)):
         fitted = fit_friction(sweep, estimator, None, ident, vs_max=args.vs_max,
-                              asymmetric=args.asymmetric, seed=args.seed, progress=say)
+                              asymmetric=args.asymmetric, seed=args.seed, progress=progress)
     first = fitted.fits[0]
     options = {"scheme": args.method} if args.method != "elm" else {
         "scheme": args.scheme, "w_max": args.w_max, "solver": args.solver}
@@ -276,6 +291,15 @@ def _run(args) -> int:
     except ModelError as exc:
         raise DataError(f"{source_name(args)}: the fitted model is no friction model: {exc}") from None
     check_fitted(model, ident, source_name(args), args.accept_unusual, float(np.max(np.abs(sweep.v))))
+    return Trained(model, fitted, sweep, ident)
+
+
+def _run(args) -> int:
+    inputs = [args.sweep] + ([args.merge] if args.merge else [])
+    check_destination(args.output, inputs, args.force)
+    trained = train_model(args)
+    model, fitted, ident = trained.model, trained.fitted, trained.ident
+    curves = [model.training["negative"] if k else model.training for k in range(len(fitted.fits))]
     reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
     reports.append(_choice_line(fitted))
     for label, f, curve in zip(("v > 0:", "v < 0:") if fitted.asymmetric else ("",), fitted.fits, curves):
