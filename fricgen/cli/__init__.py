@@ -30,6 +30,7 @@ COMMANDS = {
                                "and figures"),
     "synth-log": ("synth_log", "write a closed-loop motion log (t,x,v,i) of the paper's friction "
                                "with one hidden effect"),
+    "fleet": ("fleet", "identify every axis of a manifest of logs on Dask; flag drifting friction"),
     "diagnose": ("diagnose", "name the effects a model misses in a measured log (t,x,v,i), add them, "
                              "show the gap shrink"),
 }
