@@ -45,7 +45,7 @@ RESULT_VERSION = 1
 #: Default multiple of the combined standard errors a change must exceed.
 SIGMAS = 3.0
 #: Default practical threshold: the fraction of the reference value a change must exceed.
-MIN_CHANGE = 0.05
+MIN_CHANGE = 0.10
 #: The parameters the drift test watches, per direction (``pos``, ``neg``).
 MONITORED = ("coulomb", "static", "viscous")
 #: Every parameter of a result, per direction, each with ``_se``.
