@@ -31,7 +31,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from independent_axis import fleet_axis, fleet_log, write_fleet_log  # noqa: E402
 
-from fricgen.fleet import Entry, blas_env, latest, run_fleet  # noqa: E402
+from fricgen.cli import blas_env  # noqa: E402
+from fricgen.cli.train import train_argv  # noqa: E402
+from fricgen.fleet import Entry, latest, run_fleet  # noqa: E402
 
 DRIFT_RANGE = (0.03, 0.30)      # the drifted axes' growth of Coulomb and static friction
 
@@ -64,7 +66,7 @@ def timed_run(entries, out: Path, workers: int):
     client = Client(cluster)
     try:
         start = time.perf_counter()
-        run = run_fleet(entries, out, scheduler=cluster.scheduler_address, progress=print_err)
+        run = run_fleet(entries, out, train_argv, scheduler=cluster.scheduler_address, progress=print_err)
         seconds = time.perf_counter() - start
         peaks = client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
     finally:

@@ -38,6 +38,8 @@ from typing import Callable, Dict, List, Optional, Sequence
 import numpy as np
 
 from ._io import write_atomic
+from ._plot import png, pyplot
+from .data.viscous import viscous_se
 from .errors import DataError, FricgenError, UsageError
 
 #: The version of a stored result's fields: a result of another version is computed again.
@@ -155,8 +157,6 @@ def friction_parameters(trained) -> Dict[str, float]:
     """The friction parameters (SI units) and their standard errors of a model ``train_model``
     fitted with the grey-box eq. (1), per direction (the same values for both when the fit is
     symmetric): see the module."""
-    from .data.viscous import viscous_se
-
     fits = trained.fitted.fits
     ident = trained.ident
     independence = ident.independent / ident.n_kept if ident is not None else 1.0
@@ -183,20 +183,15 @@ def friction_parameters(trained) -> Dict[str, float]:
     return {k: float(v) for k, v in out.items()}
 
 
-def identify(entry: Entry, options: Sequence[str], key: str) -> dict:
+def identify(entry: Entry, options: Sequence[str], key: str, train: Callable) -> dict:
     """The result of one log (a worker's task): the entry, the model's hash, the mass, the
     friction parameters; or ``status`` failed and the one-line ``error`` of a log that cannot
-    be trained (``stored`` False for an unexpected error, tried again on a rerun)."""
-    from .cli.common import ArgumentParser
-    from .cli import train
-
+    be trained (``stored`` False for an unexpected error, tried again on a rerun). ``train``
+    (``cli.train.train_argv``) trains a log from ``train``'s arguments."""
     record = {**asdict(entry), "key": key, "version": RESULT_VERSION}
     start = time.perf_counter()
     try:
-        parser = ArgumentParser(prog="fricgen train")
-        train.register(parser)
-        args = parser.parse_args(train_arguments(entry, options))
-        trained = train.train_model(args, progress=None)
+        trained = train(train_arguments(entry, options))
         record.update(status="ok", error="", model_hash=trained.model.model_hash,
                       mass_identified=trained.ident.body.mass if trained.ident else math.nan,
                       **friction_parameters(trained))
@@ -363,8 +358,6 @@ def report_markdown(rows: Sequence[dict], sigmas: float, min_change: float, base
 def plots(rows: Sequence[dict]) -> Dict[str, bytes]:
     """PNG figures: the fleet's distribution of each parameter (newest results) and each
     flagged axis's trend; empty when matplotlib is missing."""
-    from ._plot import png, pyplot
-
     plt = pyplot()
     if plt is None:
         return {}
@@ -428,23 +421,14 @@ class FleetRun:
     dashboard: str = ""
 
 
-def blas_env() -> Dict[str, str]:
-    """One BLAS thread per worker process (``cli.pin_blas_threads``'s variables)."""
-    from .cli import BLAS_VARIABLES
-
-    threads = os.environ.get("FRICGEN_BLAS_THREADS", "1")
-    return {key: threads for key in BLAS_VARIABLES}
-
-
-def _client(scheduler: Optional[str], workers: int):
+def _client(scheduler: Optional[str], workers: int, env: Dict[str, str]):
     """A Dask client: of the cluster at ``scheduler``, or of a LocalCluster of ``workers``
-    processes with one thread (and one BLAS thread) each."""
+    processes with one thread each and the environment ``env`` (one BLAS thread)."""
     distributed = _need("distributed")
     if scheduler:
         return distributed.Client(scheduler), None
-    os.environ.update(blas_env())           # the nannies spawn workers with this environment
     cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=":0", env=blas_env())
+                                       dashboard_address=":0", env=dict(env))
     return distributed.Client(cluster), cluster
 
 
@@ -455,14 +439,16 @@ def _dashboard(client) -> str:
         return ""
 
 
-def run_fleet(entries: Sequence[Entry], out, options: Sequence[str] = (),
-              scheduler: Optional[str] = None, workers: int = 2, sigmas: float = SIGMAS,
+def run_fleet(entries: Sequence[Entry], out, train: Callable, options: Sequence[str] = (),
+              env: Optional[Dict[str, str]] = None, scheduler: Optional[str] = None, workers: int = 2, sigmas: float = SIGMAS,
               min_change: float = MIN_CHANGE, baseline: str = "previous",
               progress: Optional[Callable[[str], None]] = None,
               on_result: Optional[Callable[[dict], None]] = None) -> FleetRun:
     """Identify every entry's log on Dask (see the module) and write OUT's table, report and
     plots. Each result is stored as it arrives (``on_result`` hears of it after); logs stored
-    before are skipped. ``progress`` hears the counts and rate, and the dashboard link."""
+    before are skipped. ``train`` trains one log from ``train``'s arguments (``identify``);
+    ``env``: the embedded cluster's worker environment. ``progress`` hears the counts and rate,
+    and the dashboard link."""
     say = progress or (lambda line: None)
     check_out(out)
     stored = load_results(out)
@@ -480,14 +466,14 @@ def run_fleet(entries: Sequence[Entry], out, options: Sequence[str] = (),
     run = FleetRun(skipped=len({k for k in keys if k in stored}), failed=len(failed_rows))
     fresh = {}
     if todo:
-        client, cluster = _client(scheduler, workers)
+        client, cluster = _client(scheduler, workers, env or {})
         futures = []
         try:
             run.dashboard = _dashboard(client)
             say(f"fleet: {len(todo)} logs to identify, {run.skipped} done before"
                 + (f"; dashboard {run.dashboard}" if run.dashboard else ""))
             distributed = _need("distributed")
-            futures = [client.submit(identify, e, list(options), key, key=f"fleet-{key}", pure=False)
+            futures = [client.submit(identify, e, list(options), key, train, key=f"fleet-{key}", pure=False)
                        for e, key in todo]
             history = list(stored.values())
             start = last = time.perf_counter()

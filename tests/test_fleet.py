@@ -16,7 +16,9 @@ pytest.importorskip("pyarrow")
 from independent_axis import fleet_axis, fleet_log, write_fleet_log  # noqa: E402
 
 from fricgen.cli import main  # noqa: E402
-from fricgen.fleet import (Entry, blas_env, drift_table, load_results, read_manifest,  # noqa: E402
+from fricgen.cli import blas_env  # noqa: E402
+from fricgen.cli.train import train_argv  # noqa: E402
+from fricgen.fleet import (Entry, drift_table, load_results, read_manifest,  # noqa: E402
                            run_fleet)
 
 DURATION = 8.0          # s: short logs, each still identified
@@ -91,15 +93,15 @@ def test_a_rerun_after_an_interrupt_recomputes_nothing_and_loses_nothing(logs, c
         raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        run_fleet(entries, out, scheduler=cluster.scheduler_address, on_result=interrupt)
+        run_fleet(entries, out, train_argv, scheduler=cluster.scheduler_address, on_result=interrupt)
     kept = load_results(out)
     assert len(kept) == 1 and not list((out / "results").glob(".*"))     # whole results only
     first = next((out / "results").glob("*.json"))
     stamp = first.stat().st_mtime_ns
-    again = run_fleet(entries, out, scheduler=cluster.scheduler_address)
+    again = run_fleet(entries, out, train_argv, scheduler=cluster.scheduler_address)
     assert (again.skipped, again.computed) == (1, 2)
     assert first.stat().st_mtime_ns == stamp
-    third = run_fleet(entries, out, scheduler=cluster.scheduler_address)
+    third = run_fleet(entries, out, train_argv, scheduler=cluster.scheduler_address)
     assert (third.skipped, third.computed) == (3, 0)
     assert len(third.rows) == 3 and all(r["status"] == "ok" for r in third.rows)
 
@@ -113,7 +115,7 @@ def test_a_worker_killed_during_a_run_has_its_task_retried(logs, tmp_path):
         pid = next(iter(client.run(os.getpid).values()))
         done = {}
         thread = threading.Thread(target=lambda: done.update(run=run_fleet(
-            entries, out, scheduler=c.scheduler_address)))
+            entries, out, train_argv, scheduler=c.scheduler_address)))
         thread.start()
         deadline = time.monotonic() + 120
         while not list((out / "results").glob("*.json")) and time.monotonic() < deadline:

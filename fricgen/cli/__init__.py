@@ -62,6 +62,11 @@ INTERRUPTED = 130
 BLAS_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
+def blas_env(environ=os.environ) -> dict:
+    """The BLAS variables of a worker process: one thread, or ``FRICGEN_BLAS_THREADS``."""
+    return {key: environ.get("FRICGEN_BLAS_THREADS", "1") for key in BLAS_VARIABLES}
+
+
 def pin_blas_threads(environ=os.environ) -> None:
     """Set the BLAS thread count before numpy loads (with the command's module): one thread, as
     fricgen's factorizations are small (thousands x tens) and extra threads only contend for a

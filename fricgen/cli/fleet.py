@@ -5,7 +5,8 @@ from ..errors import UsageError
 from ..fleet import BASELINES, MIN_CHANGE, SIGMAS, read_manifest, run_fleet
 from .common import add_seed, number, positive_float, say
 from .inputs import add_export_options
-from . import INTERRUPTED
+from . import INTERRUPTED, blas_env
+from .train import train_argv
 
 
 def train_options(args) -> list:
@@ -27,7 +28,7 @@ def run(args) -> int:
     options = train_options(args)
     entries = read_manifest(args.manifest)
     try:
-        result = run_fleet(entries, args.output, options, scheduler=args.scheduler,
+        result = run_fleet(entries, args.output, train_argv, options, env=blas_env(), scheduler=args.scheduler,
                            workers=args.workers, sigmas=args.sigmas, min_change=args.min_change,
                            baseline=args.baseline, progress=say)
     except KeyboardInterrupt:

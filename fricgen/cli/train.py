@@ -27,7 +27,7 @@ from ..networks.elm import ACTIVATIONS
 from .._io import check_destination, named_data
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
-from .common import (add_output, add_seed, number, out, positive_float,
+from .common import (ArgumentParser, add_output, add_seed, number, out, positive_float,
                      say, write_file)
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
@@ -292,6 +292,13 @@ def train_model(args, estimator=None, progress=say) -> Trained:
         raise DataError(f"{source_name(args)}: the fitted model is no friction model: {exc}") from None
     check_fitted(model, ident, source_name(args), args.accept_unusual, float(np.max(np.abs(sweep.v))))
     return Trained(model, fitted, sweep, ident)
+
+
+def train_argv(argv) -> Trained:
+    """``train_model`` of ``fricgen train``'s arguments ``argv``, silent (a fleet's worker task)."""
+    parser = ArgumentParser(prog="fricgen train")
+    register(parser)
+    return train_model(parser.parse_args(argv), progress=None)
 
 
 def _run(args) -> int:
