@@ -53,6 +53,8 @@ class FitReport:
         For a motion log, how its friction samples were obtained by inverse dynamics
         (eq. (18), sec. 6): rows kept, smoothing, the mass and constant force with standard
         errors; None for a sweep.
+    sweep : Sweep or None
+        The friction samples fitted: the sweep given, or those a log's inverse dynamics gave.
     warnings : tuple of str
         Notes on the data that do not stop training (a log too fast to show the Stribeck region).
 
@@ -70,6 +72,7 @@ class FitReport:
     model: FrictionModel
     fit: DirectionsFit
     identification: Optional[Identification] = None
+    sweep: Optional[Sweep] = None
     warnings: Tuple[str, ...] = field(default=())
 
     @property
@@ -464,8 +467,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     >>> import fricgen
     >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
     >>> report = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor())
-    >>> report.fit.asymmetric, report.training["n_sources"]
-    (False, 3)
+    >>> report.fit.asymmetric, report.training["method"]
+    (False, 'stribeck')
     >>> print(report.model.force([0.05, -0.05]) > 0)    # friction opposes the motion
     [ True False]
     """
@@ -503,5 +506,5 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         raise DataError(f"{source}: the fitted model is no friction model: {exc}") from None
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
     notes = (stribeck_warning(ident, fitted.fits),) if ident is not None else ()
-    return FitReport(model=model, fit=fitted, identification=ident,
+    return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
                      warnings=tuple(n for n in notes if n))

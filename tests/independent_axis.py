@@ -33,3 +33,61 @@ def run_up(seed: int = 0, v0: float = 0.01):
     x = np.round(sol.y[0] / ENCODER) * ENCODER
     force = drive(t) + FORCE_NOISE * rng.standard_normal(t.size)
     return t, x, force, sol.y[1]
+
+
+# ----------------------------------------------------------------------------- fleets of axes
+#: A fleet axis's friction law (the same squared-rational Stribeck drop and quadratic drag as
+#: ``friction``), its parameters drawn per axis around these.
+FLEET_AXIS = dict(mass=8.0, coulomb=6.0, static=9.0, stribeck=0.02, viscous=12.0, drag=0.5,
+                  offset=1.5)
+FLEET_RATE = 1000.0             # Hz
+FLEET_V_NOISE, FLEET_F_NOISE = 2e-4, 0.3     # m/s, N
+
+
+def fleet_axis(seed: int) -> dict:
+    """One axis of a fleet: the parameters of FLEET_AXIS, each spread by its own factor."""
+    rng = np.random.default_rng([seed, 1])
+    spread = dict(mass=0.2, coulomb=0.25, static=0.25, stribeck=0.3, viscous=0.25, drag=0.3,
+                  offset=0.5)
+    axis = {k: v * float(np.exp(spread[k] * rng.standard_normal())) for k, v in FLEET_AXIS.items()}
+    axis["static"] = max(axis["static"], 1.2 * axis["coulomb"])
+    return axis
+
+
+def fleet_velocity(t: np.ndarray):
+    """The axis's nightly motion program, velocity and acceleration: constant-speed passes in
+    both directions at speeds from 3 mm/s to 0.25 m/s, joined by raised-cosine ramps of 0.15 s."""
+    levels = np.geomspace(0.003, 0.25, 10)
+    plan = np.ravel([[s, -s] for s in np.concatenate([levels, levels[::-1]])])
+    hold, ramp = t[-1] / plan.size, 0.15
+    k = np.minimum((t // hold).astype(int), plan.size - 1)
+    start, prev = k * hold, np.where(k > 0, plan[k - 1], 0.0)
+    u = np.clip((t - start) / ramp, 0.0, 1.0)
+    shape = 0.5 - 0.5 * np.cos(np.pi * u)
+    v = prev + (plan[k] - prev) * shape
+    a = np.where(u < 1.0, (plan[k] - prev) * 0.5 * np.pi / ramp * np.sin(np.pi * u), 0.0)
+    return v, a
+
+
+def fleet_friction(axis: dict, v):
+    """The axis's friction (N) at v (m/s): ``friction``'s law with the axis's parameters."""
+    v = np.asarray(v, dtype=float)
+    drop = (axis["static"] - axis["coulomb"]) / (1.0 + (np.abs(v) / axis["stribeck"]) ** 2)
+    return np.sign(v) * (axis["coulomb"] + drop) + axis["viscous"] * v + axis["drag"] * v * np.abs(v)
+
+
+def fleet_log(axis: dict, seed: int, duration: float = 60.0) -> dict:
+    """Columns (t, v, force) of one log of ``axis``: force = m a + friction + offset (eq. 18
+    with a constant load), the velocity and the force each with white sensor noise."""
+    t = np.arange(int(FLEET_RATE * duration)) / FLEET_RATE
+    v, a = fleet_velocity(t)
+    rng = np.random.default_rng([seed, 2])
+    force = axis["mass"] * a + fleet_friction(axis, v) + axis["offset"]
+    return {"t": t, "v": v + FLEET_V_NOISE * rng.standard_normal(t.size),
+            "force": force + FLEET_F_NOISE * rng.standard_normal(t.size)}
+
+
+def write_fleet_log(path, columns: dict) -> None:
+    """The log as a CSV t,v,force."""
+    np.savetxt(path, np.column_stack([columns["t"], columns["v"], columns["force"]]),
+               delimiter=",", header="t,v,force", comments="", fmt="%.9g")

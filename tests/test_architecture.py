@@ -7,7 +7,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "fricgen"
 OPTIONAL = {"matplotlib", "cffi", "emlearn", "sklearn"}
 #: The layers, bottom first: a module may import only from its own layer or those before it.
 LAYERS = ["errors", "_validate", "_io", "_progress", "_plot", "metrics", "friction", "c_literal", "networks", "effects",
-          "axis", "model", "data", "fit", "codegen", "training", "sim", "control", "diagnose", "paper", "firmware", "cli"]
+          "axis", "model", "data", "fit", "codegen", "training", "sim", "control", "diagnose", "paper", "firmware", "fleet", "cli"]
 
 
 def _modules():

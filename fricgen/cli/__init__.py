@@ -30,6 +30,7 @@ COMMANDS = {
                                "and figures"),
     "synth-log": ("synth_log", "write a closed-loop motion log (t,x,v,i) of the paper's friction "
                                "with one hidden effect"),
+    "fleet": ("fleet", "identify every axis of a manifest of logs on Dask; flag drifting friction"),
     "diagnose": ("diagnose", "name the effects a model misses in a measured log (t,x,v,i), add them, "
                              "show the gap shrink"),
 }
@@ -59,6 +60,11 @@ INTERRUPTED = 130
 
 #: The environment variables that set the BLAS thread count when numpy loads.
 BLAS_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def blas_env(environ=os.environ) -> dict:
+    """The BLAS variables of a worker process: one thread, or ``FRICGEN_BLAS_THREADS``."""
+    return {key: environ.get("FRICGEN_BLAS_THREADS", "1") for key in BLAS_VARIABLES}
 
 
 def pin_blas_threads(environ=os.environ) -> None:

@@ -13,11 +13,12 @@ from ..fit import DEFAULT_ELM, ELMRegressor, StribeckRegressor, default_elm, def
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..model import DEFAULT_MODEL_NAME, check_model_name
 from ..networks.elm import ACTIVATIONS
-from ..training import train
+from ..training import FitReport, train
 from .._io import check_destination
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
-from .common import add_output, add_seed, number, out, positive_float, say, write_file
+from .common import (ArgumentParser, add_output, add_seed, number, out, positive_float, say,
+                     write_file)
 
 #: Options of an explicitly configured ELM (``--method elm``), with their defaults.
 _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["activation"],
@@ -88,15 +89,26 @@ def run(args) -> int:
         return _run(args)
 
 
+def fit(args, progress=say, warn=say) -> FitReport:
+    """The fit the arguments describe (``fricgen.train`` on the columns they read)."""
+    name = check_model_name(args.name, "--name")
+    return train(training_columns(args), estimator=_estimator(args), vs_max=args.vs_max,
+                 asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
+                 seed=args.seed, name=name, source=source_name(args), file=Path(args.sweep).name,
+                 accept_unusual=args.accept_unusual, progress=progress, warn=warn)
+
+
+def train_argv(argv) -> FitReport:
+    """``fit`` of ``fricgen train``'s arguments ``argv``, silent (a fleet's worker task)."""
+    parser = ArgumentParser(prog="fricgen train")
+    register(parser)
+    return fit(parser.parse_args(argv), progress=None, warn=lambda line: None)
+
+
 def _run(args) -> int:
     inputs = [args.sweep] + ([args.merge] if args.merge else [])
     check_destination(args.output, inputs, args.force)
-    name = check_model_name(args.name, "--name")
-    columns = training_columns(args)
-    report = train(columns, estimator=_estimator(args), vs_max=args.vs_max,
-                   asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
-                   seed=args.seed, name=name, source=source_name(args), file=Path(args.sweep).name,
-                   accept_unusual=args.accept_unusual, progress=say, warn=say)
+    report = fit(args)
     say_data_warnings(args)
     out(report.text)
     for warning in report.warnings:

@@ -61,6 +61,19 @@ def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
     return float(B), float(mean_f - B * centre), int(len(high) - keep.sum())
 
 
+def viscous_se(high: Sweep, viscous: float, independence: float = 1.0) -> float:
+    """The standard error (N s/m) of the slope B of the line through the high-speed folded rows
+    ``high`` (least squares, as ``identify_viscous``), each row ``independence`` of an
+    independent sample (a smoothed log's); NaN with fewer than MIN_HIGH_SPEED_ROWS rows."""
+    if len(high) < MIN_HIGH_SPEED_ROWS or np.ptp(high.v) <= 0:
+        return float("nan")
+    residual = high.f - viscous * high.v
+    residual = residual - residual.mean()
+    n = len(high) * independence
+    spread = float(np.sum((high.v - high.v.mean()) ** 2)) * independence
+    return float(np.sqrt(np.sum(residual ** 2) * independence / max(n - 2, 1) / spread))
+
+
 def bin_equal_counts(sweep: Sweep, bins: int) -> Sweep:
     """``sweep`` itself if it has at most ``bins`` rows; else the means of v and f over
     ``bins`` groups of consecutive speeds with equal counts (+-1).

@@ -104,7 +104,8 @@ class SourcesFit:
         return n * float(np.log(rss)) + 2 * p + 2 * p * (p + 1) / max(n - p - 1, 1)
 
     def standard_errors(self) -> dict:
-        """Standard errors of c, a_k and xs_k from sigma^2 (J^T J)^-1, sigma^2 = RSS / (n - p);
+        """Standard errors of c, a_k, xs_k and of the peak c + sum a_k from sigma^2 (J^T J)^-1,
+        sigma^2 = RSS / (n - p);
         infinite for a parameter along which J is rank-deficient (singular values below
         ``UNDETERMINED`` of the largest): the data do not determine it, e.g. a Stribeck velocity
         below every measured speed but v = 0, where g's slope is 0."""
@@ -116,8 +117,12 @@ class SourcesFit:
         undetermined = np.any(np.abs(vt[~kept]) > 1e-6, axis=0)
         se = np.where(undetermined, np.inf, np.sqrt(variance))
         s = self.curve.n_sources
+        # the peak c + sum a_k (the static friction of eq. (1), normalized), from the covariance
+        peak = np.r_[np.ones(1 + s), np.zeros(s)]
+        peak_se = (np.inf if np.any(np.abs(vt[~kept] @ peak) > 1e-6) else
+                   float(np.sqrt(sigma2 * np.sum((vt[kept] @ peak / sv[kept]) ** 2))))
         return {"offset": float(se[0]), "amplitudes": se[1:1 + s],
-                "stribeck": self.curve.stribeck * se[1 + s:]}
+                "stribeck": self.curve.stribeck * se[1 + s:], "peak": peak_se}
 
 
 def as_fit(curve: StribeckCurve, x, t, n_starts: int = 0) -> SourcesFit:
@@ -235,7 +240,7 @@ class StribeckRegressor(Estimator):
     (the largest bound among the contenders), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S,
     bound): AICc}), ``fits_`` (each candidate's ``SourcesFit``), ``best_`` (the key of the
     smallest AICc), ``weights_`` ({key: weight} of the contenders), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
-    amplitudes, stribeck; normalized units), ``fit_seconds_``.
+    amplitudes, stribeck, peak; normalized units), ``fit_seconds_``.
     """
 
     activation = "stribeck"
