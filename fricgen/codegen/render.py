@@ -19,12 +19,15 @@ from .fixedpoint import render_fixed
 from .parity import check_float32
 from .twin import stribeck_table
 
+#: The one header that fixes the float semantics (no -ffast-math, no contraction), included by
+#: every float NAME.c and every runtime source; part of each runtime below.
+FLOAT_HEADER = "fric_float.h"
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
-RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+RUNTIME_FILES = (FLOAT_HEADER, "fric_kernel.h", "fric_kernel.c")
 #: The runtime of ``--activation-impl fast`` in place of RUNTIME_FILES, see fric_fast.h.
-FAST_RUNTIME_FILES = ("fric_fast.h", "fric_fast.c")
+FAST_RUNTIME_FILES = (FLOAT_HEADER, "fric_fast.h", "fric_fast.c")
 #: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
-CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
+CONTROLLER_FILES = (FLOAT_HEADER, "fric_ctrl.h", "fric_ctrl.c")
 
 
 #: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
