@@ -179,3 +179,35 @@ def test_a_parameter_the_data_do_not_determine_has_an_infinite_standard_error():
     assert np.isinf(se["stribeck"][0]) and np.isfinite(se["stribeck"][1])
     assert np.isfinite(se["offset"]) and np.all(np.isfinite(se["amplitudes"]))
     assert np.all(np.isfinite(full["stribeck"])) and np.all(full["stribeck"] > 0)
+
+
+def standstill_spike():
+    """Breakaway seen at standstill only: samples at x = 0 and from x = 0.2 up, the x = 0 ones
+    0.4 higher. A source with its Stribeck velocity anywhere below ~0.02 fits the spike equally
+    well: the data do not determine it."""
+    x = np.concatenate([np.zeros(5), np.linspace(0.2, 1.0, 60)])
+    truth = StribeckCurve("gauss", 0.4, np.array([0.3]), np.array([0.3]))
+    t = truth(x) + np.random.default_rng(0).uniform(-2e-3, 2e-3, x.size)
+    t[:5] += 0.4
+    return x, t
+
+
+def test_dropping_an_undetermined_source_refits_the_rest():
+    from fricgen.fit.stribeck import drop_undetermined
+    x, t = standstill_spike()
+    fit = fit_sources(x, t, "gauss", [np.log([0.002, 0.3])])       # 0.002: g = 0 at x >= 0.2
+    assert list(fit.undetermined_sources()) == [0]
+    kept = drop_undetermined(x, t, fit)
+    assert kept.curve.n_sources == 1 and kept.undetermined_sources().size == 0
+    assert kept.curve.stribeck[0] > 0.05                     # where the samples see it
+
+
+def test_training_drops_the_sources_the_data_do_not_determine():
+    """Without the drop, AIC chose 3 sources, one at xs = 0.0067 with an infinite standard error."""
+    x, t = standstill_spike()
+    est = StribeckRegressor(shapes=("gauss",), sources=(1, 2, 3)).fit(x, t)
+    se = est.standard_errors_
+    assert np.all(np.isfinite(se["stribeck"])) and np.all(np.isfinite(se["amplitudes"]))
+    assert all(f.undetermined_sources().size == 0 for f in est.fits_.values())
+    assert all(k[1] == f.curve.n_sources for k, f in est.fits_.items())
+    assert est.n_sources_ == est.network_.n_sources

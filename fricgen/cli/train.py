@@ -168,7 +168,10 @@ def _curve_training(fit) -> dict:
         entry.update(choice=estimator.choice_, choice_reason=estimator.why(),
                      n_outliers_rejected=estimator.n_outliers_)
     if isinstance(chosen, StribeckRegressor):
-        entry.update(shape=chosen.shape_, n_sources=chosen.n_sources_)
+        se, s = chosen.standard_errors_, fit.dataset.scaling
+        entry.update(shape=chosen.shape_, n_sources=chosen.n_sources_, standard_errors={
+            "amplitudes_newton": (se["amplitudes"] / s.k_out).tolist(),
+            "stribeck_m_per_s": (se["stribeck"] / s.k_in).tolist()})
     else:
         entry["C"] = chosen.C_
     entry["metrics"] = _errors(fit.dataset, estimator)

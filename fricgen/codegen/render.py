@@ -1,6 +1,7 @@
 """Render a FrictionModel as fixed-size C (templates/ + c_runtime/): eq. (3), curves of eq. (7) or (1)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Dict, List, Optional, Union
 
@@ -123,6 +124,36 @@ def _check_curve_float32_range(model) -> None:
                          f"float32 C's range ({FLOAT32_HEADROOM:.3g}); it cannot be emitted")
 
 
+#: The fields of a grey-box curve's training record (``training.standard_errors``, and
+#: ``training.negative.standard_errors``) that hold each source's standard errors.
+SOURCE_ERRORS = (("amplitudes_newton", "f_s - f_c"), ("stribeck_m_per_s", "v_s"))
+
+
+def check_determined(model: FrictionModel) -> None:
+    """``ModelError`` naming the first source of eq. (1) whose amplitude or Stribeck velocity the
+    training data did not determine: its standard error in the model's training record is
+    infinite (null in model.json). Such a term is noise in the ISR, and its exponential can
+    underflow on every call; training drops it (``fricgen.fit.stribeck.drop_undetermined``)."""
+    records = [model.training, model.training.get("negative")]
+    for side, curve, record in zip(("", "v < 0 "), model.directions, records):
+        net = curve.aim
+        if not isinstance(net, StribeckCurve) or not isinstance(record, dict):
+            continue
+        errors = record.get("standard_errors")
+        if not isinstance(errors, dict):
+            continue
+        for field_name, what in SOURCE_ERRORS:
+            values = errors.get(field_name)
+            values = values if isinstance(values, list) else []
+            for k, se in enumerate(values[:net.n_sources]):
+                if not (isinstance(se, (int, float)) and math.isfinite(se)):
+                    raise ModelError(
+                        f"source {k + 1} of the {side}grey-box curve (v_s = "
+                        f"{net.stribeck[k] / curve.scaling.k_in:.3g} m/s) has a {what} that the "
+                        "training data did not determine (no finite standard error in its "
+                        "training record); it cannot be emitted: retrain, which drops such sources")
+
+
 def controller_files() -> Dict[str, str]:
     """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name."""
     runtime = resource_dir("c_runtime")
@@ -161,6 +192,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
             raise ModelError(f"emit supports ELM and grey-box models; this model's AIM is "
                              f"{type(curve.aim).__name__}")
     check_float32_range(model)
+    check_determined(model)
     ctx = template_context(model, name, activation_impl)
     check_float32(model, activation_impl)
     env = template_environment()
