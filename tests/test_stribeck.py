@@ -1,6 +1,7 @@
 """The grey-box eq. (1): variable projection, the honest oracle, the estimator, the default's
 choice, gross outliers, and the emitted C against its float32 twin."""
 import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -126,7 +127,8 @@ def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp
     assert ("fric_fast.c" in files) == (impl == "fast") == ("fric_kernel.c" not in files)
     text = (tmp_path / "gb.c").read_text()
     assert "static const float gb_inv_stribeck[GB_N_SOURCES]" in text
-    assert ("expf" in text) == (impl == "libm" and greybox_model.aim.shape != "rational")
+    assert "expf" not in text                             # through the clamped exponentials
+    assert ("fric_exp_neg_f32(" in text) == (impl == "libm" and greybox_model.aim.shape != "rational")
     for src in sorted(p.name for p in tmp_path.glob("*.c")):
         assert_builds_strictly(tmp_path, src, CC)
     lib = build_model(tmp_path, "gb", build_dir=tmp_path / "build")
@@ -211,3 +213,53 @@ def test_training_drops_the_sources_the_data_do_not_determine():
     assert all(f.undetermined_sources().size == 0 for f in est.fits_.values())
     assert all(k[1] == f.curve.n_sources for k, f in est.fits_.items())
     assert est.n_sources_ == est.network_.n_sources
+
+
+ERRNO_MAIN = r"""
+#include <errno.h>
+#include <stdio.h>
+#include "gb.h"
+#include "ge.h"
+#include "es.h"
+#include "er.h"
+int main(void)
+{
+    float sum = 0.0f;
+    int k;
+    errno = 0;
+    for (k = -2000; k <= 2000; ++k) {
+        const float v = (float)k * 1e-3f;
+        sum += gb_force(v) + ge_force(v) + es_force(v) + er_force(v);
+    }
+    printf("%d %d\n", errno, sum == sum);
+    return 0;
+}
+"""
+
+
+@needs_cc
+def test_no_libm_call_of_the_emitted_c_sets_errno(bench, tmp_path):
+    """expf's argument is clamped (fric_exp_neg_f32): a Stribeck velocity far below the speeds
+    (exp(-u^2) underflowed to 0, errno ERANGE with glibc) and hidden units whose z reaches -300
+    (the sigmoid's exp(-z) overflowed) leave errno 0, and the C keeps to its twin."""
+    from fricgen.networks import ElmNetwork
+    d = bench.dataset
+    curves = {"gb": StribeckCurve("gauss", 0.5, np.array([0.3, 0.2]), np.array([0.002, 0.3])),
+              "ge": StribeckCurve("exponential", 0.5, np.array([0.3]), np.array([1e-3])),
+              "es": ElmNetwork("sigmoid", np.array([-300.0, 5.0]), np.array([0.0, -1.0]),
+                               np.array([0.5, 0.5])),
+              "er": ElmNetwork("rbf", np.array([300.0, 2.0]), np.array([0.0, 0.0]),
+                               np.array([0.5, 0.5]))}
+    for name, net in curves.items():
+        model = FrictionModel(net, d.scaling, 0.0, d.v_sat, name=name)
+        codegen.emit(model, tmp_path, name)
+        lib = build_model(tmp_path, name, build_dir=tmp_path / f"build_{name}")
+        v = parity.parity_velocities(d.v_sat, 2000)
+        c, twin = parity.c_forces(lib, name, v), force_f32(model, v)       # libm: a few ULP
+        assert np.max(np.abs(c.astype(float) - twin)) <= 8 * EPS32 * np.max(np.abs(twin)), name
+    (tmp_path / "main.c").write_text(ERRNO_MAIN)
+    exe = tmp_path / "errno_check"
+    subprocess.run([CC, "-std=c99", "-O2", *sorted(str(p) for p in tmp_path.glob("*.c")),
+                    "-o", str(exe), "-lm"], check=True)
+    out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["0", "1"], out

@@ -33,13 +33,14 @@ CONTROLLER_FILES = (FLOAT_HEADER, "fric_ctrl.h", "fric_ctrl.c")
 
 #: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
 STRIBECK_C_SHAPES = {
-    "libm": {"gauss": "expf(-(u * u))", "exponential": "expf(-u)", "rational": "1.0f / (1.0f + u)"},
+    "libm": {"gauss": "fric_exp_neg_f32(u * u)", "exponential": "fric_exp_neg_f32(u)",
+             "rational": "1.0f / (1.0f + u)"},
     "fast": {"gauss": "fric_exp_neg_fast_f32(u * u)", "exponential": "fric_exp_neg_fast_f32(u)",
              "rational": "1.0f / (1.0f + u)"},
 }
 #: The header each kind of curve needs in NAME.c, by implementation.
 CURVE_HEADERS = {("elm", "libm"): '"fric_kernel.h"', ("elm", "fast"): '"fric_fast.h"',
-                 ("stribeck", "libm"): "<math.h>", ("stribeck", "fast"): '"fric_fast.h"'}
+                 ("stribeck", "libm"): '"fric_kernel.h"', ("stribeck", "fast"): '"fric_fast.h"'}
 
 
 def curve_context(curve, name: str, activation_impl: str, negative: bool = False) -> dict:
