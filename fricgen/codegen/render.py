@@ -15,6 +15,7 @@ from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
 from .context import (GENERATED_MARKER, RUNTIME_MARKER, effects_context, identity_context,
                       template_environment)
+from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixedpoint import render_fixed
 from .parity import check_float32
@@ -81,7 +82,10 @@ def template_context(model: FrictionModel, name: str, activation_impl: str = "li
     model is asymmetric), each an ELM or the grey-box eq. (1) (``curve_context``)."""
     curves = [curve_context(c, name, activation_impl, negative=k == 1)
               for k, c in enumerate(model.directions)]
+    cost = instructions_max([c.aim for c in model.directions], activation_impl)
     return {**identity_context(model, name), "positive": curves[0],
+            "instr_max": [(TARGETS[target], n) for target, n in cost.items()],
+            "instr_margin": f"{INSTRUCTIONS_MARGIN:.0%}",
             "negative": curves[1] if len(curves) == 2 else None,
             "includes": list(dict.fromkeys(c["header"] for c in curves)),
             **effects_context(model, name)}  # effects, effects_not_in_c: NAME_force_xv
