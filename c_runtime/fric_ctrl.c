@@ -1,30 +1,7 @@
 /* fricgen C runtime: adaptive backstepping position control, section 6 (see fric_ctrl.h).
  * Every operation is a float operation in a fixed order; fricgen.control.AdaptiveBackstepping
  * with dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit`. */
-/* Float semantics that do not depend on the compiler's flags (the same block opens fric_kernel.h,
- * fric_fast.h and fric_ctrl.c; tests/test_flag_matrix.py checks that the copies agree).
- * Every float operation of the runtime and of the model code that includes this header is
- * rounded as written, which is what makes it bit-equal to its Python twin:
- * - -ffast-math and -ffinite-math-only are refused: they fold fric_fast.c's rounding trick
- *   (exp(-1) came out as 0.5) and drop the NaN checks the contracts rely on.
- * - Contraction of a * b + c into a fused multiply-add (GCC's default in its GNU modes, e.g.
- *   -std=gnu99; clang's default within one expression) is turned off for the rest of the
- *   translation unit. GCC ignores `#pragma STDC FP_CONTRACT` but honours
- *   `#pragma GCC optimize ("fp-contract=off")` for the functions defined after it (GCC 12,
- *   -std=gnu99 -O2 -mfma: 17 vfmadd in fric_fast.o without it, 0 with it, same code size).
- * Other flags that relax IEEE arithmetic one by one (-fassociative-math, -freciprocal-math)
- * define no macro and cannot be detected here: do not build the runtime with them. */
-#ifndef FRIC_FP_SEMANTICS
-#define FRIC_FP_SEMANTICS
-#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && (__FINITE_MATH_ONLY__ > 0))
-#error "fricgen runtime: -ffast-math / -ffinite-math-only change its results; build it without them"
-#endif
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize ("fp-contract=off")
-#else
-#pragma STDC FP_CONTRACT OFF
-#endif
-#endif /* FRIC_FP_SEMANTICS */
+#include "fric_float.h" /* first: float semantics independent of the compiler's flags */
 
 #include "fric_ctrl.h"
 

@@ -300,8 +300,16 @@ def curve_errors(dataset, estimator) -> dict:
 
 
 def curve_record(fit) -> dict:
-    """model.json's training record of one fitted curve: what was chosen and its errors."""
-    return {**chosen_record(fit.estimator), "metrics": curve_errors(fit.dataset, fit.estimator)}
+    """model.json's training record of one fitted curve: what was chosen, a grey-box curve's
+    standard errors in SI units (infinite, written null, where the data do not determine a
+    source: emit refuses it) and the errors."""
+    entry = chosen_record(fit.estimator)
+    chosen = getattr(fit.estimator, "chosen_", fit.estimator)
+    if isinstance(chosen, StribeckRegressor):
+        se, s = chosen.standard_errors_, fit.dataset.scaling
+        entry["standard_errors"] = {"amplitudes_newton": (se["amplitudes"] / s.k_out).tolist(),
+                                    "stribeck_m_per_s": (se["stribeck"] / s.k_in).tolist()}
+    return {**entry, "metrics": curve_errors(fit.dataset, fit.estimator)}
 
 
 def choice_line(fitted: DirectionsFit) -> str:

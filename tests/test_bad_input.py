@@ -10,6 +10,7 @@ import pytest
 
 from conftest import copy_of
 from fricgen.cli import main
+from fricgen.model import FrictionModel
 
 
 @pytest.fixture(scope="module")
@@ -80,11 +81,21 @@ def work(cli_inputs, tmp_path_factory):
                        ("tiny_stribeck.json", lambda m: m.__setitem__("aim", {
                            "kind": "stribeck", "shape": "gauss", "offset": 0.99, "amplitudes": [0.01],
                            "stribeck": [1e-40], "slope": 0.0})),
+                       ("zero_stribeck.json", lambda m: m.__setitem__("aim", {
+                           "kind": "stribeck", "shape": "gauss", "offset": 0.99, "amplitudes": [0.01],
+                           "stribeck": [0.0], "slope": 0.0})),
+                       ("undetermined_source.json", lambda m: (m.__setitem__("aim", {
+                           "kind": "stribeck", "shape": "gauss", "offset": 0.6, "amplitudes": [0.3, 0.1],
+                           "stribeck": [0.2, 0.01], "slope": 0.0}), m["training"].__setitem__(
+                           "standard_errors", {"amplitudes_newton": [0.01, 0.02],
+                                               "stribeck_m_per_s": [0.001, None]}))),
                        ("model_table.json", lambda m: m.__setitem__("effects", [
                            {"effect": "table_velocity", "parameters": {"lo": 1, "hi": 0, "values": [1, 2]}}]))):
         edited = json.loads(json.dumps(model))
         edit(edited)
         (d / name).write_text(json.dumps(edited))
+    undetermined = d / "undetermined_source.json"        # as training would have written it
+    undetermined.write_text(FrictionModel.from_dict(json.loads(undetermined.read_text())).to_json())
     (d / "duplicate_key.json").write_text((d / "model.json").read_text().replace(
         '"viscous": ', '"viscous": 1.0, "viscous": ', 1))
     return d
@@ -318,6 +329,11 @@ ROWS = [
     ("a Stribeck velocity of 1e-40", ["eval", "tiny_stribeck.json"], "aim.stribeck[0] is 1e-40 (normalized)"),
     ("a Stribeck velocity of 1e-40, emitted", ["emit", "tiny_stribeck.json", "-o", OUT],
      "aim.stribeck[0] is 1e-40 (normalized)"),
+    ("a Stribeck velocity of 0, emitted", ["emit", "zero_stribeck.json", "-o", OUT],
+     "aim.stribeck"),
+    ("a source the training data did not determine, emitted",
+     ["emit", "undetermined_source.json", "-o", OUT],
+     "source 2 of the grey-box curve (v_s = "),
     ("aim.kind a list", ["eval", "kind_list.json"], "aim.kind must be one of"),
     ("effect name an object", ["eval", "effect_dict.json"], "unknown effect {}"),
     ("format_version true", ["eval", "version_true.json"], "unknown format_version True"),
@@ -532,7 +548,6 @@ def test_a_gross_outlier_row_does_not_move_b(work, tmp_path, capsys):
 
 def test_eval_streams_with_constant_memory_and_exact_forces(work):
     # 300000 velocities through the chunked reader equal the model evaluated at once
-    from fricgen.model import FrictionModel
     v = np.random.default_rng(5).uniform(-0.2, 0.2, 300_000)
     proc = subprocess.run([sys.executable, "-m", "fricgen", "eval", str(work / "model.json")],
                           input="\n".join(repr(float(x)) for x in v), capture_output=True, text=True)
@@ -572,7 +587,6 @@ def test_eval_of_a_model_with_effects_says_they_are_not_applied(work, tmp_path):
 def test_a_spike_is_rejected_where_most_residuals_are_zero(tmp_path, capsys, quantum):
     # noise-free or quantized force: most residuals from the running median are exactly 0, and a
     # robust scale of 0 used to reject nothing (one +50 N row gave errors of 0.5 N to 4000 N)
-    from fricgen.model import FrictionModel
     v = np.linspace(0.0005, 0.08, 300)
     truth = 2.0 + 1.5 * np.exp(-(v / 0.01) ** 2) + 15.0 * v
     f = np.round(truth / quantum) * quantum if quantum else truth.copy()

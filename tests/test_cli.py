@@ -108,7 +108,7 @@ def test_emit_writes_a_self_contained_folder_and_the_controller_only_when_asked(
     assert main(["emit", str(model_json), "-o", str(tmp_path / "ctrl"), "--name", "fm",
                  "--with-controller"]) == 0
     names = sorted(p.name for p in (tmp_path / "ctrl").iterdir())
-    assert names == sorted(["fm.c", "fm.h", *RUNTIME_FILES, *CONTROLLER_FILES])
+    assert names == sorted({"fm.c", "fm.h", *RUNTIME_FILES, *CONTROLLER_FILES})
 
 
 def test_console_script_runs(model_json, tmp_path):

@@ -15,7 +15,8 @@ from fricgen.codegen.cbuild import STRICT_WARNINGS, build, build_model
 from fricgen.codegen.context import GENERATED_MARKER
 from fricgen.networks.elm import ACTIVATIONS
 from fricgen.fit.elm import PARITY, float32_error
-from fricgen.model import ModelError
+from fricgen.model import FrictionModel, ModelError
+from fricgen.networks import ElmNetwork
 from fricgen.codegen.twin import force_f32
 
 EPS32 = float(np.finfo(np.float32).eps)
@@ -231,3 +232,19 @@ def test_two_axes_in_one_folder_each_equal_their_own_twin(model10, axis2_model, 
         else:
             assert np.array_equal(c, twin), (name, impl)
         assert np.mean(c == impl_twin(other, impl, inputs)) < 0.1  # this axis's model, not the other's
+
+
+def test_the_header_states_instructions_per_call_where_the_cost_model_applies(model10):
+    from fricgen.codegen.cost import instructions_max
+    header = codegen.render(model10, "fm")["fm.h"]
+    stated = instructions_max([model10.aim], "libm")
+    assert set(stated) == {"cortex-m4f", "cortex-m0plus"}
+    assert f"#define FM_INSTR_MAX_CORTEX_M4F {stated['cortex-m4f']}\n" in header
+    assert f"#define FM_INSTR_MAX_CORTEX_M0PLUS {stated['cortex-m0plus']}\n" in header
+    assert "a model, not measured on this" in header
+    fast = instructions_max([model10.aim], "fast")
+    assert fast["cortex-m4f"] < stated["cortex-m4f"] and fast["cortex-m0plus"] < stated["cortex-m0plus"]
+    sine = FrictionModel(ElmNetwork("sine", model10.aim.input_weights, model10.aim.biases,
+                                    model10.aim.output_weights), model10.scaling, model10.viscous,
+                         model10.v_sat, name="fs")
+    assert "INSTR_MAX" not in codegen.render(sine, "fs")["fs.h"]

@@ -125,6 +125,9 @@ def test_cli_simulate_c_backend_runs_a_grey_box_model_in_c(tmp_path, capsys):
     assert main(["synth", "--preset", "paper3", "-o", str(sweep)]) == 0
     assert main(["train", str(sweep), "-o", str(model), "--vs-max", "0.02", "--method", "stribeck"]) == 0
     capsys.readouterr()
+    training = json.loads(model.read_text())["training"]      # what emit checks: all determined
+    for errors in training["standard_errors"].values():
+        assert len(errors) == training["n_sources"] and all(e is not None and e > 0 for e in errors)
     reports = {}
     for backend in ("c", "python"):
         assert main(["simulate", "--model", str(model), "--backend", backend, "--json",

@@ -89,7 +89,7 @@ def test_shipped_c_coefficients_reach_the_minimax_error():
 @pytest.fixture(scope="module")
 def fast_lib(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fast_rt")
-    for fname in ("fric_fast.h", "fric_fast.c"):
+    for fname in codegen.FAST_RUNTIME_FILES:
         shutil.copy(resource_dir("c_runtime") / fname, folder / fname)
     return cbuild.build(folder, "fric_fast.h", "float fric_sigmoid_fast_f32(float z);",
                         build_dir=folder / "build")

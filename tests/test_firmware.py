@@ -164,3 +164,21 @@ def test_emulated_closed_loop_with_libm_model_matches_python_within_tolerance(mo
           f"{int(equal.sum())}/{N_LOOP} rows bit-equal")
     tol = np.array([1e-8, 1e-5, 1e-4, 1e-5, 1e-5])
     assert np.all(diff <= tol), dict(zip(fw.LOOP_COLUMNS, diff))
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+@pytest.mark.parametrize("target", ["cortex-m4f", "cortex-m0plus"])
+def test_one_call_stays_within_the_instruction_count_the_header_states(axis2_model, tmp_path,
+                                                                       impl, target):
+    """NAME_INSTR_MAX_<TARGET> (a model fitted on other networks) against a 6-neuron ELM it
+    never saw, one call at each of three speeds."""
+    from fricgen.codegen.cost import TARGETS
+    codegen.emit(axis2_model, tmp_path / "src", "axis2", activation_impl=impl)
+    header = (tmp_path / "src" / "axis2.h").read_text()
+    macro = f"#define AXIS2_INSTR_MAX_{TARGETS[target]} "
+    stated = int(header.split(macro)[1].split()[0])
+    for k, s in enumerate((0.0, 0.3, 2.0)):
+        cfg = fw.config_float("axis2.h", "axis2_force", [s * axis2_model.v_sat], 1)
+        elf = fw.build_firmware(tmp_path / "src", cfg, target, tmp_path / f"b{k}")
+        count = sum(fw.count_instructions(elf, target).values())
+        assert 0.5 * stated < count <= stated, (s, count, stated)

@@ -23,10 +23,24 @@ def runtime_folder(tmp_path):
     return shutil.copytree(resource_dir("c_runtime"), tmp_path / "runtime")
 
 
-def test_the_float_semantics_block_is_the_same_in_every_runtime_file(tmp_path):
-    blocks = fm.fp_blocks(runtime_folder(tmp_path))
-    assert set(blocks) == {"fric_kernel.h", "fric_fast.h", "fric_ctrl.c"}
-    assert len(set(blocks.values())) == 1
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_the_emitted_folder_holds_one_float_block_and_every_source_includes_it(tmp_path, impl,
+                                                                               bench, model10):
+    """One header fixes the float semantics (fric_float.h); every .c of a folder with an ELM, a
+    grey-box eq. (1) model and the controller reaches it, directly or through a header."""
+    for name, model in {"fm": model10, "gb": fm.table1_greybox(bench)}.items():
+        codegen.emit(model, tmp_path, name, activation_impl=impl, with_controller=True)
+    assert list(fm.fp_blocks(tmp_path)) == [fm.FLOAT_HEADER]
+    reached = fm.includes_float_semantics(tmp_path)
+    assert {"fm.c", "gb.c", "fric_ctrl.c"} < set(reached) and all(reached.values()), reached
+
+
+def test_the_include_check_sees_a_source_without_the_header(tmp_path):
+    (tmp_path / "a.h").write_text('#include "fric_float.h"\n')
+    (tmp_path / "via.c").write_text('#include "a.h"\n')
+    (tmp_path / "none.c").write_text('#include "b.h"\n#include <math.h>\n')
+    (tmp_path / "b.h").write_text('#include "none.c"\n')      # a cycle ends
+    assert fm.includes_float_semantics(tmp_path) == {"none.c": False, "via.c": True}
 
 
 @pytest.mark.parametrize("flag", ["-ffast-math", "-ffinite-math-only"])
@@ -88,7 +102,7 @@ def test_without_the_block_gnu99_contracts_and_the_bits_differ(tmp_path, model10
     if not fm.host_fma_flags() or shutil.which("gcc") is None:
         pytest.skip("the host has no FMA instruction (or no gcc)")
     codegen.emit(model10, tmp_path / "src", "fm", activation_impl="fast", with_controller=True)
-    assert fm.strip_fp_blocks(tmp_path / "src") == ["fric_ctrl.c", "fric_fast.h"]
+    assert fm.strip_fp_blocks(tmp_path / "src") == [fm.FLOAT_HEADER]
     v = np.linspace(-2 * model10.v_sat, 2 * model10.v_sat, 201).astype(np.float32)
     rows = np.zeros((1, 6), dtype=np.float32)
     settings = AdaptiveBackstepping()

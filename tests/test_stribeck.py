@@ -1,6 +1,7 @@
 """The grey-box eq. (1): variable projection, the honest oracle, the estimator, the default's
 choice, gross outliers, and the emitted C against its float32 twin."""
 import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -164,7 +165,8 @@ def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp
     assert ("fric_fast.c" in files) == (impl == "fast") == ("fric_kernel.c" not in files)
     text = (tmp_path / "gb.c").read_text()
     assert "static const float gb_inv_stribeck[GB_N_SOURCES]" in text
-    assert ("expf" in text) == (impl == "libm" and greybox_model.aim.shape != "rational")
+    assert "expf" not in text                             # through the clamped exponentials
+    assert ("fric_exp_neg_f32(" in text) == (impl == "libm" and greybox_model.aim.shape != "rational")
     for src in sorted(p.name for p in tmp_path.glob("*.c")):
         assert_builds_strictly(tmp_path, src, CC)
     lib = build_model(tmp_path, "gb", build_dir=tmp_path / "build")
@@ -217,3 +219,85 @@ def test_a_parameter_the_data_do_not_determine_has_an_infinite_standard_error():
     assert np.isinf(se["stribeck"][0]) and np.isfinite(se["stribeck"][1])
     assert np.isfinite(se["offset"]) and np.all(np.isfinite(se["amplitudes"]))
     assert np.all(np.isfinite(full["stribeck"])) and np.all(full["stribeck"] > 0)
+
+
+def standstill_spike():
+    """Breakaway seen at standstill only: samples at x = 0 and from x = 0.2 up, the x = 0 ones
+    0.4 higher. A source with its Stribeck velocity anywhere below ~0.02 fits the spike equally
+    well: the data do not determine it."""
+    x = np.concatenate([np.zeros(5), np.linspace(0.2, 1.0, 60)])
+    truth = StribeckCurve("gauss", 0.4, np.array([0.3]), np.array([0.3]))
+    t = truth(x) + np.random.default_rng(0).uniform(-2e-3, 2e-3, x.size)
+    t[:5] += 0.4
+    return x, t
+
+
+def test_dropping_an_undetermined_source_refits_the_rest():
+    from fricgen.fit.stribeck import drop_undetermined
+    x, t = standstill_spike()
+    fit = fit_sources(x, t, "gauss", [np.log([0.002, 0.3])])       # 0.002: g = 0 at x >= 0.2
+    assert list(fit.undetermined_sources()) == [0]
+    kept = drop_undetermined(fit, lambda theta: fit_sources(x, t, "gauss", [theta]))
+    assert kept.curve.n_sources == 1 and kept.undetermined_sources().size == 0
+    assert kept.curve.stribeck[0] > 0.05                     # where the samples see it
+
+
+def test_training_drops_the_sources_the_data_do_not_determine():
+    """Without the drop, AIC chose 3 sources, one at xs = 0.0067 with an infinite standard error."""
+    x, t = standstill_spike()
+    est = StribeckRegressor(shapes=("gauss",), sources=(1, 2, 3)).fit(x, t)
+    se = est.standard_errors_
+    assert np.all(np.isfinite(se["stribeck"])) and np.all(np.isfinite(se["amplitudes"]))
+    assert all(f.undetermined_sources().size == 0 for f in est.fits_.values())
+    assert all(k[1] == f.curve.n_sources for k, f in est.fits_.items())
+    assert est.n_sources_ == est.network_.n_sources
+
+
+ERRNO_MAIN = r"""
+#include <errno.h>
+#include <stdio.h>
+#include "gb.h"
+#include "ge.h"
+#include "es.h"
+#include "er.h"
+int main(void)
+{
+    float sum = 0.0f;
+    int k;
+    errno = 0;
+    for (k = -2000; k <= 2000; ++k) {
+        const float v = (float)k * 1e-3f;
+        sum += gb_force(v) + ge_force(v) + es_force(v) + er_force(v);
+    }
+    printf("%d %d\n", errno, sum == sum);
+    return 0;
+}
+"""
+
+
+@needs_cc
+def test_no_libm_call_of_the_emitted_c_sets_errno(bench, tmp_path):
+    """expf's argument is clamped (fric_exp_neg_f32): a Stribeck velocity far below the speeds
+    (exp(-u^2) underflowed to 0, errno ERANGE with glibc) and hidden units whose z reaches -300
+    (the sigmoid's exp(-z) overflowed) leave errno 0, and the C keeps to its twin."""
+    from fricgen.networks import ElmNetwork
+    d = bench.dataset
+    curves = {"gb": StribeckCurve("gauss", 0.5, np.array([0.3, 0.2]), np.array([0.002, 0.3])),
+              "ge": StribeckCurve("exponential", 0.5, np.array([0.3]), np.array([1e-3])),
+              "es": ElmNetwork("sigmoid", np.array([-300.0, 5.0]), np.array([0.0, -1.0]),
+                               np.array([0.5, 0.5])),
+              "er": ElmNetwork("rbf", np.array([300.0, 2.0]), np.array([0.0, 0.0]),
+                               np.array([0.5, 0.5]))}
+    for name, net in curves.items():
+        model = FrictionModel(net, d.scaling, 0.0, d.v_sat, name=name)
+        codegen.emit(model, tmp_path, name)
+        lib = build_model(tmp_path, name, build_dir=tmp_path / f"build_{name}")
+        v = parity.parity_velocities(d.v_sat, 2000)
+        c, twin = parity.c_forces(lib, name, v), force_f32(model, v)       # libm: a few ULP
+        assert np.max(np.abs(c.astype(float) - twin)) <= 8 * EPS32 * np.max(np.abs(twin)), name
+    (tmp_path / "main.c").write_text(ERRNO_MAIN)
+    exe = tmp_path / "errno_check"
+    subprocess.run([CC, "-std=c99", "-O2", *sorted(str(p) for p in tmp_path.glob("*.c")),
+                    "-o", str(exe), "-lm"], check=True)
+    out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["0", "1"], out

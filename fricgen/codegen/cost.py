@@ -15,7 +15,8 @@ implementation of ``fricgen emit``:
 """
 from __future__ import annotations
 
-from typing import Dict, Tuple
+import math
+from typing import Dict, Sequence, Tuple
 
 #: (a, b) of instructions = a + b M on Cortex-M4F, per ``--activation-impl``.
 CORTEX_M4F_INSTRUCTIONS: Dict[str, Tuple[float, float]] = {"libm": (41.4, 86.76), "fast": (54.0, 25.0)}
@@ -34,3 +35,50 @@ def host_ns(n_hidden: int) -> float:
     """Nanoseconds per ``NAME_force`` call on the reference host for ``n_hidden`` sigmoid units."""
     a, b = HOST_NS
     return max(a + b * n_hidden, 0.0)
+
+
+#: Instructions of one ``NAME_force`` call, a + b n (n: sigmoid units of an ELM, eq. (7), or gauss
+#: sources of the grey-box eq. (1)), by (target, curve kind, ``--activation-impl``): the line
+#: through the largest count of one call over 10 speeds from standstill to 2 v_sat, for two
+#: sizes (n = 1, 10 and S = 1, 3), from ``python benchmarks/instructions_per_call.py`` (QEMU,
+#: one instruction per translation block, arm-none-eabi-gcc 12 -O2, newlib's expf; the M0+ in
+#: soft float).
+INSTRUCTIONS_MAX: Dict[Tuple[str, str, str], Tuple[float, float]] = {
+    ("cortex-m4f", "elm", "libm"): (49.7, 94.33),
+    ("cortex-m0plus", "elm", "libm"): (583.2, 3551.78),
+    ("cortex-m4f", "elm", "fast"): (54.0, 25.0),
+    ("cortex-m0plus", "elm", "fast"): (655.3, 1769.67),
+    ("cortex-m4f", "stribeck", "libm"): (32.5, 94.5),
+    ("cortex-m0plus", "stribeck", "libm"): (777.5, 3122.5),
+    ("cortex-m4f", "stribeck", "fast"): (32.0, 45.0),
+    ("cortex-m0plus", "stribeck", "fast"): (752.5, 1691.5),
+}
+#: The allowance NAME.h adds to INSTRUCTIONS_MAX for speeds and weights the 10 speeds did not
+#: meet (libm's expf and soft float take data-dependent paths): a stated margin, not a bound.
+INSTRUCTIONS_MARGIN = 0.25
+#: The targets of INSTRUCTIONS_MAX and their C macro suffixes.
+TARGETS = {"cortex-m4f": "CORTEX_M4F", "cortex-m0plus": "CORTEX_M0PLUS"}
+
+
+def curve_cost_key(net) -> Tuple[str, int]:
+    """A curve's (kind, n) in INSTRUCTIONS_MAX, or None where no line applies: ELM activations
+    other than the sigmoid, and the rational shape (no exponential; the gauss line, one
+    multiplication more than the exponential shape's, covers that shape)."""
+    if net.kind == "elm":
+        return ("elm", net.n_hidden) if net.activation == "sigmoid" else None
+    return ("stribeck", net.n_sources) if net.shape in ("gauss", "exponential") else None
+
+
+def instructions_max(nets: Sequence, activation_impl: str) -> Dict[str, int]:
+    """The instructions of one ``NAME_force`` call with the curves ``nets`` (one per direction;
+    a call runs one of them), at most, by target: (1 + INSTRUCTIONS_MARGIN) times the largest
+    line, rounded up. Empty when a curve has no line (``curve_cost_key``)."""
+    keys = [curve_cost_key(net) for net in nets]
+    if any(k is None for k in keys):
+        return {}
+    result = {}
+    for target in TARGETS:
+        worst = max(a + b * n for (kind, n) in keys
+                    for a, b in [INSTRUCTIONS_MAX[target, kind, activation_impl]])
+        result[target] = int(math.ceil((1.0 + INSTRUCTIONS_MARGIN) * worst))
+    return result

@@ -1,6 +1,7 @@
 """Render a FrictionModel as fixed-size C (templates/ + c_runtime/): eq. (3), curves of eq. (7) or (1)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Dict, List, Optional, Union
 
@@ -14,28 +15,33 @@ from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
 from .context import (GENERATED_MARKER, RUNTIME_MARKER, effects_context, identity_context,
                       template_environment)
+from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixedpoint import render_fixed
 from .parity import check_float32
 from .twin import stribeck_table
 
+#: The one header that fixes the float semantics (no -ffast-math, no contraction), included by
+#: every float NAME.c and every runtime source; part of each runtime below.
+FLOAT_HEADER = "fric_float.h"
 #: Runtime files every emitted model needs beside NAME.h and NAME.c.
-RUNTIME_FILES = ("fric_kernel.h", "fric_kernel.c")
+RUNTIME_FILES = (FLOAT_HEADER, "fric_kernel.h", "fric_kernel.c")
 #: The runtime of ``--activation-impl fast`` in place of RUNTIME_FILES, see fric_fast.h.
-FAST_RUNTIME_FILES = ("fric_fast.h", "fric_fast.c")
+FAST_RUNTIME_FILES = (FLOAT_HEADER, "fric_fast.h", "fric_fast.c")
 #: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
-CONTROLLER_FILES = ("fric_ctrl.h", "fric_ctrl.c")
+CONTROLLER_FILES = (FLOAT_HEADER, "fric_ctrl.h", "fric_ctrl.c")
 
 
 #: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
 STRIBECK_C_SHAPES = {
-    "libm": {"gauss": "expf(-(u * u))", "exponential": "expf(-u)", "rational": "1.0f / (1.0f + u)"},
+    "libm": {"gauss": "fric_exp_neg_f32(u * u)", "exponential": "fric_exp_neg_f32(u)",
+             "rational": "1.0f / (1.0f + u)"},
     "fast": {"gauss": "fric_exp_neg_fast_f32(u * u)", "exponential": "fric_exp_neg_fast_f32(u)",
              "rational": "1.0f / (1.0f + u)"},
 }
 #: The header each kind of curve needs in NAME.c, by implementation.
 CURVE_HEADERS = {("elm", "libm"): '"fric_kernel.h"', ("elm", "fast"): '"fric_fast.h"',
-                 ("stribeck", "libm"): "<math.h>", ("stribeck", "fast"): '"fric_fast.h"'}
+                 ("stribeck", "libm"): '"fric_kernel.h"', ("stribeck", "fast"): '"fric_fast.h"'}
 
 
 def curve_context(curve, name: str, activation_impl: str, negative: bool = False) -> dict:
@@ -76,7 +82,10 @@ def template_context(model: FrictionModel, name: str, activation_impl: str = "li
     model is asymmetric), each an ELM or the grey-box eq. (1) (``curve_context``)."""
     curves = [curve_context(c, name, activation_impl, negative=k == 1)
               for k, c in enumerate(model.directions)]
+    cost = instructions_max([c.aim for c in model.directions], activation_impl)
     return {**identity_context(model, name), "positive": curves[0],
+            "instr_max": [(TARGETS[target], n) for target, n in cost.items()],
+            "instr_margin": f"{INSTRUCTIONS_MARGIN:.0%}",
             "negative": curves[1] if len(curves) == 2 else None,
             "includes": list(dict.fromkeys(c["header"] for c in curves)),
             **effects_context(model, name)}  # effects, effects_not_in_c: NAME_force_xv
@@ -120,6 +129,36 @@ def _check_curve_float32_range(model) -> None:
                          f"float32 C's range ({FLOAT32_HEADROOM:.3g}); it cannot be emitted")
 
 
+#: The fields of a grey-box curve's training record (``training.standard_errors``, and
+#: ``training.negative.standard_errors``) that hold each source's standard errors.
+SOURCE_ERRORS = (("amplitudes_newton", "f_s - f_c"), ("stribeck_m_per_s", "v_s"))
+
+
+def check_determined(model: FrictionModel) -> None:
+    """``ModelError`` naming the first source of eq. (1) whose amplitude or Stribeck velocity the
+    training data did not determine: its standard error in the model's training record is
+    infinite (null in model.json). Such a term is noise in the ISR, and its exponential can
+    underflow on every call; training drops it (``fricgen.fit.stribeck.drop_undetermined``)."""
+    records = [model.training, model.training.get("negative")]
+    for side, curve, record in zip(("", "v < 0 "), model.directions, records):
+        net = curve.aim
+        if not isinstance(net, StribeckCurve) or not isinstance(record, dict):
+            continue
+        errors = record.get("standard_errors")
+        if not isinstance(errors, dict):
+            continue
+        for field_name, what in SOURCE_ERRORS:
+            values = errors.get(field_name)
+            values = values if isinstance(values, list) else []
+            for k, se in enumerate(values[:net.n_sources]):
+                if not (isinstance(se, (int, float)) and math.isfinite(se)):
+                    raise ModelError(
+                        f"source {k + 1} of the {side}grey-box curve (v_s = "
+                        f"{net.stribeck[k] / curve.scaling.k_in:.3g} m/s) has a {what} that the "
+                        "training data did not determine (no finite standard error in its "
+                        "training record); it cannot be emitted: retrain, which drops such sources")
+
+
 def controller_files() -> Dict[str, str]:
     """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name."""
     runtime = resource_dir("c_runtime")
@@ -158,6 +197,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
             raise ModelError(f"emit supports ELM and grey-box models; this model's AIM is "
                              f"{type(curve.aim).__name__}")
     check_float32_range(model)
+    check_determined(model)
     ctx = template_context(model, name, activation_impl)
     check_float32(model, activation_impl)
     env = template_environment()

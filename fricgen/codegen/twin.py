@@ -12,7 +12,7 @@ import numpy as np
 from ..effects import model_effects
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
-from ..networks.elm import rounded_f32
+from ..networks.elm import exp_neg_f32
 from .fast_sigmoid import aim_fast_f32, exp_neg_fast_f32
 
 f32 = np.float32
@@ -30,7 +30,7 @@ def stribeck_table(net: StribeckCurve) -> np.ndarray:
 
 #: g(u) of eq. (2) in float32 as the emitted grey-box C computes it, by implementation.
 STRIBECK_SHAPES_F32 = {
-    "libm": {"gauss": lambda u: rounded_f32(np.exp, -(u * u)), "exponential": lambda u: rounded_f32(np.exp, -u),
+    "libm": {"gauss": lambda u: exp_neg_f32(u * u), "exponential": exp_neg_f32,
              "rational": lambda u: f32(1.0) / (f32(1.0) + u)},
     "fast": {"gauss": lambda u: exp_neg_fast_f32(u * u), "exponential": exp_neg_fast_f32,
              "rational": lambda u: f32(1.0) / (f32(1.0) + u)},

@@ -6,7 +6,8 @@ velocities, and controller steps (``fric_ctrl_step``) on given input rows, every
 as the hex bits of its float. ``twin_lines`` gives the same lines from the Python twins, so a
 build means what the twins mean when its lines are equal. ``fma_count`` counts the fused
 multiply-add instructions in the runtime's and models' objects: the runtime turns contraction
-off (fric_kernel.h, fric_fast.h, fric_ctrl.c), so every build should have none.
+off (fric_float.h, included by every runtime and model source), so every build should
+have none.
 
 On an x86-64 host that has FMA, the host builds get ``-mfma``, so the compiler may contract
 (without it x86-64 has no FMA instruction and the matrix would prove nothing).
@@ -24,6 +25,7 @@ from typing import Dict, Iterable, List, Optional, Sequence
 import numpy as np
 
 from ..codegen.cbuild import STRICT_WARNINGS
+from ..codegen.render import FLOAT_HEADER
 from ..codegen.twin import force_f32
 from ..control.c_abi import params_initializer
 from ..friction import preset
@@ -271,23 +273,42 @@ def run_matrix(folder, models: Sequence[str], flag_sets: Sequence[FlagSet], out_
     return result
 
 
-#: The block of the runtime that fixes its float semantics (see fric_kernel.h).
-FP_BLOCK = re.compile(r"#ifndef FRIC_FP_SEMANTICS\n.*?#endif /\* FRIC_FP_SEMANTICS \*/\n", re.S)
+#: The block of FLOAT_HEADER (c_runtime/fric_float.h): the #error under -ffast-math and the
+#: pragmas that turn contraction off.
+FP_BLOCK = re.compile(r"#if defined\(__FAST_MATH__\).*?#pragma STDC FP_CONTRACT OFF\n#endif\n", re.S)
+#: A local include, ``#include "file"``.
+LOCAL_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.M)
 
 
 def fp_blocks(folder) -> Dict[str, str]:
-    """The float-semantics block of each runtime file in ``folder`` that has one, by file name."""
+    """The float-semantics block of each C file in ``folder`` that has one, by file name."""
     found = {}
-    for path in sorted(Path(folder).glob("fric_*.[ch]")):
+    for path in sorted(Path(folder).glob("*.[ch]")):
         m = FP_BLOCK.search(path.read_text())
         if m:
             found[path.name] = m.group(0)
     return found
 
 
+def includes_float_semantics(folder) -> Dict[str, bool]:
+    """Whether each .c file in ``folder`` includes FLOAT_HEADER, directly or through the local
+    headers it includes (followed within ``folder``), by file name."""
+    folder = Path(folder)
+
+    def reaches(name: str, seen: set) -> bool:
+        path = folder / name
+        if name in seen or not path.is_file():
+            return False
+        seen.add(name)
+        included = LOCAL_INCLUDE.findall(path.read_text())
+        return FLOAT_HEADER in included or any(reaches(inc, seen) for inc in included)
+
+    return {path.name: reaches(path.name, set()) for path in sorted(folder.glob("*.c"))}
+
+
 def strip_fp_blocks(folder) -> List[str]:
-    """Remove the float-semantics block from the runtime files in ``folder`` (what the runtime
-    was without it, for the benchmark's comparison); the names of the files changed."""
+    """Remove the float-semantics block from the C files in ``folder`` (what the runtime was
+    without it, for the benchmark's comparison); the names of the files changed."""
     changed = []
     for name in fp_blocks(folder):
         path = Path(folder) / name

@@ -124,6 +124,12 @@ class SourcesFit:
         return {"offset": float(se[0]), "amplitudes": se[1:1 + s],
                 "stribeck": self.curve.stribeck * se[1 + s:], "peak": peak_se}
 
+    def undetermined_sources(self) -> np.ndarray:
+        """The indices k of the sources whose a_k or xs_k the data do not determine (an
+        infinite standard error)."""
+        se = self.standard_errors()
+        return np.flatnonzero(~(np.isfinite(se["amplitudes"]) & np.isfinite(se["stribeck"])))
+
 
 def as_fit(curve: StribeckCurve, x, t, n_starts: int = 0) -> SourcesFit:
     """``curve`` as a fit to the points (x, t): its residuals and its Jacobian there."""
@@ -203,6 +209,29 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
     return as_fit(StribeckCurve(shape, float(coef[0]), coef[1:], xs), x, t, len(starts))
 
 
+def drop_undetermined(fit: SourcesFit, refit):
+    """``fit`` without the sources of eq. (1) that the data do not determine: one at a time (of
+    those, the one with the smallest |a_k|, so that of two coinciding sources one stays), the
+    others refitted from their Stribeck velocities by ``refit(theta)``, until every source is
+    determined. None when not one source would be left."""
+    while True:
+        bad = fit.undetermined_sources()
+        if bad.size == 0:
+            return fit
+        if fit.curve.n_sources == 1:
+            return None
+        drop = bad[np.argmin(np.abs(fit.curve.amplitudes[bad]))]
+        fit = refit(np.delete(fit.theta, drop))
+
+
+def _better(a, b):
+    """The better of two fits with the same number of sources (either may be None): admissible
+    first, then the lower AIC."""
+    if a is None or b is None:
+        return a if b is None else b
+    return min(a, b, key=lambda f: (not f.admissible, f.aic))
+
+
 def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: float = XS_MIN,
                               xs_max: float = XS_MAX):
     """``fit``'s model refitted without each fold (started from ``fit``'s Stribeck velocities):
@@ -236,6 +265,11 @@ class StribeckRegressor(Estimator):
     Multi-starts: each of ``grid`` log-spaced Stribeck velocities for S = 1; for larger S, the
     optimum of S - 1 sources plus each grid value (a new source anywhere).
 
+    A source the data do not determine (an infinite standard error, e.g. a Stribeck velocity
+    below every measured speed but v = 0) is dropped and the rest refitted
+    (``drop_undetermined``): the refit competes as a candidate with fewer sources, and no
+    candidate holds such a source.
+
     After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``, ``xs_max_``
     (the largest bound among the contenders), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S,
     bound): AICc}), ``fits_`` (each candidate's ``SourcesFit``), ``best_`` (the key of the
@@ -266,7 +300,7 @@ class StribeckRegressor(Estimator):
         integer("n_folds", self.n_folds, minimum=2)
         x, t = self._inputs(x, t)
         start = time.perf_counter()
-        fits = {}
+        fits, tried = {}, 0
         self.xs_min_ = xs_min = XS_MIN
         for xs_max in bounds:
             if xs_max <= xs_min:
@@ -279,10 +313,18 @@ class StribeckRegressor(Estimator):
                         break
                     starts = [np.append(previous.theta, g) for g in grid] if previous else \
                         [np.array([g]) for g in grid]
-                    fits[(shape, s, xs_max)] = previous = fit_sources(x, t, shape, starts, xs_min,
-                                                                      xs_max)
-        if not fits:
+                    previous = fit_sources(x, t, shape, starts, xs_min, xs_max)
+                    tried += 1
+                    kept = drop_undetermined(previous, lambda theta: fit_sources(
+                        x, t, shape, [theta], xs_min, xs_max))
+                    if kept is not None:
+                        key = (shape, kept.curve.n_sources, xs_max)
+                        fits[key] = _better(fits.get(key), kept)
+        if not tried:
             raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
+        if not fits:
+            raise ValueError("the data determine no source of eq. (1): every Stribeck velocity "
+                             "fitted lies where no sample constrains it")
         self._penalty = {b: 2.0 * i for i, b in enumerate(bounds)}
         self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items() if f.admissible}
         if not self.candidates_:
@@ -323,7 +365,10 @@ class StribeckRegressor(Estimator):
                         matches.append(match)
         if not matches:
             return self.fits_[best]
-        return as_fit(min(matches, key=lambda m: m.rmse).curve, x, t, len(matches))
+        curve = min(matches, key=lambda m: m.rmse).curve
+        match = drop_undetermined(as_fit(curve, x, t, len(matches)), lambda theta: as_fit(
+            fit_sources(grid, target, curve.shape, [theta], self.xs_min_, bound).curve, x, t))
+        return self.fits_[best] if match is None else match
 
     def held_out_residuals(self, x, t, folds) -> np.ndarray:
         """The whole procedure validated on ``folds`` of the points it was fitted to: without

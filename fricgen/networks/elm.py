@@ -29,12 +29,24 @@ def rounded_f32(fn, z):
         return fn(z.astype(np.float64)).astype(np.float32)
 
 
+#: |a| beyond which ``fric_exp_neg_f32`` clamps exp(-a)'s argument (FRIC_EXP_ARG_MAX in
+#: c_runtime/fric_kernel.h): expf's result stays a normal float, so it never sets errno.
+EXP_ARG_MAX = np.float32(87.0)
+
+
+def exp_neg_f32(a):
+    """Twin of ``fric_exp_neg_f32``: exp(-a) with a clamped to [-EXP_ARG_MAX, EXP_ARG_MAX] (NaN
+    kept), correctly rounded to float."""
+    a = np.asarray(a, dtype=np.float32)
+    return rounded_f32(np.exp, -np.clip(a, -EXP_ARG_MAX, EXP_ARG_MAX))
+
+
 #: The activations in float32 as the emitted C computes them (libm's expf, sinf, sqrtf taken as
 #: correctly rounded; glibc's are within 1 ULP).
 ACTIVATIONS_F32: Dict[str, Callable[[np.ndarray], np.ndarray]] = {
-    "sigmoid": lambda z: np.float32(1.0) / (np.float32(1.0) + rounded_f32(np.exp, -z)),
+    "sigmoid": lambda z: np.float32(1.0) / (np.float32(1.0) + exp_neg_f32(z)),
     "sine": lambda z: rounded_f32(np.sin, z),
-    "rbf": lambda z: rounded_f32(np.exp, -(z * z)),
+    "rbf": lambda z: exp_neg_f32(z * z),
     "multiquadric": lambda z: rounded_f32(np.sqrt, np.float32(1.0) + z * z),
 }
 
