@@ -87,7 +87,7 @@ def test_a_sweep_without_linear_region_fits_B_with_the_rest():
     says so, v_sat is the fastest speed, and B comes from the joint fit (not refused)."""
     rng = np.random.default_rng(0)
     v = rng.uniform(0.0, 0.05, 300)
-    f = 10.0 + 8.0 / (1.0 + v / 0.02) + 30.0 * v + rng.normal(0.0, 0.05, v.size)
+    f = 10.0 + 20.0 / (1.0 + v / 0.02) + 30.0 * v + rng.normal(0.0, 0.05, v.size)
     chosen = choose_vs_max(Sweep(v, f))
     assert not chosen.linear_region and "no linear high-speed region" in chosen.describe()
     dataset = prepare(Sweep(v, f))
