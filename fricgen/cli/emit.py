@@ -24,6 +24,10 @@ def register(p) -> None:
                    "the fastest speed of the model's training data, from its axis record)")
     p.add_argument("--with-controller", action="store_true",
                    help="also write the adaptive backstepping controller fric_ctrl.{h,c} (float)")
+    p.add_argument("--adapt", action="store_true",
+                   help="also write online adaptation of the model's output parameters: "
+                   "NAME_adapt.{h,c}, fric_adapt.{h,c} and the controller (float, symmetric ELM "
+                   "or grey-box models)")
     p.set_defaults(run=run)
 
 
@@ -48,7 +52,7 @@ def run(args) -> int:
     if args.v_max is not None and args.dtype == "float":
         raise UsageError("--v-max sets the input range of --dtype q15 or q31; float takes any speed")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
-                   with_controller=args.with_controller, v_max=args.v_max)
+                   with_controller=args.with_controller, v_max=args.v_max, adapt=args.adapt)
     check_name_in_folder(args.output, name)
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)

@@ -66,7 +66,7 @@ FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
     ("FRIC_ADAPT_PROJECTED", 16, "projected"),
     ("FRIC_ADAPT_TRACE_CLAMPED", 32, "trace clamped"))))
 #: The most parameters the C struct holds (FRIC_ADAPT_MAX_PARAMS of fric_adapt.h).
-MAX_PARAMS = 24
+MAX_PARAMS = 16
 
 
 def parameter_scale(model: FrictionModel) -> np.ndarray:
