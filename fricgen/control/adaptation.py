@@ -127,7 +127,7 @@ class FrictionAdapter:
         What the last update returned (``FLAGS``); ``error_`` its prediction error (N) or e2.
     """
 
-    def __init__(self, model: FrictionModel, rule: str = "rls", forgetting: float = 0.99995,
+    def __init__(self, model: FrictionModel, rule: str = "lyapunov", forgetting: float = 0.99995,
                  p0: float = 1e-3, trace_max: float = 1.0, gamma: float = 2.0, box: float = 0.5,
                  leak: float = 0.0, v_dead: float = 0.005, e_dead: float = 0.0, ts: float = 1e-3,
                  phi_n: float = 20.0, dtype: str = "float64", activation_impl: str = "libm"):
@@ -365,7 +365,7 @@ class AdaptedController:
         return self.controller.adaptive_parameters
 
 
-def adapted(model: FrictionModel, rule: str = "rls", controller: Optional[AdaptiveBackstepping] = None,
+def adapted(model: FrictionModel, rule: str = "lyapunov", controller: Optional[AdaptiveBackstepping] = None,
             dtype: str = "float64", activation_impl: str = "libm", **adapter) -> AdaptedController:
     """An ``AdaptedController`` for ``model``: ``controller`` (default ``AdaptiveBackstepping()``)
     in ``dtype``, and a ``FrictionAdapter`` with its ts and phi_n and the options ``adapter``."""
