@@ -19,7 +19,7 @@ from fricgen.codegen import emit
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.codegen.render import render
 from fricgen.control.adaptation import MAX_PARAMS, adapted
-from fricgen.control.c_adapted import CAdaptedController, build_adapted
+from fricgen.control.c_adapted import CAdaptedController, build_adapted, render_adapt
 from fricgen.control.loop import default_axis, simulate
 from fricgen.errors import ModelError
 from fricgen.fit import StribeckRegressor
@@ -39,7 +39,9 @@ def grey_model(bench):
 def test_adapt_folder_builds_warning_free(default_model, grey_model, tmp_path, impl):
     for model in (default_model, grey_model):
         folder = tmp_path / model.aim.kind
-        emit(model, folder, "fm", adapt=True, activation_impl=impl)
+        emit(model, folder, "fm", activation_impl=impl)
+        for fname, text in render_adapt(model, "fm", impl).items():
+            (folder / fname).write_text(text)
         sources = sorted(str(p) for p in folder.glob("*.c"))
         result = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, "-c", *sources],
                                 cwd=folder, capture_output=True, text=True)
@@ -69,12 +71,14 @@ def _saved(model, tmp_path):
     return path
 
 
-def test_adapt_is_refused_for_fixed_point_and_asymmetric_models(default_model):
+def test_adapt_is_refused_for_fixed_point_and_asymmetric_models(default_model, tmp_path, capsys):
     from dataclasses import replace
-    with pytest.raises(ModelError, match="float"):
-        render(default_model, "fm", dtype="q15", adapt=True)
+    path = _saved(default_model, tmp_path)
+    assert main(["emit", str(path), "-o", str(tmp_path / "q"), "--adapt", "--dtype", "q15"]) == 2
+    assert "--adapt is float" in capsys.readouterr().err
+    assert not (tmp_path / "q").exists() or not any((tmp_path / "q").iterdir())
     with pytest.raises(ModelError, match="symmetric"):
-        render(replace(default_model, negative=default_model.positive), "fm", adapt=True)
+        render_adapt(replace(default_model, negative=default_model.positive), "fm")
 
 
 def test_header_capacity_is_the_python_one():

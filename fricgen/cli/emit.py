@@ -4,6 +4,7 @@ from __future__ import annotations
 from .._io import check_folder
 from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite, render
 from ..codegen.fixedpoint import covered_speed, input_range
+from ..control.c_adapted import render_adapt
 from ..errors import UsageError
 from ..model import FrictionModel, check_model_name
 from .inputs import load_model
@@ -52,7 +53,11 @@ def run(args) -> int:
     if args.v_max is not None and args.dtype == "float":
         raise UsageError("--v-max sets the input range of --dtype q15 or q31; float takes any speed")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
-                   with_controller=args.with_controller, v_max=args.v_max, adapt=args.adapt)
+                   with_controller=args.with_controller, v_max=args.v_max)
+    if args.adapt:
+        if args.dtype != "float":
+            raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
+        files.update(render_adapt(model, name, args.activation_impl))
     check_name_in_folder(args.output, name)
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)

@@ -128,11 +128,9 @@ def controller_files() -> Dict[str, str]:
 
 def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
            dtype: str = "float", with_controller: bool = False,
-           v_max: Optional[float] = None, adapt: bool = False) -> Dict[str, str]:
+           v_max: Optional[float] = None) -> Dict[str, str]:
     """All files of the emitted folder, by file name: NAME.h, NAME.c and the runtime, plus the
-    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``, plus with ``adapt`` the
-    controller, the adaptation runtime (fric_adapt.h, .c) and the model's regressor
-    (NAME_adapt.h, .c, ``fricgen.codegen.adapt``). ``v_max`` (m/s): the
+    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``. ``v_max`` (m/s): the
     speed a fixed-point input must cover (default: the model's training speeds)."""
     name = model.name if name is None else name
     if v_max is not None and dtype == "float":
@@ -140,8 +138,6 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
                          "takes any speed")
     if with_controller and dtype != "float":
         raise ModelError(f"the controller runtime is float; it cannot be emitted with --dtype {dtype}")
-    if adapt and dtype != "float":
-        raise ModelError(f"online adaptation is float; it cannot be emitted with --dtype {dtype}")
     if activation_impl not in ACTIVATION_IMPLS:
         raise ModelError(f"activation_impl must be one of {list(ACTIVATION_IMPLS)}, got {activation_impl!r}")
     if dtype not in DTYPES:
@@ -170,11 +166,8 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     runtime = resource_dir("c_runtime")         # the folder's runtime, also for grey-box curves
     for fname in FAST_RUNTIME_FILES if activation_impl == "fast" else RUNTIME_FILES:
         files[fname] = (runtime / fname).read_text()
-    if with_controller or adapt:
+    if with_controller:
         files.update(controller_files())
-    if adapt:
-        from .adapt import render_adapt       # it builds on fricgen.control, which builds on this
-        files.update(render_adapt(model, name, activation_impl))
     return files
 
 
@@ -240,12 +233,12 @@ def check_name_in_folder(out_dir: Union[str, Path], name: str) -> None:
 def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
          activation_impl: str = "libm", dtype: str = "float",
          with_controller: bool = False, force: bool = False,
-         v_max: Optional[float] = None, adapt: bool = False) -> Dict[str, Path]:
+         v_max: Optional[float] = None) -> Dict[str, Path]:
     """Render everything first, check the folder's models and that every file it replaces is
     fricgen's own and writable (``check_overwrite``, skipped with ``force``), then write each
     file atomically into ``out_dir``."""
     name = model.name if name is None else name
-    files = render(model, name, activation_impl, dtype, with_controller, v_max, adapt)
+    files = render(model, name, activation_impl, dtype, with_controller, v_max)
     check_name_in_folder(out_dir, name)
     check_overwrite([Path(out_dir) / fname for fname in files], force)
     return write_all_atomic(out_dir, files)

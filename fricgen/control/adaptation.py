@@ -50,7 +50,7 @@ from ..networks import StribeckCurve
 from .backstepping import AdaptiveBackstepping
 from .c_abi import FLAGS as CTRL_FLAGS
 from .c_abi import CFlags, Enumerator, _enum
-from .regressor import Regressor, check_adaptable
+from .regressor import Regressor, check_adaptable, with_parameters
 
 #: fric_adapt_rule_t.
 RULE = _enum("fric_adapt_rule_t",
@@ -304,7 +304,6 @@ class FrictionAdapter:
     @property
     def adapted_model(self) -> FrictionModel:
         """The model with the adapted parameters (``regressor.with_parameters``)."""
-        from .regressor import with_parameters
         return with_parameters(self.model, np.asarray(self.theta_, dtype=float))
 
 
