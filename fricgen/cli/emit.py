@@ -4,6 +4,7 @@ from __future__ import annotations
 from .._io import check_folder
 from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite, render
 from ..codegen.fixedpoint import covered_speed, input_range
+from ..control.c_adapted import render_adapt
 from ..errors import UsageError
 from ..model import FrictionModel, check_model_name
 from .inputs import load_model
@@ -24,6 +25,10 @@ def register(p) -> None:
                    "the fastest speed of the model's training data, from its axis record)")
     p.add_argument("--with-controller", action="store_true",
                    help="also write the adaptive backstepping controller fric_ctrl.{h,c} (float)")
+    p.add_argument("--adapt", action="store_true",
+                   help="also write online adaptation of the model's output parameters: "
+                   "NAME_adapt.{h,c}, fric_adapt.{h,c} and the controller (float, symmetric ELM "
+                   "or grey-box models)")
     p.set_defaults(run=run)
 
 
@@ -49,6 +54,10 @@ def run(args) -> int:
         raise UsageError("--v-max sets the input range of --dtype q15 or q31; float takes any speed")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller, v_max=args.v_max)
+    if args.adapt:
+        if args.dtype != "float":
+            raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
+        files.update(render_adapt(model, name, args.activation_impl))
     check_name_in_folder(args.output, name)
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)

@@ -156,13 +156,16 @@ class ClosedLoop:
 
 
 def simulate(axis: MotorAxis, controllers: Sequence, trajectory=None,
-             duration: float = DEFAULT_DURATION, substeps: int = DEFAULT_SUBSTEPS) -> List[ClosedLoop]:
+             duration: float = DEFAULT_DURATION, substeps: int = DEFAULT_SUBSTEPS,
+             on_sample=None) -> List[ClosedLoop]:
     """Run each controller (all with the same ``ts``) against its own copy of ``axis`` (a
     ``MotorAxis``, integrated with RK4 substeps).
 
     A controller has ``ts``, ``reset()``, ``step(x, v, xd, xd', xd'') -> i`` and
     ``adaptive_parameters``. The axes start at rest at x = 0; the current of sample k is held
     over [t_k, t_k + Ts). A run whose state stops being finite is cut short (NaN afterwards).
+    ``on_sample(t_k)``, if given, is called before the controllers of each sample (a plant or a
+    compensation that changes with time reads its clock there).
     """
     if not controllers:
         raise ValueError("controllers must hold at least one controller")
@@ -187,6 +190,8 @@ def simulate(axis: MotorAxis, controllers: Sequence, trajectory=None,
     with np.errstate(all="ignore"):
         for k in range(n):
             xd, xd1, xd2 = ref[k]
+            if on_sample is not None:
+                on_sample(t[k])
             x, v = state.x, state.v
             for j, c in enumerate(controllers):
                 if alive[j]:

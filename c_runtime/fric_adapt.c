@@ -1,0 +1,256 @@
+/* fricgen C runtime: online adaptation of the friction model's output parameters (fric_adapt.h).
+ * Every operation is a float operation in a fixed order; fricgen.control.adaptation with
+ * dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit --adapt`. */
+/* The results must not depend on the build flags (as in fric_ctrl.c): refuse -ffast-math and
+ * keep contraction to fused multiply-add off for this file. */
+#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && (__FINITE_MATH_ONLY__ > 0))
+#error "fricgen runtime: -ffast-math / -ffinite-math-only change its results; build it without them"
+#endif
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize ("fp-contract=off")
+#else
+#pragma STDC FP_CONTRACT OFF
+#endif
+
+#include "fric_adapt.h"
+
+#include <math.h>
+#include <stddef.h>
+
+static int fric_adapt_params_ok(const fric_adapt_params_t *p)
+{
+    unsigned int k;
+    const float scalars[] = {p->forgetting, p->p0, p->trace_max, p->gain, p->leak, p->v_dead,
+                             p->e_dead};
+    if (p->n < 1u || p->n > FRIC_ADAPT_MAX_PARAMS) {
+        return 0;
+    }
+    if (p->rule != FRIC_ADAPT_RULE_RLS && p->rule != FRIC_ADAPT_RULE_LYAPUNOV) {
+        return 0;
+    }
+    for (k = 0; k < (unsigned int)(sizeof scalars / sizeof scalars[0]); ++k) {
+        if (!isfinite(scalars[k])) {
+            return 0;
+        }
+    }
+    for (k = 0; k < p->n; ++k) {
+        if (!isfinite(p->theta0[k]) || !isfinite(p->lo[k]) || !isfinite(p->hi[k])
+            || !(p->lo[k] <= p->theta0[k]) || !(p->theta0[k] <= p->hi[k])
+            || !(p->scale[k] > 0.0f) || !isfinite(p->scale[k] * p->scale[k])) {
+            return 0;
+        }
+    }
+    return p->forgetting > 0.0f && p->forgetting <= 1.0f && p->p0 > 0.0f
+           && p->trace_max >= p->p0 * (float)p->n && p->gain >= 0.0f && p->leak >= 0.0f
+           && p->leak < 1.0f && p->v_dead >= 0.0f && p->e_dead >= 0.0f;
+}
+
+static void fric_adapt_reset_covariance(fric_adapt_t *a)
+{
+    const unsigned int n = a->p.n;
+    unsigned int i, j;
+    for (i = 0; i < n; ++i) {
+        for (j = 0; j < n; ++j) {
+            a->P[i * n + j] = i == j ? a->p.p0 * a->scale2[i] : 0.0f;
+        }
+    }
+}
+
+void fric_adapt_reset(fric_adapt_t *a)
+{
+    unsigned int k;
+    if (a == NULL) {
+        return;
+    }
+    for (k = 0; k < a->p.n; ++k) {
+        a->theta[k] = a->p.theta0[k];
+        a->scale2[k] = a->p.scale[k] * a->p.scale[k];
+    }
+    fric_adapt_reset_covariance(a);
+    a->error = 0.0f;
+    a->v_prev = 0.0f;
+    a->i_prev = 0.0f;
+    a->held = 1;
+    a->flags = FRIC_ADAPT_OK;
+}
+
+fric_adapt_status_t fric_adapt_init(fric_adapt_t *a, const fric_adapt_params_t *p)
+{
+    if (a == NULL || p == NULL) {
+        return FRIC_ADAPT_ERR_NULL;
+    }
+    if (!fric_adapt_params_ok(p)) {
+        return FRIC_ADAPT_ERR_PARAM;
+    }
+    a->p = *p;
+    fric_adapt_reset(a);
+    return FRIC_ADAPT_OK_INIT;
+}
+
+/* f0 + sum_k theta_k phi_k, k ascending; phi written */
+static float fric_adapt_predict(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
+                                float *phi)
+{
+    float acc = reg(v, phi);
+    unsigned int k;
+    for (k = 0; k < a->p.n; ++k) {
+        acc += a->theta[k] * phi[k];
+    }
+    return acc;
+}
+
+float fric_adapt_force(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v)
+{
+    float phi[FRIC_ADAPT_MAX_PARAMS];
+    if (a == NULL || reg == NULL || !isfinite(v)) {
+        return 0.0f;
+    }
+    return fric_adapt_predict(a, reg, v, phi);
+}
+
+static fric_adapt_flags_t fric_adapt_done(fric_adapt_t *a, fric_adapt_flags_t flags)
+{
+    a->flags = flags;
+    return flags;
+}
+
+/* leakage toward theta0, then projection onto [lo, hi] (NaN keeps theta) */
+static fric_adapt_flags_t fric_adapt_finish(fric_adapt_t *a, const float *updated,
+                                            fric_adapt_flags_t flags)
+{
+    unsigned int k;
+    for (k = 0; k < a->p.n; ++k) {
+        const float u = updated[k] - a->p.leak * (updated[k] - a->p.theta0[k]);
+        if (isnan(u)) {
+            flags |= FRIC_ADAPT_PROJECTED;
+        } else if (u < a->p.lo[k]) {
+            a->theta[k] = a->p.lo[k];
+            flags |= FRIC_ADAPT_PROJECTED;
+        } else if (u > a->p.hi[k]) {
+            a->theta[k] = a->p.hi[k];
+            flags |= FRIC_ADAPT_PROJECTED;
+        } else {
+            a->theta[k] = u;
+        }
+    }
+    return fric_adapt_done(a, flags);
+}
+
+fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
+                                  float force, int hold)
+{
+    float phi[FRIC_ADAPT_MAX_PARAMS], p_phi[FRIC_ADAPT_MAX_PARAMS], g[FRIC_ADAPT_MAX_PARAMS];
+    float updated[FRIC_ADAPT_MAX_PARAMS];
+    float err, denom, trace, lam;
+    unsigned int i, k, n;
+    fric_adapt_flags_t flags = FRIC_ADAPT_OK;
+
+    if (a == NULL || reg == NULL) {
+        return FRIC_ADAPT_FAULT_NULL;
+    }
+    if (!isfinite(v) || !isfinite(force)) {
+        return fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
+    }
+    if (hold) {
+        return fric_adapt_done(a, FRIC_ADAPT_HELD);
+    }
+    n = a->p.n;
+    lam = a->p.forgetting;
+    err = force - fric_adapt_predict(a, reg, v, phi);
+    a->error = err;
+    if (!(fabsf(v) >= a->p.v_dead && fabsf(err) >= a->p.e_dead)) {
+        return fric_adapt_done(a, FRIC_ADAPT_DEAD_ZONE);
+    }
+    for (i = 0; i < n; ++i) {                    /* P phi, each row in k order */
+        float acc = 0.0f;
+        for (k = 0; k < n; ++k) {
+            acc += a->P[i * n + k] * phi[k];
+        }
+        p_phi[i] = acc;
+    }
+    denom = lam;
+    for (k = 0; k < n; ++k) {
+        denom += phi[k] * p_phi[k];
+    }
+    if (!isfinite(denom) || !(denom > 0.0f)) {   /* P lost definiteness: start it again */
+        fric_adapt_reset_covariance(a);
+        return fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
+    }
+    for (i = 0; i < n; ++i) {
+        g[i] = p_phi[i] / denom;
+        updated[i] = a->theta[i] + g[i] * err;
+    }
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < n; ++k) {
+            a->P[i * n + k] = (a->P[i * n + k] - g[i] * p_phi[k]) / lam;
+        }
+    }
+    trace = 0.0f;
+    for (k = 0; k < n; ++k) {
+        trace += a->P[k * n + k] / a->scale2[k];
+    }
+    if (!(trace <= a->p.trace_max)) {            /* also NaN */
+        const float s = a->p.trace_max / trace;
+        for (k = 0; k < n * n; ++k) {
+            a->P[k] = a->P[k] * s;
+        }
+        flags |= FRIC_ADAPT_TRACE_CLAMPED;
+    }
+    return fric_adapt_finish(a, updated, flags);
+}
+
+fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
+                                       float e2, int hold)
+{
+    float phi[FRIC_ADAPT_MAX_PARAMS], updated[FRIC_ADAPT_MAX_PARAMS];
+    unsigned int k;
+
+    if (a == NULL || reg == NULL) {
+        return FRIC_ADAPT_FAULT_NULL;
+    }
+    if (!isfinite(v) || !isfinite(e2)) {
+        return fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
+    }
+    if (hold) {
+        return fric_adapt_done(a, FRIC_ADAPT_HELD);
+    }
+    a->error = e2;
+    if (!(fabsf(v) >= a->p.v_dead && fabsf(e2) >= a->p.e_dead)) {
+        return fric_adapt_done(a, FRIC_ADAPT_DEAD_ZONE);
+    }
+    (void)reg(v, phi);
+    for (k = 0; k < a->p.n; ++k) {
+        updated[k] = a->theta[k] + ((a->p.gain * a->scale2[k]) * e2) * phi[k];
+    }
+    return fric_adapt_finish(a, updated, FRIC_ADAPT_OK);
+}
+
+fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_adapt_regressor_fn reg,
+                                       float x, float v, float xd, float xd_dot, float xd_ddot,
+                                       float *current)
+{
+    fric_ctrl_flags_t flags;
+    float u, force;
+    int ok;
+
+    if (a == NULL || c == NULL || reg == NULL || current == NULL) {
+        return FRIC_CTRL_FAULT_NULL;
+    }
+    if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
+        const float accel = (v - a->v_prev) / c->p.ts;
+        const float observed = (c->p.phi_n / c->k_hat) * (a->i_prev - c->m_o_hat * accel);
+        const float v_mid = 0.5f * (v + a->v_prev);
+        (void)fric_adapt_rls(a, reg, v_mid, observed, a->held);
+    }
+    u = c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD ? xd_dot + c->p.k1 * (xd - x) : v;
+    force = fric_adapt_force(a, reg, u);
+    flags = fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
+    ok = (flags & (FRIC_CTRL_SATURATED | FRIC_CTRL_INPUT_FAULT)) == 0u;
+    if (a->p.rule == FRIC_ADAPT_RULE_LYAPUNOV) {
+        (void)fric_adapt_lyapunov(a, reg, v, c->e2, !ok);
+    }
+    a->v_prev = v;
+    a->i_prev = *current;
+    a->held = !ok;
+    return flags;
+}

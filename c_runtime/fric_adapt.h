@@ -1,0 +1,118 @@
+/* fricgen C runtime: online adaptation of the friction model's linear output parameters, and the
+ * adaptive backstepping step of section 6 (fric_ctrl.h) compensating with the adapted model.
+ * Part of fricgen; copied by `fricgen emit --adapt`. C99, float only, no dynamic memory, no
+ * global state: the caller owns a fric_adapt_t (and the fric_ctrl_t it drives).
+ *
+ * The model is F(v) = f0(v) + theta^T phi(v): `fricgen emit --adapt` generates the regressor
+ * NAME_regressor (writes phi, returns f0) and NAME_adapt_default_params (theta0, the box and the
+ * scales of the trained model). Two rules update theta (fricgen.control.adaptation):
+ *   RLS with forgetting on the friction observed by inverse dynamics,
+ *       y = (phi_n / k_hat) (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2;
+ *   Lyapunov (eq. 12 extended to theta): theta += gain scale^2 e2 phi(v).
+ * Safety, in this order: a non-finite input changes nothing (FRIC_ADAPT_INPUT_FAULT); hold != 0
+ * (the controller saturated or faulted) changes nothing (FRIC_ADAPT_HELD); no update for
+ * |v| < v_dead or |error| < e_dead (FRIC_ADAPT_DEAD_ZONE); RLS: sum_k P_kk / scale_k^2 is held
+ * at most trace_max (FRIC_ADAPT_TRACE_CLAMPED); leakage theta -= leak (theta - theta0); each
+ * theta_k projected onto [lo_k, hi_k] (FRIC_ADAPT_PROJECTED; a NaN update keeps theta_k).
+ *
+ * Usage, every ts (after fric_ctrl_init(&c, ...) and NAME_adapt_default_params(&p),
+ * fric_adapt_init(&a, &p)):
+ *     flags = fric_adapt_ctrl_step(&a, &c, NAME_regressor, x, v, xd, xd_dot, xd_ddot, &i);
+ * The float operations are those written here, in this order, each rounded to float;
+ * fricgen.control.adaptation (dtype="float32") computes the same bits. */
+#ifndef FRIC_ADAPT_H
+#define FRIC_ADAPT_H
+
+#include "fric_ctrl.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define FRIC_ADAPT_VERSION 1
+/* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
+#define FRIC_ADAPT_MAX_PARAMS 16
+
+typedef enum {
+    FRIC_ADAPT_OK_INIT = 0,
+    FRIC_ADAPT_ERR_NULL = -1,
+    FRIC_ADAPT_ERR_PARAM = -2
+} fric_adapt_status_t;
+
+typedef enum {
+    FRIC_ADAPT_RULE_RLS = 0,
+    FRIC_ADAPT_RULE_LYAPUNOV = 1
+} fric_adapt_rule_t;
+
+/* What an update returns: 0 or an OR of these. */
+typedef unsigned int fric_adapt_flags_t;
+#define FRIC_ADAPT_OK 0u
+#define FRIC_ADAPT_FAULT_NULL 1u      /* a NULL pointer: nothing written */
+#define FRIC_ADAPT_INPUT_FAULT 2u     /* an input not finite (or P lost definiteness: P reset) */
+#define FRIC_ADAPT_HELD 4u            /* hold was set: no update */
+#define FRIC_ADAPT_DEAD_ZONE 8u       /* |v| < v_dead or |error| < e_dead: no update */
+#define FRIC_ADAPT_PROJECTED 16u      /* a parameter was held at an end of its interval */
+#define FRIC_ADAPT_TRACE_CLAMPED 32u  /* P was scaled down to the trace bound */
+
+/* The regressor: writes phi[0 .. n-1] at the finite velocity v (m/s), returns f0(v) (N). */
+typedef float (*fric_adapt_regressor_fn)(float v, float *phi);
+
+typedef struct {
+    unsigned int n;                          /* parameters, 1 .. FRIC_ADAPT_MAX_PARAMS */
+    fric_adapt_rule_t rule;
+    float theta0[FRIC_ADAPT_MAX_PARAMS];     /* trained values */
+    float lo[FRIC_ADAPT_MAX_PARAMS];         /* box, lo <= theta0 <= hi */
+    float hi[FRIC_ADAPT_MAX_PARAMS];
+    float scale[FRIC_ADAPT_MAX_PARAMS];      /* > 0: P0 = p0 scale^2, Gamma = gain scale^2 */
+    float forgetting;                        /* RLS lambda, in (0, 1] */
+    float p0;                                /* > 0 */
+    float trace_max;                         /* >= p0 n */
+    float gain;                              /* Lyapunov: ts gamma / phi_n, >= 0 */
+    float leak;                              /* in [0, 1) */
+    float v_dead;                            /* m/s, >= 0 */
+    float e_dead;                            /* N (RLS) or m/s (Lyapunov), >= 0 */
+} fric_adapt_params_t;
+
+typedef struct {
+    fric_adapt_params_t p;                   /* copy of the parameters */
+    float theta[FRIC_ADAPT_MAX_PARAMS];      /* the adapted parameters */
+    float P[FRIC_ADAPT_MAX_PARAMS * FRIC_ADAPT_MAX_PARAMS];  /* covariance, row-major n x n */
+    float scale2[FRIC_ADAPT_MAX_PARAMS];     /* scale^2 */
+    float error;                             /* last error (N, RLS) or e2 (Lyapunov) */
+    float v_prev;                            /* fric_adapt_ctrl_step's last v and current */
+    float i_prev;
+    int held;                                /* the last controller step saturated or faulted */
+    fric_adapt_flags_t flags;                /* what the last update returned */
+} fric_adapt_t;
+
+/* Check p and reset a (fric_adapt_reset). FRIC_ADAPT_OK_INIT, _ERR_NULL or _ERR_PARAM (a untouched). */
+fric_adapt_status_t fric_adapt_init(fric_adapt_t *a, const fric_adapt_params_t *p);
+
+/* theta = theta0, P = p0 diag(scale^2), error and flags 0, held (no RLS update before the
+ * first controller step). A NULL a is ignored. */
+void fric_adapt_reset(fric_adapt_t *a);
+
+/* The adapted force F(v), N; 0 at a non-finite v or for a NULL argument. */
+float fric_adapt_force(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v);
+
+/* One RLS update on the friction force (N) observed at velocity v (m/s). */
+fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
+                                  float force, int hold);
+
+/* One Lyapunov update with the controller's velocity error e2 (m/s) at velocity v. */
+fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
+                                       float e2, int hold);
+
+/* One sample of the controller c compensating with the adapted model: RLS update on the last
+ * sample (held if it saturated or faulted), F at v or v_d (c->p.friction_at), fric_ctrl_step,
+ * then the Lyapunov update with its e2 (held unless it was fault-free and unsaturated).
+ * Returns fric_ctrl_step's flags (a->flags holds the update's). */
+fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_adapt_regressor_fn reg,
+                                       float x, float v, float xd, float xd_dot, float xd_ddot,
+                                       float *current);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FRIC_ADAPT_H */

@@ -1,0 +1,374 @@
+"""Online adaptation of the friction model's linear output parameters (``regressor``), safe by
+construction, and the backstepping controller of section 6 that compensates with it.
+
+With F(v) = f0(v) + theta^T phi(v) (``fricgen.control.regressor``), two rules update theta once
+per sample:
+
+- ``"rls"``: recursive least squares with forgetting factor lambda on the friction observed by
+  inverse dynamics with the controller's own estimates (eq. 18 of section 6, m v' = phi i - F,
+  with phi_hat = phi_N / k_hat and m_hat = m_o_hat phi_hat):
+
+      y = (phi_N / k_hat) (i_prev - m_o_hat (v - v_prev) / Ts)   at  v_mid = (v + v_prev) / 2
+      e = y - F(v_mid),   g = P phi / (lambda + phi^T P phi),   theta += g e,
+      P = (P - g (P phi)^T) / lambda.
+
+- ``"lyapunov"``: the gradient law of eq. (12), sec. 6 extended to theta. The compensation
+  enters D_hat (eq. 9) as k_hat F(v) / phi_N, so the regressor of theta in eq. (10) is
+  phi(v) / phi_N and V of eq. (11) with the term (theta - theta*)^T Gamma_theta^-1 (theta -
+  theta*) / 2 gives theta' = Gamma_theta e2 phi(v) / phi_N (k_hat ~ 1 folded into Gamma_theta),
+  integrated by forward Euler over Ts as the controller does.
+
+Safety, for both rules, in this order each sample:
+  1. a non-finite input (v, the observed force or e2) changes nothing (``input fault``);
+  2. while the controller's current saturates (``hold``) nothing changes (no wind-up);
+  3. dead zone: no update for |v| < ``v_dead`` (friction at rest is not observable, the axis
+     sticks) or a small error, |e| < ``e_dead`` (N, RLS) or |e2| < ``e_dead`` (m/s, Lyapunov);
+  4. RLS only: the covariance is bounded, trace(P) <= ``trace_max`` (P is scaled down when the
+     forgetting would take it beyond: no wind-up of P with poor excitation); and no update at
+     all in the dead zone, so P does not grow at rest;
+  5. leakage toward the trained values: theta -= ``leak`` (theta - theta0) every update;
+  6. projection onto the box [lo, hi] around theta0 (``box``: half-width relative to the
+     parameters' scale); an update that is NaN keeps the old value.
+``reset()`` returns to theta0 and P0 = p0 I.
+
+With projection onto a convex set containing theta*, the Lyapunov derivative of sec. 6 is not
+increased by the projection, and the leakage (sigma-modification) and dead zone make e1, e2 and
+theta uniformly ultimately bounded, as eq. (14) does for m_o_hat and k_hat (docs/guides/firmware.md).
+
+In float32 (``dtype="float32"``) everything is the exact twin of c_runtime/fric_adapt.c: the
+same float operations in the same order.
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional, Tuple
+
+import numpy as np
+
+from ..model import FrictionModel
+from ..networks import StribeckCurve
+from .backstepping import AdaptiveBackstepping
+from .c_abi import FLAGS as CTRL_FLAGS
+from .c_abi import CFlags, Enumerator, _enum
+from .regressor import Regressor, check_adaptable, with_parameters
+
+#: fric_adapt_rule_t.
+RULE = _enum("fric_adapt_rule_t",
+             ("FRIC_ADAPT_RULE_RLS", 0, "rls"),
+             ("FRIC_ADAPT_RULE_LYAPUNOV", 1, "lyapunov"))
+#: What an update returns (and fric_adapt_t.flags holds): an OR of these.
+FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
+    ("FRIC_ADAPT_OK", 0, "ok"),
+    ("FRIC_ADAPT_FAULT_NULL", 1, "NULL pointer"),
+    ("FRIC_ADAPT_INPUT_FAULT", 2, "input fault"),
+    ("FRIC_ADAPT_HELD", 4, "held"),
+    ("FRIC_ADAPT_DEAD_ZONE", 8, "dead zone"),
+    ("FRIC_ADAPT_PROJECTED", 16, "projected"),
+    ("FRIC_ADAPT_TRACE_CLAMPED", 32, "trace clamped"))))
+#: The most parameters the C struct holds (FRIC_ADAPT_MAX_PARAMS of fric_adapt.h).
+MAX_PARAMS = 16
+
+
+def parameter_scale(model: FrictionModel) -> np.ndarray:
+    """The scale each parameter's box and Lyapunov gain are relative to: max |beta| (ELM) or
+    max |a_k|, |c| (eq. 1) for the curve's weights, and for B |B| or (1 / K_out) / v_sat when B
+    is 0 (the viscous slope that adds the curve's force scale at v_sat)."""
+    net = check_adaptable(model).aim
+    weights = (np.concatenate([net.amplitudes, [net.offset]]) if isinstance(net, StribeckCurve)
+               else net.output_weights)
+    w_scale = float(np.max(np.abs(weights))) or 1.0
+    b_scale = abs(model.viscous) or 1.0 / (model.scaling.k_out * model.v_sat)
+    return np.concatenate([np.full(weights.size, w_scale), [b_scale]])
+
+
+def _positive(name, value, allow_zero=False):
+    value = float(value)
+    if not (np.isfinite(value) and (value >= 0 if allow_zero else value > 0)):
+        raise ValueError(f"{name} must be {'>=' if allow_zero else '>'} 0, got {value}")
+    return value
+
+
+class FrictionAdapter:
+    """Online adaptation of ``model``'s output parameters (module doc).
+
+    Parameters
+    ----------
+    model : FrictionModel
+        A symmetric ELM or grey-box model (``regressor.check_adaptable``).
+    rule : {"rls", "lyapunov"}
+    forgetting : float
+        lambda of RLS, in (0, 1]; 1 - Ts / forgetting time (default: 20 s at 1 kHz).
+    p0 : float
+        Initial covariance P0 = p0 diag(scale^2) (``parameter_scale``; per N^2 of error), > 0.
+    trace_max : float
+        The bound on the trace of P in the same units, sum_k P_kk / scale_k^2, >= p0 n.
+    gamma : float
+        Lyapunov gain: Gamma_theta = gamma diag(scale^2), 1/(N s m/s).
+    box : float
+        Half-width of the projection box, relative to ``parameter_scale``: theta0 +- box scale.
+    leak : float
+        Leakage toward theta0 per update, in [0, 1).
+    v_dead : float
+        Dead zone in velocity, m/s.
+    e_dead : float
+        Dead zone in the error: N (RLS) or m/s of e2 (Lyapunov).
+    ts, phi_n : float
+        Sampling time (s) and nominal force constant (N/A) of the controller.
+    dtype : {"float64", "float32"}; activation_impl : {"libm", "fast"}
+        float32 makes the twin of c_runtime/fric_adapt.c with the regressor emitted so.
+
+    Attributes
+    ----------
+    theta_ : ndarray
+        The adapted parameters (``regressor.parameter_names``).
+    P_ : ndarray
+        The RLS covariance, n x n.
+    flags_ : int
+        What the last update returned (``FLAGS``); ``error_`` its prediction error (N) or e2.
+    """
+
+    def __init__(self, model: FrictionModel, rule: str = "lyapunov", forgetting: float = 0.99995,
+                 p0: float = 1e-3, trace_max: float = 1.0, gamma: float = 2.0, box: float = 0.5,
+                 leak: float = 0.0, v_dead: float = 0.005, e_dead: float = 0.0, ts: float = 1e-3,
+                 phi_n: float = 20.0, dtype: str = "float64", activation_impl: str = "libm"):
+        self.model = model
+        self.rule = rule
+        self.forgetting = forgetting
+        self.p0 = p0
+        self.trace_max = trace_max
+        self.gamma = gamma
+        self.box = box
+        self.leak = leak
+        self.v_dead = v_dead
+        self.e_dead = e_dead
+        self.ts = ts
+        self.phi_n = phi_n
+        self.dtype = dtype
+        self.activation_impl = activation_impl
+
+    _PARAMS = ("model", "rule", "forgetting", "p0", "trace_max", "gamma", "box", "leak",
+               "v_dead", "e_dead", "ts", "phi_n", "dtype", "activation_impl")
+
+    def get_params(self) -> dict:
+        return {k: getattr(self, k) for k in self._PARAMS}
+
+    def clone(self, **changes) -> "FrictionAdapter":
+        return type(self)(**{**self.get_params(), **changes})
+
+    def validate(self) -> "FrictionAdapter":
+        """Check every parameter; ValueError (ModelError for the model) naming the first bad one."""
+        check_adaptable(self.model)
+        if self.rule not in RULE.keys:
+            raise ValueError(f"rule must be one of {list(RULE.keys)}, got {self.rule!r}")
+        lam = float(self.forgetting)
+        if not (0.0 < lam <= 1.0):
+            raise ValueError(f"forgetting must be in (0, 1], got {self.forgetting}")
+        for name in ("p0", "trace_max", "gamma", "box", "ts", "phi_n"):
+            _positive(name, getattr(self, name))
+        for name in ("v_dead", "e_dead"):
+            _positive(name, getattr(self, name), allow_zero=True)
+        if not (0.0 <= float(self.leak) < 1.0):
+            raise ValueError(f"leak must be in [0, 1), got {self.leak}")
+        n = len(Regressor(self.model).theta0)
+        if n > MAX_PARAMS:
+            raise ValueError(f"the model has {n} output parameters; the C runtime holds at most "
+                             f"{MAX_PARAMS} (FRIC_ADAPT_MAX_PARAMS)")
+        if not float(self.trace_max) >= float(self.p0) * n:
+            raise ValueError(f"trace_max must be >= p0 n = {float(self.p0) * n:g}, got {self.trace_max}")
+        return self
+
+    def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
+        """The projection box [lo, hi] (float64)."""
+        theta0 = Regressor(self.model).theta0
+        radius = float(self.box) * parameter_scale(self.model)
+        return theta0 - radius, theta0 + radius
+
+    def gain(self) -> float:
+        """The Lyapunov gain per sample, Ts gamma / phi_N (Gamma_theta's diagonal is this times
+        scale^2)."""
+        return float(self.ts) * float(self.gamma) / float(self.phi_n)
+
+    def reset(self) -> "FrictionAdapter":
+        """Validate, then theta = theta0, P = p0 I (the C ``fric_adapt_init``)."""
+        self.validate()
+        reg = self._reg = Regressor(self.model, self.dtype, self.activation_impl)
+        kind = np.float64 if self.dtype == "float64" else np.float32
+        f = self._f = reg._f
+        lo, hi = self.bounds()
+        self._theta0, self._lo, self._hi, scale = (np.asarray(a, dtype=kind) for a in
+                                                   (reg.theta0, lo, hi, parameter_scale(self.model)))
+        self._scale2 = scale * scale
+        self._lam, self._p0, self._trace_max, self._leak, self._v_dead, self._e_dead, self._gain = (
+            f(p) for p in (self.forgetting, self.p0, self.trace_max, self.leak, self.v_dead,
+                           self.e_dead, self.gain()))
+        self._kind = kind
+        return self.restart()
+
+    def restart(self) -> "FrictionAdapter":
+        """theta = theta0, P = p0 I, flags and error 0 (the C ``fric_adapt_reset``)."""
+        n = self._theta0.size
+        self.theta_ = self._theta0.copy()
+        self.P_ = np.diag(self._p0 * self._scale2).astype(self._kind)
+        self.flags_, self.error_ = 0, self._f(0.0)
+        return self
+
+    # ------------------------------------------------------------------ the model, adapted
+
+    def _predict(self, v):
+        """(F(v) with theta_, phi(v)): f0 + sum_k theta_k phi_k, k ascending."""
+        f0, phi = self._reg(v)
+        acc = f0
+        for k in range(phi.size):
+            acc = acc + self.theta_[k] * phi[k]
+        return acc, phi
+
+    def force(self, v):
+        """The adapted friction force at v, N (0 at a non-finite v: ``fric_adapt_force``)."""
+        v = self._f(v)
+        if not math.isfinite(v):
+            return self._f(0.0)
+        return self._predict(v)[0]
+
+    # ------------------------------------------------------------------ the two rules
+
+    def rls(self, v, force, hold: bool = False) -> int:
+        """One RLS update on the friction ``force`` (N) observed at velocity ``v`` (m/s);
+        returns the flags (``fric_adapt_rls``)."""
+        f = self._f
+        v, force = f(v), f(force)
+        if not (math.isfinite(v) and math.isfinite(force)):
+            return self._done(FLAGS.value("input fault"))
+        if hold:
+            return self._done(FLAGS.value("held"))
+        pred, phi = self._predict(v)
+        err = force - pred
+        if not (abs(v) >= self._v_dead and abs(err) >= self._e_dead):
+            return self._done(FLAGS.value("dead zone"), err)
+        P, lam = self.P_, self._lam
+        n = phi.size
+        p_phi = np.zeros(n, dtype=self._kind)
+        for k in range(n):                               # P phi, each row in k order
+            p_phi = p_phi + P[:, k] * phi[k]
+        denom = lam
+        for k in range(n):
+            denom = denom + phi[k] * p_phi[k]
+        if not (math.isfinite(denom) and denom > 0):      # P lost definiteness: start again
+            self.P_ = np.diag(self._p0 * self._scale2).astype(self._kind)
+            return self._done(FLAGS.value("input fault"), err)
+        g = p_phi / denom
+        updated = self.theta_ + g * err
+        P = (P - g[:, None] * p_phi[None, :]) / lam
+        flags = 0
+        trace = f(0.0)
+        for k in range(n):
+            trace = trace + P[k, k] / self._scale2[k]
+        if not trace <= self._trace_max:                 # also NaN
+            P = P * (self._trace_max / trace)
+            flags |= FLAGS.value("trace clamped")
+        self.P_ = P
+        return self._finish(updated, flags, err)
+
+    def lyapunov(self, v, e2, hold: bool = False) -> int:
+        """One step of theta' = Gamma_theta e2 phi(v) / phi_N (forward Euler); returns the
+        flags (``fric_adapt_lyapunov``)."""
+        f = self._f
+        v, e2 = f(v), f(e2)
+        if not (math.isfinite(v) and math.isfinite(e2)):
+            return self._done(FLAGS.value("input fault"))
+        if hold:
+            return self._done(FLAGS.value("held"))
+        if not (abs(v) >= self._v_dead and abs(e2) >= self._e_dead):
+            return self._done(FLAGS.value("dead zone"), e2)
+        _, phi = self._reg(v)
+        updated = self.theta_ + ((self._gain * self._scale2) * e2) * phi
+        return self._finish(updated, 0, e2)
+
+    def _finish(self, updated, flags, err) -> int:
+        """Leakage toward theta0, then projection onto [lo, hi] (NaN keeps the old value)."""
+        updated = updated - self._leak * (updated - self._theta0)
+        with np.errstate(invalid="ignore"):
+            nan = np.isnan(updated)
+            below, above = updated < self._lo, updated > self._hi
+        out = np.where(nan, self.theta_, np.where(below, self._lo, np.where(above, self._hi, updated)))
+        if np.any(nan | below | above):
+            flags |= FLAGS.value("projected")
+        self.theta_ = out.astype(self._kind)
+        return self._done(flags, err)
+
+    def _done(self, flags: int, err=None) -> int:
+        self.flags_ = flags
+        if err is not None:
+            self.error_ = err
+        return flags
+
+    @property
+    def adapted_model(self) -> FrictionModel:
+        """The model with the adapted parameters (``regressor.with_parameters``)."""
+        return with_parameters(self.model, np.asarray(self.theta_, dtype=float))
+
+
+class AdaptedController:
+    """The backstepping controller of section 6 compensating with an adapted friction model:
+    every sample (the C ``fric_adapt_ctrl_step``)
+
+    1. RLS: update on the friction observed over the last sample (module doc), held while the
+       last step saturated or faulted;
+    2. the force F(u) of the adapted model at u = v or v_d (``controller.friction_input``);
+    3. the controller's step with that force (``AdaptiveBackstepping.step_with_force``);
+    4. Lyapunov: update with the step's e2, held unless the step was fault-free and
+       unsaturated.
+
+    ``controller`` and ``adapter`` are reset with this; their ``dtype`` must agree (float32:
+    the twin of the C).
+    """
+
+    def __init__(self, controller: AdaptiveBackstepping, adapter: FrictionAdapter):
+        self.controller = controller
+        self.adapter = adapter
+
+    @property
+    def ts(self) -> float:
+        return self.controller.ts
+
+    def reset(self) -> "AdaptedController":
+        if self.controller.dtype != self.adapter.dtype:
+            raise ValueError(f"controller and adapter dtypes differ: {self.controller.dtype} and "
+                             f"{self.adapter.dtype}")
+        self.controller.reset()
+        self.adapter.reset()
+        f = self._f = self.controller._f
+        self._v_prev, self._i_prev, self._held = f(0.0), f(0.0), True
+        return self
+
+    def step(self, x, v, xd, xd_dot, xd_ddot):
+        c, a, f = self.controller, self.adapter, self._f
+        x, v, xd, xd_dot, xd_ddot = (f(q) for q in (x, v, xd, xd_dot, xd_ddot))
+        if a.rule == "rls":
+            k_hat, m_o_hat = c.a_[1], c.a_[0]
+            with np.errstate(all="ignore"):
+                accel = (v - self._v_prev) / c._ts
+                observed = (c._phi_n / k_hat) * (self._i_prev - m_o_hat * accel)
+                v_mid = f(0.5) * (v + self._v_prev)
+            a.rls(v_mid, observed, hold=self._held)
+        u = c.friction_velocity(x, v, xd, xd_dot)
+        force = a.force(u)
+        i = c.step_with_force(x, v, xd, xd_dot, xd_ddot, force)
+        ok = c.flags_ & (CTRL_FLAGS.value("saturated") | CTRL_FLAGS.value("input fault")) == 0
+        if a.rule == "lyapunov":
+            a.lyapunov(v, c.e2_, hold=not ok)
+        self._v_prev, self._i_prev, self._held = v, i, not ok
+        return i
+
+    @property
+    def adaptive_parameters(self) -> Tuple[float, float]:
+        return self.controller.adaptive_parameters
+
+
+def adapted(model: FrictionModel, rule: str = "lyapunov", controller: Optional[AdaptiveBackstepping] = None,
+            dtype: str = "float64", activation_impl: str = "libm", **adapter) -> AdaptedController:
+    """An ``AdaptedController`` for ``model``: ``controller`` (default ``AdaptiveBackstepping()``)
+    in ``dtype``, and a ``FrictionAdapter`` with its ts and phi_n and the options ``adapter``."""
+    ctrl = (controller or AdaptiveBackstepping()).clone(dtype=dtype, compensation=None)
+    adapt = FrictionAdapter(model, rule, ts=ctrl.ts, phi_n=ctrl.phi_n, dtype=dtype,
+                            activation_impl=activation_impl, **adapter)
+    return AdaptedController(ctrl, adapt)

@@ -1,0 +1,126 @@
+"""The friction model as a regressor that is linear in its output parameters.
+
+Eq. (3), sec. 2, F(v) = AIM(x) sgn(v) / K_out + B v with x = K_in min(|v|, v_sat), is linear in
+
+- the output weights beta_k of an ELM, eq. (7): AIM(x) = sum_k beta_k h_k(x), h_k = act(w_k x + b_k);
+- the amplitudes a_k and the offset c of the grey-box eq. (1) in the coordinates of eq. (9),
+  AIM(x) = c + d x + sum_k a_k g(x / xs_k), once its Stribeck velocities xs_k are fixed;
+
+and in B. So F(v) = f0(v) + theta^T phi(v) with
+
+    ELM:      theta = [beta_1 .. beta_M, B],     phi = [s h_1(x) .. s h_M(x), v]
+    eq. (1):  theta = [a_1 .. a_S, c, B],        phi = [s g(x/xs_1) .. s g(x/xs_S), s, v]
+
+where s = sgn(v) / K_out, and f0 = s d x for eq. (1) (its slope d stays fixed; 0 for an ELM).
+
+In float32 (``dtype="float32"``) the regressor is the exact twin of the ``NAME_regressor``
+that ``fricgen emit --adapt`` generates (``fricgen.codegen.adapt``): the same float operations
+in the same order.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Tuple
+
+import numpy as np
+
+from ..codegen.fast_sigmoid import sigmoid_fast_f32
+from ..codegen.twin import STRIBECK_SHAPES_F32, stribeck_table
+from ..errors import ModelError
+from ..friction import SHAPES
+from ..model import FrictionModel
+from ..networks import ElmNetwork, StribeckCurve
+from ..networks.elm import ACTIVATIONS, ACTIVATIONS_F32
+
+f32 = np.float32
+
+
+def check_adaptable(model: FrictionModel) -> FrictionModel:
+    """``model`` if its output parameters can be adapted online: a symmetric ELM or grey-box
+    model; else ``ModelError``."""
+    if model.negative is not None:
+        raise ModelError("online adaptation covers symmetric models; this one is asymmetric")
+    if not isinstance(model.aim, (ElmNetwork, StribeckCurve)):
+        raise ModelError(f"online adaptation covers ELM and grey-box models; this model's AIM is "
+                         f"{type(model.aim).__name__}")
+    return model
+
+
+def trained_parameters(model: FrictionModel) -> np.ndarray:
+    """theta of the trained model (see the module doc), float64."""
+    net = check_adaptable(model).aim
+    if isinstance(net, StribeckCurve):
+        return np.concatenate([net.amplitudes, [net.offset, model.viscous]])
+    return np.concatenate([net.output_weights, [model.viscous]])
+
+
+def parameter_names(model: FrictionModel) -> Tuple[str, ...]:
+    """The name of each entry of theta: beta_k or a_k (k from 0), c, B."""
+    net = check_adaptable(model).aim
+    if isinstance(net, StribeckCurve):
+        return tuple(f"a_{k}" for k in range(net.n_sources)) + ("c", "B")
+    return tuple(f"beta_{k}" for k in range(net.n_hidden)) + ("B",)
+
+
+def with_parameters(model: FrictionModel, theta) -> FrictionModel:
+    """``model`` with its output parameters set to ``theta`` (hidden layer, Stribeck
+    velocities, slope and scaling kept): the read-back of an adapted model."""
+    net = check_adaptable(model).aim
+    theta = np.asarray(theta, dtype=float)
+    if theta.shape != trained_parameters(model).shape or not np.all(np.isfinite(theta)):
+        raise ModelError(f"expected {trained_parameters(model).size} finite parameters, "
+                         f"got {theta.size}")
+    if isinstance(net, StribeckCurve):
+        aim = replace(net, amplitudes=theta[:-2], offset=float(theta[-2]))
+    else:
+        aim = replace(net, output_weights=theta[:-1])
+    return replace(model, aim=aim, viscous=float(theta[-1]), recorded_hash=None)
+
+
+class Regressor:
+    """phi(v) and f0(v) of the module doc for one model, in float64 or as the float32 twin of
+    the generated C (``activation_impl`` "libm" or "fast" as given to ``emit``)."""
+
+    def __init__(self, model: FrictionModel, dtype: str = "float64", activation_impl: str = "libm"):
+        net = check_adaptable(model).aim
+        if dtype not in ("float64", "float32"):
+            raise ValueError(f"dtype must be 'float64' or 'float32', got {dtype!r}")
+        if activation_impl not in ("libm", "fast"):
+            raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
+        if activation_impl == "fast" and isinstance(net, ElmNetwork) and net.activation != "sigmoid":
+            raise ModelError(f"--activation-impl fast covers the sigmoid only, this model uses "
+                             f"{net.activation!r}")
+        self.model, self.net, self.dtype, self.activation_impl = model, net, dtype, activation_impl
+        self.theta0 = trained_parameters(model)
+        self.n = self.theta0.size
+        f = self._f = float if dtype == "float64" else f32
+        self._k_in, self._v_sat = f(model.scaling.k_in), f(model.v_sat)
+        self._inv_k_out = f(1.0 / model.scaling.k_out)
+        if isinstance(net, StribeckCurve):
+            self._slope = f(net.slope)
+            self._inv_xs = stribeck_table(net) if f is f32 else 1.0 / net.stribeck
+            self._g = (STRIBECK_SHAPES_F32[activation_impl][net.shape] if f is f32 else
+                       lambda u, g=SHAPES[net.shape]: g(u, 1.0))
+        else:
+            kind = np.float32 if f is f32 else np.float64
+            self._w, self._b = (np.asarray(a, dtype=kind) for a in (net.input_weights, net.biases))
+            if f is f32:
+                self._act = sigmoid_fast_f32 if activation_impl == "fast" else ACTIVATIONS_F32[net.activation]
+            else:
+                self._act = ACTIVATIONS[net.activation]
+
+    def __call__(self, v) -> Tuple[object, np.ndarray]:
+        """(f0, phi) at the finite velocity v (m/s), in the regressor's precision."""
+        f = self._f
+        v = f(v)
+        speed = -v if v < 0 else v
+        x = self._k_in * (speed if speed < self._v_sat else self._v_sat)
+        sign = f(1.0) if v > 0 else (f(-1.0) if v < 0 else f(0.0))
+        scale = sign * self._inv_k_out
+        with np.errstate(over="ignore", under="ignore"):
+            if isinstance(self.net, StribeckCurve):
+                g = self._g(x * self._inv_xs)
+                phi = np.concatenate([scale * g, [scale, v]])
+                return scale * (self._slope * x), phi.astype(g.dtype)
+            h = self._act(self._w * x + self._b)
+            return f(0.0), np.concatenate([scale * h, [v]]).astype(h.dtype)

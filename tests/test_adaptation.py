@@ -1,0 +1,143 @@
+"""Online adaptation of the friction model's output parameters (fricgen.control.adaptation):
+the regressor reproduces the model, and each safety mechanism is provoked once."""
+import numpy as np
+import pytest
+
+from fricgen.control.adaptation import FLAGS, FrictionAdapter, adapted
+from fricgen.control.regressor import Regressor, parameter_names, trained_parameters, with_parameters
+from fricgen.errors import ModelError
+from fricgen.fit import StribeckRegressor
+from fricgen.model import FrictionModel
+
+V = np.array([-0.3, -0.05, -0.004, 0.0, 0.001, 0.01, 0.03, 0.2])
+
+
+@pytest.fixture(scope="module")
+def grey_model(bench):
+    return FrictionModel.fit(bench.dataset, StribeckRegressor(), name="gb")
+
+
+@pytest.fixture(scope="module", params=["elm", "grey"])
+def model(request, default_model, grey_model):
+    return default_model if request.param == "elm" else grey_model
+
+
+def test_regressor_at_the_trained_parameters_is_the_model(model):
+    reg = Regressor(model)
+    forces = [f0 + phi @ reg.theta0 for f0, phi in map(reg, V)]
+    # float64 sums in another order than eq. (3): a few ULP of forces below 100 N
+    np.testing.assert_allclose(forces, model.force(V), rtol=0, atol=1e-12)
+    assert len(parameter_names(model)) == reg.n
+
+
+def test_float32_regressor_is_within_float_rounding_of_the_model(model):
+    reg = Regressor(model, "float32")
+    forces = [float(f0 + sum(np.float32(t) * p for t, p in zip(reg.theta0, phi))) for f0, phi in map(reg, V)]
+    # float32 rounding of n ~ 10 terms of ~50 N: 1e-4 N
+    np.testing.assert_allclose(forces, model.force(V), rtol=0, atol=1e-4)
+
+
+def test_with_parameters_round_trips_and_changes_the_force(model):
+    theta = trained_parameters(model)
+    assert with_parameters(model, theta).model_hash == model.model_hash
+    changed = with_parameters(model, theta * 1.1)
+    assert changed.force(0.1) == pytest.approx(model.force(0.1) * 1.1, rel=1e-9)
+
+
+def test_asymmetric_and_anfis_models_are_refused(model):
+    from dataclasses import replace
+    with pytest.raises(ModelError, match="symmetric"):
+        Regressor(replace(model, negative=model.positive))
+
+
+def _adapter(model, **kw):
+    return FrictionAdapter(model, **kw).reset()
+
+
+def test_rls_learns_a_scaled_friction(model):
+    a = _adapter(model)
+    rng = np.random.default_rng(0)
+    for v in rng.uniform(-0.2, 0.2, 4000):
+        a.rls(v, 1.2 * model.force(v))
+    test = np.linspace(-0.2, 0.2, 41)
+    test = test[np.abs(test) > 0.01]
+    err_adapted = max(abs(a.force(v) - 1.2 * model.force(v)) for v in test)
+    err_fixed = max(abs(model.force(v) - 1.2 * model.force(v)) for v in test)
+    assert err_adapted < 0.1 * err_fixed
+
+
+def test_projection_keeps_parameters_in_the_box(model):
+    a = _adapter(model, box=0.2)
+    lo, hi = a.bounds()
+    flags = [a.rls(v, 1e4 * np.sign(v)) for v in np.tile([0.02, -0.1, 0.15], 50)]
+    assert any(f & FLAGS.value("projected") for f in flags)
+    assert np.all(a.theta_ >= lo) and np.all(a.theta_ <= hi)
+    assert np.any(a.theta_ == hi) or np.any(a.theta_ == lo)
+
+
+def test_dead_zone_in_velocity_and_in_error(model):
+    a = _adapter(model, v_dead=0.005, e_dead=0.5)
+    assert a.rls(0.004, 100.0) == FLAGS.value("dead zone")          # sticking speed
+    assert a.rls(0.05, float(model.force(0.05)) + 0.4) == FLAGS.value("dead zone")  # small error
+    np.testing.assert_array_equal(a.theta_, a._theta0)
+    assert a.rls(0.05, float(model.force(0.05)) + 5.0) & FLAGS.value("dead zone") == 0
+    assert not np.array_equal(a.theta_, a._theta0)
+    b = _adapter(model, rule="lyapunov", v_dead=0.005, e_dead=1e-4)
+    assert b.lyapunov(0.05, 5e-5) == FLAGS.value("dead zone")
+    assert b.lyapunov(0.001, 1.0) == FLAGS.value("dead zone")
+    np.testing.assert_array_equal(b.theta_, b._theta0)
+
+
+def test_frozen_while_saturated_or_an_input_is_not_finite(model):
+    for rule, update in (("rls", "rls"), ("lyapunov", "lyapunov")):
+        a = _adapter(model, rule=rule)
+        step = getattr(a, update)
+        P = a.P_.copy()
+        assert step(0.1, 50.0, hold=True) == FLAGS.value("held")
+        for bad in (np.nan, np.inf):
+            assert step(bad, 50.0) == FLAGS.value("input fault")
+            assert step(0.1, bad) == FLAGS.value("input fault")
+        np.testing.assert_array_equal(a.theta_, a._theta0)
+        np.testing.assert_array_equal(a.P_, P)
+
+
+def test_covariance_stays_bounded_without_excitation(model):
+    """One velocity only (poor excitation) with fast forgetting: P would grow as lambda^-k in the
+    unexcited directions; the trace clamp holds it. At rest (dead zone) P does not change."""
+    a = _adapter(model, forgetting=0.99, p0=1e-3, trace_max=0.05)
+    flags = [a.rls(0.1, float(model.force(0.1)) + 1.0) for _ in range(3000)]
+    assert any(f & FLAGS.value("trace clamped") for f in flags)
+    assert np.sum(np.diag(a.P_) / a._scale2) <= 0.05 * (1 + 1e-12)
+    assert np.all(np.isfinite(a.P_))
+    P = a.P_.copy()
+    for _ in range(60000):                          # 60 s at rest at 1 kHz
+        a.rls(0.0, 3.0)
+    np.testing.assert_array_equal(a.P_, P)
+
+
+def test_leakage_pulls_toward_the_trained_values(model):
+    a = _adapter(model, leak=0.01)
+    a.theta_ = a._theta0 + 0.05 * (a._hi - a._theta0)
+    before = np.abs(a.theta_ - a._theta0).sum()
+    v = 0.1
+    a.rls(v, a.force(v))                            # no prediction error: only the leakage acts
+    after = np.abs(a.theta_ - a._theta0).sum()
+    assert after == pytest.approx(0.99 * before, rel=1e-6)
+
+
+def test_reset_returns_to_the_trained_values(model):
+    a = _adapter(model)
+    for v in (0.05, -0.1, 0.2):
+        a.rls(v, 2 * model.force(v))
+    assert not np.array_equal(a.theta_, a._theta0)
+    a.restart()
+    np.testing.assert_array_equal(a.theta_, a._theta0)
+    np.testing.assert_array_equal(a.P_, np.diag(a.p0 * a._scale2))
+
+
+@pytest.mark.parametrize("name, value", [("rule", "x"), ("forgetting", 0.0), ("forgetting", 1.5),
+                                         ("p0", -1.0), ("leak", 1.0), ("v_dead", -1.0),
+                                         ("trace_max", 1e-9), ("box", 0.0)])
+def test_bad_settings_name_the_parameter(default_model, name, value):
+    with pytest.raises(ValueError, match=name):
+        FrictionAdapter(default_model, **{name: value}).validate()

@@ -1,0 +1,131 @@
+"""The adaptation runtime c_runtime/fric_adapt.c and the regressor `fricgen emit --adapt`
+generates: strict build, emit unchanged without --adapt, and the whole adapted closed loop
+bit-equal to its float32 twin (fricgen.control.adaptation with dtype="float32").
+
+Bit-equality: the C and the twin perform the same float operations in the same order. With
+--activation-impl fast no libm function is involved, so equality is exact by construction; with
+libm the twin takes expf as correctly rounded; glibc's expf is, for every argument met in the
+short loops here (compared bit for bit), but over 60 s it is 1 ULP off somewhere and the
+trajectories part by ~1e-10 m (measured), so the 60 s loops are the fast ones, bit for bit."""
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.codegen import emit
+from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
+from fricgen.codegen.render import render
+from fricgen.control.adaptation import MAX_PARAMS, adapted
+from fricgen.control.c_adapted import CAdaptedController, build_adapted, render_adapt
+from fricgen.control.loop import default_axis, simulate
+from fricgen.errors import ModelError
+from fricgen.fit import StribeckRegressor
+from fricgen.model import FrictionModel
+from fricgen._io import resource_dir
+
+CC = shutil.which("cc") or shutil.which("gcc")
+pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+
+@pytest.fixture(scope="module")
+def grey_model(bench):
+    return FrictionModel.fit(bench.dataset, StribeckRegressor(), name="gb")
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_adapt_folder_builds_warning_free(default_model, grey_model, tmp_path, impl):
+    for model in (default_model, grey_model):
+        folder = tmp_path / model.aim.kind
+        emit(model, folder, "fm", activation_impl=impl)
+        for fname, text in render_adapt(model, "fm", impl).items():
+            (folder / fname).write_text(text)
+        sources = sorted(str(p) for p in folder.glob("*.c"))
+        result = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, "-c", *sources],
+                                cwd=folder, capture_output=True, text=True)
+        assert result.returncode == 0 and result.stderr == "", result.stderr
+
+
+def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_path):
+    plain, adapt = tmp_path / "plain", tmp_path / "adapt"
+    assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(plain)]) == 0
+    assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(adapt), "--adapt"]) == 0
+    plain_files = {p.name: p.read_bytes() for p in plain.iterdir()}
+    assert set(plain_files) == {"fm.h", "fm.c", "fric_kernel.h", "fric_kernel.c"}
+    assert plain_files == {p.name: p.read_bytes() for p in plain.iterdir()}
+    added = {p.name for p in adapt.iterdir()} - set(plain_files)
+    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c", "fric_ctrl.h",
+                     "fric_ctrl.c"}
+    for fname, data in plain_files.items():
+        assert (adapt / fname).read_bytes() == data, fname
+    # and the plain folder is what render gives without the option
+    assert {k: v.encode() for k, v in render(default_model, "fm").items()} == plain_files
+
+
+def _saved(model, tmp_path):
+    path = tmp_path / "model.json"
+    if not path.exists():
+        model.save(path)
+    return path
+
+
+def test_adapt_is_refused_for_fixed_point_and_asymmetric_models(default_model, tmp_path, capsys):
+    from dataclasses import replace
+    path = _saved(default_model, tmp_path)
+    assert main(["emit", str(path), "-o", str(tmp_path / "q"), "--adapt", "--dtype", "q15"]) == 2
+    assert "--adapt is float" in capsys.readouterr().err
+    assert not (tmp_path / "q").exists() or not any((tmp_path / "q").iterdir())
+    with pytest.raises(ModelError, match="symmetric"):
+        render_adapt(replace(default_model, negative=default_model.positive), "fm")
+
+
+def test_header_capacity_is_the_python_one():
+    text = (resource_dir("c_runtime") / "fric_adapt.h").read_text()
+    assert int(re.search(r"#define FRIC_ADAPT_MAX_PARAMS (\d+)", text).group(1)) == MAX_PARAMS
+
+
+def _parity(model, impl, rule, duration):
+    module = build_adapted(model, activation_impl=impl)
+    twin = adapted(model, rule, dtype="float32", activation_impl=impl)
+    c = CAdaptedController(module, adapted(model, rule, dtype="float32", activation_impl=impl))
+    runs = simulate(default_axis(), [twin, c], duration=duration)
+    return twin, c, runs
+
+
+@pytest.mark.parametrize("impl, rule, kind", [("fast", "rls", "elm"), ("libm", "lyapunov", "grey")])
+def test_c_adapted_loop_is_bit_equal_to_the_twin(default_model, grey_model, impl, rule, kind):
+    model = default_model if kind == "elm" else grey_model
+    twin, c, (py, cc) = _parity(model, impl, rule, 1.5)
+    assert py.finite and cc.finite
+    np.testing.assert_array_equal(py.x, cc.x)
+    np.testing.assert_array_equal(py.i, cc.i)
+    np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
+    assert not np.array_equal(np.asarray(twin.adapter.theta_), twin.adapter._theta0)  # it adapted
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_c_adapted_loop_is_bit_equal_over_60_s(default_model, rule):
+    twin, c, (py, cc) = _parity(default_model, "fast", rule, 60.0)
+    np.testing.assert_array_equal(py.x, cc.x)
+    np.testing.assert_array_equal(py.i, cc.i)
+    np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
+
+
+def test_c_init_rejects_bad_parameters(default_model):
+    module = build_adapted(default_model)
+    ffi, lib = module.ffi, module.lib
+    p = ffi.new("fric_adapt_params_t *")
+    lib.fm_adapt_default_params(p)
+    a = ffi.new("fric_adapt_t *")
+    assert lib.fric_adapt_init(a, p) == 0
+    for field, bad in (("forgetting", 0.0), ("p0", -1.0), ("leak", 1.0), ("n", 0),
+                       ("n", MAX_PARAMS + 1), ("v_dead", float("nan")), ("rule", 2)):
+        q = ffi.new("fric_adapt_params_t *", p[0])
+        setattr(q, field, bad)
+        assert lib.fric_adapt_init(a, q) == -2, field
+    q = ffi.new("fric_adapt_params_t *", p[0])
+    q.lo[0] = q.theta0[0] + 1.0
+    assert lib.fric_adapt_init(a, q) == -2
