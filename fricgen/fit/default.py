@@ -75,8 +75,11 @@ class DefaultRegressor(Estimator):
         suspects = gross_outliers(x, t, self.outlier_sigmas)
         outliers, everything = suspects, None
         if suspects.any():                    # confirmed against eq. (1) fitted to every point
-            everything = self._greybox().fit(x, t)
-            outliers = unexplained(t, suspects, [everything.predict(x)], self.outlier_sigmas)
+            try:
+                everything = self._greybox().fit(x, t)
+                outliers = unexplained(t, suspects, [everything.predict(x)], self.outlier_sigmas)
+            except ValueError:                # no admissible fit with them: they are gross
+                everything = None
         self.greybox_ = everything if everything is not None and not outliers.any() else \
             self._greybox().fit(x[~outliers], t[~outliers])
         self.elm_ = self._elm().fit(x[~outliers], t[~outliers])

@@ -52,6 +52,9 @@ SOURCES = (1, 2, 3, 4)
 AVERAGING_SCALE = 4.0
 #: Points of the dense grid over [0, 1] on which the average is matched by one curve.
 AVERAGING_GRID = 201
+#: A match within this fraction of the best fit's residual RMS (1 % of the noise's variance)
+#: is as good as exact: of those, the one with the fewest sources is taken.
+MATCH_TOLERANCE = 0.1
 
 
 def _shape_and_slope(shape: str, x: np.ndarray, xs: float):
@@ -344,20 +347,21 @@ class StribeckRegressor(Estimator):
         return self
 
     def _average(self, x, t, shapes, sources) -> SourcesFit:
-        """The contenders' average (``weights_``) as one curve of eq. (1): the closest, on the
-        points and a dense grid, of one shape with S from the best contender's to the largest
-        contender's, started from the fits of that shape and S; the best contender alone when
-        it is the only one (or no such curve keeps sum |a_k| <= AMPLITUDE_MAX)."""
+        """The contenders' average (``weights_``) as one curve of eq. (1), fitted on the points
+        and a dense grid with one shape and S from the smallest contender's to the largest
+        contender's, started from the fits of that shape and S: of the fits within
+        MATCH_TOLERANCE, the one with the fewest sources, else the closest; the best contender
+        alone when it is the only one (or no such curve keeps sum |a_k| <= AMPLITUDE_MAX)."""
         best = self.best_
         if len(self.weights_) == 1:
             return self.fits_[best]
         grid = np.union1d(x, np.linspace(x.min(), x.max(), AVERAGING_GRID))
         target = sum(w * self.fits_[k].curve(grid) for k, w in self.weights_.items())
         bound = max(k[2] for k in self.weights_)
-        largest = max(k[1] for k in self.weights_)
+        smallest, largest = (f(k[1] for k in self.weights_) for f in (min, max))
         matches = []
         for shape in shapes:
-            for s in (s for s in sources if best[1] <= s <= largest):
+            for s in (s for s in sources if smallest <= s <= largest):
                 starts = [f.theta for k, f in self.fits_.items() if k[:2] == (shape, s)]
                 if starts:
                     match = fit_sources(grid, target, shape, starts, self.xs_min_, bound)
@@ -365,7 +369,9 @@ class StribeckRegressor(Estimator):
                         matches.append(match)
         if not matches:
             return self.fits_[best]
-        curve = min(matches, key=lambda m: m.rmse).curve
+        close = [m for m in matches if m.rmse <= MATCH_TOLERANCE * self.fits_[best].rmse]
+        curve = (min(close, key=lambda m: (m.curve.n_sources, m.rmse)) if close else
+                 min(matches, key=lambda m: m.rmse)).curve
         match = drop_undetermined(as_fit(curve, x, t, len(matches)), lambda theta: as_fit(
             fit_sources(grid, target, curve.shape, [theta], self.xs_min_, bound).curve, x, t))
         return self.fits_[best] if match is None else match
