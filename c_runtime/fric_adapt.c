@@ -1,17 +1,7 @@
 /* fricgen C runtime: online adaptation of the friction model's output parameters (fric_adapt.h).
  * Every operation is a float operation in a fixed order; fricgen.control.adaptation with
  * dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit --adapt`. */
-/* The results must not depend on the build flags (as in fric_ctrl.c): refuse -ffast-math and
- * keep contraction to fused multiply-add off for this file. */
-#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && (__FINITE_MATH_ONLY__ > 0))
-#error "fricgen runtime: -ffast-math / -ffinite-math-only change its results; build it without them"
-#endif
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize ("fp-contract=off")
-#else
-#pragma STDC FP_CONTRACT OFF
-#endif
-
+#include "fric_float.h"   /* first: no -ffast-math, no contraction (as fric_ctrl.c) */
 #include "fric_adapt.h"
 
 #include <math.h>

@@ -22,6 +22,7 @@ from fricgen.control.adaptation import MAX_PARAMS, adapted
 from fricgen.control.c_adapted import CAdaptedController, build_adapted, render_adapt
 from fricgen.control.loop import default_axis, simulate
 from fricgen.errors import ModelError
+from fricgen.firmware import flag_matrix
 from fricgen.fit import StribeckRegressor
 from fricgen.model import FrictionModel
 from fricgen._io import resource_dir
@@ -46,6 +47,9 @@ def test_adapt_folder_builds_warning_free(default_model, grey_model, tmp_path, i
         result = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, "-c", *sources],
                                 cwd=folder, capture_output=True, text=True)
         assert result.returncode == 0 and result.stderr == "", result.stderr
+        # one float-semantics block, and every source of the folder reaches it
+        assert list(flag_matrix.fp_blocks(folder)) == [flag_matrix.FLOAT_HEADER]
+        assert all(flag_matrix.includes_float_semantics(folder).values())
 
 
 def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_path):

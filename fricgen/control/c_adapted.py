@@ -94,13 +94,13 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
         ctx.update(n_basis=net.n_sources, inv_stribeck=c_array(stribeck_table(net)),
                    slope=c_float(net.slope), g_expr=STRIBECK_C_SHAPES[activation_impl][net.shape],
                    describe=f"grey-box eq. (1), {net.n_sources} {net.shape} Stribeck sources",
-                   header='"fric_fast.h"' if activation_impl == "fast" else "<math.h>")
+                   header='"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"')
     else:
         ctx.update(n_basis=net.n_hidden, input_weights=c_array(net.input_weights),
                    biases=c_array(net.biases),
                    act_expr=ACTIVATION_C[activation_impl][net.activation],
                    describe=f"{net.n_hidden} {net.activation} neurons",
-                   header='"fric_fast.h"' if activation_impl == "fast" else "<math.h>")
+                   header='"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"')
     env = template_environment()
     runtime = resource_dir("c_runtime")
     return {f"{name}_adapt.h": env.get_template("model_adapt.h.j2").render(ctx),
