@@ -40,7 +40,7 @@ MODULES: Dict[str, Tuple[str, Optional[Sequence[str]], Sequence[str]]] = {
               ["tests/test_references.py", "tests/test_properties.py", "tests/test_asymmetric.py::"
                "test_each_direction_saturates_at_its_own_v_sat_in_c_and_the_twin"]),
     "twin": ("fricgen/codegen/twin.py", None,
-             ["tests/test_references.py", "tests/test_asymmetric.py::"
+             ["tests/test_references.py", "tests/test_effects.py", "tests/test_asymmetric.py::"
               "test_each_direction_saturates_at_its_own_v_sat_in_c_and_the_twin"]),
     "fixedpoint": ("fricgen/codegen/fixedpoint.py",
                    ["_frac_for", "_quantize", "ConstMul.of", "ConstMul.apply", "input_range",

@@ -359,6 +359,9 @@ def test_each_direction_saturates_at_its_own_v_sat_in_c_and_the_twin(literal_asy
     assert (pos.v_sat, neg.v_sat) == (0.06, 0.09) and pos.scaling.k_in != neg.scaling.k_in
     v, f = BETWEEN_SATURATIONS.T
     np.testing.assert_allclose(literal_asym.force(v), f, rtol=1e-13)
+    # the Stribeck part at v = 0 is that of v >= 0 (F(0+) = sum f_s = 44 N), for v < 0 the other's
+    assert float(literal_asym.stribeck(0.0)) == pytest.approx(44.0, rel=1e-14)
+    assert float(literal_asym.stribeck(-0.075)) == pytest.approx(23.723784996648185 - 34.5 * 0.075, rel=1e-13)
     bound = max(float32_bound(table1_curve("gauss"), impl),
                 float32_bound(table1_curve("exponential", SCALED_TABLE1, 1 / 57.2, 0.09), impl))
     assert np.max(np.abs(force_f32(literal_asym, v, impl) - f)) <= bound

@@ -28,6 +28,16 @@ def test_autocorrelation_time_of_ar1_is_one_plus_phi_over_one_minus_phi(phi):
     assert np.mean(taus) == pytest.approx((1 + phi) / (1 - phi), rel=0.08)
 
 
+def test_an_exact_residual_decides_without_noise():
+    """No spread left (e = beta p exactly): p = 0 when the effect explains part of e (beta =
+    1/2), p = 1 when it explains nothing (e = 0) or runs against it (beta = -1)."""
+    p = np.sin(np.arange(100) / 7.0)
+    assert held_out_p_value(0.5 * p, 0.5 * p - p)[0] == 0.0
+    assert held_out_p_value(np.zeros(100), -p)[0] == 1.0
+    assert held_out_p_value(-p, -2 * p)[0] == 1.0
+    assert held_out_p_value(p, p)[0] == 1.0                         # no prediction at all
+
+
 def _null_p_values(n_tests=400, seed=5):
     """p-values of predictions fitted to other noise, from white to strongly coloured."""
     rng = np.random.default_rng(seed)

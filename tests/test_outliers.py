@@ -17,6 +17,9 @@ MAD_SD = 1.4826
 def test_robust_scale_is_1_4826_times_the_median_and_never_below_its_floor():
     r = np.array([0.0, 1.0, 2.0, 3.0, 100.0])
     assert robust_scale(r, np.full(5, 10.0)) == pytest.approx(1.4826 * 2.0, rel=1e-15)
+    # a small positive median is the scale: the zeros count (not only the residuals beyond them)
+    r = np.array([0.0, 0.1, 0.2, 0.3, 0.4])
+    assert robust_scale(r, np.ones(5)) == pytest.approx(1.4826 * 0.2, rel=1e-15)
     assert robust_scale(np.zeros(5), np.full(5, 10.0)) == pytest.approx(1e-3 * 10.0)   # SCALE_FLOOR
     # mostly zero (a quantized force): the median of the residuals beyond rounding
     assert robust_scale(np.array([0, 0, 0, 0.5, 1.5]), np.ones(5)) == pytest.approx(1.4826 * 1.0)

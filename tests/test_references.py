@@ -43,23 +43,26 @@ TABLE1_FORCES = {
 V_SAT = 0.06
 
 
-def table1_curve(shape, sources=TABLE1, k_out=1.0 / 44.0, v_sat=V_SAT) -> FrictionModel:
+def table1_curve(shape, sources=TABLE1, k_out=1.0 / 44.0, v_sat=V_SAT, slope_viscous=0.0) -> FrictionModel:
     """Eq. (1) with the given sources as a grey-box model of eq. (3), written out in the
-    coordinates of eq. (9): c = K_out sum f_c, a_k = K_out (f_s - f_c), xs_k = K_in v_s."""
+    coordinates of eq. (9): c = K_out sum f_c, a_k = K_out (f_s - f_c), xs_k = K_in v_s; of
+    the total B, ``slope_viscous`` N s/m goes into the slope d = K_out v_sat slope_viscous
+    (d x / K_out = slope_viscous v up to v_sat, held beyond)."""
     k_in = 1.0 / v_sat
     curve = StribeckCurve(shape, k_out * sum(s[0] for s in sources),
                           np.array([k_out * (s[1] - s[0]) for s in sources]),
-                          np.array([k_in * s[2] for s in sources]))
-    return FrictionModel(curve, Scaling(k_in, k_out), sum(s[3] for s in sources), v_sat, name="ref")
+                          np.array([k_in * s[2] for s in sources]), k_out * v_sat * slope_viscous)
+    return FrictionModel(curve, Scaling(k_in, k_out), sum(s[3] for s in sources) - slope_viscous, v_sat,
+                         name="ref")
 
 
-def _reference_points(shape):
+def _reference_points(shape, viscous=57.5):
     """(v, F) by hand: Table 1's speeds, their negatives, and two speeds beyond v_sat, where
-    eq. (3) holds the Stribeck part at its v_sat value: F = (F(0.06) - 57.5 * 0.06) + 57.5 v."""
+    eq. (3) holds all but the model's B v at its v_sat value: F = F(0.06) + B (v - 0.06)."""
     forces = TABLE1_FORCES[shape]
-    held = forces[-1] - 57.5 * 0.06
     v = np.array([*TABLE1_SPEEDS, *(-s for s in TABLE1_SPEEDS), 0.075, -0.1])
-    f = np.array([*forces, *(-f for f in forces), held + 57.5 * 0.075, -(held + 57.5 * 0.1)])
+    f = np.array([*forces, *(-f for f in forces), forces[-1] + viscous * (0.075 - 0.06),
+                  -(forces[-1] + viscous * (0.1 - 0.06))])
     return v, f
 
 
@@ -93,7 +96,8 @@ def float32_bound(model, impl, v_max=0.12):
     roundings of each term of eq. (1) (c, a_k g, B v and the products), and with the fast exp
     its derived error on each a_k g."""
     net = model.aim
-    terms = (abs(net.offset) + np.abs(net.amplitudes).sum()) / model.scaling.k_out + model.viscous * v_max
+    terms = (abs(net.offset) + abs(net.slope) + np.abs(net.amplitudes).sum()) / model.scaling.k_out \
+        + model.viscous * v_max
     bound = (net.n_sources + 4) * EPS32 * terms
     if impl == "fast" and net.shape != "rational":
         bound += exp_neg_error_bound() * np.abs(net.amplitudes).sum() / model.scaling.k_out
@@ -103,9 +107,10 @@ def float32_bound(model, impl, v_max=0.12):
 @pytest.mark.parametrize("impl", ["libm", "fast"])
 @pytest.mark.parametrize("shape", sorted(SHAPES))
 def test_emitted_c_and_its_twin_give_the_hand_values(shape, impl, tmp_path):
-    """The templates hold their own copy of eq. (2) (``g_expr``): it meets the same literals."""
-    model = table1_curve(shape)
-    v, f = _reference_points(shape)
+    """The templates hold their own copy of eq. (2) (``g_expr``): it meets the same literals.
+    7.5 of Table 1's 57.5 N s/m go into the curve's slope d, so c + d x is exercised too."""
+    model = table1_curve(shape, slope_viscous=7.5)
+    v, f = _reference_points(shape, viscous=50.0)
     bound = float32_bound(model, impl)
     twin = force_f32(model, v, impl).astype(float)
     assert np.max(np.abs(twin - f)) <= bound
@@ -116,9 +121,10 @@ def test_emitted_c_and_its_twin_give_the_hand_values(shape, impl, tmp_path):
         assert np.array_equal(c, twin)
 
 
-#: A hand-built ELM of eq. (7): sigma(4x - 2) + 0.5 sigma(-4x + 2) = 0.5 + 0.5 sigma(4x - 2),
-#: since sigma(-z) = 1 - sigma(z); with K_out = 1/40 N^-1, B = 57.5 N s/m and v_sat = 0.06 m/s.
-HAND_ELM = ElmNetwork("sigmoid", np.array([4.0, -4.0]), np.array([-2.0, 2.0]), np.array([1.0, 0.5]))
+#: A hand-built ELM of eq. (7): 1.5 (sigma(4x - 2) + 0.5 sigma(-4x + 2)) = 1.5 (0.5 + 0.5 sigma(4x - 2)),
+#: since sigma(-z) = 1 - sigma(z); with K_out = 1.5/40 N^-1 (the network's output reaches 1.41,
+#: beyond 1), B = 57.5 N s/m and v_sat = 0.06 m/s.
+HAND_ELM = ElmNetwork("sigmoid", np.array([4.0, -4.0]), np.array([-2.0, 2.0]), np.array([1.5, 0.75]))
 #: sigma(2) = 1 / (1 + e^-2), sigma(-1) = 1 / (1 + e).
 SIGMOID_2, SIGMOID_M1 = 0.8807970779778823, 0.2689414213699951
 #: (v, F): x = v / 0.06, F = 40 (0.5 + 0.5 sigma(4x - 2)) sgn(v) + 57.5 v, x held at 1 beyond v_sat.
@@ -134,7 +140,7 @@ HAND_ELM_POINTS = np.array([
 
 
 def hand_elm_model() -> FrictionModel:
-    return FrictionModel(HAND_ELM, Scaling(1.0 / V_SAT, 1.0 / 40.0), 57.5, V_SAT, name="ref")
+    return FrictionModel(HAND_ELM, Scaling(1.0 / V_SAT, 1.5 / 40.0), 57.5, V_SAT, name="ref")
 
 
 def test_hand_elm_model_gives_the_hand_values():
@@ -153,10 +159,10 @@ def test_every_c_implementation_of_the_hand_elm_gives_the_hand_values(impl, tmp_
     if CTYPES[impl] == "float":
         lib = build_model(tmp_path, "ref", build_dir=tmp_path / "build")
         c = np.array([getattr(lib, "ref_force")(float(u)) for u in inputs])
-        terms = 40 * np.abs(HAND_ELM.output_weights).sum() + 57.5 * np.abs(v)
+        terms = np.abs(HAND_ELM.output_weights).sum() / model.scaling.k_out + 57.5 * np.abs(v)
         bound = 6 * EPS32 * terms
         if impl == "fast":
-            bound = bound + 40 * sigmoid_fast_bound() * np.abs(HAND_ELM.output_weights).sum()
+            bound += sigmoid_fast_bound() * np.abs(HAND_ELM.output_weights).sum() / model.scaling.k_out
         twin = force_f32(model, v, impl)
         assert np.all(np.abs(twin - f) <= bound) and np.all(np.abs(c - f) <= bound)
         if impl == "fast":
@@ -167,8 +173,9 @@ def test_every_c_implementation_of_the_hand_elm_gives_the_hand_values(impl, tmp_
     bound = fx.error_bound(spec, model)
     assert bound < 1e-2 * 44                                  # the bound itself says something
     # the literals hold at v; the input is v rounded to 2^-f_v, which moves F by at most the
-    # slope 40 sum |beta_k w_k| / 4 K_in + B (sigma' <= 1/4) times half an LSB
-    slope = 40 * np.abs(HAND_ELM.output_weights * HAND_ELM.input_weights).sum() / 4 / V_SAT + 57.5
+    # slope sum |beta_k w_k| / 4 K_in / K_out + B (sigma' <= 1/4) times half an LSB
+    slope = np.abs(HAND_ELM.output_weights * HAND_ELM.input_weights).sum() / 4 / V_SAT / model.scaling.k_out \
+        + 57.5
     assert np.all(np.abs(twin * 2.0 ** -spec.f_f - f) <= bound + slope * 2.0 ** -(spec.f_v + 1))
     lib = cbuild.build(tmp_path, "ref.h", f"{CTYPES[impl]} {force_fn('ref', impl)}({CTYPES[impl]} v_q);",
                        build_dir=tmp_path / "build")
