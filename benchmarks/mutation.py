@@ -46,6 +46,7 @@ MODULES: Dict[str, Tuple[str, Optional[Sequence[str]], Sequence[str]]] = {
                    ["_frac_for", "_quantize", "ConstMul.of", "ConstMul.apply", "input_range",
                     "FixedSpec.of", "sigmoid_table", "_rshift", "sigmoid_q", "force_q", "error_bound"],
                    ["tests/test_references.py::test_every_c_implementation_of_the_hand_elm_gives_the_hand_values",
+                    "tests/test_references.py::test_fixed_point_c_equals_its_twin_with_a_constant_at_the_end_of_its_range",
                     "tests/test_fixedpoint.py"]),
     "outliers": ("fricgen/data/outliers.py", None, ["tests/test_outliers.py"]),
     "decision": ("fricgen/diagnose/decision.py", ["autocorrelation_time", "held_out_p_value"],

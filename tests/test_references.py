@@ -181,3 +181,19 @@ def test_every_c_implementation_of_the_hand_elm_gives_the_hand_values(impl, tmp_
                        build_dir=tmp_path / "build")
     c = np.array([getattr(lib, force_fn("ref", impl))(int(u)) for u in inputs])
     assert np.array_equal(c, twin)
+
+
+@pytest.mark.parametrize("impl, viscous", [("q15", 1e-3), ("q31", 1e-8)])
+def test_fixed_point_c_equals_its_twin_with_a_constant_at_the_end_of_its_range(impl, viscous, tmp_path):
+    """A B this small (N s/m) is below 2^-(bits + 1) of the output LSB per input LSB: its
+    multiplier takes the longest right shift that ConstMul allows, which the C's shifts of a
+    2 bits-wide word must stay below (a longer one is undefined in C)."""
+    model = FrictionModel(HAND_ELM, Scaling(1.0 / V_SAT, 1.5 / 40.0), viscous, V_SAT, name="ref")
+    spec = fx.FixedSpec.of(model, impl)
+    emit_impl(model, tmp_path, "ref", impl)
+    lib = cbuild.build(tmp_path, "ref.h", f"{CTYPES[impl]} {force_fn('ref', impl)}({CTYPES[impl]} v_q);",
+                       build_dir=tmp_path / "build")
+    top = 2 ** (spec.bits - 1)
+    v_q = np.unique(np.round(np.linspace(-top, top - 1, 4001))).astype(np.int64)
+    c = np.array([getattr(lib, force_fn("ref", impl))(int(u)) for u in v_q])
+    assert np.array_equal(c, fx.force_q(spec, v_q))
