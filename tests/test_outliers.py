@@ -23,6 +23,9 @@ def test_robust_scale_is_1_4826_times_the_median_and_never_below_its_floor():
     assert robust_scale(np.zeros(5), np.full(5, 10.0)) == pytest.approx(1e-3 * 10.0)   # SCALE_FLOOR
     # mostly zero (a quantized force): the median of the residuals beyond rounding
     assert robust_scale(np.array([0, 0, 0, 0.5, 1.5]), np.ones(5)) == pytest.approx(1.4826 * 1.0)
+    # "beyond rounding" is relative to the values: 1e-8 counts next to values of 1e-6
+    r = np.array([0, 0, 0, 1e-8, 1e-2])
+    assert robust_scale(r, np.full(5, 1e-6)) == pytest.approx(1.4826 * (1e-8 + 1e-2) / 2, rel=1e-12)
 
 
 def test_running_median_and_inner_points_by_hand():
@@ -30,6 +33,15 @@ def test_running_median_and_inner_points_by_hand():
     t = np.array([30.0, 0.0, 100.0, 20.0, 40.0])          # in order of x: 0, 100, 20, 30, 40
     np.testing.assert_array_equal(running_median(x, t, 3), [30.0, 50.0, 20.0, 30.0, 35.0])
     np.testing.assert_array_equal(inner_points(x), [True, False, True, True, False])
+
+
+def test_too_few_points_for_two_windows_have_no_outliers():
+    """Below 2 windows of points (14) the running median is the ends' and nothing is flagged;
+    from 14 on a spike is."""
+    for n, flagged in ((2 * 7 - 1, []), (2 * 7, [6])):
+        t = np.linspace(0.0, 1.0, n) + np.tile([0.0, 0.01, -0.01], 5)[:n]
+        t[6] += 10.0
+        assert np.flatnonzero(gross_outliers(np.arange(n), t)).tolist() == flagged
 
 
 def _placed(kept_at=4.5, rejected_at=7.5, n=X.size):
