@@ -15,6 +15,8 @@ def test_autocorrelation_time_of_a_ramp_is_the_hand_computed_sum_of_pairs():
     rho_1 = 1.25/5): tau = -1 + 2 (1 + 0.25) = 1.5."""
     assert autocorrelation_time(np.arange(1.0, 9.0)) == pytest.approx(2.25 + 20.5 / 42, rel=1e-12)
     assert autocorrelation_time(np.arange(1.0, 5.0)) == pytest.approx(1.5, rel=1e-12)
+    # d = 1..6: n var = 17.5, rho_1 = 8.75/17.5 = 1/2, one pair: tau = -1 + 2 (1 + 1/2) = 2
+    assert autocorrelation_time(np.arange(1.0, 7.0)) == pytest.approx(2.0, rel=1e-12)
     assert autocorrelation_time(np.ones(50)) == 1.0                   # no variance
 
 
@@ -36,6 +38,18 @@ def test_an_exact_residual_decides_without_noise():
     assert held_out_p_value(np.zeros(100), -p)[0] == 1.0
     assert held_out_p_value(-p, -2 * p)[0] == 1.0
     assert held_out_p_value(p, p)[0] == 1.0                         # no prediction at all
+
+
+def test_p_values_of_tiny_samples_by_hand():
+    """Below 4 samples tau = 1 and Student's t has n - 1 degrees of freedom, whose tails are
+    closed forms. e = (1, 2, 3), p = (1, 0, 1): beta = 2, u = (-1, 0, 1), t = 2 * 2 / sqrt(2)
+    = sqrt(8) with 2 dof: sf = (1 - t / sqrt(t^2 + 2)) / 2. e = (1, 2), p = (1, 1): beta = 3/2,
+    u = (-1/2, 1/2), t = 3/2 * 2 / sqrt(1/2) = 3 sqrt(2) with 1 dof (Cauchy):
+    sf = 1/2 - atan(t) / pi."""
+    p, n_eff = held_out_p_value(np.array([1.0, 2.0, 3.0]), np.array([0.0, 2.0, 2.0]))
+    assert (p, n_eff) == (pytest.approx(0.5 * (1 - np.sqrt(0.8)), rel=1e-12), 3.0)
+    p, n_eff = held_out_p_value(np.array([1.0, 2.0]), np.array([0.0, 1.0]))
+    assert (p, n_eff) == (pytest.approx(0.5 - np.arctan(3 * np.sqrt(2)) / np.pi, rel=1e-12), 2.0)
 
 
 def _null_p_values(n_tests=400, seed=5):

@@ -55,13 +55,15 @@ def _placed(kept_at=4.5, rejected_at=7.5, n=X.size):
 
 def test_unexplained_confirms_a_suspect_only_beyond_outlier_sigmas():
     """6 robust sd (OUTLIER_SIGMAS): a suspect at 4.5 is explained and kept, one at 7.5 is not
-    (a threshold of 3 would reject both, one of 9 neither)."""
-    t = 10.0 + _placed()
+    (a threshold of 3 would reject both, one of 9 neither); one at exactly 6 is not further
+    than 6, and kept."""
+    t = _placed()
+    t[45] = 6 * MAD_SD
     suspects = np.zeros(t.size, dtype=bool)
-    suspects[[30, 72]] = True
-    assert np.flatnonzero(unexplained(t, suspects, [np.full(t.size, 10.0)])).tolist() == [72]
+    suspects[[30, 45, 72]] = True
+    assert np.flatnonzero(unexplained(t, suspects, [np.zeros(t.size)])).tolist() == [72]
     # a suspect explained by any one of the models is kept
-    assert not unexplained(t, suspects, [np.full(t.size, 10.0), t]).any()
+    assert not unexplained(t, suspects, [np.zeros(t.size), t]).any()
 
 
 def test_gross_outliers_flag_only_beyond_outlier_sigmas_of_the_running_median():
