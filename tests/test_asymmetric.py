@@ -23,6 +23,7 @@ from fricgen.friction import multisource, preset
 from fricgen.model import Direction, FrictionModel
 from fricgen.networks import StribeckCurve
 from fricgen.sim.effect_law import EffectLaw
+from test_references import TABLE1, float32_bound, table1_curve
 
 CC = "cc"
 EPS32 = float(np.finfo(np.float32).eps)
@@ -328,3 +329,42 @@ def test_default_train_keeps_the_better_model_per_direction_and_it_emits(tmp_pat
     assert "stribeck" in kinds                       # Table 1 data: eq. (1) wins somewhere
     assert main(["emit", str(model_json), "-o", str(tmp_path / "c")]) == 0
     assert "_aim_negative" in (tmp_path / "c" / "friction_model.c").read_text()
+
+
+#: v < 0 of the literal asymmetric model: Table 1 with f_c, f_s x 1.3, v_s x 1.5 and B x 0.6
+#: (34.5 N s/m), exponential: v_sat = 0.09 m/s and K_in = 1/0.09 against 0.06 and 1/0.06 for
+#: v >= 0 (Table 1, gauss). F by hand at |v| = 0.075 (v >= 0 saturated, v < 0 not), 0.12 (both):
+#: v >= 0: (18.4518511470613 - 57.5 * 0.06) + 57.5 |v|, held from 0.06 on;
+#: v < 0: 19.5 + 5.2 e^-5 + 13 e^-10 + 19.5 e^-2.5 + 34.5 * 0.075 = 23.723784996648185, and
+#: (23.588817219252608 - 34.5 * 0.09) + 34.5 * 0.12 = 24.623817219252607 held from 0.09 on.
+SCALED_TABLE1 = tuple((1.3 * fc, 1.3 * fs, 1.5 * vs, 0.6 * b) for fc, fs, vs, b in TABLE1)
+BETWEEN_SATURATIONS = np.array([(0.075, 15.0018511470613 + 57.5 * 0.075),
+                                (-0.075, -23.723784996648185),
+                                (0.12, 15.0018511470613 + 57.5 * 0.12),
+                                (-0.12, -24.623817219252607)])
+
+
+@pytest.fixture(scope="module")
+def literal_asym():
+    negative = table1_curve("exponential", SCALED_TABLE1, k_out=1.0 / 57.2, v_sat=0.09).positive
+    return FrictionModel.from_directions(table1_curve("gauss").positive, negative, name="fl")
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_each_direction_saturates_at_its_own_v_sat_in_c_and_the_twin(literal_asym, impl, tmp_path):
+    """Between the two saturation points (0.06 < |v| < 0.09) and beyond both, the model, its
+    float32 twin and the C give the hand-computed forces: each branch uses its own v_sat,
+    K_in, K_out and B."""
+    pos, neg = literal_asym.directions
+    assert (pos.v_sat, neg.v_sat) == (0.06, 0.09) and pos.scaling.k_in != neg.scaling.k_in
+    v, f = BETWEEN_SATURATIONS.T
+    np.testing.assert_allclose(literal_asym.force(v), f, rtol=1e-13)
+    # the Stribeck part at v = 0 is that of v >= 0 (F(0+) = sum f_s = 44 N), for v < 0 the other's
+    assert float(literal_asym.stribeck(0.0)) == pytest.approx(44.0, rel=1e-14)
+    assert float(literal_asym.stribeck(-0.075)) == pytest.approx(23.723784996648185 - 34.5 * 0.075, rel=1e-13)
+    bound = max(float32_bound(table1_curve("gauss"), impl),
+                float32_bound(table1_curve("exponential", SCALED_TABLE1, 1 / 57.2, 0.09), impl))
+    assert np.max(np.abs(force_f32(literal_asym, v, impl) - f)) <= bound
+    codegen.emit(literal_asym, tmp_path, "fl", activation_impl=impl)
+    c = parity.c_forces(build_model(tmp_path, "fl", build_dir=tmp_path / "build"), "fl", v)
+    assert np.max(np.abs(c.astype(float) - f)) <= bound

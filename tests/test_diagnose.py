@@ -107,7 +107,7 @@ def test_where_points_at_the_effect(results):
     for effect, axis in expect.items():
         spec, log, d = results[(effect, 0, 1.0, 1.0)]
         assert d.where_.startswith(axis), d.where_
-    assert d.localization_[0]["share"] > 0.5
+        assert d.localization_[0]["share"] > 0.5, (effect, d.localization_[0])
     spec, log, d = results[("none", 0, 1.0, 1.0)]
     assert d.where_.startswith("nowhere"), d.where_
 

@@ -1,10 +1,8 @@
 """fricgen diagnose on logs of the independent generator (fricgen.sim.scenarios): nothing named
 on a log with nothing hidden, two effects found in one run, a shape outside the vocabulary
 corrected by a table without a physical name, and the held-out guard."""
-import numpy as np
 import pytest
 
-from fricgen.diagnose.decision import held_out_p_value
 from fricgen.diagnose.diagnoser import Diagnoser, ResidualProblem, diagnose
 from fricgen.effects import EFFECTS, TABLES
 from fricgen.errors import DataError
@@ -66,24 +64,6 @@ def test_max_effects_stops_the_selection(runs):
     sc, d = runs["pair"]
     one = Diagnoser(max_effects=1).fit(sc.log, sc.model, sc.mass, sc.force_constant)
     assert len(one.effects_) == 1 and one.effect_ == d.effect_
-
-
-def test_the_held_out_test_is_calibrated_on_noise():
-    """p-values of predictions fitted to other noise: uniform, whatever the autocorrelation."""
-    rng = np.random.default_rng(5)
-    ps = []
-    for k in range(400):
-        smooth = 1 + 10 * (k % 4)                                # from white to strongly coloured
-        kernel = np.ones(smooth) / smooth
-        e = np.convolve(rng.standard_normal(2000 + smooth), kernel, "valid")[:2000]
-        pred = np.convolve(rng.standard_normal(2000 + smooth), kernel, "valid")[:2000] * 0.3
-        ps.append(held_out_p_value(e, e - pred)[0])
-    ps = np.array(ps)
-    for alpha in (0.05, 0.1, 0.25, 0.5):
-        assert np.mean(ps < alpha) <= alpha + 3 * np.sqrt(alpha * (1 - alpha) / ps.size)
-    e = rng.standard_normal(2000)
-    effect = 0.3 * np.sin(np.arange(2000) / 50.0)
-    assert held_out_p_value(e + effect, e)[0] < 1e-6
 
 
 def test_two_effects_that_fit_only_together_are_added_in_one_step():

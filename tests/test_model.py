@@ -25,7 +25,10 @@ def test_network_input_saturates_beyond_v_sat(default_model):
 def test_model_reproduces_the_benchmark_curve(bench, default_model):
     v = bench.theory.v[1:]
     err = default_model.force(v) - bench.friction(v)
-    assert np.sqrt(np.mean(err ** 2)) < 0.25   # well below the 0.29 N noise std
+    # least squares of M parameters on N points of noise sd 0.5/sqrt(3) N (uniform +-0.5 N)
+    # misses the truth by about sd sqrt(M/N) RMS (0.058 N for 8 neurons; 0.073 N reached): twice it
+    bound = 2 * 0.5 / np.sqrt(3) * np.sqrt(default_model.aim.n_hidden / bench.dataset.x.size)
+    assert np.sqrt(np.mean(err ** 2)) < bound
 
 
 def test_save_load_round_trip(tmp_path, default_model):

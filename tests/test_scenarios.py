@@ -126,7 +126,9 @@ def test_the_hidden_force_is_what_the_residual_sees(hidden, null_fixed):
                        - sc.model.force(log.v), w)[50:-50]
     hidden_force = _smooth(sc.hidden_force, w)[50:-50]
     gain = np.dot(residual, hidden_force) / np.dot(hidden_force, hidden_force)
-    assert 0.5 < gain < 2.0
+    # within a factor 1.6 of 1: the smoothing and the differentiated velocity bias the residual
+    # (0.70 for a force-constant error and 1.36 for the dead zone reached); a lost factor 2 fails
+    assert 1 / 1.6 < gain < 1.6
 
 
 def test_the_truth_carries_a_mass_error_in_the_mass_not_the_current():
