@@ -57,7 +57,7 @@ def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_
     assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(plain)]) == 0
     assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(adapt), "--adapt"]) == 0
     plain_files = {p.name: p.read_bytes() for p in plain.iterdir()}
-    assert set(plain_files) == {"fm.h", "fm.c", "fric_kernel.h", "fric_kernel.c"}
+    assert set(plain_files) == {"fm.h", "fm.c", "fric_float.h", "fric_kernel.h", "fric_kernel.c"}
     assert plain_files == {p.name: p.read_bytes() for p in plain.iterdir()}
     added = {p.name for p in adapt.iterdir()} - set(plain_files)
     assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c", "fric_ctrl.h",
