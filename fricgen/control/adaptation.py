@@ -231,15 +231,23 @@ class FrictionAdapter:
 
     # ------------------------------------------------------------------ the two rules
 
+    def _gate(self, v, x, hold: bool):
+        """(v, x, flags): v and the rule's input x in the working precision, and the flags of
+        an update that stops here (a non-finite input, or ``hold``), else None."""
+        v, x = self._f(v), self._f(x)
+        if not (math.isfinite(v) and math.isfinite(x)):
+            return v, x, self._done(FLAGS.value("input fault"))
+        if hold:
+            return v, x, self._done(FLAGS.value("held"))
+        return v, x, None
+
     def rls(self, v, force, hold: bool = False) -> int:
         """One RLS update on the friction ``force`` (N) observed at velocity ``v`` (m/s);
         returns the flags (``fric_adapt_rls``)."""
         f = self._f
-        v, force = f(v), f(force)
-        if not (math.isfinite(v) and math.isfinite(force)):
-            return self._done(FLAGS.value("input fault"))
-        if hold:
-            return self._done(FLAGS.value("held"))
+        v, force, stop = self._gate(v, force, hold)
+        if stop is not None:
+            return stop
         pred, phi = self._predict(v)
         err = force - pred
         if not (abs(v) >= self._v_dead and abs(err) >= self._e_dead):
@@ -271,12 +279,9 @@ class FrictionAdapter:
     def lyapunov(self, v, e2, hold: bool = False) -> int:
         """One step of theta' = Gamma_theta e2 phi(v) / phi_N (forward Euler); returns the
         flags (``fric_adapt_lyapunov``)."""
-        f = self._f
-        v, e2 = f(v), f(e2)
-        if not (math.isfinite(v) and math.isfinite(e2)):
-            return self._done(FLAGS.value("input fault"))
-        if hold:
-            return self._done(FLAGS.value("held"))
+        v, e2, stop = self._gate(v, e2, hold)
+        if stop is not None:
+            return stop
         if not (abs(v) >= self._v_dead and abs(e2) >= self._e_dead):
             return self._done(FLAGS.value("dead zone"), e2)
         _, phi = self._reg(v)
