@@ -126,6 +126,21 @@ static fric_adapt_flags_t fric_adapt_finish(fric_adapt_t *a, const float *update
     return fric_adapt_done(a, flags);
 }
 
+/* Whether an update stops at its inputs (fricgen.control.adaptation's _gate): v or the rule's
+ * input x not finite, or hold; then *flags holds the finished update's flags. */
+static int fric_adapt_stops(fric_adapt_t *a, float v, float x, int hold, fric_adapt_flags_t *flags)
+{
+    if (!isfinite(v) || !isfinite(x)) {
+        *flags = fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
+        return 1;
+    }
+    if (hold) {
+        *flags = fric_adapt_done(a, FRIC_ADAPT_HELD);
+        return 1;
+    }
+    return 0;
+}
+
 fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
                                   float force, int hold)
 {
@@ -138,11 +153,8 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
     if (a == NULL || reg == NULL) {
         return FRIC_ADAPT_FAULT_NULL;
     }
-    if (!isfinite(v) || !isfinite(force)) {
-        return fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
-    }
-    if (hold) {
-        return fric_adapt_done(a, FRIC_ADAPT_HELD);
+    if (fric_adapt_stops(a, v, force, hold, &flags)) {
+        return flags;
     }
     n = a->p.n;
     lam = a->p.forgetting;
@@ -194,15 +206,13 @@ fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn 
 {
     float phi[FRIC_ADAPT_MAX_PARAMS], updated[FRIC_ADAPT_MAX_PARAMS];
     unsigned int k;
+    fric_adapt_flags_t flags = FRIC_ADAPT_OK;
 
     if (a == NULL || reg == NULL) {
         return FRIC_ADAPT_FAULT_NULL;
     }
-    if (!isfinite(v) || !isfinite(e2)) {
-        return fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
-    }
-    if (hold) {
-        return fric_adapt_done(a, FRIC_ADAPT_HELD);
+    if (fric_adapt_stops(a, v, e2, hold, &flags)) {
+        return flags;
     }
     a->error = e2;
     if (!(fabsf(v) >= a->p.v_dead && fabsf(e2) >= a->p.e_dead)) {

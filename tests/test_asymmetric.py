@@ -123,6 +123,23 @@ def _curve_tolerance(curve, speed):
     return (n + 3) * EPS32 * (terms / curve.scaling.k_out + np.abs(curve.viscous * speed))
 
 
+def _assert_c_matches_twin(lib, name, model, impl, exact_rel):
+    """The C of ``model`` over the parity velocities of both directions: bit-equal to the float32
+    twin with the fast exponential, within the twin's rounding tolerance (and equal on > 99 %)
+    with libm; within ``exact_rel`` of max |F| of the float64 model. Returns (v, C forces)."""
+    v = parity.parity_velocities(max(d.v_sat for d in model.directions))
+    c = parity.c_forces(lib, name, v).astype(float)
+    twin = force_f32(model, v, impl).astype(float)
+    if impl == "fast":
+        assert np.array_equal(c, twin)
+    else:
+        assert np.all(np.abs(c - twin) <= _twin_tolerance(model, v.astype(float)))
+        assert np.mean(c == twin) > 0.99
+    exact = model.force(v.astype(float))
+    assert np.max(np.abs(c - exact)) <= exact_rel * np.max(np.abs(exact))
+    return v, c
+
+
 def _twin_tolerance(model, v):
     """The per-velocity bound for the curve of each velocity's direction."""
     bound = np.zeros_like(v)
@@ -137,16 +154,7 @@ def test_c_matches_float32_twin_and_float64_model(asym, tmp_path, impl):
     h = (tmp_path / "fa.h").read_text()
     assert "#define FA_ASYMMETRIC 1" in h and "#define FA_FORMAT_VERSION 2" in h
     lib = build_model(tmp_path, "fa", build_dir=tmp_path / "build")
-    v = parity.parity_velocities(max(c.v_sat for c in asym.directions))
-    c = parity.c_forces(lib, "fa", v).astype(float)
-    twin = force_f32(asym, v, impl).astype(float)
-    if impl == "fast":
-        assert np.array_equal(c, twin)
-    else:
-        assert np.all(np.abs(c - twin) <= _twin_tolerance(asym, v.astype(float)))
-        assert np.mean(c == twin) > 0.99
-    exact = asym.force(v.astype(float))
-    assert np.max(np.abs(c - exact)) <= 1e-5 * np.max(np.abs(exact))
+    _assert_c_matches_twin(lib, "fa", asym, impl, exact_rel=1e-5)
     assert lib.fa_force(0.0) == 0.0 and lib.fa_force(-0.01) != -lib.fa_force(0.01)
     edges = [float("nan"), float("inf"), -float("inf")]
     out = [lib.fa_force(e) for e in edges]
@@ -286,16 +294,7 @@ def test_grey_box_and_mixed_asymmetric_c_matches_its_twin_and_the_model(curves, 
             assert np.array_equal(c_aim, twin_aim)
         else:                                               # expf within 1 ULP
             assert np.max(np.abs(c_aim - twin_aim)) <= 4 * EPS32 * np.max(np.abs(twin_aim))
-    v = parity.parity_velocities(max(pos.v_sat, neg.v_sat))
-    c = parity.c_forces(lib, "fb", v).astype(float)
-    twin = force_f32(model, v, impl).astype(float)
-    if impl == "fast":
-        assert np.array_equal(c, twin)
-    else:
-        assert np.all(np.abs(c - twin) <= _twin_tolerance(model, v.astype(float)))
-        assert np.mean(c == twin) > 0.99
-    exact = model.force(v.astype(float))
-    assert np.max(np.abs(c - exact)) <= 1e-7 * np.max(np.abs(exact))   # 2.6e-8 measured
+    v, c = _assert_c_matches_twin(lib, "fb", model, impl, exact_rel=1e-7)   # 2.6e-8 measured
     inside = np.abs(v) <= min(pos.v_sat, neg.v_sat)
     assert np.all(c[inside & (v > 0)] > 0) and np.all(c[inside & (v < 0)] < 0)
     assert lib.fb_force(0.0) == 0.0 and lib.fb_force(-0.01) != -lib.fb_force(0.01)
