@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 from scipy.stats import kstest
+from scipy.stats import t as student_t
 
 from fricgen.diagnose.decision import autocorrelation_time, held_out_p_value
 
@@ -50,6 +51,21 @@ def test_p_values_of_tiny_samples_by_hand():
     assert (p, n_eff) == (pytest.approx(0.5 * (1 - np.sqrt(0.8)), rel=1e-12), 3.0)
     p, n_eff = held_out_p_value(np.array([1.0, 2.0]), np.array([0.0, 1.0]))
     assert (p, n_eff) == (pytest.approx(0.5 - np.arctan(3 * np.sqrt(2)) / np.pi, rel=1e-12), 2.0)
+
+
+def test_autocorrelated_residuals_count_as_fewer_samples():
+    """A short, smooth residual (tau > 1): the effective sample size is n / tau, below n, and
+    the p-value is larger than the same statistic would give with n independent samples."""
+    x = np.linspace(0.0, 1.0, 40)
+    e = np.sin(3 * x) + 0.3 * x
+    p = np.sin(3 * x)
+    p_value, n_eff = held_out_p_value(e, e - p)
+    beta = float(e @ p) / float(p @ p)
+    tau = autocorrelation_time((e - beta * p) * p)
+    assert tau > 1.5 and n_eff == pytest.approx(e.size / tau, rel=1e-12) and n_eff < e.size
+    u = (e - beta * p) * p
+    white = float(student_t.sf(beta * float(p @ p) / np.sqrt(float(u @ u)), e.size - 1))
+    assert p_value > white
 
 
 def _null_p_values(n_tests=400, seed=5):

@@ -9,9 +9,12 @@ the most negative input.
 import shutil
 import subprocess
 
+import numpy as np
 import pytest
 
 from fricgen import codegen
+from fricgen.model import FrictionModel, Scaling
+from fricgen.networks.stribeck import StribeckCurve
 
 SAN = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer", "-g"]
 N_FUZZ = 1_100_000
@@ -80,6 +83,16 @@ def sanitized_run(folder, main_c):
 @pytest.mark.parametrize("impl", ["libm", "fast"])
 def test_float_force_has_defined_behaviour_for_every_input_under_sanitizers(model10, impl, tmp_path):
     codegen.emit(model10, tmp_path, "fm", activation_impl=impl)
+    out = sanitized_run(tmp_path, FLOAT_FUZZ % {"n": N_FUZZ})
+    assert out.strip() == f"{N_FUZZ} inputs, 0 violations"
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_grey_box_force_has_defined_behaviour_for_every_input_under_sanitizers(impl, tmp_path):
+    """Eq. (1)'s loop over the sources reads its tables in bounds (ASan checks every global)."""
+    curve = StribeckCurve("exponential", 0.4, np.array([0.3, 0.25]), np.array([0.08, 0.3]), 0.02)
+    model = FrictionModel(curve, Scaling(1 / 0.06, 1 / 44.0), 57.5, 0.06, name="fm")
+    codegen.emit(model, tmp_path, "fm", activation_impl=impl)
     out = sanitized_run(tmp_path, FLOAT_FUZZ % {"n": N_FUZZ})
     assert out.strip() == f"{N_FUZZ} inputs, 0 violations"
 
