@@ -182,9 +182,17 @@ def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp
     assert lib.gb_force(0.0) == 0.0 and lib.gb_force(-0.01) == -lib.gb_force(0.01)
 
 
-def test_grey_box_models_refuse_fixed_point(greybox_model):
-    with pytest.raises(ModelError, match="--dtype q15 emits ELM models"):
-        codegen.render(greybox_model, "gb", dtype="q15")
+def test_a_trained_grey_box_model_emits_in_q15_within_its_bound(greybox_model):
+    """The fitted eq. (1) as a q15 AIM table (fricgen.codegen.fixed_table): every input within
+    the bound NAME.h states."""
+    from fricgen.codegen import fixed_table as ft
+    files = codegen.render(greybox_model, "gb", dtype="q15")
+    spec = ft.TableSpec.of(greybox_model, "q15")
+    v_q = np.arange(-2 ** 15, 2 ** 15)
+    err = np.abs(ft.force_table_q(spec, v_q) * 2.0 ** -spec.f_f - greybox_model.force(v_q * 2.0 ** -spec.f_v))
+    bound = ft.table_error_bound(spec, greybox_model)
+    assert err.max() <= bound and f"<= {bound:.3g} N" in files["gb.h"]
+    assert f"#define GB_TABLE_SIZE {spec.table.size}" in files["gb.h"] and "float" not in files["gb.c"]
 
 
 @pytest.mark.skipif(fw.missing_tools() is not None, reason="cross toolchain or QEMU absent")

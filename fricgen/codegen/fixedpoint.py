@@ -204,8 +204,7 @@ def force_q(spec: FixedSpec, v_q) -> np.ndarray:
     """Integer twin of NAME_force_q15 / NAME_force_q31: F_q (scale 2^-f_f) from v_q (2^-f_v)."""
     v_q = np.asarray(v_q, dtype=np.int64)
     bits = spec.bits
-    speed = np.minimum(np.abs(v_q), spec.v_sat_q)
-    x_q = np.minimum(spec.k_in.apply(speed), spec.one)                 # Q(bits-1), [0, 1]
+    x_q = normalized_speed(spec, v_q)                                  # Q(bits-1), [0, 1]
     acc = np.zeros_like(v_q)
     zw_shift = spec.f_w + bits - 1 - spec.f_z
     for k in range(spec.w.size):
@@ -214,8 +213,21 @@ def force_q(spec: FixedSpec, v_q) -> np.ndarray:
         acc = acc + (term >> spec.term_shift if spec.term_shift else term)
     acc_frac = spec.f_beta + bits - 1 - spec.term_shift
     aim = np.clip(_rshift(acc, acc_frac - spec.f_aim), -2 * spec.one, 2 * spec.one)
-    stribeck = spec.inv_k_out.apply(aim)
-    magnitude = stribeck + spec.viscous.apply(np.abs(v_q))       # odd: rounded on |v|
+    return signed_force(spec, aim, v_q)
+
+
+def normalized_speed(spec, v_q) -> np.ndarray:
+    """x = K_in min(|v|, v_sat) in Q(bits-1), within [0, 1] (eq. (9)'s input, saturated as
+    eq. (3)); ``spec`` a ``FixedSpec`` or a ``TableSpec``."""
+    speed = np.minimum(np.abs(np.asarray(v_q, dtype=np.int64)), spec.v_sat_q)
+    return np.minimum(spec.k_in.apply(speed), spec.one)
+
+
+def signed_force(spec, aim, v_q) -> np.ndarray:
+    """Eq. (3) from the AIM (scale 2^-f_aim): sgn(v) (AIM / K_out + B |v|), saturated to the
+    output type; odd, the viscous term rounded on |v|."""
+    v_q = np.asarray(v_q, dtype=np.int64)
+    magnitude = spec.inv_k_out.apply(aim) + spec.viscous.apply(np.abs(v_q))
     total = np.where(v_q > 0, magnitude, np.where(v_q < 0, -magnitude, 0))
     return np.clip(total, -(spec.one - 1), spec.one - 1)
 
@@ -231,21 +243,34 @@ def error_bound(spec: FixedSpec, model: FrictionModel) -> float:
     net = model.aim
     lsb = lambda f: 2.0 ** -f  # noqa: E731
     one = lsb(spec.bits - 1)
-    k_in_exact = model.scaling.k_in * 2.0 ** (spec.bits - 1 - spec.f_v)
-    dx = one * (0.5 + spec.v_sat_q * abs(spec.k_in.mant * 2.0 ** -spec.k_in.shift - k_in_exact)) \
-        + model.scaling.k_in * 2.0 ** -(spec.f_v + 1)   # rounding, constant, v_sat rounding
-    dz = np.abs(net.input_weights) * dx + lsb(spec.f_w + 1) + lsb(spec.f_b + 1) + lsb(spec.f_z)
+    dz = np.abs(net.input_weights) * input_rounding(spec, model) + lsb(spec.f_w + 1) \
+        + lsb(spec.f_b + 1) + lsb(spec.f_z)
     sig_err = sigmoid_table_error(spec) + one
     beta_abs = np.abs(net.output_weights)
     aim_err = float(np.sum(beta_abs * (sig_err + dz / 4.0))) + spec.w.size * lsb(spec.f_beta + 1) \
         + spec.w.size * lsb(spec.f_beta + spec.bits - 1 - spec.term_shift) + lsb(spec.f_aim)
+    return aim_err / model.scaling.k_out + output_error(spec, model)
+
+
+def input_rounding(spec, model: FrictionModel) -> float:
+    """Bound on the error of the integer x = K_in |v| in [0, 1] (``spec``: a ``FixedSpec`` or a
+    ``TableSpec``): its rounding (1/2 LSB of Q(bits-1)), K_in's mantissa error up to v_sat, and
+    the rounding of v_sat itself."""
+    k_in_exact = model.scaling.k_in * 2.0 ** (spec.bits - 1 - spec.f_v)
+    return 2.0 ** -(spec.bits - 1) * (0.5 + spec.v_sat_q * abs(
+        spec.k_in.mant * 2.0 ** -spec.k_in.shift - k_in_exact)) + model.scaling.k_in * 2.0 ** -(spec.f_v + 1)
+
+
+def output_error(spec, model: FrictionModel) -> float:
+    """Bound (N) on what follows the AIM: the mantissa errors of 1 / K_out and B over the whole
+    AIM and speed ranges, and 3 output LSBs of rounding (``spec`` as ``input_rounding``)."""
     a_max = 2.0 ** (spec.bits - 1 - spec.f_aim)
     v_max = 2.0 ** (spec.bits - 1 - spec.f_v)
-    const_err = (a_max * abs(spec.inv_k_out.mant * 2.0 ** (spec.f_aim - spec.f_f - spec.inv_k_out.shift)
-                             - 1.0 / model.scaling.k_out)
-                 + v_max * abs(spec.viscous.mant * 2.0 ** (spec.f_v - spec.f_f - spec.viscous.shift)
-                               - model.viscous))
-    return aim_err / model.scaling.k_out + const_err + 3 * lsb(spec.f_f)
+    return (a_max * abs(spec.inv_k_out.mant * 2.0 ** (spec.f_aim - spec.f_f - spec.inv_k_out.shift)
+                        - 1.0 / model.scaling.k_out)
+            + v_max * abs(spec.viscous.mant * 2.0 ** (spec.f_v - spec.f_f - spec.viscous.shift)
+                          - model.viscous)
+            + 3 * 2.0 ** -spec.f_f)
 
 
 def sigmoid_table_error(spec: FixedSpec) -> float:
@@ -260,45 +285,63 @@ def _c_int_array(values, per_line: int = 8) -> str:
     return c_list((str(int(v)) for v in np.asarray(values).ravel()), per_line)
 
 
-def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: float = 0.025,
-                 v_max: Optional[float] = None) -> Dict[str, str]:
-    """NAME.h and NAME.c of the fixed-point model (no runtime files, no float, no libm), its
-    input covering ``v_max`` m/s (default: the model's training speeds; ``input_range``)."""
-    ident = identity_context(model, name)
-    spec = FixedSpec.of(model, dtype, v_max)
+def fixed_context(model: FrictionModel, name: str, spec, v_max: Optional[float], bound: float,
+                  max_rel_error: float) -> dict:
+    """What every fixed-point NAME.h/NAME.c states (``spec``: a ``FixedSpec`` or a
+    ``TableSpec``): the identity, the types, the input and output scales and ranges, the
+    constant multipliers and the error bound; ``ModelError`` when the bound exceeds
+    ``max_rel_error`` of the force range."""
     cover = covered_speed(model, v_max)
     if cover is None:
         covers = "2 v_sat only: the model records no training speeds"
     else:
         covers = (f"{cover:.4g} m/s" + (" (--v-max)" if v_max is not None else
                                          ", the fastest speed of the model's training data"))
-    bound = error_bound(spec, model)
     f_range = 2.0 ** (spec.bits - 1 - spec.f_f)
     if not bound <= max_rel_error * f_range:
-        raise ModelError(f"{dtype} cannot meet its error bound for this model: {bound:.4g} N > "
-                         f"{max_rel_error:g} x force range {f_range:g} N (||beta||_1 = "
-                         f"{np.abs(model.aim.output_weights).sum():.3g}; train with solver 'loo')")
+        raise ModelError(f"{spec.dtype} cannot meet its error bound for this model: {bound:.4g} N > "
+                         f"{max_rel_error:g} x force range {f_range:g} N")
     st, wt = ("int16_t", "int32_t") if spec.bits == 16 else ("int32_t", "int64_t")
-    ctx = {
-        **ident, "dtype": dtype, "n_hidden": spec.w.size, "bits": spec.bits,
+    return {
+        **identity_context(model, name), "dtype": spec.dtype, "bits": spec.bits,
         "stype": st, "wtype": wt, "f_v": spec.f_v, "f_f": spec.f_f, "error_bound": f"{bound:.3g}",
-        "covers": covers,
-        "v_range": f"{2.0 ** (spec.bits - 1 - spec.f_v):g}", "f_range": f"{f_range:g}",
+        "covers": covers, "v_range": f"{2.0 ** (spec.bits - 1 - spec.f_v):g}", "f_range": f"{f_range:g}",
+        "one": spec.one, "v_sat_q": spec.v_sat_q, "k_in": spec.k_in, "inv_k_out": spec.inv_k_out,
+        "viscous": spec.viscous, "smin": -(spec.one - 1), "smax": spec.one - 1,   # F(-v) = -F(v)
+        "table_size": 0,                                   # the ELM path; a table sets it
+    }
+
+
+def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: float = 0.025,
+                 v_max: Optional[float] = None) -> Dict[str, str]:
+    """NAME.h and NAME.c of the fixed-point ELM (no runtime files, no float, no libm), its
+    input covering ``v_max`` m/s (default: the model's training speeds; ``input_range``)."""
+    spec = FixedSpec.of(model, dtype, v_max)
+    try:
+        ctx = fixed_context(model, name, spec, v_max, error_bound(spec, model), max_rel_error)
+    except ModelError as exc:
+        raise ModelError(f"{exc} (||beta||_1 = {np.abs(model.aim.output_weights).sum():.3g}; "
+                         "train with solver 'loo')") from None
+    ctx.update({
+        "n_hidden": spec.w.size,
         "w": _c_int_array(spec.w), "b": _c_int_array(spec.b), "beta": _c_int_array(spec.beta),
         "sig": ",\n".join("    {" + ", ".join(str(int(c)) for c in row) + "}" for row in spec.sig_coeffs),
         "n_seg": spec.sig_coeffs.shape[0],
         "degree": spec.degree, "seg_shift": spec.f_z - spec.hs, "hs": spec.hs, "zs": spec.zs,
-        "r_shift": spec.f_z - spec.hs - (spec.bits - 1), "one": spec.one,
+        "r_shift": spec.f_z - spec.hs - (spec.bits - 1),
         "seg_mask": (1 << (spec.f_z - spec.hs)) - 1,
-        "v_sat_q": spec.v_sat_q, "k_in": spec.k_in, "inv_k_out": spec.inv_k_out, "viscous": spec.viscous,
         "zw_shift": spec.f_w + spec.bits - 1 - spec.f_z, "zb_mul": 1 << (spec.f_z - spec.f_b),
         "term_shift": spec.term_shift,
         "aim_shift": spec.f_beta + spec.bits - 1 - spec.term_shift - spec.f_aim,
-        "smin": -(spec.one - 1), "smax": spec.one - 1,       # symmetric: F(-v) = -F(v)
-    }
+    })
     if ctx["aim_shift"] < 1 or ctx["zw_shift"] < 1:
         raise ModelError(f"{dtype}: the network's scales leave no rounding headroom (aim shift "
                          f"{ctx['aim_shift']}, z shift {ctx['zw_shift']})")
+    return render_fixed_files(name, ctx)
+
+
+def render_fixed_files(name: str, ctx: dict) -> Dict[str, str]:
+    """NAME.h and NAME.c rendered from a fixed-point context."""
     env = template_environment()
     return {f"{name}.h": env.get_template("model_fixed.h.j2").render(ctx),
             f"{name}.c": env.get_template("model_fixed.c.j2").render(ctx)}

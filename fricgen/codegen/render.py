@@ -17,6 +17,7 @@ from .context import (GENERATED_MARKER, RUNTIME_MARKER, effects_context, identit
                       template_environment)
 from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
+from .fixed_table import render_fixed_table
 from .fixedpoint import render_fixed
 from .parity import check_float32
 from .twin import stribeck_table
@@ -185,12 +186,12 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         if model.negative is not None:
             raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
                              "(emit it with --dtype float)")
-        if isinstance(model.aim, StribeckCurve):
-            raise ModelError(f"--dtype {dtype} emits ELM models; emit this grey-box model with "
-                             "--dtype float")
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
+        if isinstance(model.aim, StribeckCurve):
+            check_determined(model)
+            return render_fixed_table(model, name, dtype, v_max=v_max)
         return render_fixed(model, name, dtype, v_max=v_max)
     for curve in model.directions:
         if not isinstance(curve.aim, (ElmNetwork, StribeckCurve)):
