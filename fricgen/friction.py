@@ -29,7 +29,25 @@ SHAPES: Dict[str, Callable[[np.ndarray, float], np.ndarray]] = {
 
 @dataclass(frozen=True)
 class FrictionSource:
-    """One source of eq. (1): Coulomb f_c, Stribeck f_s, Stribeck velocity v_s, viscous B."""
+    """One source k of eq. (1).
+
+    Parameters
+    ----------
+    fc : float
+        Coulomb friction f_ck (N).
+    fs : float
+        Stribeck (static) friction f_sk (N).
+    vs : float
+        Stribeck velocity v_sk (m/s), > 0.
+    B : float
+        Viscous coefficient B_k (N s/m).
+
+    Examples
+    --------
+    >>> from fricgen.friction import FrictionSource
+    >>> FrictionSource(fc=4.0, fs=8.0, vs=0.01, B=2.5).vs
+    0.01
+    """
 
     fc: float
     fs: float
@@ -47,7 +65,33 @@ class FrictionSource:
 
 @dataclass(frozen=True)
 class MultisourceFriction:
-    """F_F(v) = sum_k [f_ck + (f_sk - f_ck) g(v, v_sk)] sgn(v) + sum_k B_k v   (eq. 1)."""
+    r"""Multisource Stribeck friction, eq. (1), with the shape functions g of eq. (2).
+
+    Parameters
+    ----------
+    sources : sequence of FrictionSource
+        The S sources (at least one).
+    shape : {"gauss", "exponential", "rational"}
+        g(v, v_s) of eq. (2): exp(-(v/v_s)^2), exp(-|v|/v_s) or 1/(1 + |v|/v_s).
+
+    Notes
+    -----
+    Calling the object evaluates eq. (1), the friction force in N at velocities v in m/s:
+
+    .. math::
+
+        F_F(v) = \sum_{k=1}^S [f_{ck} + (f_{sk} - f_{ck}) g(v, v_{sk})] \operatorname{sgn}(v)
+                 + \sum_{k=1}^S B_k v
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> friction = fricgen.preset("paper3")          # Table 1
+    >>> len(friction.sources), round(friction.viscous, 1), friction.vs_max
+    (3, 57.5, 0.02)
+    >>> round(float(friction(0.0)), 1), round(float(friction(-1e-9)), 1)   # f_s sum at rest
+    (0.0, -44.0)
+    """
 
     sources: Tuple[FrictionSource, ...]
     shape: str = "gauss"
@@ -90,7 +134,30 @@ class MultisourceFriction:
 
 def multisource(fc: Sequence[float], fs: Sequence[float], vs: Sequence[float],
                 B: Sequence[float], shape: str = "gauss") -> MultisourceFriction:
-    """Build eq. (1) from per-source parameter columns (as Table 1 lists them)."""
+    """Eq. (1) from per-source parameter columns, as Table 1 lists them.
+
+    Parameters
+    ----------
+    fc, fs : sequence of float
+        Coulomb and Stribeck friction of each source (N).
+    vs : sequence of float
+        Stribeck velocity of each source (m/s).
+    B : sequence of float
+        Viscous coefficient of each source (N s/m).
+    shape : str
+        The g of eq. (2): "gauss", "exponential" or "rational".
+
+    Returns
+    -------
+    MultisourceFriction
+
+    Examples
+    --------
+    >>> from fricgen.friction import multisource
+    >>> f = multisource(fc=[4.0], fs=[8.0], vs=[0.01], B=[2.0])
+    >>> round(float(f(1.0)), 3)      # f_c + B v far above v_s
+    6.0
+    """
     lengths = {len(fc), len(fs), len(vs), len(B)}
     if len(lengths) != 1:
         raise ValueError(f"fc, fs, vs, B must have equal lengths, got {len(fc)}, {len(fs)}, {len(vs)}, {len(B)}")
@@ -106,7 +173,25 @@ PRESETS: Dict[str, Callable[[str], MultisourceFriction]] = {
 
 
 def preset(name: str, shape: str = "gauss") -> MultisourceFriction:
-    """A named friction preset, e.g. ``preset("paper3")`` = Table 1."""
+    """A named friction preset: ``"paper3"`` is the paper's Table 1 (3 sources, SI units).
+
+    Parameters
+    ----------
+    name : str
+        The preset's name.
+    shape : str
+        The g of eq. (2) to give it ("gauss", "exponential" or "rational").
+
+    Returns
+    -------
+    MultisourceFriction
+
+    Examples
+    --------
+    >>> from fricgen import preset
+    >>> [s.fs for s in preset("paper3", shape="rational").sources]
+    [8.0, 16.0, 20.0]
+    """
     if name not in PRESETS:
         raise ValueError(f"unknown friction preset {name!r}; known: {sorted(PRESETS)}")
     return PRESETS[name](shape)

@@ -58,7 +58,26 @@ DEFAULT_MODEL_NAME = "friction_model"
 
 def check_c_identifier(name: Any, what: str = "name") -> str:
     """A C identifier of file scope: at most 63 characters, no keyword, no leading underscore
-    (C99 7.1.3 reserves every file-scope name that begins with one)."""
+    (C99 7.1.3 reserves every file-scope name that begins with one).
+
+    Parameters
+    ----------
+    name : object
+        The candidate.
+    what : str
+        What the message calls it.
+
+    Returns
+    -------
+    str
+        ``name``, unchanged; a ``ModelError`` naming ``what`` when it is no such identifier.
+
+    Examples
+    --------
+    >>> from fricgen.model import check_c_identifier
+    >>> check_c_identifier("axis_x")
+    'axis_x'
+    """
     if isinstance(name, str) and name in _C_KEYWORDS:
         raise ModelError(f"{what} must not be a C keyword, got {name!r}")
     if not isinstance(name, str) or not _IDENT.match(name):
@@ -70,8 +89,30 @@ def check_c_identifier(name: Any, what: str = "name") -> str:
 
 
 def check_model_name(name: Any, what: str = "name") -> str:
-    """A name the emitted C may use for NAME.h, NAME.c, NAME_force and the guard: a C
-    identifier outside the runtime's prefix and unlike any standard header, in any case."""
+    """A name the emitted C may use for NAME.h, NAME.c, NAME_force and the guard: a C identifier
+    outside the runtime's prefix (``fric_``) and unlike any standard header, in any case.
+
+    Parameters
+    ----------
+    name : object
+        The candidate.
+    what : str
+        What the message calls it.
+
+    Returns
+    -------
+    str
+        ``name``, unchanged; a ``ModelError`` otherwise.
+
+    Examples
+    --------
+    >>> from fricgen.model import check_model_name
+    >>> try:
+    ...     check_model_name("math")
+    ... except ValueError as exc:
+    ...     print(exc)
+    name must not be the name of a C standard header (math.h), got 'math'
+    """
     check_c_identifier(name, what)
     if name.lower().startswith(RUNTIME_PREFIX):
         raise ModelError(f"{what} must not begin with {RUNTIME_PREFIX!r} in any case (the C "
@@ -137,7 +178,21 @@ def _finite_or_null(value):
 
 @dataclass(frozen=True)
 class Scaling:
-    """Normalization of eq. (9): x = K_in v, t = K_out (F - B v)."""
+    """Normalization of eq. (9): x = K_in v, t = K_out (F - B v).
+
+    Parameters
+    ----------
+    k_in : float
+        K_in (s/m): 1 / v_sat, so that x is in [0, 1] on the trained range.
+    k_out : float
+        K_out (1/N): scales the target to at most 1 in magnitude.
+
+    Examples
+    --------
+    >>> from fricgen.model import Scaling
+    >>> Scaling(k_in=1 / 0.06, k_out=0.05).k_out
+    0.05
+    """
 
     k_in: float
     k_out: float
@@ -146,7 +201,28 @@ class Scaling:
 @dataclass(frozen=True)
 class Direction:
     """The curve of eq. (3) for one direction of motion, as a function of the speed |v|:
-    AIM(K_in min(|v|, v_sat)) / K_out + B |v|. ``aim`` is a network of any kind."""
+    AIM(K_in min(|v|, v_sat)) / K_out + B |v|.
+
+    Parameters
+    ----------
+    aim : network
+        The trained network of any kind (``fricgen.networks``), from x to t of eq. (9).
+    scaling : Scaling
+        K_in and K_out of eq. (9).
+    viscous : float
+        B (N s/m), identified above v_sat.
+    v_sat : float
+        The speed (m/s) beyond which the network input saturates (3 vs_max).
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> model = fricgen.FrictionModel.fit(
+    ...     fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset,
+    ...     fricgen.ELMRegressor(random_state=0))
+    >>> round(model.positive.v_sat, 2)
+    0.06
+    """
 
     aim: Any
     scaling: Scaling

@@ -42,7 +42,7 @@ class FitReport:
     ``str(report)`` is the text ``fricgen train`` prints; ``report.training`` is the record
     model.json keeps (``report.model.training``).
 
-    Attributes
+    Parameters
     ----------
     model : FrictionModel
         The fitted model (eq. (3), sec. 2), symmetric or one curve per direction.

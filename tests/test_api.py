@@ -12,7 +12,16 @@ import pytest
 import fricgen
 
 #: Modules whose docstring examples run here.
-DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model"]
+DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model", "fricgen.errors", "fricgen.friction",
+             "fricgen.data.sweep", "fricgen.data.motionlog", "fricgen.data.benchmark",
+             "fricgen.data.training_set", "fricgen.data.stribeck_range", "fricgen.data.viscous",
+             "fricgen.fit", "fricgen.fit.base", "fricgen.fit.elm", "fricgen.fit.auto",
+             "fricgen.fit.stribeck", "fricgen.fit.default", "fricgen.fit.anfis",
+             "fricgen.fit.conditioning", "fricgen.fit.oracle", "fricgen.networks",
+             "fricgen.networks.elm", "fricgen.networks.anfis", "fricgen.networks.stribeck",
+             "fricgen.effects.library", "fricgen.effects.signals", "fricgen.effects.tables",
+             "fricgen.codegen.render", "fricgen.control.loop", "fricgen.control.backstepping",
+             "fricgen.control.c_controller"]
 #: Public objects held to numpydoc: Parameters naming every argument, and Examples.
 NUMPYDOC = ["train", "FitReport", "FrictionModel", "FrictionModel.force", "FrictionModel.save",
             "FrictionModel.load"]

@@ -78,9 +78,34 @@ def curve_context(curve, name: str, activation_impl: str, negative: bool = False
 
 
 def template_context(model: FrictionModel, name: str, activation_impl: str = "libm") -> dict:
-    """Everything templates/model.c.j2 and model.h.j2 need: the curve for v >= 0 (``positive``,
-    the only one of a symmetric model) and the curve for v < 0 (``negative``, None unless the
-    model is asymmetric), each an ELM or the grey-box eq. (1) (``curve_context``)."""
+    """Everything templates/model.c.j2 and model.h.j2 need: the curve for v >= 0 (``positive``, the
+    only one of a symmetric model) and the curve for v < 0 (``negative``, None unless the model is
+    asymmetric), each an ELM or the grey-box eq. (1), with the constants of eq. (3).
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model to emit.
+    name : str
+        The C name (NAME.h, NAME_force).
+    activation_impl : {"libm", "fast"}
+        How the C evaluates the activation.
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> from fricgen.codegen import template_context
+    >>> context = template_context(model, "axis_x")
+    >>> context["positive"]["kind"], context["negative"] is None
+    ('elm', True)
+    """
     curves = [curve_context(c, name, activation_impl, negative=k == 1)
               for k, c in enumerate(model.directions)]
     cost = instructions_max([c.aim for c in model.directions], activation_impl)
@@ -161,7 +186,19 @@ def check_determined(model: FrictionModel) -> None:
 
 
 def controller_files() -> Dict[str, str]:
-    """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name."""
+    """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name.
+
+    Returns
+    -------
+    dict of str to str
+        File name -> C text.
+
+    Examples
+    --------
+    >>> from fricgen.codegen import controller_files
+    >>> sorted(controller_files())
+    ['fric_ctrl.c', 'fric_ctrl.h', 'fric_float.h']
+    """
     runtime = resource_dir("c_runtime")
     return {fname: (runtime / fname).read_text() for fname in CONTROLLER_FILES}
 
@@ -169,9 +206,39 @@ def controller_files() -> Dict[str, str]:
 def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
            dtype: str = "float", with_controller: bool = False,
            v_max: Optional[float] = None) -> Dict[str, str]:
-    """All files of the emitted folder, by file name: NAME.h, NAME.c and the runtime, plus the
-    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``. ``v_max`` (m/s): the
-    speed a fixed-point input must cover (default: the model's training speeds)."""
+    """All files of the emitted C folder, by file name: NAME.h, NAME.c and the runtime, plus the
+    controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``. Nothing is written.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model whose eq. (3) the C evaluates.
+    name : str, optional
+        The C name (default: the model's).
+    activation_impl : {"libm", "fast"}
+        The activation: the C library's, or the fast approximation.
+    dtype : {"float", "q15", "q31"}
+        float32, or fixed point.
+    with_controller : bool
+        Add the controller runtime of section 6 (float only).
+    v_max : float, optional
+        The speed (m/s) a fixed-point input must cover (default: the model's training speeds);
+        fixed point only.
+
+    Returns
+    -------
+    dict of str to str
+        File name -> text; ``ModelError`` for an option that does not apply.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> sorted(fricgen.render(model))
+    ['axis_x.c', 'axis_x.h', 'fric_float.h', 'fric_kernel.c', 'fric_kernel.h']
+    """
     name = model.name if name is None else name
     if v_max is not None and dtype == "float":
         raise ModelError("v_max sets the input range of fixed point (--dtype q15 or q31); float "
@@ -226,8 +293,29 @@ def _generated(head: List[str]) -> bool:
 
 
 def generated_models(folder: Union[str, Path]) -> List[str]:
-    """The names of the models generated into ``folder`` before: each NAME.h whose head comment
-    holds the ``GENERATED_MARKER`` line."""
+    """The names of the models generated into ``folder`` before: each NAME.h whose head comment holds
+    the ``GENERATED_MARKER`` line.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The folder to look in.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> from fricgen.codegen import generated_models
+    >>> _ = fricgen.emit(model, tmp / "gen")
+    >>> generated_models(tmp / "gen")
+    ['axis_x']
+    """
     return [header.stem for header in sorted(Path(folder).glob("*.h"))
             if header.is_file() and _generated(_head(header))]
 
@@ -241,8 +329,35 @@ def written_by_fricgen(path: Union[str, Path]) -> bool:
 
 def check_overwrite(paths, force: bool = False, option: str = "-o", written=None) -> None:
     """``UsageError`` naming the first of ``paths`` that exists and that fricgen did not write, or
-    that is read-only, unless ``force``: the C is emitted over its own files only (``written``,
-    default ``written_by_fricgen``, tells fricgen's files of another kind)."""
+    that is read-only, unless ``force``: the C is emitted over its own files only.
+
+    Parameters
+    ----------
+    paths : iterable of str or pathlib.Path
+        The files about to be written.
+    force : bool
+        Skip the check.
+    option : str
+        The command-line option the message names.
+    written : callable, optional
+        path -> bool, whether fricgen wrote the file (default: ``written_by_fricgen``).
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> from fricgen.codegen import check_overwrite
+    >>> _ = (tmp / "mine.h").write_text("/* my own */")
+    >>> try:
+    ...     check_overwrite([tmp / "mine.h"])
+    ... except ValueError:
+    ...     print("refused")
+    refused
+    >>> check_overwrite([tmp / "mine.h"], force=True) is None
+    True
+    """
     written = written or written_by_fricgen
     if force:
         return
@@ -262,7 +377,34 @@ def check_overwrite(paths, force: bool = False, option: str = "-o", written=None
 def check_name_in_folder(out_dir: Union[str, Path], name: str) -> None:
     """Refuse ``name`` where a model generated before has a name that differs only by case: where
     the file system ignores case one NAME.h overwrites the other, and everywhere their include
-    guards and NAME_ macros coincide."""
+    guards and NAME_ macros coincide.
+
+    Parameters
+    ----------
+    out_dir : str or pathlib.Path
+        The folder to emit into.
+    name : str
+        The new model's C name.
+
+    Returns
+    -------
+    None
+        ``ModelError`` when the folder holds such a model.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> from fricgen.codegen import check_name_in_folder
+    >>> _ = fricgen.emit(model, tmp / "case")
+    >>> try:
+    ...     check_name_in_folder(tmp / "case", "AXIS_X")
+    ... except fricgen.ModelError:
+    ...     print("refused")
+    refused
+    """
     if not Path(out_dir).is_dir():
         return
     for other in generated_models(out_dir):
@@ -275,9 +417,36 @@ def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = 
          activation_impl: str = "libm", dtype: str = "float",
          with_controller: bool = False, force: bool = False,
          v_max: Optional[float] = None) -> Dict[str, Path]:
-    """Render everything first, check the folder's models and that every file it replaces is
-    fricgen's own and writable (``check_overwrite``, skipped with ``force``), then write each
-    file atomically into ``out_dir``."""
+    """Write the C of a model into a folder: render everything first (``render``), check the
+    folder's models and that every file it replaces is fricgen's own and writable (skipped with
+    ``force``), then write each file atomically.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model whose eq. (3) the C evaluates.
+    out_dir : str or pathlib.Path
+        The folder (created if missing).
+    name, activation_impl, dtype, with_controller, v_max
+        As for ``render``.
+    force : bool
+        Overwrite files fricgen did not write.
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        File name -> path written.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> written = fricgen.emit(model, tmp / "c", dtype="q15")
+    >>> sorted(written), written["axis_x.h"].is_file()
+    (['axis_x.c', 'axis_x.h'], True)
+    """
     name = model.name if name is None else name
     files = render(model, name, activation_impl, dtype, with_controller, v_max)
     check_name_in_folder(out_dir, name)

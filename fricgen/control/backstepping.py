@@ -67,28 +67,68 @@ def _project(a, updated, lo, hi):
 
 
 class AdaptiveBackstepping:
-    """The controller of section 6 (eqs. 3-12, 28) sampled at ``ts`` seconds.
+    r"""The adaptive backstepping position controller of section 6 (eqs. 3-12, 28), sampled at ``ts``.
 
-    Parameters (defaults tuned for ``loop.default_axis()``: 2 kg, ~20 N/A, 10 A; with
-    k2 = 40 the velocity loop phi k2 / m is ~360 rad/s, so Ts = 1 ms leaves a wide margin and the
-    loop stays stable up to Ts ~ 4 ms; Gamma and delta adapt k_hat within a few seconds):
-    compensation: None (xi_2 = 0, no friction model) or a callable F_Fm(v) in newtons, e.g. a
-        ``FrictionModel`` or the true ``MultisourceFriction`` ("exact" compensation).
-    law: adaptation law "a", "b" or "c" of eq. (12).
-    k1 (1/s), k2 (A s/m): backstepping gains, eq. (3) and (28); k1 > 0, k2 > 1/2 (eq. 14).
-    gamma: Gamma of eq. (11): scalar, diagonal or 2x2 symmetric positive definite.
-    delta: leakage of laws (b) and (c), >= 0 (unused by law a).
-    ts: sampling time, s. phi_n: nominal force constant phi_N, N/A. i_max: current limit, A.
-    a0: initial [m_o_hat, k_hat] (m_o in kg A/N, k dimensionless).
-    a_min, a_max: the intervals the estimates are projected onto, [m_o_min, k_min] and
-        [m_o_max, k_max]; by default within a factor 10 of the default a0: m_o_hat in
-        [0.01, 1], k_hat in [0, 10] (0: no compensation). a_min < a_max, a0 within.
-    dtype: "float64", or "float32" for the twin of the C controller.
-    friction_input: "v" evaluates F_Fm at the measured velocity (eq. 10), "vd" at the virtual
-        control v_d (eq. 3), which keeps compensating while the axis sticks at a reversal.
+    Defaults are tuned for ``control.default_axis()`` (2 kg, ~20 N/A, 10 A): with k2 = 40 the
+    velocity loop phi k2 / m is ~360 rad/s, so Ts = 1 ms leaves a wide margin (stable up to
+    Ts ~ 4 ms); Gamma and delta adapt k_hat within a few seconds.
 
-    After ``reset()``: ``a_`` (the adaptive parameters), and after each ``step``: ``e1_``,
-    ``e2_``, ``i_`` and ``flags_`` (as the C's fric_ctrl_t).
+    Parameters
+    ----------
+    compensation : callable, optional
+        F_Fm(v) in N, e.g. a ``FrictionModel`` or the true ``MultisourceFriction`` ("exact"
+        compensation); None: xi_2 = 0, no friction model.
+    law : {"a", "b", "c"}
+        The adaptation law of eq. (12) (the paper used "c").
+    k1 : float
+        Gain of the virtual control v_d = xd' + k1 e1, eq. (3) (1/s), > 0.
+    k2 : float
+        Gain of the velocity error in eq. (28) (A s/m), > 1/2 (eq. 14).
+    gamma : float or array_like
+        Gamma of eq. (11): scalar, diagonal or 2x2 symmetric positive definite.
+    delta : float
+        Leakage of laws (b) and (c), >= 0 (unused by law a).
+    ts : float
+        Sampling time (s).
+    phi_n : float
+        Nominal force constant phi_N (N/A).
+    i_max : float
+        Current limit (A).
+    a0 : tuple of float
+        Initial [m_o_hat, k_hat] (m_o in kg A/N, k dimensionless).
+    dtype : {"float64", "float32"}
+        "float32" is the twin of the C controller.
+    friction_input : {"v", "vd"}
+        Evaluate F_Fm at the measured velocity (eq. 10) or at v_d (eq. 3), which keeps
+        compensating while the axis sticks at a reversal.
+    a_min, a_max : tuple of float
+        The intervals [m_o_min, k_min], [m_o_max, k_max] the estimates are projected onto
+        (default: m_o_hat in [0.01, 1], k_hat in [0, 10]); a_min < a_max, a0 within.
+
+    Attributes
+    ----------
+    a_ : ndarray
+        The adaptive parameters [m_o_hat, k_hat] (after ``reset()``).
+    e1_, e2_, i_, flags_
+        After each ``step``: position error (m), velocity error (m/s), current (A) and flags (as
+        the C's fric_ctrl_t).
+
+    Notes
+    -----
+    The control law and the adaptation law (c):
+
+    .. math::
+
+        i = \hat A^T \xi + k_2 e_2 + e_1, \quad \xi = [\dot v_d,\ F_{Fm}(v) / \varphi_N], \quad
+        \dot{\hat A} = e_2 \Gamma \xi - \delta \sqrt{e_1^2 + e_2^2}\, \Gamma \hat A
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> ctrl = fricgen.AdaptiveBackstepping(compensation=fricgen.preset("paper3"), ts=1e-3).reset()
+    >>> current = ctrl.step(0.0, 0.0, 1e-3, 0.0, 0.0)     # 1 mm behind: push forward
+    >>> bool(0 < current <= 10.0)
+    True
     """
 
     def __init__(self, compensation: Optional[Callable] = None, law: str = "c", k1: float = 80.0,

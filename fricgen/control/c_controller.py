@@ -24,11 +24,36 @@ from .c_abi import CDEF, STATUS, param_values
 
 def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=None,
                      force: bool = False):
-    """Emit each model under its C name (the key) and the controller runtime into ``folder``
-    (default: a new temporary folder, removed after the build), compile them all, and return the
-    cffi module (``module.lib.NAME_force``, ``module.lib.fric_ctrl_step``, ``module.ffi``).
-    Files in ``folder`` that fricgen did not write, or read-only ones, are refused before
-    anything is written, unless ``force`` (``check_overwrite``)."""
+    """Emit each model under its C name (the key) and the controller runtime into ``folder``, compile
+    them all with cffi, and return the module (``module.lib.NAME_force``,
+    ``module.lib.fric_ctrl_step``, ``module.ffi``).
+
+    Files in ``folder`` that fricgen did not write, or read-only ones, are refused before anything
+    is written, unless ``force``. Needs a C compiler (``BuildError`` otherwise).
+
+    Parameters
+    ----------
+    models : dict of str to FrictionModel, optional
+        Models to emit, by C name.
+    folder : str or pathlib.Path, optional
+        Where to emit (default: a temporary folder, removed after the build).
+    force : bool
+        Overwrite files fricgen did not write.
+
+    Returns
+    -------
+    cffi module
+
+    Examples
+    --------
+    >>> from fricgen.control import build_controller
+    >>> _ = (tmp / "fric_ctrl.c").write_text("/* my own */")
+    >>> try:
+    ...     build_controller(folder=tmp)
+    ... except ValueError:
+    ...     print("refused")
+    refused
+    """
     tmp = folder is None
     folder = Path(tempfile.mkdtemp(prefix="fricgen_ctrl_") if tmp else folder)
     try:
@@ -48,11 +73,29 @@ def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=N
 
 
 class CController:
-    """``fric_ctrl_t`` driven from Python with the parameters of ``settings``.
+    """The C controller ``fric_ctrl_t`` driven from Python with the parameters of ``settings``; it has
+    the interface of ``AdaptiveBackstepping``, so ``simulate`` runs the firmware code in the same
+    closed loop.
 
     The compensation force comes from the C function ``c_friction`` (e.g. "fm_force", through
     ``fric_ctrl_step_fn``), or else from ``settings.compensation`` evaluated in Python at the
-    float32 velocity and passed to ``fric_ctrl_step`` (as the float32 twin does).
+    float32 velocity (as the float32 twin does).
+
+    Parameters
+    ----------
+    module : cffi module
+        From ``build_controller``.
+    settings : AdaptiveBackstepping
+        The controller's parameters.
+    c_friction : str, optional
+        The emitted model's force function, e.g. "NAME_force".
+
+    Examples
+    --------
+    >>> from fricgen import AdaptiveBackstepping
+    >>> from fricgen.control import CController
+    >>> CController(module=None, settings=AdaptiveBackstepping(ts=2e-3)).ts   # before building
+    0.002
     """
 
     def __init__(self, module, settings: AdaptiveBackstepping, c_friction: Optional[str] = None):
@@ -121,11 +164,35 @@ def float32_twin(settings: AdaptiveBackstepping, model: Optional[FrictionModel] 
 
 def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveBackstepping,
                   folder=None) -> Dict[str, CController]:
-    """One C controller per compensation variant (as ``fricgen.simulation.compare`` makes
-    Python ones): friction models (ELM or eq. (1)) are emitted as C (``VARIANT_force`` through
-    a function pointer; a model emit refuses is refused here); other compensations (none, the
-    true friction, a fuzzy model) are evaluated in Python and passed to ``fric_ctrl_step`` as a
-    float."""
+    """One C controller per compensation variant (as ``compare`` makes Python ones): friction models
+    (ELM or eq. (1)) are emitted as C (``VARIANT_force``, through a function pointer); other
+    compensations (none, the true friction, a fuzzy model) are evaluated in Python and passed to
+    ``fric_ctrl_step`` as a float.
+
+    Parameters
+    ----------
+    compensation : dict of str to callable or None
+        Variant -> F_Fm(v) in N.
+    settings : AdaptiveBackstepping
+        The parameters shared by every variant.
+    folder : str or pathlib.Path, optional
+        Where to emit and build (default: a temporary folder).
+
+    Returns
+    -------
+    dict of str to CController
+
+    Examples
+    --------
+    >>> from fricgen import AdaptiveBackstepping
+    >>> from fricgen.control import c_controllers
+    >>> _ = (tmp / "fric_ctrl.h").write_text("/* my own */")
+    >>> try:                                   # refused before anything is written or compiled
+    ...     c_controllers({"none": None}, AdaptiveBackstepping(), folder=tmp)
+    ... except ValueError:
+    ...     print("refused")
+    refused
+    """
 
     models = {name: comp for name, comp in compensation.items()
               if isinstance(comp, FrictionModel) and isinstance(comp.aim, (ElmNetwork, StribeckCurve))}

@@ -14,7 +14,34 @@ from .sweep import Sweep
 
 @dataclass(frozen=True)
 class Benchmark:
-    """The paper's benchmark (section 2) for one seed."""
+    """The paper's benchmark (section 2) for one seed (``synthesize_benchmark``).
+
+    Parameters
+    ----------
+    friction : MultisourceFriction
+        The true friction, eq. (1).
+    vs_max : float
+        The largest Stribeck velocity (m/s); v_sat = 3 vs_max.
+    train : Sweep
+        N noisy points in [0, v_sat] plus the high-speed points (for B).
+    test : Sweep
+        Another N noisy points in [0, v_sat].
+    theory : Sweep
+        Nt equidistant noise-free points in [0, v_sat].
+    dataset : Dataset
+        The eq. (9) training set of ``train``.
+
+    Notes
+    -----
+    ``errors(aim)`` gives E_train, E_test, E_Ttest of eqs. (4)-(6), normalized and in newtons.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> bench = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0)
+    >>> len(bench.test), len(bench.theory), bench.vs_max
+    (200, 500, 0.02)
+    """
 
     friction: MultisourceFriction
     vs_max: float
@@ -38,13 +65,39 @@ class Benchmark:
 def synthesize_benchmark(friction: MultisourceFriction, seed=0, vs_max: Optional[float] = None,
                          n_train: int = 200, n_test: int = 200, n_theory: int = 500,
                          noise: float = 0.5, n_high: int = 100, high_factor: float = 10.0) -> Benchmark:
-    """Synthesize the paper benchmark exactly (section 2) plus high-speed data for B.
+    """Synthesize the paper's benchmark exactly (section 2), plus high-speed data for B.
 
-    Training: ``n_train`` velocities uniform in [0, 3 vs_max] with noise uniform in
-    [-noise, noise] N; ``prepare`` adds (0, mean of the four slowest) and (3 vs_max, F(3 vs_max))
-    with the true F, as the paper does. Test: another ``n_test`` such points. Theory: ``n_theory``
-    equidistant noise-free points. High speed: ``n_high`` noisy points uniform in
-    (3 vs_max, high_factor vs_max] for the regression of B.
+    Parameters
+    ----------
+    friction : MultisourceFriction
+        The true eq. (1), e.g. ``preset("paper3")`` (Table 1).
+    seed : int, numpy.random.Generator or None
+        The noise and velocity draws.
+    vs_max : float, optional
+        v_smax (m/s); default: the friction's largest Stribeck velocity.
+    n_train, n_test : int
+        Noisy points uniform in [0, 3 vs_max] for training and test.
+    n_theory : int
+        Equidistant noise-free points (the theoretical test).
+    noise : float
+        Half-width of the uniform force noise (N).
+    n_high : int
+        Noisy points uniform in (3 vs_max, high_factor vs_max] for the regression of B.
+    high_factor : float
+        Their upper end, in units of vs_max.
+
+    Returns
+    -------
+    Benchmark
+        The sweeps and the eq. (9) training set, to which ``prepare`` added (0, mean of the four
+        slowest) and (3 vs_max, F(3 vs_max)) with the true F, as the paper does.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> bench = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0, n_high=50)
+    >>> len(bench.train), bench.dataset.x.shape
+    (250, (202,))
     """
     rng = np.random.default_rng(seed)
     vs_max = friction.vs_max if vs_max is None else vs_max

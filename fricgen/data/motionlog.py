@@ -134,7 +134,31 @@ def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
 
 @dataclass(frozen=True)
 class MotionLog:
-    """A uniformly sampled log of time t, position x, velocity v and motor current i."""
+    """A uniformly sampled log of time t, position x, velocity v and motor current i.
+
+    Parameters
+    ----------
+    t : array_like
+        Time (s), uniformly sampled, at least 1000 samples.
+    x : array_like
+        Position (m).
+    v : array_like
+        Velocity (m/s); the axis must move.
+    i : array_like
+        Motor current (A); the force is phi i (sec. 6).
+    extra : dict of str to array_like
+        Other columns of the same length (kept, e.g. a measured force).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import MotionLog
+    >>> t = np.arange(2000) * 1e-3
+    >>> log = MotionLog(t, x=0.05 * np.sin(2 * np.pi * t), v=0.1 * np.pi * np.cos(2 * np.pi * t),
+    ...                 i=np.sign(np.cos(2 * np.pi * t)))
+    >>> len(log), round(log.sample_time, 4)
+    (2000, 0.001)
+    """
 
     t: np.ndarray
     x: np.ndarray
@@ -167,8 +191,30 @@ class MotionLog:
 
 
 def read_log(path: Union[str, Path]) -> MotionLog:
-    """Read a log CSV (``read_log_csv``) or a MATLAB file (``matfile``) whose vector variables
-    include t, x, v, i (other vectors of their length are kept as extra)."""
+    """Read a log CSV (``read_log_csv``) or a MATLAB file whose vector variables include t, x, v, i
+    (other vectors of their length are kept as extra).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV or .mat file.
+
+    Returns
+    -------
+    MotionLog
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import MotionLog
+    >>> t = np.arange(2000) * 1e-3
+    >>> log = MotionLog(t, x=0.05 * np.sin(2 * np.pi * t), v=0.1 * np.pi * np.cos(2 * np.pi * t),
+    ...                 i=np.sign(np.cos(2 * np.pi * t)))
+    >>> from fricgen.data import log_csv_text, read_log
+    >>> _ = (tmp / "log.csv").write_text(log_csv_text(log))
+    >>> len(read_log(tmp / "log.csv"))
+    2000
+    """
     if not is_matfile(path):
         return read_log_csv(path)
     return _log_of(read_matfile(path).columns(COLUMNS), path)
@@ -176,7 +222,31 @@ def read_log(path: Union[str, Path]) -> MotionLog:
 
 def read_log_csv(path: Union[str, Path]) -> MotionLog:
     """Read a log CSV whose header names at least t, x, v, i (other numeric columns are kept as
-    extra; a column with text in it is left out)."""
+    extra; a column with text in it is left out).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV file.
+
+    Returns
+    -------
+    MotionLog
+        ``DataError`` for missing columns, non-uniform time, or too few samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import MotionLog
+    >>> t = np.arange(2000) * 1e-3
+    >>> log = MotionLog(t, x=0.05 * np.sin(2 * np.pi * t), v=0.1 * np.pi * np.cos(2 * np.pi * t),
+    ...                 i=np.sign(np.cos(2 * np.pi * t)))
+    >>> import fricgen
+    >>> from fricgen.data import log_csv_text
+    >>> _ = (tmp / "log.csv").write_text(log_csv_text(log))
+    >>> bool(np.allclose(fricgen.read_log_csv(tmp / "log.csv").v, log.v))
+    True
+    """
     return _log_of(read_table_csv(path, COLUMNS, keep_extra=True, drop_text=True), path)
 
 
@@ -199,7 +269,28 @@ def _log_of(columns: Dict[str, np.ndarray], path) -> MotionLog:
 
 
 def log_csv_text(log: MotionLog) -> str:
-    """The CSV text of a log: t, x, v, i and then the extra columns, floats written to round-trip."""
+    """The CSV text of a log: t, x, v, i and then the extra columns, floats written to round-trip.
+
+    Parameters
+    ----------
+    log : MotionLog
+        The log to write.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import MotionLog
+    >>> t = np.arange(2000) * 1e-3
+    >>> log = MotionLog(t, x=0.05 * np.sin(2 * np.pi * t), v=0.1 * np.pi * np.cos(2 * np.pi * t),
+    ...                 i=np.sign(np.cos(2 * np.pi * t)))
+    >>> from fricgen.data import log_csv_text
+    >>> log_csv_text(log).splitlines()[0]
+    't,x,v,i'
+    """
     columns = {c: getattr(log, c) for c in COLUMNS}
     columns.update({k: log.extra[k] for k in sorted(log.extra)})
     return table_csv_text(columns)

@@ -46,9 +46,30 @@ EDGE_FRACTION = 0.1
 
 @dataclass(frozen=True)
 class StribeckRange:
-    """The chosen vs_max and how: ``curve`` holds (vs_max m/s, held-out RMS N) of each
-    candidate scored; ``linear_region`` is False when no candidate left enough rows beyond
-    v_sat, and then ``viscous`` is B fitted with the rest and ``f_sat`` the force at v_sat."""
+    """The chosen vs_max and how it was chosen (``choose_vs_max``).
+
+    Parameters
+    ----------
+    vs_max : float
+        The chosen v_smax (m/s).
+    curve : tuple of (float, float)
+        (vs_max in m/s, held-out RMS error in N) of each candidate scored.
+    folds : int
+        The number of cross-validation folds.
+    joint_rmse : float
+        Held-out RMS error (N) of fitting B with the Stribeck sources instead.
+    linear_region : bool
+        False when no candidate left enough rows beyond v_sat; then ``viscous`` and ``f_sat`` hold
+        the B fitted with the rest (N s/m) and the force at v_sat (N).
+    viscous, f_sat : float, optional
+        See ``linear_region``.
+
+    Examples
+    --------
+    >>> from fricgen.data import StribeckRange
+    >>> StribeckRange(0.02, ((0.02, 0.3),), folds=5, joint_rmse=0.4).linear_region
+    True
+    """
 
     vs_max: float
     curve: Tuple[Tuple[float, float], ...]
@@ -153,8 +174,30 @@ def _within_one_se(squared: np.ndarray, reference: int, k: float = 1.0) -> np.nd
 
 
 def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> StribeckRange:
-    """vs_max of a folded sweep by cross-validation (see the module). ``folds``: the fold of
-    each row (default ``speed_folds``)."""
+    """vs_max of a folded sweep by cross-validation: each candidate v_sat = 3 vs_max splits the rows
+    into a Stribeck part and a linear high-speed part (eq. (3) saturates beyond v_sat); the
+    smallest candidate within one standard error of the best held-out error wins.
+
+    Parameters
+    ----------
+    folded : Sweep
+        The sweep folded onto v >= 0 (``Sweep.folded``).
+    folds : array_like of int, optional
+        The fold of each row (default: interleaved by speed).
+
+    Returns
+    -------
+    StribeckRange
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.data import choose_vs_max
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> chosen = choose_vs_max(sweep.folded())
+    >>> chosen.linear_region, round(chosen.vs_max, 2)          # Table 1: v_smax = 0.02
+    (True, 0.02)
+    """
     v, f = folded.v, folded.f
     folds = speed_folds(v) if folds is None else np.asarray(folds)
     n_folds = len(np.unique(folds))

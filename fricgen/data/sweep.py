@@ -16,7 +16,22 @@ MIN_ROWS = 20
 
 @dataclass(frozen=True)
 class Sweep:
-    """A measured (or synthesized) friction sweep: velocity v (m/s) and force f (N)."""
+    """A measured (or synthesized) friction sweep: velocity v and force f (section 2).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities (m/s), any sign.
+    f : array_like
+        Friction forces (N), as many as ``v``; both finite, else ``DataError``.
+
+    Examples
+    --------
+    >>> from fricgen import Sweep
+    >>> sweep = Sweep([-0.02, 0.0, 0.01], [-9.0, 0.0, 8.5])
+    >>> len(sweep), sweep.folded().f.tolist()      # (|v|, sgn(v) f), v = 0 left out
+    (3, [9.0, 8.5])
+    """
 
     v: np.ndarray
     f: np.ndarray
@@ -51,7 +66,28 @@ class Sweep:
 
 
 def read_sweep_csv(path: Union[str, Path]) -> Sweep:
-    """Read a CSV with a header naming columns ``v`` and ``f`` (SI units; other columns ignored)."""
+    """Read a sweep CSV whose header names columns ``v`` and ``f`` (SI units; other columns ignored).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV file.
+
+    Returns
+    -------
+    Sweep
+        ``DataError`` naming the row for a non-finite value, or when there are fewer than
+        ``MIN_ROWS`` rows.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.data import sweep_csv_text
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> _ = (tmp / "sweep.csv").write_text(sweep_csv_text(sweep))
+    >>> len(fricgen.read_sweep_csv(tmp / "sweep.csv")) == len(sweep)
+    True
+    """
     return sweep_from_columns(read_table_csv(path, ("v", "f")), path)
 
 
@@ -67,5 +103,22 @@ def sweep_from_columns(cols: Dict[str, np.ndarray], path: Union[str, Path]) -> S
 
 
 def sweep_csv_text(sweep: Sweep) -> str:
-    """The CSV text of a sweep, columns v,f, floats written to round-trip."""
+    """The CSV text of a sweep: columns v,f, floats written to round-trip.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        The sweep to write.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from fricgen import Sweep
+    >>> from fricgen.data import sweep_csv_text
+    >>> sweep_csv_text(Sweep([0.5], [2.0])).splitlines()
+    ['v,f', '0.5,2.0']
+    """
     return table_csv_text({"v": sweep.v, "f": sweep.f})

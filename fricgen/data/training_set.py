@@ -26,7 +26,42 @@ def check_float32_scale(what: str, value: float, unit: str) -> None:
 
 @dataclass(frozen=True)
 class Dataset:
-    """Normalized training data of eq. (9) with what eq. (3) needs to rebuild forces."""
+    r"""Normalized training data of eq. (9) with what eq. (3) needs to rebuild forces (``prepare``).
+
+    Parameters
+    ----------
+    x : ndarray
+        x = K_in v, in [0, 1] (dimensionless).
+    t : ndarray
+        t = K_out (F - B v), at most 1 outside gross outliers (dimensionless).
+    scaling : Scaling
+        K_in (s/m) and K_out (1/N).
+    viscous : float
+        The identified B (N s/m).
+    v_sat : float
+        3 vs_max (m/s): where the network input saturates in eq. (3).
+    n_high_speed : int
+        Rows beyond v_sat (the regression of B).
+    n_outliers : int
+        High-speed rows rejected as gross outliers.
+    n_rows : int
+        Rows in [0, v_sat] before binning.
+    stribeck_range : StribeckRange, optional
+        How vs_max was chosen when not given, else None.
+
+    Notes
+    -----
+    .. math::
+
+        (x_i, t_i) = (K_{in} v_i,\ K_{out} (\hat F_F(v_i) - B v_i)) \quad (9)
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> float(data.x.max()), float(data.t.max()), round(data.viscous)
+    (1.0, 1.0, 57)
+    """
 
     x: np.ndarray
     t: np.ndarray
@@ -79,19 +114,43 @@ def prepare(sweep: Sweep, vs_max: Union[None, float, StribeckRange] = None, f_sa
     """Turn a sweep into the eq. (9) training set of section 2.
 
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
-    regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with
-    the two added points (0, mean force of the four slowest rows) and (v_sat, f_sat), where f_sat
-    defaults to the high-speed line evaluated at v_sat. K_in = 1/v_sat, K_out = 1/max(t) over
-    the points that are no gross outliers (``fricgen.data.outliers``), which the default
-    estimator sets aside.
-    Without ``vs_max`` it is chosen by cross-validation (``choose_vs_max``, on ``folds``: the
-    fold of each moving row, default interleaved by speed), or ``vs_max`` is such a choice
-    made before; where the data have no linear high-speed region, B is fitted with the rest
-    and v_sat is the fastest speed.
-    Beyond ``max_points`` rows in [0, v_sat] the rows are binned (``bin_equal_counts``), and
-    into as many bins as independent samples when a row is only ``independence`` of one (a
-    smoothed log's rows): each training point then stands for one sample, as eq. (9)'s fits
-    and their cross-validations assume.
+    regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with the
+    two added points (0, mean force of the four slowest rows) and (v_sat, f_sat). K_in = 1/v_sat,
+    K_out = 1/max(t) over the points that are no gross outliers. Without ``vs_max`` it is chosen by
+    cross-validation (``choose_vs_max``); where the data have no linear high-speed region, B is
+    fitted with the rest and v_sat is the fastest speed.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        The measured sweep (any sign of v).
+    vs_max : float or StribeckRange, optional
+        v_smax (m/s), or a choice made before; None: chosen from the data.
+    f_sat : float, optional
+        The force at v_sat (N); default: the high-speed line there.
+    viscous : float, optional
+        B (N s/m); default: identified from the rows beyond v_sat.
+    max_points : int
+        Beyond so many rows in [0, v_sat] the rows are averaged into equal-count bins.
+    folds : array_like of int, optional
+        The cross-validation fold of each moving row for ``choose_vs_max``.
+    independence : float
+        The fraction of an independent sample each row is (a smoothed log's rows are less than
+        one): binned into as many points as independent samples.
+
+    Returns
+    -------
+    Dataset
+        ``DataError`` when the sweep cannot be friction data.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.data import prepare
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> data = prepare(sweep, vs_max=0.02)
+    >>> round(data.v_sat, 3), round(data.viscous), data.x.shape
+    (0.06, 57, (202,))
     """
     chosen = vs_max if isinstance(vs_max, StribeckRange) else None
     vs_max = None if chosen else vs_max

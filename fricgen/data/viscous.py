@@ -31,14 +31,37 @@ def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, fl
 
 
 def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
-    """B and the intercept of the line f = F0 + B v through high-speed folded data (section 2),
-    and the number of rows rejected as gross outliers.
+    """B and the intercept of the line f = F0 + B v through high-speed folded data (section 2), and
+    the number of rows rejected as gross outliers.
 
     Rows whose residual from a robust (Theil-Sen) line exceeds OUTLIER_SIGMAS robust standard
-    deviations (1.4826 MAD) are dropped; least squares on the others gives B, in the centred and
-    scaled speed (v - mean) / sd, so that any unit of v and f gives the same line. Bounded
-    noise, such as the benchmark's, is never rejected (its largest residual is under 1.4
-    robust sd)."""
+    deviations (1.4826 MAD) are dropped; least squares on the others gives B. Bounded noise, such
+    as the benchmark's, is never rejected.
+
+    Parameters
+    ----------
+    high : Sweep
+        Folded rows beyond v_sat (at least MIN_HIGH_SPEED_ROWS, over a range of speeds).
+
+    Returns
+    -------
+    viscous : float
+        B (N s/m).
+    intercept : float
+        F0 (N), the sum of the Coulomb forces f_ck where g is ~0.
+    n_outliers : int
+        Rows rejected.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import Sweep
+    >>> from fricgen.data import identify_viscous
+    >>> v = np.linspace(0.1, 0.2, 20)
+    >>> B, f0, rejected = identify_viscous(Sweep(v, 15.0 + 57.5 * v))
+    >>> round(B, 1), round(f0, 1), rejected
+    (57.5, 15.0, 0)
+    """
     if len(high) < MIN_HIGH_SPEED_ROWS:
         raise DataError(f"no high-speed data for B: {len(high)} rows beyond v_sat, "
                         f"need at least {MIN_HIGH_SPEED_ROWS}")

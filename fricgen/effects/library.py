@@ -81,7 +81,20 @@ def _ratio_implausible(what: str, value: float, nominal: float) -> str:
 
 @dataclass(frozen=True)
 class Effect:
-    """Base of the named effects (see the module docstring for the sign convention)."""
+    """Base of the named effects a friction model may miss: parameters as dataclass fields, ``fit``
+    (from a force residual), ``force(signals)`` (its contribution in N), ``to_dict``/``from_dict``.
+
+    Notes
+    -----
+    Forces follow the sign convention of the module, extending eq. (18) of section 6:
+    m dv/dt = phi i - F(v) - sum_k effect_k, so a positive force opposes positive motion.
+
+    Examples
+    --------
+    >>> from fricgen.effects import EFFECTS, Effect
+    >>> all(issubclass(cls, Effect) for cls in EFFECTS.values())
+    True
+    """
 
     name: ClassVar[str] = ""
     #: Function of (v, x) only: emitted into C as part of NAME_force_xv.
@@ -210,7 +223,29 @@ class Effect:
 
 @dataclass(frozen=True)
 class PositionRipple(Effect):
-    """Cogging / force ripple, periodic in position: A sin(2 pi x / P + phase)."""
+    """Cogging / force ripple, periodic in position: A sin(2 pi x / P + phase).
+
+    Parameters
+    ----------
+    amplitude : float
+        A (N).
+    period : float
+        P (m), > 0.
+    phase : float
+        Phase (rad).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import PositionRipple
+    >>> PositionRipple(amplitude=2.0, period=1.0, phase=0.0).force(sig).round(3).tolist()
+    [0.0, 2.0]
+    """
 
     amplitude: float
     period: float
@@ -272,9 +307,25 @@ class PositionRipple(Effect):
 class DirectionAsymmetry(Effect):
     """Friction differs between directions: g+ F(v) for v > 0, g- F(v) for v < 0.
 
-    Fitted one-sided (one gain is 0, the side chosen by the smaller residual): a change in both
-    directions is a change of the friction level, which other effects name, plus a difference
-    between the directions. Two free gains would absorb a constant load or an extra source."""
+    Fitted one-sided (one gain is 0, the side chosen by the smaller residual).
+
+    Parameters
+    ----------
+    gain_positive, gain_negative : float
+        g+ and g- (dimensionless fractions of F(v) of eq. (3) or (1)).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import DirectionAsymmetry
+    >>> DirectionAsymmetry(gain_positive=0.1, gain_negative=0.0).force(sig).round(3).tolist()
+    [2.075, -0.0]
+    """
 
     gain_positive: float
     gain_negative: float
@@ -331,7 +382,25 @@ class DirectionAsymmetry(Effect):
 
 @dataclass(frozen=True)
 class ConstantLoad(Effect):
-    """Gravity or another constant external force (positive: opposes positive motion)."""
+    """Gravity or another constant external force (positive: opposes positive motion).
+
+    Parameters
+    ----------
+    load : float
+        The force (N).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import ConstantLoad
+    >>> ConstantLoad(load=5.0).force(sig).tolist()
+    [5.0, 5.0]
+    """
 
     load: float
     name: ClassVar[str] = "constant_load"
@@ -360,7 +429,27 @@ class ConstantLoad(Effect):
 
 @dataclass(frozen=True)
 class InertiaMismatch(Effect):
-    """The true mass differs from the nominal one: (m - m_nominal) dv/dt."""
+    """The true mass differs from the nominal one: (m - m_nominal) dv/dt.
+
+    Parameters
+    ----------
+    mass : float
+        The true m (kg), > 0.
+    nominal_mass : float
+        The mass the model assumed (kg), > 0; held fixed by the fit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import InertiaMismatch
+    >>> InertiaMismatch(mass=2.5, nominal_mass=2.0).force(sig).tolist()    # 0.5 kg x 2 m/s^2
+    [1.0, 1.0]
+    """
 
     mass: float
     nominal_mass: float
@@ -395,7 +484,27 @@ class InertiaMismatch(Effect):
 
 @dataclass(frozen=True)
 class ForceConstantMismatch(Effect):
-    """The true force constant differs from the nominal one: -(phi - phi_nominal) i."""
+    """The true force constant differs from the nominal one: -(phi - phi_nominal) i.
+
+    Parameters
+    ----------
+    force_constant : float
+        The true phi (N/A), > 0.
+    nominal_force_constant : float
+        The phi the model assumed (N/A), > 0; held fixed by the fit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import ForceConstantMismatch
+    >>> ForceConstantMismatch(force_constant=19.0, nominal_force_constant=20.0).force(sig).tolist()
+    [1.0, 1.0]
+    """
 
     force_constant: float
     nominal_force_constant: float
@@ -431,7 +540,31 @@ class ForceConstantMismatch(Effect):
 
 @dataclass(frozen=True)
 class ExtraFrictionSource(Effect):
-    """An additional source of eq. (1): sgn(v) [fc + (fs - fc) g(v, vs)] + B v."""
+    """An additional source of eq. (1): sgn(v) [fc + (fs - fc) g(v, vs)] + B v.
+
+    Parameters
+    ----------
+    fc, fs : float
+        Coulomb and Stribeck friction (N).
+    vs : float
+        Stribeck velocity (m/s), > 0.
+    B : float
+        Viscous coefficient (N s/m).
+    shape : str
+        g of eq. (2).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import ExtraFrictionSource
+    >>> ExtraFrictionSource(fc=1.0, fs=2.0, vs=0.01, B=0.0).force(sig).round(3).tolist()
+    [1.0, -1.0]
+    """
 
     fc: float
     fs: float
@@ -502,7 +635,25 @@ class ExtraFrictionSource(Effect):
 class FrictionalLag(Effect):
     """Friction memory (the frictional lag of dynamic models such as LuGre or Dahl): the
     velocity-weakening part follows the speed low-passed with time constant tau,
-    sgn(v) [S(s) - S(|v|)] with S(u) = F(u) - B u and tau s' = |v| - s."""
+    sgn(v) [S(s) - S(|v|)] with S(u) = F(u) - B u and tau s' = |v| - s.
+
+    Parameters
+    ----------
+    tau : float
+        The time constant (s), > 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import FrictionalLag
+    >>> FrictionalLag(tau=0.01).force(sig).round(3).tolist()    # |v| steady: no lag
+    [0.0, -0.0]
+    """
 
     tau: float
     name: ClassVar[str] = "frictional_lag"
@@ -535,13 +686,34 @@ class FrictionalLag(Effect):
 class ThermalDrift(Effect):
     """The friction level drifts with time as a first-order (thermal) response from the
     model's level at the start of the log t0: rate h(t - t0) F(v), h(s) = T (1 - exp(-s / T)),
-    or h(s) = s when the time constant T is 0 (a linear drift, the limit of a T long beside
-    the log). ``rate`` is the initial rate of change (1/s).
+    or h(s) = s when the time constant T is 0 (a linear drift).
 
     A drift starts from nothing: a level error already there at t0 is a change of the friction
-    curve, which ``extra_friction_source`` names, and a free level would make the drift plus a
-    mass error span a force-constant error. ``offset`` (a relative level at t0) is carried for
-    the models written with one; the fit leaves it at 0."""
+    curve (``ExtraFrictionSource``).
+
+    Parameters
+    ----------
+    rate : float
+        The initial rate of change (1/s).
+    offset : float
+        A relative level at t0, carried for models written with one; the fit leaves it at 0.
+    t0 : float
+        The start of the log (s).
+    time_constant : float
+        T (s), >= 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
+    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
+    ...               sample_time=1.0)
+    >>> from fricgen.effects import ThermalDrift
+    >>> ThermalDrift(rate=0.01, offset=0.0, t0=0.0).force(sig).round(3).tolist()
+    [0.0, -0.208]
+    """
 
     rate: float
     offset: float
@@ -612,7 +784,24 @@ KNOWN: Dict[str, Type[Effect]] = dict(EFFECTS)
 
 
 def effect_from_dict(d: Any) -> Effect:
-    """One validated effect of model.json's ``effects`` list."""
+    """One validated effect of model.json's ``effects`` list.
+
+    Parameters
+    ----------
+    d : dict
+        ``{"effect": name, "parameters": {...}}``.
+
+    Returns
+    -------
+    Effect
+        ``ModelError`` naming the field when ``d`` is invalid.
+
+    Examples
+    --------
+    >>> from fricgen.effects import ConstantLoad, effect_from_dict
+    >>> effect_from_dict(ConstantLoad(load=5.0).to_dict())
+    ConstantLoad(load=5.0)
+    """
     if not isinstance(d, dict):
         raise ModelError(f"effects: each effect must be an object, got {type(d).__name__}")
     name = d.get("effect")
@@ -625,19 +814,82 @@ def effect_from_dict(d: Any) -> Effect:
 
 
 def validate_effects(items: Any) -> List[dict]:
-    """model.json's ``effects`` list, each entry validated and normalized (``to_dict``)."""
+    """model.json's ``effects`` list, each entry validated and normalized (``to_dict``).
+
+    Parameters
+    ----------
+    items : list of dict
+        The list as read.
+
+    Returns
+    -------
+    list of dict
+
+    Examples
+    --------
+    >>> from fricgen.effects import validate_effects
+    >>> validate_effects([{"effect": "constant_load", "parameters": {"load": 5}}])[0]["effect"]
+    'constant_load'
+    """
     if not isinstance(items, list):
         raise ModelError("effects must be a list")
     return [effect_from_dict(d).to_dict() for d in items]
 
 
 def model_effects(model) -> List[Effect]:
-    """The effects a model carries, as objects."""
+    """The effects a model carries, as objects.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model.
+
+    Returns
+    -------
+    list of Effect
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.effects import ConstantLoad
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0))
+    >>> from fricgen.effects import model_effects, with_effects
+    >>> model_effects(with_effects(model, [ConstantLoad(load=5.0)]))
+    [ConstantLoad(load=5.0)]
+    """
     return [effect_from_dict(d) for d in model.effects]
 
 
 def force_xv(model, v, x) -> np.ndarray:
-    """F(v) plus every effect that is a function of (v, x): what NAME_force_xv computes."""
+    """F(v) of eq. (3) plus every effect that is a function of (v, x): what the emitted
+    NAME_force_xv computes.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model and its effects.
+    v : array_like
+        Velocity (m/s).
+    x : array_like
+        Position (m), broadcast with ``v``.
+
+    Returns
+    -------
+    ndarray
+        Force (N).
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.effects import ConstantLoad
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0))
+    >>> from fricgen.effects import force_xv, with_effects
+    >>> loaded = with_effects(model, [ConstantLoad(load=5.0)])
+    >>> round(float(force_xv(loaded, 0.03, 0.0) - model.force(0.03)), 6)
+    5.0
+    """
     v, x = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(x, dtype=float))
     sig = Signals(model, x=x, v=v)
     total = model.force(v)
@@ -648,5 +900,27 @@ def force_xv(model, v, x) -> np.ndarray:
 
 
 def with_effects(model, effects: Sequence[Effect]):
-    """A copy of ``model`` whose effects list is extended by ``effects``."""
+    """A copy of ``model`` whose effects list is extended by ``effects``.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model.
+    effects : sequence of Effect
+        Effects to add.
+
+    Returns
+    -------
+    FrictionModel
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.effects import ConstantLoad
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0))
+    >>> from fricgen.effects import with_effects
+    >>> len(with_effects(model, [ConstantLoad(load=5.0)]).effects), len(model.effects)
+    (1, 0)
+    """
     return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects))

@@ -10,8 +10,16 @@ from scipy.signal import lfilter
 
 class FrictionCurve(Protocol):
     """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` (eq. 3) or a
-    ``MultisourceFriction`` (eq. 1). Tabulating it (``Signals(tabulate=True)``) and fitting
-    effects against it also need the saturation speed ``v_sat`` of a ``FrictionModel``."""
+    ``MultisourceFriction`` (eq. 1), as a typing protocol (``viscous``, ``__call__``,
+    ``stribeck``). Tabulating it (``Signals(tabulate=True)``) also needs ``v_sat``.
+
+    Examples
+    --------
+    >>> from fricgen import preset
+    >>> curve = preset("paper3")
+    >>> round(float(curve(0.5) - curve.stribeck(0.5) - curve.viscous * 0.5), 6)   # S sgn(v) + B v
+    0.0
+    """
 
     viscous: float
 
@@ -23,13 +31,34 @@ class FrictionCurve(Protocol):
 
 
 class Signals:
-    """What an effect's force may depend on: t, x, v, a, i (arrays) and the friction curve
-    ``model`` (a ``FrictionCurve``).
+    """What an effect's force may depend on: t, x, v, a, i (arrays) and the friction curve.
 
     ``s`` is the friction-memory state (a low-passed speed) when a simulation carries it;
-    otherwise ``lagged_speed`` filters |v| over the samples (uniform ``sample_time``).
-    With ``tabulate``, the model's velocity-weakening part is interpolated from a table of
-    4097 speeds in [0, v_sat] (error ~1e-5 N), for fits that evaluate it many times.
+    otherwise ``lagged_speed`` filters |v| over the samples. With ``tabulate``, the curve's
+    velocity-weakening part is interpolated from a table of 4097 speeds in [0, v_sat] (error
+    ~1e-5 N), for fits that evaluate it many times.
+
+    Parameters
+    ----------
+    model : FrictionCurve
+        F(v) of eq. (3) or eq. (1).
+    t, x, v, a, i : ndarray, optional
+        Time (s), position (m), velocity (m/s), acceleration (m/s^2), current (A).
+    s : ndarray, optional
+        The friction-memory state (m/s).
+    sample_time : float, optional
+        The uniform sampling interval (s), for ``lagged_speed``.
+    tabulate : bool
+        Interpolate the velocity-weakening part from a table (a ``FrictionModel`` only).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals
+    >>> sig = Signals(preset("paper3"), v=np.array([0.0, 1.0]))
+    >>> sig.stribeck_speed.round(1).tolist()          # sum f_s at rest, sum f_c far above v_s
+    [44.0, 15.0]
     """
 
     def __init__(self, model: FrictionCurve, t=None, x=None, v=None, a=None, i=None, s=None,

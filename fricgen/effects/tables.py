@@ -89,7 +89,25 @@ def smooth_table(H: np.ndarray, r: np.ndarray, folds: int = 5) -> Tuple[np.ndarr
 
 @dataclass(frozen=True)
 class TableEffect(Effect):
-    """Base of the tables: ``values`` at ``len(values)`` equally spaced knots on [lo, hi]."""
+    """Base of the tables: ``values`` at ``len(values)`` equally spaced knots on [lo, hi],
+    interpolated linearly and held at the end values outside.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The range of the table's signal (its unit: m for position, m/s for velocity, s for time).
+    values : tuple of float
+        The force (N) or the friction level at each knot.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals, TABLES
+    >>> table = TABLES["table_position"](lo=0.0, hi=1.0, values=(0.0, 4.0))
+    >>> table.force(Signals(preset("paper3"), x=np.array([0.25, 2.0]), v=np.ones(2))).tolist()
+    [1.0, 4.0]
+    """
 
     lo: float
     hi: float
@@ -219,8 +237,29 @@ class TableTime(TableEffect):
 
 
 def range_notes(effects, signals) -> List[str]:
-    """One line per table whose signal along ``signals`` (a ``MotionLog`` or ``Signals``) leaves
-    the table's range on more than 1 % of the samples: there it holds its end values."""
+    """One line per table whose signal along ``signals`` leaves the table's range on more than 1 %
+    of the samples: there it holds its end values.
+
+    Parameters
+    ----------
+    effects : iterable of Effect
+        The effects (tables among them).
+    signals : MotionLog or Signals
+        The samples.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import preset
+    >>> from fricgen.effects import Signals, TABLES, range_notes
+    >>> table = TABLES["table_position"](lo=0.0, hi=0.1, values=(0.0, 4.0))
+    >>> range_notes([table], Signals(preset("paper3"), x=np.array([0.0, 0.25]), v=np.ones(2)))
+    ["50% of the log's x lies outside table_position's range [0, 0.1], where the table holds its end values"]
+    """
     notes = []
     for e in effects:
         if isinstance(e, TableEffect):

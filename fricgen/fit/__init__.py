@@ -19,16 +19,53 @@ from .stribeck import StribeckRegressor
 
 
 def default_elm(random_state=0, max_neurons=None) -> AutoELMRegressor:
-    """The automatic ELM, which chooses its units, M and C by leave-one-out (at most
-    ``max_neurons`` units if given): the default when the model must be an ELM (simulations,
-    synthetic logs, the demo)."""
+    """The automatic ELM (``AutoELMRegressor``), which chooses its units, M and C by leave-one-out:
+    the default when the model must be an ELM (simulations, synthetic logs, the demo).
+
+    Parameters
+    ----------
+    random_state : int, numpy.random.Generator or None
+        Passed on (the automatic ELM is deterministic).
+    max_neurons : int, optional
+        At most so many units.
+
+    Returns
+    -------
+    AutoELMRegressor
+
+    Examples
+    --------
+    >>> from fricgen.fit import default_elm
+    >>> default_elm(max_neurons=12).max_neurons
+    12
+    """
     return AutoELMRegressor(max_neurons=max_neurons, random_state=random_state)
 
 
 def default_estimator(random_state=0, max_neurons=None, max_parameters=None) -> DefaultRegressor:
-    """The estimator ``fricgen train`` uses unless told otherwise: the grey-box eq. (1) or the
-    automatic ELM (at most ``max_neurons`` units), whichever has the smaller cross-validated
-    error, gross outliers set aside; at most ``max_parameters`` parameters (a log's budget)."""
+    """The estimator ``fricgen train`` uses unless told otherwise (``DefaultRegressor``): the
+    grey-box eq. (1) or the automatic ELM, whichever cross-validates better, gross outliers set
+    aside.
+
+    Parameters
+    ----------
+    random_state : int, numpy.random.Generator or None
+        Seeds the cross-validation partitions.
+    max_neurons : int, optional
+        At most so many ELM units.
+    max_parameters : int, optional
+        At most so many parameters in either model (a log's budget).
+
+    Returns
+    -------
+    DefaultRegressor
+
+    Examples
+    --------
+    >>> from fricgen.fit import default_estimator
+    >>> default_estimator(random_state=3).get_params()["random_state"]
+    3
+    """
     return DefaultRegressor(random_state=random_state, max_neurons=max_neurons,
                             max_parameters=max_parameters)
 

@@ -61,12 +61,51 @@ def _premise_gradient(net: AnfisNetwork, x, err, f, y, S, mu):
 
 
 class AnfisRegressor(Estimator):
-    """ANFIS with MATLAB ``genfis1`` initialization and hybrid learning (section 3).
+    r"""The fuzzy baseline of sec. 3: first-order Takagi-Sugeno ANFIS for one input, with MATLAB
+    ``genfis1`` initialization and hybrid learning.
 
-    ``n_mfs`` membership functions of kind ``mf`` ("bell" or "gauss") over the input, trained for
-    ``epochs`` epochs with initial step length ``step``; ``step_increase`` and ``step_decrease``
-    are MATLAB's 1.1 and 0.9. After ``fit``: ``network_`` (best epoch), ``train_rmse_`` (one
-    value per epoch), ``best_epoch_``, ``step_sizes_``, ``fit_seconds_``.
+    Parameters
+    ----------
+    n_mfs : int
+        Membership functions over the input (the paper chose 4).
+    mf : {"bell", "gauss"}
+        Their kind.
+    epochs : int
+        Training epochs.
+    step : float
+        Initial step length of the premise gradient step.
+    step_increase, step_decrease : float
+        MATLAB's step factors (1.1 after four decreases of the error, 0.9 after two alternations).
+
+    Attributes
+    ----------
+    network_ : AnfisNetwork
+        The system of the best epoch, the AIM of eq. (3).
+    train_rmse_ : ndarray, shape (epochs,)
+        Training RMSE per epoch (units of t, normalized force).
+    best_epoch_ : int
+        The epoch of ``network_``.
+    step_sizes_ : ndarray
+        Step length per epoch.
+    n_parameters_ : int
+        Consequent plus premise parameters.
+    fit_seconds_ : float
+        Wall time of ``fit`` (s).
+
+    Notes
+    -----
+    Rule i: if x is A_i then :math:`y_i = p_i x + r_i`; the output is
+    :math:`\sum_i \bar w_i y_i` with normalized firing strengths; consequents by least squares,
+    premises by gradient descent.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen.fit import AnfisRegressor
+    >>> x = np.linspace(0, 1, 40)
+    >>> anfis = AnfisRegressor(epochs=20).fit(x, 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2))
+    >>> anfis.train_rmse_.shape, anfis.n_parameters_
+    ((20,), 20)
     """
 
     def __init__(self, n_mfs: int = 4, mf: str = "bell", epochs: int = 100, step: float = 0.01,

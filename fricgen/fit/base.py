@@ -17,7 +17,23 @@ from ..errors import FricgenError
 
 
 def as_rng(random_state) -> np.random.Generator:
-    """One source of randomness: an int seed, a Generator, or None."""
+    """One source of randomness: an int seed, a Generator, or None.
+
+    Parameters
+    ----------
+    random_state : int, numpy.random.Generator or None
+        A Generator is returned as is; anything else seeds a new one.
+
+    Returns
+    -------
+    numpy.random.Generator
+
+    Examples
+    --------
+    >>> from fricgen.fit import as_rng
+    >>> int(as_rng(0).integers(100)) == int(as_rng(0).integers(100))
+    True
+    """
     if isinstance(random_state, np.random.Generator):
         return random_state
     return np.random.default_rng(random_state)
@@ -39,11 +55,36 @@ def interleaved_folds(x, n_folds: int, rng=None) -> np.ndarray:
 
 
 class NotFittedError(FricgenError, AttributeError):
-    """``predict`` or ``score`` called before ``fit``."""
+    """``predict`` or ``score`` called before ``fit``.
+
+    Examples
+    --------
+    >>> from fricgen import ELMRegressor
+    >>> from fricgen.fit import NotFittedError
+    >>> try:
+    ...     ELMRegressor().predict([0.5])
+    ... except NotFittedError as exc:
+    ...     print(exc)
+    this ELMRegressor is not fitted yet; call fit first
+    """
 
 
 class Estimator:
-    """Base of fricgen's regressors from the normalized input x to the target t of eq. (9)."""
+    """Base of fricgen's regressors from the normalized input x to the target t of eq. (9).
+
+    Hyperparameters are stored unchanged in ``__init__``; ``get_params``/``set_params`` read and
+    write them (so ``sklearn.base.clone`` works); ``fit(x, t)`` returns self and sets learned
+    attributes ending in ``_``, among them ``network_``; ``predict`` returns an array shaped like
+    its input; ``score`` is R^2.
+
+    Examples
+    --------
+    >>> from fricgen import ELMRegressor
+    >>> from fricgen.fit import Estimator
+    >>> elm = ELMRegressor(n_hidden=5)
+    >>> isinstance(elm, Estimator), elm.set_params(n_hidden=8).get_params()["n_hidden"]
+    (True, 8)
+    """
 
     #: What scikit-learn before 1.6 reads to tell a regressor.
     _estimator_type = "regressor"

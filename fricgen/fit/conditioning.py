@@ -93,13 +93,53 @@ def batched_log10_cond(activation: str, x, w_rand, b_rand, theta) -> np.ndarray:
 
 
 class ConditionedELMRegressor(Estimator):
-    """ELM with ``n_opt`` (default: half) of ``n_hidden`` neurons chosen by particle swarm to
-    minimize log10 cond(H^T H); the rest drawn by ``scheme`` (enlarged variability).
+    """ELM with conditioning optimization (sec. 5): ``n_opt`` of ``n_hidden`` neurons chosen by
+    particle swarm to minimize log10 cond(H^T H); the rest drawn by ``scheme``.
 
-    OPT weights and biases are bounded to [-w_max, w_max] of the scheme. The solver is that of
-    ``ELMRegressor`` ("pinv" by default, eq. 13). After ``fit``: the attributes of
-    ``ELMRegressor`` plus ``log10_cond_start_`` (OPT drawn like RAND, the swarm's first particle),
-    ``n_evaluations_`` and ``fit_seconds_``.
+    The swarm's weights and biases are bounded to [-w_max, w_max] of the scheme; the output weights
+    come from ``solver`` as in ``ELMRegressor``.
+
+    Parameters
+    ----------
+    n_hidden : int
+        Hidden neurons M.
+    n_opt : int, optional
+        Neurons the swarm places (default: M // 2, the paper's half).
+    activation : str
+        The hidden units' function.
+    scheme : str or scheme object, optional
+        How the other neurons are drawn (default: enlarged variability, eqs. (16)-(17)).
+    solver : str or solver object
+        "pinv" (eq. 13, the default here), "ridge" (eq. 15) or "loo".
+    C : float, optional
+        C of eq. (15) for ``solver="ridge"``.
+    n_particles, iterations : int
+        Swarm size and iterations.
+    random_state : int, numpy.random.Generator or None
+        The one source of randomness.
+
+    Attributes
+    ----------
+    network_, input_weights_, biases_, beta_, C_, singular_values_, loo_rmse_
+        As in ``ELMRegressor`` (beta_ and loo_rmse_ in units of t, normalized force).
+    log10_cond_start_ : float
+        log10 cond(H^T H) before the swarm (its first particle).
+    log10_cond_ : float
+        log10 cond(H^T H) of the fitted layer.
+    n_evaluations_ : int
+        Objective evaluations of the swarm.
+    fit_seconds_ : float
+        Wall time of ``fit`` (s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen.fit import ConditionedELMRegressor
+    >>> x = np.linspace(0, 1, 40)
+    >>> elm = ConditionedELMRegressor(n_particles=5, iterations=5, random_state=0)
+    >>> elm = elm.fit(x, 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2))
+    >>> bool(elm.log10_cond_ <= elm.log10_cond_start_), elm.n_evaluations_
+    (True, 30)
     """
 
     def __init__(self, n_hidden: int = 10, n_opt: Optional[int] = None, activation: str = "sigmoid",

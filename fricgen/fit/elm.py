@@ -372,11 +372,70 @@ def make_part(kind, registry, what):
 
 
 class ELMRegressor(Estimator):
-    """Extreme Learning Machine for one input (scikit-learn style).
+    r"""Extreme Learning Machine for one input, eqs. (7)-(17) (scikit-learn style).
 
-    Parameters are stored unchanged; ``fit`` draws the hidden layer from ``scheme`` with
-    ``random_state``, solves for beta with ``solver`` and returns self. ``solver`` is "pinv"
-    (eq. 13), "ridge" (eq. 15, needs ``C``), "loo" (C by leave-one-out), or a solver object.
+    Parameters are stored unchanged; ``fit(x, t)`` draws the hidden layer from ``scheme`` with
+    ``random_state``, solves for the output weights with ``solver`` and returns self. x and t are
+    the normalized data of eq. (9) (both dimensionless).
+
+    Parameters
+    ----------
+    n_hidden : int
+        Hidden neurons M. The default here is 10 (the paper's enlarged-variability size);
+        ``fricgen train --method elm`` uses ``DEFAULT_ELM`` instead: 40 neurons and
+        ``EnlargedScheme(w_max=30.0)``. Pass ``**DEFAULT_ELM`` to get the command line's ELM.
+    activation : str
+        The hidden units' function of z = w x + b ("sigmoid", ...; ``networks.elm.ACTIVATIONS``).
+    scheme : str or scheme object
+        How w and b are drawn: "enlarged" (eqs. (16)-(17), w in [-10, 10]), "standard"
+        (uniform in [-1, 1], sec. 4), or an object with ``draw(n, rng)`` such as
+        ``EnlargedScheme(w_max=30.0)``.
+    solver : str or solver object
+        "pinv" (eq. 13), "ridge" (eq. 15, needs ``C``), "loo" (C by closed-form leave-one-out
+        error among those that keep the emitted float32 C within parity), or an object.
+    C : float, optional
+        The regularization C of eq. (15), for ``solver="ridge"`` only.
+    random_state : int, numpy.random.Generator or None
+        The one source of randomness (the hidden layer's draw).
+
+    Attributes
+    ----------
+    network_ : ElmNetwork
+        The trained AIM of eq. (3), neurons in the order the emitted C sums them.
+    input_weights_, biases_ : ndarray, shape (n_hidden,)
+        w and b of eq. (7) (dimensionless; x is in [0, 1]).
+    beta_ : ndarray, shape (n_hidden,)
+        The output weights of eq. (13)/(15), in units of t (normalized force).
+    C_ : float
+        The C used (dimensionless): ``inf`` for "pinv", the given C for "ridge", the chosen
+        one for "loo".
+    singular_values_ : ndarray
+        Singular values of the hidden-layer matrix H (eq. 11).
+    loo_rmse_ : float
+        Leave-one-out RMSE of the fit (PRESS), in units of t.
+    beta_norm_, log10_cond_ : float
+        ||beta|| and log10 cond(H^T H) (properties).
+
+    Notes
+    -----
+    The network is eq. (7), :math:`y(x) = \sum_{k=1}^M \beta_k h(w_k x + b_k)`, and the solvers
+    minimize
+
+    .. math::
+
+        \beta = (I / C + H^T H)^{-1} H^T t \quad (15), \qquad C \to \infty:\ \beta = H^+ t \quad (13)
+
+    through one SVD of H.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, random_state=0).fit(data.x, data.t)
+    >>> elm.beta_.shape, bool(elm.C_ > 0), bool(elm.loo_rmse_ < 0.05)
+    ((10,), True, True)
+    >>> round(elm.score(data.x, data.t), 2)
+    1.0
     """
 
     def __init__(self, n_hidden: int = 10, activation: str = "sigmoid", scheme="enlarged",

@@ -251,33 +251,65 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: 
 
 
 class StribeckRegressor(Estimator):
-    """Grey-box eq. (1): S sources of one shape g, fitted for every S in ``sources`` and g in
-    ``shapes``. The fits close in Akaike's criterion (AICc, closed form) are averaged with the
-    weights ``akaike_weights`` and the average is matched by one curve of eq. (1) (``_average``):
-    picking the single best fit lets a wrong shape with an extra source win on noise, where
-    the average of the close fits stays near the truth. ``cv_rmse_`` is the ``n_folds``-fold
-    cross-validated error of the whole procedure (``interleaved_folds``; each fold's refit
-    starts from the full fit's Stribeck velocities, and the fold's average is weighted by the
-    AICc on its training points).
+    r"""The grey-box estimator: eq. (1) itself, with S sources of one shape g, fitted to the data.
 
-    The Stribeck velocities are searched below each bound of ``xs_bounds`` in turn: the first
-    is vs_max (``--vs-max`` bounds the Stribeck velocities; normalized, 1 / SAT_FACTOR), the
-    next ones let a source stand for a broad curve that is no Stribeck effect (a viscous part
-    that is not linear in v), at the price of one more parameter in the AIC for each.
+    Every S in ``sources`` and g in ``shapes`` is fitted by variable projection; the fits close in
+    Akaike's criterion (AICc) are averaged with Akaike weights and the average is matched by one
+    curve of eq. (1): picking the single best fit lets a wrong shape with an extra source win on
+    noise. A source the data do not determine (infinite standard error) is dropped and the rest
+    refitted. x and t are the normalized data of eq. (9).
 
-    Multi-starts: each of ``grid`` log-spaced Stribeck velocities for S = 1; for larger S, the
-    optimum of S - 1 sources plus each grid value (a new source anywhere).
+    Parameters
+    ----------
+    shapes : sequence of str
+        The g of eq. (2) to try: "gauss", "exponential", "rational".
+    sources : sequence of int
+        The numbers of sources S to try.
+    xs_bounds : sequence of float
+        Upper bounds of the normalized Stribeck velocities, searched in turn: the first is
+        vs_max (1 / SAT_FACTOR); a larger one lets a source stand for a broad non-linear viscous
+        part, at one more parameter in the AIC.
+    grid : int
+        Log-spaced start values of the Stribeck velocity (multi-start).
+    n_folds : int
+        Folds of the cross-validation of the whole procedure (``cv_rmse_``).
 
-    A source the data do not determine (an infinite standard error, e.g. a Stribeck velocity
-    below every measured speed but v = 0) is dropped and the rest refitted
-    (``drop_undetermined``): the refit competes as a candidate with fewer sources, and no
-    candidate holds such a source.
+    Attributes
+    ----------
+    network_ : StribeckCurve
+        The fitted eq. (1) in normalized units, the AIM of eq. (3).
+    shape_ : str
+        Its g; ``n_sources_`` (int): its S.
+    xs_max_, xs_min_ : float
+        The largest bound among the contenders and the smallest Stribeck velocity allowed
+        (normalized velocity, x units).
+    candidates_ : dict
+        {(shape, S, bound): AICc} of the admissible fits; ``fits_``: each one's fit;
+        ``best_``: the key of the smallest AICc; ``weights_``: the contenders' Akaike weights.
+    cv_residuals_ : ndarray
+        Held-out residuals on interleaved folds (units of t).
+    cv_rmse_, train_rmse_ : float
+        Cross-validated and training RMSE (units of t, normalized force).
+    standard_errors_ : dict
+        Standard errors of offset, amplitudes, Stribeck velocities and peak (normalized units).
+    fit_seconds_ : float
+        Wall time of ``fit`` (s).
 
-    After ``fit``: ``network_`` (a ``StribeckCurve``), ``shape_``, ``n_sources_``, ``xs_max_``
-    (the largest bound among the contenders), ``xs_min_`` (XS_MIN), ``candidates_`` ({(shape, S,
-    bound): AICc}), ``fits_`` (each candidate's ``SourcesFit``), ``best_`` (the key of the
-    smallest AICc), ``weights_`` ({key: weight} of the contenders), ``cv_residuals_`` (held out, on ``interleaved_folds``), ``cv_rmse_``, ``train_rmse_``, ``standard_errors_`` (offset,
-    amplitudes, stribeck, peak; normalized units), ``fit_seconds_``.
+    Notes
+    -----
+    In normalized units the curve is eq. (1) for v > 0 without the viscous part (removed by
+    eq. (9)), plus a slope d for an error of the identified B:
+    :math:`t(x) = c + \sum_{k=1}^S a_k g(x, x_{sk}) + d x`, with :math:`x_{sk} = K_{in} v_{sk}`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricgen import StribeckRegressor
+    >>> x = np.linspace(0, 1, 40)
+    >>> t = 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2)
+    >>> grey = StribeckRegressor(shapes=("gauss",), sources=(1, 2)).fit(x, t)
+    >>> grey.shape_, grey.n_sources_, round(float(grey.network_.stribeck[0]), 3)
+    ('gauss', 1, 0.2)
     """
 
     activation = "stribeck"

@@ -16,7 +16,25 @@ KINDS: Dict[str, Any] = {cls.kind: cls for cls in (ElmNetwork, AnfisNetwork, Str
 
 
 def network_from_dict(d: Any):
-    """The validated network of model.json's ``aim`` object."""
+    """The validated network of model.json's ``aim`` object, by its ``kind`` (``KINDS``).
+
+    Parameters
+    ----------
+    d : dict
+        The ``aim`` object: ``kind`` and that kind's fields.
+
+    Returns
+    -------
+    ElmNetwork, AnfisNetwork or StribeckCurve
+        ``ModelError`` naming the field when ``d`` is invalid.
+
+    Examples
+    --------
+    >>> from fricgen.networks import StribeckCurve, network_from_dict
+    >>> curve = StribeckCurve("gauss", offset=0.5, amplitudes=[0.5], stribeck=[0.2])
+    >>> network_from_dict(curve.to_dict()).to_dict() == curve.to_dict()
+    True
+    """
     if not isinstance(d, dict):
         raise ModelError("missing or invalid field 'aim' (an object)")
     kind = d.get("kind")

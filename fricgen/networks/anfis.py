@@ -29,9 +29,36 @@ def memberships(mf, x, centers, widths, exponents):
 
 @dataclass(frozen=True)
 class AnfisNetwork:
-    """A trained one-input first-order TSK system: y = sum_j wbar_j(x) (p_j x + r_j),
-    wbar_j = mu_j / sum_i mu_i, mu_j a bell 1 / (1 + |(x - c_j)/a_j|^(2 b_j)) or a Gaussian
-    exp(-(x - c_j)^2 / (2 sigma_j^2)) membership function."""
+    r"""A trained one-input first-order Takagi-Sugeno system (sec. 3), the AIM of eq. (3) as ANFIS.
+
+    Parameters
+    ----------
+    mf : {"bell", "gauss"}
+        The membership functions' kind.
+    centers : array_like, shape (n,)
+        c_j.
+    widths : array_like, shape (n,)
+        a_j (bell) or sigma_j (gauss).
+    exponents : array_like, shape (n,), or None
+        b_j of the bell; None for Gaussians.
+    slopes, intercepts : array_like, shape (n,)
+        The consequents p_j and r_j (units of t per unit x, and of t).
+
+    Notes
+    -----
+    .. math::
+
+        y(x) = \sum_j \bar w_j(x) (p_j x + r_j), \quad
+        \bar w_j = \mu_j / \sum_i \mu_i, \quad
+        \mu_j = 1 / (1 + |(x - c_j) / a_j|^{2 b_j}) \text{ or } e^{-(x - c_j)^2 / (2 \sigma_j^2)}
+
+    Examples
+    --------
+    >>> from fricgen.networks import AnfisNetwork
+    >>> net = AnfisNetwork("gauss", [0.0, 1.0], [0.5, 0.5], None, [0.0, 0.0], [1.0, 3.0])
+    >>> round(float(net(0.5)), 3)          # equal firing: the mean of the intercepts
+    2.0
+    """
 
     mf: str
     centers: np.ndarray

@@ -69,7 +69,30 @@ def hidden_matrix(activation: str, x, w, b) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ElmNetwork:
-    """A trained single-hidden-layer network, eq. (7): sum_k beta_k act(w_k x + b_k)."""
+    r"""A trained single-hidden-layer network, eq. (7): the AIM of eq. (3) as an ELM.
+
+    Parameters
+    ----------
+    activation : str
+        The hidden units' function h ("sigmoid", ...).
+    input_weights, biases : array_like, shape (M,)
+        w_k and b_k (dimensionless; the input x = K_in v is in [0, 1]).
+    output_weights : array_like, shape (M,)
+        beta_k, in units of the normalized target t of eq. (9).
+
+    Notes
+    -----
+    .. math::
+
+        y(x) = \sum_{k=1}^M \beta_k h(w_k x + b_k) \quad (7)
+
+    Examples
+    --------
+    >>> from fricgen.networks import ElmNetwork
+    >>> net = ElmNetwork("sigmoid", [10.0], [0.0], [2.0])
+    >>> net.n_hidden, round(float(net(0.0)), 3)       # 2 sigmoid(0)
+    (1, 1.0)
+    """
 
     activation: str
     input_weights: np.ndarray

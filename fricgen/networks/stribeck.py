@@ -12,10 +12,34 @@ from ..friction import SHAPES
 
 @dataclass(frozen=True)
 class StribeckCurve:
-    """t(x) = c + sum_k a_k g(x, xs_k) + d x: eq. (1) with S sources of one shape g, normalized.
+    r"""Eq. (1) with S sources of one shape g, in the normalized coordinates of eq. (9): the AIM of
+    eq. (3) of the grey-box model.
 
-    The constant c gathers every f_ck, a_k = f_sk - f_ck scaled, xs_k = K_in v_sk, and the slope
-    d absorbs an error of the identified B (0 when B is trusted).
+    Parameters
+    ----------
+    shape : {"gauss", "exponential", "rational"}
+        g of eq. (2).
+    offset : float
+        c, gathering every f_ck (scaled by K_out).
+    amplitudes : array_like, shape (S,)
+        a_k = K_out (f_sk - f_ck).
+    stribeck : array_like, shape (S,)
+        x_sk = K_in v_sk (> 0).
+    slope : float
+        d, absorbing an error of the identified B (0 when B is trusted).
+
+    Notes
+    -----
+    .. math::
+
+        t(x) = c + \sum_{k=1}^S a_k g(x, x_{sk}) + d x
+
+    Examples
+    --------
+    >>> from fricgen.networks import StribeckCurve
+    >>> curve = StribeckCurve("gauss", offset=0.5, amplitudes=[0.5], stribeck=[0.2])
+    >>> round(float(curve(0.0)), 3), round(float(curve(1.0)), 3)
+    (1.0, 0.5)
     """
 
     shape: str
