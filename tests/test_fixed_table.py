@@ -1,5 +1,7 @@
 """Fixed-point grey-box models (--dtype q15|q31 of eq. (1)): the AIM table, LSB-exact parity of
 the C with its integer twin, and the documented error bound on every input."""
+import shutil
+
 import numpy as np
 import pytest
 
@@ -9,6 +11,7 @@ from fricgen.errors import ModelError
 from fricgen.model import FrictionModel, Scaling
 from fricgen.networks.stribeck import StribeckCurve
 
+from conftest import assert_builds_strictly
 from test_fixedpoint import CTYPE, probe
 
 V_SAT = 0.06
@@ -61,24 +64,33 @@ def test_table_output_is_odd_zero_at_rest_and_saturates(table_lib):
     assert fn(0) == 0 and fn(top) > 0 and fn(-top) == -fn(top)
 
 
-def test_the_table_grows_until_interpolation_meets_its_tolerance():
-    """A steep drop (v_s = 0.5 mm/s, 1/120 of v_sat) needs a finer table than a broad one, and
-    each table's interpolation error is within TABLE_TOLERANCE of the force range."""
-    steep, broad = (ft.TableSpec.of(greybox("gauss", s), "q15") for s in ((0.0005, 0.02), (0.01, 0.02)))
-    assert steep.table.size > broad.table.size >= ft.MIN_TABLE + 1
-    for spec, model in ((steep, greybox("gauss", (0.0005, 0.02))), (broad, greybox("gauss", (0.01, 0.02)))):
+def test_a_steep_drop_gets_finer_knots_near_standstill():
+    """A drop 1/120 of v_sat wide (v_s = 0.5 mm/s) needs more octaves than a broad one; both
+    tables meet TABLE_TOLERANCE of the force range, and the uniform table of as many points
+    would not (the octaves put the knots where the curve bends)."""
+    steep_model, broad_model = greybox("gauss", (0.0005, 0.02)), greybox("gauss", (0.01, 0.02))
+    steep, broad = ft.TableSpec.of(steep_model, "q15"), ft.TableSpec.of(broad_model, "q15")
+    assert steep.octaves > broad.octaves
+    for spec, model in ((steep, steep_model), (broad, broad_model)):
         tolerance = ft.TABLE_TOLERANCE * 2.0 ** (spec.bits - 1 - spec.f_f) * model.scaling.k_out
-        assert spec.interpolation_error <= tolerance or spec.table.size == ft.MAX_TABLE + 1
-        # halving the table would have missed it
-        if spec.table.size > ft.MIN_TABLE + 1:
-            assert ft.interpolation_error(model.aim, (spec.table.size - 1) // 2) > tolerance
+        assert spec.interpolation_error <= tolerance
+    uniform = np.linspace(0.0, 1.0, steep.table.size)
+    tolerance = ft.TABLE_TOLERANCE * 2.0 ** (steep.bits - 1 - steep.f_f) * steep_model.scaling.k_out
+    assert ft.interpolation_error(steep_model.aim, uniform) > 10 * tolerance
+
+
+def test_knots_are_octaves_of_equal_intervals():
+    x = ft.knots(2, 1)                       # base [0, 1/4) and octaves [1/4, 1/2), [1/2, 1)
+    assert x.tolist() == [0.0, 0.125, 0.25, 0.375, 0.5, 0.75, 1.0]
 
 
 def test_interpolation_error_of_a_parabola_is_h_squared_over_eight():
-    """Linear interpolation of x^2 between knots h = 1/n apart errs by h^2 f'' / 8 = 1 / (4 n^2)
-    at every mid-interval (f'' = 2)."""
+    """Linear interpolation of x^2 between knots h apart errs by h^2 f'' / 8 = h^2 / 4 at
+    every mid-interval (f'' = 2): the widest interval decides."""
     for n in (4, 16):
-        assert ft.interpolation_error(lambda x: x ** 2, n) == pytest.approx(0.25 / n ** 2, rel=1e-12)
+        assert ft.interpolation_error(lambda x: x ** 2, np.linspace(0, 1, n + 1)) == \
+            pytest.approx(0.25 / n ** 2, rel=1e-12)
+    assert ft.interpolation_error(lambda x: x ** 2, ft.knots(2, 1)) == pytest.approx(0.25 / 16, rel=1e-12)
 
 
 def test_an_asymmetric_grey_box_model_is_refused_in_fixed_point(tmp_path):
@@ -89,3 +101,11 @@ def test_an_asymmetric_grey_box_model_is_refused_in_fixed_point(tmp_path):
     with pytest.raises(ModelError, match="symmetric"):
         codegen.render(two, "gb", dtype="q15")
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("cc", ["gcc", "clang"])
+def test_table_c_builds_without_a_warning_under_the_strict_flags(table_lib, cc):
+    if shutil.which(cc) is None:
+        pytest.skip(f"{cc} not installed")
+    _, _, folder, _ = table_lib
+    assert_builds_strictly(folder, "gb.c", cc)

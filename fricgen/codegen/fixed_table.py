@@ -1,12 +1,15 @@
 """Fixed-point grey-box models (``fricgen emit --dtype q15|q31`` of eq. (1)): the AIM as a table.
 
 Eq. (1)'s exponentials have no cheap integer form, but the AIM of eq. (3) is a function of the
-saturated input x = K_in min(|v|, v_sat) in [0, 1] alone. So it is tabulated at N + 1 points
-x_i = i / N (N a power of two) and interpolated linearly: the index is the top log2 N bits of
-x in Q(bits-1), the weight the rest. The rest of eq. (3) (1 / K_out, B |v|, the sign, the
-saturation) is the ELM path's (``fricgen.codegen.fixedpoint``), as are the input and output
-scales. N is the smallest power of two from MIN_TABLE whose interpolation error is within
-TABLE_TOLERANCE of the force range, at most MAX_TABLE.
+saturated input x = K_in min(|v|, v_sat) in [0, 1] alone. So it is tabulated and interpolated
+linearly, on knots as fine as its steepest part needs: [0, 1] is cut into the octaves
+[2^-j, 2^-(j-1)) for j = 1..K and the base [0, 2^-K), each into M = 2^m equal intervals (a
+Stribeck drop a thousandth of v_sat wide gets knots that fine, the rest fewer). In Q(bits-1)
+every bound and width is a power of two, so the segment is found by at most K comparisons and
+the index and weight by a shift and a mask. The rest of eq. (3) (1 / K_out, B |v|, the sign,
+the saturation) is the ELM path's (``fricgen.codegen.fixedpoint``), as are the input and
+output scales. (K, m) is the smallest table whose interpolation error is within
+TABLE_TOLERANCE of the force range, else the most accurate of at most MAX_TABLE intervals.
 
 ``table_error_bound`` adds, in newtons: the interpolation error (maximized over the worst
 intervals: ``interpolation_error``), the table's rounding (1/2 LSB) and the interpolation's
@@ -24,12 +27,12 @@ from scipy.optimize import minimize_scalar
 from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks.stribeck import StribeckCurve
-from .fixedpoint import (DTYPE_PARAMS, ConstMul, _c_int_array, _ceil_log2, _quantize, _rshift,
+from .fixedpoint import (DTYPE_PARAMS, ConstMul, _c_int_array, _ceil_log2, _quantize,
                          fixed_context, input_range, input_rounding, normalized_speed,
                          output_error, render_fixed_files, signed_force)
 
-#: Fewest and most intervals of the table (powers of two).
-MIN_TABLE, MAX_TABLE = 32, 2048
+#: Intervals per segment, 2^m for m in this range; most intervals of a table.
+LOG2_INTERVALS, MAX_TABLE = range(3, 8), 2048
 #: The table grows until its interpolation error is within this fraction of the force range.
 TABLE_TOLERANCE = 2e-4
 #: Points per interval on which the interpolation error is probed, and the worst intervals
@@ -39,7 +42,8 @@ TABLE_PROBES, REFINED = 64, 4
 
 @dataclass(frozen=True)
 class TableSpec:
-    """Scales and the integer AIM table of a fixed-point grey-box model."""
+    """Scales and the integer AIM table of a fixed-point grey-box model: ``octaves`` K and
+    2^``log2_m`` intervals per segment (see the module)."""
 
     dtype: str
     bits: int
@@ -50,7 +54,8 @@ class TableSpec:
     k_in: ConstMul
     inv_k_out: ConstMul
     viscous: ConstMul
-    log2_n: int
+    octaves: int
+    log2_m: int
     table: np.ndarray
     interpolation_error: float        # of the exact table, normalized AIM units
 
@@ -59,9 +64,9 @@ class TableSpec:
         return 1 << (self.bits - 1)
 
     @property
-    def index_shift(self) -> int:
-        """Bits of x below the table index: the interpolation weight's."""
-        return self.bits - 1 - self.log2_n
+    def base_shift(self) -> int:
+        """Bits of x below the index in the base segment and the first octave."""
+        return self.bits - 1 - self.octaves - self.log2_m
 
     @classmethod
     def of(cls, model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> "TableSpec":
@@ -78,34 +83,58 @@ class TableSpec:
         aim_max = float(np.max(np.abs(model.aim(np.linspace(0.0, 1.0, 4001)))))
         f_aim = (bits - 1) - _ceil_log2(1.1 * aim_max + 1e-12)
         tolerance = TABLE_TOLERANCE * 2.0 ** (bits - 1 - f_f) * model.scaling.k_out
-        log2_n = int(np.log2(MIN_TABLE))
-        while True:
-            error = interpolation_error(model.aim, 2 ** log2_n)
-            if error <= tolerance or 2 ** log2_n >= MAX_TABLE:
-                break
-            log2_n += 1
-        exact = model.aim(np.linspace(0.0, 1.0, 2 ** log2_n + 1))
+        octaves, log2_m, error = _layout(model.aim, bits, tolerance)
+        exact = model.aim(knots(octaves, log2_m))
         return cls(dtype=dtype, bits=bits, f_v=f_v, f_f=f_f, f_aim=f_aim,
                    v_sat_q=int(round(model.v_sat * 2.0 ** f_v)),
                    k_in=ConstMul.of(model.scaling.k_in, f_v, bits - 1, bits, "k_in"),
                    inv_k_out=ConstMul.of(1.0 / model.scaling.k_out, f_aim, f_f, bits, "1 / k_out"),
                    viscous=ConstMul.of(model.viscous, f_v, f_f, bits, "viscous"),
-                   log2_n=log2_n, table=_quantize(exact, f_aim, bits, "the AIM table"),
-                   interpolation_error=error)
+                   octaves=octaves, log2_m=log2_m,
+                   table=_quantize(exact, f_aim, bits, "the AIM table"), interpolation_error=error)
 
 
-def interpolation_error(aim, n: int) -> float:
-    """max |linear interpolation of ``aim`` between x_i = i / n - aim|: probed at TABLE_PROBES
+def knots(octaves: int, log2_m: int) -> np.ndarray:
+    """The table's x: 2^m equal intervals on [0, 2^-K) and on each octave [2^-j, 2^-(j-1)),
+    j = K..1, and x = 1."""
+    m = 2 ** log2_m
+    lows = [0.0] + [2.0 ** -j for j in range(octaves, 0, -1)]
+    widths = [2.0 ** -octaves] + lows[1:]
+    return np.append(np.concatenate([lo + w * np.arange(m) / m for lo, w in zip(lows, widths)]), 1.0)
+
+
+def _layout(aim, bits: int, tolerance: float):
+    """(K, m, interpolation error): the smallest table within ``tolerance``, else the most
+    accurate one of at most MAX_TABLE intervals; every interval at least 2 LSB of x wide."""
+    best = None
+    for log2_m in LOG2_INTERVALS:
+        for octaves in range(0, bits - 2 - log2_m + 1):
+            size = (octaves + 1) * 2 ** log2_m
+            if size > MAX_TABLE:
+                break
+            error = interpolation_error(aim, knots(octaves, log2_m))
+            key = (error > tolerance, size if error <= tolerance else error)
+            if best is None or key < best[0]:
+                best = (key, (octaves, log2_m, error))
+            if error <= tolerance:
+                break                       # more octaves only grow the table
+    return best[1]
+
+
+def interpolation_error(aim, x_knots) -> float:
+    """max |linear interpolation of ``aim`` between ``x_knots`` - aim|: probed at TABLE_PROBES
     points per interval, then the REFINED worst intervals maximized to machine precision
     around their worst probe (bounded scalar search)."""
-    knots = aim(np.linspace(0.0, 1.0, n + 1))
+    x_knots = np.asarray(x_knots, dtype=float)
+    values = aim(x_knots)
 
     def error(i, r):
-        return abs(knots[i] * (1 - r) + knots[i + 1] * r - float(aim(np.array([(i + r) / n]))[0]))
+        x = x_knots[i] + r * (x_knots[i + 1] - x_knots[i])
+        return abs(values[i] * (1 - r) + values[i + 1] * r - float(aim(np.array([x]))[0]))
 
     r = np.arange(1, TABLE_PROBES) / TABLE_PROBES
-    x = (np.arange(n)[:, None] + r[None, :]) / n
-    probed = np.abs(knots[:-1, None] * (1 - r) + knots[1:, None] * r - aim(x.ravel()).reshape(x.shape))
+    x = x_knots[:-1, None] + r[None, :] * np.diff(x_knots)[:, None]
+    probed = np.abs(values[:-1, None] * (1 - r) + values[1:, None] * r - aim(x.ravel()).reshape(x.shape))
     worst = float(probed.max())
     for i in np.argsort(probed.max(axis=1))[-REFINED:]:
         k = int(np.argmax(probed[i]))
@@ -119,11 +148,18 @@ def interpolation_error(aim, n: int) -> float:
 def force_table_q(spec: TableSpec, v_q) -> np.ndarray:
     """Integer twin of the emitted NAME_force_q15 / NAME_force_q31 of a grey-box model."""
     x_q = normalized_speed(spec, v_q)
-    index = x_q >> spec.index_shift
-    weight = x_q & ((1 << spec.index_shift) - 1)
-    low = spec.table[index]
-    high = spec.table[np.minimum(index + 1, spec.table.size - 1)]
-    aim = low + (_rshift((high - low) * weight, spec.index_shift) if spec.index_shift else 0)
+    k = spec.octaves
+    segment = sum((x_q >= (spec.one >> (k - u))).astype(np.int64) for u in range(k)) if k else \
+        np.zeros_like(x_q)
+    low = np.where(segment == 0, 0, spec.one >> np.maximum(k - segment + 1, 0))
+    shift = spec.base_shift + np.maximum(segment - 1, 0)
+    index = (segment << spec.log2_m) + ((x_q - low) >> shift)
+    weight = (x_q - low) & ((np.int64(1) << shift) - 1)
+    last = spec.table.size - 1
+    a = spec.table[np.minimum(index, last)]
+    b = spec.table[np.minimum(index + 1, last)]
+    step = ((b - a) * weight + (np.int64(1) << (shift - 1))) >> shift
+    aim = np.where(index < last, a + step, spec.table[last])
     return signed_force(spec, aim, v_q)
 
 
@@ -143,6 +179,6 @@ def render_fixed_table(model: FrictionModel, name: str, dtype: str, max_rel_erro
     spec = TableSpec.of(model, dtype, v_max)
     ctx = fixed_context(model, name, spec, v_max, table_error_bound(spec, model), max_rel_error)
     ctx.update({"table_size": spec.table.size, "table": _c_int_array(spec.table),
-                "index_shift": spec.index_shift, "f_aim": spec.f_aim, "weight_mask": (1 << spec.index_shift) - 1,
-                "source_count": model.aim.n_sources, "shape": model.aim.shape})
+                "octaves": spec.octaves, "log2_m": spec.log2_m, "base_shift": spec.base_shift,
+                "f_aim": spec.f_aim, "source_count": model.aim.n_sources, "shape": model.aim.shape})
     return render_fixed_files(name, ctx)
