@@ -1,6 +1,6 @@
 """The named effects' own fits on a residual made of their own force: a one-sided asymmetry, a
 thermal drift with and without its time constant, the plausibility of mass and force
-constant errors (fricgen/effects/library.py), and joint fits of effects alike enough that
+constant errors (fricgen/effects/), and joint fits of effects alike enough that
 backfitting alone does not separate them (fricgen/diagnose/select.py)."""
 import numpy as np
 import pytest

@@ -1,32 +1,17 @@
-"""Named physical effects a friction model may miss, and that model.json may carry.
-
-Each effect is one small class: its parameters (dataclass fields), ``fit`` (a classmethod that
-identifies it from a force residual), ``force`` (its contribution in newtons), ``to_dict`` /
-``from_dict``. Sign convention, extending eq. (18) of section 6:
-
-    m dv/dt = phi i - F(v) - sum_k effect_k        (F(v) of eq. 3),
-
-so an effect with positive force opposes positive motion. Effects that are functions of v and
-x only (``in_xv``) are also emitted into C as part of ``NAME_force_xv(v, x)``.
-
-Fitting sees a ``problem`` (built by ``fricgen.diagnose``) with the measured ``signals``, the
-smoothed force residual ``target`` at decimated ``rows`` and ``at_rows(raw, rows)``, which
-smooths a full-rate signal with the same filter as the residual and samples it at the rows.
-"""
+"""The named physical effects (the diagnosis' vocabulary): each one small class of the
+``Effect`` contract (``base``), with its force law, fit from a force residual and C expression."""
 from __future__ import annotations
 
 import math
-from dataclasses import MISSING, asdict, dataclass, fields, replace
-from typing import Any, ClassVar, Dict, List, Sequence, Tuple, Type
+from dataclasses import dataclass, replace
+from typing import ClassVar, Dict, Tuple, Type
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ..c_literal import c_float
-from .signals import Signals
-from .._validate import finite_number
-from ..errors import ModelError
 from ..friction import SHAPES
+from .base import Effect
 
 
 def _lstsq(basis: np.ndarray, target: np.ndarray) -> Tuple[np.ndarray, float]:
@@ -60,152 +45,6 @@ def _fit_linear(template: "Effect", problem, rows) -> "Effect":
     regressors, _ = template.linear(problem.signals)
     coef, _ = _lstsq(problem.at_rows(regressors, rows), problem.target[rows])
     return template.with_coefficients(coef)
-
-
-#: A fitted mass or force constant further than this factor from the nominal one is not read as
-#: a mismatch of it: a model that simulates well only with such a value is stiff or inert
-#: enough to hide any force error, and the fit is other structure in the residual.
-PLAUSIBLE_FACTOR = 5.0
-
-
-def _ratio_implausible(what: str, value: float, nominal: float) -> str:
-    ratio = value / nominal
-    if 1.0 / PLAUSIBLE_FACTOR <= ratio <= PLAUSIBLE_FACTOR:
-        return ""
-    return (f"the fitted {what} is {ratio:.3g} x the nominal one, beyond the factor "
-            f"{PLAUSIBLE_FACTOR:g} read as a mismatch")
-
-
-# ----------------------------------------------------------------------------- effects
-
-
-@dataclass(frozen=True)
-class Effect:
-    """Base of the named effects (see the module docstring for the sign convention)."""
-
-    name: ClassVar[str] = ""
-    #: Function of (v, x) only: emitted into C as part of NAME_force_xv.
-    in_xv: ClassVar[bool] = False
-    #: Acts at rest too (part of the external force, not of sliding friction).
-    acts_at_rest: ClassVar[bool] = False
-    #: Parameters that must be > 0.
-    positive: ClassVar[Tuple[str, ...]] = ()
-    #: Parameters that must be >= 0.
-    non_negative: ClassVar[Tuple[str, ...]] = ()
-    #: (parameter, its nominal) pairs: a value further than PLAUSIBLE_FACTOR from the nominal one
-    #: is not read as this effect (``implausible``).
-    nominal_of: ClassVar[Tuple[Tuple[str, str], ...]] = ()
-    #: Parameters not counted as fitted (fixed by context, e.g. the nominal mass).
-    fixed: ClassVar[Tuple[str, ...]] = ()
-    #: Simulated through the mass or the force constant (mass_delta, force_constant_delta).
-    via_dynamics: ClassVar[bool] = False
-
-    @property
-    def n_params(self) -> int:
-        return len([f for f in fields(self) if f.name not in self.fixed and f.name != "shape"])
-
-    def parameters(self) -> Dict[str, Any]:
-        return asdict(self)
-
-    def force(self, sig: Signals) -> np.ndarray:
-        raise NotImplementedError
-
-    # simulation: effects that change the mass or the force constant instead of adding a force
-    mass_delta: ClassVar[float] = 0.0
-    force_constant_delta: ClassVar[float] = 0.0
-    lag_tau: ClassVar[float] = 0.0
-
-    def to_dict(self) -> dict:
-        return {"effect": self.name, "parameters": self.parameters()}
-
-    def linear(self, sig: Signals) -> Tuple[np.ndarray, np.ndarray]:
-        """The regressors (N, k) of the parameters the force is linear in, with the others held,
-        and their values (k,): force = fixed part + regressors @ values. None by default."""
-        return np.zeros((np.size(sig.v), 0)), np.zeros(0)
-
-    def with_coefficients(self, coef: np.ndarray) -> "Effect":
-        """The effect whose linear parameters (``linear``) are ``coef``."""
-        return self
-
-    def for_log(self, mass: float, force_constant: float, t_start: float) -> "Effect":
-        """The effect carried in a model, applied to a log that starts at ``t_start`` for an
-        axis given as ``mass`` and ``force_constant``: as it is by default."""
-        return self
-
-    def variants(self) -> Tuple["Effect", ...]:
-        """The effect and the other discrete choices of its form a joint linear solve should
-        also try (``linear`` of each): the effect alone by default."""
-        return (self,)
-
-    def implausible(self) -> str:
-        """Why the fitted values cannot be what the effect's name says ('' if they can)."""
-        for p, nominal in self.nominal_of:
-            why = _ratio_implausible(p.replace("_", " "), getattr(self, p), getattr(self, nominal))
-            if why:
-                return why
-        return ""
-
-    def mismatch(self) -> float:
-        """How far the fitted values are from their nominal ones (``nominal_of``): the largest
-        |value / nominal - 1| (0 for an effect without nominal values)."""
-        return max((abs(getattr(self, p) / getattr(self, nominal) - 1.0)
-                    for p, nominal in self.nominal_of), default=0.0)
-
-    def limits(self) -> Dict[str, Tuple[float, float]]:
-        """The range [low, high] of each bounded parameter: from 0 (``positive``: above it,
-        ``non_negative``: at it too), or within PLAUSIBLE_FACTOR of its nominal (``nominal_of``)."""
-        out = {p: (0.0, math.inf) for p in (*self.positive, *self.non_negative)}
-        for p, nominal in self.nominal_of:
-            ref = getattr(self, nominal)
-            out[p] = (ref / PLAUSIBLE_FACTOR, ref * PLAUSIBLE_FACTOR)
-        return out
-
-    @classmethod
-    def parameters_of(cls, d: dict, allowed) -> Tuple[dict, str]:
-        """``d["parameters"]`` (an object with no field outside ``allowed``) and the path to it
-        for error messages, else ``ModelError``."""
-        params = d.get("parameters")
-        where = f"effects[{cls.name}]"
-        if not isinstance(params, dict):
-            raise ModelError(f"{where}.parameters must be an object")
-        unknown = sorted(set(params) - set(allowed))
-        if unknown:
-            raise ModelError(f"{where}.parameters: unknown field {unknown[0]!r}"[:200])
-        return params, where
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "Effect":
-        params, where = cls.parameters_of(d, {f.name for f in fields(cls)})
-        values = {}
-        for f in fields(cls):
-            if f.name not in params and f.default is not MISSING:
-                values[f.name] = f.default          # a field added later: its neutral value
-                continue
-            if f.name not in params:
-                raise ModelError(f"{where}.parameters: missing field {f.name!r}")
-            value = params[f.name]
-            if f.name == "shape":
-                if not isinstance(value, str) or value not in SHAPES:
-                    raise ModelError(f"{where}.parameters.shape must be one of {sorted(SHAPES)}, "
-                                     f"got {value!r}"[:200])
-                values[f.name] = value
-                continue
-            if not finite_number(value):
-                raise ModelError(f"{where}.parameters.{f.name} must be a finite number, got {value!r}"[:200])
-            if f.name in cls.positive and value <= 0:
-                raise ModelError(f"{where}.parameters.{f.name} must be > 0, got {value}")
-            if f.name in cls.non_negative and value < 0:
-                raise ModelError(f"{where}.parameters.{f.name} must be >= 0, got {value}")
-            values[f.name] = float(value)
-        return cls(**values)
-
-    # C: an expression in v, x, speed (|v|), sgn (sign of v) and base (NAME_force(v))
-    def c_expr(self) -> str:
-        raise NotImplementedError(f"{self.name} is not a function of (v, x)")
-
-    def force_f32(self, v, x, base) -> np.ndarray:
-        """Float32 mirror of ``c_expr`` (same operations, same order)."""
-        raise NotImplementedError(f"{self.name} is not a function of (v, x)")
 
 
 @dataclass(frozen=True)
@@ -606,47 +445,3 @@ EFFECTS: Dict[str, Type[Effect]] = {cls.name: cls for cls in (
     ExtraFrictionSource, FrictionalLag, ThermalDrift)}
 #: The vocabulary: "none" and every effect name.
 VOCABULARY = ("none",) + tuple(EFFECTS)
-#: Every kind model.json's ``effects`` may hold: the named effects and the tables without a
-#: physical name (``fricgen.effects.tables`` adds those when the package is imported).
-KNOWN: Dict[str, Type[Effect]] = dict(EFFECTS)
-
-
-def effect_from_dict(d: Any) -> Effect:
-    """One validated effect of model.json's ``effects`` list."""
-    if not isinstance(d, dict):
-        raise ModelError(f"effects: each effect must be an object, got {type(d).__name__}")
-    name = d.get("effect")
-    if not isinstance(name, str) or name not in KNOWN:
-        raise ModelError(f"effects: unknown effect {name!r}; known: {', '.join(KNOWN)}"[:200])
-    unknown = sorted(set(d) - {"effect", "parameters"})
-    if unknown:
-        raise ModelError(f"effects[{name}]: unknown field {unknown[0]!r}"[:200])
-    return KNOWN[name].from_dict(d)
-
-
-def validate_effects(items: Any) -> List[dict]:
-    """model.json's ``effects`` list, each entry validated and normalized (``to_dict``)."""
-    if not isinstance(items, list):
-        raise ModelError("effects must be a list")
-    return [effect_from_dict(d).to_dict() for d in items]
-
-
-def model_effects(model) -> List[Effect]:
-    """The effects a model carries, as objects."""
-    return [effect_from_dict(d) for d in model.effects]
-
-
-def force_xv(model, v, x) -> np.ndarray:
-    """F(v) plus every effect that is a function of (v, x): what NAME_force_xv computes."""
-    v, x = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(x, dtype=float))
-    sig = Signals(model, x=x, v=v)
-    total = model.force(v)
-    for e in model_effects(model):
-        if e.in_xv:
-            total = total + e.force(sig)
-    return total
-
-
-def with_effects(model, effects: Sequence[Effect]):
-    """A copy of ``model`` whose effects list is extended by ``effects``."""
-    return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects))
