@@ -49,7 +49,9 @@ import numpy as np
 
 from fricgen.diagnose.diagnoser import Diagnoser, diagnose
 from fricgen.effects import EFFECTS
-from fricgen.sim.scenarios import CONTROLLERS, NAMED, OUT_OF_VOCABULARY, make_scenario
+from fricgen.sim.closed_loop import CONTROLLERS
+from fricgen.sim.hidden_effects import NAMED, OUT_OF_VOCABULARY
+from fricgen.sim.scenarios import make_scenario
 
 RATES = (250.0, 500.0, 1000.0, 2000.0, 4000.0)
 NOISES = (0.5, 1.0, 2.0)

@@ -3,7 +3,8 @@ on a log with nothing hidden, two effects found in one run, a shape outside the 
 corrected by a table without a physical name, and the held-out guard."""
 import pytest
 
-from fricgen.diagnose.diagnoser import Diagnoser, ResidualProblem, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.diagnose.residual import ResidualProblem
 from fricgen.effects import EFFECTS, TABLES
 from fricgen.errors import DataError
 from fricgen.sim.scenarios import make_scenario

@@ -1,11 +1,12 @@
 """The named effects' own fits on a residual made of their own force: a one-sided asymmetry, a
 thermal drift with and without its time constant, the plausibility of mass and force
-constant errors (fricgen/effects/library.py), and joint fits of effects alike enough that
-backfitting alone does not separate them (fricgen/diagnose/diagnoser.py)."""
+constant errors (fricgen/effects/), and joint fits of effects alike enough that
+backfitting alone does not separate them (fricgen/diagnose/select.py)."""
 import numpy as np
 import pytest
 
-from fricgen.diagnose.diagnoser import Diagnoser, ResidualProblem
+from fricgen.diagnose.residual import ResidualProblem
+from fricgen.diagnose.select import joint_fit, joint_linear
 from fricgen.effects import (ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
                              ForceConstantMismatch, FrictionalLag, InertiaMismatch,
                              PositionRipple, ThermalDrift, effect_from_dict)
@@ -105,8 +106,8 @@ def test_a_force_constant_error_and_a_drift_are_separated_by_the_joint_fit(probl
              ThermalDrift(rate=0.03, offset=0.0, t0=t0)]
     every = np.arange(problem.rows.size)
     q = problem.with_target(sum(problem.predict(e, every) for e in truth))
-    joint = Diagnoser()._joint_fit(q, [], ForceConstantMismatch)
-    joint = Diagnoser()._joint_fit(q, joint, ThermalDrift)
+    joint = joint_fit(q, [], ForceConstantMismatch)
+    joint = joint_fit(q, joint, ThermalDrift)
     fcm, drift = joint
     assert fcm.force_constant - problem.force_constant == pytest.approx(8.5 - problem.force_constant, rel=0.02)
     assert drift.rate == pytest.approx(0.03, rel=0.05)
@@ -122,7 +123,7 @@ def test_the_joint_fit_decides_the_asymmetry_side_with_a_force_constant_error(pr
     q = problem.with_target(sum(problem.predict(e, every) for e in truth))
     wrong_side = [DirectionAsymmetry(gain_positive=-0.2, gain_negative=0.0),
                   ForceConstantMismatch(force_constant=phi, nominal_force_constant=phi)]
-    asym, fcm = Diagnoser()._joint_linear(q, wrong_side)
+    asym, fcm = joint_linear(q, wrong_side)
     assert asym.gain_positive == 0.0
     assert asym.gain_negative == pytest.approx(0.25, rel=0.02)
     assert fcm.force_constant == pytest.approx(1.15 * phi, rel=0.01)

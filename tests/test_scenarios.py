@@ -7,14 +7,16 @@ import math
 import numpy as np
 import pytest
 
-import fricgen.sim.scenarios as scenarios
+import fricgen.sim.closed_loop as closed_loop
 from fricgen.data import MotionLog
 from fricgen.effects import EFFECTS
 from fricgen.friction import SHAPES
 from fricgen.model import FrictionModel
-from fricgen.sim.scenarios import (CONTROLLERS, DURATION_RANGE, NAMED, OUT_OF_VOCABULARY,
-                                   RATE_RANGE, TRAJECTORIES, Scenario, draw_settings,
-                                   local_drag_profile, make_scenario)
+from fricgen.sim.closed_loop import CONTROLLERS
+from fricgen.sim.hidden_effects import NAMED, OUT_OF_VOCABULARY, local_drag_profile
+from fricgen.sim.plant_friction import StretchedStribeck
+from fricgen.sim.scenarios import DURATION_RANGE, RATE_RANGE, Scenario, draw_settings, make_scenario
+from fricgen.sim.trajectory import TRAJECTORIES
 
 ALL_HIDDEN = NAMED + tuple("oov:" + s for s in OUT_OF_VOCABULARY)
 #: One fixed, moderate setting for the effect-by-effect checks (5 s at 1 kHz).
@@ -89,7 +91,7 @@ def test_conditions_are_within_ranges_and_json(seed):
     # the loop tracks its reference and stays off the current limit
     assert c["current_limit_fraction"] < 0.01
     assert c["tracking_rms"] < 0.05 * np.ptp(sc.log.extra["x_d"])
-    assert c["seam_jump"] <= scenarios.SEAM_TOLERANCE
+    assert c["seam_jump"] <= closed_loop.SEAM_TOLERANCE
 
 
 def test_long_logs_are_feasible():
@@ -97,7 +99,7 @@ def test_long_logs_are_feasible():
                        trajectory="sine")
     assert len(sc.log) == 1200 * 250 + 1
     assert sc.conditions["current_limit_fraction"] < 0.01
-    assert sc.conditions["seam_jump"] <= scenarios.SEAM_TOLERANCE
+    assert sc.conditions["seam_jump"] <= closed_loop.SEAM_TOLERANCE
 
 
 @pytest.mark.parametrize("hidden", [h for h in ALL_HIDDEN if h != "oov:sensor_delay"])
@@ -283,7 +285,7 @@ def test_null_log_agrees_with_the_users_model(seed):
 def test_users_model_is_close_to_the_plant_but_not_equal():
     sc = make_scenario(5, duration_s=5.0)
     f = sc.conditions["plant"]["friction"]
-    plant = scenarios.StretchedStribeck(tuple(f["fc"]), tuple(f["fs"]), tuple(f["vs"]),
+    plant = StretchedStribeck(tuple(f["fc"]), tuple(f["fs"]), tuple(f["vs"]),
                                         tuple(f["exponent"]), tuple(f["kind"]), f["B"])
     v = np.linspace(-np.max(np.abs(sc.log.v)), np.max(np.abs(sc.log.v)), 2001)
     error = np.abs(sc.model.force(v) - plant(v))
@@ -295,7 +297,7 @@ def test_stitched_simulation_equals_a_serial_one(monkeypatch):
     """The log simulated in stretches agrees with one simulated from start to end within the
     sensor resolution."""
     stitched = make_scenario(3, ("constant_load",), duration_s=6.0)
-    monkeypatch.setattr(scenarios, "STRETCH_S", 1e9)
+    monkeypatch.setattr(closed_loop, "STRETCH_S", 1e9)
     serial = make_scenario(3, ("constant_load",), duration_s=6.0)
     assert serial.conditions["passes"] == 1
     c = stitched.conditions

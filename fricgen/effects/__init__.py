@@ -3,10 +3,10 @@ each defined once (force law, parameters, JSON, fit, C expression) and carried i
 ``effects`` list."""
 from __future__ import annotations
 
-from .library import (EFFECTS, PLAUSIBLE_FACTOR, VOCABULARY, ConstantLoad, DirectionAsymmetry, Effect,
-                      ExtraFrictionSource, ForceConstantMismatch, FrictionalLag, InertiaMismatch,
-                      PositionRipple, ThermalDrift, effect_from_dict, force_xv, model_effects,
-                      validate_effects, with_effects)
+from .base import PLAUSIBLE_FACTOR, Effect
+from .carried import effect_from_dict, force_xv, model_effects, validate_effects, with_effects
+from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
+                      ForceConstantMismatch, FrictionalLag, InertiaMismatch, PositionRipple, ThermalDrift)
 from .signals import FrictionCurve, Signals
 from .tables import TABLES, TableEffect, range_notes
 

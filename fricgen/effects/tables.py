@@ -25,7 +25,8 @@ import numpy as np
 from ..c_literal import c_float
 from .._validate import finite_number
 from ..errors import ModelError
-from .library import KNOWN, Effect
+from .base import Effect
+from .carried import KNOWN
 
 #: Knots of a fitted table.
 KNOTS = 48

@@ -2,10 +2,12 @@
 
 The backstepping controller uses x_d, x_d' (eq. 3) and x_d'' (eq. 7). A sum of sines in the
 velocity, v_d(t) = sum_k a_k sin(w_k t), has all three in closed form and starts at rest from
-x_d(0) = 0.
+x_d(0) = 0. The randomized scenarios draw theirs (``drawn_reference``): point-to-point moves
+with dwells, a sine, a multisine or ramps with smoothed reversals.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Sequence, Tuple
 
@@ -67,3 +69,96 @@ def reversing(v_low: float = 0.02, v_high: float = 0.2, period: float = 0.5,
 def sampled(trajectory, times: Sequence[float]) -> np.ndarray:
     """The trajectory at ``times`` as an array of shape (len(times), 3): x_d, x_d', x_d''."""
     return np.stack(trajectory(np.asarray(times, dtype=float)), axis=-1)
+
+
+#: Trajectory kinds.
+TRAJECTORIES = ("point_to_point", "dwell", "sine", "multisine", "ramps")
+
+
+def _smoothstep(t, ramp):
+    tau = np.clip(t / ramp, 0.0, 1.0)
+    s = 3 * tau ** 2 - 2 * tau ** 3
+    ds = np.where(tau < 1, (6 * tau - 6 * tau ** 2) / ramp, 0.0)
+    return s, ds
+
+
+def _velocity_profile(kind, rng, t, v_peak, a_max):
+    """(v, a, description) of a trajectory kind on the grid t, before fading in."""
+    if kind in ("sine", "multisine"):
+        n = 1 if kind == "sine" else int(rng.integers(3, 7))
+        f = np.exp(rng.uniform(math.log(0.2), math.log(2.0 if n == 1 else 5.0), n))
+        amp = rng.uniform(0.3, 1.0, n)
+        ph = rng.uniform(0, 2 * np.pi, n)
+        w = 2 * np.pi * f
+        v = np.zeros_like(t)
+        a = np.zeros_like(t)
+        for k in range(n):
+            v += amp[k] * np.sin(w[k] * t + ph[k])
+            a += amp[k] * w[k] * np.cos(w[k] * t + ph[k])
+        return v, a, {"frequencies_hz": f.tolist()}
+    if kind == "ramps":
+        period = rng.uniform(0.5, 4.0)
+        width = rng.uniform(0.05, 0.3)
+        w = 2 * np.pi / period
+        ph = rng.uniform(0, 2 * np.pi)
+        arg = np.sin(w * t + ph) / width
+        v = np.tanh(arg) / math.tanh(1.0 / width)
+        a = (1.0 - np.tanh(arg) ** 2) * np.cos(w * t + ph) * w / width / math.tanh(1.0 / width)
+        return v, a, {"period_s": period, "reversal_width": width}
+    raise ValueError(f"unknown trajectory {kind!r}")
+
+
+def _moves(rng, t, travel, v_peak, a_max, dwell_range):
+    """Point-to-point moves with 1 - cos speed bumps, dwelling between them: x, v, a."""
+    starts, targets, lengths = [], [], []
+    clock, pos = 0.5, 0.0
+    end = t[-1] + 1.0
+    dwells = []
+    while clock < end:
+        target = rng.uniform(-travel, travel)
+        if abs(target - pos) < 0.2 * travel:
+            target = pos - math.copysign(0.5 * travel, pos if pos else 1.0)
+        dist = abs(target - pos)
+        peak = v_peak * rng.uniform(0.4, 1.0)
+        length = max(2.0 * dist / peak, math.sqrt(2 * np.pi * dist / a_max))
+        starts.append(clock)
+        targets.append(target)
+        lengths.append(length)
+        dwell = rng.uniform(*dwell_range)
+        dwells.append(dwell)
+        clock += length + dwell
+        pos = target
+    starts, targets, lengths = map(np.asarray, (starts, targets, lengths))
+    origin = np.concatenate([[0.0], targets[:-1]])
+    dist = targets - origin
+    k = np.clip(np.searchsorted(starts, t, side="right") - 1, -1, None)
+    before = k < 0
+    k = np.maximum(k, 0)
+    tau = np.clip(t - starts[k], 0.0, lengths[k])
+    moving = (t >= starts[k]) & (t - starts[k] < lengths[k]) & ~before
+    ratio = dist[k] / lengths[k]
+    arg = 2 * np.pi * tau / lengths[k]
+    x = np.where(before, 0.0, origin[k] + ratio * (tau - lengths[k] / (2 * np.pi) * np.sin(arg)))
+    v = np.where(moving, ratio * (1.0 - np.cos(arg)), 0.0)
+    a = np.where(moving, ratio * 2 * np.pi / lengths[k] * np.sin(arg), 0.0)
+    return x, v, a, {"moves": int(np.sum(starts < t[-1])), "mean_dwell_s": float(np.mean(dwells))}
+
+
+def drawn_reference(kind, rng, t, v_peak, a_max, travel):
+    """x_d, v_d, a_d on the grid t (starting at rest at 0) and a description."""
+    if kind in ("point_to_point", "dwell"):
+        dwell = (0.02, 0.3) if kind == "point_to_point" else (0.3, 1.5)
+        x, v, a, info = _moves(rng, t, travel, v_peak, a_max, dwell)
+        return x, v, a, info
+    u, du, info = _velocity_profile(kind, rng, t, v_peak, a_max)
+    ramp = 0.5
+    s, ds = _smoothstep(t, ramp)
+    v = s * u
+    a = ds * u + s * du
+    scale = min(v_peak / max(np.max(np.abs(v)), 1e-12), a_max / max(np.max(np.abs(a)), 1e-12))
+    v, a = v * scale, a * scale
+    x = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    if kind == "ramps":
+        x = x - np.mean(x)                 # any offset: the axis starts at x_d(0) anyway
+        x = x - x[0]
+    return x, v, a, info
