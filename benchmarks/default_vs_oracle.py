@@ -42,9 +42,10 @@ def sweep(curve, seed, spikes=0.0, noise="uniform"):
     return Sweep(v, f)
 
 
-def error(curve, data, estimator):
+def error(curve, data, estimator, grid=V_GRID):
+    """RMSE (N) of the model fitted to ``data`` against ``curve`` on ``grid`` (Table 1's range)."""
     model = FrictionModel.fit(data, estimator)
-    return float(np.sqrt(np.mean((model.force(V_GRID) - curve(V_GRID)) ** 2)))
+    return float(np.sqrt(np.mean((model.force(grid) - curve(grid)) ** 2)))
 
 
 def sqrt_viscous(v):
