@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from fricgen.cli import main
-from fricgen.codegen import emit
+from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES, emit
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.codegen.render import render
 from fricgen.control.adaptation import MAX_PARAMS, adapted
@@ -57,11 +57,11 @@ def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_
     assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(plain)]) == 0
     assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(adapt), "--adapt"]) == 0
     plain_files = {p.name: p.read_bytes() for p in plain.iterdir()}
-    assert set(plain_files) == {"fm.h", "fm.c", "fric_float.h", "fric_kernel.h", "fric_kernel.c"}
+    assert set(plain_files) == {"fm.h", "fm.c", *RUNTIME_FILES}
     assert plain_files == {p.name: p.read_bytes() for p in plain.iterdir()}
     added = {p.name for p in adapt.iterdir()} - set(plain_files)
-    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c", "fric_ctrl.h",
-                     "fric_ctrl.c"}
+    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c",
+                     *CONTROLLER_FILES} - set(plain_files)
     for fname, data in plain_files.items():
         assert (adapt / fname).read_bytes() == data, fname
     # and the plain folder is what render gives without the option

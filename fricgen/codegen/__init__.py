@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from .render import (ACTIVATION_IMPLS, CONTROLLER_FILES, DTYPES, FAST_RUNTIME_FILES, RUNTIME_FILES,
                      check_name_in_folder, check_overwrite, controller_files, emit,
-                     generated_models, render, template_context)
+                     generated_models, render, runtime_files, template_context)
 
 __all__ = ["ACTIVATION_IMPLS", "CONTROLLER_FILES", "DTYPES", "FAST_RUNTIME_FILES", "RUNTIME_FILES",
            "check_name_in_folder", "check_overwrite", "controller_files", "emit", "generated_models",
-           "render", "template_context"]
+           "render", "runtime_files", "template_context"]

@@ -31,7 +31,7 @@ from ..c_literal import c_list
 from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks import ElmNetwork
-from .context import identity_context, template_environment
+from .context import emit_options, identity_context, render_source_and_header
 
 #: Per dtype: storage bits B, sigmoid polynomial degree D, segment width 2^-HS, table end ZS.
 DTYPE_PARAMS = {"q15": dict(bits=16, degree=2, hs=2, zs=12), "q31": dict(bits=32, degree=4, hs=1, zs=24)}
@@ -299,9 +299,8 @@ def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: flo
     if ctx["aim_shift"] < 1 or ctx["zw_shift"] < 1:
         raise ModelError(f"{dtype}: the network's scales leave no rounding headroom (aim shift "
                          f"{ctx['aim_shift']}, z shift {ctx['zw_shift']})")
-    env = template_environment()
-    return {f"{name}.h": env.get_template("model_fixed.h.j2").render(ctx),
-            f"{name}.c": env.get_template("model_fixed.c.j2").render(ctx)}
+    ctx["emit_options"] = emit_options(dtype=dtype, v_max=v_max)
+    return render_source_and_header(ctx, name, "model_fixed")
 
 
 def to_fixed(values, frac: int, bits: int) -> np.ndarray:
