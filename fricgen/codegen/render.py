@@ -8,12 +8,12 @@ from typing import Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from .._io import read_only, write_all_atomic
+from .._io import read_only
 from ..c_literal import c_array, c_float
 from ..errors import ModelError, UsageError
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
-from .context import (GENERATED_MARKER, RUNTIME_MARKER, VERSION_HEADER, effects_context, emit_options,
+from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER, VERSION_HEADER, effects_context, emit_options,
                       identity_context, render_source_and_header, runtime_text)
 from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
@@ -249,9 +249,12 @@ def generated_models(folder: Union[str, Path]) -> List[str]:
 
 def written_by_fricgen(path: Union[str, Path]) -> bool:
     """Whether the file ``path`` is one fricgen emits: generated (its head comment holds the
-    ``GENERATED_MARKER`` line) or a copy of the C runtime (it begins with ``RUNTIME_MARKER``)."""
-    head = _head(Path(path))
-    return _generated(head) or (bool(head) and head[0].startswith(RUNTIME_MARKER))
+    ``GENERATED_MARKER`` line), a copy of the C runtime (it begins with ``RUNTIME_MARKER``), or
+    one of the build files of ``fricgen.codegen.package`` (a head line holds PACKAGE_MARKER)."""
+    path = Path(path)
+    head = _head(path)
+    return (_generated(head) or (bool(head) and head[0].startswith(RUNTIME_MARKER))
+            or (path.name in PACKAGE_NAMES and any(PACKAGE_MARKER in line for line in head)))
 
 
 def check_overwrite(paths, force: bool = False, option: str = "-o", written=None) -> None:
@@ -284,18 +287,3 @@ def check_name_in_folder(out_dir: Union[str, Path], name: str) -> None:
         if other != name and other.lower() == name.lower():
             raise ModelError(f"{out_dir} already holds the generated model {other!r}, whose name "
                              f"differs from {name!r} only by case; choose another name or folder")
-
-
-def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
-         activation_impl: str = "libm", dtype: str = "float",
-         with_controller: bool = False, force: bool = False,
-         v_max: Optional[float] = None) -> Dict[str, Path]:
-    """Render everything first, check the folder's models and that every file it replaces is
-    fricgen's own and writable (``check_overwrite``, skipped with ``force``), then write each
-    file atomically into ``out_dir``."""
-    name = model.name if name is None else name
-    files = render(model, name, activation_impl, dtype, with_controller, v_max)
-    check_name_in_folder(out_dir, name)
-    check_overwrite([Path(out_dir) / fname for fname in files], force)
-    return write_all_atomic(out_dir, files)
-
