@@ -227,8 +227,11 @@ BAD_NAMES = [
 
 
 def _folder_state(folder):
-    """Every file of ``folder`` with its bytes, or None when the folder does not exist."""
-    return {p.name: p.read_bytes() for p in folder.iterdir()} if folder.exists() else None
+    """Every file of ``folder`` (and its subfolders: zephyr/module.yml) with its bytes, or None
+    when the folder does not exist."""
+    if not folder.exists():
+        return None
+    return {str(p.relative_to(folder)): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
 
 
 @pytest.mark.parametrize("argv, existing, line", BAD_NAMES, ids=[row[0] for row in BAD_NAMES])

@@ -13,8 +13,9 @@ from ..c_literal import c_array, c_float
 from ..errors import ModelError, UsageError
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
-from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER, VERSION_HEADER, effects_context, emit_options,
-                      identity_context, render_source_and_header, runtime_text)
+from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER,
+                      VERSION_HEADER, effects_context, emit_options, identity_context,
+                      render_source_and_header, runtime_text)
 from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixedpoint import render_fixed
@@ -49,6 +50,7 @@ def runtime_files(model: FrictionModel, activation_impl: str = "libm") -> Tuple[
     sources = [f for curve in model.directions for f in KERNEL_SOURCES[
         curve.aim.shape if isinstance(curve.aim, StribeckCurve) else curve.aim.activation]]
     return RUNTIME_HEADERS + tuple(dict.fromkeys(sources))
+
 
 #: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
 STRIBECK_C_SHAPES = {
@@ -178,7 +180,8 @@ def check_determined(model: FrictionModel) -> None:
 
 
 def controller_files() -> Dict[str, str]:
-    """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name."""
+    """The float controller runtime of section 6 (CONTROLLER_FILES: fric_ctrl.{h,c}, its square
+    root fric_sqrt.{h,c} and the headers they include), by file name."""
     return {fname: runtime_text(fname) for fname in CONTROLLER_FILES}
 
 
