@@ -4,8 +4,9 @@
 #include "fric_float.h" /* first: float semantics independent of the compiler's flags */
 
 #include "fric_ctrl.h"
+#include "fric_sqrt.h"   /* no libm: the controller links without it */
 
-#include <math.h>
+#include <math.h>     /* isfinite, isnan: macros, no libm call */
 #include <stddef.h>
 
 void fric_ctrl_default_params(fric_ctrl_params_t *p)
@@ -160,7 +161,7 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
         } else if (c->p.law == FRIC_CTRL_LAW_B) {
             sigma = c->p.delta;
         } else {
-            sigma = c->p.delta * sqrtf(e1 * e1 + e2 * e2);
+            sigma = c->p.delta * fric_sqrt_f32(e1 * e1 + e2 * e2); /* = sqrtf */
         }
         g_xi0 = g[0] * xi0 + g[1] * xi1;         /* eq. (12): Gamma xi, Gamma A */
         g_xi1 = g[2] * xi0 + g[3] * xi1;

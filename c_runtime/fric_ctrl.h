@@ -41,6 +41,8 @@
 #ifndef FRIC_CTRL_H
 #define FRIC_CTRL_H
 
+#include "fric_version.h" /* FRIC_RUNTIME_VERSION_MAJOR, _MINOR, _PATCH */
+
 #ifdef __cplusplus
 extern "C" {
 #endif

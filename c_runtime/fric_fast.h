@@ -5,7 +5,8 @@
 #ifndef FRIC_FAST_H
 #define FRIC_FAST_H
 
-#include "fric_float.h" /* float semantics independent of the compiler's flags */
+#include "fric_float.h"   /* float semantics independent of the compiler's flags */
+#include "fric_version.h" /* FRIC_RUNTIME_VERSION_MAJOR, _MINOR, _PATCH */
 
 #include <stddef.h>
 

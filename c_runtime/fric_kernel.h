@@ -1,10 +1,16 @@
-/* fricgen C runtime: hidden-layer kernels of the Extreme Learning Machine, eq. (7).
- * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by `fricgen emit`. */
+/* fricgen C runtime: hidden-layer kernels of the Extreme Learning Machine, eq. (7), through libm.
+ * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by `fricgen emit`.
+ * One header, one source per kernel: fric_elm_sigmoid.c, fric_elm_sine.c, fric_elm_rbf.c,
+ * fric_elm_multiquadric.c, and fric_exp_neg.c (exp(-a), also for the grey-box shapes of eq. (2));
+ * `fricgen emit` copies the sources its model calls, so a link without --gc-sections pulls in
+ * only the libm functions the model needs (sinf, sqrtf and expf each add kilobytes). */
 #ifndef FRIC_KERNEL_H
 #define FRIC_KERNEL_H
 
-#include "fric_float.h" /* float semantics independent of the compiler's flags */
+#include "fric_float.h"   /* float semantics independent of the compiler's flags */
+#include "fric_version.h" /* FRIC_RUNTIME_VERSION_MAJOR, _MINOR, _PATCH */
 
+#include <math.h>
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -17,15 +23,37 @@ extern "C" {
 #define FRIC_EXP_ARG_MAX 87.0f
 
 /* exp(-a) through libm's expf, a clamped to [-FRIC_EXP_ARG_MAX, FRIC_EXP_ARG_MAX]; NaN returns
- * NaN. For the Stribeck shapes of eq. (2) and the sigmoid and rbf kernels below. */
+ * NaN. The one definition: the sigmoid and rbf kernels inline it, fric_exp_neg_f32 calls it. */
+static inline float fric_exp_neg_inline_f32(float a)
+{
+    const float c = a > FRIC_EXP_ARG_MAX ? FRIC_EXP_ARG_MAX
+                  : (a < -FRIC_EXP_ARG_MAX ? -FRIC_EXP_ARG_MAX : a); /* NaN stays NaN */
+    return expf(-c);
+}
+
+/* exp(-a) as above (fric_exp_neg.c), for the Stribeck shapes of eq. (2) in the generated code. */
 float fric_exp_neg_f32(float a);
 
 /* sum_k beta[k] * act(w[k] * x + b[k]) for k = 0 .. n-1, accumulated in order k = 0, 1, ...
- * Each product and sum is rounded to float; the Python twin mirrors this order exactly. */
+ * Each product and sum is rounded to float; the Python twin mirrors this order exactly.
+ * Each is defined in its own source, fric_elm_<act>.c, through FRIC_ELM_KERNEL. */
 float fric_elm_sigmoid_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 float fric_elm_sine_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 float fric_elm_rbf_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 float fric_elm_multiquadric_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+
+/* The definition of a kernel NAME with the activation ACT, an expression of z. */
+#define FRIC_ELM_KERNEL(NAME, ACT)                                                     \
+    float NAME(const float *w, const float *b, const float *beta, size_t n, float x) \
+    {                                                                                \
+        float acc = 0.0f;                                                            \
+        size_t k;                                                                    \
+        for (k = 0; k < n; ++k) {                                                    \
+            const float z = w[k] * x + b[k];                                         \
+            acc += beta[k] * (ACT);                                                  \
+        }                                                                            \
+        return acc;                                                                  \
+    }
 
 #ifdef __cplusplus
 }

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from fricgen.cli import main
-from fricgen.codegen import emit
+from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES, emit
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.codegen.render import render
 from fricgen.control.adaptation import MAX_PARAMS, adapted
@@ -56,16 +56,16 @@ def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_
     plain, adapt = tmp_path / "plain", tmp_path / "adapt"
     assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(plain)]) == 0
     assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(adapt), "--adapt"]) == 0
-    plain_files = {p.name: p.read_bytes() for p in plain.iterdir()}
-    assert set(plain_files) == {"fm.h", "fm.c", "fric_float.h", "fric_kernel.h", "fric_kernel.c"}
-    assert plain_files == {p.name: p.read_bytes() for p in plain.iterdir()}
-    added = {p.name for p in adapt.iterdir()} - set(plain_files)
-    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c", "fric_ctrl.h",
-                     "fric_ctrl.c"}
+    plain_files = {p.name: p.read_bytes() for p in plain.glob("*.[ch]")}
+    assert set(plain_files) == {"fm.h", "fm.c", *RUNTIME_FILES}
+    added = {p.name for p in adapt.glob("*.[ch]")} - set(plain_files)
+    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c",
+                     *CONTROLLER_FILES} - set(plain_files)
     for fname, data in plain_files.items():
         assert (adapt / fname).read_bytes() == data, fname
-    # and the plain folder is what render gives without the option
+    # the plain folder's C is what render gives without the option; the build files list the rest
     assert {k: v.encode() for k, v in render(default_model, "fm").items()} == plain_files
+    assert "    fm_adapt.c\n" in (adapt / "CMakeLists.txt").read_text()
 
 
 def _saved(model, tmp_path):

@@ -20,7 +20,7 @@ DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model", "fricgen.errors", "
              "fricgen.fit.conditioning", "fricgen.fit.oracle", "fricgen.networks",
              "fricgen.networks.elm", "fricgen.networks.anfis", "fricgen.networks.stribeck",
              "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.library", "fricgen.effects.signals", "fricgen.effects.tables",
-             "fricgen.codegen.render", "fricgen.control.loop", "fricgen.control.backstepping",
+             "fricgen.codegen.render", "fricgen.codegen.package", "fricgen.control.loop", "fricgen.control.backstepping",
              "fricgen.control.c_controller"]
 #: Public objects held to numpydoc: Parameters naming every argument, and Examples.
 NUMPYDOC = ["train", "FitReport", "FrictionModel", "FrictionModel.force", "FrictionModel.save",

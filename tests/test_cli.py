@@ -101,14 +101,15 @@ def test_number_options_refuse_what_tables_refuse(text, integer):
 
 
 def test_emit_writes_a_self_contained_folder_and_the_controller_only_when_asked(model_json, tmp_path):
-    from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES
+    from fricgen.codegen import CONTROLLER_FILES, PACKAGE_FILES, RUNTIME_FILES
+    build_files = {f.split("/")[0] for f in PACKAGE_FILES}       # zephyr/module.yml: zephyr
     assert main(["emit", str(model_json), "-o", str(tmp_path / "out"), "--name", "fm"]) == 0
     names = sorted(p.name for p in (tmp_path / "out").iterdir())
-    assert names == sorted(["fm.c", "fm.h", *RUNTIME_FILES])
+    assert names == sorted(["fm.c", "fm.h", *RUNTIME_FILES, *build_files])
     assert main(["emit", str(model_json), "-o", str(tmp_path / "ctrl"), "--name", "fm",
                  "--with-controller"]) == 0
     names = sorted(p.name for p in (tmp_path / "ctrl").iterdir())
-    assert names == sorted({"fm.c", "fm.h", *RUNTIME_FILES, *CONTROLLER_FILES})
+    assert names == sorted({"fm.c", "fm.h", *RUNTIME_FILES, *CONTROLLER_FILES, *build_files})
 
 
 def test_console_script_runs(model_json, tmp_path):
@@ -226,8 +227,11 @@ BAD_NAMES = [
 
 
 def _folder_state(folder):
-    """Every file of ``folder`` with its bytes, or None when the folder does not exist."""
-    return {p.name: p.read_bytes() for p in folder.iterdir()} if folder.exists() else None
+    """Every file of ``folder`` (and its subfolders: zephyr/module.yml) with its bytes, or None
+    when the folder does not exist."""
+    if not folder.exists():
+        return None
+    return {str(p.relative_to(folder)): p.read_bytes() for p in folder.rglob("*") if p.is_file()}
 
 
 @pytest.mark.parametrize("argv, existing, line", BAD_NAMES, ids=[row[0] for row in BAD_NAMES])

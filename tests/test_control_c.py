@@ -160,3 +160,50 @@ def test_build_controller_refuses_a_runtime_file_it_may_not_replace(default_mode
     target.chmod(0o644)
     module = build_controller({"fm": default_model}, tmp_path, force=True)
     assert module.lib.fm_force(0.1) == pytest.approx(float(default_model.force(0.1)), rel=1e-5)
+
+
+SQRT_CHECK = r"""
+#include <math.h>
+#include <stdio.h>
+#include <stdint.h>
+#include <string.h>
+#include "fric_sqrt.h"
+static float from_bits(uint32_t u) { float x; memcpy(&x, &u, sizeof x); return x; }
+static uint32_t to_bits(float x) { uint32_t u; memcpy(&u, &x, sizeof u); return u; }
+/* the bit patterns [lo, hi) whose fric_sqrt_f32 differs from sqrtf (NaN: both NaN) */
+static unsigned long differ(uint32_t lo, uint32_t hi)
+{
+    unsigned long n = 0;
+    uint32_t u;
+    for (u = lo; u < hi; ++u) {
+        const float x = from_bits(u), a = fric_sqrt_f32(x), b = sqrtf(x);
+        n += (a != a) ? !(b != b) : to_bits(a) != to_bits(b);
+    }
+    return n;
+}
+int main(void)
+{
+    printf("subnormal %lu\n", differ(0x00000000u, 0x00800000u));
+    printf("one_to_four %lu\n", differ(0x3f800000u, 0x40800000u));
+    printf("top %lu\n", differ(0x7f000000u, 0x7f800001u));
+    printf("negative %lu\n", differ(0x80000001u, 0x80000400u) + differ(0xff7ffc00u, 0xff800001u));
+    printf("nan %lu\n", differ(0x7f800001u, 0x7f800400u));
+    return 0;
+}
+"""
+
+
+def test_the_controllers_square_root_is_sqrtf_bit_for_bit_without_libm(tmp_path):
+    """fric_sqrt_f32 (law c's sqrt(e1^2 + e2^2), so the controller links without libm) against
+    the correctly rounded sqrtf: tolerance 0, since the digit-by-digit integer root rounded by
+    its remainder is the correctly rounded root. Every float of [1, 4) (the other normal binade
+    pairs give the same mantissas: x 4^k -> root 2^k), every subnormal (normalized first), the
+    top binade, +inf, NaN and negative numbers (NaN)."""
+    for fname, text in controller_files().items():
+        (tmp_path / fname).write_text(text)
+    (tmp_path / "check.c").write_text(SQRT_CHECK)
+    subprocess.run([CC, *CFLAGS, "check.c", "fric_sqrt.c", "-o", "check", "-lm"], cwd=tmp_path,
+                   check=True)
+    out = subprocess.run(["./check"], cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+    counts = dict(line.split() for line in out.splitlines())
+    assert counts == {"subnormal": "0", "one_to_four": "0", "top": "0", "negative": "0", "nan": "0"}

@@ -44,7 +44,8 @@ def test_the_include_check_sees_a_source_without_the_header(tmp_path):
 
 
 @pytest.mark.parametrize("flag", ["-ffast-math", "-ffinite-math-only"])
-@pytest.mark.parametrize("source", ["fric_kernel.c", "fric_fast.c", "fric_ctrl.c"])
+@pytest.mark.parametrize("source", ["fric_elm_sigmoid.c", "fric_exp_neg.c", "fric_fast.c", "fric_ctrl.c",
+                                    "fric_sqrt.c"])
 def test_fast_math_is_a_compile_error(tmp_path, flag, source):
     folder = runtime_folder(tmp_path)
     proc = subprocess.run([CC, "-std=c99", "-O2", flag, "-c", source, "-o", "/dev/null"],

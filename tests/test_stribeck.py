@@ -162,7 +162,9 @@ def greybox_model(request, bench):
 @pytest.mark.parametrize("impl", ["libm", "fast"])
 def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp_path):
     files = codegen.emit(greybox_model, tmp_path, "gb", activation_impl=impl)
-    assert ("fric_fast.c" in files) == (impl == "fast") == ("fric_kernel.c" not in files)
+    assert ("fric_fast.c" in files) == (impl == "fast") == ("fric_kernel.h" not in files)
+    # the one libm source a grey-box curve calls, exp(-a), unless its shape is rational
+    assert ("fric_exp_neg.c" in files) == (impl == "libm" and greybox_model.aim.shape != "rational")
     text = (tmp_path / "gb.c").read_text()
     assert "static const float gb_inv_stribeck[GB_N_SOURCES]" in text
     assert "expf" not in text                             # through the clamped exponentials

@@ -1,8 +1,10 @@
-"""``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder."""
+"""``fricgen emit MODEL -o DIR``: NAME.h, NAME.c and the C runtime they need, in one folder,
+with the folder's build files (CMake, Zephyr, PlatformIO: fricgen.codegen.package)."""
 from __future__ import annotations
 
 from .._io import check_folder
-from ..codegen import ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite, render
+from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite,
+                       package_files, render)
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..control.c_adapted import render_adapt
 from ..errors import UsageError
@@ -59,6 +61,7 @@ def run(args) -> int:
             raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
         files.update(render_adapt(model, name, args.activation_impl))
     check_name_in_folder(args.output, name)
+    files.update(package_files(args.output, files, name))     # CMake, Zephyr, PlatformIO
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)
     write_targets(targets, files)

@@ -27,9 +27,10 @@ from scipy.optimize import minimize_scalar
 from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks.stribeck import StribeckCurve
+from .context import render_source_and_header
 from .fixedpoint import (DTYPE_PARAMS, ConstMul, _c_int_array, _ceil_log2, _quantize,
                          fixed_context, input_range, input_rounding, normalized_speed,
-                         output_error, render_fixed_files, signed_force)
+                         output_error, signed_force)
 
 #: Intervals per segment, 2^m for m in this range; most intervals of a table.
 LOG2_INTERVALS, MAX_TABLE = range(3, 8), 2048
@@ -181,4 +182,4 @@ def render_fixed_table(model: FrictionModel, name: str, dtype: str, max_rel_erro
     ctx.update({"table_size": spec.table.size, "table": _c_int_array(spec.table),
                 "octaves": spec.octaves, "log2_m": spec.log2_m, "base_shift": spec.base_shift,
                 "f_aim": spec.f_aim, "source_count": model.aim.n_sources, "shape": model.aim.shape})
-    return render_fixed_files(name, ctx)
+    return render_source_and_header(ctx, name, "model_fixed")

@@ -31,7 +31,7 @@ from ..c_literal import c_list
 from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks import ElmNetwork
-from .context import identity_context, template_environment
+from .context import emit_options, identity_context, render_source_and_header
 
 #: Per dtype: storage bits B, sigmoid polynomial degree D, segment width 2^-HS, table end ZS.
 DTYPE_PARAMS = {"q15": dict(bits=16, degree=2, hs=2, zs=12), "q31": dict(bits=32, degree=4, hs=1, zs=24)}
@@ -309,6 +309,7 @@ def fixed_context(model: FrictionModel, name: str, spec, v_max: Optional[float],
         "one": spec.one, "v_sat_q": spec.v_sat_q, "k_in": spec.k_in, "inv_k_out": spec.inv_k_out,
         "viscous": spec.viscous, "smin": -(spec.one - 1), "smax": spec.one - 1,   # F(-v) = -F(v)
         "table_size": 0,                                   # the ELM path; a table sets it
+        "emit_options": emit_options(dtype=spec.dtype, v_max=v_max),
     }
 
 
@@ -337,14 +338,7 @@ def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: flo
     if ctx["aim_shift"] < 1 or ctx["zw_shift"] < 1:
         raise ModelError(f"{dtype}: the network's scales leave no rounding headroom (aim shift "
                          f"{ctx['aim_shift']}, z shift {ctx['zw_shift']})")
-    return render_fixed_files(name, ctx)
-
-
-def render_fixed_files(name: str, ctx: dict) -> Dict[str, str]:
-    """NAME.h and NAME.c rendered from a fixed-point context."""
-    env = template_environment()
-    return {f"{name}.h": env.get_template("model_fixed.h.j2").render(ctx),
-            f"{name}.c": env.get_template("model_fixed.c.j2").render(ctx)}
+    return render_source_and_header(ctx, name, "model_fixed")
 
 
 def to_fixed(values, frac: int, bits: int) -> np.ndarray:

@@ -3,18 +3,19 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Dict, List, Optional, Union
+from typing import Dict, List, Optional, Tuple, Union
 
 
 import numpy as np
 
-from .._io import read_only, resource_dir, write_all_atomic
+from .._io import read_only
 from ..c_literal import c_array, c_float
 from ..errors import ModelError, UsageError
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
-from .context import (GENERATED_MARKER, RUNTIME_MARKER, effects_context, identity_context,
-                      template_environment)
+from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER,
+                      VERSION_HEADER, effects_context, emit_options, identity_context,
+                      render_source_and_header, runtime_text)
 from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
 from .fixed_table import render_fixed_table
@@ -25,12 +26,31 @@ from .twin import stribeck_table
 #: The one header that fixes the float semantics (no -ffast-math, no contraction), included by
 #: every float NAME.c and every runtime source; part of each runtime below.
 FLOAT_HEADER = "fric_float.h"
-#: Runtime files every emitted model needs beside NAME.h and NAME.c.
-RUNTIME_FILES = (FLOAT_HEADER, "fric_kernel.h", "fric_kernel.c")
-#: The runtime of ``--activation-impl fast`` in place of RUNTIME_FILES, see fric_fast.h.
-FAST_RUNTIME_FILES = (FLOAT_HEADER, "fric_fast.h", "fric_fast.c")
-#: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h.
-CONTROLLER_FILES = (FLOAT_HEADER, "fric_ctrl.h", "fric_ctrl.c")
+#: The runtime headers every float model with libm needs beside NAME.h and NAME.c.
+RUNTIME_HEADERS = (FLOAT_HEADER, VERSION_HEADER, "fric_kernel.h")
+#: The libm sources (one per kernel, see fric_kernel.h) each activation of eq. (8) or shape of
+#: eq. (2) calls: a model's folder gets only those it uses.
+KERNEL_SOURCES = {"sigmoid": ("fric_elm_sigmoid.c",), "sine": ("fric_elm_sine.c",),
+                  "rbf": ("fric_elm_rbf.c",), "multiquadric": ("fric_elm_multiquadric.c",),
+                  "gauss": ("fric_exp_neg.c",), "exponential": ("fric_exp_neg.c",), "rational": ()}
+#: The runtime of a sigmoid ELM (the default model) with libm; ``runtime_files`` for any model.
+RUNTIME_FILES = RUNTIME_HEADERS + KERNEL_SOURCES["sigmoid"]
+#: The runtime of ``--activation-impl fast`` in place of the libm one, see fric_fast.h: no libm.
+FAST_RUNTIME_FILES = (FLOAT_HEADER, VERSION_HEADER, "fric_fast.h", "fric_fast.c")
+#: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h;
+#: its square root is fric_sqrt.c's (no libm, the bits of sqrtf).
+CONTROLLER_FILES = (FLOAT_HEADER, VERSION_HEADER, "fric_sqrt.h", "fric_sqrt.c", "fric_ctrl.h",
+                    "fric_ctrl.c")
+
+
+def runtime_files(model: FrictionModel, activation_impl: str = "libm") -> Tuple[str, ...]:
+    """The runtime files the float C of ``model`` calls: FAST_RUNTIME_FILES, or RUNTIME_HEADERS
+    and the kernel sources of its curves' activations or shapes (KERNEL_SOURCES)."""
+    if activation_impl == "fast":
+        return FAST_RUNTIME_FILES
+    sources = [f for curve in model.directions for f in KERNEL_SOURCES[
+        curve.aim.shape if isinstance(curve.aim, StribeckCurve) else curve.aim.activation]]
+    return RUNTIME_HEADERS + tuple(dict.fromkeys(sources))
 
 
 #: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
@@ -186,7 +206,8 @@ def check_determined(model: FrictionModel) -> None:
 
 
 def controller_files() -> Dict[str, str]:
-    """The float controller runtime of section 6 (fric_ctrl.h, fric_ctrl.c), by file name.
+    """The float controller runtime of section 6 (CONTROLLER_FILES: fric_ctrl.{h,c}, its square
+    root fric_sqrt.{h,c} and the headers they include), by file name.
 
     Returns
     -------
@@ -197,10 +218,9 @@ def controller_files() -> Dict[str, str]:
     --------
     >>> from fricgen.codegen import controller_files
     >>> sorted(controller_files())
-    ['fric_ctrl.c', 'fric_ctrl.h', 'fric_float.h']
+    ['fric_ctrl.c', 'fric_ctrl.h', 'fric_float.h', 'fric_sqrt.c', 'fric_sqrt.h', 'fric_version.h']
     """
-    runtime = resource_dir("c_runtime")
-    return {fname: (runtime / fname).read_text() for fname in CONTROLLER_FILES}
+    return {fname: runtime_text(fname) for fname in CONTROLLER_FILES}
 
 
 def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
@@ -267,13 +287,12 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     check_float32_range(model)
     check_determined(model)
     ctx = template_context(model, name, activation_impl)
+    ctx["emit_options"] = emit_options(dtype=dtype, activation_impl=activation_impl,
+                                       with_controller=with_controller)
     check_float32(model, activation_impl)
-    env = template_environment()
-    files = {f"{name}.h": env.get_template("model.h.j2").render(ctx),
-             f"{name}.c": env.get_template("model.c.j2").render(ctx)}
-    runtime = resource_dir("c_runtime")         # the folder's runtime, also for grey-box curves
-    for fname in FAST_RUNTIME_FILES if activation_impl == "fast" else RUNTIME_FILES:
-        files[fname] = (runtime / fname).read_text()
+    files = render_source_and_header(ctx, name, "model")
+    for fname in runtime_files(model, activation_impl):   # also for grey-box curves
+        files[fname] = runtime_text(fname)
     if with_controller:
         files.update(controller_files())
     return files
@@ -322,9 +341,12 @@ def generated_models(folder: Union[str, Path]) -> List[str]:
 
 def written_by_fricgen(path: Union[str, Path]) -> bool:
     """Whether the file ``path`` is one fricgen emits: generated (its head comment holds the
-    ``GENERATED_MARKER`` line) or a copy of the C runtime (it begins with ``RUNTIME_MARKER``)."""
-    head = _head(Path(path))
-    return _generated(head) or (bool(head) and head[0].startswith(RUNTIME_MARKER))
+    ``GENERATED_MARKER`` line), a copy of the C runtime (it begins with ``RUNTIME_MARKER``), or
+    one of the build files of ``fricgen.codegen.package`` (a head line holds PACKAGE_MARKER)."""
+    path = Path(path)
+    head = _head(path)
+    return (_generated(head) or (bool(head) and head[0].startswith(RUNTIME_MARKER))
+            or (path.name in PACKAGE_NAMES and any(PACKAGE_MARKER in line for line in head)))
 
 
 def check_overwrite(paths, force: bool = False, option: str = "-o", written=None) -> None:
@@ -411,45 +433,3 @@ def check_name_in_folder(out_dir: Union[str, Path], name: str) -> None:
         if other != name and other.lower() == name.lower():
             raise ModelError(f"{out_dir} already holds the generated model {other!r}, whose name "
                              f"differs from {name!r} only by case; choose another name or folder")
-
-
-def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
-         activation_impl: str = "libm", dtype: str = "float",
-         with_controller: bool = False, force: bool = False,
-         v_max: Optional[float] = None) -> Dict[str, Path]:
-    """Write the C of a model into a folder: render everything first (``render``), check the
-    folder's models and that every file it replaces is fricgen's own and writable (skipped with
-    ``force``), then write each file atomically.
-
-    Parameters
-    ----------
-    model : FrictionModel
-        The model whose eq. (3) the C evaluates.
-    out_dir : str or pathlib.Path
-        The folder (created if missing).
-    name, activation_impl, dtype, with_controller, v_max
-        As for ``render``.
-    force : bool
-        Overwrite files fricgen did not write.
-
-    Returns
-    -------
-    dict of str to pathlib.Path
-        File name -> path written.
-
-    Examples
-    --------
-    >>> import fricgen
-    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
-    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
-    ...                                   name="axis_x")
-    >>> written = fricgen.emit(model, tmp / "c", dtype="q15")
-    >>> sorted(written), written["axis_x.h"].is_file()
-    (['axis_x.c', 'axis_x.h'], True)
-    """
-    name = model.name if name is None else name
-    files = render(model, name, activation_impl, dtype, with_controller, v_max)
-    check_name_in_folder(out_dir, name)
-    check_overwrite([Path(out_dir) / fname for fname in files], force)
-    return write_all_atomic(out_dir, files)
-

@@ -10,10 +10,10 @@ from pathlib import Path
 
 from typing import Dict
 
-from .._io import resource_dir, write_all_atomic
+from .._io import write_all_atomic
 from ..c_literal import c_array, c_float
 from ..codegen.cbuild import build_module, model_cdef
-from ..codegen.context import identity_context, template_environment
+from ..codegen.context import identity_context, runtime_text, template_environment
 from ..codegen.render import STRIBECK_C_SHAPES, controller_files, render
 from ..codegen.twin import stribeck_table
 from ..model import FrictionModel
@@ -102,10 +102,9 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
                    describe=f"{net.n_hidden} {net.activation} neurons",
                    header='"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"')
     env = template_environment()
-    runtime = resource_dir("c_runtime")
     return {f"{name}_adapt.h": env.get_template("model_adapt.h.j2").render(ctx),
             f"{name}_adapt.c": env.get_template("model_adapt.c.j2").render(ctx),
-            **{fname: (runtime / fname).read_text() for fname in ADAPT_FILES},
+            **{fname: runtime_text(fname) for fname in ADAPT_FILES},
             **controller_files()}
 
 

@@ -1,0 +1,7 @@
+/* fricgen C runtime: exp(-a) through libm's expf, argument clamped (fric_kernel.h). */
+#include "fric_kernel.h"
+
+float fric_exp_neg_f32(float a)
+{
+    return fric_exp_neg_inline_f32(a);
+}

@@ -1,0 +1,134 @@
+"""The emitted folder as a library: its build files for CMake (a static library target), Zephyr
+(a module: zephyr/module.yml, Kconfig, the same CMakeLists.txt) and PlatformIO (library.json),
+rewritten with each model written into the folder; and ``emit``, which writes it all."""
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+from typing import Dict, Iterable, Optional, Union
+
+from .. import __version__
+from .._io import write_all_atomic
+from ..model import FrictionModel
+from .context import PACKAGE_MARKER, template_environment
+from .render import check_name_in_folder, check_overwrite, generated_models, render, written_by_fricgen
+
+#: The build files ``package_files`` writes, by file name in the folder.
+PACKAGE_FILES = ("CMakeLists.txt", "library.json", "Kconfig", "zephyr/module.yml")
+#: Flags of GCC and clang for the library's sources: no contraction into fused multiply-add and
+#: no -ffast-math from the project's own flags (fric_float.h states both in the code already and
+#: refuses -ffast-math; these keep a project's global -ffast-math from stopping the build).
+STRICT_FLOAT_FLAGS = ("-ffp-contract=off", "-fno-fast-math")
+#: A call of a libm function in C (after comments are removed): the folder then links libm.
+LIBM_CALL = re.compile(r"\b(?:exp|exp2|expm1|log|log1p|log2|pow|sqrt|cbrt|hypot|sin|cos|tan|"
+                       r"asin|acos|atan|atan2|sinh|cosh|tanh|erf|floor|ceil|round|fmod)f?\s*\(")
+_COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
+
+
+def library_name(folder: Union[str, Path]) -> str:
+    """The library's name: the folder's name as a C identifier (``fricgen_`` before one that
+    would begin with a digit), for the CMake target, the Zephyr library and the PlatformIO
+    library; its Kconfig symbol is FRICGEN_ and that name in capitals."""
+    name = re.sub(r"\W", "_", Path(folder).resolve().name, flags=re.ASCII) or "models"
+    return f"fricgen_{name}" if name[0].isdigit() else name
+
+
+def uses_libm(texts: Iterable[str]) -> bool:
+    """Whether any of the C texts calls a libm function (comments aside)."""
+    return any(LIBM_CALL.search(_COMMENT.sub(" ", text)) for text in texts)
+
+
+def _folder_texts(folder: Path, files: Dict[str, str]) -> Dict[str, str]:
+    """The C files of the folder once ``files`` are written: those fricgen wrote before, then
+    ``files``, by name."""
+    texts = {}
+    if folder.is_dir():
+        for path in sorted(folder.glob("*.[ch]")):
+            if path.is_file() and written_by_fricgen(path):
+                texts[path.name] = path.read_text(errors="replace")
+    texts.update({fname: text for fname, text in files.items() if fname.endswith((".c", ".h"))})
+    return texts
+
+
+def package_files(folder: Union[str, Path], files: Dict[str, str], name: str) -> Dict[str, str]:
+    """The build files of ``folder`` once ``files`` (the model ``name``'s NAME.h, NAME.c and
+    runtime, by file name) are written into it, by file name (PACKAGE_FILES): they build every C
+    source fricgen wrote there, so that a second model emitted into the folder joins the first
+    in one library."""
+    folder = Path(folder)
+    texts = _folder_texts(folder, files)
+    names = set(generated_models(folder)) | {name}
+    models = sorted(m for m in names if not (m.endswith("_adapt") and m[:-len("_adapt")] in names))
+    lib = library_name(folder)
+    ctx = {"lib": lib, "LIB": lib.upper(), "kconfig": f"FRICGEN_{lib.upper()}",
+           "marker": PACKAGE_MARKER, "fricgen_version": __version__, "models": models,
+           "sources": sorted(f for f in texts if f.endswith(".c")),
+           "libm": uses_libm(texts.values()), "flags": list(STRICT_FLOAT_FLAGS)}
+    env = template_environment()
+    out = {fname: env.get_template(f"package_{Path(fname).name}.j2").render(ctx)
+           for fname in PACKAGE_FILES if fname != "library.json"}
+    out["library.json"] = json.dumps(platformio_manifest(ctx), indent=2) + "\n"
+    return out
+
+
+def platformio_manifest(ctx: dict) -> dict:
+    """library.json: the PlatformIO library of the folder (its sources and headers in the folder
+    itself, the strict float flags). Its description carries PACKAGE_MARKER (JSON has no
+    comments)."""
+    return {
+        "name": ctx["lib"],
+        "description": (f"{PACKAGE_MARKER} {ctx['fricgen_version']}: the friction models "
+                        f"{', '.join(ctx['models'])} and the fricgen C runtime. Do not edit: "
+                        "`fricgen emit` rewrites it."),
+        "version": ctx["fricgen_version"],
+        "keywords": ["friction", "fricgen", "motion control"],
+        "frameworks": "*",
+        "platforms": "*",
+        "build": {"srcDir": ".", "includeDir": ".",
+                  "srcFilter": ["-<*>"] + [f"+<{src}>" for src in ctx["sources"]],
+                  "flags": ctx["flags"]},
+    }
+
+
+def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
+         activation_impl: str = "libm", dtype: str = "float",
+         with_controller: bool = False, force: bool = False,
+         v_max: Optional[float] = None) -> Dict[str, Path]:
+    """Write the C of a model into a folder: render everything first (the model, its runtime and
+    the folder's build files), check the folder's models and that every file it replaces is
+    fricgen's own and writable (``check_overwrite``, skipped with ``force``), then write each
+    file atomically.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model whose eq. (3) the C evaluates.
+    out_dir : str or pathlib.Path
+        The folder (created if missing).
+    name, activation_impl, dtype, with_controller, v_max
+        As for ``render``.
+    force : bool
+        Overwrite files fricgen did not write.
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        File name -> path written.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> written = fricgen.emit(model, tmp / "c", dtype="q15")
+    >>> sorted(written)[:2], written["axis_x.h"].is_file()
+    (['CMakeLists.txt', 'Kconfig'], True)
+    """
+    name = model.name if name is None else name
+    files = render(model, name, activation_impl, dtype, with_controller, v_max)
+    check_name_in_folder(out_dir, name)
+    files.update(package_files(out_dir, files, name))
+    check_overwrite([Path(out_dir) / fname for fname in files], force)
+    return write_all_atomic(out_dir, files)
