@@ -55,7 +55,33 @@ def package_files(folder: Union[str, Path], files: Dict[str, str], name: str) ->
     """The build files of ``folder`` once ``files`` (the model ``name``'s NAME.h, NAME.c and
     runtime, by file name) are written into it, by file name (PACKAGE_FILES): they build every C
     source fricgen wrote there, so that a second model emitted into the folder joins the first
-    in one library."""
+    in one library.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The emitted folder (it may hold models emitted before).
+    files : dict of str to str
+        The files about to be written, by file name (``render``).
+    name : str
+        The model's name.
+
+    Returns
+    -------
+    dict of str to str
+        CMakeLists.txt, library.json, Kconfig and zephyr/module.yml, by file name.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.codegen import package_files, render
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
+    ...                                   name="axis_x")
+    >>> build = package_files(tmp / "axes", render(model), "axis_x")
+    >>> sorted(build), "axis_x.c" in build["CMakeLists.txt"]
+    (['CMakeLists.txt', 'Kconfig', 'library.json', 'zephyr/module.yml'], True)
+    """
     folder = Path(folder)
     texts = _folder_texts(folder, files)
     names = set(generated_models(folder)) | {name}

@@ -45,7 +45,29 @@ CONTROLLER_FILES = (FLOAT_HEADER, VERSION_HEADER, "fric_sqrt.h", "fric_sqrt.c", 
 
 def runtime_files(model: FrictionModel, activation_impl: str = "libm") -> Tuple[str, ...]:
     """The runtime files the float C of ``model`` calls: FAST_RUNTIME_FILES, or RUNTIME_HEADERS
-    and the kernel sources of its curves' activations or shapes (KERNEL_SOURCES)."""
+    and the kernel sources of its curves' activations or shapes (KERNEL_SOURCES).
+
+    Parameters
+    ----------
+    model : FrictionModel
+        A model with ELM or grey-box curves.
+    activation_impl : str
+        "libm" or "fast" (``--activation-impl``).
+
+    Returns
+    -------
+    tuple of str
+        File names in c_runtime/.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.codegen import runtime_files
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0))
+    >>> "fric_elm_sigmoid.c" in runtime_files(model), "fric_elm_sine.c" in runtime_files(model)
+    (True, False)
+    """
     if activation_impl == "fast":
         return FAST_RUNTIME_FILES
     sources = [f for curve in model.directions for f in KERNEL_SOURCES[
@@ -257,7 +279,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5, random_state=0),
     ...                                   name="axis_x")
     >>> sorted(fricgen.render(model))
-    ['axis_x.c', 'axis_x.h', 'fric_float.h', 'fric_kernel.c', 'fric_kernel.h']
+    ['axis_x.c', 'axis_x.h', 'fric_elm_sigmoid.c', 'fric_float.h', 'fric_kernel.h', 'fric_version.h']
     """
     name = model.name if name is None else name
     if v_max is not None and dtype == "float":
