@@ -111,6 +111,16 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
                                        float x, float v, float xd, float xd_dot, float xd_ddot,
                                        float *current);
 
+/* The adapted parameters as text, for fricgen to read back (`fricgen readback`): three lines,
+ *     fricgen-adapt-dump 1
+ *     model <model_hash>                      (NAME_ADAPT_MODEL_HASH)
+ *     theta <8 hex digits> ... <8 hex digits> (the float bits of theta[0 .. n-1])
+ * each ending in '\n', NUL-terminated, into buf (size bytes). Returns the characters written
+ * without the NUL, or 0 (buf then holds "" if size > 0) for a NULL argument or a buf too small:
+ * 35 + length of the hash + 9 n bytes suffice. No libc formatting, no float arithmetic. */
+unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, char *buf,
+                               unsigned int size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -98,7 +98,22 @@ def work(cli_inputs, tmp_path_factory):
     undetermined.write_text(FrictionModel.from_dict(json.loads(undetermined.read_text())).to_json())
     (d / "duplicate_key.json").write_text((d / "model.json").read_text().replace(
         '"viscous": ', '"viscous": 1.0, "viscous": ', 1))
+    _dump_files(d)
     return d
+
+
+def _dump_files(d):
+    """Adaptation dumps (fric_adapt_export's text) of model.json gone wrong, and a good one."""
+    from fricgen.control.readback import dump_text
+    from fricgen.control.regressor import trained_parameters
+    m = FrictionModel.load(d / "model.json")
+    theta = trained_parameters(m)
+    good = dump_text(m.model_hash, theta)
+    (d / "dump.txt").write_text(good)
+    (d / "dump_other_model.txt").write_text(dump_text("0123456789abcdef", theta))
+    (d / "dump_short.txt").write_text(dump_text(m.model_hash, theta[:-1]))
+    (d / "dump_not_hex.txt").write_text(good.replace("theta ", "theta 3e0zcc24 "))
+    (d / "dump_nan.txt").write_text(dump_text(m.model_hash, np.append(theta[:-1], np.nan)))
 
 
 def _edited_columns(d, log, name, **edits):
@@ -493,6 +508,20 @@ ROWS = [
     ("synth-log force constant near 0", ["synth-log", "--effect", "force_constant_mismatch", "--magnitude",
                                          "6.6", "-o", OUT],
      "--magnitude: must be a finite number > 0 and <= 5.33 for force_constant_mismatch, got 6.6"),
+    ("readback, a dump of another model", ["readback", "dump_other_model.txt", "--model", "model.json",
+                                            "-o", OUT], "the dump was adapted from model 0123456789abcdef"),
+    ("readback, a parameter missing", ["readback", "dump_short.txt", "--model", "model.json", "-o", OUT],
+     "parameters, this model adapts"),
+    ("readback, a word not hex", ["readback", "dump_not_hex.txt", "--model", "model.json", "-o", OUT],
+     "'3e0zcc24' is not 8 hex digits"),
+    ("readback, a NaN parameter", ["readback", "dump_nan.txt", "--model", "model.json", "-o", OUT],
+     "is nan, not a finite number"),
+    ("readback, a CSV for the dump", ["readback", "sweep.csv", "--model", "model.json", "-o", OUT],
+     "not an adaptation dump"),
+    ("readback, no such dump", ["readback", "no_dump.txt", "--model", "model.json", "-o", OUT],
+     "no_dump.txt: No such file or directory"),
+    ("readback, -o the model itself", ["readback", "dump.txt", "--model", "model.json", "-o", "model.json"],
+     "model.json; refusing to overwrite it (--force to do so)"),
     ("synth-log mass 5 times nominal", ["synth-log", "--effect", "inertia_mismatch", "--magnitude", "14",
                                         "-o", OUT], "<= 13.3 for inertia_mismatch, got 14"),
 ]

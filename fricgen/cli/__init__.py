@@ -24,6 +24,8 @@ COMMANDS = {
     "train": ("train", "fit a friction model to a sweep or motion-log CSV; write model.json"),
     "eval": ("eval", "forces (N) for velocities read from stdin, one per line"),
     "emit": ("emit", "write NAME.h, NAME.c and the C runtime into a folder"),
+    "readback": ("readback", "turn the parameters the firmware adapted (emit --adapt) back into "
+                             "model.json"),
     "simulate": ("simulate", "closed-loop position control with friction compensation "
                              "(adaptive backstepping, section 6)"),
     "reproduce": ("reproduce", "run every experiment of the paper; write results.json, report.md "

@@ -57,7 +57,9 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
           "float v, float e2, int hold);\n"
           "fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, "
           "fric_adapt_regressor_fn reg, float x, float v, float xd, float xd_dot, float xd_ddot, "
-          "float *current);\n")
+          "float *current);\n"
+          "unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, "
+          "char *buf, unsigned int size);\n")
 
 
 def adapt_params(adapter) -> dict:
