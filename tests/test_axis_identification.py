@@ -134,3 +134,26 @@ def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp
     parameters = 2 * n + 2 if training["choice"] == "stribeck" else 2 * n + 1
     assert parameters <= training["log"]["independent"] // 10
     assert abs(model["training"]["axis"]["mass"] - MASS) < 0.05 * MASS
+
+
+def test_run_ups_of_the_independent_simulator_succeed_over_noise_draws(tmp_path, capsys):
+    """Not one chosen seed: 8 noise draws of the run-up. Every one trains within its parameter
+    budget; the mass is within 1 % and the model's RMS error against the true friction over
+    the run-up's speeds within 0.2 N (the force noise is 0.3 N) in at least 7 of 8 (measured:
+    the mass 0.16-0.22 % low, the error 0.058-0.092 N, in all 8)."""
+    from fricgen.model import FrictionModel
+    within_mass = within_force = 0
+    for seed in range(8):
+        t, x, force, v = run_up(seed=seed)
+        log = _write(tmp_path, f"runup{seed}.csv", {"t": t, "x": x, "force": force})
+        out = tmp_path / f"m{seed}.json"
+        assert main(["train", str(log), "-o", str(out)]) == 0
+        capsys.readouterr()
+        record = json.loads(out.read_text())["training"]
+        n = record["n_hidden"]
+        assert (2 * n + 2 if record["choice"] == "stribeck" else 2 * n + 1) <= record["log"]["independent"] // 10
+        within_mass += abs(record["axis"]["mass"] - MASS) < 0.01 * MASS
+        speeds = np.linspace(0.05, 0.6, 50)
+        model = FrictionModel.load(out)
+        within_force += float(np.sqrt(np.mean((model.force(speeds) - friction(speeds)) ** 2))) < 0.2
+    assert within_mass >= 7 and within_force >= 7, (within_mass, within_force)
