@@ -123,7 +123,8 @@ SLOW_TESTS = {"test_the_hidden_effect_is_named", "test_emulated_asymmetric_fast_
               "test_long_logs_are_feasible",
               "test_grey_box_firmware_on_the_emulated_cortex_m4f_equals_its_twin",
               "test_the_folder_builds_as_a_cmake_library_of_two_axes",
-              "test_the_zephyr_branch_builds_with_zephyrs_library_functions_stubbed"}
+              "test_the_zephyr_branch_builds_with_zephyrs_library_functions_stubbed",
+              "test_run_ups_of_the_independent_simulator_succeed_over_noise_draws"}
 
 
 def pytest_collection_modifyitems(config, items):
