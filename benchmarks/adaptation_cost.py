@@ -1,0 +1,103 @@
+"""Instructions per update of the online adaptation (``emit --adapt``) on the emulated Cortex-M4F.
+
+For a 10-neuron sigmoid ELM and a grey-box model with S = 3 gauss sources, fitted to the
+paper's benchmark, each with ``--activation-impl`` libm and fast, the firmware of
+examples/firmware/ runs ``fric_adapt_ctrl_step`` (the RLS or Lyapunov update, the adapted
+force and the controller step of section 6) N_BENCH times at a speed where the update is
+active (no dead zone, no saturation), and QEMU counts the instructions (as
+benchmarks/firmware_cost.py). Side by side: ``fric_ctrl_step_fn`` with the fixed model, the
+same controller step without adaptation; their difference is what adaptation costs. The
+target: at most 2000 instructions per update at M = 10.
+
+    python benchmarks/adaptation_cost.py
+
+Needs arm-none-eabi-gcc, libnewlib-arm-none-eabi and qemu-system-arm.
+"""
+from __future__ import annotations
+
+import sys
+import tempfile
+from pathlib import Path
+
+from fricgen import codegen
+from fricgen.control.c_adapted import render_adapt
+from fricgen.data import synthesize_benchmark
+from fricgen.firmware import build as fw
+from fricgen.fit.elm import ELMRegressor, EnlargedScheme
+from fricgen.fit.oracle import OracleRegressor
+from fricgen.friction import preset
+from fricgen.model import FrictionModel
+
+N_BENCH = 200
+TARGET = "cortex-m4f"
+
+WRAPPER = r"""
+#include "fw_step.h"
+#include "fm.h"
+#include "fm_adapt.h"
+static fric_adapt_t a;
+static fric_ctrl_t c;
+static int ready;
+float fw_step(float v)
+{
+    float i = 0.0f;
+    if (!ready) {
+        fric_ctrl_params_t cp;
+        fric_adapt_params_t ap;
+        fric_ctrl_default_params(&cp);
+        (void)fric_ctrl_init(&c, &cp);
+        fm_adapt_default_params(&ap);
+        ap.rule = %(rule)s;
+        ap.e_dead = 0.0f;
+        (void)fric_adapt_init(&a, &ap);
+        ready = 1;
+    }
+    %(call)s
+    return i;
+}
+"""
+ADAPTED = "(void)fric_adapt_ctrl_step(&a, &c, fm_regressor, 0.0f, v, 1e-4f, v, 0.0f, &i);"
+FIXED = "(void)fric_ctrl_step_fn(&c, 0.0f, v, 1e-4f, v, 0.0f, fm_force, &i);"
+
+
+def models():
+    bench = synthesize_benchmark(preset("paper3"), seed=0)
+    return {"ELM M = 10": FrictionModel.fit(bench.dataset, ELMRegressor(
+                n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0), name="fm"),
+            "grey-box S = 3": FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")}
+
+
+def per_call(model, impl: str, rule: str, call: str, tmp: Path) -> float:
+    src = tmp / "src"
+    codegen.emit(model, src, "fm", activation_impl=impl, with_controller=True)
+    for name, text in render_adapt(model, "fm", impl).items():     # what emit --adapt adds
+        (src / name).write_text(text)
+    (src / "fw_step.h").write_text("float fw_step(float v);\n")
+    (src / "fw_step.c").write_text(WRAPPER % {"rule": rule, "call": call})
+    cfg = fw.config_float("fw_step.h", "fw_step", [0.05, 0.06], N_BENCH)
+    elf = fw.build_firmware(src, cfg, TARGET, tmp / "build", strict_model=False)
+    return sum(fw.count_instructions(elf, TARGET).values()) / N_BENCH
+
+
+def main() -> int:
+    reason = fw.missing_tools()
+    if reason:
+        print(f"adaptation_cost: {reason}", file=sys.stderr)
+        return 2
+    print(f"{'model':16s} {'impl':5s} {'rule':9s} {'adapted step':>12s} {'fixed step':>10s} "
+          f"{'adaptation':>10s}  (instructions per call, Cortex-M4F)", flush=True)
+    with tempfile.TemporaryDirectory(prefix="fricgen_acost_") as tmp:
+        for label, model in models().items():
+            for impl in ("libm", "fast"):
+                for rule in ("FRIC_ADAPT_RULE_LYAPUNOV", "FRIC_ADAPT_RULE_RLS"):
+                    folder = Path(tmp) / f"{label[:3]}{impl}{rule[-3:]}"
+                    adapted = per_call(model, impl, rule, ADAPTED, folder / "a")
+                    fixed = per_call(model, impl, rule, FIXED, folder / "f")
+                    short = "lyapunov" if rule.endswith("LYAPUNOV") else "rls"
+                    print(f"{label:16s} {impl:5s} {short:9s} {adapted:12.0f} {fixed:10.0f} "
+                          f"{adapted - fixed:10.0f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
