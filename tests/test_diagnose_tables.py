@@ -133,3 +133,19 @@ def test_tables_on_a_grey_box_model_build_strictly_and_equal_their_twin(bench, t
     base = np.array([lib.gb_force(float(a)) for a in v], dtype=np.float32)
     c = np.array([lib.gb_force_xv(float(a), float(b)) for a, b in zip(v, x)], dtype=np.float32)
     np.testing.assert_array_equal(c, force_xv_f32(model, v, x, base=base))
+
+
+def test_a_named_drift_points_to_online_adaptation():
+    """When the diagnosis names a thermal drift, the report says what addresses it in service
+    (emit --adapt, its default rule, readback); other effects get no such line."""
+    from types import SimpleNamespace
+
+    from fricgen.diagnose.report import service_hint
+    from fricgen.effects import ConstantLoad, ThermalDrift
+    drift = SimpleNamespace(effect="thermal_drift", fitted=ThermalDrift(rate=0.002, offset=0.0, t0=0.0,
+                                                                          time_constant=120.0))
+    load = SimpleNamespace(effect="constant_load", fitted=ConstantLoad(load=3.0))
+    hint = service_hint(SimpleNamespace(effects_=[load, drift]))
+    assert "rate 0.002/s" in hint and "time constant 120 s" in hint
+    assert "`fricgen emit --adapt`" in hint and "Lyapunov" in hint and "readback" in hint
+    assert service_hint(SimpleNamespace(effects_=[load])) == ""

@@ -10,7 +10,7 @@ from ..data.motionlog import MIN_SAMPLES, log_from_columns
 from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
-from ..diagnose.report import format_value, render_files, written_by_diagnose
+from ..diagnose.report import format_value, render_files, service_hint, written_by_diagnose
 from ..effects import model_effects, range_notes
 from ..errors import UsageError
 from ..model import FrictionModel
@@ -94,6 +94,8 @@ def _run(args) -> int:
             lines.append(f"effect     none (best candidate {p_text(d.p_value_)})")
         for s in d.refused():
             lines.append(f"refused    {s.label}: {s.reason}")
+        if service_hint(d):
+            lines.append(f"in service {service_hint(d)}")
         lines.append(f"where      {d.where_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
         out("\n".join(lines))

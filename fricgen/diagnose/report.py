@@ -32,6 +32,23 @@ def verdict(d: Diagnoser) -> str:
     return ", then ".join(f"`{s.effect}` ({p_text(s.p_value)})" for s in d.effects_)
 
 
+#: Effects that change with time in service: a fixed model cannot follow them.
+DRIFTS = ("thermal_drift",)
+
+
+def service_hint(d: Diagnoser) -> str:
+    """What addresses a drift the diagnosis named, in one sentence; "" when it named none."""
+    drifts = [s for s in d.effects_ if s.effect in DRIFTS]
+    if not drifts:
+        return ""
+    fitted = drifts[0].fitted
+    return (f"the friction level drifts in service ({drifts[0].effect}, rate {fitted.rate:.3g}/s, "
+            f"time constant {fitted.time_constant:.3g} s): a fixed model cannot follow it; "
+            "`fricgen emit --adapt` adds online adaptation of the model's output parameters "
+            "(the Lyapunov rule, fric_adapt_params_t.rule, by default; leak and box bound it), "
+            "and `fricgen readback` keeps what it learned")
+
+
 #: The first line of report.md begins with this (then the log's name).
 REPORT_TITLE = "# fricgen diagnose: "
 
@@ -85,6 +102,9 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
         lines.append("")
     if d.effects_:
         lines += ["The augmented model (these effects appended to `effects`) is `model.json`.", ""]
+    hint = service_hint(d)
+    if hint:
+        lines += ["## In service", "", hint[0].upper() + hint[1:] + ".", ""]
     else:
         lines += ["Nothing explains the residual beyond noise; `model.json` is the input model "
                   "unchanged.", ""]
