@@ -1,4 +1,7 @@
 """Cross builds for Cortex-M0+ / Cortex-M4F and runs on QEMU's emulated MCUs (examples/firmware/)."""
+import shutil
+import subprocess
+
 import numpy as np
 import pytest
 
@@ -182,3 +185,27 @@ def test_one_call_stays_within_the_instruction_count_the_header_states(axis2_mod
         elf = fw.build_firmware(tmp_path / "src", cfg, target, tmp_path / f"b{k}")
         count = sum(fw.count_instructions(elf, target).values())
         assert 0.5 * stated < count <= stated, (s, count, stated)
+
+
+@pytest.mark.skipif(shutil.which("cmake") is None, reason="cmake not installed")
+def test_cmake_build_of_the_firmware_example_runs_on_the_emulated_m4f(model10, axis2_model, tmp_path):
+    """examples/firmware as a CMake project with the cross toolchain file: the emitted folder
+    (two axes, libm and fast) joins as its library, and on QEMU the fast axis equals its twin
+    bit for bit."""
+    axes = tmp_path / "axes"
+    codegen.emit(model10, axes, "fm")
+    codegen.emit(axis2_model, axes, "axis2", activation_impl="fast")
+    v = np.linspace(-2 * axis2_model.v_sat, 2 * axis2_model.v_sat, 41).astype(np.float32)
+    config = tmp_path / "config"
+    config.mkdir()
+    (config / "fw_config.h").write_text(fw.config_float("axis2.h", "axis2_force", v, n_bench=1))
+    example = fw.firmware_dir()
+    build_dir = tmp_path / "build"
+    for cmd in (["cmake", "-S", str(example), "-B", str(build_dir),
+                 f"-DCMAKE_TOOLCHAIN_FILE={example / 'cortex-m4f.cmake'}",
+                 f"-DFRICGEN_MODEL_DIR={axes}", f"-DFRICGEN_CONFIG_DIR={config}"],
+                ["cmake", "--build", str(build_dir)]):
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    out = fw.parse_float_bits(fw.run(build_dir / "fw.elf", "cortex-m4f"))
+    assert np.array_equal(out.view(np.uint32), force_f32(axis2_model, v, "fast").view(np.uint32))
