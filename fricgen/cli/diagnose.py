@@ -35,6 +35,8 @@ def register(p) -> None:
                force_also=", and over files in it that diagnose did not write")
     add_export_options(p)
     add_json(p, "print the summary as one JSON object")
+    p.add_argument("--verbose", action="store_true",
+                   help="list every refused candidate set with its reason (default: their count)")
     p.set_defaults(run=run)
 
 
@@ -92,11 +94,17 @@ def _run(args) -> int:
                                                   for k, v in s.fitted.parameters().items()))
         if not d.effects_:
             lines.append(f"effect     none (best candidate {p_text(d.p_value_)})")
-        for s in d.refused():
-            lines.append(f"refused    {s.label}: {s.reason}")
+        refused = d.refused()
+        if args.verbose:
+            lines += [f"refused    {s.label}: {s.reason}" for s in refused]
+        elif refused:
+            lines.append(f"refused    {len(refused)} candidate sets (--verbose lists them; report.md "
+                         "gives each reason)")
         if service_hint(d):
             lines.append(f"in service {service_hint(d)}")
-        lines.append(f"where      {d.where_}")
+        lines.append(f"where      before the effects: {d.where_}")
+        if d.effects_:
+            lines.append(f"           after them: {d.where_after_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
         out("\n".join(lines))
     write_folder(args, files, inputs, folder_of=[args.model])

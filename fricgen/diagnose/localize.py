@@ -50,6 +50,7 @@ def localize(problem: ResidualProblem) -> List[dict]:
         return f"largest mean {means[k]:+.3g} N at {name} in [{inside.min():.3g}, {inside.max():.3g}] {unit}"
 
     pos, neg = r[v > 0], r[v < 0]
+    add("constant", r, np.zeros(r.size, dtype=int), f"mean {r.mean():+.3g} N everywhere")
     add("direction of motion", r, (v > 0).astype(int),
         f"mean {pos.mean() if pos.size else 0:+.3g} N for v > 0, {neg.mean() if neg.size else 0:+.3g} N for v < 0")
     for axis, values, coord, name, unit in (("velocity", r, v, "v", "m/s"),
@@ -57,6 +58,14 @@ def localize(problem: ResidualProblem) -> List[dict]:
                                              ("position", r, x, "x", "m")):
         lab = _quantile_labels(coord)
         add(axis, values, lab, extreme(values, lab, coord, name, unit))
+    lab = 2 * _quantile_labels(x) + (v > 0)                     # a bump acting against motion
+    groups = np.unique(lab)
+    means = np.array([r[lab == g].mean() for g in groups])
+    k = int(np.argmax(np.abs(means)))
+    inside = x[lab == groups[k]]
+    add("position and direction", r, lab,
+        f"largest mean {means[k]:+.3g} N at x in [{inside.min():.3g}, {inside.max():.3g}] m moving "
+        f"{'+' if groups[k] % 2 else '-'}")
     ks, bank = problem.ripple_bank()
     G = np.einsum("kni,knj->kij", bank, bank)
     b = np.einsum("kni,n->ki", bank, r)

@@ -25,6 +25,15 @@ def format_value(value) -> str:
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
+def effect_sentence(step) -> str:
+    """One line on an added effect: what, how large, how sure, how much of the gap it closes."""
+    params = ", ".join(f"{k} = {format_value(v)}" for k, v in step.fitted.parameters().items())
+    closed = 1.0 - step.gap_after / step.gap_before if step.gap_before > 0 else 0.0
+    return (f"- `{step.effect}` ({params}): {step.size:.0%} of the RMS friction force, "
+            f"{p_text(step.p_value)}; it closes {closed:.0%} of the held-out gap "
+            f"({step.gap_before:.3g} -> {step.gap_after:.3g} m/s).")
+
+
 def verdict(d: Diagnoser) -> str:
     """The effects added, in order, as one phrase."""
     if not d.effects_:
@@ -57,9 +66,10 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
     """The human report: verdict, the selection steps, refusals, localization, gap, plots."""
     p = d.problem_
     lines = [f"{REPORT_TITLE}{log_name}", "",
-             f"**Missing effects: {verdict(d)}.**", "",
-             f"Where the residual lives before: {d.where_}.", "",
-             f"After the effects added: {d.where_after_}.", ""]
+             f"**Missing effects: {verdict(d)}.**", ""]
+    lines += [effect_sentence(s) for s in d.effects_] + ([""] if d.effects_ else [])
+    lines += [f"Where the residual lives before: {d.where_}.", "",
+              f"After the effects added: {d.where_after_}.", ""]
     tables = [s.effect for s in d.effects_ if s.effect not in EFFECTS]
     if tables:
         lines += [f"No named effect explains this structure; the model carries a table instead "
