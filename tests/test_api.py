@@ -21,11 +21,15 @@ DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model", "fricgen.errors", "
              "fricgen.networks.elm", "fricgen.networks.anfis", "fricgen.networks.stribeck",
              "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.library", "fricgen.effects.signals", "fricgen.effects.tables",
              "fricgen.codegen.render", "fricgen.codegen.package", "fricgen.control.loop", "fricgen.control.backstepping",
-             "fricgen.control.c_controller"]
+             "fricgen.control.c_controller", "fricgen.diagnose.diagnoser", "fricgen.diagnose.report",
+             "fricgen.sim.axis", "fricgen.sim.logsynth", "fricgen.sim.scenarios",
+             "fricgen.firmware.build", "fricgen.firmware.flag_matrix", "fricgen.paper.experiments",
+             "fricgen.paper.report", "fricgen.paper.figures"]
 #: Public objects held to numpydoc: Parameters naming every argument, and Examples.
 NUMPYDOC = ["train", "FitReport", "FrictionModel", "FrictionModel.force", "FrictionModel.save",
             "FrictionModel.load"]
-SUBPACKAGES = ["fit", "data", "codegen", "networks", "effects", "sim", "control", "diagnose"]
+SUBPACKAGES = ["fit", "data", "codegen", "networks", "effects", "sim", "control", "diagnose",
+               "firmware", "paper"]
 
 
 def test_every_public_name_imports_and_has_a_docstring():

@@ -80,11 +80,72 @@ class Diagnoser:
     table's gain is more than ``TABLE_PREFERENCE`` times the best named one's (structure no
     named form follows). Selection stops at ``max_effects`` or when nothing is added.
 
-    Parameters: ``window`` smoothing window (s), ``holdout`` fraction of the log kept for the
-    test and the gap, ``horizon`` restart interval of the simulations (s), ``folds`` of the
-    blocked cross-validation, ``alpha`` level of each test, ``min_size`` and ``min_gain`` (see
-    above), ``max_effects``, ``candidates`` effect names to consider (default:
-    all), ``tables`` whether tables may be offered, ``substeps`` per sample.
+    Parameters
+    ----------
+    window : float
+        Smoothing window of the force residual (s).
+    holdout : float
+        Fraction of the log, at its end, kept for the test and the gap (0.05-0.6).
+    horizon : float
+        Restart interval of the held-out simulations (s).
+    folds : int
+        Folds of the blocked cross-validation that ranks the candidates.
+    alpha : float
+        Level of each held-out test.
+    min_size, min_gain : float
+        Least force change (share of the RMS friction force) and least relative shrinking of
+        the held-out gap for an effect to be added (see above).
+    max_effects : int
+        Most effects added (1-8).
+    candidates : sequence of str, optional
+        Names of ``fricgen.effects.EFFECTS`` to consider (default: all).
+    tables : bool
+        Whether tables without a physical name may be offered.
+    substeps : int
+        Integration steps per sample of the simulations.
+
+    Attributes
+    ----------
+    effects_ : list of Step
+        The steps that added an effect, in order; ``added_``: their fitted effects.
+    effect_ : str
+        The first effect added ("none" if none); ``p_value_``: the first step's p-value.
+    steps_ : list of Step
+        Every candidate considered, added or refused (with its reason).
+    model_ : FrictionModel
+        The model with the effects added appended to its ``effects``.
+    gap_before_, gap_after_ : float
+        Held-out gap (m/s) of the model as given and with the effects; ``gap_metric_`` says how
+        it is measured, ``force_gap_before_``/``force_gap_after_`` the force residual's RMS (N).
+    where_, where_after_ : str
+        Where the residual lives before and after (``localization_``, ``localization_after_``:
+        the per-axis shares).
+    problem_ : ResidualProblem
+        The residual of eq. (18) on the log (``residual.ResidualProblem``).
+
+    Notes
+    -----
+    The residual is phi i - m a - F(v) of the axis of eq. (18), sec. 6, with F the model's
+    friction (eq. (1) or the AIM of eq. (3)); the effects' forms are those of
+    ``fricgen.effects``. Beyond the paper, which identifies friction only.
+
+    Examples
+    --------
+    >>> from fricgen.diagnose import Diagnoser
+    >>> from fricgen.sim import LogSpec, synthesize_log
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> model = fricgen.FrictionModel.fit(data, elm)       # the paper's ELM (sec. 4-5)
+    >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
+    >>> d = Diagnoser(candidates=["constant_load", "position_ripple"], tables=False)
+    >>> d.fit(log, model, mass=4.0, force_constant=20.0).effect_
+    'constant_load'
+    >>> round(d.parameters()["load"]), d.gap_after_ < 0.1 * d.gap_before_
+    (5, True)
+    >>> Diagnoser(holdout=0.9).fit(log, model, 4.0, 20.0)
+    Traceback (most recent call last):
+    ValueError: holdout must be in [0.05, 0.6], got 0.9
     """
 
     def __init__(self, window: float = 0.021, holdout: float = 0.3, horizon: float = 0.02,
@@ -268,6 +329,8 @@ class Diagnoser:
     # -- the selection
 
     def fit(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float) -> "Diagnoser":
+        """Select the effects ``model`` misses on ``log``, an axis of nominal ``mass`` (kg) and
+        ``force_constant`` (N/A); returns self with the attributes above set."""
         names = self._validate()
         p, base = self._prepare(log, model, mass, force_constant)
         ts = log.sample_time
@@ -363,6 +426,7 @@ class Diagnoser:
         return {} if self.fitted_ is None else self.fitted_.parameters()
 
     def refused(self) -> List[Step]:
+        """The steps not added, each with its ``reason``."""
         return [s for s in self.steps_ if not s.added]
 
     def summary(self) -> dict:
@@ -380,5 +444,35 @@ class Diagnoser:
 
 
 def diagnose(log: MotionLog, model: FrictionModel, mass: float, force_constant: float, **kwargs) -> Diagnoser:
-    """``Diagnoser(**kwargs).fit(log, model, mass, force_constant)``."""
+    """Diagnose ``log``: ``Diagnoser(**kwargs).fit(log, model, mass, force_constant)``.
+
+    Parameters
+    ----------
+    log : MotionLog
+        The measured motion log (t, x, v, i).
+    model : FrictionModel
+        The friction model F(v) of eq. (18), sec. 6, that the log is compared with.
+    mass, force_constant : float
+        The nominal m (kg) and phi (N/A) of the axis.
+    **kwargs
+        Settings of ``Diagnoser``.
+
+    Returns
+    -------
+    Diagnoser
+        Fitted: ``effects_``, ``model_``, ``gap_before_``, ``gap_after_``, ``summary()``.
+
+    Examples
+    --------
+    >>> from fricgen.diagnose import diagnose
+    >>> from fricgen.sim import LogSpec, synthesize_log
+    >>> import fricgen
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> model = fricgen.FrictionModel.fit(data, elm)       # the paper's ELM (sec. 4-5)
+    >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
+    >>> d = diagnose(log, model, 4.0, 20.0, max_effects=1)     # every named effect and table
+    >>> [s.effect for s in d.effects_], sorted(d.summary())[:3]
+    (['constant_load'], ['alpha', 'candidates', 'effect'])
+    """
     return Diagnoser(**kwargs).fit(log, model, mass, force_constant)

@@ -63,7 +63,37 @@ REPORT_TITLE = "# fricgen diagnose: "
 
 
 def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
-    """The human report: verdict, the selection steps, refusals, localization, gap, plots."""
+    """The human report (report.md): verdict, the selection steps, refusals, localization, gap,
+    plots.
+
+    Parameters
+    ----------
+    d : Diagnoser
+        A fitted diagnosis (``Diagnoser.fit``).
+    log_name : str
+        The log's name, in the title line.
+    plots : dict
+        The plot files by name (``{}``: a line saying there are none); linked, not embedded.
+
+    Returns
+    -------
+    str
+        Markdown; its first line begins with ``REPORT_TITLE``.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.diagnose import diagnose, report_markdown
+    >>> from fricgen.sim import LogSpec, synthesize_log
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> model = fricgen.FrictionModel.fit(data, elm)
+    >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
+    >>> d = diagnose(log, model, 4.0, 20.0, candidates=["constant_load"], tables=False)
+    >>> text = report_markdown(d, "axis.csv", {})
+    >>> text.splitlines()[0], "**Missing effects: `constant_load`" in text
+    ('# fricgen diagnose: axis.csv', True)
+    """
     p = d.problem_
     lines = [f"{REPORT_TITLE}{log_name}", "",
              f"**Missing effects: {verdict(d)}.**", ""]
@@ -208,7 +238,40 @@ def written_by_diagnose(path) -> bool:
 
 
 def render_files(d: Diagnoser, log: MotionLog, log_name: str) -> Dict[str, object]:
-    """Every file of the diagnosis folder, by name: the plots, report.md and model.json."""
+    """Every file of the diagnosis folder, by name: the plots, report.md and model.json.
+
+    Parameters
+    ----------
+    d : Diagnoser
+        A fitted diagnosis.
+    log : MotionLog
+        The log it was fitted on (for the velocity plot).
+    log_name : str
+        The log's name, in report.md's title.
+
+    Returns
+    -------
+    dict
+        File name -> content: str (report.md, model.json) or PNG bytes (residuals.png and
+        velocity.png, when matplotlib is installed).
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.diagnose import diagnose, render_files
+    >>> from fricgen.sim import LogSpec, synthesize_log
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> model = fricgen.FrictionModel.fit(data, elm)
+    >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
+    >>> d = diagnose(log, model, 4.0, 20.0, candidates=["constant_load"], tables=False)
+    >>> files = render_files(d, log, "axis.csv")
+    >>> sorted(name for name in files if not name.endswith(".png"))
+    ['model.json', 'report.md']
+    >>> import json
+    >>> [e["effect"] for e in json.loads(files["model.json"])["effects"]]
+    ['constant_load']
+    """
     plots = plot_pngs(d, log)
     files: Dict[str, object] = dict(plots)
     files["report.md"] = report_markdown(d, log_name, plots)

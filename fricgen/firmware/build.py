@@ -52,11 +52,31 @@ TARGETS: Dict[str, Target] = {
 
 
 class FirmwareError(RuntimeError):
-    """A cross build or an emulator run failed; the message holds the tool's output."""
+    """A cross build or an emulator run failed; the message holds the tool's output.
+
+    Examples
+    --------
+    >>> from fricgen.firmware import FirmwareError
+    >>> issubclass(FirmwareError, RuntimeError)
+    True
+    """
 
 
 def missing_tools(run: bool = True) -> Optional[str]:
-    """Why cross builds (and, with ``run``, emulator runs) cannot happen here, or None."""
+    """Why cross builds (and, with ``run``, emulator runs) cannot happen here: the tools not
+    installed and how to install them; None when all are.
+
+    Parameters
+    ----------
+    run : bool
+        Whether QEMU is needed too.
+
+    Examples
+    --------
+    >>> from fricgen.firmware import missing_tools
+    >>> missing_tools() is None or "not installed" in missing_tools()
+    True
+    """
     tools = [CC, SIZE, NM] + ([QEMU] if run else [])
     absent = [t for t in tools if shutil.which(t) is None]
     if absent:
@@ -125,12 +145,29 @@ def build_firmware(model_dir: Union[str, Path], config_h: str, target_name: str,
                    strict_model: bool = True, gc_sections: bool = True,
                    include_dirs: Sequence[Union[str, Path]] = (), strict_extra: bool = False,
                    lang_flags: Optional[Sequence[str]] = None) -> Path:
-    """The firmware ELF: harness + startup + every .c of ``model_dir`` (+ ``extra_sources``).
+    """The firmware ELF (returned): harness + startup + every .c of ``model_dir``.
 
-    ``config_h`` is the text of fw_config.h (see ``config_float``); the model's own files are
-    compiled with the strict warning set, ``extra_sources`` too with ``strict_extra``; every
-    file with ``lang_flags`` (``compile_objects``). The model's objects are in
-    ``out_dir / "model"``.
+    Parameters
+    ----------
+    model_dir, out_dir : path
+        An emit folder, and where fw_config.h, the objects and fw.elf go.
+    config_h : str
+        The text of fw_config.h (``config_float``).
+    target_name : str
+        A key of ``TARGETS``.
+    extra_sources, include_dirs : sequence of path
+        More C sources and include directories.
+    strict_model, strict_extra, gc_sections : bool
+        Strict warnings (-Werror) for the model's and the extra sources; --gc-sections.
+    lang_flags : sequence of str, optional
+        Replace the C standard and optimization flags (``compile_objects``).
+
+    Examples
+    --------
+    >>> from fricgen.firmware import build_firmware, config_float
+    >>> build_firmware(tmp, config_float("m.h", "m_force", [0.0]), "cortex-m7", tmp / "fw")
+    Traceback (most recent call last):
+    ValueError: target must be one of ['cortex-m0plus', 'cortex-m4f'], got 'cortex-m7'
     """
     fw, out_dir, model_dir = firmware_dir(), Path(out_dir), Path(model_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -163,7 +200,23 @@ def _qemu_cmd(elf: Path, target_name: str) -> List[str]:
 
 
 def run(elf: Union[str, Path], target_name: str, timeout: float = 120) -> List[str]:
-    """Run the firmware on QEMU; return the lines it printed between begin and end markers."""
+    """Run the firmware on QEMU: the lines (hex bits of results) it printed between its markers.
+
+    Parameters
+    ----------
+    elf : path
+        A linked firmware.
+    target_name : str
+        A key of ``TARGETS`` (chooses the emulated board).
+    timeout : float
+        Seconds before the run is abandoned.
+
+    Examples
+    --------
+    >>> from fricgen.firmware import TARGETS
+    >>> {name: t.machine for name, t in TARGETS.items()}
+    {'cortex-m4f': 'mps2-an386', 'cortex-m0plus': 'microbit'}
+    """
     proc = _run(_qemu_cmd(Path(elf), target_name), timeout)
     lines = (proc.stdout + proc.stderr).splitlines()  # QEMU 7.2 prints semihosting on stderr
     try:
@@ -210,7 +263,25 @@ def c_inputs(ctype: str, values) -> str:
 
 
 def config_float(model_header: str, fn: str, inputs, n_bench: int = 0, extra: str = "") -> str:
-    """fw_config.h for a float model function ``float fn(float)`` over ``inputs``."""
+    """fw_config.h for a float model function ``float fn(float)`` over ``inputs``.
+
+    Parameters
+    ----------
+    model_header, fn : str
+        The header that declares ``fn``, and the C function.
+    inputs : array_like
+        The inputs (float32).
+    n_bench : int
+        Further evaluations timed between the benchmark markers.
+    extra : str
+        C text appended (e.g. ``FW_EXTRA()``).
+
+    Examples
+    --------
+    >>> from fricgen.firmware import config_float
+    >>> [ln for ln in config_float("a.h", "a_force", [0.0, 0.01]).splitlines() if "FW_N_" in ln]
+    ['#define FW_N_INPUTS 2u', '#define FW_N_BENCH 0u']
+    """
     inputs = np.asarray(inputs, dtype=np.float32)
     return f"""/* fw_config.h: written by fricgen.firmware. */
 #include <stdint.h>
@@ -249,10 +320,12 @@ static const {ctype} fw_inputs[{inputs.size}] = {{
 
 
 def parse_float_bits(lines: Iterable[str]) -> np.ndarray:
+    """The float32 values of hex bit lines (what a float model's run printed)."""
     return np.array([int(s, 16) for s in lines], dtype=np.uint32).view(np.float32)
 
 
 def parse_int_bits(lines: Iterable[str]) -> np.ndarray:
+    """The int32 values (as int64) of hex bit lines (a fixed-point model's run)."""
     return np.array([int(s, 16) for s in lines], dtype=np.uint32).view(np.int32).astype(np.int64)
 
 

@@ -64,7 +64,24 @@ def host_fma_flags() -> List[str]:
 
 @dataclass(frozen=True)
 class FlagSet:
-    """One build: ``compiler`` ("gcc", "clang", or fw.CC for the Cortex-M4F), ``std``, ``opt``."""
+    """One build of the flag matrix: compiler, C standard and optimization.
+
+    Parameters
+    ----------
+    compiler : str
+        "gcc", "clang" (host builds) or ``build.CC`` (the Cortex-M4F under QEMU).
+    std : str
+        The C standard: "c99" or "gnu99".
+    opt : str
+        The optimization flag: "-O0", "-O2" or "-Os".
+
+    Examples
+    --------
+    >>> from fricgen.firmware import FlagSet
+    >>> fs = FlagSet("gcc", "gnu99", "-Os")
+    >>> fs.target, fs.lang_flags, fs.label
+    ('host', ['-std=gnu99', '-Os'], 'gcc -std=gnu99 -Os')
+    """
 
     compiler: str
     std: str
@@ -85,7 +102,27 @@ class FlagSet:
 
 def available_flag_sets(stds: Sequence[str] = STDS, opts: Sequence[str] = OPTS,
                         arm: bool = True) -> List[FlagSet]:
-    """Every flag set whose compiler is installed (the Cortex-M4F also needs QEMU)."""
+    """Every flag set whose compiler is installed (the Cortex-M4F also needs QEMU).
+
+    Parameters
+    ----------
+    stds, opts : sequence of str
+        The C standards and optimization flags to combine.
+    arm : bool
+        Whether the Cortex-M4F builds are included when its tools are installed.
+
+    Returns
+    -------
+    list of FlagSet
+        Compiler x standard x optimization, host compilers first.
+
+    Examples
+    --------
+    >>> from fricgen.firmware import available_flag_sets
+    >>> sets = available_flag_sets(stds=("c99",), opts=("-O2",), arm=False)
+    >>> all(fs.target == "host" and fs.opt == "-O2" for fs in sets)
+    True
+    """
     compilers = [c for c in HOST_COMPILERS if shutil.which(c)]
     if arm and fw.missing_tools() is None:
         compilers.append(fw.CC)

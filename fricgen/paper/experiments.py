@@ -267,7 +267,40 @@ def _single_threaded_blas():
 
 def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
               progress: Callable[[str], None] = lambda msg: None, shape: str = "gauss") -> dict:
-    """Run every experiment over ``seeds`` seeds in ``jobs`` worker processes; the results dict."""
+    """Run every experiment of sections 3-5 over ``seeds`` seeds in ``jobs`` worker processes.
+
+    Per seed (``run_seed``) the benchmark of section 2 (Table 1) is synthesized, the headline
+    models (``HEADLINE``) fitted and scored by the errors of eqs. (4)-(6), and the sweeps run.
+
+    Parameters
+    ----------
+    seeds : int
+        Seeds to average over (the paper: ``SEEDS`` = 20).
+    quick : bool
+        Coarse grids and fewer epochs (a smoke run, ``Plan``).
+    jobs : int
+        Worker processes.
+    progress : callable
+        Called with a line of text after each seed.
+    shape : str
+        The Stribeck shape of eq. (2) of the benchmark's friction.
+
+    Returns
+    -------
+    dict
+        The results.json object: ``benchmark``, ``models`` (Table 2 rows), ``sweeps``,
+        ``summary`` and ``findings`` (the paper's claims checked).
+
+    Examples
+    --------
+    A quick run of two seeds takes minutes, so only the check of the arguments runs here:
+
+    >>> from fricgen.paper import reproduce
+    >>> result = reproduce(seeds=2, quick=True)           # doctest: +SKIP
+    >>> reproduce(seeds=0)
+    Traceback (most recent call last):
+    ValueError: seeds must be a positive integer, got 0
+    """
     integer("seeds", seeds)
     integer("jobs", jobs)
     plan = Plan(quick)
@@ -291,6 +324,30 @@ def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
 
 
 def fitted_seed0(shape: str = "gauss") -> dict:
-    """The headline models fitted on seed 0 (for the curve figures)."""
+    """The headline models (``HEADLINE``) fitted on seed 0 of the benchmark (for the curve
+    figures of ``render_figures``).
+
+    Parameters
+    ----------
+    shape : str
+        The Stribeck shape of eq. (2) of the benchmark's friction.
+
+    Returns
+    -------
+    dict
+        Method name -> fitted estimator.
+
+    Examples
+    --------
+    The fits take about half a minute; the example shows the names and the shape check:
+
+    >>> from fricgen.paper import HEADLINE, fitted_seed0
+    >>> list(HEADLINE)[:3]
+    ['fuzzy_bell4', 'fuzzy_gauss4', 'elm_standard']
+    >>> fitted = fitted_seed0()                           # doctest: +SKIP
+    >>> fitted_seed0("sawtooth")
+    Traceback (most recent call last):
+    ValueError: shape must be one of ['exponential', 'gauss', 'rational'], got 'sawtooth'
+    """
     bench = synthesize_benchmark(preset("paper3", shape), seed=0)
     return {name: make(0, shape).fit(bench.dataset.x, bench.dataset.t) for name, make in HEADLINE.items()}

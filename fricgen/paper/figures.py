@@ -41,8 +41,29 @@ def _errors_panel(ax, grid, curve, title, xlabel="number of hidden neurons"):
 
 
 def render_figures(result: dict, fitted: Dict[str, object]) -> Dict[str, bytes]:
-    """Every figure of ``FIGURES`` as PNG bytes, by file name (matplotlib needed); ``fitted``
-    maps headline method names to estimators fitted on seed 0 of the benchmark."""
+    """Every figure of ``FIGURES`` as PNG bytes, by file name (matplotlib needed).
+
+    Parameters
+    ----------
+    result : dict
+        A ``reproduce`` result (its ``sweeps`` and ``benchmark``).
+    fitted : dict
+        Headline method names -> estimators fitted on seed 0 (``fitted_seed0``).
+
+    Returns
+    -------
+    dict
+        File name -> PNG bytes.
+
+    Examples
+    --------
+    A result takes minutes (``reproduce``); the figures it gives are these:
+
+    >>> from fricgen.paper import FIGURES, fitted_seed0, render_figures, reproduce
+    >>> len(FIGURES), FIGURES["pso_landscape.png"].split(":")[0]
+    (10, 'fig. 21')
+    >>> pngs = render_figures(reproduce(seeds=2, quick=True), fitted_seed0())  # doctest: +SKIP
+    """
     plt = pyplot()
     shape = result["benchmark"].get("shape", "gauss")
     bench = synthesize_benchmark(preset("paper3", shape), seed=0)

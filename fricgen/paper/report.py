@@ -28,7 +28,38 @@ def _triple(values) -> str:
 
 
 def render(result: dict, figures: Optional[list] = None, figure_note: str = "") -> str:
-    """The markdown report of a ``reproduce`` result."""
+    """The markdown report of a ``reproduce`` result: Table 2 measured beside the paper's, its
+    grades, fricgen's models against the oracle, and where the claims agree or differ.
+
+    Parameters
+    ----------
+    result : dict
+        A ``reproduce`` result (``benchmark``, ``models``, ``summary``, ``findings``).
+    figures : list of (str, str), optional
+        (file name, description) of the figures written beside it.
+    figure_note : str
+        A closing paragraph (e.g. why no figures were written).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    A stand-in with every row equal (a real result takes minutes):
+
+    >>> from fricgen.paper import HEADLINE, render
+    >>> from fricgen.paper.experiments import summary
+    >>> row = dict(n_hidden=6, e_train=0.02, e_test=0.02, e_ttest=0.007, paper=None, beta_norm=1.0,
+    ...            e_ttest_newton=0.2, e_ttest_newton_median=0.2, log10_cond=3.0, fit_seconds=0.01)
+    >>> result = {"benchmark": dict(shape="gauss", n_train=200, n_test=200, n_theory=500,
+    ...                             noise=0.5, seeds=1, quick=True, seconds=1.0),
+    ...           "models": [dict(row, method=m) for m in HEADLINE], "findings": {}}
+    >>> result["summary"] = summary(result)
+    >>> text = render(result)
+    >>> text.splitlines()[0][:16], "## Table 2, measured" in text
+    ('# Reproduction o', True)
+    """
     b = result["benchmark"]
     rows = result["models"]
     s = result["summary"]

@@ -81,7 +81,28 @@ def _memory_step(s, speed, tau: Optional[np.ndarray], gain):
 
 @dataclass(frozen=True)
 class MotorAxis:
-    """The axis of eq. (18) under ``law`` (a ``ForceLaw``)."""
+    """The axis of eq. (18), sec. 6, under ``law``: m v' = phi i - F_fr(v, t, s) - F_ext(x, v, t),
+    stuck at rest until the applied force exceeds the breakaway force (Karnopp).
+
+    Parameters
+    ----------
+    law : ForceLaw
+        m, phi, i_max, lag_tau and the forces, arrays over a batch of axes or scalars (e.g.
+        ``sim.effect_law.EffectLaw``: a friction curve of eq. (1) or (3) and named effects).
+
+    Examples
+    --------
+    >>> from fricgen import preset
+    >>> from fricgen.sim import MotorAxis
+    >>> from fricgen.sim.axis import AxisState
+    >>> from fricgen.sim.effect_law import EffectLaw
+    >>> axis = MotorAxis(EffectLaw(preset("paper3"), mass=2.0, force_constant=18.0))
+    >>> float(axis.breakaway())                 # |F(0+)| of Table 1's friction (N)
+    44.0
+    >>> end = axis.karnopp(AxisState.of([0.0, 0.0]), i=[1.0, 4.0], dt=0.01, substeps=10)
+    >>> (end.v > 0).tolist()                    # 18 N and 72 N against 44 N breakaway
+    [False, True]
+    """
 
     law: ForceLaw
 

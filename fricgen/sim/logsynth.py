@@ -55,7 +55,37 @@ MAX_DURATION = 1200.0
 
 @dataclass(frozen=True)
 class LogSpec:
-    """One synthetic log: the hidden effect and its magnitude, seed, noise scale and axis."""
+    """One synthetic log: the hidden effect and its magnitude, seed, noise scale and axis
+    (the truth axis of eq. (18), sec. 6, with Table 1's friction).
+
+    Parameters
+    ----------
+    effect : str
+        The hidden effect, one of ``HIDDEN_EFFECTS`` ("none": none).
+    magnitude : float
+        Its size in units of the reference size (``magnitude_range`` bounds it).
+    seed : int
+        Seeds the reference trajectory and the sensor noise.
+    duration : float
+        Length of the log (s), at most ``MAX_DURATION``.
+    noise : float
+        Scale of the sensor noise (0: none).
+    mass, force_constant, i_max : float
+        Nominal m (kg), phi (N/A) and current limit (A) of the axis.
+    sample_rate : float
+        Samples per second (Hz).
+    substeps : int
+        Karnopp integration steps per sample.
+
+    Examples
+    --------
+    >>> from fricgen.sim import LogSpec
+    >>> LogSpec("constant_load", duration=2.0).n_samples
+    2001
+    >>> LogSpec("gremlins")
+    Traceback (most recent call last):
+    ValueError: effect must be one of [...], got 'gremlins'
+    """
 
     effect: str = "none"
     magnitude: float = 1.0
@@ -246,5 +276,29 @@ def synthesize_logs(specs: Sequence[LogSpec], model: Optional[FrictionModel] = N
 
 
 def synthesize_log(spec: LogSpec, model: Optional[FrictionModel] = None) -> MotionLog:
-    """One log of ``synthesize_logs``."""
+    """One closed-loop log of the truth axis of ``spec`` (``synthesize_logs``).
+
+    Parameters
+    ----------
+    spec : LogSpec
+        The log's hidden effect, seed, noise and axis.
+    model : FrictionModel, optional
+        The friction model of the controller's feed-forward (default: ``nominal_model()``, the
+        default ELM trained on the paper's benchmark).
+
+    Returns
+    -------
+    MotionLog
+        t, x, v, i as measured (noisy, quantized), and the reference in ``extra["x_d"]``.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.sim import LogSpec, synthesize_log
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=10, random_state=0))
+    >>> log = synthesize_log(LogSpec("position_ripple", duration=1.0, substeps=2), model)
+    >>> len(log), sorted(log.extra), bool(abs(log.x).max() < 0.2)
+    (1001, ['x_d'], True)
+    """
     return synthesize_logs([spec], model)[0]

@@ -62,7 +62,37 @@ MAX_PLANT_STEP = 2.5e-4
 
 @dataclass(frozen=True)
 class Scenario:
-    """One test log and what the user holds about its plant."""
+    """One test log and what the user holds about its plant (``make_scenario``).
+
+    Parameters
+    ----------
+    log : MotionLog
+        The measured-style log of the plant of eq. (18), sec. 6.
+    model : FrictionModel
+        The friction model the user holds.
+    mass, force_constant : float
+        The nominal m (kg) and phi (N/A) the user believes.
+    hidden : tuple of str
+        The hidden effects' names.
+    conditions : dict
+        The settings and measured figures (JSON; see the module docstring).
+    hidden_forces : dict
+        Each hidden effect's force along the log (N per sample).
+    true_mass : float, optional
+        The plant's mass.
+
+    Examples
+    --------
+    >>> import numpy as np, fricgen
+    >>> from fricgen.sim import LogSpec, Scenario, synthesize_log
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> model = fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=10, random_state=0))
+    >>> log = synthesize_log(LogSpec("constant_load", duration=1.0, substeps=2), model)
+    >>> sc = Scenario(log, model, 4.0, 20.0, ("constant_load",), true_mass=4.0,
+    ...               hidden_forces={"constant_load": np.full(len(log), 5.0)})
+    >>> float(sc.hidden_force[0]), round(float(log.i[0] - sc.truth_log().i[0]), 3)   # 5 N / phi
+    (5.0, 0.25)
+    """
 
     log: MotionLog
     model: FrictionModel
@@ -172,6 +202,43 @@ def make_scenario(seed: int, hidden: Sequence[str] = (), *, rate_hz: Optional[fl
     Everything not fixed by an argument is drawn from ``seed`` alone, so the same seed with
     other hidden effects has the same plant, controller, trajectory and sensor noise: the
     logs differ only by the effects. ``noise`` scales the drawn sensor noise (1: as drawn).
+
+    Parameters
+    ----------
+    seed : int
+        Draws the plant, controller, trajectory and sensors.
+    hidden : sequence of str
+        Hidden effects: names of ``hidden_effects.NAMED`` or ``"oov:<shape>"``.
+    rate_hz, duration_s : float, optional
+        Sample rate (50-20000 Hz) and length (1 s to ``MAX_DURATION``) of the log.
+    noise : float, optional
+        Scale of the drawn sensor noise.
+    controller, trajectory : str, optional
+        One of ``closed_loop.CONTROLLERS`` and of ``trajectory.TRAJECTORIES``.
+    feedforward : bool, optional
+        Whether the controller uses inertia and friction feed-forward.
+    magnitude : float
+        The hidden effects' size in units of their reference size.
+
+    Returns
+    -------
+    Scenario
+
+    Notes
+    -----
+    A scenario takes tens of seconds (the user's model is fitted by cross-validation), so the
+    example shows only the settings' checks.
+
+    Examples
+    --------
+    >>> from fricgen.sim import make_scenario
+    >>> sc = make_scenario(3, ("constant_load",), duration_s=5.0)     # doctest: +SKIP
+    >>> make_scenario(3, ("gremlins",))
+    Traceback (most recent call last):
+    ValueError: unknown hidden effect 'gremlins'; named: ...
+    >>> make_scenario(3, ("constant_load",), rate_hz=10.0)
+    Traceback (most recent call last):
+    ValueError: rate_hz must be in [50, 20000], got 10.0
     """
     hidden = _normalize_hidden(hidden)
     if not (isinstance(magnitude, (int, float)) and math.isfinite(magnitude) and magnitude > 0):
