@@ -17,6 +17,7 @@ import numpy as np
 
 from ._validate import ACCEPT_UNUSUAL, USUAL_MAX, physical_problem, unusual
 from ._io import named_data
+from .c_names import check_model_name
 from .codegen.cost import cortex_m4f_instructions, host_ns
 from .codegen.parity import float32_problem
 from .data.inverse_dynamics import Identification, describe_missing, identify_log, is_log
@@ -30,7 +31,7 @@ from .fit.directions import CV_FOLDS, DirectionsFit, fit_friction
 from .fit.elm import EnlargedScheme
 from .fit.stribeck import XS_MAX
 from .metrics import rmse
-from .model import DEFAULT_MODEL_NAME, FrictionModel, check_model_name
+from .model import DEFAULT_MODEL_NAME, FrictionModel
 
 __all__ = ["FitReport", "train"]
 
