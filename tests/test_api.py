@@ -19,7 +19,7 @@ DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model", "fricgen.c_names", 
              "fricgen.fit.stribeck", "fricgen.fit.default", "fricgen.fit.anfis",
              "fricgen.fit.conditioning", "fricgen.fit.oracle", "fricgen.networks",
              "fricgen.networks.elm", "fricgen.networks.anfis", "fricgen.networks.stribeck",
-             "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.library", "fricgen.effects.signals", "fricgen.effects.tables",
+             "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.mechanical", "fricgen.effects.friction_changes", "fricgen.effects.signals", "fricgen.effects.tables",
              "fricgen.codegen.render", "fricgen.codegen.package", "fricgen.control.loop", "fricgen.control.backstepping",
              "fricgen.control.c_controller"]
 #: Public objects held to numpydoc: Parameters naming every argument, and Examples.
