@@ -33,7 +33,8 @@ from independent_axis import fleet_axis, fleet_log, write_fleet_log  # noqa: E40
 
 from fricgen.cli import blas_env  # noqa: E402
 from fricgen.cli.train import train_argv  # noqa: E402
-from fricgen.fleet import Entry, latest, run_fleet  # noqa: E402
+from fricgen.fleet import Entry, run_fleet  # noqa: E402
+from fricgen.fleet.drift import latest  # noqa: E402
 
 DRIFT_RANGE = (0.03, 0.30)      # the drifted axes' growth of Coulomb and static friction
 

@@ -14,7 +14,7 @@ The public names are importable from here, loaded on first use (PEP 562), so tha
 
 Subpackages, in their one-way import order: ``networks`` and ``effects`` (what a model holds),
 ``model`` (eq. 3 and model.json), ``data``, ``fit``, ``codegen``, ``training``, ``sim``,
-``control``, ``diagnose``, ``paper``, ``firmware``, ``cli``.
+``control``, ``diagnose``, ``paper``, ``firmware``, ``fleet``, ``cli``.
 
 Examples
 --------
@@ -38,7 +38,7 @@ _PUBLIC = {
     "synthesize_benchmark": "data",
     "DefaultRegressor": "fit", "StribeckRegressor": "fit", "AutoELMRegressor": "fit",
     "ELMRegressor": "fit",
-    "train": "training", "FitReport": "training",
+    "train": "training.trainer", "FitReport": "training.report",
     "emit": "codegen", "render": "codegen",
     "Diagnoser": "diagnose",
     "AdaptiveBackstepping": "control", "compare": "control",

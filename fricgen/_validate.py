@@ -99,6 +99,22 @@ def float32_scale(what: str, value: float, unit: str, hint: str,
                     f"{low:g} and {high:g} ({hint})")
 
 
+def float32_overflow(value, where: str) -> str:
+    """The path of the first number in ``value`` (nested dicts and lists, as JSON gives them)
+    beyond FLOAT32_MAX, where the C's float tables would hold infinity; '' if none."""
+    if isinstance(value, dict):
+        items = ((f"{where}.{k}", v) for k, v in value.items())
+    elif isinstance(value, list):
+        items = ((f"{where}[{k}]", v) for k, v in enumerate(value))
+    else:
+        return where if finite_number(value) and abs(value) > FLOAT32_MAX else ""
+    for path, item in items:
+        found = float32_overflow(item, path)
+        if found:
+            return found
+    return ""
+
+
 # ----------------------------------------------------------------------------- JSON fields
 
 

@@ -13,8 +13,6 @@ from __future__ import annotations
 import errno
 import hashlib
 import json
-import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, Optional, Tuple, Union
@@ -23,9 +21,11 @@ import numpy as np
 
 from . import __version__
 from ._io import read_only, write_atomic
+from ._json import finite_or_null, read_json
 from .axis import Axis
-from ._validate import (ACCEPT_UNUSUAL, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, finite_number,
+from ._validate import (ACCEPT_UNUSUAL, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, float32_overflow,
                         float32_scale, json_number, physical_problem)
+from .c_names import check_c_identifier
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict
@@ -40,102 +40,8 @@ _DIRECTION_FIELDS = ("aim", "scaling", "viscous", "v_sat")
 #: Largest model.json read: MAX_HIDDEN neurons of three tables fit in well under 1 MB.
 MAX_JSON_BYTES = 16 << 20
 
-_C_KEYWORDS = frozenset("""auto break case char const continue default do double else enum extern
-float for goto if inline int long register restrict return short signed sizeof static struct
-switch typedef union unsigned void volatile while _Bool _Complex _Imaginary""".split())
-_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,62}\Z")
-#: The C runtime's prefix: its files (fric_kernel.h, fric_fast.h, fric_ctrl.h), functions and
-#: macros (FRIC_KERNEL_H, ...) begin with it, in any case; no model name may.
-RUNTIME_PREFIX = "fric_"
-#: The C standard library's headers: a model named like one would shadow it (NAME.h beside the
-#: runtime, whose folder is on the include path) on any file system that ignores case.
-_C_STD_HEADERS = frozenset("""assert complex ctype errno fenv float inttypes iso646 limits locale
-math setjmp signal stdalign stdarg stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string
-tgmath threads time uchar wchar wctype""".split())
 #: The name ``fricgen train`` gives a model without ``--name``.
 DEFAULT_MODEL_NAME = "friction_model"
-
-
-def check_c_identifier(name: Any, what: str = "name") -> str:
-    """A C identifier of file scope: at most 63 characters, no keyword, no leading underscore
-    (C99 7.1.3 reserves every file-scope name that begins with one).
-
-    Parameters
-    ----------
-    name : object
-        The candidate.
-    what : str
-        What the message calls it.
-
-    Returns
-    -------
-    str
-        ``name``, unchanged; a ``ModelError`` naming ``what`` when it is no such identifier.
-
-    Examples
-    --------
-    >>> from fricgen.model import check_c_identifier
-    >>> check_c_identifier("axis_x")
-    'axis_x'
-    """
-    if isinstance(name, str) and name in _C_KEYWORDS:
-        raise ModelError(f"{what} must not be a C keyword, got {name!r}")
-    if not isinstance(name, str) or not _IDENT.match(name):
-        raise ModelError(f"{what} must be a C identifier (letters, digits, _; 1-63 characters), "
-                         f"got {name!r}"[:200])
-    if name.startswith("_"):
-        raise ModelError(f"{what} must not begin with '_' (C reserves such names), got {name!r}")
-    return name
-
-
-def check_model_name(name: Any, what: str = "name") -> str:
-    """A name the emitted C may use for NAME.h, NAME.c, NAME_force and the guard: a C identifier
-    outside the runtime's prefix (``fric_``) and unlike any standard header, in any case.
-
-    Parameters
-    ----------
-    name : object
-        The candidate.
-    what : str
-        What the message calls it.
-
-    Returns
-    -------
-    str
-        ``name``, unchanged; a ``ModelError`` otherwise.
-
-    Examples
-    --------
-    >>> from fricgen.model import check_model_name
-    >>> try:
-    ...     check_model_name("math")
-    ... except ValueError as exc:
-    ...     print(exc)
-    name must not be the name of a C standard header (math.h), got 'math'
-    """
-    check_c_identifier(name, what)
-    if name.lower().startswith(RUNTIME_PREFIX):
-        raise ModelError(f"{what} must not begin with {RUNTIME_PREFIX!r} in any case (the C "
-                         f"runtime's files and symbols use it), got {name!r}")
-    if name.lower() in _C_STD_HEADERS:
-        raise ModelError(f"{what} must not be the name of a C standard header "
-                         f"({name.lower()}.h), got {name!r}")
-    return name
-
-
-def _reject_constant(name: str):
-    raise ValueError(f"{name} is not a JSON number")
-
-
-def _unique_keys(pairs) -> dict:
-    """A JSON object's dict; ``ModelError`` when a key appears twice (JSON keeps the last
-    silently, so a hand-edited value could be lost)."""
-    d = {}
-    for key, value in pairs:
-        if key in d:
-            raise ModelError(f"key {key!r} appears twice in one object"[:200])
-        d[key] = value
-    return d
 
 
 #: A friction curve must oppose the motion up to this many times v_sat: a negative B may bend
@@ -147,33 +53,6 @@ PHYSICAL_FORCE_MAX = PHYSICAL["force"][1]
 _CHECK_SPEEDS = np.linspace(0.0, 1.0, 129)
 #: How far K_in v_sat may be from 1 (eq. (9): K_in = 1/v_sat, written and read back in float64).
 K_IN_TOLERANCE = 1e-9
-
-
-def _float32_overflow(value, where: str) -> str:
-    """The path of the first number in ``value`` (nested dicts and lists, as JSON gives them)
-    beyond FLOAT32_MAX, where the C's float tables would hold infinity; '' if none."""
-    if isinstance(value, dict):
-        items = ((f"{where}.{k}", v) for k, v in value.items())
-    elif isinstance(value, list):
-        items = ((f"{where}[{k}]", v) for k, v in enumerate(value))
-    else:
-        return where if finite_number(value) and abs(value) > FLOAT32_MAX else ""
-    for path, item in items:
-        found = _float32_overflow(item, path)
-        if found:
-            return found
-    return ""
-
-
-def _finite_or_null(value):
-    """``value`` with every non-finite float (at any depth) replaced by None."""
-    if isinstance(value, dict):
-        return {k: _finite_or_null(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite_or_null(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 @dataclass(frozen=True)
@@ -310,7 +189,7 @@ class Direction:
             raise ModelError(f"scaling.k_in ({k_in:.6g} 1/(m/s)) times v_sat ({v_sat:.6g} m/s) is "
                              f"{k_in * v_sat:.6g}; eq. (9) needs k_in = 1/v_sat (was one of them edited?)")
         for key in ("aim", "scaling", "viscous", "v_sat"):
-            where = _float32_overflow(d.get(key), key)
+            where = float32_overflow(d.get(key), key)
             if where:
                 raise ModelError(f"{where} is beyond {FLOAT32_MAX:.4g}, the largest float32: the C "
                                  "would hold infinity there")
@@ -488,7 +367,7 @@ class FrictionModel:
     @property
     def model_hash(self) -> str:
         """SHA-256 (first 16 hex digits) of everything that determines the force."""
-        core = _finite_or_null(self._force_fields())
+        core = finite_or_null(self._force_fields())
         return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
 
     @property
@@ -506,7 +385,7 @@ class FrictionModel:
     def to_json(self) -> str:
         """model.json's text: strict JSON (a non-finite number in ``training``, such as the C
         of the pseudo-inverse, is written as null)."""
-        return json.dumps(_finite_or_null(self.to_dict()), indent=1, allow_nan=False) + "\n"
+        return json.dumps(finite_or_null(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
     def save(self, path: Union[str, Path], force: bool = False) -> Path:
         """Write model.json to ``path`` all or nothing.
@@ -592,25 +471,7 @@ class FrictionModel:
         ModelError
             Any problem of the file, in one line naming ``path``.
         """
-        try:
-            if Path(path).stat().st_size > MAX_JSON_BYTES:
-                raise ModelError(f"{path}: larger than {MAX_JSON_BYTES} bytes; not a model.json")
-            text = Path(path).read_text(encoding="utf-8-sig")
-        except OSError as exc:
-            raise ModelError(f"{path}: cannot read ({exc.strerror})") from None
-        except UnicodeDecodeError as exc:
-            raise ModelError(f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
-                             f"offset {exc.start})") from None
-        try:
-            d = json.loads(text, parse_constant=_reject_constant, object_pairs_hook=_unique_keys)
-        except ModelError as exc:
-            raise ModelError(f"{path}: {exc}") from None
-        except json.JSONDecodeError as exc:
-            raise ModelError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
-        except RecursionError:
-            raise ModelError(f"{path}: not a model.json (nested too deeply)") from None
-        except ValueError as exc:          # e.g. an integer of more than 4300 digits
-            raise ModelError(f"{path}: not valid JSON ({str(exc).split(':')[0]})") from None
+        d = read_json(path, MAX_JSON_BYTES, "a model.json")
         try:
             return cls.from_dict(d)
         except ModelError as exc:

@@ -12,14 +12,14 @@ import pytest
 import fricgen
 
 #: Modules whose docstring examples run here.
-DOCTESTED = ["fricgen", "fricgen.training", "fricgen.model", "fricgen.errors", "fricgen.friction",
+DOCTESTED = ["fricgen", "fricgen.training.report", "fricgen.training.trainer", "fricgen.model", "fricgen.c_names", "fricgen.errors", "fricgen.friction",
              "fricgen.data.sweep", "fricgen.data.motionlog", "fricgen.data.benchmark",
              "fricgen.data.training_set", "fricgen.data.stribeck_range", "fricgen.data.viscous",
              "fricgen.fit", "fricgen.fit.base", "fricgen.fit.elm", "fricgen.fit.auto",
              "fricgen.fit.stribeck", "fricgen.fit.default", "fricgen.fit.anfis",
              "fricgen.fit.conditioning", "fricgen.fit.oracle", "fricgen.networks",
              "fricgen.networks.elm", "fricgen.networks.anfis", "fricgen.networks.stribeck",
-             "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.library", "fricgen.effects.signals", "fricgen.effects.tables",
+             "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.mechanical", "fricgen.effects.friction_changes", "fricgen.effects.signals", "fricgen.effects.tables",
              "fricgen.codegen.render", "fricgen.codegen.package", "fricgen.control.loop", "fricgen.control.backstepping",
              "fricgen.control.c_controller", "fricgen.diagnose.diagnoser", "fricgen.diagnose.report",
              "fricgen.sim.axis", "fricgen.sim.logsynth", "fricgen.sim.scenarios",

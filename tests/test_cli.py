@@ -36,7 +36,7 @@ def test_train_writes_a_valid_model_and_reports(sweep_csv, tmp_path, capsys):
 
 
 def test_training_errors_keep_their_digits_when_small():
-    from fricgen.training import error_line
+    from fricgen.training.report import error_line
     line = error_line({"e_train": 2.5e-7, "e_train_newton": 3.2e-6, "e_validation_kind": "E_loo",
                        "e_loo": 0.01234567, "e_loo_newton": 1.5})
     assert "E_train = 2.5e-07 (3.2e-06 N)" in line and "E_loo = 0.01235 (1.5 N)" in line

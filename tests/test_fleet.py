@@ -18,8 +18,8 @@ from independent_axis import fleet_axis, fleet_log, write_fleet_log  # noqa: E40
 from fricgen.cli import main  # noqa: E402
 from fricgen.cli import blas_env  # noqa: E402
 from fricgen.cli.train import train_argv  # noqa: E402
-from fricgen.fleet import (Entry, drift_table, load_results, read_manifest,  # noqa: E402
-                           run_fleet)
+from fricgen.fleet import Entry, drift_table, read_manifest, run_fleet  # noqa: E402
+from fricgen.fleet.store import load_results  # noqa: E402
 
 DURATION = 8.0          # s: short logs, each still identified
 

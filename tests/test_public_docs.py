@@ -14,8 +14,8 @@ import fricgen
 #: of the others.
 DOCUMENTED = ("fricgen", "fricgen.data", "fricgen.fit", "fricgen.networks", "fricgen.effects",
               "fricgen.codegen", "fricgen.control", "fricgen.training", "fricgen.model",
-              "fricgen.friction", "fricgen.errors", "fricgen.diagnose", "fricgen.sim",
-              "fricgen.firmware", "fricgen.paper")
+              "fricgen.c_names", "fricgen.friction", "fricgen.errors", "fricgen.diagnose",
+              "fricgen.sim", "fricgen.firmware", "fricgen.paper")
 
 SECTION_LINE = re.compile(r"^(\w[\w ]*)\n-{3,}$", flags=re.M)
 

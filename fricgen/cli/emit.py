@@ -3,12 +3,13 @@ with the folder's build files (CMake, Zephyr, PlatformIO: fricgen.codegen.packag
 from __future__ import annotations
 
 from .._io import check_folder
+from ..c_names import check_model_name
 from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite,
                        package_files, render)
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..control.c_adapted import render_adapt
 from ..errors import UsageError
-from ..model import FrictionModel, check_model_name
+from ..model import FrictionModel
 from .inputs import load_model
 from .common import FORCE_C, add_output, check_targets, number, say, write_targets
 

@@ -2,7 +2,8 @@
 from __future__ import annotations
 
 from ..errors import UsageError
-from ..fleet import BASELINES, MIN_CHANGE, SIGMAS, read_manifest, run_fleet
+from ..fleet import MIN_CHANGE, SIGMAS, read_manifest, run_fleet
+from ..fleet.drift import BASELINES
 from .common import add_seed, number, positive_float, say
 from .inputs import add_export_options
 from . import INTERRUPTED, blas_env

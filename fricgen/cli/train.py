@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..c_names import check_model_name
 from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, is_log
 from ..data.sweep import MIN_ROWS
 from ..data.table import header_cells
@@ -11,7 +12,7 @@ from .._validate import MAX_HIDDEN
 from ..errors import DataError, UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, StribeckRegressor, default_elm, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
-from ..model import DEFAULT_MODEL_NAME, check_model_name
+from ..model import DEFAULT_MODEL_NAME
 from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
 from .._io import check_destination

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from .base import PLAUSIBLE_FACTOR, Effect
 from .carried import effect_from_dict, force_xv, model_effects, validate_effects, with_effects
-from .library import (EFFECTS, VOCABULARY, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
-                      ForceConstantMismatch, FrictionalLag, InertiaMismatch, PositionRipple, ThermalDrift)
+from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
+from .library import EFFECTS, VOCABULARY
+from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch, PositionRipple
 from .signals import FrictionCurve, Signals
 from .tables import TABLES, TableEffect, range_notes
 

@@ -1,0 +1,41 @@
+"""The numerics the named effects' fits share: least squares on the rows fitted, and a search
+over one nonlinear parameter (a grid, refined by bounded Brent between the best point's
+neighbours)."""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from .base import Effect
+
+
+def lstsq(basis: np.ndarray, target: np.ndarray) -> Tuple[np.ndarray, float]:
+    """The least-squares coefficients of ``basis`` for ``target``, and the residual sum of squares."""
+    coef, *_ = np.linalg.lstsq(basis, target, rcond=None)
+    return coef, float(np.sum((target - basis @ coef) ** 2))
+
+
+def refine(objective, lo: float, hi: float) -> float:
+    """Minimize a 1-D objective on [lo, hi] (bounded Brent)."""
+    res = minimize_scalar(objective, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4 * (hi - lo)})
+    return float(res.x)
+
+
+def grid_then_refine(rss_of, grid: np.ndarray) -> float:
+    """The grid point with the least RSS, refined between its neighbours."""
+    rss = np.array([rss_of(g) for g in grid])
+    k = int(np.argmin(rss))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    if hi <= lo:
+        return float(grid[k])
+    best = refine(rss_of, lo, hi)
+    return best if rss_of(best) <= rss[k] else float(grid[k])
+
+
+def fit_linear(template: "Effect", problem, rows) -> "Effect":
+    """``template`` with its linear parameters (``Effect.linear``) fitted by least squares."""
+    regressors, _ = template.linear(problem.signals)
+    coef, _ = lstsq(problem.at_rows(regressors, rows), problem.target[rows])
+    return template.with_coefficients(coef)

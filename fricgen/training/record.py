@@ -1,0 +1,141 @@
+"""model.json's ``training`` record: how each curve was fitted (the method, the model chosen, a
+grey-box curve's standard errors), its training and validation errors, and the axis of the data.
+
+What the record says of an estimator is registered per estimator type (``functools.singledispatch``):
+a new estimator adds its functions here rather than a branch to a chain.
+"""
+from __future__ import annotations
+
+from functools import singledispatch
+from typing import Optional
+
+import numpy as np
+
+from ..data.inverse_dynamics import Identification
+from ..data.sweep import Sweep
+from ..fit import DEFAULT_ELM, AutoELMRegressor, DefaultRegressor, ELMRegressor, StribeckRegressor
+from ..fit.elm import EnlargedScheme
+from ..metrics import rmse
+
+
+@singledispatch
+def method_record(estimator) -> dict:
+    """model.json's ``training.method`` (and the ELM's options) for ``estimator``."""
+    return {"method": type(estimator).__name__, "scheme": type(estimator).__name__}
+
+
+@method_record.register
+def _(estimator: DefaultRegressor) -> dict:
+    return {"method": "auto", "scheme": "auto"}
+
+
+@method_record.register
+def _(estimator: AutoELMRegressor) -> dict:
+    return {"method": "elm_auto", "scheme": "elm_auto"}
+
+
+@method_record.register
+def _(estimator: StribeckRegressor) -> dict:
+    return {"method": "stribeck", "scheme": "stribeck"}
+
+
+@method_record.register
+def _(estimator: ELMRegressor) -> dict:
+    scheme = estimator.scheme
+    if scheme == "enlarged":
+        scheme = EnlargedScheme()
+    enlarged = isinstance(scheme, EnlargedScheme)
+    return {"method": "elm", "scheme": "enlarged" if enlarged else scheme,
+            "w_max": scheme.w_max if enlarged else DEFAULT_ELM["scheme"].w_max,
+            "solver": estimator.solver}
+
+
+@singledispatch
+def validation_error(estimator) -> tuple:
+    """The kind and value of the error on held-out points that the fit report prints."""
+    return "leave-one-out", estimator.loo_rmse_
+
+
+@validation_error.register
+def _(estimator: DefaultRegressor) -> tuple:
+    return "cross-validated", estimator.cv_rmse_[estimator.choice_]
+
+
+@validation_error.register
+def _(estimator: StribeckRegressor) -> tuple:
+    return "cross-validated", estimator.cv_rmse_
+
+
+@singledispatch
+def chosen_record(estimator) -> dict:
+    """model.json's training record of the model an estimator fitted (an ELM's by default)."""
+    return {"activation": estimator.activation, "n_hidden": estimator.n_hidden, "C": estimator.C_}
+
+
+@chosen_record.register
+def _(estimator: DefaultRegressor) -> dict:
+    entry = chosen_record(estimator.chosen_)
+    extra = {"choice": estimator.choice_, "choice_reason": estimator.why(),
+             "n_outliers_rejected": estimator.n_outliers_}
+    keys = list(entry)
+    return {**{k: entry[k] for k in keys[:2]}, **extra, **{k: entry[k] for k in keys[2:]}}
+
+
+@chosen_record.register
+def _(estimator: StribeckRegressor) -> dict:
+    return {"activation": estimator.activation, "n_hidden": estimator.n_hidden,
+            "shape": estimator.shape_, "n_sources": estimator.n_sources_}
+
+
+@singledispatch
+def fitted_rows(estimator):
+    """The training points the estimator fitted (the default sets gross outliers aside)."""
+    return slice(None)
+
+
+@fitted_rows.register
+def _(estimator: DefaultRegressor):
+    return estimator.inliers_
+
+
+def curve_errors(dataset, estimator) -> dict:
+    """The errors of the report; E_train over the points fitted (the gross outliers the default
+    sets aside are not)."""
+    rows = fitted_rows(estimator)
+    e_train = rmse(estimator.predict(dataset.x[rows]), dataset.t[rows])
+    kind, e_validation = validation_error(estimator)
+    return {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
+            "e_loo": e_validation, "e_loo_newton": e_validation / dataset.scaling.k_out,
+            "e_validation_kind": kind}
+
+
+def curve_record(fit) -> dict:
+    """model.json's training record of one fitted curve: what was chosen, a grey-box curve's
+    standard errors in SI units (infinite, written null, where the data do not determine a
+    source: emit refuses it) and the errors."""
+    entry = chosen_record(fit.estimator)
+    chosen = getattr(fit.estimator, "chosen_", fit.estimator)
+    if isinstance(chosen, StribeckRegressor):
+        se, s = chosen.standard_errors_, fit.dataset.scaling
+        entry["standard_errors"] = {"amplitudes_newton": (se["amplitudes"] / s.k_out).tolist(),
+                                    "stribeck_m_per_s": (se["stribeck"] / s.k_in).tolist()}
+    return {**entry, "metrics": curve_errors(fit.dataset, fit.estimator)}
+
+
+def axis_record(sweep: Sweep, ident: Optional[Identification], asymmetric: bool) -> dict:
+    """model.json's ``training.axis``: the mass, force constant and constant force that training
+    identified or was given (null for a sweep; the offset null where the asymmetric model's
+    curves hold it), and the speed range of the data."""
+    speed = np.abs(sweep.v[sweep.v != 0])
+    record = {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
+              "offset": None, "offset_se": None,
+              "speed_min": float(speed.min()), "speed_max": float(speed.max())}
+    if ident is not None:
+        body = ident.body
+        record.update(mass=body.mass, mass_se=body.mass_se,
+                      mass_from="data" if body.mass_identified else "option")
+        if not asymmetric:
+            record.update(offset=body.offset, offset_se=body.offset_se)
+        if ident.force_constant is not None:
+            record["force_constant"] = ident.force_constant[0]
+    return record

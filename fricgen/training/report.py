@@ -1,0 +1,218 @@
+"""The fit report: ``FitReport``, a trained model with the text ``fricgen train`` prints (the
+data, the symmetry chosen, each curve's model, errors and C cost, and warnings on the data).
+
+What the report says of an estimator is registered per estimator type (``functools.singledispatch``):
+a new estimator adds its functions here rather than a branch to a chain.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import singledispatch
+from typing import Optional, Tuple
+
+from ..codegen.cost import cortex_m4f_instructions, host_ns
+from ..codegen.parity import float32_problem
+from ..data.inverse_dynamics import Identification
+from ..data.outliers import OUTLIER_SIGMAS
+from ..data.sweep import Sweep
+from ..data.training_set import SAT_FACTOR
+from ..fit import DefaultRegressor, StribeckRegressor
+from ..fit.directions import CV_FOLDS, DirectionsFit
+from ..fit.stribeck import XS_MAX
+from ..model import FrictionModel
+
+
+@dataclass(frozen=True)
+class FitReport:
+    """A trained friction model with its fit report.
+
+    ``str(report)`` is the text ``fricgen train`` prints; ``report.training`` is the record
+    model.json keeps (``report.model.training``).
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The fitted model (eq. (3), sec. 2), symmetric or one curve per direction.
+    fit : DirectionsFit
+        The fitted curves, each with its eq. (9) training set and fitted estimator, and how the
+        symmetry was chosen.
+    identification : Identification or None
+        For a motion log, how its friction samples were obtained by inverse dynamics
+        (eq. (18), sec. 6): rows kept, smoothing, the mass and constant force with standard
+        errors; None for a sweep.
+    sweep : Sweep or None
+        The friction samples fitted: the sweep given, or those a log's inverse dynamics gave.
+    warnings : tuple of str
+        Notes on the data that do not stop training (a log too fast to show the Stribeck region).
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> report = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor())
+    >>> print(str(report).splitlines()[0])
+    data      202 training points in [0, v_sat], v_sat = 0.06 m/s
+    >>> report.training["method"], report.model.v_sat
+    ('stribeck', 0.06)
+    """
+
+    model: FrictionModel
+    fit: DirectionsFit
+    identification: Optional[Identification] = None
+    sweep: Optional[Sweep] = None
+    warnings: Tuple[str, ...] = field(default=())
+
+    @property
+    def training(self) -> dict:
+        """model.json's ``training`` record: method, seed, source, the choice and its errors."""
+        return self.model.training
+
+    @property
+    def text(self) -> str:
+        """The report ``fricgen train`` prints: data, symmetry, each curve's model and errors."""
+        ident, fitted = self.identification, self.fit
+        reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
+        reports.append(choice_line(fitted))
+        curves = [self.training] + ([self.training["negative"]] if fitted.asymmetric else [])
+        labels = ("v > 0:", "v < 0:") if fitted.asymmetric else ("",)
+        for label, f, curve in zip(labels, fitted.fits, curves):
+            text = curve_report(f.dataset, f.estimator, curve["metrics"])
+            reports.append(text if not label else
+                           f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
+        problem = float32_problem(self.model)
+        if problem:
+            reports.append(f"float32   {problem}; emit refuses it")
+        return "\n".join(r for r in reports if r)
+
+    def __str__(self) -> str:
+        return self.text
+
+
+@singledispatch
+def model_lines(estimator, dataset) -> list:
+    """The report's lines on the fitted model (an ELM's size, C and weights by default)."""
+    return [f"model     {estimator.n_hidden} {estimator.activation} neurons, "
+            f"{estimator.scheme}, C = {estimator.C_:.3g}",
+            f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = "
+            f"{estimator.log10_cond_:.2f}",
+            ]
+
+
+@model_lines.register
+def _(estimator: DefaultRegressor, dataset) -> list:
+    return ([f"chose     {estimator.why()}", f"outliers  {estimator.outlier_note()}"]
+            + model_lines(estimator.chosen_, dataset))
+
+
+@model_lines.register
+def _(estimator: StribeckRegressor, dataset) -> list:
+    """The grey-box model of eq. (1) in SI units, each parameter +- its standard error."""
+    net, se = estimator.network_, estimator.standard_errors_
+    k_in, k_out = dataset.scaling.k_in, dataset.scaling.k_out
+    broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s up to {estimator.xs_max_ / k_in:.4g} m/s"
+    lines = [f"model     grey-box eq. (1): {net.n_sources} {net.shape} source(s){broad}, "
+             f"{_origin(estimator)}",
+             f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, 'N')}"]
+    for k in range(net.n_sources):
+        lines.append(f"source {k + 1:<2d} f_s - f_c = "
+                     f"{_estimate(net.amplitudes[k] / k_out, se['amplitudes'][k] / k_out, 'N')}, "
+                     f"v_s = {_estimate(net.stribeck[k] / k_in, se['stribeck'][k] / k_in, 'm/s')}")
+    return lines
+
+
+@singledispatch
+def cost_lines(estimator) -> list:
+    """The C cost per call of an ELM (``fricgen.codegen.cost``, fitted to ELM kernels)."""
+    return [call_cost(estimator.n_hidden, estimator.activation)]
+
+
+@cost_lines.register
+def _(estimator: DefaultRegressor) -> list:
+    return cost_lines(estimator.chosen_)
+
+
+@cost_lines.register
+def _(estimator: StribeckRegressor) -> list:
+    return []
+
+
+def call_cost(n_hidden: int, activation: str) -> str:
+    """The report's line on the C cost per ``NAME_force`` call (``fricgen.codegen.cost``)."""
+    units = "" if activation == "sigmoid" else " (cost model measured on sigmoid units)"
+    return (f"C cost    about {cortex_m4f_instructions(n_hidden):.0f} instructions per call on "
+            f"Cortex-M4F ({cortex_m4f_instructions(n_hidden, 'fast'):.0f} with --activation-impl "
+            f"fast), {host_ns(n_hidden):.0f} ns on the reference x86-64 host{units}")
+
+
+def error_line(errors: dict) -> str:
+    """The training and validation errors (normalized, and in N) to four significant digits:
+    a fixed number of decimals would print a fit to clean data as 0.0000 N."""
+    return (f"errors    E_train = {errors['e_train']:.4g} ({errors['e_train_newton']:.4g} N), "
+            f"{errors['e_validation_kind']} = {errors['e_loo']:.4g} ({errors['e_loo_newton']:.4g} N)")
+
+
+def curve_report(dataset, estimator, errors: dict) -> str:
+    """The report of one fitted curve: its data, B, the eq. (9) scaling, the model, the errors."""
+    s = dataset.scaling
+    chosen = dataset.stribeck_range
+    vs_note = " (vs_max chosen from the data; pass --vs-max to set it)" if chosen else ""
+    joint = chosen is not None and not chosen.linear_region
+    lines = [
+        f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
+        f"{vs_note}" + (f"; the {dataset.n_rows} rows there averaged in bins of equal count"
+                        if dataset.binned else ""),
+    ] + ([f"vs_max    {chosen.describe()}"] if chosen else []) + [
+        f"viscous   B = {dataset.viscous:.6g} N s/m "
+        + ("fitted with the Stribeck sources (no linear high-speed region)" if joint else
+           f"from {dataset.n_high_speed} high-speed points")
+        + (f" ({dataset.n_outliers} rejected as gross outliers, > {OUTLIER_SIGMAS:g} robust sd "
+           "off the line)" if dataset.n_outliers else ""),
+        f"scaling   K_in = {s.k_in:.6g} 1/(m/s), K_out = {s.k_out:.6g} 1/N",
+    ]
+    return "\n".join(lines + model_lines(estimator, dataset) + [error_line(errors)]
+                     + cost_lines(estimator))
+
+
+def _origin(estimator: StribeckRegressor) -> str:
+    """Where the grey-box curve comes from: the best fit by AICc, or the average of the close ones."""
+    n, (shape, s, _) = len(estimator.weights_), estimator.best_
+    if n == 1:
+        return f"chosen by AICc among {len(estimator.candidates_)} fits"
+    return (f"matching the AICc-weighted average of {n} close fits among "
+            f"{len(estimator.candidates_)} (best alone: {s} {shape}, weight "
+            f"{estimator.weights_[estimator.best_]:.2f})")
+
+
+def _estimate(value: float, se: float, unit: str) -> str:
+    """'value +- se unit', or a word where the data do not determine the parameter."""
+    return (f"{value:.5g} +- {se:.2g} {unit}" if math.isfinite(se) else
+            f"{value:.5g} {unit} (not determined by the data)")
+
+
+def choice_line(fitted: DirectionsFit) -> str:
+    """How the model's symmetry was chosen (nothing for a sweep of one direction)."""
+    kind = "asymmetric (one curve per direction)" if fitted.asymmetric else "symmetric"
+    if fitted.chosen_by == "one direction only":
+        return ""
+    if fitted.chosen_by.startswith("asymmetric model not fittable"):
+        return f"symmetry {kind}: the {fitted.chosen_by}"
+    if fitted.cv_rmse is None:
+        return f"symmetry {kind}, as asked"
+    sym, asym = fitted.cv_rmse
+    return (f"symmetry {kind} by {CV_FOLDS}-fold {fitted.chosen_by}: held-out RMS "
+            f"{sym:.4g} N symmetric, {asym:.4g} N asymmetric")
+
+
+def stribeck_warning(ident: Identification, fits) -> str:
+    """One line when a log's slowest speed in a direction exceeds half of that direction's
+    vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data."""
+    for sign, f in zip((1, -1), fits):
+        vs_max = f.dataset.v_sat / SAT_FACTOR
+        speeds = ident.sweep.folded().v if len(fits) == 1 else ident.sweep.direction(sign).v
+        slowest = float(speeds.min())
+        if slowest > 0.5 * vs_max:
+            return (f"warning: the log's slowest speed ({slowest:.3g} m/s) is above vs_max / 2 = "
+                    f"{0.5 * vs_max:.3g} m/s; too narrow a velocity range to identify the Stribeck "
+                    "region (log slower motion)")
+    return ""

@@ -1,0 +1,177 @@
+"""Training as a library call: a sweep or a motion log in, a ``FrictionModel`` and its fit report
+(``report.FitReport``) out, with model.json's ``training`` record (``record``)."""
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Callable, Mapping, Optional, Union
+
+import numpy as np
+
+from .._validate import ACCEPT_UNUSUAL, USUAL_MAX, physical_problem, unusual
+from .._io import named_data
+from ..c_names import check_model_name
+from ..data.inverse_dynamics import describe_missing, identify_log, is_log
+from ..data.sweep import Sweep, sweep_from_columns
+from ..errors import DataError, ModelError
+from ..fit import default_estimator
+from ..fit.directions import fit_friction
+from ..model import DEFAULT_MODEL_NAME, FrictionModel
+from .record import axis_record, curve_record, method_record
+from .report import FitReport, stribeck_warning
+
+
+def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool, fastest: float,
+                 warn: Callable[[str], None]) -> None:
+    """The fitted curves and the identified mass within the physical bounds of a real axis
+    (``Direction.check_physical``, ``_validate.PHYSICAL``): refused, or with ``accept_unusual``
+    one warning line each; a v_sat beyond ``USUAL_MAX`` is one warning line, unless the data's
+    fastest speed ``fastest`` was (``data.plausibility``)."""
+    problems = []
+    for curve in model.directions:
+        try:
+            curve.check_physical()
+        except ModelError as exc:
+            problems.append(f"the fitted model's {str(exc).split(' (a digit')[0]}")
+    said = fastest > USUAL_MAX["speed"]            # the data's speed was warned about already
+    for curve in model.directions:
+        note = "" if any(problems) or said else unusual("v_sat", "the fitted model's v_sat", curve.v_sat)
+        if note:
+            warn(f"fricgen: warning: {source}: {note}")
+            break
+    if ident is not None and ident.body.mass_identified:
+        problems.append(physical_problem("mass", "the identified mass", ident.body.mass))
+    for problem in filter(None, problems):
+        if not accept_unusual:
+            raise DataError(f"{source}: {problem}; are the units SI ({ACCEPT_UNUSUAL} to keep it)?")
+        warn(f"fricgen: warning: {source}: {problem}; kept ({ACCEPT_UNUSUAL})")
+
+
+def _friction_data(data, mass, force_constant, source, progress):
+    """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
+    if isinstance(data, Sweep):
+        columns = {"v": np.asarray(data.v, float), "f": np.asarray(data.f, float)}
+    elif isinstance(data, Mapping):
+        columns = {k: np.asarray(v, dtype=float) for k, v in data.items()}
+    else:
+        raise ValueError(f"data must be a Sweep or a mapping of columns, got {type(data).__name__}")
+    if is_log(columns):
+        with named_data(source):
+            ident = identify_log(columns, mass, force_constant, progress=progress)
+        return ident.sweep, ident
+    if not {"v", "f"} <= set(columns):
+        raise DataError(f"{source}: {describe_missing(columns)}")
+    if mass is not None or force_constant is not None:
+        raise ValueError(f"mass and force_constant apply to a motion log; {source} is a sweep (v, f)")
+    return sweep_from_columns(columns, source), None
+
+
+def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float] = None,
+          asymmetric: Optional[bool] = None, mass: Optional[float] = None,
+          force_constant: Optional[float] = None, seed: int = 0, name: str = DEFAULT_MODEL_NAME,
+          source: str = "data", file: Optional[str] = None, accept_unusual: bool = False,
+          progress: Optional[Callable[[str], None]] = None,
+          warn: Optional[Callable[[str], None]] = None) -> FitReport:
+    """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
+
+    Parameters
+    ----------
+    data : Sweep or mapping of str to array_like
+        A sweep (velocity ``v`` in m/s, force ``f`` in N), or the columns of a motion log:
+        ``t`` (s, uniformly sampled), ``v`` (m/s) or ``x`` (m), and ``force`` (N) or ``i`` (A).
+    estimator : estimator, optional
+        What fits each curve's eq. (9) training set; default ``default_estimator(seed)``: the
+        grey-box eq. (1) or the automatic ELM, whichever cross-validates better.
+    vs_max : float, optional
+        Bound on the Stribeck velocities, m/s (v_sat = 3 vs_max); default: chosen by
+        cross-validation from the data.
+    asymmetric : bool, optional
+        One curve per direction (True) or one for both (False); default: chosen by
+        cross-validation when the data move both ways.
+    mass : float, optional
+        Moving mass of a log's axis, kg; default: identified by inverse dynamics (eq. (18)).
+    force_constant : float, optional
+        Force constant, N/A, of a log with current ``i`` instead of ``force``.
+    seed : int, default 0
+        Random seed of the folds (and of the default estimator).
+    name : str, default "friction_model"
+        The model's name, a C identifier not beginning with ``fric_``.
+    source : str, default "data"
+        How messages name the data (a file, or both files of a merge).
+    file : str, optional
+        The data's file name, recorded as ``training.source``; default ``source``.
+    accept_unusual : bool, default False
+        Keep a fitted model beyond the physical bounds of a real axis, with a warning.
+    progress : callable, optional
+        Called with a line of progress on long fits.
+    warn : callable, optional
+        Called with each warning line; default ``warnings.warn``.
+
+    Returns
+    -------
+    FitReport
+        The model, its fit and the report; ``str(report)`` is the text ``fricgen train`` prints.
+
+    Raises
+    ------
+    DataError
+        Data that cannot give a friction model (too few rows, no motion, a falling force).
+    ValueError
+        A bad argument.
+
+    Notes
+    -----
+    Each curve is fitted on the normalized data of eq. (9), sec. 2,
+
+    .. math:: x = K_{in} v, \\qquad t = K_{out} (F - B v),
+
+    and the model is eq. (3), sec. 2: :math:`F(v) = \\mathrm{AIM}(K_{in} |v|) / K_{out} + B v`.
+    A log's friction samples are :math:`F = f - m \\dot v` (eq. (18), sec. 6). The plausibility
+    checks of the CLI's data reader (``fricgen.data.plausibility``) are not run here.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> report = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor())
+    >>> report.fit.asymmetric, report.training["method"]
+    (False, 'stribeck')
+    >>> print(report.model.force([0.05, -0.05]) > 0)    # friction opposes the motion
+    [ True False]
+    """
+    if vs_max is not None and not (isinstance(vs_max, (int, float)) and 0 < vs_max < math.inf):
+        raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
+    check_model_name(name, "name")
+    sweep, ident = _friction_data(data, mass, force_constant, source, progress)
+    estimator = default_estimator(seed) if estimator is None else estimator
+    warn = warn or (lambda line: warnings.warn(line, stacklevel=3))
+    with named_data(source):
+        fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
+                              asymmetric=asymmetric, seed=seed, progress=progress)
+    first = fitted.fits[0]
+    curves = [curve_record(f) for f in fitted.fits]
+    training = {**method_record(estimator), "seed": seed, "source": source if file is None else file,
+                "vs_max_estimated": first.dataset.vs_max_estimated, **curves[0]}
+    if fitted.asymmetric:
+        training["negative"] = curves[1]
+    if fitted.cv_rmse is not None:
+        training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
+    training["axis"] = axis_record(sweep, ident, fitted.asymmetric)
+    if accept_unusual:
+        training["accept_unusual"] = True
+    if ident is not None:
+        training["log"] = {"window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
+                           "independent": ident.independent,
+                           "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
+                                       for s in (1, -1)]}
+    model = FrictionModel.from_directions(*(f.curve for f in fitted.fits), name=name,
+                                          training=training)
+    try:
+        for curve in model.directions:
+            curve.check()
+    except ModelError as exc:
+        raise DataError(f"{source}: the fitted model is no friction model: {exc}") from None
+    check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
+    notes = (stribeck_warning(ident, fitted.fits),) if ident is not None else ()
+    return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
+                     warnings=tuple(n for n in notes if n))
