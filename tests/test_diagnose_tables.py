@@ -149,3 +149,20 @@ def test_a_named_drift_points_to_online_adaptation():
     assert "rate 0.002/s" in hint and "time constant 120 s" in hint
     assert "`fricgen emit --adapt`" in hint and "Lyapunov" in hint and "readback" in hint
     assert service_hint(SimpleNamespace(effects_=[load])) == ""
+
+
+def test_where_names_the_simplest_axis_among_those_that_explain_as_much():
+    """A constant load explains itself along every axis: "constant" (one group) is named, not
+    the axis that ranks first by a rounding; a composite axis yields to a simple one as good;
+    a clear winner stays."""
+    from fricgen.diagnose.localize import where
+
+    def axis(name, share, groups):
+        return {"axis": name, "share": share, "detail": "d", "groups": groups}
+    assert where([axis("acceleration", 0.996, 10), axis("direction of motion", 0.996, 2),
+                  axis("constant", 0.995, 1)]).startswith("constant")
+    assert where([axis("position and direction", 0.974, 20), axis("direction of motion", 0.973, 2),
+                  axis("velocity", 0.966, 10)]).startswith("direction of motion")
+    assert where([axis("speed, friction level", 0.988, 10), axis("velocity", 0.969, 10),
+                  axis("direction of motion", 0.6, 2)]).startswith("speed, friction level")
+    assert where([axis("time", 0.03, 10)]).startswith("nowhere")

@@ -40,7 +40,8 @@ def localize(problem: ResidualProblem) -> List[dict]:
     out = []
 
     def add(axis, values, labels, detail):
-        out.append({"axis": axis, "share": _binned_share(values, labels, n_eff), "detail": detail})
+        out.append({"axis": axis, "share": _binned_share(values, labels, n_eff), "detail": detail,
+                    "groups": int(np.unique(labels).size)})
 
     def extreme(values, labels, coord, name, unit):
         groups = np.unique(labels)
@@ -76,7 +77,7 @@ def localize(problem: ResidualProblem) -> List[dict]:
     out.append({"axis": "position, periodic",
                 "share": max(0.0, 1.0 - (1.0 - share) * (n_eff - 1.0) / max(n_eff - 3.0, 1.0)),
                 "detail": f"period {2 * np.pi / ks[j] * 1e3:.3g} mm, amplitude "
-                          f"{math.hypot(*coef[j]):.3g} N"})
+                          f"{math.hypot(*coef[j]):.3g} N", "groups": 3})
     add("acceleration", r, _quantile_labels(a), f"slope {np.dot(a, r) / np.dot(a, a):+.3g} N per m/s^2")
     current = problem.at_rows(problem.signals.i, rows)
     lab = _quantile_labels(current)
@@ -94,9 +95,16 @@ def localize(problem: ResidualProblem) -> List[dict]:
     return sorted(out, key=lambda d: -d["share"])
 
 
+#: Axes within this share of the best one explain the residual as well: of those, the simplest
+#: (fewest groups) is named, so a constant load reads "constant", not a ranking of slopes.
+SIMPLEST_WITHIN = 0.02
+
+
 def where(localization: List[dict]) -> str:
-    """The axis that explains most of the residual, as one phrase."""
-    top = localization[0]
-    if top["share"] < 0.05:
+    """The simplest axis among those that explain most of the residual, as one phrase."""
+    best = localization[0]["share"]
+    if best < 0.05:
         return "nowhere beyond noise (no axis explains 5 % of the residual)"
+    top = min((a for a in localization if a["share"] >= best - SIMPLEST_WITHIN),
+              key=lambda a: (a["groups"], -a["share"]))
     return f"{top['axis']}: {top['detail']} ({top['share']:.0%} of the residual)"
