@@ -14,13 +14,13 @@ static int fric_adapt_params_ok(const fric_adapt_params_t *p)
     unsigned int k;
     const float scalars[] = {p->forgetting, p->p0, p->trace_max, p->gain, p->leak, p->v_dead,
                              p->e_dead};
-    if (p->n < 1u || p->n > FRIC_ADAPT_MAX_PARAMS) {
+    if ((p->n < 1u) || (p->n > FRIC_ADAPT_MAX_PARAMS)) {
         return 0;
     }
-    if (p->rule != FRIC_ADAPT_RULE_RLS && p->rule != FRIC_ADAPT_RULE_LYAPUNOV) {
+    if ((p->rule != FRIC_ADAPT_RULE_RLS) && (p->rule != FRIC_ADAPT_RULE_LYAPUNOV)) {
         return 0;
     }
-    for (k = 0; k < (unsigned int)(sizeof scalars / sizeof scalars[0]); ++k) {
+    for (k = 0; k < (unsigned int)((sizeof scalars) / (sizeof scalars[0])); ++k) {
         if (!isfinite(scalars[k])) {
             return 0;
         }
@@ -32,18 +32,19 @@ static int fric_adapt_params_ok(const fric_adapt_params_t *p)
             return 0;
         }
     }
-    return p->forgetting > 0.0f && p->forgetting <= 1.0f && p->p0 > 0.0f
-           && p->trace_max >= p->p0 * (float)p->n && p->gain >= 0.0f && p->leak >= 0.0f
-           && p->leak < 1.0f && p->v_dead >= 0.0f && p->e_dead >= 0.0f;
+    return (p->forgetting > 0.0f) && (p->forgetting <= 1.0f) && (p->p0 > 0.0f)
+           && (p->trace_max >= (p->p0 * (float)p->n)) && (p->gain >= 0.0f) && (p->leak >= 0.0f)
+           && (p->leak < 1.0f) && (p->v_dead >= 0.0f) && (p->e_dead >= 0.0f);
 }
 
 static void fric_adapt_reset_covariance(fric_adapt_t *a)
 {
     const unsigned int n = a->p.n;
-    unsigned int i, j;
+    unsigned int i;
+    unsigned int j;
     for (i = 0; i < n; ++i) {
         for (j = 0; j < n; ++j) {
-            a->P[i * n + j] = i == j ? a->p.p0 * a->scale2[i] : 0.0f;
+            a->P[(i * n) + j] = (i == j) ? (a->p.p0 * a->scale2[i]) : 0.0f;
         }
     }
 }
@@ -68,7 +69,7 @@ void fric_adapt_reset(fric_adapt_t *a)
 
 fric_adapt_status_t fric_adapt_init(fric_adapt_t *a, const fric_adapt_params_t *p)
 {
-    if (a == NULL || p == NULL) {
+    if ((a == NULL) || (p == NULL)) {
         return FRIC_ADAPT_ERR_NULL;
     }
     if (!fric_adapt_params_ok(p)) {
@@ -94,7 +95,7 @@ static float fric_adapt_predict(const fric_adapt_t *a, fric_adapt_regressor_fn r
 float fric_adapt_force(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v)
 {
     float phi[FRIC_ADAPT_MAX_PARAMS];
-    if (a == NULL || reg == NULL || !isfinite(v)) {
+    if ((a == NULL) || (reg == NULL) || !isfinite(v)) {
         return 0.0f;
     }
     return fric_adapt_predict(a, reg, v, phi);
@@ -111,21 +112,22 @@ static fric_adapt_flags_t fric_adapt_finish(fric_adapt_t *a, const float *update
                                             fric_adapt_flags_t flags)
 {
     unsigned int k;
+    fric_adapt_flags_t out = flags;
     for (k = 0; k < a->p.n; ++k) {
-        const float u = updated[k] - a->p.leak * (updated[k] - a->p.theta0[k]);
-        if (isnan(u)) {
-            flags |= FRIC_ADAPT_PROJECTED;
+        const float u = updated[k] - (a->p.leak * (updated[k] - a->p.theta0[k]));
+        if (isnan(u) != 0) {
+            out |= FRIC_ADAPT_PROJECTED;
         } else if (u < a->p.lo[k]) {
             a->theta[k] = a->p.lo[k];
-            flags |= FRIC_ADAPT_PROJECTED;
+            out |= FRIC_ADAPT_PROJECTED;
         } else if (u > a->p.hi[k]) {
             a->theta[k] = a->p.hi[k];
-            flags |= FRIC_ADAPT_PROJECTED;
+            out |= FRIC_ADAPT_PROJECTED;
         } else {
             a->theta[k] = u;
         }
     }
-    return fric_adapt_done(a, flags);
+    return fric_adapt_done(a, out);
 }
 
 /* Whether an update stops at its inputs (fricgen.control.adaptation's _gate): v or the rule's
@@ -136,7 +138,7 @@ static int fric_adapt_stops(fric_adapt_t *a, float v, float x, int hold, fric_ad
         *flags = fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
         return 1;
     }
-    if (hold) {
+    if (hold != 0) {
         *flags = fric_adapt_done(a, FRIC_ADAPT_HELD);
         return 1;
     }
@@ -146,29 +148,36 @@ static int fric_adapt_stops(fric_adapt_t *a, float v, float x, int hold, fric_ad
 fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
                                   float force, int hold)
 {
-    float phi[FRIC_ADAPT_MAX_PARAMS], p_phi[FRIC_ADAPT_MAX_PARAMS], g[FRIC_ADAPT_MAX_PARAMS];
+    float phi[FRIC_ADAPT_MAX_PARAMS];
+    float p_phi[FRIC_ADAPT_MAX_PARAMS];
+    float g[FRIC_ADAPT_MAX_PARAMS];
     float updated[FRIC_ADAPT_MAX_PARAMS];
-    float err, denom, trace, lam;
-    unsigned int i, k, n;
+    float err;
+    float denom;
+    float trace;
+    float lam;
+    unsigned int i;
+    unsigned int k;
+    unsigned int n;
     fric_adapt_flags_t flags = FRIC_ADAPT_OK;
 
-    if (a == NULL || reg == NULL) {
+    if ((a == NULL) || (reg == NULL)) {
         return FRIC_ADAPT_FAULT_NULL;
     }
-    if (fric_adapt_stops(a, v, force, hold, &flags)) {
+    if (fric_adapt_stops(a, v, force, hold, &flags) != 0) {
         return flags;
     }
     n = a->p.n;
     lam = a->p.forgetting;
     err = force - fric_adapt_predict(a, reg, v, phi);
     a->error = err;
-    if (!(fabsf(v) >= a->p.v_dead && fabsf(err) >= a->p.e_dead)) {
+    if (!((fabsf(v) >= a->p.v_dead) && (fabsf(err) >= a->p.e_dead))) {
         return fric_adapt_done(a, FRIC_ADAPT_DEAD_ZONE);
     }
     for (i = 0; i < n; ++i) {                    /* P phi, each row in k order */
         float acc = 0.0f;
         for (k = 0; k < n; ++k) {
-            acc += a->P[i * n + k] * phi[k];
+            acc += a->P[(i * n) + k] * phi[k];
         }
         p_phi[i] = acc;
     }
@@ -182,20 +191,20 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
     }
     for (i = 0; i < n; ++i) {
         g[i] = p_phi[i] / denom;
-        updated[i] = a->theta[i] + g[i] * err;
+        updated[i] = a->theta[i] + (g[i] * err);
     }
     for (i = 0; i < n; ++i) {
         for (k = 0; k < n; ++k) {
-            a->P[i * n + k] = (a->P[i * n + k] - g[i] * p_phi[k]) / lam;
+            a->P[(i * n) + k] = (a->P[(i * n) + k] - (g[i] * p_phi[k])) / lam;
         }
     }
     trace = 0.0f;
     for (k = 0; k < n; ++k) {
-        trace += a->P[k * n + k] / a->scale2[k];
+        trace += a->P[(k * n) + k] / a->scale2[k];
     }
     if (!(trace <= a->p.trace_max)) {            /* also NaN */
         const float s = a->p.trace_max / trace;
-        for (k = 0; k < n * n; ++k) {
+        for (k = 0; k < (n * n); ++k) {
             a->P[k] = a->P[k] * s;
         }
         flags |= FRIC_ADAPT_TRACE_CLAMPED;
@@ -206,23 +215,24 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
 fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
                                        float e2, int hold)
 {
-    float phi[FRIC_ADAPT_MAX_PARAMS], updated[FRIC_ADAPT_MAX_PARAMS];
+    float phi[FRIC_ADAPT_MAX_PARAMS];
+    float updated[FRIC_ADAPT_MAX_PARAMS];
     unsigned int k;
     fric_adapt_flags_t flags = FRIC_ADAPT_OK;
 
-    if (a == NULL || reg == NULL) {
+    if ((a == NULL) || (reg == NULL)) {
         return FRIC_ADAPT_FAULT_NULL;
     }
-    if (fric_adapt_stops(a, v, e2, hold, &flags)) {
+    if (fric_adapt_stops(a, v, e2, hold, &flags) != 0) {
         return flags;
     }
     a->error = e2;
-    if (!(fabsf(v) >= a->p.v_dead && fabsf(e2) >= a->p.e_dead)) {
+    if (!((fabsf(v) >= a->p.v_dead) && (fabsf(e2) >= a->p.e_dead))) {
         return fric_adapt_done(a, FRIC_ADAPT_DEAD_ZONE);
     }
     (void)reg(v, phi);
     for (k = 0; k < a->p.n; ++k) {
-        updated[k] = a->theta[k] + ((a->p.gain * a->scale2[k]) * e2) * phi[k];
+        updated[k] = a->theta[k] + (((a->p.gain * a->scale2[k]) * e2) * phi[k]);
     }
     return fric_adapt_finish(a, updated, FRIC_ADAPT_OK);
 }
@@ -232,28 +242,33 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
                                        float *current)
 {
     fric_ctrl_flags_t flags;
-    float u, force;
-    int ok;
+    float u;
+    float force;
+    int held;
 
-    if (a == NULL || c == NULL || reg == NULL || current == NULL) {
+    if ((a == NULL) || (c == NULL) || (reg == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
     }
     if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
         const float accel = (v - a->v_prev) / c->p.ts;
-        const float observed = (c->p.phi_n / c->k_hat) * (a->i_prev - c->m_o_hat * accel);
+        const float observed = (c->p.phi_n / c->k_hat) * (a->i_prev - (c->m_o_hat * accel));
         const float v_mid = 0.5f * (v + a->v_prev);
         (void)fric_adapt_rls(a, reg, v_mid, observed, a->held);
     }
-    u = c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD ? xd_dot + c->p.k1 * (xd - x) : v;
+    u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD) ? (xd_dot + (c->p.k1 * (xd - x))) : v;
     force = fric_adapt_force(a, reg, u);
     flags = fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
-    ok = (flags & (FRIC_CTRL_SATURATED | FRIC_CTRL_INPUT_FAULT)) == 0u;
+    if ((flags & (FRIC_CTRL_SATURATED | FRIC_CTRL_INPUT_FAULT)) != 0u) {
+        held = 1;
+    } else {
+        held = 0;
+    }
     if (a->p.rule == FRIC_ADAPT_RULE_LYAPUNOV) {
-        (void)fric_adapt_lyapunov(a, reg, v, c->e2, !ok);
+        (void)fric_adapt_lyapunov(a, reg, v, c->e2, held);
     }
     a->v_prev = v;
     a->i_prev = *current;
-    a->held = !ok;
+    a->held = held;
     return flags;
 }
 

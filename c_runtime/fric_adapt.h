@@ -31,7 +31,7 @@ extern "C" {
 
 #define FRIC_ADAPT_VERSION 1
 /* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
-#define FRIC_ADAPT_MAX_PARAMS 16
+#define FRIC_ADAPT_MAX_PARAMS 16u
 
 typedef enum {
     FRIC_ADAPT_OK_INIT = 0,

@@ -37,17 +37,17 @@ void fric_ctrl_default_params(fric_ctrl_params_t *p)
 /* lo <= value <= hi (false for NaN) */
 static int fric_ctrl_within(float value, float lo, float hi)
 {
-    return value >= lo && value <= hi;
+    return (value >= lo) && (value <= hi);
 }
 
 static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
 {
     const float *g = p->gamma;
-    int k;
+    size_t k;
     const float checked[] = {p->k1, p->k2, g[0], g[1], g[2], g[3], p->delta, p->ts, p->phi_n,
                              p->i_max, p->m_o_hat0, p->k_hat0, p->m_o_min, p->m_o_max,
                              p->k_min, p->k_max};
-    for (k = 0; k < (int)(sizeof checked / sizeof checked[0]); ++k) {
+    for (k = 0u; k < ((sizeof checked) / (sizeof checked[0])); ++k) {
         if (!isfinite(checked[k])) {
             return 0;
         }
@@ -56,8 +56,9 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
         || !(p->phi_n > 0.0f) || !(p->i_max > 0.0f)) {
         return 0;
     }
-    /* Gamma symmetric positive definite: g00 > 0 and det = g00 g11 - g01^2 > 0 */
-    if (g[1] != g[2] || !(g[0] > 0.0f) || !(g[0] * g[3] > g[1] * g[2])) {
+    /* Gamma symmetric positive definite: g00 > 0 and det = g00 g11 - g01^2 > 0. The first test
+     * is g[1] != g[2] for every input (NaN, -0 == +0) without an exact float comparison. */
+    if (!((g[1] <= g[2]) && (g[1] >= g[2])) || !(g[0] > 0.0f) || !((g[0] * g[3]) > (g[1] * g[2]))) {
         return 0;
     }
     if (!(p->m_o_min < p->m_o_max) || !(p->k_min < p->k_max)
@@ -65,15 +66,15 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
         || !fric_ctrl_within(p->k_hat0, p->k_min, p->k_max)) {
         return 0;
     }
-    if (p->law != FRIC_CTRL_LAW_A && p->law != FRIC_CTRL_LAW_B && p->law != FRIC_CTRL_LAW_C) {
+    if ((p->law != FRIC_CTRL_LAW_A) && (p->law != FRIC_CTRL_LAW_B) && (p->law != FRIC_CTRL_LAW_C)) {
         return 0;
     }
-    return p->friction_at == FRIC_CTRL_FRICTION_AT_V || p->friction_at == FRIC_CTRL_FRICTION_AT_VD;
+    return (p->friction_at == FRIC_CTRL_FRICTION_AT_V) || (p->friction_at == FRIC_CTRL_FRICTION_AT_VD);
 }
 
 fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p)
 {
-    if (c == NULL || p == NULL) {
+    if ((c == NULL) || (p == NULL)) {
         return FRIC_CTRL_ERR_NULL;
     }
     if (!fric_ctrl_params_ok(p)) {
@@ -93,7 +94,7 @@ fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p)
 static float fric_ctrl_project(float a, float updated, float lo, float hi,
                                fric_ctrl_flags_t *flags)
 {
-    if (isnan(updated)) {
+    if (isnan(updated) != 0) {
         *flags |= FRIC_CTRL_PROJECTED;
         return a;
     }
@@ -119,12 +120,27 @@ static fric_ctrl_flags_t fric_ctrl_fault(fric_ctrl_t *c, float *current)
 fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
                                  float xd_ddot, float friction, float *current)
 {
-    float k1, a0, a1, e1, vd, e2, vd_dot, xi0, xi1, d_hat, demand, i, sigma;
-    float g_xi0, g_xi1, g_a0, g_a1;
+    float k1;
+    float a0;
+    float a1;
+    float e1;
+    float vd;
+    float e2;
+    float vd_dot;
+    float xi0;
+    float xi1;
+    float d_hat;
+    float demand;
+    float i;
+    float sigma;
+    float g_xi0;
+    float g_xi1;
+    float g_a0;
+    float g_a1;
     const float *g;
     fric_ctrl_flags_t flags = FRIC_CTRL_STEP_OK;
 
-    if (c == NULL || current == NULL) {
+    if ((c == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
     }
     if (!isfinite(x) || !isfinite(v) || !isfinite(xd) || !isfinite(xd_dot) || !isfinite(xd_ddot)
@@ -136,14 +152,14 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
     a0 = c->m_o_hat;
     a1 = c->k_hat;
     e1 = xd - x;
-    vd = xd_dot + k1 * e1;                       /* eq. (3) */
+    vd = xd_dot + (k1 * e1);                     /* eq. (3) */
     e2 = vd - v;                                 /* eq. (5) */
-    vd_dot = xd_ddot + k1 * (e2 - k1 * e1);     /* eq. (7) */
+    vd_dot = xd_ddot + (k1 * (e2 - (k1 * e1)));  /* eq. (7) */
     xi0 = vd_dot;                                /* eq. (10) */
     xi1 = friction / c->p.phi_n;
-    d_hat = a0 * xi0 + a1 * xi1;                 /* eq. (9) */
-    demand = d_hat + c->p.k2 * e2 + e1;          /* eq. (28) */
-    if (isnan(demand)) {                         /* inf - inf from huge finite inputs */
+    d_hat = (a0 * xi0) + (a1 * xi1);             /* eq. (9) */
+    demand = (d_hat + (c->p.k2 * e2)) + e1;      /* eq. (28) */
+    if (isnan(demand) != 0) {                    /* inf - inf from huge finite inputs */
         return fric_ctrl_fault(c, current);
     }
     if (!(demand <= c->p.i_max)) {
@@ -161,15 +177,15 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
         } else if (c->p.law == FRIC_CTRL_LAW_B) {
             sigma = c->p.delta;
         } else {
-            sigma = c->p.delta * fric_sqrt_f32(e1 * e1 + e2 * e2); /* = sqrtf */
+            sigma = c->p.delta * fric_sqrt_f32((e1 * e1) + (e2 * e2)); /* = sqrtf */
         }
-        g_xi0 = g[0] * xi0 + g[1] * xi1;         /* eq. (12): Gamma xi, Gamma A */
-        g_xi1 = g[2] * xi0 + g[3] * xi1;
-        g_a0 = g[0] * a0 + g[1] * a1;
-        g_a1 = g[2] * a0 + g[3] * a1;
-        c->m_o_hat = fric_ctrl_project(a0, a0 + c->p.ts * (e2 * g_xi0 - sigma * g_a0),
+        g_xi0 = (g[0] * xi0) + (g[1] * xi1);     /* eq. (12): Gamma xi, Gamma A */
+        g_xi1 = (g[2] * xi0) + (g[3] * xi1);
+        g_a0 = (g[0] * a0) + (g[1] * a1);
+        g_a1 = (g[2] * a0) + (g[3] * a1);
+        c->m_o_hat = fric_ctrl_project(a0, a0 + (c->p.ts * ((e2 * g_xi0) - (sigma * g_a0))),
                                        c->p.m_o_min, c->p.m_o_max, &flags);
-        c->k_hat = fric_ctrl_project(a1, a1 + c->p.ts * (e2 * g_xi1 - sigma * g_a1),
+        c->k_hat = fric_ctrl_project(a1, a1 + (c->p.ts * ((e2 * g_xi1) - (sigma * g_a1))),
                                      c->p.k_min, c->p.k_max, &flags);
     }
     c->e1 = e1;
@@ -185,13 +201,13 @@ fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, 
                                     float *current)
 {
     float force = 0.0f;
-    if (c == NULL || current == NULL) {
+    if ((c == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
     }
     if (friction != NULL) {
-        const float u = c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD
-                            ? xd_dot + c->p.k1 * (xd - x) : v;
-        if (isfinite(u)) {
+        const float u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD)
+                            ? (xd_dot + (c->p.k1 * (xd - x))) : v;
+        if (isfinite(u) != 0) {
             force = friction(u);
         }
     }

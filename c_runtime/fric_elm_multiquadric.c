@@ -2,4 +2,4 @@
  * sqrtf (fric_kernel.h). */
 #include "fric_kernel.h"
 
-FRIC_ELM_KERNEL(fric_elm_multiquadric_f32, sqrtf(1.0f + z * z))
+FRIC_ELM_KERNEL(fric_elm_multiquadric_f32, sqrtf(1.0f + (z * z)))

@@ -18,7 +18,7 @@
 #define FRIC_FAST_INLINE static inline
 #endif
 
-#define FRIC_FAST_NEG_LOG2E -1.44269502f /* float32 rounding of -log2(e) */
+#define FRIC_FAST_NEG_LOG2E (-1.44269502f) /* float32 rounding of -log2(e) */
 #define FRIC_FAST_ROUND 12582912.0f      /* 1.5 * 2^23: t + this rounds t to an integer */
 #define FRIC_FAST_Z_MAX 86.0f            /* |z| <= 86 keeps |t| <= 125: e stays a normal float */
 
@@ -44,8 +44,8 @@ FRIC_FAST_INLINE float fric_fast_exp2(float t)
     float f;
     rounded.f = t + FRIC_FAST_ROUND;
     f = t - (rounded.f - FRIC_FAST_ROUND);
-    e.f = FRIC_FAST_P0 + f * (FRIC_FAST_P1 + f * (FRIC_FAST_P2 + f * (FRIC_FAST_P3
-          + f * FRIC_FAST_P4)));
+    e.f = FRIC_FAST_P0 + (f * (FRIC_FAST_P1 + (f * (FRIC_FAST_P2 + (f * (FRIC_FAST_P3
+          + (f * FRIC_FAST_P4)))))));
     e.u += rounded.u << 23;
     return e.f;
 }
@@ -56,43 +56,65 @@ FRIC_FAST_INLINE float fric_fast_one_plus_exp2(float t)
     return 1.0f + fric_fast_exp2(t);
 }
 
+/* Whether z is a NaN, read from its bits (exponent all ones, mantissa not zero): the same as
+ * z != z for every input, without a float comparison (-Wfloat-equal) and without libm headers. */
+FRIC_FAST_INLINE int fric_fast_is_nan(float z)
+{
+    fric_fast_bits b;
+    int nan;
+    b.f = z;
+    if ((b.u & 0x7fffffffu) > 0x7f800000u) {
+        nan = 1;
+    } else {
+        nan = 0;
+    }
+    return nan;
+}
+
+/* z clamped to [-FRIC_FAST_Z_MAX, FRIC_FAST_Z_MAX] (NaN stays NaN) */
+FRIC_FAST_INLINE float fric_fast_clamp_z(float z)
+{
+    float c;
+    if (z < -FRIC_FAST_Z_MAX) {
+        c = -FRIC_FAST_Z_MAX;
+    } else if (z > FRIC_FAST_Z_MAX) {
+        c = FRIC_FAST_Z_MAX;
+    } else {
+        c = z;
+    }
+    return c;
+}
+
 float fric_sigmoid_fast_f32(float z)
 {
-    if (z != z) {
+    if (fric_fast_is_nan(z) != 0) {
         return z;
     }
-    if (z < -FRIC_FAST_Z_MAX) {
-        z = -FRIC_FAST_Z_MAX;
-    } else if (z > FRIC_FAST_Z_MAX) {
-        z = FRIC_FAST_Z_MAX;
-    }
-    return 1.0f / fric_fast_one_plus_exp2(z * FRIC_FAST_NEG_LOG2E);
+    return 1.0f / fric_fast_one_plus_exp2(fric_fast_clamp_z(z) * FRIC_FAST_NEG_LOG2E);
 }
 
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x)
 {
     float acc = 0.0f;
+    float xc;
     size_t k;
     if (!(x > 0.0f)) { /* also NaN */
-        x = 0.0f;
+        xc = 0.0f;
     } else if (x > FRIC_FAST_X_MAX) {
-        x = FRIC_FAST_X_MAX;
+        xc = FRIC_FAST_X_MAX;
+    } else {
+        xc = x;
     }
     for (k = 0; k < n; ++k) {
-        acc += beta[k] / fric_fast_one_plus_exp2(w[k] * x + b[k]); /* w, b times -log2(e) */
+        acc += beta[k] / fric_fast_one_plus_exp2((w[k] * xc) + b[k]); /* w, b times -log2(e) */
     }
     return acc;
 }
 
 float fric_exp_neg_fast_f32(float a)
 {
-    if (a != a) {
+    if (fric_fast_is_nan(a) != 0) {
         return a;
     }
-    if (a < -FRIC_FAST_Z_MAX) {
-        a = -FRIC_FAST_Z_MAX;
-    } else if (a > FRIC_FAST_Z_MAX) {
-        a = FRIC_FAST_Z_MAX;
-    }
-    return fric_fast_exp2(a * FRIC_FAST_NEG_LOG2E);
+    return fric_fast_exp2(fric_fast_clamp_z(a) * FRIC_FAST_NEG_LOG2E);
 }

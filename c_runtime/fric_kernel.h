@@ -26,8 +26,8 @@ extern "C" {
  * NaN. The one definition: the sigmoid and rbf kernels inline it, fric_exp_neg_f32 calls it. */
 static inline float fric_exp_neg_inline_f32(float a)
 {
-    const float c = a > FRIC_EXP_ARG_MAX ? FRIC_EXP_ARG_MAX
-                  : (a < -FRIC_EXP_ARG_MAX ? -FRIC_EXP_ARG_MAX : a); /* NaN stays NaN */
+    const float c = (a > FRIC_EXP_ARG_MAX) ? FRIC_EXP_ARG_MAX
+                  : ((a < -FRIC_EXP_ARG_MAX) ? -FRIC_EXP_ARG_MAX : a); /* NaN stays NaN */
     return expf(-c);
 }
 
@@ -49,7 +49,7 @@ float fric_elm_multiquadric_f32(const float *w, const float *b, const float *bet
         float acc = 0.0f;                                                            \
         size_t k;                                                                    \
         for (k = 0; k < n; ++k) {                                                    \
-            const float z = w[k] * x + b[k];                                         \
+            const float z = (w[k] * x) + b[k];                                       \
             acc += beta[k] * (ACT);                                                  \
         }                                                                            \
         return acc;                                                                  \

@@ -13,7 +13,7 @@ from ..errors import BuildError
 CFLAGS = ["-std=c99", "-O2", "-ffp-contract=off"]
 #: The strict warning set the emitted code must pass without a single warning.
 STRICT_WARNINGS = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfloat-conversion",
-                   "-Wconversion", "-Wshadow", "-Werror"]
+                   "-Wconversion", "-Wshadow", "-Wfloat-equal", "-Werror"]
 
 
 def model_cdef(name: str) -> str:

@@ -55,10 +55,10 @@ LOG2E = 1.4426950408889634
 @lru_cache(maxsize=1)
 def constants() -> Dict[str, float]:
     """The #define'd float constants of c_runtime/fric_fast.{c,h} (NEG_LOG2E, ROUND, Z_MAX,
-    X_MAX, P0..P4), as float32 values."""
+    X_MAX, P0..P4; a negative one in parentheses), as float32 values."""
     rt = resource_dir("c_runtime")
     text = (rt / "fric_fast.c").read_text() + (rt / "fric_fast.h").read_text()
-    found = dict(re.findall(r"#define FRIC_FAST_(\w+) (-?[0-9.e+-]+)f", text))
+    found = dict(re.findall(r"#define FRIC_FAST_(\w+) \(?(-?[0-9.e+-]+)f\)?", text))
     expected = {"NEG_LOG2E", "ROUND", "Z_MAX", "X_MAX"} | {f"P{i}" for i in range(DEGREE + 1)}
     if set(found) != expected:
         raise RuntimeError(f"fric_fast.c/.h define {sorted(found)}, expected {sorted(expected)}")

@@ -87,7 +87,7 @@ class DirectionAsymmetry(Effect):
         return cls(gain_positive=0.0, gain_negative=float(gn))
 
     def c_expr(self):
-        return (f"(v > 0.0f ? {c_float(self.gain_positive)} : (v < 0.0f ? "
+        return (f"((v > 0.0f) ? {c_float(self.gain_positive)} : ((v < 0.0f) ? "
                 f"{c_float(self.gain_negative)} : 0.0f)) * base")
 
     def force_f32(self, v, x, base):
@@ -172,8 +172,8 @@ class ExtraFrictionSource(Effect):
         q = f"(speed * {c_float(1.0 / self.vs)})"
         g = {"gauss": f"expf(-({q} * {q}))", "exponential": f"expf(-{q})",
              "rational": f"(1.0f / (1.0f + {q}))"}[self.shape]
-        return (f"sgn * ({c_float(self.fc)} + {c_float(self.fs - self.fc)} * {g}) + "
-                f"{c_float(self.B)} * v")
+        return (f"(sgn * ({c_float(self.fc)} + ({c_float(self.fs - self.fc)} * {g}))) + "
+                f"({c_float(self.B)} * v)")
 
     def force_f32(self, v, x, base):
         f32 = np.float32

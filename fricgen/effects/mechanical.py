@@ -87,7 +87,7 @@ class PositionRipple(Effect):
                    phase=float(math.atan2(c, a) % (2 * np.pi)))
 
     def c_expr(self):
-        return (f"{c_float(self.amplitude)} * sinf({c_float(2 * np.pi / self.period)} * x + "
+        return (f"{c_float(self.amplitude)} * sinf(({c_float(2 * np.pi / self.period)} * x) + "
                 f"{c_float(self.phase)})")
 
     def force_f32(self, v, x, base):
