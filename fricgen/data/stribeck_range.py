@@ -39,6 +39,9 @@ DICTIONARY = 8
 #: that bends the high-speed line must cost the linear candidates clearly (set on sweeps of
 #: seeds 200-219: 2 and 3 standard errors chose alike).
 JOINT_MARGIN = 2.0
+#: Rows beyond which each fold is averaged into bins before the proxy's fits (``binned_by_fold``):
+#: a log of under a minute at 1 kHz is scored row by row, a long one costs no more than that.
+MAX_PROXY_ROWS = 50_000
 #: The smallest candidate puts this fraction of the rows within [0, v_sat]; the largest
 #: leaves this fraction (and at least 2 MIN_HIGH_SPEED_ROWS) beyond it.
 EDGE_FRACTION = 0.1
@@ -173,6 +176,20 @@ def _within_one_se(squared: np.ndarray, reference: int, k: float = 1.0) -> np.nd
     return (diff.mean(axis=1) <= se) & (diff.mean(axis=1) <= own)
 
 
+def binned_by_fold(v, f, folds, rows: int = None):
+    """(v, f, folds) with each fold's rows averaged into at most ``rows`` (MAX_PROXY_ROWS) /
+    n_folds bins of consecutive speeds (``bin_equal_counts``): the proxy's cost stays flat on
+    long logs, and no bin mixes folds."""
+    rows = MAX_PROXY_ROWS if rows is None else rows
+    labels = np.unique(folds)
+    if v.size <= rows:
+        return v, f, folds
+    parts = [bin_equal_counts(Sweep(v[folds == k], f[folds == k]), max(rows // labels.size, MIN_ROWS))
+             for k in labels]
+    return (np.concatenate([p.v for p in parts]), np.concatenate([p.f for p in parts]),
+            np.concatenate([np.full(len(p), k) for p, k in zip(parts, labels)]))
+
+
 def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> StribeckRange:
     """vs_max of a folded sweep by cross-validation: each candidate v_sat = 3 vs_max splits the rows
     into a Stribeck part and a linear high-speed part (eq. (3) saturates beyond v_sat); the
@@ -198,8 +215,8 @@ def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> Stribeck
     >>> chosen.linear_region, round(chosen.vs_max, 2)          # Table 1: v_smax = 0.02
     (True, 0.02)
     """
-    v, f = folded.v, folded.f
-    folds = speed_folds(v) if folds is None else np.asarray(folds)
+    folds = speed_folds(folded.v) if folds is None else np.asarray(folds)
+    v, f, folds = binned_by_fold(folded.v, folded.f, folds)     # a long log: bins per fold
     n_folds = len(np.unique(folds))
     scored, squared = [], []
     for vs_max in candidate_grid(v):
