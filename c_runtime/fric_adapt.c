@@ -7,7 +7,6 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <string.h>
 
 static int fric_adapt_params_ok(const fric_adapt_params_t *p)
 {
@@ -275,42 +274,57 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
 /* Appends text to buf at *len if it fits below size - 1 (room for the NUL); 0 if not. */
 static int fric_adapt_put(char *buf, unsigned int size, unsigned int *len, const char *text)
 {
-    while (*text != '\0') {
-        if (*len + 1u >= size) {
-            return 0;
+    unsigned int k = 0u;
+    int ok = 1;
+    while ((ok != 0) && (text[k] != '\0')) {
+        if ((*len + 1u) >= size) {
+            ok = 0;
+        } else {
+            buf[*len] = text[k];
+            *len = *len + 1u;
+            k = k + 1u;
         }
-        buf[(*len)++] = *text++;
     }
-    return 1;
+    return ok;
 }
 
 unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, char *buf,
                                unsigned int size)
 {
     static const char hex[] = "0123456789abcdef";
-    unsigned int len = 0u, k, n;
-    char word[11];
+    unsigned int len = 0u;
+    unsigned int k;
+    unsigned int n;
+    char word[10];
     int ok;
 
-    if (a == NULL || model_hash == NULL || buf == NULL || size == 0u) {
+    if ((a == NULL) || (model_hash == NULL) || (buf == NULL) || (size == 0u)) {
         return 0u;
     }
-    n = a->p.n <= FRIC_ADAPT_MAX_PARAMS ? a->p.n : 0u;
-    ok = fric_adapt_put(buf, size, &len, "fricgen-adapt-dump 1\nmodel ")
-         && fric_adapt_put(buf, size, &len, model_hash)
-         && fric_adapt_put(buf, size, &len, "\ntheta");
-    for (k = 0u; ok && k < n; ++k) {
+    n = (a->p.n <= (unsigned int)FRIC_ADAPT_MAX_PARAMS) ? a->p.n : 0u;
+    ok = fric_adapt_put(buf, size, &len, "fricgen-adapt-dump 1\nmodel ");
+    ok = (ok != 0) ? fric_adapt_put(buf, size, &len, model_hash) : 0;
+    ok = (ok != 0) ? fric_adapt_put(buf, size, &len, "\ntheta") : 0;
+    for (k = 0u; (ok != 0) && (k < n); ++k) {
+        union {
+            float f;
+            uint32_t u;
+        } pun;
         uint32_t bits;
-        int d;
-        memcpy(&bits, &a->theta[k], sizeof bits);
+        unsigned int d;
+        pun.f = a->theta[k];
+        bits = pun.u;
         word[0] = ' ';
-        for (d = 0; d < 8; ++d) {
-            word[1 + d] = hex[(bits >> (28 - 4 * d)) & 0xFu];
+        for (d = 0u; d < 8u; ++d) {
+            word[1u + d] = hex[(bits >> (28u - (4u * d))) & 0xFu];
         }
         word[9] = '\0';
         ok = fric_adapt_put(buf, size, &len, word);
     }
-    ok = ok && fric_adapt_put(buf, size, &len, "\n");
-    buf[ok ? len : 0u] = '\0';
-    return ok ? len : 0u;
+    ok = (ok != 0) ? fric_adapt_put(buf, size, &len, "\n") : 0;
+    if (ok == 0) {
+        len = 0u;
+    }
+    buf[len] = '\0';
+    return len;
 }
