@@ -54,6 +54,10 @@ MODULES: Dict[str, Tuple[str, Optional[Sequence[str]], Sequence[str]]] = {
     "template_float": ("templates/model.c.j2", None,
                        ["tests/test_references.py", "tests/test_asymmetric.py::"
                         "test_each_direction_saturates_at_its_own_v_sat_in_c_and_the_twin"]),
+    "controller": ("fricgen/control/backstepping.py",
+                   ["_project", "AdaptiveBackstepping.friction_force", "AdaptiveBackstepping.friction_velocity",
+                    "AdaptiveBackstepping.compensation_force", "AdaptiveBackstepping.step_with_force"],
+                   ["tests/test_control.py", "tests/test_control_faults.py", "tests/test_control_c.py"]),
     "template_curve": ("templates/curve.c.j2", None, [
         "tests/test_references.py", "tests/test_hardening.py::"
         "test_grey_box_force_has_defined_behaviour_for_every_input_under_sanitizers"]),
