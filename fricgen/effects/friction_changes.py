@@ -154,7 +154,8 @@ class ExtraFrictionSource(Effect):
 
     @classmethod
     def fit(cls, problem, rows):
-        """vs on a log grid from the slowest usable speed to the model's v_sat, then (fc, fs, B)."""
+        """vs on a log grid from the slowest usable speed to the model's v_sat (the larger
+        direction's of an asymmetric model), then (fc, fs, B)."""
         v, r = problem.signals.v, problem.target[rows]
 
         def rss(log_vs):
@@ -162,7 +163,8 @@ class ExtraFrictionSource(Effect):
 
         slow = float(np.quantile(np.abs(v[problem.rows[rows]]), 0.02))
         lo = math.log(max(problem.v_min, slow, 1e-4))
-        hi = math.log(max(problem.signals.model.v_sat, 2 * math.exp(lo)))
+        v_sat = max(c.v_sat for c in problem.signals.model.directions)
+        hi = math.log(max(v_sat, 2 * math.exp(lo)))
         log_vs = grid_then_refine(rss, np.linspace(lo, hi, 12))
         vs = math.exp(log_vs)
         (fc, dfs, B), _ = lstsq(problem.at_rows(lambda i: cls.basis(v[i], vs), rows), r)
@@ -193,7 +195,8 @@ class ExtraFrictionSource(Effect):
 class FrictionalLag(Effect):
     """Friction memory (the frictional lag of dynamic models such as LuGre or Dahl): the
     velocity-weakening part follows the speed low-passed with time constant tau,
-    sgn(v) [S(s) - S(|v|)] with S(u) = F(u) - B u and tau s' = |v| - s.
+    sgn(v) [S(s) - S(|v|)] with S(u) = |F(u)| - B u and tau s' = |v| - s; S is that of the
+    direction of v (each direction's own curve of an asymmetric model).
 
     Parameters
     ----------
@@ -223,7 +226,7 @@ class FrictionalLag(Effect):
 
     def force(self, sig):
         v = np.asarray(sig.v)
-        return _sign(v) * (sig.stribeck(sig.lagged_speed(self.tau)) - sig.stribeck_speed)
+        return _sign(v) * (sig.stribeck(sig.lagged_speed(self.tau), v) - sig.stribeck_speed)
 
     @classmethod
     def fit(cls, problem, rows):
@@ -232,7 +235,7 @@ class FrictionalLag(Effect):
 
         def rss(log_tau):
             lagged = sig.lagged_speed(math.exp(log_tau))
-            pred = problem.at_rows(lambda i: _sign(sig.v[i]) * (sig.stribeck(lagged[i])
+            pred = problem.at_rows(lambda i: _sign(sig.v[i]) * (sig.stribeck(lagged[i], sig.v[i])
                                                                 - sig.stribeck_speed[i]), rows)
             return float(np.sum((r - pred) ** 2))
 

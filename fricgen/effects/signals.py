@@ -11,7 +11,10 @@ from scipy.signal import lfilter
 class FrictionCurve(Protocol):
     """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` (eq. 3) or a
     ``MultisourceFriction`` (eq. 1), as a typing protocol (``viscous``, ``__call__``,
-    ``stribeck``). Tabulating it (``Signals(tabulate=True)``) also needs ``v_sat``.
+    ``stribeck``). Tabulating it (``Signals(tabulate=True)``) also needs ``v_sat``. An
+    asymmetric curve (a ``FrictionModel`` of format version 2, a ``DirectionalFriction``) also
+    has ``negative``, the curve for v < 0 (its own ``stribeck`` and ``v_sat``); its own
+    ``stribeck`` is then that of v >= 0 at the speeds u >= 0.
 
     Examples
     --------
@@ -36,7 +39,8 @@ class Signals:
     ``s`` is the friction-memory state (a low-passed speed) when a simulation carries it;
     otherwise ``lagged_speed`` filters |v| over the samples. With ``tabulate``, the curve's
     velocity-weakening part is interpolated from a table of 4097 speeds in [0, v_sat] (error
-    ~1e-5 N), for fits that evaluate it many times.
+    ~1e-5 N), for fits that evaluate it many times. An asymmetric curve is read, at each
+    sample, as the curve of the direction of v there (eq. (3) of each direction).
 
     Parameters
     ----------
@@ -67,9 +71,13 @@ class Signals:
         self.sample_time = sample_time
         self._friction = None
         self._stribeck_speed = None
-        self._table = None
+        negative = getattr(model, "negative", None)
+        #: the curve of v >= 0 (the model's own, at speeds u >= 0), then that of v < 0 if any
+        self._curves = (model,) if negative is None else (model, negative)
+        self._tables = None
         if tabulate:
-            self._table = (float(model.v_sat), model.stribeck(np.linspace(0.0, model.v_sat, 4097)))
+            self._tables = tuple((float(c.v_sat), c.stribeck(np.linspace(0.0, c.v_sat, 4097)))
+                                 for c in self._curves)
 
     @property
     def friction(self) -> np.ndarray:
@@ -78,23 +86,32 @@ class Signals:
             self._friction = self.model(self.v)
         return self._friction
 
-    def stribeck(self, speed) -> np.ndarray:
-        """The velocity-weakening part of the curve at a speed u >= 0: S(u) = F(u) - B u."""
-        if self._table is not None:
+    def stribeck(self, speed, v) -> np.ndarray:
+        """The velocity-weakening part S(u) = |F(u)| - B u at speeds u >= 0 of the curve of the
+        direction of ``v`` (broadcast with ``speed``): that of v < 0 where v < 0 if the curve
+        is asymmetric, else the curve's own (F(0+) at v = 0)."""
+        out = self._stribeck(0, speed)
+        if len(self._curves) == 1:
+            return out
+        return np.where(np.asarray(v) < 0, self._stribeck(1, speed), out)
+
+    def _stribeck(self, k: int, speed) -> np.ndarray:
+        """S(u) of curve k of ``_curves`` (its table's interpolation when tabulated)."""
+        if self._tables is not None:
             # linear interpolation on the uniform table: the cell is found by arithmetic, not
             # by search; constant beyond v_sat, as eq. (3)
-            top, values = self._table
+            top, values = self._tables[k]
             cells = values.size - 1
             pos = np.clip(np.asarray(speed, dtype=float), 0.0, top) * (cells / top)
             k = np.minimum(pos.astype(np.intp), cells - 1)
             return values[k] + (pos - k) * (values[k + 1] - values[k])
-        return self.model.stribeck(speed)
+        return self._curves[k].stribeck(speed)
 
     @property
     def stribeck_speed(self) -> np.ndarray:
-        """The velocity-weakening part at the current speed |v| (cached)."""
+        """The velocity-weakening part at the current speed |v|, of v's direction (cached)."""
         if self._stribeck_speed is None:
-            self._stribeck_speed = self.stribeck(np.abs(self.v))
+            self._stribeck_speed = self.stribeck(np.abs(self.v), self.v)
         return self._stribeck_speed
 
     def lagged_speed(self, tau: float) -> np.ndarray:
