@@ -169,3 +169,15 @@ def test_bad_bounds_are_refused_by_python_and_by_fric_ctrl_init(module, changes,
     a0, lo, hi = settings.a0, settings.a_min, settings.a_max
     p.m_o_hat0, p.k_hat0, p.m_o_min, p.k_min, p.m_o_max, p.k_max = (*a0, *lo, *hi)
     assert lib.fric_ctrl_init(ffi.new("fric_ctrl_t *"), p) == -2
+
+
+def test_no_compensation_and_an_overflowing_friction_velocity_give_zero_force():
+    """Without a model the compensation is 0; with friction_input "vd", a v_d that overflows
+    float32 from finite inputs (x_d - x = 6e38) is not passed to the model (as the C does not
+    call it there): 0, while a usable v_d gets the model's force."""
+    from fricgen.control.backstepping import AdaptiveBackstepping
+    assert AdaptiveBackstepping().reset().friction_force(0.1) == 0.0
+    model = AdaptiveBackstepping(compensation=lambda v: 5.0, friction_input="vd", dtype="float32").reset()
+    with np.errstate(over="ignore"):                    # the overflow is the point
+        assert model.compensation_force(-3.0e38, 0.0, 3.0e38, 0.0) == 0.0
+    assert model.compensation_force(0.0, 0.0, 0.01, 0.1) == 5.0
