@@ -9,8 +9,8 @@ from scipy.signal import lfilter
 
 
 class FrictionCurve(Protocol):
-    """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` (eq. 3) or a
-    ``MultisourceFriction`` (eq. 1), as a typing protocol (``viscous``, ``__call__``,
+    """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` [F3] or a
+    ``MultisourceFriction`` [F1], as a typing protocol (``viscous``, ``__call__``,
     ``stribeck``). Tabulating it (``Signals(tabulate=True)``) also needs ``v_sat``.
 
     Examples
@@ -41,7 +41,7 @@ class Signals:
     Parameters
     ----------
     model : FrictionCurve
-        F(v) of eq. (3) or eq. (1).
+        F(v) of [F3] or [F1].
     t, x, v, a, i : ndarray, optional
         Time (s), position (m), velocity (m/s), acceleration (m/s^2), current (A).
     s : ndarray, optional
@@ -73,7 +73,7 @@ class Signals:
 
     @property
     def friction(self) -> np.ndarray:
-        """F(v) of eq. (3) (or eq. (1))."""
+        """F(v) of [F3] (or [F1])."""
         if self._friction is None:
             self._friction = self.model(self.v)
         return self._friction
@@ -82,7 +82,7 @@ class Signals:
         """The velocity-weakening part of the curve at a speed u >= 0: S(u) = F(u) - B u."""
         if self._table is not None:
             # linear interpolation on the uniform table: the cell is found by arithmetic, not
-            # by search; constant beyond v_sat, as eq. (3)
+            # by search; constant beyond v_sat, as [F3]
             top, values = self._table
             cells = values.size - 1
             pos = np.clip(np.asarray(speed, dtype=float), 0.0, top) * (cells / top)
