@@ -1,13 +1,13 @@
 """The default ``fricgen train`` on asymmetric sweeps against a per-direction honest oracle.
 
-Each seed draws two Table 1-like frictions of eq. (1), one per direction of motion: Table 1
+Each seed draws two Table 1-like frictions of [F1], one per direction of motion: Table 1
 with every f_c and f_s times a factor in [0.8, 1.4], every v_s times one in [0.6, 1] (so
 vs_max <= 0.02 m/s) and B times one in [0.7, 1.3], each direction its own factors. The sweep of
 each direction: 200 noisy points uniform in [0, 3 vs_max] plus 100 in (3, 10] vs_max, noise
 uniform in +-0.5 N, vs_max = 0.02 m/s. Both methods get vs_max = 0.02 (``--vs-max 0.02``):
   default: ``fit_directions`` with fricgen's default estimator, as ``fricgen train`` runs it
-           (symmetry by cross-validation, each direction its own grey-box eq. (1) or elm_auto);
-  oracle:  eq. (1) with the true shape and S = 3 (``fricgen.fit.oracle``) fitted to each
+           (symmetry by cross-validation, each direction its own grey-box [F1] or elm_auto);
+  oracle:  [F1] with the true shape and S = 3 (``fricgen.fit.oracle``) fitted to each
            direction separately.
 Error: RMS force error against the true law on (0, 3 vs_max] of both directions. Prints per
 shape the medians, the median ratio default / oracle and the worst single ratio.
@@ -70,7 +70,7 @@ def main():
     parser.add_argument("--seeds", type=int, default=10, help="seeds per shape, from 1000 (default 10)")
     seeds = range(FIRST_SEED, FIRST_SEED + parser.parse_args().seeds)
     print(f"{'shape':12s} {'default N':>10s} {'oracle N':>9s} {'median ratio':>12s} "
-          f"{'worst ratio':>11s} {'asymmetric':>10s} {'eq. (1) curves':>14s}")
+          f"{'worst ratio':>11s} {'asymmetric':>10s} {'[F1] curves':>14s}")
     for shape in ("gauss", "exponential", "rational"):
         rows = [run_seed(shape, seed) for seed in seeds]
         default, oracle = (np.array([r[k] for r in rows]) for k in (0, 1))

@@ -1,11 +1,11 @@
-"""elm_auto against the honest eq. (1) oracle and the default-sized enlarged ELM on held-out seed sets.
+"""elm_auto against the honest [F1] oracle and the default-sized enlarged ELM on held-out seed sets.
 
-The oracle is eq. (1) alone with the true shape and S = 3 on the B identified from the
+The oracle is [F1] alone with the true shape and S = 3 on the B identified from the
 high-speed rows (no free slope): ``fricgen.fit.oracle``. benchmarks/default_vs_oracle.py measures
 fricgen's default model against it.
 
 Prints the median E_Ttest (newtons) over 20 seeds for three disjoint seed sets and the three
-Stribeck shapes of eq. (2), so the design of elm_auto can be checked away from seeds 0-19.
+Stribeck shapes of [F2], so the design of elm_auto can be checked away from seeds 0-19.
 Run: python benchmarks/auto_vs_oracle.py   (about 1 min on one core)
 """
 import numpy as np

@@ -4,7 +4,7 @@ Sweeps as a user would record them: Table 1 friction, 200 noisy points uniform i
 plus 100 in (3, 10] vs_max, noise uniform in +-0.5 N, vs_max = 0.02 m/s, trained with
 ``--vs-max 0.02``. Error: RMSE of the model against the noise-free curve on (0, 3 vs_max].
 Prints, as medians over the seeds:
-  1. default / honest oracle (eq. (1) with the true shape and S = 3) on the three shapes;
+  1. default / honest oracle ([F1] with the true shape and S = 3) on the three shapes;
   2. default / elm_auto on two curves that are not sums of Stribeck curves;
   3. default with 2 % of the rows given +-20 N spikes / default on the clean rows.
 Seeds start at 1000 (--first-seed): no constant of fricgen was tuned on seeds from 1000 up.

@@ -1,10 +1,10 @@
 """Firmware cost of emitted friction models on Cortex-M4F and Cortex-M0+, against emlearn.
 
-Beside them, the grey-box eq. (1) with S = 3 gauss sources (rows greybox-libm, greybox-fast, M = 3).
+Beside them, the grey-box [F1] with S = 3 gauss sources (rows greybox-libm, greybox-fast, M = 3).
 For M in {6, 10, 20, 50} hidden sigmoids (paper benchmark, seed 0, fricgen's enlarged scheme
 with C by leave-one-out) and each implementation -- fricgen libm, fast, q15, q31, and emlearn
 converting the same network (one logistic hidden layer, identity output, 'loadable' method,
-regressor) wrapped in the same eq. (3) -- the script cross-builds the firmware of
+regressor) wrapped in the same [F3] -- the script cross-builds the firmware of
 examples/firmware/ and measures:
   flash_bytes, ram_bytes: text + data and data + bss over the same harness without a model
                           (so what the model pulls in from libm/libgcc is counted);
@@ -50,7 +50,7 @@ def train(m: int) -> FrictionModel:
 
 
 def train_greybox() -> FrictionModel:
-    """The grey-box eq. (1) with S = 3 gauss sources (Table 1's structure), paper benchmark seed 0."""
+    """The grey-box [F1] with S = 3 gauss sources (Table 1's structure), paper benchmark seed 0."""
     bench = synthesize_benchmark(preset("paper3"), seed=0)
     return FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")
 
@@ -72,7 +72,7 @@ def import_emlearn():
 
 
 def emlearn_sources(model: FrictionModel, folder: Path) -> None:
-    """emlearn's 'loadable' C for the same network, and eq. (3) around it as ``eml_fm_force``."""
+    """emlearn's 'loadable' C for the same network, and [F3] around it as ``eml_fm_force``."""
     net = import_emlearn().net
 
     a = model.aim
@@ -157,7 +157,7 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", default="6,10,20,50", help="hidden-layer sizes (comma-separated)")
     ap.add_argument("--targets", default="cortex-m4f,cortex-m0plus")
     ap.add_argument("--no-greybox", action="store_true",
-                    help="leave out the grey-box eq. (1) with S = 3 gauss sources")
+                    help="leave out the grey-box [F1] with S = 3 gauss sources")
     args = ap.parse_args(argv)
     reason = fw.missing_tools()
     if reason:

@@ -1,7 +1,7 @@
 """``fricgen fleet`` on a synthetic fleet: drift recall, false flags, throughput and memory.
 
 Every axis is drawn apart from fricgen (tests/independent_axis.py: a squared-rational Stribeck
-drop and quadratic drag, not eq. (1)) and logged twice, a baseline and a newest log of the same
+drop and quadratic drag, not [F1]) and logged twice, a baseline and a newest log of the same
 motion program with new sensor noise. A share of the axes (default 5 %) have their Coulomb
 level and static friction grown by a known factor between the two logs (wear); the rest are
 unchanged. The fleet runs on a real Dask LocalCluster. Printed:

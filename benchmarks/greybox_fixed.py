@@ -1,4 +1,4 @@
-"""Grey-box models in fixed point (``--dtype q15|q31``: eq. (1) as an AIM table) on the MCUs.
+"""Grey-box models in fixed point (``--dtype q15|q31``: [F1] as an AIM table) on the MCUs.
 
 The default model fitted to a Table 1 sweep (each shape, seed 1000) is emitted in q15 and q31
 (``fricgen.codegen.fixed_table``) and, side by side, in float (libm and the fast activation).

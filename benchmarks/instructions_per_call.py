@@ -1,7 +1,7 @@
 """Instructions of one ``NAME_force`` call on the emulated MCUs, the largest over a set of speeds.
 
-For each target (Cortex-M4F, Cortex-M0+), curve kind (a sigmoid ELM of eq. (7), the grey-box
-eq. (1) with gauss sources) and ``--activation-impl`` (libm, fast), and two sizes each (M hidden
+For each target (Cortex-M4F, Cortex-M0+), curve kind (a sigmoid ELM of [F7], the grey-box
+[F1] with gauss sources) and ``--activation-impl`` (libm, fast), and two sizes each (M hidden
 units or S sources), the firmware of examples/firmware/ calls the emitted ``fm_force`` once at
 each speed of SPEEDS (times v_sat) and QEMU counts the instructions of that call (one per
 translation block, as benchmarks/firmware_cost.py). The largest count over the speeds, for

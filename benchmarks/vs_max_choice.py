@@ -6,7 +6,7 @@ seeds from 1000 up (no constant was tuned on them). Errors are RMSE against the 
 on Table 1's range (0, 3 vs_max] ("low") and on the sweep's whole range (0, 10 vs_max] ("all").
 Prints per shape and noise law, as medians over the seeds (and the largest):
   default / oracle (low): the default (``DefaultRegressor``) given the true vs_max, against the
-      honest oracle (eq. (1) with the true shape and S = 3) on the same training set;
+      honest oracle ([F1] with the true shape and S = 3) on the same training set;
   chosen / given: the default on the training set of the chosen vs_max (``prepare`` without
       vs_max) against the default given the true vs_max, on both ranges. The true vs_max puts
       v_sat at 3 vs_max, where the exponential and rational Stribeck tails are still 0.75 N

@@ -8,7 +8,7 @@
  * scales of the trained model). Two rules update theta (fricgen.control.adaptation):
  *   RLS with forgetting on the friction observed by inverse dynamics,
  *       y = (phi_n / k_hat) (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2;
- *   Lyapunov (eq. 12 extended to theta): theta += gain scale^2 e2 phi(v).
+ *   Lyapunov ([C14] extended to theta): theta += gain scale^2 e2 phi(v).
  * Safety, in this order: a non-finite input changes nothing (FRIC_ADAPT_INPUT_FAULT); hold != 0
  * (the controller saturated or faulted) changes nothing (FRIC_ADAPT_HELD); no update for
  * |v| < v_dead or |error| < e_dead (FRIC_ADAPT_DEAD_ZONE); RLS: sum_k P_kk / scale_k^2 is held

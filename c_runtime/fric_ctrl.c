@@ -152,13 +152,13 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
     a0 = c->m_o_hat;
     a1 = c->k_hat;
     e1 = xd - x;
-    vd = xd_dot + (k1 * e1);                     /* eq. (3) */
-    e2 = vd - v;                                 /* eq. (5) */
-    vd_dot = xd_ddot + (k1 * (e2 - (k1 * e1)));  /* eq. (7) */
-    xi0 = vd_dot;                                /* eq. (10) */
+    vd = xd_dot + (k1 * e1);                     /* [C3] */
+    e2 = vd - v;                                 /* [C5] */
+    vd_dot = xd_ddot + (k1 * (e2 - (k1 * e1)));  /* [C7] */
+    xi0 = vd_dot;                                /* [C10] */
     xi1 = friction / c->p.phi_n;
-    d_hat = (a0 * xi0) + (a1 * xi1);             /* eq. (9) */
-    demand = (d_hat + (c->p.k2 * e2)) + e1;      /* eq. (28) */
+    d_hat = (a0 * xi0) + (a1 * xi1);             /* [C9] */
+    demand = (d_hat + (c->p.k2 * e2)) + e1;      /* [C11] */
     if (isnan(demand) != 0) {                    /* inf - inf from huge finite inputs */
         return fric_ctrl_fault(c, current);
     }
@@ -179,7 +179,7 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
         } else {
             sigma = c->p.delta * fric_sqrt_f32((e1 * e1) + (e2 * e2)); /* = sqrtf */
         }
-        g_xi0 = (g[0] * xi0) + (g[1] * xi1);     /* eq. (12): Gamma xi, Gamma A */
+        g_xi0 = (g[0] * xi0) + (g[1] * xi1);     /* [C14]: Gamma xi, Gamma A */
         g_xi1 = (g[2] * xi0) + (g[3] * xi1);
         g_a0 = (g[0] * a0) + (g[1] * a1);
         g_a1 = (g[2] * a0) + (g[3] * a1);

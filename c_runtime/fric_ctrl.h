@@ -61,7 +61,7 @@ typedef enum {
     FRIC_CTRL_ERR_PARAM = -2  /* a parameter out of range (see fric_ctrl_params_t) */
 } fric_ctrl_status_t;
 
-/* Adaptation laws of eq. (12) a, b, c. */
+/* Adaptation laws a, b, c of [C14]. */
 typedef enum {
     FRIC_CTRL_LAW_A = 0,
     FRIC_CTRL_LAW_B = 1,
@@ -88,7 +88,7 @@ typedef float (*fric_ctrl_friction_fn)(float v);
 
 typedef struct {
     float k1;           /* position gain, 1/s, > 0 */
-    float k2;           /* velocity gain, A s/m, > 1/2 (eq. 14) */
+    float k2;           /* velocity gain, A s/m, > 1/2 [C16] */
     float gamma[4];     /* Gamma, row-major 2x2, symmetric positive definite */
     float delta;        /* leakage of laws b, c, >= 0 */
     float ts;           /* sampling time, s, > 0 */

@@ -1,4 +1,4 @@
-/* fricgen C runtime: the multiquadric kernel of the ELM, eq. (7), sqrt(1 + z^2) through libm's
+/* fricgen C runtime: the multiquadric kernel of the ELM, [F7], sqrt(1 + z^2) through libm's
  * sqrtf (fric_kernel.h). */
 #include "fric_kernel.h"
 

@@ -1,4 +1,4 @@
-/* fricgen C runtime: the Gaussian RBF kernel of the ELM, eq. (7), exp(-z^2) through libm's expf
+/* fricgen C runtime: the Gaussian RBF kernel of the ELM, [F7], exp(-z^2) through libm's expf
  * (fric_kernel.h). */
 #include "fric_kernel.h"
 

@@ -1,5 +1,5 @@
-/* fricgen C runtime: the sigmoid kernel of the ELM, eq. (7)-(8), through libm's expf (fric_kernel.h). */
+/* fricgen C runtime: the sigmoid kernel of the ELM, [F7]-[F8], through libm's expf (fric_kernel.h). */
 #include "fric_kernel.h"
 
-/* eq. (8): 1 / (1 + exp(-z)), the exponential's argument clamped (z < -87 gives 1.6e-38). */
+/* [F8]: 1 / (1 + exp(-z)), the exponential's argument clamped (z < -87 gives 1.6e-38). */
 FRIC_ELM_KERNEL(fric_elm_sigmoid_f32, 1.0f / (1.0f + fric_exp_neg_inline_f32(z)))

@@ -1,4 +1,4 @@
-/* fricgen C runtime: the fast sigmoid of eq. (8) and its ELM kernel, eq. (7). No libm.
+/* fricgen C runtime: the fast sigmoid of [F8] and its ELM kernel, [F7]. No libm.
  *
  * sigma(z) = 1 / (1 + e), e = exp(-z) = 2^t with t = -z log2(e). t is split without any
  * float-to-int conversion: adding FRIC_FAST_ROUND (1.5 * 2^23) rounds t to the nearest integer

@@ -1,5 +1,5 @@
-/* fricgen C runtime: ELM hidden-layer kernel with the fast sigmoid, eq. (7)-(8), without libm.
- * Also exp(-a) without libm for the grey-box Stribeck model, eq. (2).
+/* fricgen C runtime: ELM hidden-layer kernel with the fast sigmoid, [F7]-[F8], without libm.
+ * Also exp(-a) without libm for the grey-box Stribeck model, [F2].
  * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by
  * `fricgen emit --activation-impl fast`. */
 #ifndef FRIC_FAST_H
@@ -15,11 +15,11 @@ extern "C" {
 #endif
 
 /* The kernel clamps its input x to [0, FRIC_FAST_X_MAX] (NaN -> 0): the network's domain is
- * [0, 1] (eq. 3 saturates it) and `fricgen emit` checks that every |w[k] x + b[k]| <= 125 there
+ * [0, 1] ([F3] saturates it) and `fricgen emit` checks that every |w[k] x + b[k]| <= 125 there
  * (the pre-multiplied tables below). */
 #define FRIC_FAST_X_MAX 1.0009765625f
 
-/* The fast sigmoid of eq. (8): 1 / (1 + 2^t), t = -z log2(e), 2^t from exponent arithmetic and
+/* The fast sigmoid of [F8]: 1 / (1 + 2^t), t = -z log2(e), 2^t from exponent arithmetic and
  * a degree-4 polynomial; no libm call. For every float z:
  * |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 8.7e-7 (the bound derived in
  * fricgen.fast_sigmoid, enforced by tests/test_fast_sigmoid.py). z is clamped to [-86, 86]
@@ -33,7 +33,7 @@ float fric_sigmoid_fast_f32(float z);
  * rounded in this order; fricgen.fast_sigmoid mirrors it exactly. */
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 
-/* exp(-a) = 2^t, t = a * fl(-log2(e)), for the Stribeck shapes of eq. (2) (`fricgen emit` of a
+/* exp(-a) = 2^t, t = a * fl(-log2(e)), for the Stribeck shapes of [F2] (`fricgen emit` of a
  * grey-box model): a is clamped to [-86, 86] (|t| <= 125), NaN returns NaN. The relative error
  * is that of the polynomial plus the rounding of t (fricgen.fast_sigmoid.exp_neg_error_bound). */
 float fric_exp_neg_fast_f32(float a);

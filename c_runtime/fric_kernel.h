@@ -1,7 +1,7 @@
-/* fricgen C runtime: hidden-layer kernels of the Extreme Learning Machine, eq. (7), through libm.
+/* fricgen C runtime: hidden-layer kernels of the Extreme Learning Machine, [F7], through libm.
  * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by `fricgen emit`.
  * One header, one source per kernel: fric_elm_sigmoid.c, fric_elm_sine.c, fric_elm_rbf.c,
- * fric_elm_multiquadric.c, and fric_exp_neg.c (exp(-a), also for the grey-box shapes of eq. (2));
+ * fric_elm_multiquadric.c, and fric_exp_neg.c (exp(-a), also for the grey-box shapes of [F2]);
  * `fricgen emit` copies the sources its model calls, so a link without --gc-sections pulls in
  * only the libm functions the model needs (sinf, sqrtf and expf each add kilobytes). */
 #ifndef FRIC_KERNEL_H
@@ -31,7 +31,7 @@ static inline float fric_exp_neg_inline_f32(float a)
     return expf(-c);
 }
 
-/* exp(-a) as above (fric_exp_neg.c), for the Stribeck shapes of eq. (2) in the generated code. */
+/* exp(-a) as above (fric_exp_neg.c), for the Stribeck shapes of [F2] in the generated code. */
 float fric_exp_neg_f32(float a);
 
 /* sum_k beta[k] * act(w[k] * x + b[k]) for k = 0 .. n-1, accumulated in order k = 0, 1, ...

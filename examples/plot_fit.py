@@ -23,9 +23,9 @@ def main(path: str) -> None:
     fig, ax = plt.subplots(figsize=(7, 3.6), dpi=110)
     ax.plot(bench.train.v, bench.train.f, ".", ms=3, color="0.6", label="noisy sweep (±0.5 N)")
     ax.plot(-bench.train.v, -bench.train.f, ".", ms=3, color="0.6")
-    ax.plot(v, bench.friction(v), color="k", lw=1, label="true 3-source friction, eq. (1)")
+    ax.plot(v, bench.friction(v), color="k", lw=1, label="true 3-source friction, [F1]")
     ax.plot(v, model.force(v), "--", color="tab:red", lw=1.5,
-            label=f"fricgen model, eq. (3), {model.aim.n_hidden} neurons")
+            label=f"fricgen model, [F3], {model.aim.n_hidden} neurons")
     ax.set_xlabel("velocity v (m/s)")
     ax.set_ylabel("friction force (N)")
     ax.grid(alpha=0.3)

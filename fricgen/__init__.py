@@ -4,7 +4,7 @@ The public names are importable from here, loaded on first use (PEP 562), so tha
 ``import fricgen`` (and ``fricgen --help``) loads no numerics:
 
 - data: ``Sweep``, ``read_sweep_csv``, ``MotionLog``, ``read_log_csv``, ``synthesize_benchmark``,
-  ``preset`` and ``MultisourceFriction`` (eqs. (1)-(2), sec. 2);
+  ``preset`` and ``MultisourceFriction`` [F1]-[F2];
 - the model and its model.json: ``FrictionModel`` (``load``, ``save``, ``force``);
 - training: ``train`` -> ``FitReport``, and the estimators ``DefaultRegressor``,
   ``StribeckRegressor``, ``AutoELMRegressor``, ``ELMRegressor``;
@@ -13,7 +13,7 @@ The public names are importable from here, loaded on first use (PEP 562), so tha
 - errors: ``FricgenError``, ``DataError``, ``ModelError``, ``UsageError``.
 
 Subpackages, in their one-way import order: ``networks`` and ``effects`` (what a model holds),
-``model`` (eq. 3 and model.json), ``data``, ``fit``, ``codegen``, ``training``, ``sim``,
+``model`` ([F3] and model.json), ``data``, ``fit``, ``codegen``, ``training``, ``sim``,
 ``control``, ``diagnose``, ``paper``, ``firmware``, ``fleet``, ``cli``.
 
 Examples

@@ -1,7 +1,7 @@
 """The axis record of model.json (``training.axis``): what training identified or was told
 about the axis that produced the data, besides its friction.
 
-    phi i = m v' + F(v) + offset            (eq. 18 of section 6, with a constant force)
+    phi i = m v' + F(v) + offset            ([C1], with a constant force)
 
 ``mass`` (kg) and ``offset`` (N, the constant part of the drive force, as IDIM-LS writes it:
 the drive holds -offset of gravity on an inclined axis, or of a cable's pull) come with their standard errors when training identified

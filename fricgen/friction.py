@@ -1,4 +1,4 @@
-"""Multisource friction, eq. (1), with the Stribeck shapes of eq. (2)."""
+"""Multisource friction, [F1], with the Stribeck shapes of [F2]."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -19,7 +19,7 @@ def _rational(v, vs):
     return 1.0 / (1.0 + np.abs(v) / vs)
 
 
-#: The three shape functions g(v, v_s) of eq. (2), by name.
+#: The three shape functions g(v, v_s) of [F2], by name.
 SHAPES: Dict[str, Callable[[np.ndarray, float], np.ndarray]] = {
     "gauss": _gauss,
     "exponential": _exponential,
@@ -29,7 +29,7 @@ SHAPES: Dict[str, Callable[[np.ndarray, float], np.ndarray]] = {
 
 @dataclass(frozen=True)
 class FrictionSource:
-    """One source k of eq. (1).
+    """One source k of [F1].
 
     Parameters
     ----------
@@ -65,18 +65,18 @@ class FrictionSource:
 
 @dataclass(frozen=True)
 class MultisourceFriction:
-    r"""Multisource Stribeck friction, eq. (1), with the shape functions g of eq. (2).
+    r"""Multisource Stribeck friction, [F1], with the shape functions g of [F2].
 
     Parameters
     ----------
     sources : sequence of FrictionSource
         The S sources (at least one).
     shape : {"gauss", "exponential", "rational"}
-        g(v, v_s) of eq. (2): exp(-(v/v_s)^2), exp(-|v|/v_s) or 1/(1 + |v|/v_s).
+        g(v, v_s) of [F2]: exp(-(v/v_s)^2), exp(-|v|/v_s) or 1/(1 + |v|/v_s).
 
     Notes
     -----
-    Calling the object evaluates eq. (1), the friction force in N at velocities v in m/s:
+    Calling the object evaluates [F1], the friction force in N at velocities v in m/s:
 
     .. math::
 
@@ -134,7 +134,7 @@ class MultisourceFriction:
 
 def multisource(fc: Sequence[float], fs: Sequence[float], vs: Sequence[float],
                 B: Sequence[float], shape: str = "gauss") -> MultisourceFriction:
-    """Eq. (1) from per-source parameter columns, as Table 1 lists them.
+    """[F1] from per-source parameter columns, as Table 1 lists them.
 
     Parameters
     ----------
@@ -145,7 +145,7 @@ def multisource(fc: Sequence[float], fs: Sequence[float], vs: Sequence[float],
     B : sequence of float
         Viscous coefficient of each source (N s/m).
     shape : str
-        The g of eq. (2): "gauss", "exponential" or "rational".
+        The g of [F2]: "gauss", "exponential" or "rational".
 
     Returns
     -------
@@ -180,7 +180,7 @@ def preset(name: str, shape: str = "gauss") -> MultisourceFriction:
     name : str
         The preset's name.
     shape : str
-        The g of eq. (2) to give it ("gauss", "exponential" or "rational").
+        The g of [F2] to give it ("gauss", "exponential" or "rational").
 
     Returns
     -------

@@ -5,7 +5,7 @@ import numpy as np
 
 
 def rmse(y, t) -> float:
-    """Root-mean-square error, eqs. (4)-(6)."""
+    """Root-mean-square error, [F4]-[F6]."""
     return float(np.sqrt(np.mean((np.asarray(y) - np.asarray(t)) ** 2)))
 
 

@@ -1,7 +1,7 @@
-"""FrictionModel, eq. (3), and its model.json (format versions 1 and 2).
+"""FrictionModel, [F3], and its model.json (format versions 1 and 2).
 
 Version 1 holds a symmetric model, F(-v) = -F(v). Version 2 adds the asymmetric model: a
-second curve of eq. (3) (``negative``: its own AIM of any network kind, scaling, B and v_sat)
+second curve of [F3] (``negative``: its own AIM of any network kind, scaling, B and v_sat)
 for v < 0. A symmetric model is still written as version 1, so every reader of version 1 reads
 it; an asymmetric one as version 2.
 
@@ -51,13 +51,13 @@ OPPOSES_MOTION_UP_TO = 10.0
 PHYSICAL_FORCE_MAX = PHYSICAL["force"][1]
 #: Speeds, in units of v_sat, at which a curve's force is checked (``Direction.check``).
 _CHECK_SPEEDS = np.linspace(0.0, 1.0, 129)
-#: How far K_in v_sat may be from 1 (eq. (9): K_in = 1/v_sat, written and read back in float64).
+#: How far K_in v_sat may be from 1 ([F9]: K_in = 1/v_sat, written and read back in float64).
 K_IN_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True)
 class Scaling:
-    """Normalization of eq. (9): x = K_in v, t = K_out (F - B v).
+    """Normalization of [F9]: x = K_in v, t = K_out (F - B v).
 
     Parameters
     ----------
@@ -79,15 +79,15 @@ class Scaling:
 
 @dataclass(frozen=True)
 class Direction:
-    """The curve of eq. (3) for one direction of motion, as a function of the speed |v|:
+    """The curve of [F3] for one direction of motion, as a function of the speed |v|:
     AIM(K_in min(|v|, v_sat)) / K_out + B |v|.
 
     Parameters
     ----------
     aim : network
-        The trained network of any kind (``fricgen.networks``), from x to t of eq. (9).
+        The trained network of any kind (``fricgen.networks``), from x to t of [F9].
     scaling : Scaling
-        K_in and K_out of eq. (9).
+        K_in and K_out of [F9].
     viscous : float
         B (N s/m), identified above v_sat.
     v_sat : float
@@ -110,7 +110,7 @@ class Direction:
 
     @classmethod
     def fit(cls, dataset, estimator) -> "Direction":
-        """Fit ``estimator`` to the eq. (9) data of one direction."""
+        """Fit ``estimator`` to the [F9] data of one direction."""
         estimator.fit(dataset.x, dataset.t)
         return cls(aim=estimator.network_, scaling=dataset.scaling, viscous=dataset.viscous,
                    v_sat=dataset.v_sat)
@@ -130,14 +130,14 @@ class Direction:
 
     def check(self) -> "Direction":
         """This curve, if the float32 C can run it as friction; else ``ModelError``: v_sat, the
-        force scale 1/K_out, B or a Stribeck velocity of eq. (1) beyond FLOAT32_SCALE, a force on [0, v_sat] that is not finite
+        force scale 1/K_out, B or a Stribeck velocity of [F1] beyond FLOAT32_SCALE, a force on [0, v_sat] that is not finite
         or beyond it, or a negative B that reverses the force before OPPOSES_MOTION_UP_TO v_sat."""
         for what, value, unit in (("v_sat", self.v_sat, "m/s"),
                                   ("the force scale 1/k_out", 1.0 / self.scaling.k_out, "N"),
                                   ("viscous", self.viscous, "N s/m")):
             if value != 0:
                 float32_scale(what, value, unit, "not a model for the float32 C", ModelError)
-        for k, xs in enumerate(getattr(self.aim, "stribeck", ())):     # eq. (1)'s, normalized
+        for k, xs in enumerate(getattr(self.aim, "stribeck", ())):     # [F1]'s, normalized
             float32_scale(f"aim.stribeck[{k}]", xs, "(normalized)", "not a model for the float32 C",
                           ModelError)
         with np.errstate(over="ignore", invalid="ignore"):
@@ -187,7 +187,8 @@ class Direction:
         v_sat = json_number(d, "v_sat", "model", positive=True)
         if not abs(k_in * v_sat - 1.0) <= K_IN_TOLERANCE:
             raise ModelError(f"scaling.k_in ({k_in:.6g} 1/(m/s)) times v_sat ({v_sat:.6g} m/s) is "
-                             f"{k_in * v_sat:.6g}; eq. (9) needs k_in = 1/v_sat (was one of them edited?)")
+                             f"{k_in * v_sat:.6g}; the normalization [F9] needs k_in = 1/v_sat "
+                             "(was one of them edited?)")
         for key in ("aim", "scaling", "viscous", "v_sat"):
             where = float32_overflow(d.get(key), key)
             if where:
@@ -213,10 +214,10 @@ def _negative_from_dict(d: dict) -> Direction:
 
 @dataclass(frozen=True)
 class FrictionModel:
-    """A friction model, eq. (3), sec. 2: F(v) = AIM(K_in min(|v|, v_sat)) / K_out sgn(v) + B v.
+    """A friction model, [F3]: F(v) = AIM(K_in min(|v|, v_sat)) / K_out sgn(v) + B v.
 
-    The network is trained on t = K_out (F - B v) (eq. 9), so its output is divided by K_out
-    (the paper's eq. (3) writes the inverse scaling as K_out). Beyond v_sat = 3 vs_max the network
+    The network is trained on t = K_out (F - B v) [F9], so its output is divided by K_out
+    (the paper's [F3] writes the inverse scaling as K_out). Beyond v_sat = 3 vs_max the network
     input saturates. The model is odd: F(-v) = -F(v) exactly, unless it is asymmetric:
     then ``negative`` (a ``Direction``) gives F for v < 0, F(v) = -negative.magnitude(|v|),
     and aim, scaling, viscous, v_sat are the curve for v >= 0. ``fricgen.train`` fits one;
@@ -225,9 +226,9 @@ class FrictionModel:
     Parameters
     ----------
     aim : network
-        The trained network of eq. (3) (``fricgen.networks``: ELM, grey-box eq. (1), ANFIS).
+        The trained network of [F3] (``fricgen.networks``: ELM, grey-box [F1], ANFIS).
     scaling : Scaling
-        K_in (1/(m/s)) and K_out (1/N) of eq. (9).
+        K_in (1/(m/s)) and K_out (1/N) of [F9].
     viscous : float
         B, N s/m.
     v_sat : float
@@ -309,15 +310,15 @@ class FrictionModel:
 
     @classmethod
     def fit(cls, dataset, estimator, name: str = DEFAULT_MODEL_NAME, training=None) -> "FrictionModel":
-        """Fit ``estimator`` (e.g. an ELMRegressor) to the eq. (9) data and wrap it in eq. (3)."""
+        """Fit ``estimator`` (e.g. an ELMRegressor) to the [F9] data and wrap it in [F3]."""
         return cls.from_directions(Direction.fit(dataset, estimator), name=name, training=training)
 
     def network_input(self, v) -> np.ndarray:
-        """x = K_in min(|v|, v_sat): the saturated, normalized network input of eq. (3)."""
+        """x = K_in min(|v|, v_sat): the saturated, normalized network input of [F3]."""
         return self.scaling.k_in * np.minimum(np.abs(np.asarray(v, dtype=float)), self.v_sat)
 
     def stribeck(self, v) -> np.ndarray:
-        """The velocity-weakening part AIM(K_in min(|v|, v_sat)) / K_out of eq. (3) (no sign,
+        """The velocity-weakening part AIM(K_in min(|v|, v_sat)) / K_out of [F3] (no sign,
         no B v): F(|v|) - B |v|, and F(0+) at v = 0. An asymmetric model gives that of the
         negative curve where v < 0."""
         positive = self.aim(self.network_input(v)) / self.scaling.k_out
@@ -327,7 +328,7 @@ class FrictionModel:
         return np.where(v < 0, self.negative.stribeck(v), positive)
 
     def force(self, v) -> np.ndarray:
-        """Friction force for any sign of v, eq. (3), sec. 2; each direction's own curve
+        """Friction force for any sign of v, [F3]; each direction's own curve
         when the model is asymmetric.
 
         Parameters

@@ -108,7 +108,7 @@ def copy_of(folder, target):
 
 @pytest.fixture(scope="session")
 def xt(bench):
-    """The benchmark's eq. (9) training data (x, t)."""
+    """The benchmark's [F9] training data (x, t)."""
     return bench.dataset.x, bench.dataset.t
 
 

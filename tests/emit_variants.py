@@ -1,5 +1,5 @@
 """Every kind of C folder ``fricgen emit`` writes, for the static checks of tests/test_static_c.py:
-an ELM and a grey-box eq. (1) model in each implementation (float with libm or the fast sigmoid,
+an ELM and a grey-box [F1] model in each implementation (float with libm or the fast sigmoid,
 q15 and q31), an asymmetric model, a model with effects, two models in one folder, the
 controller, the adaptation runtime (--adapt), and the whole runtime c_runtime/ with every kernel."""
 import shutil

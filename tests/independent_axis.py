@@ -77,7 +77,7 @@ def fleet_friction(axis: dict, v):
 
 
 def fleet_log(axis: dict, seed: int, duration: float = 60.0) -> dict:
-    """Columns (t, v, force) of one log of ``axis``: force = m a + friction + offset (eq. 18
+    """Columns (t, v, force) of one log of ``axis``: force = m a + friction + offset ([C1]
     with a constant load), the velocity and the force each with white sensor noise."""
     t = np.arange(int(FLEET_RATE * duration)) / FLEET_RATE
     v, a = fleet_velocity(t)

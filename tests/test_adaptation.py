@@ -25,7 +25,7 @@ def model(request, default_model, grey_model):
 def test_regressor_at_the_trained_parameters_is_the_model(model):
     reg = Regressor(model)
     forces = [f0 + phi @ reg.theta0 for f0, phi in map(reg, V)]
-    # float64 sums in another order than eq. (3): a few ULP of forces below 100 N
+    # float64 sums in another order than [F3]: a few ULP of forces below 100 N
     np.testing.assert_allclose(forces, model.force(V), rtol=0, atol=1e-12)
     assert len(parameter_names(model)) == reg.n
 

@@ -1,4 +1,4 @@
-"""The asymmetric model: one curve of eq. (3) per direction, model.json format version 2, its C."""
+"""The asymmetric model: one curve of [F3] per direction, model.json format version 2, its C."""
 import copy
 import json
 
@@ -112,8 +112,8 @@ def test_simulator_and_diagnosis_law_use_the_asymmetric_force(asym):
 
 
 def _curve_tolerance(curve, speed):
-    """The libm bound of one curve at the speeds ``speed``: a few ULP of each term of eq. (7)
-    (as test_codegen) or eq. (1), and of B |v|."""
+    """The libm bound of one curve at the speeds ``speed``: a few ULP of each term of [F7]
+    (as test_codegen) or [F1], and of B |v|."""
     net = curve.aim
     if isinstance(net, StribeckCurve):
         terms, n = abs(net.offset) + abs(net.slope) + np.abs(net.amplitudes).sum(), net.n_sources
@@ -235,8 +235,8 @@ def _table1_like(scale_force, scale_vs, scale_b, shape="gauss"):
 
 @pytest.fixture(scope="module")
 def curves():
-    """Grey-box (eq. (1)) and ELM curves of two directions that differ in every constant of
-    eq. (3): v >= 0 fitted to Table 1 (vs_max 0.02), v < 0 to Table 1 with 30 % more friction,
+    """Grey-box [F1] and ELM curves of two directions that differ in every constant of
+    [F3]: v >= 0 fitted to Table 1 (vs_max 0.02), v < 0 to Table 1 with 30 % more friction,
     Stribeck velocities 1.5 x (vs_max 0.03) and 0.6 B, of the exponential shape."""
     data = {1: synthesize_benchmark(preset("paper3"), seed=0).dataset,
             -1: synthesize_benchmark(_table1_like(1.3, 1.5, 0.6, "exponential"), seed=1).dataset}
@@ -309,7 +309,7 @@ def test_fixed_point_refuses_grey_box_and_mixed_asymmetric_models(curves, kinds)
 
 
 def test_default_train_keeps_the_better_model_per_direction_and_it_emits(tmp_path, capsys):
-    """The default (grey-box eq. (1) or elm_auto) fits each direction of an asymmetric sweep;
+    """The default (grey-box [F1] or elm_auto) fits each direction of an asymmetric sweep;
     the report names each direction's choice and its estimated vs_max, and ``emit`` writes its
     C. (--asymmetric spares the test the cross-validation of the symmetry.)"""
     sweep = _two_directions(1.2)
@@ -325,7 +325,7 @@ def test_default_train_keeps_the_better_model_per_direction_and_it_emits(tmp_pat
     kinds = [c.aim.kind for c in model.directions]
     assert [training["choice"], training["negative"]["choice"]] == [
         "elm_auto" if k == "elm" else k for k in kinds]
-    assert "stribeck" in kinds                       # Table 1 data: eq. (1) wins somewhere
+    assert "stribeck" in kinds                       # Table 1 data: [F1] wins somewhere
     assert main(["emit", str(model_json), "-o", str(tmp_path / "c")]) == 0
     assert "_aim_negative" in (tmp_path / "c" / "friction_model.c").read_text()
 

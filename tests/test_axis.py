@@ -1,4 +1,4 @@
-"""The axis of eq. (18) under a pluggable force law: its three integrators, stiction, and the
+"""The axis of [C1] under a pluggable force law: its three integrators, stiction, and the
 force law of a friction curve with named effects (truth logs, diagnosis re-simulation)."""
 import numpy as np
 import pytest

@@ -270,7 +270,7 @@ PLAUSIBILITY_ROWS = [
      "the largest force on [0, v_sat] is"),
     ("a decimal point dropped from viscous, emitted", ["emit", "dropped_decimal.json", "-o", OUT],
      "above the 100000 N of any real axis"),
-    ("v_sat edited, k_in not", ["eval", "v_sat_edited.json"], "eq. (9) needs k_in = 1/v_sat"),
+    ("v_sat edited, k_in not", ["eval", "v_sat_edited.json"], "the normalization [F9] needs k_in = 1/v_sat"),
     ("a weight beyond float32, eval", ["eval", "float32_overflow.json"],
      "aim.input_weights[0] is beyond 3.403e+38, the largest float32"),
     ("--scale t applies to both files", ["diagnose", *DRIVE_MS, "--model", "model.json", *DIAG, "-o", OUT],

@@ -131,12 +131,12 @@ def test_one_step_implements_eqs_3_to_12():
                              a0=(0.2, 0.9)).reset()
     i = c.step(x=0.1, v=0.3, xd=0.2, xd_dot=0.5, xd_ddot=1.0)
     e1 = 0.1
-    e2 = 0.5 + 2.0 * e1 - 0.3                                     # eqs. (3), (5)
-    vd_dot = 1.0 + 2.0 * (-2.0 * e1 + e2)                          # eq. (7)
-    xi = np.array([vd_dot, 10.0 / 5.0])                            # eq. (10)
+    e2 = 0.5 + 2.0 * e1 - 0.3                                     # [C3], [C5]
+    vd_dot = 1.0 + 2.0 * (-2.0 * e1 + e2)                          # [C7]
+    xi = np.array([vd_dot, 10.0 / 5.0])                            # [C10]
     A = np.array([0.2, 0.9])
     G = np.array([[1.0, 0.5], [0.5, 2.0]])
-    assert i == pytest.approx(A @ xi + 3.0 * e2 + e1)             # eq. (28)
+    assert i == pytest.approx(A @ xi + 3.0 * e2 + e1)             # [C11]
     assert c.a_ == pytest.approx(A + 0.01 * (e2 * G @ xi - 0.1 * G @ A))   # law (b)
 
 
@@ -150,7 +150,7 @@ def test_current_is_limited_to_i_max():
 
 
 def lyapunov(run, ctrl, axis, traj):
-    """V of eq. (11) along a run, with A* = [m / phi, phi_N / phi] (the exact parameters)."""
+    """V of [C13] along a run, with A* = [m / phi, phi_N / phi] (the exact parameters)."""
     xd, xd1, _ = traj(run.t)
     e1 = xd - run.x
     e2 = xd1 + ctrl.k1 * e1 - run.v
@@ -161,7 +161,7 @@ def lyapunov(run, ctrl, axis, traj):
 
 
 def test_lyapunov_function_does_not_grow_under_law_a_when_the_model_is_exact():
-    """With a model that can be exact (viscous friction, eps = 0), eq. (13) gives
+    """With a model that can be exact (viscous friction, eps = 0), [C15] gives
     V' = -k1 e1^2 - k2 e2^2 <= 0; sampling at 1 kHz may add O(Ts^2) per step only."""
     visc = multisource(fc=[0.0], fs=[0.0], vs=[0.01], B=[57.5])
     axis = default_axis(friction=visc)

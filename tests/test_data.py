@@ -134,7 +134,7 @@ def test_non_positive_vs_max_is_refused(bench, vs_max):
 
 
 def test_force_against_the_sign_of_v_is_refused(bench):
-    """Friction acts with the sign of v in eq. (1); a flipped v, force or current is named."""
+    """Friction acts with the sign of v in [F1]; a flipped v, force or current is named."""
     flipped = Sweep(bench.train.v, -bench.train.f)
     with pytest.raises(DataError, match="opposite sign of v"):
         prepare(flipped, vs_max=0.02)

@@ -182,7 +182,7 @@ def test_a_set_the_first_part_ranks_lower_is_taken_when_it_extrapolates_better()
 def test_a_mass_error_is_not_read_as_a_scaled_force_balance():
     """A mass three times the nominal one with a phi error: a phi error a third of the nominal
     one with an extra source that cancels two thirds of the model's friction moves the axis
-    alike (the force balance of eq. 18 divided by three), and its force residual is a third as
+    alike (the force balance of [C1] divided by three), and its force residual is a third as
     large. Compared per unit of mass, the true pair is taken."""
     sc = make_scenario(4019, ("force_constant_mismatch", "inertia_mismatch"))
     d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)

@@ -31,10 +31,10 @@ def test_ridge_solution_is_eq_15(xt):
     A = np.eye(12) / C + H.T @ H
     expected = np.linalg.solve(A, H.T @ t)
     # The normal-equations reference is itself only accurate to ~cond(A) eps relative (backward
-    # stable solve of eq. 15); allow ten times that, on the scale of the solution.
+    # stable solve of [F15]); allow ten times that, on the scale of the solution.
     tolerance = 10 * np.linalg.cond(A) * np.finfo(float).eps * np.linalg.norm(expected)
     assert np.linalg.norm(elm.beta_ - expected) <= tolerance
-    # and the solution satisfies eq. (15) itself to the same relative accuracy
+    # and the solution satisfies [F15] itself to the same relative accuracy
     assert np.linalg.norm(A @ elm.beta_ - H.T @ t) <= 10 * np.finfo(float).eps * np.linalg.norm(A, 2) \
         * np.linalg.norm(elm.beta_) * np.sqrt(12)
 

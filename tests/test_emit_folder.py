@@ -136,7 +136,7 @@ def undefined_symbols(objects):
 @needs_cc
 @pytest.mark.parametrize("opt", ["-O0", "-O2"])
 def test_the_fast_folder_with_the_controller_needs_no_libm(model10, bench, tmp_path, opt):
-    """Every object of a fast folder (an ELM, a grey-box eq. (1) model, the controller and the
+    """Every object of a fast folder (an ELM, a grey-box [F1] model, the controller and the
     adaptation runtime) leaves no libm function undefined; the libm build of the same folder
     does (expf), which shows that the check sees them."""
     libm = libm_symbols()

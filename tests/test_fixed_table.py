@@ -1,4 +1,4 @@
-"""Fixed-point grey-box models (--dtype q15|q31 of eq. (1)): the AIM table, LSB-exact parity of
+"""Fixed-point grey-box models (--dtype q15|q31 of [F1]): the AIM table, LSB-exact parity of
 the C with its integer twin, and the documented error bound on every input."""
 import shutil
 
@@ -19,7 +19,7 @@ V_SAT = 0.06
 
 def greybox(shape, stribeck=(0.005, 0.02), name="gb"):
     """Two sources of Table 1's size (forces 4 + 6 N Coulomb, 10 and 15 N Stribeck drops),
-    B = 57.5 N s/m, normalized as eq. (9) does."""
+    B = 57.5 N s/m, normalized as [F9] does."""
     k_out = 1.0 / 36.0
     curve = StribeckCurve(shape, k_out * 10.0, np.array([k_out * 10.0, k_out * 15.0]),
                           np.array(stribeck) / V_SAT, 0.01)

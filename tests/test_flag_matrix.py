@@ -1,5 +1,5 @@
 """Meaning that does not depend on flags: the runtime refuses -ffast-math, and the runtime with
-emitted models (an ELM and a grey-box eq. (1) model, both --activation-impl fast: no libm) and
+emitted models (an ELM and a grey-box [F1] model, both --activation-impl fast: no libm) and
 the controller on glitched inputs give the twins' bits under every compiler x -std x -O on this
 machine (gcc, clang, arm-none-eabi-gcc under QEMU when installed), with no fused multiply-add."""
 import shutil
@@ -27,7 +27,7 @@ def runtime_folder(tmp_path):
 def test_the_emitted_folder_holds_one_float_block_and_every_source_includes_it(tmp_path, impl,
                                                                                bench, model10):
     """One header fixes the float semantics (fric_float.h); every .c of a folder with an ELM, a
-    grey-box eq. (1) model and the controller reaches it, directly or through a header."""
+    grey-box [F1] model and the controller reaches it, directly or through a header."""
     for name, model in {"fm": model10, "gb": fm.table1_greybox(bench)}.items():
         codegen.emit(model, tmp_path, name, activation_impl=impl, with_controller=True)
     assert list(fm.fp_blocks(tmp_path)) == [fm.FLOAT_HEADER]

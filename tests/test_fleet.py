@@ -34,7 +34,7 @@ def cluster():
 
 @pytest.fixture(scope="module")
 def logs(tmp_path_factory):
-    """Three axes' logs (the independent axis, not eq. (1)) and their manifest."""
+    """Three axes' logs (the independent axis, not [F1]) and their manifest."""
     folder = tmp_path_factory.mktemp("fleet_logs")
     lines = ["axis,log,timestamp"]
     for a in range(3):

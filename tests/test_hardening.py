@@ -89,7 +89,7 @@ def test_float_force_has_defined_behaviour_for_every_input_under_sanitizers(mode
 
 @pytest.mark.parametrize("impl", ["libm", "fast"])
 def test_grey_box_force_has_defined_behaviour_for_every_input_under_sanitizers(impl, tmp_path):
-    """Eq. (1)'s loop over the sources reads its tables in bounds (ASan checks every global)."""
+    """[F1]'s loop over the sources reads its tables in bounds (ASan checks every global)."""
     curve = StribeckCurve("exponential", 0.4, np.array([0.3, 0.25]), np.array([0.08, 0.3]), 0.02)
     model = FrictionModel(curve, Scaling(1 / 0.06, 1 / 44.0), 57.5, 0.06, name="fm")
     codegen.emit(model, tmp_path, "fm", activation_impl=impl)

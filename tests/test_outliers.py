@@ -1,6 +1,6 @@
 """The gross-outlier rule of fricgen.data.outliers at its threshold: OUTLIER_SIGMAS robust sd,
 checked with residuals placed on either side of it, and through the default's confirmation
-against eq. (1) fitted to every point."""
+against [F1] fitted to every point."""
 import numpy as np
 import pytest
 
@@ -79,7 +79,7 @@ SD = 0.01
 
 
 def _spiked(seed):
-    """Eq. (1) data with Gaussian noise of sd 0.01, and two points moved: by 4.5 sd (a rare
+    """[F1] data with Gaussian noise of sd 0.01, and two points moved: by 4.5 sd (a rare
     but real measurement, kept) and by 12 sd (a spike)."""
     t = TRUTH(X) + SD * np.random.default_rng(seed).standard_normal(X.size)
     t[60] += 4.5 * SD
@@ -88,9 +88,9 @@ def _spiked(seed):
 
 
 def test_suspects_confirmed_against_eq1_are_the_spikes_on_every_seed():
-    """The default's rule (running-median suspects confirmed against eq. (1) fitted to every
+    """The default's rule (running-median suspects confirmed against [F1] fitted to every
     point) on 3 noise draws: only the spike is rejected. The running median's robust sd is
-    below the noise's (it follows each point a little), so 4.5 sd is often a suspect; eq. (1)
+    below the noise's (it follows each point a little), so 4.5 sd is often a suspect; [F1]
     explains it within 6 sd, never within 3."""
     for seed in range(3):
         t = _spiked(seed)

@@ -1,6 +1,6 @@
-"""Properties eq. (1)-(3) owe to the physics, for any parameters (hypothesis): friction is odd
-and opposes the motion, g of eq. (2) falls from 1 towards 0, eq. (1) without a Stribeck peak
-rises with the speed, and eq. (3) equals eq. (1) up to v_sat and holds its Stribeck part beyond."""
+"""Properties [F1]-[F3] owe to the physics, for any parameters (hypothesis): friction is odd
+and opposes the motion, g of [F2] falls from 1 towards 0, [F1] without a Stribeck peak
+rises with the speed, and [F3] equals [F1] up to v_sat and holds its Stribeck part beyond."""
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -65,7 +65,7 @@ def test_eq3_is_eq1_up_to_v_sat_and_holds_the_stribeck_part_beyond(src, shape, v
     v = np.array(v)
     held = np.clip(v, -v_sat, v_sat)
     scale = 1 + np.abs(f(v)) + np.abs(f(held))
-    expected = f(held) + f.viscous * (v - held)                  # eq. (1) at min(|v|, v_sat)
+    expected = f(held) + f.viscous * (v - held)                  # [F1] at min(|v|, v_sat)
     assert np.all(np.abs(model.force(v) - expected) <= 1e-12 * scale)
 
 

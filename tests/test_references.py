@@ -1,4 +1,4 @@
-"""Independent references: eq. (1)-(2), eq. (3) and eq. (7) against numbers typed in by hand
+"""Independent references: [F1]-[F2], [F3] and [F7] against numbers typed in by hand
 from Table 1 of the paper, in float64, in the float32 and integer twins and in the emitted C.
 
 No expected value here is computed with the code under test: each literal is written out with
@@ -24,13 +24,13 @@ EPS32 = float(np.finfo(np.float32).eps)
 E1, E2, E4, E_QUARTER, E_HALF = (0.36787944117144233, 0.1353352832366127, 0.01831563888873418,
                                  0.7788007830714049, 0.6065306597126334)
 
-#: g(v, v_s) of eq. (2) at v = v_s and v = 2 v_s: e^-(1)^2, e^-(2)^2; e^-1, e^-2; 1/2, 1/3.
+#: g(v, v_s) of [F2] at v = v_s and v = 2 v_s: e^-(1)^2, e^-(2)^2; e^-1, e^-2; 1/2, 1/3.
 G_AT_VS = {"gauss": (E1, E4), "exponential": (E1, E2), "rational": (0.5, 1.0 / 3.0)}
 
 #: Table 1 (f_c, f_s, v_s, B per source): sum f_c = 15, sum (f_s - f_c) = 29, B = 57.5.
 TABLE1 = ((4.0, 8.0, 0.01, 2.5), (6.0, 16.0, 0.005, 50.0), (5.0, 20.0, 0.02, 5.0))
 
-#: F(v) of eq. (1) with Table 1, by shape, at v = 0.005, 0.01, 0.02, 0.06 m/s. At 0.01, e.g.:
+#: F(v) of [F1] with Table 1, by shape, at v = 0.005, 0.01, 0.02, 0.06 m/s. At 0.01, e.g.:
 #: gauss 15 + 4 e^-1 + 10 e^-4 + 15 e^-1/4 + 57.5 * 0.01 = 28.911685899644183;
 #: exponential 15 + 4 e^-1 + 10 e^-2 + 15 e^-1/2 + 0.575 = 27.4978304927414;
 #: rational 15 + 4/2 + 10/3 + 15/1.5 + 0.575 = 30.908333...
@@ -44,8 +44,8 @@ V_SAT = 0.06
 
 
 def table1_curve(shape, sources=TABLE1, k_out=1.0 / 44.0, v_sat=V_SAT, slope_viscous=0.0) -> FrictionModel:
-    """Eq. (1) with the given sources as a grey-box model of eq. (3), written out in the
-    coordinates of eq. (9): c = K_out sum f_c, a_k = K_out (f_s - f_c), xs_k = K_in v_s; of
+    """[F1] with the given sources as a grey-box model of [F3], written out in the
+    coordinates of [F9]: c = K_out sum f_c, a_k = K_out (f_s - f_c), xs_k = K_in v_s; of
     the total B, ``slope_viscous`` N s/m goes into the slope d = K_out v_sat slope_viscous
     (d x / K_out = slope_viscous v up to v_sat, held beyond)."""
     k_in = 1.0 / v_sat
@@ -58,7 +58,7 @@ def table1_curve(shape, sources=TABLE1, k_out=1.0 / 44.0, v_sat=V_SAT, slope_vis
 
 def _reference_points(shape, viscous=57.5):
     """(v, F) by hand: Table 1's speeds, their negatives, and two speeds beyond v_sat, where
-    eq. (3) holds all but the model's B v at its v_sat value: F = F(0.06) + B (v - 0.06)."""
+    [F3] holds all but the model's B v at its v_sat value: F = F(0.06) + B (v - 0.06)."""
     forces = TABLE1_FORCES[shape]
     v = np.array([*TABLE1_SPEEDS, *(-s for s in TABLE1_SPEEDS), 0.075, -0.1])
     f = np.array([*forces, *(-f for f in forces), forces[-1] + viscous * (0.075 - 0.06),
@@ -93,7 +93,7 @@ def test_grey_box_model_of_table1_gives_the_hand_values_and_saturates_at_v_sat(s
 
 def float32_bound(model, impl, v_max=0.12):
     """What float32 may cost against the exact force up to |v| = v_max, in N: (S + 4)
-    roundings of each term of eq. (1) (c, a_k g, B v and the products), and with the fast exp
+    roundings of each term of [F1] (c, a_k g, B v and the products), and with the fast exp
     its derived error on each a_k g."""
     net = model.aim
     terms = (abs(net.offset) + abs(net.slope) + np.abs(net.amplitudes).sum()) / model.scaling.k_out \
@@ -107,7 +107,7 @@ def float32_bound(model, impl, v_max=0.12):
 @pytest.mark.parametrize("impl", ["libm", "fast"])
 @pytest.mark.parametrize("shape", sorted(SHAPES))
 def test_emitted_c_and_its_twin_give_the_hand_values(shape, impl, tmp_path):
-    """The templates hold their own copy of eq. (2) (``g_expr``): it meets the same literals.
+    """The templates hold their own copy of [F2] (``g_expr``): it meets the same literals.
     7.5 of Table 1's 57.5 N s/m go into the curve's slope d, so c + d x is exercised too."""
     model = table1_curve(shape, slope_viscous=7.5)
     v, f = _reference_points(shape, viscous=50.0)
@@ -121,7 +121,7 @@ def test_emitted_c_and_its_twin_give_the_hand_values(shape, impl, tmp_path):
         assert np.array_equal(c, twin)
 
 
-#: A hand-built ELM of eq. (7): 1.5 (sigma(4x - 2) + 0.5 sigma(-4x + 2)) = 1.5 (0.5 + 0.5 sigma(4x - 2)),
+#: A hand-built ELM of [F7]: 1.5 (sigma(4x - 2) + 0.5 sigma(-4x + 2)) = 1.5 (0.5 + 0.5 sigma(4x - 2)),
 #: since sigma(-z) = 1 - sigma(z); with K_out = 1.5/40 N^-1 (the network's output reaches 1.41,
 #: beyond 1), B = 57.5 N s/m and v_sat = 0.06 m/s.
 HAND_ELM = ElmNetwork("sigmoid", np.array([4.0, -4.0]), np.array([-2.0, 2.0]), np.array([1.5, 0.75]))

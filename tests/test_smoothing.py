@@ -1,4 +1,4 @@
-"""The Savitzky-Golay smoothing of the inverse dynamics (eq. 18) in time linear in the log:
+"""The Savitzky-Golay smoothing of the inverse dynamics [C1] in time linear in the log:
 the FFT path equals ``savgol_filter``, and the window chosen is the one the direct filter chooses."""
 import numpy as np
 import pytest

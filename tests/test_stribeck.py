@@ -1,4 +1,4 @@
-"""The grey-box eq. (1): variable projection, the honest oracle, the estimator, the default's
+"""The grey-box [F1]: variable projection, the honest oracle, the estimator, the default's
 choice, gross outliers, and the emitted C against its float32 twin."""
 import shutil
 import subprocess
@@ -49,7 +49,7 @@ def test_the_oracle_fits_eq1_alone_with_the_true_shape_and_size(bench):
     net = oracle.network_
     assert net.shape == "gauss" and net.n_sources == 3 and net.slope == 0.0   # no free slope
     assert oracle.n_starts_ == 10                                             # C(5, 3) starts
-    # the benchmark's noise is uniform +-0.5 N: eq. (1) with the true shape fits down to it
+    # the benchmark's noise is uniform +-0.5 N: [F1] with the true shape fits down to it
     assert bench.errors(oracle.predict)["e_ttest_newton"] < 0.15
 
 
@@ -148,7 +148,7 @@ def test_fast_exp_twin_is_within_its_derived_bound():
 
 @pytest.fixture(scope="module", params=sorted(SHAPES))
 def greybox_model(request, bench):
-    """Table 1 itself as a grey-box model of eq. (3) with the benchmark's scaling."""
+    """Table 1 itself as a grey-box model of [F3] with the benchmark's scaling."""
     d, friction = bench.dataset, preset("paper3", request.param)
     k_in, k_out = d.scaling.k_in, d.scaling.k_out
     sources = friction.sources
@@ -185,7 +185,7 @@ def test_grey_box_c_builds_strictly_and_equals_its_twin(greybox_model, impl, tmp
 
 
 def test_a_trained_grey_box_model_emits_in_q15_within_its_bound(greybox_model):
-    """The fitted eq. (1) as a q15 AIM table (fricgen.codegen.fixed_table): every input within
+    """The fitted [F1] as a q15 AIM table (fricgen.codegen.fixed_table): every input within
     the bound NAME.h states."""
     from fricgen.codegen import fixed_table as ft
     files = codegen.render(greybox_model, "gb", dtype="q15")

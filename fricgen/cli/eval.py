@@ -48,7 +48,7 @@ def run(args) -> int:
         raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")
     if model.effects:
         names = ", ".join(e.get("effect", "?") for e in model.effects)
-        say(f"fricgen: note: eval gives F(v) of eq. (3) alone; the model's effects ({names}) "
+        say(f"fricgen: note: eval gives F(v) of [F3] alone; the model's effects ({names}) "
             "need x, t or i and are not applied")
     velocities = _velocities(stdin)
     while chunk := list(itertools.islice(velocities, CHUNK)):

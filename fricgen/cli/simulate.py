@@ -34,7 +34,7 @@ def register(p) -> None:
     p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
                    help="simulate the model's axis with this mass, kg (default: the mass of the "
                    "model's axis record, if any; else the built-in 2 kg axis)")
-    p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of eq. (12)")
+    p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of [C14]")
     p.add_argument("--ts", type=number(1e-6, 0.1, unit="s"), default=1e-3,
                    help="sampling time, s (default 1e-3)")
     p.add_argument("--duration", type=number(0, 3600, low_open=True, unit="s"), default=DEFAULT_DURATION,

@@ -13,7 +13,7 @@ def register(p) -> None:
     p.add_argument("--preset", choices=sorted(PRESETS), default="paper3",
                    help="friction parameters: paper3 is Table 1's three sources (default paper3)")
     p.add_argument("--shape", choices=sorted(SHAPES), default="gauss",
-                   help="the Stribeck shape g of eq. (1) (default gauss)")
+                   help="the Stribeck shape g of [F1] (default gauss)")
     p.add_argument("--noise", type=number(0, 1e6, unit="N"), default=0.5,
                    help="uniform noise half-width, N (default 0.5)")
     add_seed(p)

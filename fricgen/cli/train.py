@@ -29,7 +29,7 @@ _ELM_OPTIONS = {"neurons": DEFAULT_ELM["n_hidden"], "activation": DEFAULT_ELM["a
 
 def _estimator(args):
     """The estimator the options describe: the default (``--method auto``), ``elm_auto``, the
-    grey-box eq. (1) (``stribeck``), or the ELM of the explicit options (``--method elm``,
+    grey-box [F1] (``stribeck``), or the ELM of the explicit options (``--method elm``,
     implied by any of --neurons/--activation/--scheme/--w-max/--solver/--C)."""
     given = {k: getattr(args, k) for k in _ELM_OPTIONS if getattr(args, k) is not None}
     flags = ", ".join("--" + k.replace("_", "-") for k in given)
@@ -128,9 +128,9 @@ def register(p) -> None:
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
                    "(default: chosen by cross-validation from the data)")
     p.add_argument("--method", choices=["auto", "elm_auto", "stribeck", "elm"],
-                   help="auto: the grey-box eq. (1) or the automatic ELM, whichever has the "
+                   help="auto: the grey-box [F1] or the automatic ELM, whichever has the "
                    "smaller cross-validated error (default); elm_auto: the automatic ELM; "
-                   "stribeck: the grey-box eq. (1); elm: the ELM the options below describe "
+                   "stribeck: the grey-box [F1]; elm: the ELM the options below describe "
                    "(default when any of them is given)")
     p.add_argument("--max-neurons", type=number(1, MAX_HIDDEN, integer=True),
                    help="(auto, elm_auto) at most this many hidden units, e.g. for a firmware budget")
@@ -140,16 +140,16 @@ def register(p) -> None:
                    help=f"(elm) default {_ELM_OPTIONS['activation']}")
     p.add_argument("--scheme", choices=sorted(SCHEMES), help="(elm) default enlarged")
     p.add_argument("--w-max", type=number(0, 1e4, low_open=True), help="(elm) input-weight range of the enlarged "
-                   f"scheme, eq. (16)-(17), default {_ELM_OPTIONS['w_max']:g}")
+                   f"scheme, [F16]-[F17], default {_ELM_OPTIONS['w_max']:g}")
     p.add_argument("--solver", choices=sorted(SOLVERS), help=f"(elm) default {_ELM_OPTIONS['solver']}")
-    p.add_argument("--C", type=positive_float, help="regularization C of eq. (15) for --solver ridge")
+    p.add_argument("--C", type=positive_float, help="regularization C of [F15] for --solver ridge")
     add_seed(p)
     symmetry = p.add_mutually_exclusive_group()
     symmetry.add_argument("--asymmetric", dest="asymmetric", action="store_const", const=True,
                           help="one curve per direction of motion (default: chosen by cross-validation)")
     symmetry.add_argument("--symmetric", dest="asymmetric", action="store_const", const=False,
                           help="one curve for both directions, F(-v) = -F(v)")
-    log = p.add_argument_group("motion logs (inverse dynamics, eq. 18: F = force - m dv/dt)")
+    log = p.add_argument_group("motion logs (inverse dynamics, [C1]: F = force - m dv/dt)")
     log.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
                      help="moving mass of the axis, kg (default: identified from the log by inverse "
                      "dynamics; with a current log and no --force-constant, K is identified instead)")

@@ -37,8 +37,8 @@ def host_ns(n_hidden: int) -> float:
     return max(a + b * n_hidden, 0.0)
 
 
-#: Instructions of one ``NAME_force`` call, a + b n (n: sigmoid units of an ELM, eq. (7), or gauss
-#: sources of the grey-box eq. (1)), by (target, curve kind, ``--activation-impl``): the line
+#: Instructions of one ``NAME_force`` call, a + b n (n: sigmoid units of an ELM, [F7], or gauss
+#: sources of the grey-box [F1]), by (target, curve kind, ``--activation-impl``): the line
 #: through the largest count of one call over 10 speeds from standstill to 2 v_sat, for two
 #: sizes (n = 1, 10 and S = 1, 3), from ``python benchmarks/instructions_per_call.py`` (QEMU,
 #: one instruction per translation block, arm-none-eabi-gcc 12 -O2, newlib's expf; the M0+ in

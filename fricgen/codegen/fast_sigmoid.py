@@ -1,4 +1,4 @@
-"""The fast sigmoid of eq. (8) without libm, its float32 twin, and its derived error bound.
+"""The fast sigmoid of [F8] without libm, its float32 twin, and its derived error bound.
 
 ``c_runtime/fric_fast.c`` is the specification: sigma(z) = 1 / (1 + e), e = exp(-z) = 2^t.
 Adding 1.5 * 2^23 rounds t to the nearest integer n (no float-to-int conversion), f = t - n in
@@ -254,7 +254,7 @@ def error_bound() -> float:
 
 
 def sigmoid_exact(z) -> np.ndarray:
-    """The float64 sigmoid of eq. (8), without overflow warnings."""
+    """The float64 sigmoid of [F8], without overflow warnings."""
     z = np.asarray(z, dtype=np.float64)
     with np.errstate(over="ignore"):
         return 1.0 / (1.0 + np.exp(-z))

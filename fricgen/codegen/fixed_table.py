@@ -1,12 +1,12 @@
-"""Fixed-point grey-box models (``fricgen emit --dtype q15|q31`` of eq. (1)): the AIM as a table.
+"""Fixed-point grey-box models (``fricgen emit --dtype q15|q31`` of [F1]): the AIM as a table.
 
-Eq. (1)'s exponentials have no cheap integer form, but the AIM of eq. (3) is a function of the
+[F1]'s exponentials have no cheap integer form, but the AIM of [F3] is a function of the
 saturated input x = K_in min(|v|, v_sat) in [0, 1] alone. So it is tabulated and interpolated
 linearly, on knots as fine as its steepest part needs: [0, 1] is cut into the octaves
 [2^-j, 2^-(j-1)) for j = 1..K and the base [0, 2^-K), each into M = 2^m equal intervals (a
 Stribeck drop a thousandth of v_sat wide gets knots that fine, the rest fewer). In Q(bits-1)
 every bound and width is a power of two, so the segment is found by at most K comparisons and
-the index and weight by a shift and a mask. The rest of eq. (3) (1 / K_out, B |v|, the sign,
+the index and weight by a shift and a mask. The rest of [F3] (1 / K_out, B |v|, the sign,
 the saturation) is the ELM path's (``fricgen.codegen.fixedpoint``), as are the input and
 output scales. (K, m) is the smallest table whose interpolation error is within
 TABLE_TOLERANCE of the force range, else the most accurate of at most MAX_TABLE intervals.
@@ -75,7 +75,7 @@ class TableSpec:
         if dtype not in DTYPE_PARAMS:
             raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
         if not isinstance(model.aim, StribeckCurve):
-            raise ModelError("the fixed-point table covers grey-box models of eq. (1)")
+            raise ModelError("the fixed-point table covers grey-box models of [F1]")
         bits = DTYPE_PARAMS[dtype]["bits"]
         v_range = input_range(model, dtype, v_max)
         f_v = (bits - 1) - _ceil_log2(v_range)

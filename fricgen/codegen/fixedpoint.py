@@ -1,6 +1,6 @@
 """Fixed-point friction models (``fricgen emit --dtype q15|q31``) and their integer twin.
 
-For MCUs without FPU, eq. (3) and eq. (7)-(8) are evaluated in integers only:
+For MCUs without FPU, [F3] and [F7]-[F8] are evaluated in integers only:
 ``q15``: 16-bit tables and I/O, 32-bit products, 64-bit accumulator; ``q31``: 32-bit tables and
 I/O, 64-bit products and accumulator. Every quantity q has a binary scale: value = q 2^-F.
 The scales are chosen from the model's ranges (``FixedSpec.of``):
@@ -217,14 +217,14 @@ def force_q(spec: FixedSpec, v_q) -> np.ndarray:
 
 
 def normalized_speed(spec, v_q) -> np.ndarray:
-    """x = K_in min(|v|, v_sat) in Q(bits-1), within [0, 1] (eq. (9)'s input, saturated as
-    eq. (3)); ``spec`` a ``FixedSpec`` or a ``TableSpec``."""
+    """x = K_in min(|v|, v_sat) in Q(bits-1), within [0, 1] ([F9]'s input, saturated as
+    [F3]); ``spec`` a ``FixedSpec`` or a ``TableSpec``."""
     speed = np.minimum(np.abs(np.asarray(v_q, dtype=np.int64)), spec.v_sat_q)
     return np.minimum(spec.k_in.apply(speed), spec.one)
 
 
 def signed_force(spec, aim, v_q) -> np.ndarray:
-    """Eq. (3) from the AIM (scale 2^-f_aim): sgn(v) (AIM / K_out + B |v|), saturated to the
+    """[F3] from the AIM (scale 2^-f_aim): sgn(v) (AIM / K_out + B |v|), saturated to the
     output type; odd, the viscous term rounded on |v|."""
     v_q = np.asarray(v_q, dtype=np.int64)
     magnitude = spec.inv_k_out.apply(aim) + spec.viscous.apply(np.abs(v_q))

@@ -129,7 +129,7 @@ def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = 
     Parameters
     ----------
     model : FrictionModel
-        The model whose eq. (3) the C evaluates.
+        The model whose [F3] the C evaluates.
     out_dir : str or pathlib.Path
         The folder (created if missing).
     name, activation_impl, dtype, with_controller, v_max

@@ -1,4 +1,4 @@
-"""Render a FrictionModel as fixed-size C (templates/ + c_runtime/): eq. (3), curves of eq. (7) or (1)."""
+"""Render a FrictionModel as fixed-size C (templates/ + c_runtime/): [F3], curves of [F7] or [F1]."""
 from __future__ import annotations
 
 import math
@@ -28,8 +28,8 @@ from .twin import stribeck_table
 FLOAT_HEADER = "fric_float.h"
 #: The runtime headers every float model with libm needs beside NAME.h and NAME.c.
 RUNTIME_HEADERS = (FLOAT_HEADER, VERSION_HEADER, "fric_kernel.h")
-#: The libm sources (one per kernel, see fric_kernel.h) each activation of eq. (8) or shape of
-#: eq. (2) calls: a model's folder gets only those it uses.
+#: The libm sources (one per kernel, see fric_kernel.h) each activation of [F8] or shape of
+#: [F2] calls: a model's folder gets only those it uses.
 KERNEL_SOURCES = {"sigmoid": ("fric_elm_sigmoid.c",), "sine": ("fric_elm_sine.c",),
                   "rbf": ("fric_elm_rbf.c",), "multiquadric": ("fric_elm_multiquadric.c",),
                   "gauss": ("fric_exp_neg.c",), "exponential": ("fric_exp_neg.c",), "rational": ()}
@@ -75,7 +75,7 @@ def runtime_files(model: FrictionModel, activation_impl: str = "libm") -> Tuple[
     return RUNTIME_HEADERS + tuple(dict.fromkeys(sources))
 
 
-#: The shape g(u) of eq. (2) at u = x / xs in the emitted grey-box C, by implementation.
+#: The shape g(u) of [F2] at u = x / xs in the emitted grey-box C, by implementation.
 STRIBECK_C_SHAPES = {
     "libm": {"gauss": "fric_exp_neg_f32(u * u)", "exponential": "fric_exp_neg_f32(u)",
              "rational": "1.0f / (1.0f + u)"},
@@ -88,10 +88,10 @@ CURVE_HEADERS = {("elm", "libm"): '"fric_kernel.h"', ("elm", "fast"): '"fric_fas
 
 
 def curve_context(curve, name: str, activation_impl: str, negative: bool = False) -> dict:
-    """What templates/curve.c.j2 needs for one curve of eq. (3) (a model, or a ``Direction``):
+    """What templates/curve.c.j2 needs for one curve of [F3] (a model, or a ``Direction``):
     its C symbols (``NAME_negative_...``, ``NAME_aim_negative`` and ``..._NEGATIVE`` macros for
     the curve for v < 0) and its tables and constants, every number a checked C literal; an
-    ELM (eq. (7)) or the grey-box eq. (1)."""
+    ELM [F7] or the grey-box [F1]."""
     net, suffix = curve.aim, "_NEGATIVE" if negative else ""
     ctx = {"kind": net.kind, "sym": f"{name}_negative" if negative else name,
            "aim_fn": f"{name}_aim_negative" if negative else f"{name}_aim",
@@ -101,13 +101,13 @@ def curve_context(curve, name: str, activation_impl: str, negative: bool = False
            "viscous": c_float(curve.viscous), "v_sat": c_float(curve.v_sat)}
     if isinstance(net, StribeckCurve):
         return {**ctx, "size": f"{name.upper()}_N_SOURCES{suffix}", "n": net.n_sources,
-                "shape": net.shape, "what": "grey-box", "equation": "eq. (1)",
-                "describe": f"grey-box eq. (1), {net.n_sources} {net.shape} Stribeck sources",
+                "shape": net.shape, "what": "grey-box", "equation": "[F1]",
+                "describe": f"grey-box [F1], {net.n_sources} {net.shape} Stribeck sources",
                 "g_expr": STRIBECK_C_SHAPES[activation_impl][net.shape],
                 "inv_stribeck": c_array(stribeck_table(net)), "amplitudes": c_array(net.amplitudes),
                 "offset": c_float(net.offset), "slope": c_float(net.slope)}
     ctx.update(size=f"{name.upper()}_N_HIDDEN{suffix}", n=net.n_hidden, what="network",
-               equation="eq. (7)", describe=f"{net.n_hidden} {net.activation} neurons",
+               equation="[F7]", describe=f"{net.n_hidden} {net.activation} neurons",
                kernel=f"fric_elm_{net.activation}_f32", tables_note="",
                input_weights=c_array(net.input_weights), biases=c_array(net.biases),
                output_weights=c_array(net.output_weights))
@@ -122,7 +122,7 @@ def curve_context(curve, name: str, activation_impl: str, negative: bool = False
 def template_context(model: FrictionModel, name: str, activation_impl: str = "libm") -> dict:
     """Everything templates/model.c.j2 and model.h.j2 need: the curve for v >= 0 (``positive``, the
     only one of a symmetric model) and the curve for v < 0 (``negative``, None unless the model is
-    asymmetric), each an ELM or the grey-box eq. (1), with the constants of eq. (3).
+    asymmetric), each an ELM or the grey-box [F1], with the constants of [F3].
 
     Parameters
     ----------
@@ -165,12 +165,12 @@ ACTIVATION_IMPLS = ("libm", "fast")
 DTYPES = ("float", "q15", "q31")
 
 
-#: The largest |value| the emitted float32 C may meet inside eq. (7) and (3): 1 % of FLT_MAX.
+#: The largest |value| the emitted float32 C may meet inside [F7] and [F3]: 1 % of FLT_MAX.
 FLOAT32_HEADROOM = 3.4e36
 
 
 def check_float32_range(model: FrictionModel) -> None:
-    """``ModelError`` unless eq. (7) cannot overflow float32 for any input: the bound
+    """``ModelError`` unless [F7] cannot overflow float32 for any input: the bound
     sum_k |beta_k| max |act| over x in [0, 1], and that bound over K_out, stay below
     FLOAT32_HEADROOM (a table of 3e38 would give inf in C but finite forces in Python);
     for each curve of an asymmetric model."""
@@ -203,7 +203,7 @@ SOURCE_ERRORS = (("amplitudes_newton", "f_s - f_c"), ("stribeck_m_per_s", "v_s")
 
 
 def check_determined(model: FrictionModel) -> None:
-    """``ModelError`` naming the first source of eq. (1) whose amplitude or Stribeck velocity the
+    """``ModelError`` naming the first source of [F1] whose amplitude or Stribeck velocity the
     training data did not determine: its standard error in the model's training record is
     infinite (null in model.json). Such a term is noise in the ISR, and its exponential can
     underflow on every call; training drops it (``fricgen.fit.stribeck.drop_undetermined``)."""
@@ -254,7 +254,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     Parameters
     ----------
     model : FrictionModel
-        The model whose eq. (3) the C evaluates.
+        The model whose [F3] the C evaluates.
     name : str, optional
         The C name (default: the model's).
     activation_impl : {"libm", "fast"}

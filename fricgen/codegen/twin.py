@@ -28,7 +28,7 @@ def stribeck_table(net: StribeckCurve) -> np.ndarray:
     return (1.0 / net.stribeck).astype(f32)
 
 
-#: g(u) of eq. (2) in float32 as the emitted grey-box C computes it, by implementation.
+#: g(u) of [F2] in float32 as the emitted grey-box C computes it, by implementation.
 STRIBECK_SHAPES_F32 = {
     "libm": {"gauss": lambda u: exp_neg_f32(u * u), "exponential": exp_neg_f32,
              "rational": lambda u: f32(1.0) / (f32(1.0) + u)},
@@ -53,10 +53,10 @@ def stribeck_aim_f32(net: StribeckCurve, x, activation_impl: str = "libm") -> np
 
 
 def force_f32(model: FrictionModel, v, activation_impl: str = "libm") -> np.ndarray:
-    """Mirror of the emitted ``NAME_force`` (eq. 3) in float32; ``activation_impl`` as in emit."""
+    """Mirror of the emitted ``NAME_force`` [F3] in float32; ``activation_impl`` as in emit."""
     if activation_impl not in ("libm", "fast"):
         raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
-    def aim_twin(net, x):                   # each curve's own kind: ELM or eq. (1)
+    def aim_twin(net, x):                   # each curve's own kind: ELM or [F1]
         if isinstance(net, StribeckCurve):
             return stribeck_aim_f32(net, x, activation_impl)
         return aim_fast_f32(net, x) if activation_impl == "fast" else aim_f32(net, x)

@@ -5,16 +5,16 @@ With F(v) = f0(v) + theta^T phi(v) (``fricgen.control.regressor``), two rules up
 per sample:
 
 - ``"rls"``: recursive least squares with forgetting factor lambda on the friction observed by
-  inverse dynamics with the controller's own estimates (eq. 18 of section 6, m v' = phi i - F,
+  inverse dynamics with the controller's own estimates ([C1], m v' = phi i - F,
   with phi_hat = phi_N / k_hat and m_hat = m_o_hat phi_hat):
 
       y = (phi_N / k_hat) (i_prev - m_o_hat (v - v_prev) / Ts)   at  v_mid = (v + v_prev) / 2
       e = y - F(v_mid),   g = P phi / (lambda + phi^T P phi),   theta += g e,
       P = (P - g (P phi)^T) / lambda.
 
-- ``"lyapunov"``: the gradient law of eq. (12), sec. 6 extended to theta. The compensation
-  enters D_hat (eq. 9) as k_hat F(v) / phi_N, so the regressor of theta in eq. (10) is
-  phi(v) / phi_N and V of eq. (11) with the term (theta - theta*)^T Gamma_theta^-1 (theta -
+- ``"lyapunov"``: the gradient law of [C14] extended to theta. The compensation
+  enters D_hat [C9] as k_hat F(v) / phi_N, so the regressor of theta in [C10] is
+  phi(v) / phi_N and V of [C13] with the term (theta - theta*)^T Gamma_theta^-1 (theta -
   theta*) / 2 gives theta' = Gamma_theta e2 phi(v) / phi_N (k_hat ~ 1 folded into Gamma_theta),
   integrated by forward Euler over Ts as the controller does.
 
@@ -33,7 +33,7 @@ Safety, for both rules, in this order each sample:
 
 With projection onto a convex set containing theta*, the Lyapunov derivative of sec. 6 is not
 increased by the projection, and the leakage (sigma-modification) and dead zone make e1, e2 and
-theta uniformly ultimately bounded, as eq. (14) does for m_o_hat and k_hat (docs/guides/firmware.md).
+theta uniformly ultimately bounded, as [C16] does for m_o_hat and k_hat (docs/guides/firmware.md).
 
 In float32 (``dtype="float32"``) everything is the exact twin of c_runtime/fric_adapt.c: the
 same float operations in the same order.
@@ -71,7 +71,7 @@ MAX_PARAMS = 16
 
 def parameter_scale(model: FrictionModel) -> np.ndarray:
     """The scale each parameter's box and Lyapunov gain are relative to: max |beta| (ELM) or
-    max |a_k|, |c| (eq. 1) for the curve's weights, and for B |B| or (1 / K_out) / v_sat when B
+    max |a_k|, |c| [F1] for the curve's weights, and for B |B| or (1 / K_out) / v_sat when B
     is 0 (the viscous slope that adds the curve's force scale at v_sat)."""
     net = check_adaptable(model).aim
     weights = (np.concatenate([net.amplitudes, [net.offset]]) if isinstance(net, StribeckCurve)

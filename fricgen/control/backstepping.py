@@ -1,23 +1,23 @@
 """Adaptive backstepping position control with friction compensation (section 6).
 
-With e1 = x_d - x, the virtual control v_d = x_d' + k1 e1 (eq. 3), e2 = v_d - v (eq. 5) and
-v_d' = x_d'' + k1 (-k1 e1 + e2) (eq. 7), the current is
+With e1 = x_d - x, the virtual control v_d = x_d' + k1 e1 [C3], e2 = v_d - v [C5] and
+v_d' = x_d'' + k1 (-k1 e1 + e2) [C7], the current is
 
-    i = D_hat + k2 e2 + e1,   D_hat = A_hat^T xi                          (eqs. 28, 9)
-    A_hat = [m_o_hat, k_hat],  xi = [v_d', F_Fm(v) / phi_N]               (eq. 10)
+    i = D_hat + k2 e2 + e1,   D_hat = A_hat^T xi                          [C11], [C9]
+    A_hat = [m_o_hat, k_hat],  xi = [v_d', F_Fm(v) / phi_N]               [C10]
 
 where F_Fm is the friction model used for compensation and phi_N the nominal force constant.
 D = m_o v_d' + F_friction / phi (m_o = m / phi) is what the current must supply; the paper's
-eq. (8) prints a minus sign before the friction term, but eq. (18) (m v' = phi i - F) gives the
+[C8] prints a minus sign before the friction term, but [C1] (m v' = phi i - F) gives the
 plus sign used here, so k_hat tends to phi_N / phi > 0 when F_Fm matches the true friction.
-The adaptation laws of eq. (12) (cited as 31a-c) are
+The adaptation laws [C14] (printed as (12a,b,c), cited as (31a-c)) are
 
     (a) A' = e2 Gamma xi
     (b) A' = e2 Gamma xi - delta Gamma A
     (c) A' = e2 Gamma xi - delta sqrt(e1^2 + e2^2) Gamma A,
 
 integrated with a forward Euler step of the sampling time Ts, as firmware does. The Lyapunov
-function (11) proves e1, e2 uniformly ultimately bounded for k1 > 0, k2 > 1/2 (eq. 14).
+function [C13] proves e1, e2 uniformly ultimately bounded for k1 > 0, k2 > 1/2 [C16].
 
 The contract of fric_ctrl.h holds here too: each estimate is projected onto its interval
 (``a_min``, ``a_max``); adaptation is frozen while the demand saturates at +-i_max; a
@@ -67,7 +67,7 @@ def _project(a, updated, lo, hi):
 
 
 class AdaptiveBackstepping:
-    r"""The adaptive backstepping position controller of section 6 (eqs. 3-12, 28), sampled at ``ts``.
+    r"""The adaptive backstepping position controller of section 6 ([C3]-[C14]), sampled at ``ts``.
 
     Defaults are tuned for ``control.default_axis()`` (2 kg, ~20 N/A, 10 A): with k2 = 40 the
     velocity loop phi k2 / m is ~360 rad/s, so Ts = 1 ms leaves a wide margin (stable up to
@@ -79,13 +79,13 @@ class AdaptiveBackstepping:
         F_Fm(v) in N, e.g. a ``FrictionModel`` or the true ``MultisourceFriction`` ("exact"
         compensation); None: xi_2 = 0, no friction model.
     law : {"a", "b", "c"}
-        The adaptation law of eq. (12) (the paper used "c").
+        The adaptation law of [C14] (the paper used "c").
     k1 : float
-        Gain of the virtual control v_d = xd' + k1 e1, eq. (3) (1/s), > 0.
+        Gain of the virtual control v_d = xd' + k1 e1, [C3] (1/s), > 0.
     k2 : float
-        Gain of the velocity error in eq. (28) (A s/m), > 1/2 (eq. 14).
+        Gain of the velocity error in [C11] (A s/m), > 1/2 [C16].
     gamma : float or array_like
-        Gamma of eq. (11): scalar, diagonal or 2x2 symmetric positive definite.
+        Gamma of [C13]: scalar, diagonal or 2x2 symmetric positive definite.
     delta : float
         Leakage of laws (b) and (c), >= 0 (unused by law a).
     ts : float
@@ -99,7 +99,7 @@ class AdaptiveBackstepping:
     dtype : {"float64", "float32"}
         "float32" is the twin of the C controller.
     friction_input : {"v", "vd"}
-        Evaluate F_Fm at the measured velocity (eq. 10) or at v_d (eq. 3), which keeps
+        Evaluate F_Fm at the measured velocity [C10] or at v_d [C3], which keeps
         compensating while the axis sticks at a reversal.
     a_min, a_max : tuple of float
         The intervals [m_o_min, k_min], [m_o_max, k_max] the estimates are projected onto
@@ -208,7 +208,7 @@ class AdaptiveBackstepping:
         return self
 
     def friction_force(self, v) -> float:
-        """F_Fm(v) of eq. (10) in the controller's precision (0 without compensation)."""
+        """F_Fm(v) of [C10] in the controller's precision (0 without compensation)."""
         if self.compensation is None:
             return self._f(0.0)
         return self._f(np.asarray(self.compensation(v)).reshape(()))
@@ -226,7 +226,7 @@ class AdaptiveBackstepping:
         return self.friction_force(u) if math.isfinite(u) else self._f(0.0)
 
     def friction_velocity(self, x, v, xd, xd_dot):
-        """Where F_Fm is evaluated: the measured v (eq. 10), or v_d = x_d' + k1 (x_d - x) with
+        """Where F_Fm is evaluated: the measured v [C10], or v_d = x_d' + k1 (x_d - x) with
         ``friction_input="vd"`` (compensation that keeps acting while the axis sticks)."""
         if self.friction_input == "vd":
             return xd_dot + self._k1 * (xd - x)
@@ -243,13 +243,13 @@ class AdaptiveBackstepping:
         g00, g01, g10, g11 = self._g
         a0, a1 = self.a_
         e1 = xd - x                                         # tracking error
-        vd = xd_dot + k1 * e1                               # eq. (3)
-        e2 = vd - v                                         # eq. (5)
-        vd_dot = xd_ddot + k1 * (e2 - k1 * e1)              # eq. (7)
-        xi0 = vd_dot                                        # eq. (10)
+        vd = xd_dot + k1 * e1                               # [C3]
+        e2 = vd - v                                         # [C5]
+        vd_dot = xd_ddot + k1 * (e2 - k1 * e1)              # [C7]
+        xi0 = vd_dot                                        # [C10]
         xi1 = friction / self._phi_n
-        d_hat = a0 * xi0 + a1 * xi1                         # eq. (9)
-        demand = d_hat + k2 * e2 + e1                       # eq. (28)
+        d_hat = a0 * xi0 + a1 * xi1                         # [C9]
+        demand = d_hat + k2 * e2 + e1                       # [C11]
         if math.isnan(demand):                              # inf - inf from huge finite inputs
             return self._fault()
         self.e1_, self.e2_ = e1, e2
@@ -265,7 +265,7 @@ class AdaptiveBackstepping:
             sigma = self._delta
         else:
             sigma = self._delta * self._sqrt(e1 * e1 + e2 * e2)
-        g_xi0 = g00 * xi0 + g01 * xi1                       # eq. (12): Gamma xi, Gamma A
+        g_xi0 = g00 * xi0 + g01 * xi1                       # [C14]: Gamma xi, Gamma A
         g_xi1 = g10 * xi0 + g11 * xi1
         g_a0 = g00 * a0 + g01 * a1
         g_a1 = g10 * a0 + g11 * a1

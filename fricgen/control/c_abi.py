@@ -85,7 +85,7 @@ STATUS = _enum("fric_ctrl_status_t",
                ("FRIC_CTRL_OK", 0, "ok"),
                ("FRIC_CTRL_ERR_NULL", -1, "NULL pointer"),
                ("FRIC_CTRL_ERR_PARAM", -2, "parameter out of range"))
-#: The adaptation laws of eq. (12), keyed by ``AdaptiveBackstepping.law``.
+#: The adaptation laws of [C14], keyed by ``AdaptiveBackstepping.law``.
 LAW = _enum("fric_ctrl_law_t",
             ("FRIC_CTRL_LAW_A", 0, "a"),
             ("FRIC_CTRL_LAW_B", 1, "b"),

@@ -25,7 +25,7 @@ from .regressor import Regressor, parameter_names, trained_parameters
 
 #: The adaptation runtime copied beside the controller runtime.
 ADAPT_FILES = ("fric_adapt.h", "fric_adapt.c")
-#: One hidden unit's output h(z) of eq. (8) in the generated regressor, by implementation.
+#: One hidden unit's output h(z) of [F8] in the generated regressor, by implementation.
 ACTIVATION_C = {"libm": {"sigmoid": "1.0f / (1.0f + expf(-z))", "sine": "sinf(z)",
                          "rbf": "expf(-(z * z))", "multiquadric": "sqrtf(1.0f + z * z)"},
                 "fast": {"sigmoid": "fric_sigmoid_fast_f32(z)"}}
@@ -95,7 +95,7 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
     if isinstance(net, StribeckCurve):
         ctx.update(n_basis=net.n_sources, inv_stribeck=c_array(stribeck_table(net)),
                    slope=c_float(net.slope), g_expr=STRIBECK_C_SHAPES[activation_impl][net.shape],
-                   describe=f"grey-box eq. (1), {net.n_sources} {net.shape} Stribeck sources",
+                   describe=f"grey-box [F1], {net.n_sources} {net.shape} Stribeck sources",
                    header='"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"')
     else:
         ctx.update(n_basis=net.n_hidden, input_weights=c_array(net.input_weights),

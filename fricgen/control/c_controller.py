@@ -165,7 +165,7 @@ def float32_twin(settings: AdaptiveBackstepping, model: Optional[FrictionModel] 
 def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveBackstepping,
                   folder=None) -> Dict[str, CController]:
     """One C controller per compensation variant (as ``compare`` makes Python ones): friction models
-    (ELM or eq. (1)) are emitted as C (``VARIANT_force``, through a function pointer); other
+    (ELM or [F1]) are emitted as C (``VARIANT_force``, through a function pointer); other
     compensations (none, the true friction, a fuzzy model) are evaluated in Python and passed to
     ``fric_ctrl_step`` as a float.
 

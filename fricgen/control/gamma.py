@@ -1,11 +1,11 @@
-"""Gamma, the adaptation gain of eq. (11), in the one form the controllers use."""
+"""Gamma, the adaptation gain of [C13], in the one form the controllers use."""
 from __future__ import annotations
 
 import numpy as np
 
 
 def gamma_matrix(gamma) -> np.ndarray:
-    """Gamma of eq. (11) as a 2x2 array from a scalar, a diagonal (2 values) or a 2x2 matrix;
+    """Gamma of [C13] as a 2x2 array from a scalar, a diagonal (2 values) or a 2x2 matrix;
     it must be symmetric positive definite."""
     g = np.asarray(gamma, dtype=float)
     if g.ndim == 0:

@@ -1,4 +1,4 @@
-"""Closed-loop simulation of section 6: sampled controllers driving the axis of eq. (18).
+"""Closed-loop simulation of section 6: sampled controllers driving the axis of [C1].
 
 Several controllers run side by side, each on its own copy of the axis (the axes advance as
 one vectorized state), so compensation variants are compared on exactly the same reference.
@@ -35,7 +35,7 @@ def default_axis(friction=None, mass: float = DEFAULT_MASS,
                  force_constant: float = DEFAULT_FORCE_CONSTANT,
                  i_max: float = 10.0, load: float = 0.0) -> MotorAxis:
     """The controlled axis of section 6: a linear permanent-magnet motor, m dv/dt = phi i - F_F(v)
-    (eq. 18), with thrust phi i (eq. 2 of section 6).
+    [C1], with thrust phi i [C2].
 
     The controller assumes a nominal phi_N = 20 N/A, so the default phi = 18 N/A is "not known
     exactly"; the current limit of 10 A gives 180 N peak thrust against up to 44 N breakaway.
@@ -43,7 +43,7 @@ def default_axis(friction=None, mass: float = DEFAULT_MASS,
     Parameters
     ----------
     friction : FrictionCurve, optional
-        The axis' friction F_F(v) in N (default: Table 1's eq. (1), ``preset("paper3")``).
+        The axis' friction F_F(v) in N (default: Table 1's [F1], ``preset("paper3")``).
     mass : float
         The mover's mass m (kg).
     force_constant : float
@@ -85,7 +85,7 @@ class Plant:
 
 def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
                 speed_max: Optional[float] = None, mass_text: str = "") -> Plant:
-    """The axis a model was trained on: eq. (18) with mass ``mass`` (kg), the model itself as its
+    """The axis a model was trained on: [C1] with mass ``mass`` (kg), the model itself as its
     friction (sticking at rest up to F(0+)) and the constant force ``offset`` (N, the constant
     part of the drive force: an external force of -offset along +x, ``fricgen.axis``).
 
@@ -154,7 +154,7 @@ class ClosedLoop:
 
     Notes
     -----
-    ``e1`` = xd - x is the position error of eq. (3), sec. 6.
+    ``e1`` = xd - x is the position error of [C3].
 
     Examples
     --------
@@ -372,7 +372,7 @@ def compare(compensation: Dict[str, Optional[object]], axis: Optional[MotorAxis]
     >>> axis = default_axis()
     >>> runs = fricgen.compare({"none": None, "exact": axis.law.friction}, axis=axis, duration=0.2)
     >>> err = {k: float(abs(r.e1[-50:]).max()) for k, r in runs.items()}
-    >>> err["exact"] < err["none"]      # compensating eq. (1) shrinks the tracking error
+    >>> err["exact"] < err["none"]      # compensating [F1] shrinks the tracking error
     True
     """
     axis = default_axis() if axis is None else axis

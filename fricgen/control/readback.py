@@ -8,7 +8,7 @@ The dump (``fric_adapt.h``) is three lines::
     theta <8 hex digits per parameter: the float32 bits of theta[0 .. n-1]>
 
 theta is the model's output parameters (``fricgen.control.regressor``: beta_k and B of an ELM,
-a_k, c and B of the grey-box eq. (1)); the hidden layer, the Stribeck velocities, the slope and
+a_k, c and B of the grey-box [F1]); the hidden layer, the Stribeck velocities, the slope and
 the scaling are the model's own. The hex bits carry every float exactly.
 """
 from __future__ import annotations

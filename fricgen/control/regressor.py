@@ -1,17 +1,17 @@
 """The friction model as a regressor that is linear in its output parameters.
 
-Eq. (3), sec. 2, F(v) = AIM(x) sgn(v) / K_out + B v with x = K_in min(|v|, v_sat), is linear in
+[F3], F(v) = AIM(x) sgn(v) / K_out + B v with x = K_in min(|v|, v_sat), is linear in
 
-- the output weights beta_k of an ELM, eq. (7): AIM(x) = sum_k beta_k h_k(x), h_k = act(w_k x + b_k);
-- the amplitudes a_k and the offset c of the grey-box eq. (1) in the coordinates of eq. (9),
+- the output weights beta_k of an ELM, [F7]: AIM(x) = sum_k beta_k h_k(x), h_k = act(w_k x + b_k);
+- the amplitudes a_k and the offset c of the grey-box [F1] in the coordinates of [F9],
   AIM(x) = c + d x + sum_k a_k g(x / xs_k), once its Stribeck velocities xs_k are fixed;
 
 and in B. So F(v) = f0(v) + theta^T phi(v) with
 
     ELM:      theta = [beta_1 .. beta_M, B],     phi = [s h_1(x) .. s h_M(x), v]
-    eq. (1):  theta = [a_1 .. a_S, c, B],        phi = [s g(x/xs_1) .. s g(x/xs_S), s, v]
+    [F1]:  theta = [a_1 .. a_S, c, B],        phi = [s g(x/xs_1) .. s g(x/xs_S), s, v]
 
-where s = sgn(v) / K_out, and f0 = s d x for eq. (1) (its slope d stays fixed; 0 for an ELM).
+where s = sgn(v) / K_out, and f0 = s d x for [F1] (its slope d stays fixed; 0 for an ELM).
 
 In float32 (``dtype="float32"``) the regressor is the exact twin of the ``NAME_regressor``
 that ``fricgen emit --adapt`` generates (``fricgen.codegen.adapt``): the same float operations

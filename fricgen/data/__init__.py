@@ -1,4 +1,4 @@
-"""Friction data: sweeps, motion logs, B identification and the eq. (9) normalization, and the
+"""Friction data: sweeps, motion logs, B identification and the [F9] normalization, and the
 paper's benchmark."""
 from __future__ import annotations
 

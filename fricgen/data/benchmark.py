@@ -19,7 +19,7 @@ class Benchmark:
     Parameters
     ----------
     friction : MultisourceFriction
-        The true friction, eq. (1).
+        The true friction, [F1].
     vs_max : float
         The largest Stribeck velocity (m/s); v_sat = 3 vs_max.
     train : Sweep
@@ -29,11 +29,11 @@ class Benchmark:
     theory : Sweep
         Nt equidistant noise-free points in [0, v_sat].
     dataset : Dataset
-        The eq. (9) training set of ``train``.
+        The [F9] training set of ``train``.
 
     Notes
     -----
-    ``errors(aim)`` gives E_train, E_test, E_Ttest of eqs. (4)-(6), normalized and in newtons.
+    ``errors(aim)`` gives E_train, E_test, E_Ttest of [F4]-[F6], normalized and in newtons.
 
     Examples
     --------
@@ -51,7 +51,7 @@ class Benchmark:
     dataset: Dataset = field(repr=False)
 
     def errors(self, aim) -> dict:
-        """E_train, E_test, E_Ttest of eqs. (4)-(6), normalized and in newtons, for AIM ``aim``."""
+        """E_train, E_test, E_Ttest of [F4]-[F6], normalized and in newtons, for AIM ``aim``."""
         d = self.dataset
         x_test, t_test = d.targets(self.test.v, self.test.f)
         x_th, t_th = d.targets(self.theory.v, self.theory.f)
@@ -70,7 +70,7 @@ def synthesize_benchmark(friction: MultisourceFriction, seed=0, vs_max: Optional
     Parameters
     ----------
     friction : MultisourceFriction
-        The true eq. (1), e.g. ``preset("paper3")`` (Table 1).
+        The true [F1], e.g. ``preset("paper3")`` (Table 1).
     seed : int, numpy.random.Generator or None
         The noise and velocity draws.
     vs_max : float, optional
@@ -89,7 +89,7 @@ def synthesize_benchmark(friction: MultisourceFriction, seed=0, vs_max: Optional
     Returns
     -------
     Benchmark
-        The sweeps and the eq. (9) training set, to which ``prepare`` added (0, mean of the four
+        The sweeps and the [F9] training set, to which ``prepare`` added (0, mean of the four
         slowest) and (3 vs_max, F(3 vs_max)) with the true F, as the paper does.
 
     Examples

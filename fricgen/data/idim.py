@@ -1,6 +1,6 @@
 """The axis's mass and constant force by inverse dynamics (IDIM-LS), jointly with its friction.
 
-Eq. (18) with a constant force o (gravity on an inclined axis, a cable's pull) reads
+[C1] with a constant force o (gravity on an inclined axis, a cable's pull) reads
 f = m dv/dt + F(v) + o. Before F is modelled it is stood in for by a flexible basis that is
 linear in its coefficients: per direction of motion a Coulomb level, a viscous slope and
 Stribeck drops exp(-|v| / v_k) on a log grid of the measured speeds. Ordinary least squares then

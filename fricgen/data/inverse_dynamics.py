@@ -1,4 +1,4 @@
-"""Friction samples from a motion log by inverse dynamics of eq. (18): F(v) = f - m dv/dt.
+"""Friction samples from a motion log by inverse dynamics of [C1]: F(v) = f - m dv/dt.
 
 The log holds time ``t`` (s, uniformly sampled), velocity ``v`` (m/s) or position ``x`` (m), and
 the drive force ``force`` (N) or the motor current ``i`` (A) times the force constant. Velocity
@@ -207,7 +207,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                       v: Optional[np.ndarray] = None, x: Optional[np.ndarray] = None,
                       window: Optional[int] = None, use: Optional[np.ndarray] = None,
                       progress: Optional[Callable[[str], None]] = None) -> Identification:
-    """Friction samples F = f - m dv/dt of a log (eq. 18) at the rows where the axis moves, m
+    """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
     it in its curves (``offset_line``).
@@ -293,7 +293,7 @@ def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, indepe
     ratio = float(np.sqrt(np.mean(inertia ** 2) / max(np.mean(force ** 2), 1e-300)))
     if ratio > INERTIA_OFF:
         raise DataError(f"m dv/dt is {ratio:.3g} x the force where the axis moves (RMS), yet the "
-                        "force is m dv/dt plus friction (eq. 18): check the mass and the units of "
+                        "force is m dv/dt plus friction [C1]: check the mass and the units of "
                         "t, x, v and of the force or i")
     coef, se = least_squares_errors(np.column_stack([inertia, np.sign(v), v, np.ones(v.size)]),
                                     force, independent)

@@ -3,10 +3,10 @@
 A point is a gross outlier when its residual from a robust fit lies further than
 OUTLIER_SIGMAS robust standard deviations (1.4826 MAD, ``robust_scale``) from it. The high-speed
 rows of B are judged against a Theil-Sen line (``fricgen.data.training_set.identify_viscous``),
-the eq. (9) training set against a running median over the points in order of x, which no
+the [F9] training set against a running median over the points in order of x, which no
 isolated spike moves. A running median lags where the curve is steepest (a narrow Stribeck drop
 next to v = 0), so its suspects are confirmed against a smooth model fitted to every point (``unexplained``;
-the default's eq. (1), which no isolated spike bends): a suspect that it explains within
+the default's [F1], which no isolated spike bends): a suspect that it explains within
 OUTLIER_SIGMAS of its robust residual spread on the other points is kept. Bounded noise, such as the benchmark's uniform +-0.5 N, is never
 rejected.
 """
@@ -37,7 +37,7 @@ def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
 
 
 def inner_points(x) -> np.ndarray:
-    """A mask of every point but those at the smallest and the largest x: in the eq. (9) set
+    """A mask of every point but those at the smallest and the largest x: in the [F9] set
     these are the two boundary points of section 2 (the mean of the slowest rows at x = 0 and
     the high-speed line at x = 1), not measurements. Outlier rejection leaves them alone and
     cross-validation scores the others only (a narrow Stribeck source decides the value at

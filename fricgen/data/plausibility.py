@@ -7,11 +7,11 @@ really are unusual (``--accept-unusual``), gives that line back as a warning:
 - ``check_bounds``: the fastest speed and the largest force within ``_validate.PHYSICAL`` (a
   speed in mm/s read as m/s, a force in mN), with the ``--scale`` that would bring it there;
 - ``check_sweep_shape``: a sweep whose force follows the speed as friction does (section 2:
-  the force of eq. (1) is a function of v, from a Coulomb level at low speed): swapped columns
+  the force of [F1] is a function of v, from a Coulomb level at low speed): swapped columns
   (the speed then never comes near 0, and v follows f more closely than f follows v), or a force
   that scatters about any curve of v by more than its own level (a fit would explain nothing);
 - ``check_merge_shift``: the ``--merge-shift`` of two instruments' files near the one at which
-  the force best fits the motion (f = m dv/dt + friction, eq. 18, searched over shifts).
+  the force best fits the motion (f = m dv/dt + friction, [C1], searched over shifts).
 """
 from __future__ import annotations
 
@@ -130,7 +130,7 @@ def check_sweep_shape(v: np.ndarray, f: np.ndarray, source: str, accept_unusual:
 
 
 def _regressors(columns: Dict[str, np.ndarray], t: np.ndarray) -> Optional[np.ndarray]:
-    """The columns of f = m dv/dt + F_c sgn(v) + B v + o at the times ``t`` (eq. 18 with
+    """The columns of f = m dv/dt + F_c sgn(v) + B v + o at the times ``t`` ([C1] with
     Coulomb and viscous friction), or None without v or x."""
     if "v" in columns:
         v = np.interp(t, columns["t"], columns["v"])
@@ -148,7 +148,7 @@ def _force_of(columns: Dict[str, np.ndarray]) -> Optional[str]:
 def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], shift: float,
                       names, accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
     """The given ``shift`` of the second file's clock near the one at which the force (of either
-    file) best fits the motion of the other (least squares of eq. 18 with Coulomb and viscous
+    file) best fits the motion of the other (least squares of [C1] with Coulomb and viscous
     friction, on the middle half of the force file's span, over every shift that keeps it
     within the motion file's); refused (or warned)
     when another shift fits SHIFT_GAIN times better SHIFT_STEPS samples or more away."""

@@ -3,14 +3,14 @@ give B (section 2), chosen by K-fold cross-validation of the force in newtons.
 
 Each candidate vs_max of a log-spaced grid over the data's speeds runs the steps of ``prepare``
 on the training folds, with a cheap stand-in for the grey-box fit: B and the anchor F0 from the
-rows beyond v_sat (``identify_viscous``), then eq. (1) with a fixed dictionary of Stribeck
+rows beyond v_sat (``identify_viscous``), then [F1] with a fixed dictionary of Stribeck
 velocities of every shape up to vs_max (the grey-box's bound) and non-negative amplitudes
-(a linear fit), saturated at v_sat as eq. (3) is. A v_sat inside the Stribeck drop bends the
+(a linear fit), saturated at v_sat as [F3] is. A v_sat inside the Stribeck drop bends the
 line that gives B, a vs_max below a Stribeck velocity cannot follow the drop, and a v_sat far
 beyond it leaves few rows for B: each shows up as held-out error. Of the candidates within one
 standard error (of the paired row differences) of the best, the smallest vs_max is chosen.
 
-One more candidate has no linear high-speed region: B is fitted with the rest (eq. (1) with the
+One more candidate has no linear high-speed region: B is fitted with the rest ([F1] with the
 dictionary up to a third of the fastest speed, plus B v) and v_sat is the fastest speed. It is
 chosen when it beats the best vs_max by more than JOINT_MARGIN standard errors, or when no
 vs_max leaves enough rows beyond v_sat; it never refuses data that span speeds.
@@ -120,7 +120,7 @@ def candidate_grid(v: np.ndarray, n: int = CANDIDATES) -> np.ndarray:
 
 
 def _dictionary(v: np.ndarray, stribeck: np.ndarray) -> np.ndarray:
-    """[1, g(v, v_k) for every shape g and every v_k]: eq. (1) with fixed Stribeck velocities."""
+    """[1, g(v, v_k) for every shape g and every v_k]: [F1] with fixed Stribeck velocities."""
     return np.column_stack([np.ones_like(v)] + [g(v, s) for g in SHAPES.values() for s in stribeck])
 
 
@@ -133,11 +133,11 @@ def _nonnegative_fit(A: np.ndarray, f: np.ndarray) -> np.ndarray:
 
 def _proxy(v: np.ndarray, f: np.ndarray, vs_max: Optional[float]):
     """The cheap stand-in for ``prepare`` plus a grey-box fit, trained on (v, f): B and F0 from
-    the rows beyond v_sat, then eq. (1) with DICTIONARY Stribeck velocities of every shape up to
+    the rows beyond v_sat, then [F1] with DICTIONARY Stribeck velocities of every shape up to
     vs_max (the grey-box's bound) and non-negative amplitudes, fitted to the rows within [0,
     v_sat] and the anchor (v_sat, F0 + B v_sat). ``vs_max`` None: no linear region; v_sat is
     the fastest speed and B is fitted with the rest. Returns the force as a function of speed
-    (eq. (3): saturated at v_sat) and B."""
+    ([F3]: saturated at v_sat) and B."""
     if vs_max is None:
         v_sat = float(v.max())
         stribeck = np.geomspace(v_sat / SAT_FACTOR / 50, v_sat / SAT_FACTOR, DICTIONARY)
@@ -192,7 +192,7 @@ def binned_by_fold(v, f, folds, rows: int = None):
 
 def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> StribeckRange:
     """vs_max of a folded sweep by cross-validation: each candidate v_sat = 3 vs_max splits the rows
-    into a Stribeck part and a linear high-speed part (eq. (3) saturates beyond v_sat); the
+    into a Stribeck part and a linear high-speed part ([F3] saturates beyond v_sat); the
     smallest candidate within one standard error of the best held-out error wins.
 
     Parameters

@@ -1,4 +1,4 @@
-"""From a sweep to the eq. (9) training set: B identification, vs_max, normalization."""
+"""From a sweep to the [F9] training set: B identification, vs_max, normalization."""
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -26,7 +26,7 @@ def check_float32_scale(what: str, value: float, unit: str) -> None:
 
 @dataclass(frozen=True)
 class Dataset:
-    r"""Normalized training data of eq. (9) with what eq. (3) needs to rebuild forces (``prepare``).
+    r"""Normalized training data of [F9] with what [F3] needs to rebuild forces (``prepare``).
 
     Parameters
     ----------
@@ -39,7 +39,7 @@ class Dataset:
     viscous : float
         The identified B (N s/m).
     v_sat : float
-        3 vs_max (m/s): where the network input saturates in eq. (3).
+        3 vs_max (m/s): where the network input saturates in [F3].
     n_high_speed : int
         Rows beyond v_sat (the regression of B).
     n_outliers : int
@@ -86,7 +86,7 @@ class Dataset:
         return self.n_rows > self.x.size - 2
 
     def targets(self, v, f) -> Tuple[np.ndarray, np.ndarray]:
-        """Eq. (9) applied to other (folded) data: (K_in v, K_out (f - B v))."""
+        """[F9] applied to other (folded) data: (K_in v, K_out (f - B v))."""
         v = np.asarray(v, dtype=float)
         return self.scaling.k_in * v, self.scaling.k_out * (np.asarray(f, dtype=float) - self.viscous * v)
 
@@ -102,7 +102,7 @@ def checked_fold(sweep: Sweep) -> Sweep:
                         "sweep needs motion")
     if np.count_nonzero(folded.f < 0) > folded.f.size / 2:
         raise DataError("the force has the opposite sign of v in most rows, yet friction acts "
-                        "with the sign of v (eq. 1): check the sign of v, force or i (or --scale)")
+                        "with the sign of v [F1]: check the sign of v, force or i (or --scale)")
     check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
     check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
     return folded
@@ -111,7 +111,7 @@ def checked_fold(sweep: Sweep) -> Sweep:
 def prepare(sweep: Sweep, vs_max: Union[None, float, StribeckRange] = None, f_sat: Optional[float] = None,
             viscous: Optional[float] = None, max_points: int = MAX_TRAINING_POINTS,
             folds=None, independence: float = 1.0) -> Dataset:
-    """Turn a sweep into the eq. (9) training set of section 2.
+    """Turn a sweep into the [F9] training set of section 2.
 
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
     regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with the

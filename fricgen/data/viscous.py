@@ -12,7 +12,7 @@ from .sweep import Sweep
 
 #: Fewest high-speed rows (|v| > v_sat) the regression for B needs.
 MIN_HIGH_SPEED_ROWS = 5
-#: v_sat = SAT_FACTOR * vs_max: beyond it g(v, v_s) ~ 0 and eq. (3) saturates the network input.
+#: v_sat = SAT_FACTOR * vs_max: beyond it g(v, v_s) ~ 0 and [F3] saturates the network input.
 SAT_FACTOR = 3.0
 
 

@@ -1,6 +1,6 @@
 """Which effects are missing from a friction model, selected by size, and the gap after.
 
-Effects are selected by size (``Diagnoser``) on the force residual of eq. (18), sec. 6
+Effects are selected by size (``Diagnoser``) on the force residual of [C1]
 (``residual``): sets of named effects are fitted jointly on the first part of the log and
 ranked by an information criterion (``select``), and a set one effect larger than the chosen
 one is taken only if the held-out test of ``decision`` rejects "it explains nothing" at level
@@ -121,12 +121,12 @@ class Diagnoser:
         Where the residual lives before and after (``localization_``, ``localization_after_``:
         the per-axis shares).
     problem_ : ResidualProblem
-        The residual of eq. (18) on the log (``residual.ResidualProblem``).
+        The residual of [C1] on the log (``residual.ResidualProblem``).
 
     Notes
     -----
-    The residual is phi i - m a - F(v) of the axis of eq. (18), sec. 6, with F the model's
-    friction (eq. (1) or the AIM of eq. (3)); the effects' forms are those of
+    The residual is phi i - m a - F(v) of the axis of [C1], with F the model's
+    friction ([F1] or the AIM of [F3]); the effects' forms are those of
     ``fricgen.effects``. Beyond the paper, which identifies friction only.
 
     Examples
@@ -451,7 +451,7 @@ def diagnose(log: MotionLog, model: FrictionModel, mass: float, force_constant: 
     log : MotionLog
         The measured motion log (t, x, v, i).
     model : FrictionModel
-        The friction model F(v) of eq. (18), sec. 6, that the log is compared with.
+        The friction model F(v) of [C1], that the log is compared with.
     mass, force_constant : float
         The nominal m (kg) and phi (N/A) of the axis.
     **kwargs

@@ -1,4 +1,4 @@
-"""The held-out gap: the RMS velocity error of simulations of the axis of eq. (18), sec. 6.
+"""The held-out gap: the RMS velocity error of simulations of the axis of [C1].
 
 The simulations are restarted from the measured state every ``horizon`` samples and driven by
 the measured current, on the held-out part, and compared with the measured velocity smoothed
@@ -26,7 +26,7 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
                substeps: int = 10) -> np.ndarray:
     """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
     samples from ``start`` on, driven by the measured current (smoothed; NaN before ``start``): the axis
-    of eq. (18) under the model's friction and ``effects``, in Karnopp steps."""
+    of [C1] under the model's friction and ``effects``, in Karnopp steps."""
     sig = problem.signals
     n = sig.t.size
     law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)

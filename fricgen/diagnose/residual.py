@@ -1,6 +1,6 @@
-"""The force residual of eq. (18), sec. 6, smoothed and sampled where the axis moves.
+"""The force residual of [C1], smoothed and sampled where the axis moves.
 
-From a measured log (t, x, v, i), a friction model (eq. 3), the nominal mass m and force
+From a measured log (t, x, v, i), a friction model [F3], the nominal mass m and force
 constant phi,
 
     r = phi i - m dv/dt - F(v) - sum(effects already in the model),

@@ -96,7 +96,7 @@ def mean_square(p: ResidualProblem, effects: Sequence[Effect]) -> float:
 def score(p: ResidualProblem, effects: Sequence[Effect], per_mass: bool = False) -> float:
     """Akaike's criterion of a joint fit on the fit rows, with the effective sample size;
     ``per_mass``: of the residual in acceleration, the force residual over the set's mass
-    (eq. 18), as the held-out gap sees it. A mass three times the nominal one and a force
+    [C1], as the held-out gap sees it. A mass three times the nominal one and a force
     constant a third of the nominal one with the friction cut to a third move the axis
     alike, but the second's force residual is a third as large."""
     mse = max(mean_square(p, effects), 1e-300)

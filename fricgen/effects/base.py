@@ -2,9 +2,9 @@
 
 Each effect is one small class: its parameters (dataclass fields), ``fit`` (a classmethod that
 identifies it from a force residual), ``force`` (its contribution in newtons), ``to_dict`` /
-``from_dict``. Sign convention, extending eq. (18) of section 6:
+``from_dict``. Sign convention, extending [C1]:
 
-    m dv/dt = phi i - F(v) - sum_k effect_k        (F(v) of eq. 3),
+    m dv/dt = phi i - F(v) - sum_k effect_k        (F(v) of [F3]),
 
 so an effect with positive force opposes positive motion. Effects that are functions of v and
 x only (``in_xv``) are also emitted into C as part of ``NAME_force_xv(v, x)``.
@@ -47,7 +47,7 @@ class Effect:
 
     Notes
     -----
-    Forces follow the sign convention of the module, extending eq. (18) of section 6:
+    Forces follow the sign convention of the module, extending [C1]:
     m dv/dt = phi i - F(v) - sum_k effect_k, so a positive force opposes positive motion.
 
     Examples

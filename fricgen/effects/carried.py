@@ -1,5 +1,5 @@
 """The effects a model carries: model.json's ``effects`` list validated by kind, the force
-of eq. (3) with the effects in (v, x), and a model with effects added."""
+of [F3] with the effects in (v, x), and a model with effects added."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -96,7 +96,7 @@ def model_effects(model) -> List[Effect]:
 
 
 def force_xv(model, v, x) -> np.ndarray:
-    """F(v) of eq. (3) plus every effect that is a function of (v, x): what the emitted
+    """F(v) of [F3] plus every effect that is a function of (v, x): what the emitted
     NAME_force_xv computes.
 
     Parameters

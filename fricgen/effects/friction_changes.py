@@ -1,5 +1,5 @@
 """The named effects that change the friction itself: a direction's level scaled, an extra
-source of eq. (1), friction memory (frictional lag) and a drift of the level with time; each one
+source of [F1], friction memory (frictional lag) and a drift of the level with time; each one
 small class of the ``Effect`` contract (``base``)."""
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ class DirectionAsymmetry(Effect):
     Parameters
     ----------
     gain_positive, gain_negative : float
-        g+ and g- (dimensionless fractions of F(v) of eq. (3) or (1)).
+        g+ and g- (dimensionless fractions of F(v) of [F3] or [F1]).
 
     Examples
     --------
@@ -98,7 +98,7 @@ class DirectionAsymmetry(Effect):
 
 @dataclass(frozen=True)
 class ExtraFrictionSource(Effect):
-    """An additional source of eq. (1): sgn(v) [fc + (fs - fc) g(v, vs)] + B v.
+    """An additional source of [F1]: sgn(v) [fc + (fs - fc) g(v, vs)] + B v.
 
     Parameters
     ----------
@@ -109,7 +109,7 @@ class ExtraFrictionSource(Effect):
     B : float
         Viscous coefficient (N s/m).
     shape : str
-        g of eq. (2).
+        g of [F2].
 
     Examples
     --------

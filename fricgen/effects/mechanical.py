@@ -1,6 +1,6 @@
 """The named effects of the axis's mechanics rather than its friction: a force periodic in
 position (cogging, ripple), a constant load, and a mass or force constant other than the nominal
-one (eq. (18)); each one small class of the ``Effect`` contract (``base``)."""
+one [C1]; each one small class of the ``Effect`` contract (``base``)."""
 from __future__ import annotations
 
 import math

@@ -9,8 +9,8 @@ from scipy.signal import lfilter
 
 
 class FrictionCurve(Protocol):
-    """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` (eq. 3) or a
-    ``MultisourceFriction`` (eq. 1), as a typing protocol (``viscous``, ``__call__``,
+    """A friction curve F(v) = S(|v|) sgn(v) + B v: a ``FrictionModel`` [F3] or a
+    ``MultisourceFriction`` [F1], as a typing protocol (``viscous``, ``__call__``,
     ``stribeck``). Tabulating it (``Signals(tabulate=True)``) also needs ``v_sat``. An
     asymmetric curve (a ``FrictionModel`` of format version 2, a ``DirectionalFriction``) also
     has ``negative``, the curve for v < 0 (its own ``stribeck`` and ``v_sat``); its own
@@ -45,7 +45,7 @@ class Signals:
     Parameters
     ----------
     model : FrictionCurve
-        F(v) of eq. (3) or eq. (1).
+        F(v) of [F3] or [F1].
     t, x, v, a, i : ndarray, optional
         Time (s), position (m), velocity (m/s), acceleration (m/s^2), current (A).
     s : ndarray, optional
@@ -81,7 +81,7 @@ class Signals:
 
     @property
     def friction(self) -> np.ndarray:
-        """F(v) of eq. (3) (or eq. (1))."""
+        """F(v) of [F3] (or [F1])."""
         if self._friction is None:
             self._friction = self.model(self.v)
         return self._friction
@@ -99,7 +99,7 @@ class Signals:
         """S(u) of curve k of ``_curves`` (its table's interpolation when tabulated)."""
         if self._tables is not None:
             # linear interpolation on the uniform table: the cell is found by arithmetic, not
-            # by search; constant beyond v_sat, as eq. (3)
+            # by search; constant beyond v_sat, as [F3]
             top, values = self._tables[k]
             cells = values.size - 1
             pos = np.clip(np.asarray(speed, dtype=float), 0.0, top) * (cells / top)

@@ -391,7 +391,7 @@ def parse_axes(lines: Sequence[str], axes: Sequence[Axis]) -> List[np.ndarray]:
 @dataclass(frozen=True)
 class Float32Plant:
     """Float32 twin of ``examples/firmware/fw_plant.c``: the force law of a ``MotorAxis``
-    (eq. 18 of section 6) with F(v) = (f_c + (f_s - f_c) v_s^2 / (v_s^2 + v^2)) v / (|v| + v_eps)
+    [C1] with F(v) = (f_c + (f_s - f_c) v_s^2 / (v_s^2 + v^2)) v / (|v| + v_eps)
     + viscous v (no libm), the current limited to [-i_max, i_max], integrated with
     ``MotorAxis.euler_f32`` in ``substeps`` steps per sample.
     The defaults resemble the paper's benchmark axis (2 kg, 18 N/A, 15 N Coulomb and 44 N

@@ -41,8 +41,8 @@ _FMA = re.compile(r"^(vfn?m(add|sub)\w*|vfn?m[as](\.f32)?|fn?m(add|sub))$")
 
 
 def table1_greybox(bench, shape: str = "gauss", name: str = "gb"):
-    """Table 1 itself as a grey-box model of eq. (3) with the scaling of ``bench`` (a
-    ``synthesize_benchmark`` result): a model with eq. (1)'s exponentials to build."""
+    """Table 1 itself as a grey-box model of [F3] with the scaling of ``bench`` (a
+    ``synthesize_benchmark`` result): a model with [F1]'s exponentials to build."""
     d, friction = bench.dataset, preset("paper3", shape)
     k_in, k_out = d.scaling.k_in, d.scaling.k_out
     curve = StribeckCurve(shape, k_out * sum(s.fc for s in friction.sources),

@@ -1,9 +1,9 @@
-"""Estimators from the normalized data of eq. (9) to a trained network (the AIM of eq. 3).
+"""Estimators from the normalized data of [F9] to a trained network (the AIM of [F3]).
 
 Every estimator follows one contract (``fricgen.fit.base.Estimator``, scikit-learn's):
 ``ELMRegressor`` (sections 4-5), ``AutoELMRegressor`` (the automatic ELM), ``AnfisRegressor``
-(section 3), ``ConditionedELMRegressor`` (section 5), ``StribeckRegressor`` (the grey-box eq. 1),
-``OracleRegressor`` (eq. 1 with the true shape and S) and ``DefaultRegressor`` (fricgen's
+(section 3), ``ConditionedELMRegressor`` (section 5), ``StribeckRegressor`` (the grey-box [F1]),
+``OracleRegressor`` ([F1] with the true shape and S) and ``DefaultRegressor`` (fricgen's
 default: the grey-box model or the automatic ELM by cross-validation).
 """
 from __future__ import annotations
@@ -44,7 +44,7 @@ def default_elm(random_state=0, max_neurons=None) -> AutoELMRegressor:
 
 def default_estimator(random_state=0, max_neurons=None, max_parameters=None) -> DefaultRegressor:
     """The estimator ``fricgen train`` uses unless told otherwise (``DefaultRegressor``): the
-    grey-box eq. (1) or the automatic ELM, whichever cross-validates better, gross outliers set
+    grey-box [F1] or the automatic ELM, whichever cross-validates better, gross outliers set
     aside.
 
     Parameters

@@ -80,7 +80,7 @@ class AnfisRegressor(Estimator):
     Attributes
     ----------
     network_ : AnfisNetwork
-        The system of the best epoch, the AIM of eq. (3).
+        The system of the best epoch, the AIM of [F3].
     train_rmse_ : ndarray, shape (epochs,)
         Training RMSE per epoch (units of t, normalized force).
     best_epoch_ : int

@@ -2,7 +2,7 @@
 
 The hidden units are not drawn blindly (section 4) but placed where the data needs them:
 
-1. A *dictionary* of sigmoids h(x) = sigma(s (x - c)), eq. (8) with w = s, b = -s c, whose
+1. A *dictionary* of sigmoids h(x) = sigma(s (x - c)), [F8] with w = s, b = -s c, whose
    centres c lie on a grid over the data range and whose steepness s spreads over scales
    (``steepness``, in units of 1 / data range: transitions from the whole range down to about
    1/12 of it, the Stribeck drop near v = 0), plus one constant unit (w = b = 0).
@@ -18,7 +18,7 @@ The hidden units are not drawn blindly (section 4) but placed where the data nee
    that the size follows the accuracy the data can confirm, not the amount of data: the
    standard error shrinks as 1/rows, and without the resolution a million rows would buy units
    for differences of a few thousandths of a newton. ``max_neurons`` caps the units for firmware.
-4. C of eq. (15) is then chosen per member by leave-one-out within the float32 parity bound
+4. C of [F15] is then chosen per member by leave-one-out within the float32 parity bound
    (``LeaveOneOut``); the average's float32 error is at most the largest member's.
 """
 from __future__ import annotations
@@ -91,7 +91,7 @@ class AutoELMRegressor(Estimator):
     member, every ``steepness``), picks up to ``max_hidden`` of them by orthogonal least squares,
     and the smallest candidate within ``tolerance_se`` standard errors of the best PRESS wins; the
     members' networks are averaged into one. Fitting is deterministic. x and t are the normalized
-    data of eq. (9).
+    data of [F9].
 
     Parameters
     ----------
@@ -118,7 +118,7 @@ class AutoELMRegressor(Estimator):
     Attributes
     ----------
     network_ : ElmNetwork
-        The averaged network, the AIM of eq. (3).
+        The averaged network, the AIM of [F3].
     input_weights_, biases_ : ndarray
         w and b of its units (dimensionless).
     beta_ : ndarray
@@ -140,14 +140,14 @@ class AutoELMRegressor(Estimator):
     Notes
     -----
     Beyond the paper: it replaces the hand-picked M and C of secs. 4-5 by leave-one-out
-    (PRESS) over nested subsets, solved as eq. (13) on each prefix.
+    (PRESS) over nested subsets, solved as [F13] on each prefix.
 
     Examples
     --------
     >>> import numpy as np
     >>> from fricgen import AutoELMRegressor
     >>> x = np.linspace(0, 1, 40)
-    >>> t = 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2)      # eq. (1) shape, normalized
+    >>> t = 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2)      # [F1] shape, normalized
     >>> elm = AutoELMRegressor(max_neurons=6).fit(x, t)
     >>> bool(elm.beta_.size <= 6), bool(elm.loo_rmse_ < 0.01)
     (True, True)

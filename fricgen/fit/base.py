@@ -3,7 +3,7 @@
 Hyperparameters are stored unchanged in ``__init__`` and listed by its signature;
 ``get_params``/``set_params`` read and write them (so ``sklearn.base.clone`` and
 ``cross_val_score`` work); all work happens in ``fit(x, t)``, which returns ``self`` and sets
-learned attributes ending in ``_``, among them ``network_``, the trained AIM of eq. (3);
+learned attributes ending in ``_``, among them ``network_``, the trained AIM of [F3];
 ``predict`` returns an array shaped like its input; ``score`` is the coefficient of
 determination R^2. Randomness enters through one ``random_state``.
 """
@@ -70,7 +70,7 @@ class NotFittedError(FricgenError, AttributeError):
 
 
 class Estimator:
-    """Base of fricgen's regressors from the normalized input x to the target t of eq. (9).
+    """Base of fricgen's regressors from the normalized input x to the target t of [F9].
 
     Hyperparameters are stored unchanged in ``__init__``; ``get_params``/``set_params`` read and
     write them (so ``sklearn.base.clone`` works); ``fit(x, t)`` returns self and sets learned

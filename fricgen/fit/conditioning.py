@@ -1,7 +1,7 @@
 """Conditioning optimization (section 5, "Direct minimization of the condition coefficient").
 
-The hidden neurons are split into RAND, drawn with enlarged variability (eqs. 16-17), and OPT,
-whose weights and biases minimize log10 cond(H^T H) of eq. (11), computed from the singular
+The hidden neurons are split into RAND, drawn with enlarged variability [F16]-[F17], and OPT,
+whose weights and biases minimize log10 cond(H^T H) of [F11], computed from the singular
 values of H. The objective is multimodal and not smooth (the paper's fig. 21), so OPT is found
 by a small seeded particle swarm with Clerc's constriction coefficients, clipped to bounds.
 """
@@ -108,11 +108,11 @@ class ConditionedELMRegressor(Estimator):
     activation : str
         The hidden units' function.
     scheme : str or scheme object, optional
-        How the other neurons are drawn (default: enlarged variability, eqs. (16)-(17)).
+        How the other neurons are drawn (default: enlarged variability, [F16]-[F17]).
     solver : str or solver object
-        "pinv" (eq. 13, the default here), "ridge" (eq. 15) or "loo".
+        "pinv" ([F13], the default here), "ridge" [F15] or "loo".
     C : float, optional
-        C of eq. (15) for ``solver="ridge"``.
+        C of [F15] for ``solver="ridge"``.
     n_particles, iterations : int
         Swarm size and iterations.
     random_state : int, numpy.random.Generator or None

@@ -1,13 +1,13 @@
-"""fricgen's default model: the grey-box eq. (1) or elm_auto, whichever cross-validates better.
+"""fricgen's default model: the grey-box [F1] or elm_auto, whichever cross-validates better.
 
 Gross outliers are set aside first (``fricgen.data.outliers``: the suspects of a running median
-that eq. (1), fitted to every point, does not explain). Then both candidates are fitted to the
+that [F1], fitted to every point, does not explain). Then both candidates are fitted to the
 rest: ``StribeckRegressor`` (S and g chosen by cross-validation) and ``AutoELMRegressor``.
 Their errors are compared on the same folds (``n_repeats`` partitions into ``n_folds``
 interleaved folds), each candidate's whole procedure refitted without each fold (for the
 grey-box model, S and g are chosen again on the fold's training points), scored on the
 measured points (``inner_points``: not the two boundary points of section 2). The smaller cross-validated error wins; on data that is a
-sum of Stribeck curves that is usually eq. (1), elsewhere (a viscous term in sqrt|v|, a
+sum of Stribeck curves that is usually [F1], elsewhere (a viscous term in sqrt|v|, a
 measured curve) usually the ELM.
 """
 from __future__ import annotations
@@ -31,17 +31,17 @@ def elm_units(budget: int) -> int:
 
 
 def greybox_sources(budget: int, sources=SOURCES) -> tuple:
-    """The numbers of eq. (1) sources within ``budget`` parameters: 2 S + 2 (c, a_k, v_sk and
+    """The numbers of [F1] sources within ``budget`` parameters: 2 S + 2 (c, a_k, v_sk and
     B); the fewest of ``sources`` when none fits."""
     return tuple(s for s in sources if 2 * s + 2 <= int(budget)) or (min(sources),)
 
 
 class DefaultRegressor(Estimator):
-    """fricgen's default model: the grey-box eq. (1) (``StribeckRegressor``) or the automatic ELM
+    """fricgen's default model: the grey-box [F1] (``StribeckRegressor``) or the automatic ELM
     (``AutoELMRegressor``), whichever has the smaller repeated cross-validated error.
 
     Points more than ``outlier_sigmas`` robust standard deviations off a running median are set
-    aside first. x and t are the normalized data of eq. (9).
+    aside first. x and t are the normalized data of [F9].
 
     Parameters
     ----------
@@ -61,7 +61,7 @@ class DefaultRegressor(Estimator):
     Attributes
     ----------
     network_ : network
-        The winner's trained AIM of eq. (3).
+        The winner's trained AIM of [F3].
     choice_ : str
         "stribeck" or "elm_auto"; ``chosen_``: the fitted winner.
     greybox_, elm_ : estimator
@@ -75,15 +75,15 @@ class DefaultRegressor(Estimator):
 
     Notes
     -----
-    Beyond the paper, which fits ELMs of a hand-picked size: the grey-box eq. (1) competes with the
-    ELM on the same eq. (9) data, and ties go to the grey-box.
+    Beyond the paper, which fits ELMs of a hand-picked size: the grey-box [F1] competes with the
+    ELM on the same [F9] data, and ties go to the grey-box.
 
     Examples
     --------
     >>> import numpy as np
     >>> from fricgen import DefaultRegressor
     >>> x = np.linspace(0, 1, 30)
-    >>> t = 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2)     # exactly eq. (1): the grey-box wins
+    >>> t = 0.5 + 0.5 * np.exp(-(x / 0.2) ** 2)     # exactly [F1]: the grey-box wins
     >>> model = DefaultRegressor(n_repeats=1, max_parameters=6).fit(x, t)
     >>> model.choice_, model.n_outliers_
     ('stribeck', 0)
@@ -116,7 +116,7 @@ class DefaultRegressor(Estimator):
         start = time.perf_counter()
         suspects = gross_outliers(x, t, self.outlier_sigmas)
         outliers, everything = suspects, None
-        if suspects.any():                    # confirmed against eq. (1) fitted to every point
+        if suspects.any():                    # confirmed against [F1] fitted to every point
             try:
                 everything = self._greybox().fit(x, t)
                 outliers = unexplained(t, suspects, [everything.predict(x)], self.outlier_sigmas)

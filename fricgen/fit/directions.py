@@ -1,6 +1,6 @@
 """One curve for both directions of motion, or one per direction (the asymmetric model).
 
-``fit_directions`` fits the eq. (9) data of a sweep either folded (the symmetric model of the
+``fit_directions`` fits the [F9] data of a sweep either folded (the symmetric model of the
 paper) or split by the sign of v, each direction with its own B, v_sat, scaling and network
 (a fresh copy of the given estimator, so any network kind). Unless told which, it chooses by
 K-fold cross-validation of the force in newtons on held-out rows: the asymmetric model must
@@ -50,7 +50,7 @@ def clone(estimator):
 
 @dataclass(frozen=True)
 class FittedDirection:
-    """One fitted curve: the curve, its eq. (9) data and the fitted estimator."""
+    """One fitted curve: the curve, its [F9] data and the fitted estimator."""
 
     curve: Direction
     dataset: Dataset

@@ -1,8 +1,8 @@
-"""Extreme Learning Machines, eqs. (7)-(17): hidden-layer schemes x activations x solvers.
+"""Extreme Learning Machines, [F7]-[F17]: hidden-layer schemes x activations x solvers.
 
 A model is assembled from three interchangeable parts: a hidden-layer *scheme* that draws the
 input weights w and biases b, an *activation* applied to z = w x + b, and a *solver* for the
-output weights beta. All solvers work from one SVD of the hidden-layer matrix H (eq. 11).
+output weights beta. All solvers work from one SVD of the hidden-layer matrix H [F11].
 """
 from __future__ import annotations
 
@@ -37,12 +37,12 @@ class StandardScheme:
 
 @dataclass(frozen=True)
 class EnlargedScheme:
-    """Enlarged variability, eqs. (16)-(17): w uniform in [-w_max, w_max]; b such that each
+    """Enlarged variability, [F16]-[F17]: w uniform in [-w_max, w_max]; b such that each
     sigmoid falls below r1 at one end of the input interval [0, 1] and rises above r2 at the other.
 
     For w > 0, (16) reads sigma(b) < r1 and sigma(w + b) > r2, so b is uniform in
     [logit(r2) - w, logit(r1)]; for w < 0 the roles of the ends swap: b in [logit(r2),
-    logit(r1) - w]. (The extraction of eq. (17) prints ln(1/r2 - 1) = -logit(r2) in the lower
+    logit(r1) - w]. (The extraction of [F17] prints ln(1/r2 - 1) = -logit(r2) in the lower
     bound, a sign slip: that bound only guarantees sigma(w + b) > 1 - r2.) The interval is empty
     when |w| < logit(r2) - logit(r1); such w are redrawn, so w is uniform over the feasible part
     of [-w_max, w_max].
@@ -125,7 +125,7 @@ class SVD(NamedTuple):
         return self.s / (self.s ** 2 + 1.0 / C)
 
     def solve(self, t: np.ndarray, C: float) -> np.ndarray:
-        """beta of eq. (13) (C = inf) or eq. (15)."""
+        """beta of [F13] (C = inf) or [F15]."""
         return self.Vt.T @ (self.filter_factors(C) * (self.U.T @ t))
 
     def hat_diagonal(self, C: float) -> np.ndarray:
@@ -160,7 +160,7 @@ def prefix_loo_residuals(D: np.ndarray, t: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PseudoInverse:
-    """Moore-Penrose solution beta = H^+ t, eq. (13)."""
+    """Moore-Penrose solution beta = H^+ t, [F13]."""
 
     def choose_C(self, svd: SVD, t: np.ndarray, layer: Optional[HiddenLayer] = None) -> float:
         return float("inf")
@@ -168,7 +168,7 @@ class PseudoInverse:
 
 @dataclass(frozen=True)
 class Ridge:
-    """Regularized solution with a given C, eqs. (14)-(15)."""
+    """Regularized solution with a given C, [F14]-[F15]."""
 
     C: float
 
@@ -188,7 +188,7 @@ PARITY = 1e-5
 
 
 def float32_error(H: np.ndarray, beta: np.ndarray) -> float:
-    """About how far float32 evaluation of eq. (7) strays from float64 at the rows of H:
+    """About how far float32 evaluation of [F7] strays from float64 at the rows of H:
     eps32 max_i sum_k |beta_k h_k(x_i)|.
 
     Each term beta_k h_k carries about one float32 rounding: the activation (libm's expf, sinf
@@ -261,7 +261,7 @@ def ordered_network(layer: HiddenLayer, beta: np.ndarray, hidden_rows: np.ndarra
 
 
 def float32_twin_error(net: ElmNetwork, probes: np.ndarray, exact: Optional[np.ndarray] = None) -> float:
-    """max |float32 eq. (7) - float64 eq. (7)| over the float32 inputs ``probes``: the error of
+    """max |float32 [F7] - float64 [F7]| over the float32 inputs ``probes``: the error of
     the emitted C there, operation by operation in the C's order (``ElmNetwork.float32``), not an
     estimate. ``exact``: the float64 outputs at the probes, if known."""
     exact = net(probes.astype(float)) if exact is None else exact
@@ -272,7 +272,7 @@ def parity_limit(t: np.ndarray, parity: float = PARITY) -> float:
     """The largest float32 error of the network output that keeps the emitted C within
     ``parity`` of max |F|.
 
-    The network's output is t = K_out (F - B v) (eq. 9), so an error e in t is e / K_out newtons,
+    The network's output is t = K_out (F - B v) [F9], so an error e in t is e / K_out newtons,
     and max |F| >= max |t| / K_out on [0, v_sat] (B v >= 0 there): e <= parity max |t| keeps
     the force within parity max |F|."""
     return parity * float(np.max(np.abs(t), initial=0.0))
@@ -372,11 +372,11 @@ def make_part(kind, registry, what):
 
 
 class ELMRegressor(Estimator):
-    r"""Extreme Learning Machine for one input, eqs. (7)-(17) (scikit-learn style).
+    r"""Extreme Learning Machine for one input, [F7]-[F17] (scikit-learn style).
 
     Parameters are stored unchanged; ``fit(x, t)`` draws the hidden layer from ``scheme`` with
     ``random_state``, solves for the output weights with ``solver`` and returns self. x and t are
-    the normalized data of eq. (9) (both dimensionless).
+    the normalized data of [F9] (both dimensionless).
 
     Parameters
     ----------
@@ -387,30 +387,30 @@ class ELMRegressor(Estimator):
     activation : str
         The hidden units' function of z = w x + b ("sigmoid", ...; ``networks.elm.ACTIVATIONS``).
     scheme : str or scheme object
-        How w and b are drawn: "enlarged" (eqs. (16)-(17), w in [-10, 10]), "standard"
+        How w and b are drawn: "enlarged" ([F16]-[F17], w in [-10, 10]), "standard"
         (uniform in [-1, 1], sec. 4), or an object with ``draw(n, rng)`` such as
         ``EnlargedScheme(w_max=30.0)``.
     solver : str or solver object
-        "pinv" (eq. 13), "ridge" (eq. 15, needs ``C``), "loo" (C by closed-form leave-one-out
+        "pinv" [F13], "ridge" ([F15], needs ``C``), "loo" (C by closed-form leave-one-out
         error among those that keep the emitted float32 C within parity), or an object.
     C : float, optional
-        The regularization C of eq. (15), for ``solver="ridge"`` only.
+        The regularization C of [F15], for ``solver="ridge"`` only.
     random_state : int, numpy.random.Generator or None
         The one source of randomness (the hidden layer's draw).
 
     Attributes
     ----------
     network_ : ElmNetwork
-        The trained AIM of eq. (3), neurons in the order the emitted C sums them.
+        The trained AIM of [F3], neurons in the order the emitted C sums them.
     input_weights_, biases_ : ndarray, shape (n_hidden,)
-        w and b of eq. (7) (dimensionless; x is in [0, 1]).
+        w and b of [F7] (dimensionless; x is in [0, 1]).
     beta_ : ndarray, shape (n_hidden,)
-        The output weights of eq. (13)/(15), in units of t (normalized force).
+        The output weights of [F13]/[F15], in units of t (normalized force).
     C_ : float
         The C used (dimensionless): ``inf`` for "pinv", the given C for "ridge", the chosen
         one for "loo".
     singular_values_ : ndarray
-        Singular values of the hidden-layer matrix H (eq. 11).
+        Singular values of the hidden-layer matrix H [F11].
     loo_rmse_ : float
         Leave-one-out RMSE of the fit (PRESS), in units of t.
     beta_norm_, log10_cond_ : float
@@ -418,7 +418,7 @@ class ELMRegressor(Estimator):
 
     Notes
     -----
-    The network is eq. (7), :math:`y(x) = \sum_{k=1}^M \beta_k h(w_k x + b_k)`, and the solvers
+    The network is [F7], :math:`y(x) = \sum_{k=1}^M \beta_k h(w_k x + b_k)`, and the solvers
     minimize
 
     .. math::

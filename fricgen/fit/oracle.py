@@ -1,8 +1,8 @@
-"""The honest oracle: eq. (1) itself, with the true shape and number of sources, fitted to the
+"""The honest oracle: [F1] itself, with the true shape and number of sources, fitted to the
 data; the best any method can do on a benchmark whose friction is known.
 
-In the normalized coordinates of eq. (9), with B identified from the high-speed rows like every
-other estimator, eq. (1) reads t(x) = c + sum_k a_k g(x, xs_k): nothing else is fitted (no
+In the normalized coordinates of [F9], with B identified from the high-speed rows like every
+other estimator, [F1] reads t(x) = c + sum_k a_k g(x, xs_k): nothing else is fitted (no
 slope, no extra source). The linear part (c, a_k) is eliminated (variable projection) and the
 xs_k are found by multi-start nonlinear least squares from every S-subset of a log grid
 (``fricgen.fit.stribeck.fit_sources``), each within [XS_MIN, vs_max] (``--vs-max`` bounds the
@@ -20,13 +20,13 @@ from .stribeck import XS_MAX, XS_MIN, fit_sources, start_grid
 
 
 class OracleRegressor(Estimator):
-    """The honest oracle: eq. (1) with the true shape and number of sources, fitted by variable
+    """The honest oracle: [F1] with the true shape and number of sources, fitted by variable
     projection from every ``n_sources``-subset of ``grid`` log-spaced Stribeck velocities.
 
     Parameters
     ----------
     shape : str
-        The true g of eq. (2).
+        The true g of [F2].
     n_sources : int
         The true S.
     grid : int
@@ -35,7 +35,7 @@ class OracleRegressor(Estimator):
     Attributes
     ----------
     network_ : StribeckCurve
-        The fitted eq. (1), normalized (the AIM of eq. (3)).
+        The fitted [F1], normalized (the AIM of [F3]).
     cost_ : float
         Half the residual sum of squares (units of t squared).
     n_starts_ : int

@@ -1,6 +1,6 @@
-"""The grey-box estimator: eq. (1) itself, with S sources of one shape g, fitted to the data.
+"""The grey-box estimator: [F1] itself, with S sources of one shape g, fitted to the data.
 
-In the normalized coordinates of eq. (9), with B identified from the high-speed rows, eq. (1)
+In the normalized coordinates of [F9], with B identified from the high-speed rows, [F1]
 reads t(x) = c + sum_k a_k g(x, xs_k): linear in (c, a_k) (c gathers every f_ck, a_k the
 f_sk - f_ck) and nonlinear in the S Stribeck velocities xs_k = K_in v_sk. ``fit_sources``
 eliminates the linear part (variable projection, with Kaufman's Jacobian) and finds
@@ -78,7 +78,7 @@ def _basis(shape: str, x: np.ndarray, xs: Sequence[float]):
 
 @dataclass(frozen=True)
 class SourcesFit:
-    """One fit of eq. (1): the curve, its residuals and the full Jacobian."""
+    """One fit of [F1]: the curve, its residuals and the full Jacobian."""
 
     curve: StribeckCurve
     residuals: np.ndarray      # t - curve(x)
@@ -120,7 +120,7 @@ class SourcesFit:
         undetermined = np.any(np.abs(vt[~kept]) > 1e-6, axis=0)
         se = np.where(undetermined, np.inf, np.sqrt(variance))
         s = self.curve.n_sources
-        # the peak c + sum a_k (the static friction of eq. (1), normalized), from the covariance
+        # the peak c + sum a_k (the static friction of [F1], normalized), from the covariance
         peak = np.r_[np.ones(1 + s), np.zeros(s)]
         peak_se = (np.inf if np.any(np.abs(vt[~kept] @ peak) > 1e-6) else
                    float(np.sqrt(sigma2 * np.sum((vt[kept] @ peak / sv[kept]) ** 2))))
@@ -166,7 +166,7 @@ def all_subsets(grid: int, n_sources: int) -> list:
 
 def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
                 xs_max: float = XS_MAX) -> SourcesFit:
-    """Eq. (1) with S = len(start) sources of ``shape`` by variable projection: the Stribeck
+    """[F1] with S = len(start) sources of ``shape`` by variable projection: the Stribeck
     velocities within [xs_min, xs_max], from every start in ``starts`` (vectors of theta =
     log xs); the best optimum wins."""
     x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
@@ -213,7 +213,7 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
 
 
 def drop_undetermined(fit: SourcesFit, refit):
-    """``fit`` without the sources of eq. (1) that the data do not determine: one at a time (of
+    """``fit`` without the sources of [F1] that the data do not determine: one at a time (of
     those, the one with the smallest |a_k|, so that of two coinciding sources one stays), the
     others refitted from their Stribeck velocities by ``refit(theta)``, until every source is
     determined. None when not one source would be left."""
@@ -251,18 +251,18 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: 
 
 
 class StribeckRegressor(Estimator):
-    r"""The grey-box estimator: eq. (1) itself, with S sources of one shape g, fitted to the data.
+    r"""The grey-box estimator: [F1] itself, with S sources of one shape g, fitted to the data.
 
     Every S in ``sources`` and g in ``shapes`` is fitted by variable projection; the fits close in
     Akaike's criterion (AICc) are averaged with Akaike weights and the average is matched by one
-    curve of eq. (1): picking the single best fit lets a wrong shape with an extra source win on
+    curve of [F1]: picking the single best fit lets a wrong shape with an extra source win on
     noise. A source the data do not determine (infinite standard error) is dropped and the rest
-    refitted. x and t are the normalized data of eq. (9).
+    refitted. x and t are the normalized data of [F9].
 
     Parameters
     ----------
     shapes : sequence of str
-        The g of eq. (2) to try: "gauss", "exponential", "rational".
+        The g of [F2] to try: "gauss", "exponential", "rational".
     sources : sequence of int
         The numbers of sources S to try.
     xs_bounds : sequence of float
@@ -277,7 +277,7 @@ class StribeckRegressor(Estimator):
     Attributes
     ----------
     network_ : StribeckCurve
-        The fitted eq. (1) in normalized units, the AIM of eq. (3).
+        The fitted [F1] in normalized units, the AIM of [F3].
     shape_ : str
         Its g; ``n_sources_`` (int): its S.
     xs_max_, xs_min_ : float
@@ -297,8 +297,8 @@ class StribeckRegressor(Estimator):
 
     Notes
     -----
-    In normalized units the curve is eq. (1) for v > 0 without the viscous part (removed by
-    eq. (9)), plus a slope d for an error of the identified B:
+    In normalized units the curve is [F1] for v > 0 without the viscous part (removed by
+    [F9]), plus a slope d for an error of the identified B:
     :math:`t(x) = c + \sum_{k=1}^S a_k g(x, x_{sk}) + d x`, with :math:`x_{sk} = K_{in} v_{sk}`.
 
     Examples
@@ -356,14 +356,14 @@ class StribeckRegressor(Estimator):
                         key = (shape, kept.curve.n_sources, xs_max)
                         fits[key] = _better(fits.get(key), kept)
         if not tried:
-            raise ValueError(f"{x.size} points are too few for eq. (1) with {min(sources)} sources")
+            raise ValueError(f"{x.size} points are too few for [F1] with {min(sources)} sources")
         if not fits:
-            raise ValueError("the data determine no source of eq. (1): every Stribeck velocity "
+            raise ValueError("the data determine no source of [F1]: every Stribeck velocity "
                              "fitted lies where no sample constrains it")
         self._penalty = {b: 2.0 * i for i, b in enumerate(bounds)}
         self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items() if f.admissible}
         if not self.candidates_:
-            raise ValueError(f"no fit of eq. (1) keeps sum |a_k| <= {AMPLITUDE_MAX:g}")
+            raise ValueError(f"no fit of [F1] keeps sum |a_k| <= {AMPLITUDE_MAX:g}")
         self.fits_ = fits
         self.weights_ = akaike_weights(self.candidates_)
         self.best_ = min(self.candidates_, key=lambda k: (self.candidates_[k], k[1]))
@@ -379,7 +379,7 @@ class StribeckRegressor(Estimator):
         return self
 
     def _average(self, x, t, shapes, sources) -> SourcesFit:
-        """The contenders' average (``weights_``) as one curve of eq. (1), fitted on the points
+        """The contenders' average (``weights_``) as one curve of [F1], fitted on the points
         and a dense grid with one shape and S from the smallest contender's to the largest
         contender's, started from the fits of that shape and S: of the fits within
         MATCH_TOLERANCE, the one with the fewest sources, else the closest; the best contender

@@ -1,5 +1,5 @@
 """One log of the fleet identified (a worker's task): trained with ``fricgen train``'s own code
-(``cli.train.fit``): the grey-box eq. (1) (``--method stribeck``), one curve per direction
+(``cli.train.fit``): the grey-box [F1] (``--method stribeck``), one curve per direction
 (``--asymmetric``), with the export options given. From each direction's curve come the Coulomb
 level sum f_c, the static peak f_s = sum f_c + sum (f_s - f_c) (F at v -> 0), the Stribeck
 velocity v_s of the largest source and B, each with its standard error
@@ -23,7 +23,7 @@ from .store import RESULT_VERSION
 #: Every parameter of a result, per direction, each with ``_se``.
 PARAMETERS = ("coulomb", "static", "stribeck", "viscous")
 DIRECTIONS = ("pos", "neg")
-#: How ``train`` fits a fleet's logs (the grey-box eq. (1), one curve per direction).
+#: How ``train`` fits a fleet's logs (the grey-box [F1], one curve per direction).
 TRAIN_FIT = ("--method", "stribeck", "--asymmetric")
 
 
@@ -40,7 +40,7 @@ def train_arguments(entry: Entry, options: Sequence[str]) -> List[str]:
 
 def friction_parameters(trained) -> Dict[str, float]:
     """The friction parameters (SI units) and their standard errors of a model ``cli.train.fit``
-    fitted with the grey-box eq. (1) (a ``FitReport``), per direction (the same values for both when the fit is
+    fitted with the grey-box [F1] (a ``FitReport``), per direction (the same values for both when the fit is
     symmetric): see the module."""
     fits = trained.fit.fits
     ident = trained.identification

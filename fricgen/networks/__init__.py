@@ -1,4 +1,4 @@
-"""Trained networks, the AIM of eq. (3): each kind evaluates itself and owns its JSON.
+"""Trained networks, the AIM of [F3]: each kind evaluates itself and owns its JSON.
 
 ``KINDS`` maps model.json's ``aim.kind`` to the class; ``network_from_dict`` dispatches on it.
 """

@@ -29,7 +29,7 @@ def memberships(mf, x, centers, widths, exponents):
 
 @dataclass(frozen=True)
 class AnfisNetwork:
-    r"""A trained one-input first-order Takagi-Sugeno system (sec. 3), the AIM of eq. (3) as ANFIS.
+    r"""A trained one-input first-order Takagi-Sugeno system (sec. 3), the AIM of [F3] as ANFIS.
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""The trained ELM network, eq. (7): sum_k beta_k act(w_k x + b_k), with the activations of eq. (8)."""
+"""The trained ELM network, [F7]: sum_k beta_k act(w_k x + b_k), with the activations of [F8]."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -14,7 +14,7 @@ def _sigmoid(z):
     return 1.0 / (1.0 + np.exp(-z))
 
 
-#: Activations of z = w x + b, eq. (8) and its smooth alternatives (section 5).
+#: Activations of z = w x + b, [F8] and its smooth alternatives (section 5).
 ACTIVATIONS: Dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "sigmoid": _sigmoid,
     "sine": np.sin,
@@ -62,14 +62,14 @@ def check_activation(name: str) -> str:
 
 
 def hidden_matrix(activation: str, x, w, b) -> np.ndarray:
-    """H of eq. (11) for inputs x and hidden parameters (w, b)."""
+    """H of [F11] for inputs x and hidden parameters (w, b)."""
     x = np.asarray(x, dtype=float).reshape(-1, 1)
     return ACTIVATIONS[activation](x * np.asarray(w) + np.asarray(b))
 
 
 @dataclass(frozen=True)
 class ElmNetwork:
-    r"""A trained single-hidden-layer network, eq. (7): the AIM of eq. (3) as an ELM.
+    r"""A trained single-hidden-layer network, [F7]: the AIM of [F3] as an ELM.
 
     Parameters
     ----------
@@ -78,7 +78,7 @@ class ElmNetwork:
     input_weights, biases : array_like, shape (M,)
         w_k and b_k (dimensionless; the input x = K_in v is in [0, 1]).
     output_weights : array_like, shape (M,)
-        beta_k, in units of the normalized target t of eq. (9).
+        beta_k, in units of the normalized target t of [F9].
 
     Notes
     -----
@@ -118,11 +118,11 @@ class ElmNetwork:
         return self.input_weights.size
 
     def hidden(self, x) -> np.ndarray:
-        """The hidden-layer matrix H of eq. (11), one row per input."""
+        """The hidden-layer matrix H of [F11], one row per input."""
         return hidden_matrix(self.activation, x, self.input_weights, self.biases)
 
     def __call__(self, x) -> np.ndarray:
-        """Eq. (7) at every x, in blocks of EVAL_BLOCK inputs: memory stays bounded by the
+        """[F7] at every x, in blocks of EVAL_BLOCK inputs: memory stays bounded by the
         block, not by len(x) times the number of neurons."""
         x = np.asarray(x, dtype=float)
         flat = x.ravel()
@@ -133,7 +133,7 @@ class ElmNetwork:
         return out.reshape(x.shape)
 
     def float32(self, x) -> np.ndarray:
-        """Eq. (7) as the emitted ``fric_elm_<activation>_f32`` computes it: w, b, beta and x
+        """[F7] as the emitted ``fric_elm_<activation>_f32`` computes it: w, b, beta and x
         rounded to float, sum_k beta_k act(w_k x + b_k) in float32, k ascending."""
         x = np.asarray(x, dtype=np.float32)
         w, b, beta = (a.astype(np.float32) for a in (self.input_weights, self.biases, self.output_weights))

@@ -1,4 +1,4 @@
-"""Eq. (1) as a network in the normalized coordinates of eq. (9): the grey-box Stribeck curve."""
+"""[F1] as a network in the normalized coordinates of [F9]: the grey-box Stribeck curve."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -12,13 +12,13 @@ from ..friction import SHAPES
 
 @dataclass(frozen=True)
 class StribeckCurve:
-    r"""Eq. (1) with S sources of one shape g, in the normalized coordinates of eq. (9): the AIM of
-    eq. (3) of the grey-box model.
+    r"""[F1] with S sources of one shape g, in the normalized coordinates of [F9]: the AIM of
+    [F3] of the grey-box model.
 
     Parameters
     ----------
     shape : {"gauss", "exponential", "rational"}
-        g of eq. (2).
+        g of [F2].
     offset : float
         c, gathering every f_ck (scaled by K_out).
     amplitudes : array_like, shape (S,)

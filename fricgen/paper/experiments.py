@@ -67,7 +67,7 @@ class Plan:
 
 
 def _fit(estimator, bench: Benchmark) -> dict:
-    """Fit on the benchmark's training data; errors of eqs. (4)-(6) and model figures."""
+    """Fit on the benchmark's training data; errors of [F4]-[F6] and model figures."""
     d = bench.dataset
     start = time.perf_counter()
     estimator.fit(d.x, d.t)
@@ -270,7 +270,7 @@ def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
     """Run every experiment of sections 3-5 over ``seeds`` seeds in ``jobs`` worker processes.
 
     Per seed (``run_seed``) the benchmark of section 2 (Table 1) is synthesized, the headline
-    models (``HEADLINE``) fitted and scored by the errors of eqs. (4)-(6), and the sweeps run.
+    models (``HEADLINE``) fitted and scored by the errors of [F4]-[F6], and the sweeps run.
 
     Parameters
     ----------
@@ -283,7 +283,7 @@ def reproduce(seeds: int = paper.SEEDS, quick: bool = False, jobs: int = 1,
     progress : callable
         Called with a line of text after each seed.
     shape : str
-        The Stribeck shape of eq. (2) of the benchmark's friction.
+        The Stribeck shape of [F2] of the benchmark's friction.
 
     Returns
     -------
@@ -330,7 +330,7 @@ def fitted_seed0(shape: str = "gauss") -> dict:
     Parameters
     ----------
     shape : str
-        The Stribeck shape of eq. (2) of the benchmark's friction.
+        The Stribeck shape of [F2] of the benchmark's friction.
 
     Returns
     -------

@@ -14,8 +14,8 @@ LABELS = {
     "elm_enlarged_regularized": "ELM, enlarged variability + C = 1e5 (M = 10)",
     "elm_conditioned": "ELM, enlarged + conditioning optimization (M = 10, half OPT)",
     "elm_auto": "fricgen elm_auto (beyond the paper)",
-    "default": "fricgen default: grey-box eq. (1) or elm_auto by cross-validation",
-    "oracle": "honest oracle: eq. (1) alone, true shape, S = 3",
+    "default": "fricgen default: grey-box [F1] or elm_auto by cross-validation",
+    "oracle": "honest oracle: [F1] alone, true shape, S = 3",
 }
 
 
@@ -70,7 +70,7 @@ def render(result: dict, figures: Optional[list] = None, figure_note: str = "") 
         f"Benchmark: Table 1 ({b['shape']} Stribeck shape), N = {b['n_train']} training + 2 added "
         f"points, {b['n_test']} test points, Nt = {b['n_theory']} theoretical points, noise "
         f"+-{b['noise']} N; {b['seeds']} seeds{' (quick run: coarse grids, fewer epochs)' if b['quick'] else ''}; "
-        f"{b['seconds']:.1f} s. Errors are eqs. (4)-(6): normalized (K_out = 1 / max target) and in "
+        f"{b['seconds']:.1f} s. Errors are [F4]-[F6]: normalized (K_out = 1 / max target) and in "
         "newtons (independent of K_out). Values are means over seeds unless marked median.",
         "",
         "## Table 2, measured",
@@ -132,7 +132,7 @@ def render(result: dict, figures: Optional[list] = None, figure_note: str = "") 
     lines += [
         "",
         "Why numbers differ from the paper's digits: the paper does not give K_in, K_out, the bias "
-        "interval r1, r2 of eq. (16), PSO settings, ANFIS epochs, or how its noise was drawn; our "
+        "interval r1, r2 of [F16], PSO settings, ANFIS epochs, or how its noise was drawn; our "
         "normalized errors use K_out = 1 / max target, so compare ratios between models and the "
         "newton figures. The paper's E_Ttest / E_train ratio (about 0.31 for every model) is "
         f"matched by our ANFIS ({ratio['fuzzy_bell4']:.2f}) and by `elm_auto` ({ratio['elm_auto']:.2f}), "
@@ -141,7 +141,7 @@ def render(result: dict, figures: Optional[list] = None, figure_note: str = "") 
         "follow the Stribeck drop at v_s2 = 0.005 m/s (x = 0.08) with 6-10 units: their median "
         f"E_Ttest is {lo:.2f}-{hi:.2f} N, and ANFIS (whose MFs move to where they are needed, "
         f"{fuzzy:.3f} N) beats them by {lo / fuzzy:.1f}x or more. "
-        "The honest oracle is the correctly specified parametric fit of eq. (1) (7 free parameters; "
+        "The honest oracle is the correctly specified parametric fit of [F1] (7 free parameters; "
         "B from the high-speed rows as for every model), not a lower bound seed by seed: its "
         "median E_Ttest is "
         f"{by['oracle']['e_ttest_newton_median']:.4f} N against {fuzzy:.4f} N for the best fuzzy "

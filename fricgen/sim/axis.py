@@ -1,4 +1,4 @@
-"""The motor axis of eq. (18) of section 6 under a pluggable force law, and its integrators:
+"""The motor axis of [C1] under a pluggable force law, and its integrators:
 
     x' = v,   m v' = phi i - F_fr(v, t, s) - F_ext(x, v, t),   tau s' = |v| - s,
 
@@ -81,14 +81,14 @@ def _memory_step(s, speed, tau: Optional[np.ndarray], gain):
 
 @dataclass(frozen=True)
 class MotorAxis:
-    """The axis of eq. (18), sec. 6, under ``law``: m v' = phi i - F_fr(v, t, s) - F_ext(x, v, t),
+    """The axis of [C1], under ``law``: m v' = phi i - F_fr(v, t, s) - F_ext(x, v, t),
     stuck at rest until the applied force exceeds the breakaway force (Karnopp).
 
     Parameters
     ----------
     law : ForceLaw
         m, phi, i_max, lag_tau and the forces, arrays over a batch of axes or scalars (e.g.
-        ``sim.effect_law.EffectLaw``: a friction curve of eq. (1) or (3) and named effects).
+        ``sim.effect_law.EffectLaw``: a friction curve of [F1] or [F3] and named effects).
 
     Examples
     --------

@@ -1,5 +1,5 @@
 """The scenarios' sampled closed loop (section 6): the controllers, drawn per seed, and the
-plant of eq. (18) under them.
+plant of [C1] under them.
 
 The loop advances many stretches of the log at once (``stitched``): the log is cut where the
 reference moves (never within a dwell) into stretches of about STRETCH_S; each stretch starts

@@ -1,6 +1,6 @@
-"""The force law of a friction curve with named effects, for the axis of eq. (18) of section 6:
+"""The force law of a friction curve with named effects, for the axis of [C1]:
 
-    m dv/dt = phi i - F(v) - sum_k effect_k        (F of eq. 1 or eq. 3, effects of
+    m dv/dt = phi i - F(v) - sum_k effect_k        (F of [F1] or [F3], effects of
                                                     ``fricgen.effects``),
 
 split as ``MotorAxis`` needs it: effects that act at rest (ripple, load) form the external

@@ -1,6 +1,6 @@
 """The effects a scenario hides in its plant, as force-law closures of their own (not the
 diagnosis' forms, ``fricgen.effects``), applied at their **reference magnitude** times
-``magnitude``, and the plant's force law of eq. (18), sec. 6, that carries them.
+``magnitude``, and the plant's force law of [C1], that carries them.
 
 F_c is the plant's Coulomb level (its Stribeck curve at high speed), a_rms the RMS of the
 reference acceleration, v_pk its peak speed and i_pk the planned peak current:

@@ -1,7 +1,7 @@
-"""Identification runs: an axis of eq. (18) under a velocity loop sweeps its speeds slowly in
+"""Identification runs: an axis of [C1] under a velocity loop sweeps its speeds slowly in
 both directions, recorded as an instrument would (for training from motion logs).
 
-The truth friction may differ between the directions (``DirectionalFriction``: one eq. (1) per
+The truth friction may differ between the directions (``DirectionalFriction``: one [F1] per
 direction). The velocity reference is v_max s|s| for a triangle wave s in [-1, 1], so low
 speeds, where the Stribeck effect lives, get as much time as high ones. A PI velocity loop with
 acceleration feedforward drives the current; the axis moves by Karnopp stick-slip steps.
@@ -20,7 +20,7 @@ from .effect_law import EffectLaw
 
 @dataclass(frozen=True)
 class DirectionalFriction:
-    """Friction with one eq. (1) per direction: ``positive`` for v >= 0, ``negative`` for v < 0."""
+    """Friction with one [F1] per direction: ``positive`` for v >= 0, ``negative`` for v < 0."""
 
     positive: MultisourceFriction
     negative: MultisourceFriction

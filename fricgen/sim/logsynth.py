@@ -1,6 +1,6 @@
 """Measured-style motion logs from a truth axis with one hidden effect, for testing ``diagnose``.
 
-The truth axis is m dv/dt = phi i - F(v) - effect (eq. 18 of section 6), with the paper's
+The truth axis is m dv/dt = phi i - F(v) - effect [C1], with the paper's
 friction (Table 1, ``preset("paper3")``) and at most one hidden effect of the diagnosis
 vocabulary, an object of ``fricgen.effects`` (the force law is ``sim.effect_law.EffectLaw``).
 It runs closed-loop under a PID position controller with model feedforward (nominal m, phi and
@@ -56,7 +56,7 @@ MAX_DURATION = 1200.0
 @dataclass(frozen=True)
 class LogSpec:
     """One synthetic log: the hidden effect and its magnitude, seed, noise scale and axis
-    (the truth axis of eq. (18), sec. 6, with Table 1's friction).
+    (the truth axis of [C1], with Table 1's friction).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""The scenarios' plant friction, of a family other than eq. (2)'s shapes, and the model the
+"""The scenarios' plant friction, of a family other than [F2]'s shapes, and the model the
 user holds of it: fricgen's default estimator trained on a noisy sweep of it (section 6's
 scenarios, ``scenarios``)."""
 from __future__ import annotations
@@ -98,7 +98,7 @@ def user_model(friction: StretchedStribeck, v_top: float, sigma: float, seed: in
 
 
 def tabulated_force(model: FrictionModel, v) -> np.ndarray:
-    """The model's F(v) of eq. (3) with its Stribeck part interpolated from 4097 speeds in
+    """The model's F(v) of [F3] with its Stribeck part interpolated from 4097 speeds in
     [0, v_sat] (beyond it the network input saturates): error ~1e-5 N, fast on long logs."""
     grid = np.linspace(0.0, model.v_sat, 4097)
     return np.sign(v) * np.interp(np.abs(v), grid, model.stribeck(grid)) + model.viscous * v

@@ -3,11 +3,11 @@
 A scenario is a measured-style log of a plant the user does not know exactly, the friction
 model the user holds and the nominal mass and force constant the user believes:
 
-    m x'' = phi h(i) - F_p(v, t, s) - F_ext(x, v, t)        (eq. 18, ``MotorAxis``)
+    m x'' = phi h(i) - F_p(v, t, s) - F_ext(x, v, t)        ([C1], ``MotorAxis``)
 
 - **Plant.** Per seed: mass 0.5-20 kg, force constant 5-60 N/A and a base friction F_p of two
   or three Stribeck sources whose shapes are stretched exponentials exp(-(u/vs)^d) or
-  rational powers 1/(1 + (u/vs)^d) with 0.8 <= d <= 2.5 (not the three shapes of eq. 2), plus
+  rational powers 1/(1 + (u/vs)^d) with 0.8 <= d <= 2.5 (not the three shapes of [F2]), plus
   viscous friction. h is the actuator (identity unless an actuator effect is hidden).
 - **The user's model** is fricgen's default estimator trained (``data.prepare``) on a noisy
   sweep of the base friction alone (no hidden effect), with a ``--vs-max`` an engineer would
@@ -67,7 +67,7 @@ class Scenario:
     Parameters
     ----------
     log : MotionLog
-        The measured-style log of the plant of eq. (18), sec. 6.
+        The measured-style log of the plant of [C1].
     model : FrictionModel
         The friction model the user holds.
     mass, force_constant : float

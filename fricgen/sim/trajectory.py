@@ -1,6 +1,6 @@
 """Smooth reference trajectories x_d(t) with the derivatives the controller needs (section 6).
 
-The backstepping controller uses x_d, x_d' (eq. 3) and x_d'' (eq. 7). A sum of sines in the
+The backstepping controller uses x_d, x_d' [C3] and x_d'' [C7]. A sum of sines in the
 velocity, v_d(t) = sum_k a_k sin(w_k t), has all three in closed form and starts at rest from
 x_d(0) = 0. The randomized scenarios draw theirs (``drawn_reference``): point-to-point moves
 with dwells, a sine, a multisine or ramps with smoothed reversals.

@@ -33,13 +33,13 @@ class FitReport:
     Parameters
     ----------
     model : FrictionModel
-        The fitted model (eq. (3), sec. 2), symmetric or one curve per direction.
+        The fitted model [F3], symmetric or one curve per direction.
     fit : DirectionsFit
-        The fitted curves, each with its eq. (9) training set and fitted estimator, and how the
+        The fitted curves, each with its [F9] training set and fitted estimator, and how the
         symmetry was chosen.
     identification : Identification or None
         For a motion log, how its friction samples were obtained by inverse dynamics
-        (eq. (18), sec. 6): rows kept, smoothing, the mass and constant force with standard
+        [C1]: rows kept, smoothing, the mass and constant force with standard
         errors; None for a sweep.
     sweep : Sweep or None
         The friction samples fitted: the sweep given, or those a log's inverse dynamics gave.
@@ -107,11 +107,11 @@ def _(estimator: DefaultRegressor, dataset) -> list:
 
 @model_lines.register
 def _(estimator: StribeckRegressor, dataset) -> list:
-    """The grey-box model of eq. (1) in SI units, each parameter +- its standard error."""
+    """The grey-box model of [F1] in SI units, each parameter +- its standard error."""
     net, se = estimator.network_, estimator.standard_errors_
     k_in, k_out = dataset.scaling.k_in, dataset.scaling.k_out
     broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s up to {estimator.xs_max_ / k_in:.4g} m/s"
-    lines = [f"model     grey-box eq. (1): {net.n_sources} {net.shape} source(s){broad}, "
+    lines = [f"model     grey-box [F1]: {net.n_sources} {net.shape} source(s){broad}, "
              f"{_origin(estimator)}",
              f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, 'N')}"]
     for k in range(net.n_sources):
@@ -153,7 +153,7 @@ def error_line(errors: dict) -> str:
 
 
 def curve_report(dataset, estimator, errors: dict) -> str:
-    """The report of one fitted curve: its data, B, the eq. (9) scaling, the model, the errors."""
+    """The report of one fitted curve: its data, B, the [F9] scaling, the model, the errors."""
     s = dataset.scaling
     chosen = dataset.stribeck_range
     vs_note = " (vs_max chosen from the data; pass --vs-max to set it)" if chosen else ""

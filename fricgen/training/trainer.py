@@ -80,8 +80,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         A sweep (velocity ``v`` in m/s, force ``f`` in N), or the columns of a motion log:
         ``t`` (s, uniformly sampled), ``v`` (m/s) or ``x`` (m), and ``force`` (N) or ``i`` (A).
     estimator : estimator, optional
-        What fits each curve's eq. (9) training set; default ``default_estimator(seed)``: the
-        grey-box eq. (1) or the automatic ELM, whichever cross-validates better.
+        What fits each curve's [F9] training set; default ``default_estimator(seed)``: the
+        grey-box [F1] or the automatic ELM, whichever cross-validates better.
     vs_max : float, optional
         Bound on the Stribeck velocities, m/s (v_sat = 3 vs_max); default: chosen by
         cross-validation from the data.
@@ -89,7 +89,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         One curve per direction (True) or one for both (False); default: chosen by
         cross-validation when the data move both ways.
     mass : float, optional
-        Moving mass of a log's axis, kg; default: identified by inverse dynamics (eq. (18)).
+        Moving mass of a log's axis, kg; default: identified by inverse dynamics [C1].
     force_constant : float, optional
         Force constant, N/A, of a log with current ``i`` instead of ``force``.
     seed : int, default 0
@@ -121,12 +121,12 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
 
     Notes
     -----
-    Each curve is fitted on the normalized data of eq. (9), sec. 2,
+    Each curve is fitted on the normalized data of [F9],
 
     .. math:: x = K_{in} v, \\qquad t = K_{out} (F - B v),
 
-    and the model is eq. (3), sec. 2: :math:`F(v) = \\mathrm{AIM}(K_{in} |v|) / K_{out} + B v`.
-    A log's friction samples are :math:`F = f - m \\dot v` (eq. (18), sec. 6). The plausibility
+    and the model is [F3]: :math:`F(v) = \\mathrm{AIM}(K_{in} |v|) / K_{out} + B v`.
+    A log's friction samples are :math:`F = f - m \\dot v` [C1]. The plausibility
     checks of the CLI's data reader (``fricgen.data.plausibility``) are not run here.
 
     Examples
