@@ -40,7 +40,7 @@ class Signals:
     otherwise ``lagged_speed`` filters |v| over the samples. With ``tabulate``, the curve's
     velocity-weakening part is interpolated from a table of 4097 speeds in [0, v_sat] (error
     ~1e-5 N), for fits that evaluate it many times. An asymmetric curve is read, at each
-    sample, as the curve of the direction of v there (eq. (3) of each direction).
+    sample, as the curve of the direction of v there ([F3] of each direction).
 
     Parameters
     ----------
