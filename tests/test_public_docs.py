@@ -15,7 +15,7 @@ import fricgen
 DOCUMENTED = ("fricgen", "fricgen.data", "fricgen.fit", "fricgen.networks", "fricgen.effects",
               "fricgen.codegen", "fricgen.control", "fricgen.training", "fricgen.model",
               "fricgen.c_names", "fricgen.friction", "fricgen.errors", "fricgen.diagnose",
-              "fricgen.sim", "fricgen.firmware", "fricgen.paper")
+              "fricgen.sim", "fricgen.firmware", "fricgen.paper", "fricgen.fleet")
 
 SECTION_LINE = re.compile(r"^(\w[\w ]*)\n-{3,}$", flags=re.M)
 

@@ -135,7 +135,7 @@ class Diagnoser:
     >>> from fricgen.sim import LogSpec, synthesize_log
     >>> import fricgen
     >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
-    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5, random_state=0)
     >>> model = fricgen.FrictionModel.fit(data, elm)       # the paper's ELM (sec. 4-5)
     >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
     >>> d = Diagnoser(candidates=["constant_load", "position_ripple"], tables=False)
@@ -468,7 +468,7 @@ def diagnose(log: MotionLog, model: FrictionModel, mass: float, force_constant: 
     >>> from fricgen.sim import LogSpec, synthesize_log
     >>> import fricgen
     >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
-    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5, random_state=0)
     >>> model = fricgen.FrictionModel.fit(data, elm)       # the paper's ELM (sec. 4-5)
     >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
     >>> d = diagnose(log, model, 4.0, 20.0, max_effects=1)     # every named effect and table

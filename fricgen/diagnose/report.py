@@ -86,7 +86,7 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
     >>> from fricgen.diagnose import diagnose, report_markdown
     >>> from fricgen.sim import LogSpec, synthesize_log
     >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
-    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5, random_state=0)
     >>> model = fricgen.FrictionModel.fit(data, elm)
     >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
     >>> d = diagnose(log, model, 4.0, 20.0, candidates=["constant_load"], tables=False)
@@ -261,7 +261,7 @@ def render_files(d: Diagnoser, log: MotionLog, log_name: str) -> Dict[str, objec
     >>> from fricgen.diagnose import diagnose, render_files
     >>> from fricgen.sim import LogSpec, synthesize_log
     >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
-    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5)
+    >>> elm = fricgen.ELMRegressor(n_hidden=10, scheme="enlarged", solver="ridge", C=1e5, random_state=0)
     >>> model = fricgen.FrictionModel.fit(data, elm)
     >>> log = synthesize_log(LogSpec("constant_load", duration=1.5, substeps=2), model)
     >>> d = diagnose(log, model, 4.0, 20.0, candidates=["constant_load"], tables=False)

@@ -38,7 +38,33 @@ def drift_table(records: Sequence[dict], sigmas: float = SIGMAS, min_change: flo
                 baseline: str = "previous") -> List[dict]:
     """One row per result, in order of axis and timestamp: the result, its reference (the
     axis's previous, or first, good result), the change of each parameter and its size in
-    combined standard errors, and ``flagged`` with the parameters that drifted (see the module)."""
+    combined standard errors, and ``flagged`` with the parameters that drifted (see the module).
+
+    Parameters
+    ----------
+    records : sequence of dict
+        The results (``identify``).
+    sigmas : float
+        The multiple of the combined standard errors a change must exceed.
+    min_change : float
+        The fraction of the reference value a change must exceed.
+    baseline : {"previous", "first"}
+        The reference of each result.
+
+    Returns
+    -------
+    list of dict
+
+    Examples
+    --------
+    >>> from fricgen.fleet import drift_table
+    >>> base = {"axis": "x1", "status": "ok", "key": "a", "timestamp": "1"}
+    >>> old = {**base, "coulomb_pos": 10.0, "coulomb_pos_se": 0.1}
+    >>> new = {**base, "key": "b", "timestamp": "2", "coulomb_pos": 12.0, "coulomb_pos_se": 0.1}
+    >>> rows = drift_table([old, new])
+    >>> rows[1]["flagged"], rows[1]["drifted"], round(rows[1]["coulomb_pos_z"], 1)
+    (True, 'coulomb_pos', 14.1)
+    """
     if baseline not in BASELINES:
         raise ValueError(f"baseline must be one of {list(BASELINES)}, got {baseline!r}")
     rows, good = [], {}

@@ -41,7 +41,29 @@ def train_arguments(entry: Entry, options: Sequence[str]) -> List[str]:
 def friction_parameters(trained) -> Dict[str, float]:
     """The friction parameters (SI units) and their standard errors of a model ``cli.train.fit``
     fitted with the grey-box [F1] (a ``FitReport``), per direction (the same values for both when the fit is
-    symmetric): see the module."""
+    symmetric): see the module.
+
+    Parameters
+    ----------
+    trained : FitReport
+        The training of one log with the grey-box model (``TRAIN_FIT``).
+
+    Returns
+    -------
+    dict of str to float
+        ``coulomb_pos``, ``static_pos``, ``stribeck_pos``, ``viscous_pos`` (N, N, m/s, N s/m), the
+        same for ``neg``, each with its ``_se``.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.fleet import friction_parameters
+    >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    >>> report = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor())
+    >>> p = friction_parameters(report)
+    >>> sorted(k for k in p if k.endswith("_pos")), p["coulomb_pos"] == p["coulomb_neg"]
+    (['coulomb_pos', 'static_pos', 'stribeck_pos', 'viscous_pos'], True)
+    """
     fits = trained.fit.fits
     ident = trained.identification
     independence = ident.independent / ident.n_kept if ident is not None else 1.0
@@ -71,8 +93,32 @@ def friction_parameters(trained) -> Dict[str, float]:
 def identify(entry: Entry, options: Sequence[str], key: str, train: Callable) -> dict:
     """The result of one log (a worker's task): the entry, the model's hash, the mass, the
     friction parameters; or ``status`` failed and the one-line ``error`` of a log that cannot
-    be trained (``stored`` False for an unexpected error, tried again on a rerun). ``train``
-    (``cli.train.train_argv``) trains a log from ``train``'s arguments."""
+    be trained (``stored`` False for an unexpected error, tried again on a rerun).
+
+    Parameters
+    ----------
+    entry : Entry
+        The manifest row.
+    options : sequence of str
+        ``train``'s options for every log (the export options).
+    key : str
+        The result's key (``result_key``).
+    train : callable
+        Trains a log from ``train``'s arguments (``cli.train.train_argv``).
+
+    Returns
+    -------
+    dict
+        The result record.
+
+    Examples
+    --------
+    >>> from fricgen.fleet import Entry, identify
+    >>> from fricgen.cli.train import train_argv
+    >>> record = identify(Entry("x1", str(tmp / "missing.csv"), "2026"), [], "k", train_argv)
+    >>> record["status"], "missing.csv" in record["error"]
+    ('failed', True)
+    """
     record = {**asdict(entry), "key": key, "version": RESULT_VERSION}
     start = time.perf_counter()
     try:

@@ -18,8 +18,25 @@ MANIFEST_OPTIONAL = ("mass", "force_constant")
 
 @dataclass(frozen=True)
 class Entry:
-    """One row of the manifest: the axis, its log (resolved path), the log's timestamp (text,
-    ordered as written: ISO 8601 sorts), and optionally the mass (kg) and force constant (N/A)."""
+    """One row of the manifest.
+
+    Parameters
+    ----------
+    axis : str
+        The axis id.
+    log : str
+        The log's path (resolved against the manifest's folder).
+    timestamp : str
+        When the log was taken, as text ordered as written (ISO 8601 sorts).
+    mass, force_constant : float, optional
+        The axis's mass (kg) and force constant (N/A), when known.
+
+    Examples
+    --------
+    >>> from fricgen.fleet import Entry
+    >>> Entry("x1", "logs/x1.csv", "2026-01-01T00:00").mass is None
+    True
+    """
 
     axis: str
     log: str
@@ -30,7 +47,24 @@ class Entry:
 
 def read_manifest(path) -> List[Entry]:
     """The manifest CSV's rows (header: axis, log, timestamp[, mass][, force_constant]); log
-    paths relative to the manifest's folder. ``DataError`` naming the row otherwise."""
+    paths relative to the manifest's folder. ``DataError`` naming the row otherwise.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The manifest CSV.
+
+    Returns
+    -------
+    list of Entry
+
+    Examples
+    --------
+    >>> from fricgen.fleet import read_manifest
+    >>> _ = (tmp / "fleet.csv").write_text("axis,log,timestamp,mass\\nx1,x1.csv,2026-01-01,4.5\\n")
+    >>> [(e.axis, e.mass) for e in read_manifest(tmp / "fleet.csv")]
+    [('x1', 4.5)]
+    """
     path = Path(path)
     text = path.read_text(encoding="utf-8-sig")
     rows = list(csv.reader(io.StringIO(text)))

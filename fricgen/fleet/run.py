@@ -16,7 +16,23 @@ from .store import RESULT_VERSION, check_out, load_results, result_key, store
 
 @dataclass
 class FleetRun:
-    """What ``run_fleet`` did: logs skipped (stored before), computed, failed, and the table."""
+    """What ``run_fleet`` did.
+
+    Parameters
+    ----------
+    skipped, computed, failed, flagged : int
+        Logs stored before (skipped), identified now, failed, and axes flagged.
+    rows : list of dict, optional
+        The drift table (``drift_table``).
+    dashboard : str
+        The Dask dashboard's link, when there is one.
+
+    Examples
+    --------
+    >>> from fricgen.fleet import FleetRun
+    >>> FleetRun(computed=3).failed
+    0
+    """
 
     skipped: int = 0
     computed: int = 0
@@ -53,7 +69,45 @@ def run_fleet(entries: Sequence[Entry], out, train: Callable, options: Sequence[
     plots. Each result is stored as it arrives (``on_result`` hears of it after); logs stored
     before are skipped. ``train`` trains one log from ``train``'s arguments (``identify``);
     ``env``: the embedded cluster's worker environment. ``progress`` hears the counts and rate,
-    and the dashboard link."""
+    and the dashboard link.
+
+    Parameters
+    ----------
+    entries : sequence of Entry
+        The manifest's rows.
+    out : str or pathlib.Path
+        OUT: results, table, report and plots.
+    train : callable
+        Trains one log from ``train``'s arguments.
+    options : sequence of str
+        ``train``'s options for every log.
+    env : dict, optional
+        The embedded cluster's worker environment.
+    scheduler : str, optional
+        The address of an existing Dask cluster (default: a LocalCluster).
+    workers : int
+        The LocalCluster's worker processes.
+    sigmas, min_change, baseline
+        As for ``drift_table``.
+    progress : callable, optional
+        Hears each progress line.
+    on_result : callable, optional
+        Hears each result after it is stored.
+
+    Returns
+    -------
+    FleetRun
+
+    Examples
+    --------
+    >>> from fricgen.fleet import run_fleet
+    >>> from fricgen.cli.train import train_argv
+    >>> try:
+    ...     run_fleet([], tmp / "out", train_argv, baseline="newest")
+    ... except ValueError as exc:
+    ...     print(exc)
+    baseline must be one of ['previous', 'first'], got 'newest'
+    """
     say = progress or (lambda line: None)
     check_out(out)
     stored = load_results(out)

@@ -19,7 +19,28 @@ RESULT_VERSION = 1
 
 def result_key(entry: Entry, options: Sequence[str]) -> str:
     """The key of a log's result: the SHA-256 of its content, with the axis and the training
-    options (a log that changes, or is trained otherwise, is a new result)."""
+    options (a log that changes, or is trained otherwise, is a new result).
+
+    Parameters
+    ----------
+    entry : Entry
+        The manifest row (its log is read).
+    options : sequence of str
+        ``train``'s options.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from fricgen.fleet import Entry, result_key
+    >>> _ = (tmp / "a.csv").write_text("t,x,i\\n")
+    >>> one = result_key(Entry("x1", str(tmp / "a.csv"), "1"), [])
+    >>> one == result_key(Entry("x1", str(tmp / "a.csv"), "2"), []), one == result_key(
+    ...     Entry("x1", str(tmp / "a.csv"), "1"), ["--smooth", "5"])
+    (True, False)
+    """
     digest = hashlib.sha256()
     with open(entry.log, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):
