@@ -211,3 +211,18 @@ def test_a_short_coulomb_viscous_sweep_is_fitted_not_refused():
     dataset = prepare(Sweep(v, 2 + 15 * v))
     assert dataset.n_rows >= 20
     assert dataset.viscous == pytest.approx(15.0, rel=0.05)
+
+
+def test_an_underflowed_dictionary_column_gets_no_weight_and_no_overflow():
+    """A Stribeck velocity far below every speed leaves a column of denormals: it is left out
+    (coefficient 0), the fit of the others is the same, and nothing overflows."""
+    import warnings
+    from fricgen.data.stribeck_range import _nonnegative_fit
+    rng = np.random.default_rng(0)
+    A = np.column_stack([np.ones(50), rng.uniform(0.1, 1.0, 50), np.full(50, 1e-310)])
+    f = 2.0 + 3.0 * A[:, 1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coef = _nonnegative_fit(A, f)
+    assert coef[2] == 0.0 and np.allclose(coef[:2], [2.0, 3.0])
+    np.testing.assert_array_equal(coef[:2], _nonnegative_fit(A[:, :2], f))

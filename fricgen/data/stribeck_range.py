@@ -39,6 +39,8 @@ DICTIONARY = 8
 #: that bends the high-speed line must cost the linear candidates clearly (set on sweeps of
 #: seeds 200-219: 2 and 3 standard errors chose alike).
 JOINT_MARGIN = 2.0
+#: A dictionary column no larger than this has underflowed and is left out of the fit.
+NEGLIGIBLE = 1e-290
 #: Rows beyond which each fold is averaged into bins before the proxy's fits (``binned_by_fold``):
 #: a log of under a minute at 1 kHz is scored row by row, a long one costs no more than that.
 MAX_PROXY_ROWS = 50_000
@@ -125,10 +127,15 @@ def _dictionary(v: np.ndarray, stribeck: np.ndarray) -> np.ndarray:
 
 
 def _nonnegative_fit(A: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """Least squares with every coefficient >= 0 (the columns scaled to a unit maximum)."""
+    """Least squares with every coefficient >= 0 (the columns scaled to a unit maximum). A
+    column that has underflowed (a Stribeck velocity far below every speed: at most NEGLIGIBLE)
+    gets the coefficient 0: scaling it up would overflow."""
     scale = np.abs(A).max(axis=0)
-    scale[scale == 0] = 1.0
-    return nnls(A / scale, f)[0] / scale
+    dead = scale <= NEGLIGIBLE
+    scale[dead] = 1.0
+    coef = np.zeros(A.shape[1])
+    coef[~dead] = nnls(A[:, ~dead] / scale[~dead], f)[0] / scale[~dead]
+    return coef
 
 
 def _proxy(v: np.ndarray, f: np.ndarray, vs_max: Optional[float]):
