@@ -28,9 +28,9 @@ from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks.stribeck import StribeckCurve
 from .context import render_source_and_header
-from .fixedpoint import (DTYPE_PARAMS, ConstMul, _c_int_array, _ceil_log2, _quantize,
-                         fixed_context, input_range, input_rounding, normalized_speed,
-                         output_error, signed_force)
+from .fixedpoint import (ConstMul, _c_int_array, _quantize, check_dtype, fixed_context,
+                         input_rounding, io_scales, normalized_speed, output_error,
+                         signed_force)
 
 #: Intervals per segment, 2^m for m in this range; most intervals of a table.
 LOG2_INTERVALS, MAX_TABLE = range(3, 8), 2048
@@ -72,26 +72,15 @@ class TableSpec:
     @classmethod
     def of(cls, model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> "TableSpec":
         """The scales and table for the grey-box ``model`` in ``dtype`` (``input_range``)."""
-        if dtype not in DTYPE_PARAMS:
-            raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
+        check_dtype(dtype)
         if not isinstance(model.aim, StribeckCurve):
             raise ModelError("the fixed-point table covers grey-box models of [F1]")
-        bits = DTYPE_PARAMS[dtype]["bits"]
-        v_range = input_range(model, dtype, v_max)
-        f_v = (bits - 1) - _ceil_log2(v_range)
-        f_max = float(np.max(np.abs(model.force(np.linspace(0.0, v_range, 4001)))))
-        f_f = (bits - 1) - _ceil_log2(1.1 * f_max)
-        aim_max = float(np.max(np.abs(model.aim(np.linspace(0.0, 1.0, 4001)))))
-        f_aim = (bits - 1) - _ceil_log2(1.1 * aim_max + 1e-12)
-        tolerance = TABLE_TOLERANCE * 2.0 ** (bits - 1 - f_f) * model.scaling.k_out
+        scales = io_scales(model, dtype, v_max)
+        bits, f_aim = scales["bits"], scales["f_aim"]
+        tolerance = TABLE_TOLERANCE * 2.0 ** (bits - 1 - scales["f_f"]) * model.scaling.k_out
         octaves, log2_m, error = _layout(model.aim, bits, tolerance)
         exact = model.aim(knots(octaves, log2_m))
-        return cls(dtype=dtype, bits=bits, f_v=f_v, f_f=f_f, f_aim=f_aim,
-                   v_sat_q=int(round(model.v_sat * 2.0 ** f_v)),
-                   k_in=ConstMul.of(model.scaling.k_in, f_v, bits - 1, bits, "k_in"),
-                   inv_k_out=ConstMul.of(1.0 / model.scaling.k_out, f_aim, f_f, bits, "1 / k_out"),
-                   viscous=ConstMul.of(model.viscous, f_v, f_f, bits, "viscous"),
-                   octaves=octaves, log2_m=log2_m,
+        return cls(**scales, octaves=octaves, log2_m=log2_m,
                    table=_quantize(exact, f_aim, bits, "the AIM table"), interpolation_error=error)
 
 

@@ -98,6 +98,31 @@ def input_range(model: FrictionModel, dtype: str, v_max: Optional[float] = None)
     return 2.0 ** _ceil_log2(need)
 
 
+def check_dtype(dtype: str) -> None:
+    """``ModelError`` unless ``dtype`` is one of DTYPE_PARAMS."""
+    if dtype not in DTYPE_PARAMS:
+        raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
+
+
+def io_scales(model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> dict:
+    """The scales every fixed-point model shares (``FixedSpec``, ``TableSpec``): ``dtype`` and
+    ``bits``; F_v of the input (``input_range``); F_f of the output (1.1 max |F| over it); F_aim
+    of the AIM (1.1 max |AIM| over [0, 1]); v_sat in the input's scale; and the constant
+    multipliers K_in, 1 / K_out and B."""
+    bits = DTYPE_PARAMS[dtype]["bits"]
+    v_range = input_range(model, dtype, v_max)
+    f_v = (bits - 1) - _ceil_log2(v_range)
+    f_max = float(np.max(np.abs(model.force(np.linspace(0.0, v_range, 4001)))))
+    f_f = (bits - 1) - _ceil_log2(1.1 * f_max)
+    aim_max = float(np.max(np.abs(model.aim(np.linspace(0.0, 1.0, 4001)))))
+    f_aim = (bits - 1) - _ceil_log2(1.1 * aim_max + 1e-12)
+    return dict(dtype=dtype, bits=bits, f_v=f_v, f_f=f_f, f_aim=f_aim,
+                v_sat_q=int(round(model.v_sat * 2.0 ** f_v)),
+                k_in=ConstMul.of(model.scaling.k_in, f_v, bits - 1, bits, "k_in"),
+                inv_k_out=ConstMul.of(1.0 / model.scaling.k_out, f_aim, f_f, bits, "1 / k_out"),
+                viscous=ConstMul.of(model.viscous, f_v, f_f, bits, "viscous"))
+
+
 @dataclass(frozen=True)
 class FixedSpec:
     """Scales and integer tables of a fixed-point model (all derived from the model's ranges)."""
@@ -134,19 +159,12 @@ class FixedSpec:
     @classmethod
     def of(cls, model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> "FixedSpec":
         """The scales for ``model`` in ``dtype``, its input covering ``v_max`` (``input_range``)."""
-        if dtype not in DTYPE_PARAMS:
-            raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
+        check_dtype(dtype)
         net = model.aim
         if not isinstance(net, ElmNetwork) or net.activation != "sigmoid":
             raise ModelError("fixed-point emission covers ELM models with sigmoid activation only")
         p = DTYPE_PARAMS[dtype]
         bits = p["bits"]
-        v_range = input_range(model, dtype, v_max)
-        f_v = (bits - 1) - _ceil_log2(v_range)
-        grid = np.linspace(0.0, 1.0, 4001)
-        aim = net(grid)
-        f_max = float(np.max(np.abs(model.force(np.linspace(0.0, v_range, 4001)))))
-        f_f = (bits - 1) - _ceil_log2(1.1 * f_max)
         w, b, beta = net.input_weights, net.biases, net.output_weights
         f_w = _frac_for(np.max(np.abs(w)), bits)
         f_b = _frac_for(np.max(np.abs(b)), bits)
@@ -155,13 +173,8 @@ class FixedSpec:
         if f_z - p["hs"] < bits - 1 or f_z < f_b:
             raise ModelError(f"network weights too large for {dtype}: |w x + b| reaches {z_max:.4g}")
         f_beta = _frac_for(np.max(np.abs(beta)), bits)
-        f_aim = (bits - 1) - _ceil_log2(1.1 * float(np.max(np.abs(aim))) + 1e-12)
         return cls(
-            dtype=dtype, bits=bits, f_v=f_v, f_f=f_f, f_w=f_w, f_b=f_b, f_z=f_z, f_beta=f_beta,
-            f_aim=f_aim, v_sat_q=int(round(model.v_sat * 2.0 ** f_v)),
-            k_in=ConstMul.of(model.scaling.k_in, f_v, bits - 1, bits, "k_in"),
-            inv_k_out=ConstMul.of(1.0 / model.scaling.k_out, f_aim, f_f, bits, "1 / k_out"),
-            viscous=ConstMul.of(model.viscous, f_v, f_f, bits, "viscous"),
+            **io_scales(model, dtype, v_max), f_w=f_w, f_b=f_b, f_z=f_z, f_beta=f_beta,
             w=_quantize(w, f_w, bits, "input_weights"), b=_quantize(b, f_b, bits, "biases"),
             beta=_quantize(beta, f_beta, bits, "output_weights"),
             sig_coeffs=sigmoid_table(bits, p["degree"], p["hs"], p["zs"]),
