@@ -100,8 +100,9 @@ def _run(args) -> int:
         elif refused:
             lines.append(f"refused    {len(refused)} candidate sets (--verbose lists them; report.md "
                          "gives each reason)")
-        if service_hint(d):
-            lines.append(f"in service {service_hint(d)}")
+        hint = service_hint(d)
+        if hint:
+            lines.append(f"in service {hint}")
         lines.append(f"where      before the effects: {d.where_}")
         if d.effects_:
             lines.append(f"           after them: {d.where_after_}")

@@ -13,7 +13,6 @@ the scaling are the model's own. The hex bits carry every float exactly.
 """
 from __future__ import annotations
 
-import struct
 from typing import Tuple
 
 import numpy as np
@@ -28,8 +27,7 @@ MAGIC = "fricgen-adapt-dump 1"
 
 def dump_text(model_hash: str, theta) -> str:
     """The dump ``fric_adapt_export`` writes for float32 parameters ``theta``."""
-    words = " ".join(f"{struct.unpack('<I', struct.pack('<f', float(t)))[0]:08x}"
-                     for t in np.asarray(theta, dtype=np.float32))
+    words = " ".join(f"{int(u):08x}" for u in np.asarray(theta, dtype=np.float32).view(np.uint32))
     return f"{MAGIC}\nmodel {model_hash}\ntheta {words}\n"
 
 
@@ -47,8 +45,7 @@ def parse_dump(text: str) -> Tuple[str, np.ndarray]:
     bad = next((w for w in words if len(w) != 8 or any(c not in "0123456789abcdefABCDEF" for c in w)), None)
     if bad is not None:
         raise DataError(f"adaptation dump: {bad[:20]!r} is not 8 hex digits (the bits of a float)")
-    theta = np.array([struct.unpack("<f", struct.pack("<I", int(w, 16)))[0] for w in words],
-                     dtype=np.float32)
+    theta = np.array([int(w, 16) for w in words], dtype=np.uint32).view(np.float32)
     if not np.all(np.isfinite(theta)):
         k = int(np.flatnonzero(~np.isfinite(theta))[0])
         raise DataError(f"adaptation dump: theta[{k}] is {theta[k]}, not a finite number")

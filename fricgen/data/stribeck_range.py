@@ -183,14 +183,13 @@ def _within_one_se(squared: np.ndarray, reference: int, k: float = 1.0) -> np.nd
     return (diff.mean(axis=1) <= se) & (diff.mean(axis=1) <= own)
 
 
-def binned_by_fold(v, f, folds, rows: int = None):
-    """(v, f, folds) with each fold's rows averaged into at most ``rows`` (MAX_PROXY_ROWS) /
-    n_folds bins of consecutive speeds (``bin_equal_counts``): the proxy's cost stays flat on
-    long logs, and no bin mixes folds."""
-    rows = MAX_PROXY_ROWS if rows is None else rows
-    labels = np.unique(folds)
+def binned_by_fold(v, f, folds, rows: int = MAX_PROXY_ROWS):
+    """(v, f, folds) with each fold's rows averaged into at most ``rows`` / n_folds bins of
+    consecutive speeds (``bin_equal_counts``): the proxy's cost stays flat on long logs, and no
+    bin mixes folds."""
     if v.size <= rows:
         return v, f, folds
+    labels = np.unique(folds)
     parts = [bin_equal_counts(Sweep(v[folds == k], f[folds == k]), max(rows // labels.size, MIN_ROWS))
              for k in labels]
     return (np.concatenate([p.v for p in parts]), np.concatenate([p.f for p in parts]),

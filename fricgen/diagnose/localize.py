@@ -43,12 +43,15 @@ def localize(problem: ResidualProblem) -> List[dict]:
         out.append({"axis": axis, "share": _binned_share(values, labels, n_eff), "detail": detail,
                     "groups": int(np.unique(labels).size)})
 
-    def extreme(values, labels, coord, name, unit):
+    def extreme(values, labels, coord, name, unit, moving=False):
+        """The group whose mean is largest in size; ``moving``: odd labels are v > 0."""
         groups = np.unique(labels)
         means = np.array([values[labels == g].mean() for g in groups])
         k = int(np.argmax(np.abs(means)))
         inside = coord[labels == groups[k]]
-        return f"largest mean {means[k]:+.3g} N at {name} in [{inside.min():.3g}, {inside.max():.3g}] {unit}"
+        direction = f" moving {'+' if groups[k] % 2 else '-'}" if moving else ""
+        return (f"largest mean {means[k]:+.3g} N at {name} in [{inside.min():.3g}, "
+                f"{inside.max():.3g}] {unit}{direction}")
 
     pos, neg = r[v > 0], r[v < 0]
     add("constant", r, np.zeros(r.size, dtype=int), f"mean {r.mean():+.3g} N everywhere")
@@ -60,13 +63,7 @@ def localize(problem: ResidualProblem) -> List[dict]:
         lab = _quantile_labels(coord)
         add(axis, values, lab, extreme(values, lab, coord, name, unit))
     lab = 2 * _quantile_labels(x) + (v > 0)                     # a bump acting against motion
-    groups = np.unique(lab)
-    means = np.array([r[lab == g].mean() for g in groups])
-    k = int(np.argmax(np.abs(means)))
-    inside = x[lab == groups[k]]
-    add("position and direction", r, lab,
-        f"largest mean {means[k]:+.3g} N at x in [{inside.min():.3g}, {inside.max():.3g}] m moving "
-        f"{'+' if groups[k] % 2 else '-'}")
+    add("position and direction", r, lab, extreme(r, lab, x, "x", "m", moving=True))
     ks, bank = problem.ripple_bank()
     G = np.einsum("kni,knj->kij", bank, bank)
     b = np.einsum("kni,n->ki", bank, r)
