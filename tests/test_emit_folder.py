@@ -95,15 +95,15 @@ def test_builds_of_one_model_share_the_model_hash_and_differ_in_code_hash(model1
         for major, name in zip(RUNTIME_VERSION, ("MAJOR", "MINOR", "PATCH")):
             assert f"#define FM_FRICGEN_VERSION_{name} {major}\n" in header
     assert len(set(codes.values())) == len(builds)
-    assert options["libm"] == "dtype=float activation_impl=libm with_controller=0"
-    assert options["fast"] == "dtype=float activation_impl=fast with_controller=0"
+    assert options["libm"] == "dtype=float activation_impl=libm with_controller=0 adapt=0"
+    assert options["fast"] == "dtype=float activation_impl=fast with_controller=0 adapt=0"
     assert options["q15"] == "dtype=q15 v_max=default"
     assert _macro(codegen.render(model10, "fm", dtype="q31", v_max=0.5)["fm.h"],
                   "FM_EMIT_OPTIONS") == "dtype=q31 v_max=0.5"
     # the options, not the code, of the controller: the same NAME.c
     with_ctrl = codegen.render(model10, "fm", with_controller=True)["fm.h"]
     assert _macro(with_ctrl, "FM_CODE_HASH") == codes["libm"]
-    assert _macro(with_ctrl, "FM_EMIT_OPTIONS").endswith("with_controller=1")
+    assert _macro(with_ctrl, "FM_EMIT_OPTIONS").endswith("with_controller=1 adapt=0")
 
 
 @pytest.mark.parametrize("activation", ["sigmoid", "sine", "rbf", "multiquadric"])

@@ -55,11 +55,12 @@ def run(args) -> int:
         name = check_model_name(args.name, "--name")
     if args.v_max is not None and args.dtype == "float":
         raise UsageError("--v-max sets the input range of --dtype q15 or q31; float takes any speed")
+    if args.adapt and args.dtype != "float":
+        raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
-                   with_controller=args.with_controller, v_max=args.v_max)
+                   with_controller=args.with_controller or args.adapt, v_max=args.v_max,
+                   adapt=args.adapt)
     if args.adapt:
-        if args.dtype != "float":
-            raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
         files.update(render_adapt(model, name, args.activation_impl))
     check_name_in_folder(args.output, name)
     files.update(package_files(args.output, files, name))     # CMake, Zephyr, PlatformIO

@@ -247,7 +247,7 @@ def controller_files() -> Dict[str, str]:
 
 def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
            dtype: str = "float", with_controller: bool = False,
-           v_max: Optional[float] = None) -> Dict[str, str]:
+           v_max: Optional[float] = None, adapt: bool = False) -> Dict[str, str]:
     """All files of the emitted C folder, by file name: NAME.h, NAME.c and the runtime, plus the
     controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``. Nothing is written.
 
@@ -266,6 +266,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     v_max : float, optional
         The speed (m/s) a fixed-point input must cover (default: the model's training speeds);
         fixed point only.
+    adapt : bool
+        Record in NAME_EMIT_OPTIONS that online adaptation is emitted beside the model (its
+        files come from ``fricgen.control.render_adapt``; float only).
 
     Returns
     -------
@@ -310,7 +313,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     check_determined(model)
     ctx = template_context(model, name, activation_impl)
     ctx["emit_options"] = emit_options(dtype=dtype, activation_impl=activation_impl,
-                                       with_controller=with_controller)
+                                       with_controller=with_controller, adapt=adapt)
     check_float32(model, activation_impl)
     files = render_source_and_header(ctx, name, "model")
     for fname in runtime_files(model, activation_impl):   # also for grey-box curves
