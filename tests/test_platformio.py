@@ -14,10 +14,12 @@ import pytest
 
 from test_emit_folder import AXES_MAIN, check_axes_output, two_axes
 
-platformio = pytest.importorskip("platformio", reason="PlatformIO not installed (pip install .[firmware])")
-SCons = pytest.importorskip("SCons", reason="SCons not installed (pip install .[firmware])")
+NOT_INSTALLED = "PlatformIO or SCons not installed (pip install -e .[firmware])"
+platformio = pytest.importorskip("platformio", reason=NOT_INSTALLED)
+SCons = pytest.importorskip("SCons", reason=NOT_INSTALLED)
 pytestmark = [pytest.mark.slow,
-              pytest.mark.skipif(shutil.which("gcc") is None, reason="no gcc for the host platform")]
+              pytest.mark.skipif(shutil.which("gcc") is None,
+                                 reason="no gcc for the host platform")]
 
 HOST_PLATFORM = Path(__file__).parent / "data" / "pio_host"
 #: Launches the SCons package beside it, as PlatformIO runs tool-scons/scons.py.
@@ -83,8 +85,27 @@ def test_pio_run_builds_the_folder_of_two_axes(model10, axis2_model, tmp_path, b
         assert "-ffp-contract=off" in flags and "-fno-fast-math" in flags
         if build_flags:
             assert flags.index("-ffast-math") < flags.index("-fno-fast-math")
-    link = next(line for line in log.splitlines() if line.startswith("gcc -o") and " -c " not in line)
+    link = next(line for line in log.splitlines()
+                if line.startswith("gcc -o") and " -c " not in line)
     assert "-lm" in link.split()
     out = subprocess.run([str(project / ".pio" / "build" / "host" / "program")],
                          capture_output=True, text=True, check=True)
     check_axes_output(out.stdout, model10, axis2_model)
+
+
+def test_platformios_manifest_schema_accepts_library_json(model10, axis2_model, tmp_path):
+    """PlatformIO's own validation (that of ``pio pkg pack`` and the registry) takes the
+    manifest as it is, and rejects it with a version that is not semantic, which shows it checks."""
+    from platformio.package.exception import ManifestValidationError
+    from platformio.package.manifest.parser import ManifestParserFactory
+    from platformio.package.manifest.schema import ManifestSchema
+    two_axes(tmp_path / "axes", model10, axis2_model)
+    text = (tmp_path / "axes" / "library.json").read_text()
+    def load(manifest):
+        return ManifestSchema().load_manifest(
+            ManifestParserFactory.new(manifest, "library.json").as_dict())
+    loaded = load(text)
+    assert loaded["name"] == "axes" and loaded["version"] == json.loads(text)["version"]
+    broken = json.dumps({**json.loads(text), "version": "one"})
+    with pytest.raises(ManifestValidationError, match="version"):
+        load(broken)
