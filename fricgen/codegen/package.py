@@ -100,7 +100,8 @@ def package_files(folder: Union[str, Path], files: Dict[str, str], name: str) ->
 
 def platformio_manifest(ctx: dict) -> dict:
     """library.json: the PlatformIO library of the folder (its sources and headers in the folder
-    itself, the strict float flags). Its description carries PACKAGE_MARKER (JSON has no
+    itself, the strict float flags, and ``-lm``, which PlatformIO passes on to the program's
+    link, when a source calls libm). Its description carries PACKAGE_MARKER (JSON has no
     comments)."""
     return {
         "name": ctx["lib"],
@@ -113,7 +114,7 @@ def platformio_manifest(ctx: dict) -> dict:
         "platforms": "*",
         "build": {"srcDir": ".", "includeDir": ".",
                   "srcFilter": ["-<*>"] + [f"+<{src}>" for src in ctx["sources"]],
-                  "flags": ctx["flags"]},
+                  "flags": ctx["flags"] + (["-lm"] if ctx["libm"] else [])},
     }
 
 
