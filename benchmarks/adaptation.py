@@ -4,8 +4,10 @@ time constant, its viscous B falls -20 %, then at 300 s a step change in lubrica
 to +10 %, B to -10 %). Compared on rms e1 over the last 100 s, all in the C runtime through cffi:
 no compensation, the fixed trained model, the adapted model (RLS and Lyapunov rules), and exact
 compensation with the true friction at each instant. Then with no drift: adapted vs fixed.
+``--plot FILE`` draws the adapted parameters over time (each as its change from the trained
+value over its projection half-width, so that +-1 is the edge of the box) with the drift.
 
-    python benchmarks/adaptation.py [--duration 400] [--drift-end 300] [--window 100]
+    python benchmarks/adaptation.py [--duration 400] [--drift-end 300] [--window 100] [--plot adaptation.png]
 """
 from __future__ import annotations
 
@@ -19,6 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from fricgen._plot import pyplot  # noqa: E402
 from fricgen.control.adaptation import adapted  # noqa: E402
 from fricgen.control.backstepping import AdaptiveBackstepping  # noqa: E402
 from fricgen.control.c_adapted import CAdaptedController, build_adapted  # noqa: E402
@@ -100,16 +103,47 @@ def run(duration, window, drift, model, module, substeps):
              "lyapunov": CAdaptedController(module, adapted(model, "lyapunov", dtype="float32")),
              "exact": CController(module, settings.clone(compensation=exact))}
 
+    adapting = {k: c for k, c in ctrls.items() if isinstance(c, CAdaptedController)}
+    history = {k: [] for k in adapting}
+    every = int(round(0.1 / settings.ts))
+    count = [0]
+
     def tick(t):
         clock.t = t
+        if count[0] % every == 0:
+            for k, c in adapting.items():
+                history[k].append((t, *c.theta_))
+        count[0] += 1
     runs = simulate(axis, list(ctrls.values()), reversing(), duration, substeps, on_sample=tick)
     out = {}
     for name, r in zip(ctrls, runs):
         last = r.t >= duration - window
         out[name] = float(np.sqrt(np.mean(r.e1[last] ** 2))) if r.finite else float("nan")
-    thetas = {k: np.round(np.asarray(c.theta_) - trained_parameters(model), 3)
-              for k, c in ctrls.items() if isinstance(c, CAdaptedController)}
-    return out, thetas
+    thetas = {k: np.round(np.asarray(c.theta_) - trained_parameters(model), 3) for k, c in adapting.items()}
+    return out, thetas, {k: np.asarray(h) for k, h in history.items()}, adapting
+
+
+def plot(path, history, adapting, model, drift):
+    """Each adapted parameter's (theta - theta0) / (box half-width) over time, per rule."""
+    plt = pyplot()
+    if plt is None:
+        print("--plot needs matplotlib (pip install -e .[plot])")
+        return
+    theta0 = trained_parameters(model)
+    fig, axes = plt.subplots(len(history), 1, sharex=True, figsize=(8, 2.6 * len(history)),
+                             constrained_layout=True)
+    for ax, (rule, h) in zip(np.atleast_1d(axes), history.items()):
+        lo, hi = adapting[rule].twin.adapter.bounds()
+        rel = (h[:, 1:] - theta0) / (0.5 * (hi - lo))
+        ax.plot(h[:, 0], rel, lw=0.8)
+        ax.axhline(1, color="k", lw=0.5, ls="--")
+        ax.axhline(-1, color="k", lw=0.5, ls="--")
+        ax.axvline(drift.end, color="r", lw=0.5)
+        ax.set_ylabel(f"{rule}: (theta - theta0) / box")
+    np.atleast_1d(axes)[-1].set_xlabel("time (s); red: the lubrication step")
+    fig.suptitle("adapted parameters under drift (dashed: the projection box)")
+    fig.savefig(path, dpi=100)
+    print(f"wrote {path}")
 
 
 def main(argv=None):
@@ -118,13 +152,19 @@ def main(argv=None):
     ap.add_argument("--drift-end", type=float, default=300.0)
     ap.add_argument("--window", type=float, default=100.0)
     ap.add_argument("--substeps", type=int, default=4)
+    ap.add_argument("--plot", help="PNG of the adapted parameters over time, with the drift")
     args = ap.parse_args(argv)
     model = default_model("fm")
     module = build_adapted(model, "fm")
     print(f"model: {model.aim.n_hidden}-neuron ELM (paper3 benchmark, seed 0); axis 2 kg, Ts 1 ms; "
           f"rms e1 over the last {args.window:g} s of {args.duration:g} s (C runtime via cffi)")
     for label, drift in (("drift", Drift(end=args.drift_end)), ("no drift", None)):
-        rms, thetas = run(args.duration, args.window, drift, model, module, args.substeps)
+        rms, thetas, history, adapting = run(args.duration, args.window, drift, model, module,
+                                             args.substeps)
+        if drift is not None and args.plot:
+            for a in adapting.values():
+                a.twin.adapter.reset()                            # its bounds
+            plot(args.plot, history, adapting, model, drift)
         ref = rms["exact"]
         print(f"{label}: " + ", ".join(f"{k} {v * 1e6:.3f} um ({v / ref:.3f}x exact)" for k, v in rms.items()))
         for k in ("rls", "lyapunov"):

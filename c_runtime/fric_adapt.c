@@ -250,7 +250,7 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     }
     if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
         const float accel = (v - a->v_prev) / c->p.ts;
-        const float observed = (c->p.phi_n / c->k_hat) * (a->i_prev - (c->m_o_hat * accel));
+        const float observed = c->p.phi_n * (a->i_prev - (c->m_o_hat * accel));
         const float v_mid = 0.5f * (v + a->v_prev);
         (void)fric_adapt_rls(a, reg, v_mid, observed, a->held);
     }

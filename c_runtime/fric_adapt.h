@@ -6,8 +6,9 @@
  * The model is F(v) = f0(v) + theta^T phi(v): `fricgen emit --adapt` generates the regressor
  * NAME_regressor (writes phi, returns f0) and NAME_adapt_default_params (theta0, the box and the
  * scales of the trained model). Two rules update theta (fricgen.control.adaptation):
- *   RLS with forgetting on the friction observed by inverse dynamics,
- *       y = (phi_n / k_hat) (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2;
+ *   RLS with forgetting on the friction observed by inverse dynamics at the nominal force
+ *   constant (not k_hat, which scales the compensation too: the two would run away together),
+ *       y = phi_n (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2;
  *   Lyapunov ([C14] extended to theta): theta += gain scale^2 e2 phi(v).
  * Safety, in this order: a non-finite input changes nothing (FRIC_ADAPT_INPUT_FAULT); hold != 0
  * (the controller saturated or faulted) changes nothing (FRIC_ADAPT_HELD); no update for

@@ -5,10 +5,12 @@ With F(v) = f0(v) + theta^T phi(v) (``fricgen.control.regressor``), two rules up
 per sample:
 
 - ``"rls"``: recursive least squares with forgetting factor lambda on the friction observed by
-  inverse dynamics with the controller's own estimates ([C1], m v' = phi i - F,
-  with phi_hat = phi_N / k_hat and m_hat = m_o_hat phi_hat):
+  inverse dynamics ([C1], m v' = phi i - F, so F = phi (i - m_o v') with m_o = m / phi) at the
+  nominal force constant phi_N and the controller's m_o_hat. Not at phi_N / k_hat: k_hat also
+  scales the compensation, so a larger theta lowers k_hat, which raised y, which raised theta
+  (measured: k_hat reached 0 after 140 s of the drift benchmark):
 
-      y = (phi_N / k_hat) (i_prev - m_o_hat (v - v_prev) / Ts)   at  v_mid = (v + v_prev) / 2
+      y = phi_N (i_prev - m_o_hat (v - v_prev) / Ts)   at  v_mid = (v + v_prev) / 2
       e = y - F(v_mid),   g = P phi / (lambda + phi^T P phi),   theta += g e,
       P = (P - g (P phi)^T) / lambda.
 
@@ -349,10 +351,10 @@ class AdaptedController:
         c, a, f = self.controller, self.adapter, self._f
         x, v, xd, xd_dot, xd_ddot = (f(q) for q in (x, v, xd, xd_dot, xd_ddot))
         if a.rule == "rls":
-            k_hat, m_o_hat = c.a_[1], c.a_[0]
+            m_o_hat = c.a_[0]
             with np.errstate(all="ignore"):
                 accel = (v - self._v_prev) / c._ts
-                observed = (c._phi_n / k_hat) * (self._i_prev - m_o_hat * accel)
+                observed = c._phi_n * (self._i_prev - m_o_hat * accel)
                 v_mid = f(0.5) * (v + self._v_prev)
             a.rls(v_mid, observed, hold=self._held)
         u = c.friction_velocity(x, v, xd, xd_dot)
