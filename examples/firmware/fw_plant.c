@@ -31,7 +31,7 @@ void fw_plant_advance(fw_plant_t *s, const fw_plant_params_t *p, float i, float 
     }
 }
 
-static char *fw_hex(char *out, float value)
+char *fw_hex(char *out, float value)
 {
     union {
         float f;

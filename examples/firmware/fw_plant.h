@@ -33,6 +33,9 @@ float fw_plant_friction(const fw_plant_params_t *p, float v);
 /* Advance the state over ts seconds with the current i held. */
 void fw_plant_advance(fw_plant_t *s, const fw_plant_params_t *p, float i, float ts);
 
+/* Writes " " and the 8 hex digits of value's bits at out; returns the end (no NUL). */
+char *fw_hex(char *out, float value);
+
 /* A closed-loop run: n samples of the reference xd, xd', xd'' (arrays of n floats). */
 typedef struct {
     fw_plant_params_t plant;
