@@ -47,6 +47,10 @@ DEFAULT_MODEL_NAME = "friction_model"
 #: A friction curve must oppose the motion up to this many times v_sat: a negative B may bend
 #: the force down beyond v_sat, not through zero.
 OPPOSES_MOTION_UP_TO = 10.0
+#: ... and on [0, v_sat] it may point with the motion by at most this share of its largest
+#: magnitude: a fit may dip a little below zero where the friction is about nil, a hand-edited
+#: offset, slope or weight that makes the friction push the axis may not.
+PUSHES_AT_MOST = 0.05
 #: The largest friction force of a real axis, N (``_validate.PHYSICAL``).
 PHYSICAL_FORCE_MAX = PHYSICAL["force"][1]
 #: Speeds, in units of v_sat, at which a curve's force is checked (``Direction.check``).
@@ -131,7 +135,8 @@ class Direction:
     def check(self) -> "Direction":
         """This curve, if the float32 C can run it as friction; else ``ModelError``: v_sat, the
         force scale 1/K_out, B or a Stribeck velocity of [F1] beyond FLOAT32_SCALE, a force on [0, v_sat] that is not finite
-        or beyond it, or a negative B that reverses the force before OPPOSES_MOTION_UP_TO v_sat."""
+        or beyond it, a force that points with the motion (beyond PUSHES_AT_MOST of its largest), or a
+        negative B that reverses the force before OPPOSES_MOTION_UP_TO v_sat."""
         for what, value, unit in (("v_sat", self.v_sat, "m/s"),
                                   ("the force scale 1/k_out", 1.0 / self.scaling.k_out, "N"),
                                   ("viscous", self.viscous, "N s/m")):
@@ -146,6 +151,11 @@ class Direction:
         if not worst <= FLOAT32_SCALE[1]:
             raise ModelError(f"the force reaches {worst:.3g} N within [0, v_sat]; the float32 C "
                              f"needs it below {FLOAT32_SCALE[1]:g}")
+        lowest = int(np.argmin(force))
+        if force[lowest] < -PUSHES_AT_MOST * worst:
+            raise ModelError(f"the friction is {force[lowest]:.3g} N at |v| = "
+                             f"{self.v_sat * _CHECK_SPEEDS[lowest]:.3g} m/s: it pushes the axis "
+                             "instead of opposing the motion (an edited offset, slope or weight?)")
         if self.viscous < 0:
             reversal = -self.stribeck(self.v_sat) / self.viscous
             if reversal < OPPOSES_MOTION_UP_TO * self.v_sat:

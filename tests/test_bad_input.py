@@ -78,6 +78,9 @@ def work(cli_inputs, tmp_path_factory):
                        ("effect_dict.json", lambda m: m.__setitem__("effects", [{"effect": {}}])),
                        ("version_true.json", lambda m: m.__setitem__("format_version", True)),
                        ("negative_b.json", lambda m: m.__setitem__("viscous", -m["viscous"])),
+                       ("pushing_offset.json", lambda m: m.__setitem__("aim", {
+                           "kind": "stribeck", "shape": "gauss", "offset": -0.5, "amplitudes": [0.3],
+                           "stribeck": [0.2], "slope": 0.0})),
                        ("tiny_stribeck.json", lambda m: m.__setitem__("aim", {
                            "kind": "stribeck", "shape": "gauss", "offset": 0.99, "amplitudes": [0.01],
                            "stribeck": [1e-40], "slope": 0.0})),
@@ -114,6 +117,7 @@ def _dump_files(d):
     (d / "dump_short.txt").write_text(dump_text(m.model_hash, theta[:-1]))
     (d / "dump_not_hex.txt").write_text(good.replace("theta ", "theta 3e0zcc24 "))
     (d / "dump_nan.txt").write_text(dump_text(m.model_hash, np.append(theta[:-1], np.nan)))
+    (d / "dump_negative_b.txt").write_text(dump_text(m.model_hash, np.append(theta[:-1], -theta[-1])))
 
 
 def _edited_columns(d, log, name, **edits):
@@ -341,6 +345,10 @@ ROWS = [
     ("weights of 3e38", ["emit", "huge_weights.json", "-o", OUT], "the float32 C needs it below"),
     ("a key twice in model.json", ["eval", "duplicate_key.json"], "key 'viscous' appears twice"),
     ("negative viscous coefficient", ["emit", "negative_b.json", "-o", OUT], "friction must oppose the motion"),
+    ("emit --v-max in mm/s", ["emit", "model.json", "-o", OUT, "--dtype", "q15", "--v-max", "300"],
+     "--v-max: must be a finite number > 0 and <= 20 m/s, got 300"),
+    ("an edited offset that makes the friction push", ["emit", "pushing_offset.json", "-o", OUT],
+     "it pushes the axis instead of opposing the motion"),
     ("a Stribeck velocity of 1e-40", ["eval", "tiny_stribeck.json"], "aim.stribeck[0] is 1e-40 (normalized)"),
     ("a Stribeck velocity of 1e-40, emitted", ["emit", "tiny_stribeck.json", "-o", OUT],
      "aim.stribeck[0] is 1e-40 (normalized)"),
@@ -516,6 +524,9 @@ ROWS = [
      "'3e0zcc24' is not 8 hex digits"),
     ("readback, a NaN parameter", ["readback", "dump_nan.txt", "--model", "model.json", "-o", OUT],
      "is nan, not a finite number"),
+    ("readback, an adapted B that reverses the friction", ["readback", "dump_negative_b.txt", "--model",
+                                                            "model.json", "-o", OUT],
+     "the adapted parameters make a model that cannot be used: viscous = -"),
     ("readback, a CSV for the dump", ["readback", "sweep.csv", "--model", "model.json", "-o", OUT],
      "not an adaptation dump"),
     ("readback, no such dump", ["readback", "no_dump.txt", "--model", "model.json", "-o", OUT],

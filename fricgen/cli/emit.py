@@ -3,6 +3,7 @@ with the folder's build files (CMake, Zephyr, PlatformIO: fricgen.codegen.packag
 from __future__ import annotations
 
 from .._io import check_folder
+from .._validate import PHYSICAL
 from ..c_names import check_model_name
 from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite,
                        package_files, render)
@@ -23,7 +24,7 @@ def register(p) -> None:
                    help="sigmoid through libm's expf, or the fast one without libm (error <= 8.7e-7)")
     p.add_argument("--dtype", choices=DTYPES, default="float",
                    help="float, or integer-only fixed point for MCUs without FPU")
-    p.add_argument("--v-max", type=number(0, 1e6, low_open=True, unit="m/s"),
+    p.add_argument("--v-max", type=number(0, PHYSICAL["speed"][1], low_open=True, unit="m/s"),
                    help="q15/q31: the fastest speed the fixed-point input must hold, m/s (default: "
                    "the fastest speed of the model's training data, from its axis record)")
     p.add_argument("--with-controller", action="store_true",

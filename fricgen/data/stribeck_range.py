@@ -91,10 +91,11 @@ class StribeckRange:
         joint = f"B fitted with the Stribeck sources ({self.joint_rmse:.3g} N)"
         if self.linear_region:
             return f"{self.vs_max:.3g} m/s chosen by {self.folds}-fold CV over {points}; {joint}"
-        return (f"{self.vs_max:.3g} m/s: no linear high-speed region; {joint} beats "
-                + (f"every vs_max by {self.folds}-fold CV: {points}" if points else
-                   "(too few rows to fit B to the fastest ones)")
-                + "; v_sat is the fastest speed")
+        if not points:
+            return (f"{self.vs_max:.3g} m/s: too few rows to fit B to the fastest ones alone; "
+                    f"{joint}; v_sat is the fastest speed")
+        return (f"{self.vs_max:.3g} m/s: no linear high-speed region; {joint} beats every vs_max "
+                f"by {self.folds}-fold CV: {points}; v_sat is the fastest speed")
 
 
 def speed_folds(v: np.ndarray, folds: int = FOLDS) -> np.ndarray:
