@@ -28,6 +28,8 @@ PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
 #: above 5 m/s, v_sat above 0.3 m/s (Stribeck velocities above 0.1 m/s): speeds in m/min or
 #: mm/s read as m/s land there.
 USUAL_MAX = {"speed": 5.0, "v_sat": 0.3}
+#: ... and a largest friction force below 0.1 N: forces in kN read as N land there.
+USUAL_MIN = {"force": 0.1}
 #: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
 ACCEPT_UNUSUAL = "--accept-unusual"
 
@@ -54,6 +56,18 @@ def unusual(quantity: str, what: str, value: float) -> str:
         return ""
     return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is v in m/min "
             "(--scale v=0.0166667) or mm/s (--scale v=0.001)?")
+
+
+def unusually_small(quantity: str, what: str, value: float, column: str) -> str:
+    """'' if ``value`` is at least USUAL_MIN[quantity], else the clause saying it is unusual, with
+    the units that would explain it: "WHAT is 0.004 N, below the 0.1 N of most axes' friction: is
+    f in kN (--scale f=1000)?"."""
+    low, unit = USUAL_MIN[quantity], PHYSICAL[quantity][2]
+    value = abs(float(value))
+    if value >= low:
+        return ""
+    return (f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of most axes' friction: is "
+            f"{column} in k{unit} (--scale {column}=1000)?")
 
 
 def _is_number(value) -> bool:

@@ -174,3 +174,18 @@ def test_a_sweep_in_m_per_min_is_refused_naming_the_unit(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "is v in m/min (--scale v=0.0166667)" in err[0]
     assert not (tmp_path / "m.json").exists()
+
+
+def test_forces_in_kn_get_one_warning_and_scaled_the_same_model(work, capsys):
+    rows = [line.split(",") for line in (work / "sweep.csv").read_text().splitlines()[1:]]
+    (work / "kn.csv").write_text("v,f\n" + "".join(f"{v},{float(f) / 1000!r}\n" for v, f in rows))
+    args = ["--vs-max", "0.02", "--method", "stribeck", "--force"]
+    assert main(["train", str(work / "sweep.csv"), "-o", str(work / "n.json"), *args]) == 0
+    assert "warning" not in capsys.readouterr().err                   # newtons: nothing said
+    assert main(["train", str(work / "kn.csv"), "-o", str(work / "kn.json"), *args]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warnings) == 1 and "is f in kN (--scale f=1000)?" in warnings[0]
+    assert main(["train", str(work / "kn.csv"), "-o", str(work / "scaled.json"), "--scale", "f=1000", *args]) == 0
+    assert "warning" not in capsys.readouterr().err
+    n, scaled = FrictionModel.load(work / "n.json"), FrictionModel.load(work / "scaled.json")
+    assert scaled.force(0.05) == pytest.approx(n.force(0.05), rel=1e-6)

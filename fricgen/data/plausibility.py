@@ -20,7 +20,8 @@ from typing import Callable, Dict, Optional
 
 import numpy as np
 
-from .._validate import ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, physical_problem, unusual
+from .._validate import (ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, USUAL_MIN, physical_problem, unusual,
+                         unusually_small)
 from ..errors import DataError
 from .outliers import running_median
 
@@ -97,6 +98,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
                             accept_unusual, warn)
         elif quantity in USUAL_MAX and unusual(quantity, what, value):
             warn(f"fricgen: warning: {source}: {unusual(quantity, what, value)}")
+        elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
+            warn(f"fricgen: warning: {source}: {unusually_small(quantity, what, value, column)}")
 
 
 def _scatter(a: np.ndarray, b: np.ndarray) -> float:
