@@ -154,6 +154,8 @@ def _trial_files(d, log):
     (d / "loop_link").symlink_to(d / "loop_link")
     (d / "empty.csv").write_text("")
     (d / "blank.csv").write_text("\n\n")
+    sweep = (d / "sweep.csv").read_text().split("\n", 1)[1]
+    (d / "velocity_force.csv").write_text("velocity,force\n" + sweep)
     (d / "log_no_t.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
 
 
@@ -244,6 +246,8 @@ TRIAL_ROWS = [
     ("train, an empty file", ["train", "empty.csv", "-o", OUT], "WORK/empty.csv: empty file"),
     ("train, a file of blank lines", ["train", "blank.csv", "-o", OUT],
      "WORK/blank.csv: the header line is blank; the first line must name the columns"),
+    ("a sweep with its own column names", ["train", "velocity_force.csv", "-o", OUT],
+     "missing t and v or x (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],

@@ -106,5 +106,7 @@ def test_fricgen_readback_writes_a_model_that_eval_reads(default_model, tmp_path
                         capture_output=True, text=True)
     ref = subprocess.run(run + ["eval", str(model_path)], input="0.1\n", capture_output=True, text=True)
     grown = float(ev.stdout) - float(ref.stdout)
+    record = FrictionModel.load(tmp_path / "adapted.json").training
+    assert record["adapted_from"] == model.model_hash and "metrics" not in record
     # the dump holds float32: every parameter rounded to 6e-8 of itself, B's quarter exactly
     assert grown == pytest.approx(0.25 * model.viscous * 0.1, rel=1e-5)

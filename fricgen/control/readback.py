@@ -13,6 +13,7 @@ the scaling are the model's own. The hex bits carry every float exactly.
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Tuple
 
 import numpy as np
@@ -53,8 +54,9 @@ def parse_dump(text: str) -> Tuple[str, np.ndarray]:
 
 
 def model_from_dump(model: FrictionModel, text: str) -> FrictionModel:
-    """``model`` with the adapted parameters of a dump (``with_parameters``); ``ModelError`` when
-    the dump belongs to another model or holds another number of parameters."""
+    """``model`` with the adapted parameters of a dump (``with_parameters``), its training record
+    without the trained parameters' errors and with ``adapted_from``, the model's hash;
+    ``ModelError`` when the dump belongs to another model or holds another number of parameters."""
     model_hash, theta = parse_dump(text)
     if model_hash != model.model_hash:
         raise ModelError(f"the dump was adapted from model {model_hash[:16]}, not from this one "
@@ -64,4 +66,7 @@ def model_from_dump(model: FrictionModel, text: str) -> FrictionModel:
     if theta.size != n:
         raise ModelError(f"the dump holds {theta.size} parameters, this model adapts {n} "
                          f"({', '.join(parameter_names(model))})")
-    return with_parameters(model, theta.astype(float))
+    adapted = with_parameters(model, theta.astype(float))
+    # the training's errors describe the trained parameters, not these: the record says whence
+    training = {k: v for k, v in model.training.items() if k != "metrics"}
+    return replace(adapted, training={**training, "adapted_from": model.model_hash})

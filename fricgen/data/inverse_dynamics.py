@@ -322,8 +322,10 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
     if LOG_TIME in columns or ("f" not in columns and any(c in columns for c in ("x", *LOG_DRIVE))):
         missing = [" or ".join(group) for group in ((LOG_TIME,), LOG_MOTION, LOG_DRIVE)
                    if not any(c in columns for c in group)]
+        sweep = ("" if any(c in columns for c in (LOG_TIME, "x", "i")) else
+                 "; a sweep? --columns v=COLUMN,f=COLUMN names its columns")
         return (f"a motion log needs t, v or x, and force or i: missing {' and '.join(missing)} "
-                f"(header is {header}){header_hint(cells)}")
+                f"(header is {header}){header_hint(cells)}{sweep}")
     missing = ", ".join(repr(c) for c in ("v", "f") if c not in columns)
     return f"missing column {missing} (header is {header}){header_hint(cells)}"
 

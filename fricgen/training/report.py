@@ -110,7 +110,7 @@ def _(estimator: StribeckRegressor, dataset) -> list:
     """The grey-box model of [F1] in SI units, each parameter +- its standard error."""
     net, se = estimator.network_, estimator.standard_errors_
     k_in, k_out = dataset.scaling.k_in, dataset.scaling.k_out
-    broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s up to {estimator.xs_max_ / k_in:.4g} m/s"
+    broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s searched up to {estimator.xs_max_ / k_in:.4g} m/s"
     lines = [f"model     grey-box [F1]: {net.n_sources} {net.shape} source(s){broad}, "
              f"{_origin(estimator)}",
              f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, 'N')}"]
