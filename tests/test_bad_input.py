@@ -156,6 +156,7 @@ def _trial_files(d, log):
     (d / "blank.csv").write_text("\n\n")
     sweep = (d / "sweep.csv").read_text().split("\n", 1)[1]
     (d / "velocity_force.csv").write_text("velocity,force\n" + sweep)
+    (d / "tab_comma.csv").write_text("v\tf\n" + "0,0125\t5,75\n" * 30)
     (d / "log_no_t.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
 
 
@@ -246,6 +247,8 @@ TRIAL_ROWS = [
     ("train, an empty file", ["train", "empty.csv", "-o", OUT], "WORK/empty.csv: empty file"),
     ("train, a file of blank lines", ["train", "blank.csv", "-o", OUT],
      "WORK/blank.csv: the header line is blank; the first line must name the columns"),
+    ("a tab-separated sweep with decimal commas", ["train", "tab_comma.csv", "-o", OUT],
+     "line 2: non-numeric or missing cell '0,0125' in column 'v'; decimal commas? fricgen reads '.' decimals"),
     ("a sweep with its own column names", ["train", "velocity_force.csv", "-o", OUT],
      "missing t and v or x (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],

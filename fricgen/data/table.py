@@ -41,6 +41,8 @@ _THOUSANDS_TAIL = re.compile(r"\d{3}(\.\d*)?")
 
 #: A number written with ',' between thousands, as one (quoted) cell: "15,998.7".
 _GROUPED = re.compile(r"[-+]?\d{1,3}(,\d{3})+(\.\d*)?")
+#: A number written with a decimal comma (a tab-separated export of a comma-decimal locale).
+_DECIMAL_COMMA = re.compile(r"[-+]?\d*,\d+([eE][-+]?\d+)?")
 
 
 def _thousands_hint(row: Sequence[str], width: int) -> str:
@@ -189,9 +191,11 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
             bad = [k for k in wanted if not _is_number(row[k])]
             if not drop_text or any(header[k] in required for k in bad):
                 grouped = any(_GROUPED.fullmatch(row[k].strip()) for k in bad)
-                raise DataError(f"{path}: line {n}: non-numeric or missing cell in "
-                                f"{','.join(row)[:80]!r}"
-                                f"{_thousands_hint(['', '000'], 1) if grouped else ''}") from None
+                decimal_comma = any(_DECIMAL_COMMA.fullmatch(row[k].strip()) for k in bad)
+                hint = (_thousands_hint(['', '000'], 1) if grouped else
+                        "; decimal commas? fricgen reads '.' decimals" if decimal_comma else "")
+                raise DataError(f"{path}: line {n}: non-numeric or missing cell {row[bad[0]][:40]!r} "
+                                f"in column {written[bad[0]][:40]!r}{hint}") from None
             text.update(bad)
             values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
     table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))
