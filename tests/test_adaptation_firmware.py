@@ -24,7 +24,6 @@ SECONDS, PERIOD, EVERY = 60.0, 4000, 100
 
 LOOP = r"""
 #include "fw_plant.h"
-#include "semihost.h"
 #include "fm_adapt.h"
 %(arrays)s
 static int fw_adapted_loop_run(void)
@@ -35,9 +34,7 @@ static int fw_adapted_loop_run(void)
     static fric_adapt_t a;
     fric_adapt_params_t ap;
     fw_plant_t s = {0.0f, 0.0f};
-    char line[3 + 16 * 9 + 2];
     unsigned k;
-    unsigned j;
     fm_adapt_default_params(&ap);
     ap.rule = %(rule)s;
     if ((fric_ctrl_init(&c, &cp) != FRIC_CTRL_OK) || (fric_adapt_init(&a, &ap) != 0)) {
@@ -50,29 +47,12 @@ static int fw_adapted_loop_run(void)
         (void)fric_adapt_ctrl_step(&a, &c, fm_regressor, s.x, s.v, fw_ref_xd[r], fw_ref_xd_dot[r],
                                    fw_ref_xd_ddot[r], &i);
         if ((k %% %(every)su) == 0u) {
-            char *p = line;
-            *p++ = 'a';
-            *p++ = 'l';
-            p = fw_hex(p, s.x);
-            p = fw_hex(p, s.v);
-            p = fw_hex(p, i);
-            p = fw_hex(p, c.m_o_hat);
-            p = fw_hex(p, c.k_hat);
-            *p++ = '\n';
-            *p = '\0';
-            sh_write0(line);
+            const float row[5] = {s.x, s.v, i, c.m_o_hat, c.k_hat};
+            fw_print_row("al", row, 5u);
         }
         fw_plant_advance(&s, &plant, i, cp.ts);
     }
-    for (j = 0u; j < a.p.n; ++j) {
-        char *p = line;
-        *p++ = 't';
-        *p++ = 'h';
-        p = fw_hex(p, a.theta[j]);
-        *p++ = '\n';
-        *p = '\0';
-        sh_write0(line);
-    }
+    fw_print_row("th", a.theta, a.p.n);
     return 0;
 }
 #define FW_EXTRA() ((void)fw_adapted_loop_run())

@@ -31,20 +31,30 @@ void fw_plant_advance(fw_plant_t *s, const fw_plant_params_t *p, float i, float 
     }
 }
 
-char *fw_hex(char *out, float value)
+void fw_print_row(const char *tag, const float *values, unsigned n)
 {
-    union {
-        float f;
-        uint32_t u;
-    } c;
-    int i;
-    c.f = value;
-    *out++ = ' ';
-    for (i = 7; i >= 0; --i) {
-        out[i] = "0123456789abcdef"[c.u & 0xfu];
-        c.u >>= 4;
+    char line[2 + FW_ROW_MAX * 9 + 2];
+    char *p = line;
+    unsigned j;
+    int d;
+    *p++ = tag[0];
+    *p++ = tag[1];
+    for (j = 0u; (j < n) && (j < FW_ROW_MAX); ++j) {
+        union {
+            float f;
+            uint32_t u;
+        } c;
+        c.f = values[j];
+        *p++ = ' ';
+        for (d = 7; d >= 0; --d) {
+            p[d] = "0123456789abcdef"[c.u & 0xfu];
+            c.u >>= 4;
+        }
+        p += 8;
     }
-    return out + 8;
+    *p++ = '\n';
+    *p = '\0';
+    sh_write0(line);
 }
 
 int fw_closed_loop_run(const fw_loop_t *loop)
@@ -52,7 +62,6 @@ int fw_closed_loop_run(const fw_loop_t *loop)
     fric_ctrl_t ctrl;
     fw_plant_t s;
     unsigned k;
-    char line[3 + 5 * 9 + 2];
     if (fric_ctrl_init(&ctrl, &loop->ctrl) != FRIC_CTRL_OK) {
         sh_write0("cl init-failed\n");
         return 1;
@@ -61,19 +70,15 @@ int fw_closed_loop_run(const fw_loop_t *loop)
     s.v = 0.0f;
     for (k = 0; k < loop->n; ++k) {
         float i = 0.0f;
-        char *p = line;
+        float row[5];
         (void)fric_ctrl_step_fn(&ctrl, s.x, s.v, loop->xd[k], loop->xd_dot[k], loop->xd_ddot[k],
                                 loop->friction, &i);
-        *p++ = 'c';
-        *p++ = 'l';
-        p = fw_hex(p, s.x);
-        p = fw_hex(p, s.v);
-        p = fw_hex(p, i);
-        p = fw_hex(p, ctrl.m_o_hat);
-        p = fw_hex(p, ctrl.k_hat);
-        *p++ = '\n';
-        *p = '\0';
-        sh_write0(line);
+        row[0] = s.x;
+        row[1] = s.v;
+        row[2] = i;
+        row[3] = ctrl.m_o_hat;
+        row[4] = ctrl.k_hat;
+        fw_print_row("cl", row, 5u);
         fw_plant_advance(&s, &loop->plant, i, loop->ctrl.ts);
     }
     return 0;

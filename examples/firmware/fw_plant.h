@@ -33,8 +33,12 @@ float fw_plant_friction(const fw_plant_params_t *p, float v);
 /* Advance the state over ts seconds with the current i held. */
 void fw_plant_advance(fw_plant_t *s, const fw_plant_params_t *p, float i, float ts);
 
-/* Writes " " and the 8 hex digits of value's bits at out; returns the end (no NUL). */
-char *fw_hex(char *out, float value);
+/* The most values fw_print_row prints on one line. */
+#define FW_ROW_MAX 16u
+
+/* Prints one line: the two characters of tag, then " " and the 8 hex digits of the bits of
+ * each of the n values (at most FW_ROW_MAX). */
+void fw_print_row(const char *tag, const float *values, unsigned n);
 
 /* A closed-loop run: n samples of the reference xd, xd', xd'' (arrays of n floats). */
 typedef struct {
