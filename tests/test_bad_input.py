@@ -156,6 +156,10 @@ def _trial_files(d, log):
     (d / "blank.csv").write_text("\n\n")
     sweep = (d / "sweep.csv").read_text().split("\n", 1)[1]
     (d / "velocity_force.csv").write_text("velocity,force\n" + sweep)
+    from fricgen.data import prepare, read_sweep_csv
+    from fricgen.fit.elm import ELMRegressor
+    data = prepare(read_sweep_csv(d / "sweep.csv"), vs_max=0.02)
+    FrictionModel.fit(data, ELMRegressor(n_hidden=20, random_state=0), name="big").save(d / "elm20.json")
     (d / "tab_comma.csv").write_text("v\tf\n" + "0,0125\t5,75\n" * 30)
     (d / "log_no_t.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
 
@@ -249,6 +253,8 @@ TRIAL_ROWS = [
      "WORK/blank.csv: the header line is blank; the first line must name the columns"),
     ("a tab-separated sweep with decimal commas", ["train", "tab_comma.csv", "-o", OUT],
      "line 2: non-numeric or missing cell '0,0125' in column 'v'; decimal commas? fricgen reads '.' decimals"),
+    ("emit --adapt, a 20-neuron ELM", ["emit", "elm20.json", "-o", OUT, "--adapt"],
+     "the model has 21 output parameters; online adaptation holds at most 16 (FRIC_ADAPT_MAX_PARAMS)"),
     ("a sweep with its own column names", ["train", "velocity_force.csv", "-o", OUT],
      "missing t and v or x (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],

@@ -47,6 +47,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks import StribeckCurve
 from .backstepping import AdaptiveBackstepping
@@ -173,8 +174,9 @@ class FrictionAdapter:
             raise ValueError(f"leak must be in [0, 1), got {self.leak}")
         n = len(Regressor(self.model).theta0)
         if n > MAX_PARAMS:
-            raise ValueError(f"the model has {n} output parameters; the C runtime holds at most "
-                             f"{MAX_PARAMS} (FRIC_ADAPT_MAX_PARAMS)")
+            raise ModelError(f"the model has {n} output parameters; online adaptation holds at most "
+                             f"{MAX_PARAMS} (FRIC_ADAPT_MAX_PARAMS): an ELM of at most "
+                             f"{MAX_PARAMS - 1} neurons (train --max-neurons {MAX_PARAMS - 1})")
         if not float(self.trace_max) >= float(self.p0) * n:
             raise ValueError(f"trace_max must be >= p0 n = {float(self.p0) * n:g}, got {self.trace_max}")
         return self
