@@ -4,20 +4,27 @@ For a 10-neuron sigmoid ELM and a grey-box model with S = 3 gauss sources, fitte
 paper's benchmark, each with ``--activation-impl`` libm and fast, the firmware of
 examples/firmware/ runs ``fric_adapt_ctrl_step`` (the RLS or Lyapunov update, the adapted
 force and the controller step of section 6) N_BENCH times at a speed where the update is
-active (no dead zone, no saturation), and QEMU counts the instructions (as
+active (no dead zone, no saturation: with the default Lyapunov gain the repeated update at one
+state drove a 5-neuron model's current up to the limit, where adaptation holds), and QEMU counts the instructions (as
 benchmarks/firmware_cost.py). Side by side: ``fric_ctrl_step_fn`` with the fixed model, the
 same controller step without adaptation; their difference is what adaptation costs. The
-target: at most 2000 instructions per update at M = 10.
+target: at most 2000 instructions per update at M = 10. ``--sizes`` measures ELMs of other sizes
+as well (M <= 15: the C holds 16 parameters) and prints, per implementation and rule, the curve
+a + b M (Lyapunov) or a + b M + c M^2 (RLS, whose covariance update is quadratic) through them:
+what ``fricgen.codegen.cost.ADAPT_INSTRUCTIONS`` holds for the fit report.
 
-    python benchmarks/adaptation_cost.py
+    python benchmarks/adaptation_cost.py [--sizes 1,5,10,15]
 
 Needs arm-none-eabi-gcc, libnewlib-arm-none-eabi and qemu-system-arm.
 """
 from __future__ import annotations
 
+import argparse
 import sys
 import tempfile
 from pathlib import Path
+
+import numpy as np
 
 from fricgen import codegen
 from fricgen.control.c_adapted import render_adapt
@@ -49,6 +56,7 @@ float fw_step(float v)
         fm_adapt_default_params(&ap);
         ap.rule = %(rule)s;
         ap.e_dead = 0.0f;
+        ap.gain = 1e-9f;   /* the same operations, but theta barely moves: no saturation */
         (void)fric_adapt_init(&a, &ap);
         ready = 1;
     }
@@ -60,11 +68,12 @@ ADAPTED = "(void)fric_adapt_ctrl_step(&a, &c, fm_regressor, 0.0f, v, 1e-4f, v, 0
 FIXED = "(void)fric_ctrl_step_fn(&c, 0.0f, v, 1e-4f, v, 0.0f, fm_force, &i);"
 
 
-def models():
+def models(sizes=(10,)):
     bench = synthesize_benchmark(preset("paper3"), seed=0)
-    return {"ELM M = 10": FrictionModel.fit(bench.dataset, ELMRegressor(
-                n_hidden=10, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0), name="fm"),
-            "grey-box S = 3": FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")}
+    elms = {f"ELM M = {m}": FrictionModel.fit(bench.dataset, ELMRegressor(
+                n_hidden=m, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0), name="fm")
+            for m in sizes}
+    return {**elms, "grey-box S = 3": FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")}
 
 
 def per_call(model, impl: str, rule: str, call: str, tmp: Path) -> float:
@@ -79,15 +88,20 @@ def per_call(model, impl: str, rule: str, call: str, tmp: Path) -> float:
     return sum(fw.count_instructions(elf, TARGET).values()) / N_BENCH
 
 
-def main() -> int:
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="10", help="ELM sizes M, comma-separated (default 10)")
+    args = ap.parse_args(argv)
+    sizes = [int(m) for m in args.sizes.split(",")]
     reason = fw.missing_tools()
     if reason:
         print(f"adaptation_cost: {reason}", file=sys.stderr)
         return 2
     print(f"{'model':16s} {'impl':5s} {'rule':9s} {'adapted step':>12s} {'fixed step':>10s} "
           f"{'adaptation':>10s}  (instructions per call, Cortex-M4F)", flush=True)
+    cost = {}
     with tempfile.TemporaryDirectory(prefix="fricgen_acost_") as tmp:
-        for label, model in models().items():
+        for label, model in models(sizes).items():
             for impl in ("libm", "fast"):
                 for rule in ("FRIC_ADAPT_RULE_LYAPUNOV", "FRIC_ADAPT_RULE_RLS"):
                     folder = Path(tmp) / f"{label[:3]}{impl}{rule[-3:]}"
@@ -96,6 +110,16 @@ def main() -> int:
                     short = "lyapunov" if rule.endswith("LYAPUNOV") else "rls"
                     print(f"{label:16s} {impl:5s} {short:9s} {adapted:12.0f} {fixed:10.0f} "
                           f"{adapted - fixed:10.0f}", flush=True)
+                    if label.startswith("ELM"):
+                        cost.setdefault((short, impl), []).append((model.aim.n_hidden, adapted - fixed))
+    if len(sizes) > 1:
+        print("\nadaptation alone through the ELM sizes (instructions per update), a + b M [+ c M^2]:")
+        for (rule, impl), points in sorted(cost.items()):
+            m, n = np.array(points, dtype=float).T
+            coef = np.polyfit(m, n, 2 if rule == "rls" else 1)[::-1]
+            worst = float(np.max(np.abs(np.polyval(coef[::-1], m) - n)))
+            print(f"  {rule:9s} {impl:5s} " + ", ".join(f"{k} = {c:.2f}" for k, c in zip("abc", coef))
+                  + f"  (largest miss {worst:.0f})")
     return 0
 
 

@@ -3,7 +3,7 @@ the regressor reproduces the model, and each safety mechanism is provoked once."
 import numpy as np
 import pytest
 
-from fricgen.control.adaptation import FLAGS, FrictionAdapter, adapted
+from fricgen.control.adaptation import FLAGS, MAX_PARAMS, FrictionAdapter, adapted
 from fricgen.control.regressor import Regressor, parameter_names, trained_parameters, with_parameters
 from fricgen.errors import ModelError
 from fricgen.fit import StribeckRegressor
@@ -141,3 +141,15 @@ def test_reset_returns_to_the_trained_values(model):
 def test_bad_settings_name_the_parameter(default_model, name, value):
     with pytest.raises(ValueError, match=name):
         FrictionAdapter(default_model, **{name: value}).validate()
+
+
+def test_the_fit_report_states_what_an_update_costs_and_where_adaptation_stops():
+    from fricgen.codegen.cost import adapt_instructions
+    from fricgen.training.report import adapt_cost
+    sizes = np.arange(1, MAX_PARAMS)
+    lyapunov, rls = adapt_instructions(sizes), adapt_instructions(sizes, "rls")
+    assert np.all(np.diff(lyapunov) > 0) and np.all(rls > lyapunov)     # O(M) and O(M^2) updates
+    assert adapt_instructions(10) <= 2000 < adapt_instructions(10, "rls")   # the target at M = 10
+    line = adapt_cost(10)
+    assert f"about {adapt_instructions(10):.0f} instructions per update" in line and "RLS" in line
+    assert f"--max-neurons {MAX_PARAMS - 1}" in adapt_cost(MAX_PARAMS) and "about" not in adapt_cost(MAX_PARAMS)

@@ -25,6 +25,22 @@ CORTEX_M4F_INSTRUCTIONS: Dict[str, Tuple[float, float]] = {"libm": (41.4, 86.76)
 HOST_NS: Tuple[float, float] = (-5.7, 9.65)
 
 
+#: Instructions of one online-adaptation update (``emit --adapt``: ``fric_adapt_ctrl_step`` less
+#: the fixed model's controller step) on Cortex-M4F for an ELM of M sigmoid units, a + b M + c M^2,
+#: by (rule, ``--activation-impl``): through M = 1, 5, 10, 15 of ``python
+#: benchmarks/adaptation_cost.py --sizes 1,5,10,15`` (largest miss 11 instructions; RLS is
+#: quadratic through its covariance update).
+ADAPT_INSTRUCTIONS: Dict[Tuple[str, str], Tuple[float, float, float]] = {
+    ("lyapunov", "libm"): (137.41, 113.24, 0.0), ("lyapunov", "fast"): (134.83, 105.28, 0.0),
+    ("rls", "libm"): (235.62, 178.48, 13.83), ("rls", "fast"): (225.97, 171.58, 13.78)}
+
+
+def adapt_instructions(n_hidden: int, rule: str = "lyapunov", activation_impl: str = "libm") -> float:
+    """Instructions per online-adaptation update on Cortex-M4F for ``n_hidden`` sigmoid units."""
+    a, b, c = ADAPT_INSTRUCTIONS[rule, activation_impl]
+    return a + b * n_hidden + c * n_hidden ** 2
+
+
 def cortex_m4f_instructions(n_hidden: int, activation_impl: str = "libm") -> float:
     """Instructions per ``NAME_force`` call on Cortex-M4F for ``n_hidden`` sigmoid units."""
     a, b = CORTEX_M4F_INSTRUCTIONS[activation_impl]

@@ -11,7 +11,8 @@ from dataclasses import dataclass, field
 from functools import singledispatch
 from typing import Optional, Tuple
 
-from ..codegen.cost import cortex_m4f_instructions, host_ns
+from ..codegen.cost import adapt_instructions, cortex_m4f_instructions, host_ns
+from ..control.adaptation import MAX_PARAMS
 from ..codegen.parity import float32_problem
 from ..data.inverse_dynamics import Identification
 from ..data.outliers import OUTLIER_SIGMAS
@@ -123,8 +124,9 @@ def _(estimator: StribeckRegressor, dataset) -> list:
 
 @singledispatch
 def cost_lines(estimator) -> list:
-    """The C cost per call of an ELM (``fricgen.codegen.cost``, fitted to ELM kernels)."""
-    return [call_cost(estimator.n_hidden, estimator.activation)]
+    """The C cost per call of an ELM (``fricgen.codegen.cost``, fitted to ELM kernels), and per
+    update of its online adaptation."""
+    return [call_cost(estimator.n_hidden, estimator.activation), adapt_cost(estimator.n_hidden)]
 
 
 @cost_lines.register
@@ -143,6 +145,16 @@ def call_cost(n_hidden: int, activation: str) -> str:
     return (f"C cost    about {cortex_m4f_instructions(n_hidden):.0f} instructions per call on "
             f"Cortex-M4F ({cortex_m4f_instructions(n_hidden, 'fast'):.0f} with --activation-impl "
             f"fast), {host_ns(n_hidden):.0f} ns on the reference x86-64 host{units}")
+
+
+def adapt_cost(n_hidden: int) -> str:
+    """The report's line on the cost of ``emit --adapt`` per update (``fricgen.codegen.cost``)."""
+    if n_hidden + 1 > MAX_PARAMS:
+        return (f"adapt     emit --adapt holds at most {MAX_PARAMS - 1} neurons "
+                f"(--max-neurons {MAX_PARAMS - 1})")
+    return (f"adapt     emit --adapt: about {adapt_instructions(n_hidden):.0f} instructions per "
+            f"update on Cortex-M4F (Lyapunov; RLS {adapt_instructions(n_hidden, 'rls'):.0f}), "
+            "beside the controller step")
 
 
 def error_line(errors: dict) -> str:
