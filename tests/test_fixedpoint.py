@@ -198,6 +198,9 @@ def test_the_z_scale_covers_w_x_plus_b_on_0_1_and_refuses_only_beyond_q15():
     assert fx.FixedSpec.of(_one_neuron([3.0, -1.0], [-3.0, 0.5], [1.0, 1.0]), "q15").f_z == 27
     assert fx.FixedSpec.of(_one_neuron(1.0, -0.5), "q15").f_z == 28
     assert fx.FixedSpec.of(_one_neuron(4000.0, -1.0), "q15").f_z == 17
+    # b = 2^-14 (2^-14 2^29 = 2^15 is one too many: F_b = 28) meets F_z = 28: b still fits z's scale
+    tiny_b = fx.FixedSpec.of(_one_neuron(1.0, 2.0 ** -14), "q15")
+    assert tiny_b.f_z == tiny_b.f_b == 28
     with pytest.raises(ModelError, match="network weights too large for q15: .w x . b. reaches 4100"):
         fx.FixedSpec.of(_one_neuron(4100.0, -1.0), "q15")
 
