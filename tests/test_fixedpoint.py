@@ -178,7 +178,9 @@ def test_the_scale_rules_give_their_hand_values():
         fx.ConstMul.of(9000.0, 0, 0, 16, "c")
     from test_references import hand_elm_model                  # v_sat = 0.06 m/s
     model = hand_elm_model()
-    for v_max, v_range in ((None, 0.125), (0.05, 0.125), (0.2, 0.25), (0.25, 0.5)):
+    # 0.25 (1 - 2^-17) 2^17 rounds to 2^15, one too many; 0.25 (1 - 1.5 2^-14) 2^17 = 2^15 - 3 fits
+    for v_max, v_range in ((None, 0.125), (0.05, 0.125), (0.2, 0.25), (0.25, 0.5), (0.25 * (1 - 2.0 ** -17), 0.5),
+                           (0.25 * (1 - 1.5 * 2.0 ** -14), 0.25)):
         assert fx.input_range(model, "q15", v_max) == v_range, v_max
     assert fx.input_range(model, "q31", 0.25) == 0.5
 
