@@ -63,7 +63,12 @@ MODULES: Dict[str, Tuple[str, Optional[Sequence[str]], Sequence[str]]] = {
         "test_grey_box_force_has_defined_behaviour_for_every_input_under_sanitizers"]),
     "template_fixed": ("templates/model_fixed.c.j2", None,
                        ["tests/test_references.py::test_every_c_implementation_of_the_hand_elm_gives_the_hand_values",
-                        "tests/test_fixedpoint.py"]),
+                        "tests/test_fixedpoint.py", "tests/test_fixed_table.py", "tests/test_hardening.py::"
+                        "test_fixed_point_grey_box_table_is_read_in_bounds_for_every_input_under_sanitizers"]),
+    "fixed_table": ("fricgen/codegen/fixed_table.py",
+                    ["TableSpec.base_shift", "TableSpec.of", "knots", "_layout", "interpolation_error",
+                     "force_table_q", "table_error_bound"],
+                    ["tests/test_fixed_table.py"]),
 }
 
 PY_OPS = {"+": "-", "-": "+", "*": "/", "/": "*", "**": "*", "<": "<=", "<=": "<", ">": ">=",

@@ -109,3 +109,68 @@ def test_table_c_builds_without_a_warning_under_the_strict_flags(table_lib, cc):
         pytest.skip(f"{cc} not installed")
     _, _, folder, _ = table_lib
     assert_builds_strictly(folder, "gb.c", cc)
+
+
+def _layouts(bits):
+    """Every (K, m) the module allows: 2^m intervals per segment, m in LOG2_INTERVALS, at most
+    MAX_TABLE intervals, the narrowest 2^-(K + m) at least 2 LSB of Q(bits-1) wide."""
+    return [(k, m) for m in ft.LOG2_INTERVALS for k in range(0, bits - 1)
+            if (k + 1) * 2 ** m <= ft.MAX_TABLE and k + m <= bits - 2]
+
+
+def _tolerance(spec, model):
+    return ft.TABLE_TOLERANCE * 2.0 ** (spec.bits - 1 - spec.f_f) * model.scaling.k_out
+
+
+def test_the_table_is_the_smallest_within_the_tolerance():
+    """Of every allowed layout, none with fewer intervals than the chosen one meets
+    TABLE_TOLERANCE of the force range (exhaustive search)."""
+    model = greybox("gauss")
+    spec = ft.TableSpec.of(model, "q15")
+    tolerance = _tolerance(spec, model)
+    assert spec.interpolation_error <= tolerance
+    smaller = [(k, m) for k, m in _layouts(16) if (k + 1) * 2 ** m < spec.table.size - 1]
+    assert len(smaller) >= 10
+    for k, m in smaller:
+        assert ft.interpolation_error(model.aim, ft.knots(k, m)) > tolerance, (k, m)
+
+
+def test_a_drop_too_steep_for_any_table_gets_the_most_accurate_allowed_one():
+    """v_s = 10 um/s in q15: no allowed layout meets the tolerance; the one chosen is the most
+    accurate of them all, its narrowest interval 2 LSB of x wide (K + m = bits - 2)."""
+    model = greybox("gauss", (0.00001, 0.02))
+    spec = ft.TableSpec.of(model, "q15")
+    errors = {(k, m): ft.interpolation_error(model.aim, ft.knots(k, m)) for k, m in _layouts(16)}
+    assert min(errors.values()) > _tolerance(spec, model)
+    assert spec.interpolation_error == min(errors.values())
+    assert spec.octaves + spec.log2_m == 14 and spec.base_shift == 1
+
+
+def test_a_linear_aim_takes_the_first_table_of_nine_hand_values():
+    """AIM = 1/2 + x/4 (no Stribeck drop: amplitude 0) is interpolated exactly by the
+    smallest layout, K = 0 and 2^3 intervals; 1.1 max |AIM| = 0.825 < 1 gives F_aim = 15, so
+    the table is (1/2 + k/32) 2^15 = 16384 + 1024 k, k = 0..8."""
+    curve = StribeckCurve("gauss", 0.5, np.array([0.0]), np.array([0.1]), 0.25)
+    model = FrictionModel(curve, Scaling(1.0 / V_SAT, 1.0 / 36.0), 57.5, V_SAT, name="gb")
+    spec = ft.TableSpec.of(model, "q15")
+    assert (spec.octaves, spec.log2_m, spec.f_aim) == (0, 3, 15)
+    assert spec.table.tolist() == [16384 + 1024 * k for k in range(9)]
+
+
+def test_interpolation_error_finds_a_maximum_between_its_probes():
+    """x^3 against its chord on [0, 1]: r - r^3 peaks at r = 1/sqrt(3), between the probes
+    k/64, at 2 / (3 sqrt(3)) = 0.3849001794597505; the bounded search reaches it."""
+    assert ft.interpolation_error(lambda x: x ** 3, np.array([0.0, 1.0])) == \
+        pytest.approx(0.3849001794597505, rel=1e-12)
+
+
+def test_table_error_bound_of_a_linear_aim_is_its_hand_sum():
+    """AIM = 1/2 + x/4 (slope 1/4, interpolated exactly, F_aim = 15), K_out = 1/36: the bound
+    is (0 + 1.5 LSB of the AIM + 1/4 the input's rounding) 36 N + what follows the AIM."""
+    from fricgen.codegen.fixedpoint import input_rounding, output_error
+    curve = StribeckCurve("gauss", 0.5, np.array([0.0]), np.array([0.1]), 0.25)
+    model = FrictionModel(curve, Scaling(1.0 / V_SAT, 1.0 / 36.0), 57.5, V_SAT, name="gb")
+    spec = ft.TableSpec.of(model, "q15")
+    assert spec.interpolation_error < 1e-15
+    hand = (1.5 * 2.0 ** -15 + 0.25 * input_rounding(spec, model)) * 36.0 + output_error(spec, model)
+    assert ft.table_error_bound(spec, model) == pytest.approx(hand, rel=1e-9)

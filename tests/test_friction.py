@@ -53,3 +53,13 @@ def test_bad_parameters_are_named():
         multisource([1, 2], [2], [0.1], [1])
     with pytest.raises(ValueError, match="unknown friction preset"):
         preset("paper4")
+
+
+def test_from_dict_reads_sources_by_name_in_any_key_order():
+    """A hand-edited model.json may list a source's keys in any order: each is read by name.
+    At v = 0.01 = v_s the exponential source gives 4 + (8 - 4) e^-1 + 2.5 * 0.01 N."""
+    d = {"sources": [{"B": 2.5, "vs": 0.01, "fs": 8.0, "fc": 4.0}], "shape": "exponential"}
+    f = MultisourceFriction.from_dict(d)
+    assert [(s.fc, s.fs, s.vs, s.B) for s in f.sources] == [(4.0, 8.0, 0.01, 2.5)]
+    assert float(f(0.01)) == pytest.approx(4.0 + 4.0 * 0.36787944117144233 + 0.025, rel=1e-14)
+    assert MultisourceFriction.from_dict(f.to_dict()) == f

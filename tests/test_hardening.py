@@ -105,6 +105,19 @@ def test_fixed_force_has_defined_behaviour_for_every_input_under_sanitizers(mode
     assert out.strip() == f"{N_FUZZ} inputs, 0 violations"
 
 
+@pytest.mark.parametrize("dtype", ["q15", "q31"])
+def test_fixed_point_grey_box_table_is_read_in_bounds_for_every_input_under_sanitizers(dtype, tmp_path):
+    """The AIM table of a fixed-point [F1] model: x = 1 (every |v| >= v_sat) is its last
+    point, read without its right neighbour (ASan checks every global). v_sat = 0.05 m/s:
+    K_in v_sat rounds to exactly 1 in q15 and q31 (with 0.06 m/s it stays 1 LSB below)."""
+    curve = StribeckCurve("exponential", 0.4, np.array([0.3, 0.25]), np.array([0.08, 0.3]), 0.02)
+    model = FrictionModel(curve, Scaling(1 / 0.05, 1 / 44.0), 57.5, 0.05, name="fm")
+    codegen.emit(model, tmp_path, "fm", dtype=dtype)
+    ct, mn = ("int16_t", "INT16_MIN") if dtype == "q15" else ("int32_t", "INT32_MIN")
+    out = sanitized_run(tmp_path, FIXED_FUZZ % {"n": N_FUZZ, "ct": ct, "dt": dtype, "min": mn})
+    assert out.strip() == f"{N_FUZZ} inputs, 0 violations"
+
+
 @pytest.mark.skipif(shutil.which("cppcheck") is None, reason="cppcheck not installed (apt-get install cppcheck)")
 @pytest.mark.parametrize("variant", [dict(activation_impl="libm"), dict(activation_impl="fast"),
                                      dict(dtype="q15"), dict(dtype="q31")])

@@ -13,7 +13,7 @@ from fricgen.codegen.cbuild import build_model
 from fricgen.codegen.fast_sigmoid import error_bound as sigmoid_fast_bound
 from fricgen.codegen.fast_sigmoid import exp_neg_error_bound
 from fricgen.codegen.parity import c_forces
-from fricgen.codegen.twin import force_f32
+from fricgen.codegen.twin import force_f32, stribeck_aim_f32
 from fricgen.friction import SHAPES, preset
 from fricgen.model import FrictionModel, Scaling
 from fricgen.networks import ElmNetwork, StribeckCurve
@@ -119,6 +119,20 @@ def test_emitted_c_and_its_twin_give_the_hand_values(shape, impl, tmp_path):
     assert np.max(np.abs(c - f)) <= bound
     if impl == "fast":                                        # no libm: the twin bit for bit
         assert np.array_equal(c, twin)
+
+
+@pytest.mark.parametrize("impl", ["libm", "fast"])
+def test_grey_box_aim_takes_a_negative_or_nan_input_as_zero_in_c_and_the_twin(impl, tmp_path):
+    """NAME_aim(x) of [F1] for x < 0, -inf or NaN is its value at 0: c + sum_k a_k g(0) =
+    K_out sum f_s = 44 / 44 = 1 with Table 1 and K_out = 1/44 (float32, a few roundings)."""
+    model = table1_curve("gauss")
+    x = np.array([-0.5, -np.inf, np.nan, 0.0], dtype=np.float32)
+    twin = stribeck_aim_f32(model.aim, x, impl).astype(float)
+    emit_impl(model, tmp_path, "ref", impl)
+    lib = build_model(tmp_path, "ref", build_dir=tmp_path / "build")
+    c = np.array([lib.ref_aim(float(u)) for u in x])
+    for values in (twin, c):
+        np.testing.assert_allclose(values, 1.0, rtol=8 * EPS32)
 
 
 #: A hand-built ELM of [F7]: 1.5 (sigma(4x - 2) + 0.5 sigma(-4x + 2)) = 1.5 (0.5 + 0.5 sigma(4x - 2)),

@@ -44,9 +44,10 @@ def _ceil_log2(x: float) -> int:
 
 
 def _frac_for(max_abs: float, bits: int) -> int:
-    """The finest binary scale F with round(max_abs 2^F) < 2^(bits-1)."""
-    f = (bits - 1) - _ceil_log2(max_abs * (1 + 2.0 ** -(bits - 2)) + 2.0 ** -60)
-    while round(max_abs * 2.0 ** f) >= 2 ** (bits - 1):
+    """The finest binary scale F with round(max_abs 2^F) < 2^(bits-1) (bits - 1 for 0): the
+    logarithm's, one coarser when max_abs 2^F rounds to 2^(bits-1) (as 4 2^13 = 2^15 in q15)."""
+    f = (bits - 1) - _ceil_log2(max_abs)
+    if round(max_abs * 2.0 ** f) >= 2 ** (bits - 1):
         f -= 1
     return f
 
