@@ -25,6 +25,10 @@ CORTEX_M4F_INSTRUCTIONS: Dict[str, Tuple[float, float]] = {"libm": (41.4, 86.76)
 HOST_NS: Tuple[float, float] = (-5.7, 9.65)
 
 
+#: The most output parameters online adaptation holds (FRIC_ADAPT_MAX_PARAMS of fric_adapt.h):
+#: an ELM of at most 15 units.
+ADAPT_MAX_PARAMS = 16
+
 #: Instructions of one online-adaptation update (``emit --adapt``: ``fric_adapt_ctrl_step`` less
 #: the fixed model's controller step) on Cortex-M4F for an ELM of M sigmoid units, a + b M + c M^2,
 #: by (rule, ``--activation-impl``): through M = 1, 5, 10, 15 of ``python

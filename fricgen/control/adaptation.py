@@ -47,6 +47,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from ..codegen.cost import ADAPT_MAX_PARAMS as MAX_PARAMS  # FRIC_ADAPT_MAX_PARAMS of fric_adapt.h
 from ..errors import ModelError
 from ..model import FrictionModel
 from ..networks import StribeckCurve
@@ -68,8 +69,6 @@ FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
     ("FRIC_ADAPT_DEAD_ZONE", 8, "dead zone"),
     ("FRIC_ADAPT_PROJECTED", 16, "projected"),
     ("FRIC_ADAPT_TRACE_CLAMPED", 32, "trace clamped"))))
-#: The most parameters the C struct holds (FRIC_ADAPT_MAX_PARAMS of fric_adapt.h).
-MAX_PARAMS = 16
 
 
 def parameter_scale(model: FrictionModel) -> np.ndarray:

@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 from functools import singledispatch
 from typing import Optional, Tuple
 
+from ..codegen.cost import ADAPT_MAX_PARAMS as MAX_PARAMS
 from ..codegen.cost import adapt_instructions, cortex_m4f_instructions, host_ns
-from ..control.adaptation import MAX_PARAMS
 from ..codegen.parity import float32_problem
 from ..data.inverse_dynamics import Identification
 from ..data.outliers import OUTLIER_SIGMAS
