@@ -1,7 +1,7 @@
 """The adapted closed loop on the emulated Cortex-M4F: ``fric_adapt_ctrl_step`` (what `emit
 --adapt` writes) against the float32 plant of examples/firmware/fw_plant.c for 60 s at 1 kHz,
 bit for bit against its Python twin (``adapted(..., dtype="float32")`` and
-``firmware.Float32Plant``). The fast sigmoid and the exact square root make every operation a
+``firmware.closed_loop.Float32Plant``). The fast sigmoid and the exact square root make every operation a
 basic IEEE one, so the runs must be equal to the last bit. The reference is one 4 s period
 of the reversing trajectory (``reversing()`` repeats every 4 s), looped, to keep the table in
 flash small; the firmware prints every 100th sample and the adapted parameters at the end."""
@@ -13,8 +13,8 @@ from fricgen.control.adaptation import adapted
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.c_abi import params_initializer
 from fricgen.control.c_adapted import render_adapt
-from fricgen.c_literal import c_float, c_list
 from fricgen.firmware import build as fw
+from fricgen.firmware import closed_loop as cl
 from fricgen.sim.trajectory import reversing, sampled
 
 pytestmark = [pytest.mark.slow,
@@ -82,22 +82,19 @@ def _twin(model, rule, plant, ref):
 @pytest.mark.parametrize("rule", ["lyapunov", "rls"])
 def test_the_adapted_loop_on_the_cortex_m4f_is_bit_equal_to_its_twin_over_60_s(default_model, rule,
                                                                                tmp_path):
-    model, plant = default_model, fw.Float32Plant()
+    model, plant = default_model, cl.Float32Plant()
     ref = sampled(reversing(), np.arange(PERIOD) * 1e-3).astype(np.float32)
     src = tmp_path / "src"
     codegen.emit(model, src, "fm", activation_impl="fast", with_controller=True)
     for name, text in render_adapt(model, "fm", "fast").items():
         (src / name).write_text(text)
-    arrays = "\n".join(
-        f"static const float fw_ref_{name}[{PERIOD}] = {{\n{c_list((c_float(v) for v in ref[:, j]), 6)}\n}};"
-        for j, name in enumerate(("xd", "xd_dot", "xd_ddot")))
-    extra = LOOP % {"arrays": arrays, "plant": plant.c_initializer(),
+    extra = LOOP % {"arrays": cl.reference_arrays(ref), "plant": plant.c_initializer(),
                     "ctrl": params_initializer(AdaptiveBackstepping()),
                     "rule": f"FRIC_ADAPT_RULE_{rule.upper()}", "n": int(round(SECONDS * 1000)),
                     "period": PERIOD, "every": EVERY}
     cfg = fw.config_float("fm.h", "fm_force", [0.0], extra=extra)
     elf = fw.build_firmware(src, cfg, "cortex-m4f", tmp_path / "build",
-                            extra_sources=fw.plant_sources(), strict_extra=True)
+                            extra_sources=cl.plant_sources(), strict_extra=True)
     lines = fw.run(elf, "cortex-m4f", timeout=600)
     c_rows, c_theta = _rows(lines, "al"), _rows(lines, "th").ravel()
     py_rows, py_theta = _twin(model, rule, plant, ref)

@@ -5,7 +5,7 @@ import pytest
 
 from fricgen.effects import (DirectionAsymmetry, FrictionalLag, PositionRipple, Signals,
                              ThermalDrift, effect_from_dict)
-from fricgen.firmware.build import Float32Plant
+from fricgen.firmware.closed_loop import Float32Plant
 from fricgen.friction import multisource, preset
 from fricgen.sim.axis import AxisState, MotorAxis
 from fricgen.sim.effect_law import EffectLaw

@@ -8,6 +8,7 @@ import pytest
 from conftest import AXIS_PAIRS, CTYPES, emit_impl, force_fn, impl_inputs, impl_twin
 from fricgen import codegen
 from fricgen.firmware import build as fw
+from fricgen.firmware import closed_loop as cl
 from fricgen.codegen.twin import force_f32
 
 pytestmark = pytest.mark.skipif(fw.missing_tools() is not None,
@@ -109,7 +110,7 @@ def test_emulated_two_axes_from_one_folder_each_equal_their_own_twin(model10, ax
 
 # Closed loop on the MCU: fric_ctrl_step_fn with the emitted fm_force as compensation against
 # the float32 plant of examples/firmware/fw_plant.c, N samples of the reversing reference,
-# compared row by row (x, v, i, m_o_hat, k_hat) with fricgen.firmware.closed_loop_f32 (the
+# compared row by row (x, v, i, m_o_hat, k_hat) with fricgen.firmware.closed_loop.closed_loop_f32 (the
 # float32 controller twin, the model twin and the plant twin). With the fast sigmoid every
 # operation is a basic IEEE float operation or sqrtf (correctly rounded by the M4F's vsqrt and
 # by newlib's soft-float sqrtf), so the runs are bit-equal. With libm, newlib's expf is not
@@ -129,28 +130,28 @@ def run_closed_loop(model, impl, target, tmp_path):
     from fricgen.sim.trajectory import reversing, sampled
 
     settings = AdaptiveBackstepping(compensation=model, law="c")
-    plant = fw.Float32Plant()
+    plant = cl.Float32Plant()
     ref = sampled(reversing(), np.arange(N_LOOP) * settings.ts).astype(np.float32)
     out = tmp_path / f"loop_{impl}_{target}"
     codegen.emit(model, out / "model", "fm", activation_impl=impl, with_controller=True)
     cfg = fw.config_float("fm.h", "fm_force", [0.0],
-                          extra=fw.config_closed_loop(settings, plant, ref, "fm_force"))
+                          extra=cl.config_closed_loop(settings, plant, ref, "fm_force"))
     elf = fw.build_firmware(out / "model", cfg, target, out / "build",
-                            extra_sources=fw.plant_sources(), strict_extra=True)
-    c_rows = fw.parse_closed_loop(fw.run(elf, target))
-    py_rows = fw.closed_loop_f32(float32_twin(settings, model, impl), plant, ref)
+                            extra_sources=cl.plant_sources(), strict_extra=True)
+    c_rows = cl.parse_closed_loop(fw.run(elf, target))
+    py_rows = cl.closed_loop_f32(float32_twin(settings, model, impl), plant, ref)
     return ref, c_rows, py_rows
 
 
 @pytest.mark.parametrize("target", sorted(fw.TARGETS))
 def test_emulated_closed_loop_with_fast_model_is_bit_equal_to_python(model10, target, tmp_path):
     ref, c_rows, py_rows = run_closed_loop(model10, "fast", target, tmp_path)
-    assert c_rows.shape == (N_LOOP, len(fw.LOOP_COLUMNS))
+    assert c_rows.shape == (N_LOOP, len(cl.LOOP_COLUMNS))
     equal = np.all(c_rows.view(np.uint32) == py_rows.view(np.uint32), axis=1)
     print(f"fast {target}: {int(equal.sum())}/{N_LOOP} rows bit-equal")
     assert equal.all()
     # the loop really tracks and adapts (not a trivially equal run)
-    x, i, k_hat = (c_rows[:, fw.LOOP_COLUMNS.index(k)] for k in ("x", "i", "k_hat"))
+    x, i, k_hat = (c_rows[:, cl.LOOP_COLUMNS.index(k)] for k in ("x", "i", "k_hat"))
     assert np.all(np.isfinite(c_rows))
     assert np.sqrt(np.mean((ref[:, 0] - x) ** 2)) < 1e-3 < np.abs(ref[:, 0]).max()
     assert 1.0 < np.abs(i).max() < 10.0 and k_hat[-1] != k_hat[0]
@@ -163,10 +164,10 @@ def test_emulated_closed_loop_with_libm_model_matches_python_within_tolerance(mo
     assert c_rows.shape == py_rows.shape and np.all(np.isfinite(c_rows))
     diff = np.abs(c_rows.astype(float) - py_rows.astype(float)).max(axis=0)
     equal = np.all(c_rows.view(np.uint32) == py_rows.view(np.uint32), axis=1)
-    print(f"libm {target}: max diff {dict(zip(fw.LOOP_COLUMNS, diff))}, "
+    print(f"libm {target}: max diff {dict(zip(cl.LOOP_COLUMNS, diff))}, "
           f"{int(equal.sum())}/{N_LOOP} rows bit-equal")
     tol = np.array([1e-8, 1e-5, 1e-4, 1e-5, 1e-5])
-    assert np.all(diff <= tol), dict(zip(fw.LOOP_COLUMNS, diff))
+    assert np.all(diff <= tol), dict(zip(cl.LOOP_COLUMNS, diff))
 
 
 @pytest.mark.parametrize("impl", ["libm", "fast"])

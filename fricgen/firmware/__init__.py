@@ -4,8 +4,8 @@ The public names: ``config_float`` writes the harness's fw_config.h, ``build_fir
 a model folder with the bare-metal harness into an ELF for one of ``TARGETS``, ``run`` runs it
 on QEMU (failures: ``FirmwareError``), ``missing_tools`` says why that cannot happen here, and
 ``available_flag_sets`` lists the compiler flag sets (``FlagSet``) of the flag matrix. The
-modules hold the rest: ``build`` (fixed-point configs, section sizes, instruction counts, the
-closed-loop run) and ``flag_matrix``. The names load on first use (PEP 562).
+modules hold the rest: ``build`` (fixed-point configs, section sizes, instruction counts),
+``closed_loop`` (the closed-loop run against a float32 plant) and ``flag_matrix``. The names load on first use (PEP 562).
 """
 from __future__ import annotations
 
