@@ -32,7 +32,7 @@ def test_the_symmetry_cross_validation_tells_each_fold(monkeypatch, capsys):
     monkeypatch.setattr(_progress, "PROGRESS_SECONDS", 0.0)
     heard = []
     told = fit_directions(sweep, elm, vs_max=0.02, progress=heard.append)
-    assert [line.split(" (")[0] for line in heard] == [
+    assert [line.split(" (")[0] for line in heard] == ["symmetry: fitted on all rows"] + [
         f"symmetry: cross-validated {k} of {CV_FOLDS} folds" for k in range(1, CV_FOLDS + 1)]
     assert told.cv_rmse == fit_directions(sweep, elm, vs_max=0.02).cv_rmse
     assert capsys.readouterr() == ("", "")

@@ -128,8 +128,9 @@ def register(p) -> None:
     p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
                    "(default: chosen by cross-validation from the data)")
     p.add_argument("--method", choices=["auto", "elm_auto", "stribeck", "elm"],
-                   help="auto: the grey-box [F1] or the automatic ELM, whichever has the "
-                   "smaller cross-validated error (default); elm_auto: the automatic ELM; "
+                   help="auto: the grey-box [F1], or the automatic ELM where its "
+                   "cross-validated error is smaller by more than one standard error (default); "
+                   "elm_auto: the automatic ELM; "
                    "stribeck: the grey-box [F1]; elm: the ELM the options below describe "
                    "(default when any of them is given)")
     p.add_argument("--max-neurons", type=number(1, MAX_HIDDEN, integer=True),

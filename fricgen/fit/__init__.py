@@ -44,8 +44,8 @@ def default_elm(random_state=0, max_neurons=None) -> AutoELMRegressor:
 
 def default_estimator(random_state=0, max_neurons=None, max_parameters=None) -> DefaultRegressor:
     """The estimator ``fricgen train`` uses unless told otherwise (``DefaultRegressor``): the
-    grey-box [F1] or the automatic ELM, whichever cross-validates better, gross outliers set
-    aside.
+    grey-box [F1], or the automatic ELM where it cross-validates better by more than one
+    standard error, gross outliers set aside.
 
     Parameters
     ----------

@@ -87,14 +87,21 @@ def _vs_max(sweep: Sweep, vs_max: Optional[float], blocks: int = 0):
     return choose_vs_max(folded, folds)
 
 
-def _fit(sweep: Sweep, estimator, vs_max,
-         max_points: Optional[int] = None, independence: float = 1.0) -> FittedDirection:
-    """The curve fitted to ``sweep`` (folded) by a fresh copy of ``estimator``."""
+def warm_copy(fitted):
+    """An unfitted estimator that repeats ``fitted``'s procedure on data close to its own (a
+    fold of them), started from its result where it can be (``warm_copy`` of the default and
+    the grey-box), else a fresh copy."""
+    return fitted.warm_copy() if hasattr(fitted, "warm_copy") else clone(fitted)
+
+
+def _fit(sweep: Sweep, estimator, vs_max, max_points: Optional[int] = None,
+         independence: float = 1.0, fresh=clone) -> FittedDirection:
+    """The curve fitted to ``sweep`` (folded) by ``fresh(estimator)``, a fresh copy."""
     kwargs = {"independence": independence}
     if max_points is not None:
         kwargs["max_points"] = max_points
     dataset = prepare(sweep, vs_max=vs_max, **kwargs)
-    fitted = clone(estimator)
+    fitted = fresh(estimator)
     return FittedDirection(Direction.fit(dataset, fitted), dataset, fitted)
 
 
@@ -114,19 +121,26 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
                    progress: Optional[Callable[[str], None]] = None) -> np.ndarray:
     """Held-out mean squared force errors (N^2) per fold (``row_folds``): row 0 the symmetric
     model, row 1 the asymmetric one (its curves fitted by ``per_direction``, default
-    ``estimator``). ``vs_max`` holds (both, positive, negative). ``progress`` hears of each fold done when
-    they take long (``fricgen._progress.Progress``)."""
+    ``estimator``). ``vs_max`` holds (both, positive, negative). Each model's procedure runs
+    once on all rows, and each fold's fit repeats it from that result (``warm_copy``: the
+    grey-box's candidates refitted and averaged again, without the multi-start). ``progress``
+    hears of each fold done when they take long (``fricgen._progress.Progress``)."""
     per_direction = estimator if per_direction is None else per_direction
     report = Progress(progress)
     moving = sweep.v != 0
     v, f = sweep.v[moving], sweep.f[moving]
+    whole = Sweep(v, f)
     fold = row_folds(v.size, folds, seed, blocks)
+    fitted = [_fit(half, model, vs, CV_POINTS, independence).estimator for half, model, vs in
+              zip((whole, whole.direction(1), whole.direction(-1)),
+                  (estimator, per_direction, per_direction), vs_max)]
+    report("symmetry: fitted on all rows")
     mse = np.zeros((2, folds))
     for k in range(folds):
         train, test = Sweep(v[fold != k], f[fold != k]), fold == k
-        both = _fit(train, estimator, vs_max[0], CV_POINTS, independence).curve
-        pos = _fit(train.direction(1), per_direction, vs_max[1], CV_POINTS, independence).curve
-        neg = _fit(train.direction(-1), per_direction, vs_max[2], CV_POINTS, independence).curve
+        both, pos, neg = (_fit(half, model, vs, CV_POINTS, independence, warm_copy).curve
+                          for half, model, vs in zip(
+                              (train, train.direction(1), train.direction(-1)), fitted, vs_max))
         sign, speed, target = np.sign(v[test]), np.abs(v[test]), np.sign(v[test]) * f[test]
         mse[0, k] = np.mean((both.magnitude(speed) - target) ** 2)
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))

@@ -272,7 +272,11 @@ class StribeckRegressor(Estimator):
     grid : int
         Log-spaced start values of the Stribeck velocity (multi-start).
     n_folds : int
-        Folds of the cross-validation of the whole procedure (``cv_rmse_``).
+        Folds of the cross-validation of the whole procedure (``cv_rmse_``); 0 for none
+        (``cv_residuals_`` None, ``cv_rmse_`` nan).
+    starts : dict, optional
+        {(shape, S, bound): Stribeck velocities theta = log xs}: fit exactly these candidates,
+        each from its own start, instead of the multi-start (``warm_copy``).
 
     Attributes
     ----------
@@ -316,12 +320,22 @@ class StribeckRegressor(Estimator):
     scheme = "grey-box"
 
     def __init__(self, shapes: Sequence[str] = tuple(SHAPES), sources: Sequence[int] = SOURCES,
-                 xs_bounds: Sequence[float] = XS_BOUNDS, grid: int = 7, n_folds: int = 5):
+                 xs_bounds: Sequence[float] = XS_BOUNDS, grid: int = 7, n_folds: int = 5,
+                 starts=None):
         self.shapes = shapes
         self.sources = sources
         self.xs_bounds = xs_bounds
         self.grid = grid
         self.n_folds = n_folds
+        self.starts = starts
+
+    def warm_copy(self) -> "StribeckRegressor":
+        """An unfitted copy that refits this fit's candidates, each from its Stribeck velocities
+        (one start instead of the multi-start), without cross-validating itself: the whole
+        procedure again (AICc, averaging, dropping) at a fraction of the cost, for data close to
+        these (a fold of them)."""
+        return StribeckRegressor(self.shapes, self.sources, self.xs_bounds, self.grid, 0,
+                                 {k: tuple(f.theta) for k, f in self.fits_.items()})
 
     def fit(self, x, t) -> "StribeckRegressor":
         shapes = list(self.shapes)
@@ -332,12 +346,27 @@ class StribeckRegressor(Estimator):
         if not sources or not bounds:
             raise ValueError("sources and xs_bounds must not be empty")
         integer("grid", self.grid, minimum=2)
-        integer("n_folds", self.n_folds, minimum=2)
+        if self.n_folds != 0:
+            integer("n_folds", self.n_folds, minimum=2)
         x, t = self._inputs(x, t)
         start = time.perf_counter()
         fits, tried = {}, 0
         self.xs_min_ = xs_min = XS_MIN
-        for xs_max in bounds:
+
+        def keep(found: SourcesFit, xs_max: float) -> SourcesFit:
+            """``found`` kept by its (shape, S, bound) once its undetermined sources are dropped."""
+            shape = found.curve.shape
+            kept = drop_undetermined(found, lambda theta: fit_sources(
+                x, t, shape, [theta], xs_min, xs_max))
+            if kept is not None:
+                key = (shape, kept.curve.n_sources, xs_max)
+                fits[key] = _better(fits.get(key), kept)
+            return found
+
+        for (shape, _, xs_max), theta in (self.starts or {}).items():
+            tried += 1
+            keep(fit_sources(x, t, shape, [np.asarray(theta)], xs_min, xs_max), xs_max)
+        for xs_max in bounds if self.starts is None else ():
             if xs_max <= xs_min:
                 continue
             grid = start_grid(self.grid, xs_min, xs_max)
@@ -348,13 +377,8 @@ class StribeckRegressor(Estimator):
                         break
                     starts = [np.append(previous.theta, g) for g in grid] if previous else \
                         [np.array([g]) for g in grid]
-                    previous = fit_sources(x, t, shape, starts, xs_min, xs_max)
+                    previous = keep(fit_sources(x, t, shape, starts, xs_min, xs_max), xs_max)
                     tried += 1
-                    kept = drop_undetermined(previous, lambda theta: fit_sources(
-                        x, t, shape, [theta], xs_min, xs_max))
-                    if kept is not None:
-                        key = (shape, kept.curve.n_sources, xs_max)
-                        fits[key] = _better(fits.get(key), kept)
         if not tried:
             raise ValueError(f"{x.size} points are too few for [F1] with {min(sources)} sources")
         if not fits:
@@ -371,8 +395,10 @@ class StribeckRegressor(Estimator):
         self.network_ = best.curve
         self.shape_, self.n_sources_ = best.curve.shape, best.curve.n_sources
         self.xs_max_ = max(k[2] for k in self.weights_)
-        self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
-        self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x)], 0.0)
+        self.cv_residuals_, self.cv_rmse_ = None, float("nan")
+        if self.n_folds:
+            self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
+            self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x)], 0.0)
         self.train_rmse_ = best.rmse
         self.standard_errors_ = best.standard_errors()
         self.fit_seconds_ = time.perf_counter() - start

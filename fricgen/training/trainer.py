@@ -81,7 +81,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         ``t`` (s, uniformly sampled), ``v`` (m/s) or ``x`` (m), and ``force`` (N) or ``i`` (A).
     estimator : estimator, optional
         What fits each curve's [F9] training set; default ``default_estimator(seed)``: the
-        grey-box [F1] or the automatic ELM, whichever cross-validates better.
+        grey-box [F1], or the automatic ELM where it cross-validates clearly better.
     vs_max : float, optional
         Bound on the Stribeck velocities, m/s (v_sat = 3 vs_max); default: chosen by
         cross-validation from the data.
