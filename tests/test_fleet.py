@@ -8,17 +8,20 @@ import signal
 import threading
 import time
 
+import numpy as np
 import pytest
 
 distributed = pytest.importorskip("distributed")
 pytest.importorskip("pyarrow")
 
-from independent_axis import fleet_axis, fleet_log, write_fleet_log  # noqa: E402
+from independent_axis import fleet_axis, fleet_friction, fleet_log, write_fleet_log  # noqa: E402
 
 from fricgen.cli import main  # noqa: E402
 from fricgen.cli import blas_env  # noqa: E402
 from fricgen.cli.train import train_argv  # noqa: E402
 from fricgen.fleet import Entry, drift_table, read_manifest, run_fleet  # noqa: E402
+from fricgen.data import Sweep  # noqa: E402
+from fricgen.fleet.law import fit_law  # noqa: E402
 from fricgen.fleet.store import load_results  # noqa: E402
 
 DURATION = 8.0          # s: short logs, each still identified
@@ -167,3 +170,22 @@ def test_a_bad_manifest_is_one_line_and_nothing_written(tmp_path, capsys, text, 
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0]
     assert not (tmp_path / "out").exists()
+
+
+def test_the_monitoring_laws_standard_errors_hold_the_spread_of_noise_draws():
+    """The law fitted to noisy rows of a friction it is not (a squared-rational drop and
+    quadratic drag): over 40 draws the Coulomb level and static peak scatter by about their own
+    standard errors, and a 10 % growth of both is several of them."""
+    axis = fleet_axis(3)
+    rng = np.random.default_rng(0)
+    v = rng.uniform(0.001, 0.25, 2000)
+    fits = [fit_law(Sweep(v, fleet_friction(axis, v) + rng.normal(0.0, 0.3, v.size)), v.size)
+            for _ in range(40)]
+    for name in ("coulomb", "static", "viscous"):
+        values = np.array([f[name] for f in fits])
+        se = np.array([f[name + "_se"] for f in fits])
+        assert 0.6 < np.std(values) / np.mean(se) < 1.5, name
+    grown = dict(axis, coulomb=1.1 * axis["coulomb"], static=1.1 * axis["static"])
+    worn = fit_law(Sweep(v, fleet_friction(grown, v) + rng.normal(0.0, 0.3, v.size)), v.size)
+    change = worn["coulomb"] - fits[0]["coulomb"]
+    assert change / math.hypot(worn["coulomb_se"], fits[0]["coulomb_se"]) > 5

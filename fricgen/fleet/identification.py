@@ -1,10 +1,12 @@
 """One log of the fleet identified (a worker's task): trained with ``fricgen train``'s own code
 (``cli.train.fit``): the grey-box [F1] (``--method stribeck``), one curve per direction
-(``--asymmetric``), with the export options given. From each direction's curve come the Coulomb
-level sum f_c, the static peak f_s = sum f_c + sum (f_s - f_c) (F at v -> 0), the Stribeck
-velocity v_s of the largest source and B, each with its standard error
-(``StribeckRegressor.standard_errors_``; B's from the high-speed line, ``data.viscous.viscous_se``,
-NaN where B was fitted with the sources)."""
+(``--asymmetric``), with the export options given; its hash is recorded. The friction
+parameters come from the fleet's monitoring law (``law.fit_law``), one fixed law per direction
+fitted to the same rows, so that every log of an axis is described in the same terms: the
+Coulomb level F_c, the static peak F_s (F at v -> 0), the Stribeck velocity v_s and B, each
+with its standard error. The trained model's own parameters would not compare: its shape,
+number of sources and vs_max may change between two logs of one axis, and its Coulomb level
+with them, by far more than its standard errors (which hold its structure fixed) say."""
 from __future__ import annotations
 
 import math
@@ -13,10 +15,8 @@ import time
 from dataclasses import asdict
 from typing import Callable, Dict, List, Sequence
 
-import numpy as np
-
-from ..data.viscous import viscous_se
 from ..errors import FricgenError
+from .law import fit_law
 from .manifest import Entry
 from .store import RESULT_VERSION
 
@@ -39,14 +39,15 @@ def train_arguments(entry: Entry, options: Sequence[str]) -> List[str]:
 
 
 def friction_parameters(trained) -> Dict[str, float]:
-    """The friction parameters (SI units) and their standard errors of a model ``cli.train.fit``
-    fitted with the grey-box [F1] (a ``FitReport``), per direction (the same values for both when the fit is
-    symmetric): see the module.
+    """The friction parameters (SI units) and their standard errors of one trained log (a
+    ``FitReport``), per direction: the monitoring law (``law.fit_law``) fitted to the folded
+    rows of each direction (of both, the same values, when the model is symmetric), binned to
+    their independent samples.
 
     Parameters
     ----------
     trained : FitReport
-        The training of one log with the grey-box model (``TRAIN_FIT``).
+        The training of one log (``TRAIN_FIT``).
 
     Returns
     -------
@@ -64,30 +65,16 @@ def friction_parameters(trained) -> Dict[str, float]:
     >>> sorted(k for k in p if k.endswith("_pos")), p["coulomb_pos"] == p["coulomb_neg"]
     (['coulomb_pos', 'static_pos', 'stribeck_pos', 'viscous_pos'], True)
     """
-    fits = trained.fit.fits
     ident = trained.identification
     independence = ident.independent / ident.n_kept if ident is not None else 1.0
+    symmetric = len(trained.fit.fits) == 1
     out = {}
-    for k, d in enumerate(DIRECTIONS):
-        fit = fits[min(k, len(fits) - 1)]
-        est, ds = fit.estimator, fit.dataset
-        net, se = est.network_, est.standard_errors_
-        k_in, k_out = ds.scaling.k_in, ds.scaling.k_out
-        big = int(np.argmax(np.abs(net.amplitudes)))
-        half = (trained.sweep.folded() if len(fits) == 1 else
-                trained.sweep.direction(1 if k == 0 else -1).folded())
-        high = type(half)(half.v[half.v > ds.v_sat], half.f[half.v > ds.v_sat])
-        out.update({
-            f"coulomb_{d}": net.offset / k_out, f"coulomb_{d}_se": se["offset"] / k_out,
-            f"static_{d}": (net.offset + float(np.sum(net.amplitudes))) / k_out,
-            f"static_{d}_se": se["peak"] / k_out,
-            f"stribeck_{d}": float(net.stribeck[big]) / k_in,
-            f"stribeck_{d}_se": float(se["stribeck"][big]) / k_in,
-            f"viscous_{d}": ds.viscous + net.slope * k_in / k_out,
-            f"viscous_{d}_se": viscous_se(high, ds.viscous, independence)
-            if ds.n_high_speed else math.nan,
-        })
-    return {k: float(v) for k, v in out.items()}
+    for d, sign in zip(DIRECTIONS, (1, -1)):
+        half = (trained.sweep if symmetric else trained.sweep.direction(sign)).folded()
+        law = fit_law(half, len(half) * independence)
+        out.update({f"{p}_{d}" + suffix: law[p + suffix] for p in PARAMETERS
+                    for suffix in ("", "_se")})
+    return out
 
 
 def identify(entry: Entry, options: Sequence[str], key: str, train: Callable) -> dict:
