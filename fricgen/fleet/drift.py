@@ -15,8 +15,10 @@ from .identification import DIRECTIONS, PARAMETERS
 
 #: Default multiple of the combined standard errors a change must exceed.
 SIGMAS = 3.0
-#: Default practical threshold: the fraction of the reference value a change must exceed.
-MIN_CHANGE = 0.10
+#: Default practical threshold: the fraction of the reference value a change must exceed. The
+#: standard errors of the monitoring law hold the noise of unchanged axes (``law``), so this
+#: only keeps the changes too small to act on from the list when a long log measures them.
+MIN_CHANGE = 0.02
 #: The parameters the drift test watches, per direction (``pos``, ``neg``).
 MONITORED = ("coulomb", "static", "viscous")
 #: The reference a new result is compared with.
