@@ -49,7 +49,9 @@ def choose_by_cross_validation(designs, target: np.ndarray, folds: int = FIT_FOL
     """How many of the nested ``designs`` (each an (n, k) basis, simplest first) to take: the
     simplest whose blocked cross-validated mean square (least squares fitted on the other
     contiguous blocks of the rows) is within one standard error of the best's, the standard
-    error of their paired per-block differences (the one-standard-error rule). Returns 1..len."""
+    error of the best's mean over the blocks (the one-standard-error rule of Breiman et al.):
+    a term that lowers the held-out error by less than the blocks' spread is not taken.
+    Returns 1..len."""
     blocks = np.array_split(np.arange(target.size), folds)
     errors = np.empty((len(designs), len(blocks)))
     for j, block in enumerate(blocks):
@@ -60,8 +62,5 @@ def choose_by_cross_validation(designs, target: np.ndarray, folds: int = FIT_FOL
             errors[m, j] = float(np.mean((target[block] - X[block] @ coef) ** 2))
     mean = errors.mean(axis=1)
     best = int(np.argmin(mean))
-    for m in range(best + 1):
-        diff = errors[m] - errors[best]
-        if diff.mean() <= diff.std(ddof=1) / np.sqrt(len(blocks)):
-            return m + 1
-    return best + 1
+    limit = mean[best] + errors[best].std(ddof=1) / np.sqrt(len(blocks))
+    return int(np.flatnonzero(mean <= limit)[0]) + 1
