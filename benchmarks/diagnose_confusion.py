@@ -59,7 +59,7 @@ LENGTHS = (14.0, 60.0, 300.0, 1200.0)
 SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "asym",
          "constant_load": "load", "inertia_mismatch": "mass", "force_constant_mismatch": "phi",
          "extra_friction_source": "extra", "frictional_lag": "lag", "thermal_drift": "drift",
-         "table": "table"}
+         "position_friction": "pfric", "table": "table"}
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 #: The held-out guard's least relative shrink of the gap, for ``visible``.
 MIN_GAIN = Diagnoser().min_gain

@@ -1,7 +1,7 @@
 """fricgen diagnose on logs with exactly one hidden effect (or none): the right name and nothing
 more, the parameters within stated tolerances, and the held-out gap well reduced.
 
-One vectorized simulation makes every log (9 cases x 4 settings of seed, magnitude, noise).
+One vectorized simulation makes every log (10 cases x 4 settings of seed, magnitude, noise).
 """
 import json
 import math
@@ -57,7 +57,7 @@ def test_parameters_are_recovered_within_tolerance(results, case, model):
     spec, log, d = results[case]
     fit, truth = d.parameters(), truth_parameters(spec)
     e = spec.effect
-    if e == "position_ripple":
+    if e in ("position_ripple", "position_friction"):
         assert _relative_error(fit["amplitude"], truth["amplitude"], truth["amplitude"]) < 0.10
         assert _relative_error(fit["period"], truth["period"], truth["period"]) < 0.01
         assert abs((fit["phase"] - truth["phase"] + math.pi) % (2 * math.pi) - math.pi) < 0.15

@@ -31,6 +31,10 @@ def register(p) -> None:
                    help="nominal force constant phi, N/A (default: that of the model's axis record)")
     p.add_argument("--max-effects", type=number(1, MAX_EFFECTS, integer=True), default=3,
                    help=f"most effects added, 1 to {MAX_EFFECTS} (default 3)")
+    p.add_argument("--pitch", type=number(0, 1e3, low_open=True, unit="m"),
+                   help="the known fundamental period, m, of forces periodic in position (a pole "
+                   "pitch, a screw lead) for position_ripple and position_friction (default: "
+                   "found from the log)")
     add_output(p, "folder for model.json, report.md and plots",
                force_also=", and over files in it that diagnose did not write")
     add_export_options(p)
@@ -76,7 +80,7 @@ def _run(args) -> int:
     for note in notes:
         say("fricgen: " + note)
     with named_data(source):
-        d = Diagnoser(max_effects=args.max_effects).fit(log, model, mass, force_constant)
+        d = Diagnoser(max_effects=args.max_effects, pitch=args.pitch).fit(log, model, mass, force_constant)
     files = render_files(d, log, Path(args.log).name)
     targets = check_targets(args, files, inputs, folder_of=[args.model])  # before any result is printed
     check_overwrite(targets.values(), args.force, written=written_by_diagnose)

@@ -94,16 +94,21 @@ def identity_context(model: FrictionModel, name: str) -> dict:
 
 def effects_context(model: FrictionModel, name: str) -> dict:
     """What the templates need for NAME_force_xv: the C terms, the tables' static arrays (read
-    by NAME_interp) and the effects left out of C."""
-    terms, tables = [], []
+    by NAME_interp), the effects' static helper functions (NAME_effectK) and the effects left
+    out of C."""
+    terms, tables, functions = [], [], []
     for e in model_effects(model):
         if not e.in_xv:
             continue
+        helper = f"{name}_effect{len(functions)}"
         if isinstance(e, TableEffect):
             symbol = f"table{len(tables)}"
             tables.append(e.c_declaration(symbol))
             terms.append({"name": e.name, "c_expr": e.c_call(symbol, f"{name}_interp")})
+        elif e.c_function(helper):
+            functions.append(e.c_function(helper))
+            terms.append({"name": e.name, "c_expr": e.c_call(helper)})
         else:
             terms.append({"name": e.name, "c_expr": e.c_expr()})
-    return {"effects": terms, "effect_tables": tables,
+    return {"effects": terms, "effect_tables": tables, "effect_functions": functions,
             "effects_not_in_c": [e.name for e in model_effects(model) if not e.in_xv]}

@@ -103,6 +103,10 @@ class Diagnoser:
         Whether tables without a physical name may be offered.
     substeps : int
         Integration steps per sample of the simulations.
+    pitch : float, optional
+        The fundamental period (m) of the effects periodic in position (``position_ripple``,
+        ``position_friction``) when it is known (a pole pitch, a screw lead); by default it is
+        found from the log.
 
     Attributes
     ----------
@@ -151,10 +155,12 @@ class Diagnoser:
     def __init__(self, window: float = 0.021, holdout: float = 0.3, horizon: float = 0.02,
                  folds: int = 5, alpha: float = 0.01, min_size: float = 0.02, min_gain: float = 0.1,
                  max_effects: int = 3,
-                 candidates: Optional[Sequence[str]] = None, tables: bool = True, substeps: int = 10):
+                 candidates: Optional[Sequence[str]] = None, tables: bool = True, substeps: int = 10,
+                 pitch: Optional[float] = None):
         self.window, self.holdout, self.horizon = window, holdout, horizon
         self.folds, self.alpha, self.min_size, self.min_gain = folds, alpha, min_size, min_gain
         self.max_effects, self.candidates, self.tables, self.substeps = max_effects, candidates, tables, substeps
+        self.pitch = pitch
 
     def _validate(self):
         if not 0.05 <= self.holdout <= 0.6:
@@ -171,6 +177,8 @@ class Diagnoser:
             raise ValueError(f"min_size must be in [0, 1), got {self.min_size}")
         if not 0 <= self.min_gain < 1:
             raise ValueError(f"min_gain must be in [0, 1), got {self.min_gain}")
+        if self.pitch is not None and not (np.isfinite(self.pitch) and self.pitch > 0):
+            raise ValueError(f"pitch must be a finite number > 0, got {self.pitch}")
         if (isinstance(self.max_effects, bool) or not isinstance(self.max_effects, int)
                 or not 1 <= self.max_effects <= MAX_EFFECTS):
             raise ValueError(f"max_effects must be an integer in [1, {MAX_EFFECTS}], got {self.max_effects!r}")
@@ -310,7 +318,7 @@ class Diagnoser:
         # the model's own effects as they apply to this log: a carried mass or force constant
         # is the axis' own, a drift starts with the log
         base = [e.for_log(mass, force_constant, float(log.t[0])) for e in model_effects(model)]
-        p = ResidualProblem(log, model, mass, force_constant, w, self.holdout, base)
+        p = ResidualProblem(log, model, mass, force_constant, w, self.holdout, base, self.pitch)
         self.problem_ = p
         self.horizon_samples_ = max(1, int(round(self.horizon / ts)))
         self._held_out = HeldOutGap(p, self.horizon_samples_, self.substeps)

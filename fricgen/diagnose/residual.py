@@ -12,7 +12,7 @@ undetermined). The last ``holdout`` fraction of the log is never used for fittin
 from __future__ import annotations
 
 import copy
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -40,8 +40,12 @@ class ResidualProblem:
     """The smoothed force residual on decimated moving rows, and the smoothing that made it."""
 
     def __init__(self, log: MotionLog, model: FrictionModel, mass: float, force_constant: float,
-                 window: int, holdout: float, effects: Sequence[Effect] = ()):
+                 window: int, holdout: float, effects: Sequence[Effect] = (),
+                 pitch: Optional[float] = None):
         self.mass, self.force_constant = mass, force_constant
+        #: A known fundamental period of the effects periodic in position (m), or None: found
+        #: from the data (``effects.position_series``).
+        self.pitch = pitch
         check_varies(log.i, "current i", "A")
         ts = log.sample_time
         self.sample_time = ts

@@ -7,11 +7,13 @@ from .base import PLAUSIBLE_FACTOR, Effect
 from .carried import effect_from_dict, force_xv, model_effects, validate_effects, with_effects
 from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
 from .library import EFFECTS, VOCABULARY
-from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch, PositionRipple
+from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch
+from .position_series import PositionFriction, PositionRipple, PositionSeries
 from .signals import FrictionCurve, Signals
 from .tables import TABLES, TableEffect, range_notes
 
-__all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRipple", "DirectionAsymmetry",
+__all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRipple", "PositionFriction",
+           "PositionSeries", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
            "model_effects", "validate_effects", "with_effects", "TABLES", "TableEffect", "range_notes"]

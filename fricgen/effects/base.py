@@ -173,7 +173,17 @@ class Effect:
             values[f.name] = float(value)
         return cls(**values)
 
-    # C: an expression in v, x, speed (|v|), sgn (sign of v) and base (NAME_force(v))
+    # C: an expression in v, x, speed (|v|), sgn (sign of v) and base (NAME_force(v)); or, for
+    # an effect with a static helper function (``c_function``), ``c_call`` of that function
+    def c_function(self, symbol: str) -> str:
+        """C code of a static function named ``symbol`` that ``c_call(symbol)`` calls ('' if
+        ``c_expr`` needs none)."""
+        return ""
+
+    def c_call(self, symbol: str) -> str:
+        """The expression calling the helper ``symbol`` of ``c_function``."""
+        raise NotImplementedError(f"{self.name} has no helper function")
+
     def c_expr(self) -> str:
         raise NotImplementedError(f"{self.name} is not a function of (v, x)")
 

@@ -1,6 +1,6 @@
-"""The numerics the named effects' fits share: least squares on the rows fitted, and a search
+"""The numerics the named effects' fits share: least squares on the rows fitted, a search
 over one nonlinear parameter (a grid, refined by bounded Brent between the best point's
-neighbours)."""
+neighbours), and the choice among nested bases by blocked cross-validation."""
 from __future__ import annotations
 
 from typing import Tuple
@@ -39,3 +39,28 @@ def fit_linear(template: "Effect", problem, rows) -> "Effect":
     regressors, _ = template.linear(problem.signals)
     coef, _ = lstsq(problem.at_rows(regressors, rows), problem.target[rows])
     return template.with_coefficients(coef)
+
+
+#: Contiguous blocks of the blocked cross-validation inside a fit (``choose_by_cross_validation``).
+FIT_FOLDS = 10
+
+
+def choose_by_cross_validation(designs, target: np.ndarray, folds: int = FIT_FOLDS) -> int:
+    """How many of the nested ``designs`` (each an (n, k) basis, simplest first) to take: the
+    simplest whose blocked cross-validated mean square (least squares fitted on the other
+    contiguous blocks of the rows) is within one standard error of the best's, the standard
+    error of the best's mean over the blocks (the one-standard-error rule of Breiman et al.):
+    a term that lowers the held-out error by less than the blocks' spread is not taken.
+    Returns 1..len."""
+    blocks = np.array_split(np.arange(target.size), folds)
+    errors = np.empty((len(designs), len(blocks)))
+    for j, block in enumerate(blocks):
+        train = np.ones(target.size, bool)
+        train[block] = False
+        for m, X in enumerate(designs):
+            coef, _ = lstsq(X[train], target[train])
+            errors[m, j] = float(np.mean((target[block] - X[block] @ coef) ** 2))
+    mean = errors.mean(axis=1)
+    best = int(np.argmin(mean))
+    limit = mean[best] + errors[best].std(ddof=1) / np.sqrt(len(blocks))
+    return int(np.flatnonzero(mean <= limit)[0]) + 1

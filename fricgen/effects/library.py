@@ -1,17 +1,19 @@
 """The named physical effects (the diagnosis' vocabulary), by name: those of the axis's
-mechanics (``mechanical``) and those that change its friction (``friction_changes``), each with
-its force law, fit from a force residual and C expression."""
+mechanics (``mechanical``), those periodic in position (``position_series``: cogging, and a
+friction level along the travel) and those that change its friction (``friction_changes``),
+each with its force law, fit from a force residual and C expression."""
 from __future__ import annotations
 
 from typing import Dict, Type
 
 from .base import Effect
 from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
-from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch, PositionRipple
+from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch
+from .position_series import PositionFriction, PositionRipple
 
 #: The effect library, by the exact names of the diagnosis vocabulary.
 EFFECTS: Dict[str, Type[Effect]] = {cls.name: cls for cls in (
     PositionRipple, DirectionAsymmetry, ConstantLoad, InertiaMismatch, ForceConstantMismatch,
-    ExtraFrictionSource, FrictionalLag, ThermalDrift)}
+    ExtraFrictionSource, FrictionalLag, ThermalDrift, PositionFriction)}
 #: The vocabulary: "none" and every effect name.
 VOCABULARY = ("none",) + tuple(EFFECTS)

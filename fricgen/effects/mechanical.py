@@ -1,9 +1,8 @@
-"""The named effects of the axis's mechanics rather than its friction: a force periodic in
-position (cogging, ripple), a constant load, and a mass or force constant other than the nominal
-one [C1]; each one small class of the ``Effect`` contract (``base``)."""
+"""The named effects of the axis's mechanics rather than its friction: a constant load, and a
+mass or force constant other than the nominal one [C1]; each one small class of the ``Effect``
+contract (``base``). Forces periodic in position (cogging) are in ``position_series``."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import ClassVar, Tuple
 
@@ -11,89 +10,7 @@ import numpy as np
 
 from ..c_literal import c_float
 from .base import Effect
-from .fitting import fit_linear, lstsq, refine
-
-
-@dataclass(frozen=True)
-class PositionRipple(Effect):
-    """Cogging / force ripple, periodic in position: A sin(2 pi x / P + phase).
-
-    Parameters
-    ----------
-    amplitude : float
-        A (N).
-    period : float
-        P (m), > 0.
-    phase : float
-        Phase (rad).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from fricgen import preset
-    >>> from fricgen.effects import Signals
-    >>> sig = Signals(preset("paper3"), t=np.array([0.0, 1.0]), x=np.array([0.0, 0.25]),
-    ...               v=np.array([0.1, -0.1]), a=np.array([2.0, 2.0]), i=np.array([1.0, 1.0]),
-    ...               sample_time=1.0)
-    >>> from fricgen.effects import PositionRipple
-    >>> PositionRipple(amplitude=2.0, period=1.0, phase=0.0).force(sig).round(3).tolist()
-    [0.0, 2.0]
-    """
-
-    amplitude: float
-    period: float
-    phase: float
-    name: ClassVar[str] = "position_ripple"
-    in_xv: ClassVar[bool] = True
-    acts_at_rest: ClassVar[bool] = True
-    positive: ClassVar[Tuple[str, ...]] = ("period",)
-
-    def force(self, sig):
-        return self.amplitude * np.sin(2 * np.pi / self.period * np.asarray(sig.x) + self.phase)
-
-    def linear(self, sig):
-        k = 2 * np.pi / self.period * np.asarray(sig.x)
-        return (np.column_stack([np.sin(k), np.cos(k)]),
-                self.amplitude * np.array([math.cos(self.phase), math.sin(self.phase)]))
-
-    def with_coefficients(self, coef):
-        a, c = coef
-        return replace(self, amplitude=float(math.hypot(a, c)), phase=float(math.atan2(c, a) % (2 * np.pi)))
-
-    @classmethod
-    def fit(cls, problem, rows) -> "PositionRipple":
-        """Least-squares periodogram over wavenumbers (problem.ripple_bank), refined by Brent."""
-        ks, bank = problem.ripple_bank()
-        r = problem.target[rows]
-        B = bank[:, rows, :]                                   # (K, n, 2)
-        G = np.einsum("kni,knj->kij", B, B)
-        b = np.einsum("kni,n->ki", B, r)
-        coef = np.linalg.solve(G + 1e-12 * np.eye(2), b[..., None])[..., 0]
-        gain = np.einsum("ki,ki->k", coef, b)                  # RSS reduction per wavenumber
-        j = int(np.argmax(gain))
-
-        x = problem.signals.x
-
-        def waves(k):
-            return lambda i: np.stack([np.sin(k * x[i]), np.cos(k * x[i])], axis=-1)
-
-        def rss(k):
-            return lstsq(problem.at_rows(waves(k), rows), r)[1]
-
-        lo, hi = ks[max(j - 1, 0)], ks[min(j + 1, ks.size - 1)]
-        k = refine(rss, lo, hi)
-        (a, c), _ = lstsq(problem.at_rows(waves(k), rows), r)
-        return cls(amplitude=float(math.hypot(a, c)), period=float(2 * np.pi / k),
-                   phase=float(math.atan2(c, a) % (2 * np.pi)))
-
-    def c_expr(self):
-        return (f"{c_float(self.amplitude)} * sinf(({c_float(2 * np.pi / self.period)} * x) + "
-                f"{c_float(self.phase)})")
-
-    def force_f32(self, v, x, base):
-        f32 = np.float32
-        arg = f32(2 * np.pi / self.period) * x + f32(self.phase)
-        return f32(self.amplitude) * np.sin(arg.astype(np.float64)).astype(f32)
+from .fitting import fit_linear
 
 
 @dataclass(frozen=True)

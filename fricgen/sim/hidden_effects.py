@@ -21,6 +21,8 @@ frictional_lag         the Stribeck part follows |v| low-passed with time consta
                        an RMS of 0.05 F_c while moving
 thermal_drift          friction x (1 +- D (1 - exp(-t / T))), T 0.5-2 log durations, friction
                        changed by 25 % at the end of the log (saturating, not linear in t)
+position_friction      0.2 F_c sgn(v) sin(2 pi x / P + phase), P as position_ripple's: a
+                       friction level that changes periodically along the travel
 =====================  ========================================================================
 
 Out-of-vocabulary shapes (``hidden`` entries ``"oov:<shape>"``), at reference magnitude:
@@ -53,10 +55,14 @@ from .plant_friction import StretchedStribeck, log_uniform
 
 #: The named effects the generator can hide (keys of ``fricgen.effects.EFFECTS``).
 NAMED = ("position_ripple", "direction_asymmetry", "constant_load", "inertia_mismatch",
-         "force_constant_mismatch", "extra_friction_source", "frictional_lag", "thermal_drift")
+         "force_constant_mismatch", "extra_friction_source", "frictional_lag", "thermal_drift",
+         "position_friction")
 #: Shapes outside the named forms, hidden as ``"oov:<shape>"``.
 OUT_OF_VOCABULARY = ("ripple_harmonics", "local_drag", "nonlinear_viscous", "actuator_deadzone",
                      "actuator_saturation", "sensor_delay")
+#: The order that seeds each effect's draws (``effect_rng``): names added later go at its end,
+#: so that the scenarios of a seed keep their draws.
+_DRAW_ORDER = NAMED[:8] + OUT_OF_VOCABULARY + NAMED[8:]
 #: The plant's Stribeck table covers speeds up to this (m/s); S is flat long before.
 TABLE_TOP = 100.0
 
@@ -112,8 +118,7 @@ class PlantLaw:
 
 
 def effect_rng(seed, name):
-    order = NAMED + OUT_OF_VOCABULARY
-    return np.random.default_rng([seed, 3, order.index(name)])
+    return np.random.default_rng([seed, 3, _DRAW_ORDER.index(name)])
 
 
 def add_effect(h: HiddenEffects, name: str, k: float, rng, ctx: dict) -> None:
@@ -122,23 +127,24 @@ def add_effect(h: HiddenEffects, name: str, k: float, rng, ctx: dict) -> None:
     fc, vpk = ctx["coulomb"], ctx["v_peak"]
     sign = float(rng.choice([-1.0, 1.0]))
     p: dict
-    if name in ("position_ripple", "ripple_harmonics"):
+    if name in ("position_ripple", "ripple_harmonics", "position_friction"):
         period = _ripple_period(rng, ctx)
-        if name == "position_ripple":
+        if name != "ripple_harmonics":
             amps, phases = [0.2 * fc * k], [rng.uniform(0, 2 * np.pi)]
         else:
             amps = [0.12 * fc * k, 0.10 * fc * k, 0.08 * fc * k]
             phases = rng.uniform(0, 2 * np.pi, 3).tolist()
         wn = 2 * np.pi / period
+        against_motion = name == "position_friction"
 
         def force(x, v, t):
-            return sum(a * np.sin((j + 1) * wn * np.asarray(x) + ph)
-                       for j, (a, ph) in enumerate(zip(amps, phases)))
-        h.external.append(force)
+            f = sum(a * np.sin((j + 1) * wn * np.asarray(x) + ph)
+                    for j, (a, ph) in enumerate(zip(amps, phases)))
+            return np.sign(v) * f if against_motion else f
+        h.external.append(force)          # 0 at rest when against motion: it pushes no axis
         signature = _external_signature(force)
-        p = ({"amplitude": amps[0], "period": period, "phase": phases[0]}
-             if name == "position_ripple" else
-             {"amplitudes": amps, "period": period, "phases": phases})
+        p = ({"amplitudes": amps, "period": period, "phases": phases} if name == "ripple_harmonics"
+             else {"amplitude": amps[0], "period": period, "phase": phases[0]})
     elif name == "direction_asymmetry":
         gain, side = 0.25 * k, sign
 

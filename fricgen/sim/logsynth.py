@@ -28,7 +28,7 @@ from .effect_law import EffectLaw
 #: The effects a truth axis can hide, with their size at magnitude 1 (see ``truth_parameters``).
 HIDDEN_EFFECTS = ("none", "position_ripple", "direction_asymmetry", "constant_load",
                   "inertia_mismatch", "force_constant_mismatch", "extra_friction_source",
-                  "frictional_lag", "thermal_drift")
+                  "frictional_lag", "thermal_drift", "position_friction")
 
 #: Reference sizes at magnitude 1 (SI units); ``magnitude`` scales each.
 RIPPLE_AMPLITUDE, RIPPLE_PERIOD, RIPPLE_PHASE = 3.0, 0.012, 0.7    # N, m, rad
@@ -38,6 +38,7 @@ INERTIA = 0.3                 # true mass = (1 + 0.3) nominal
 FORCE_CONSTANT = -0.15        # true phi = (1 - 0.15) nominal
 EXTRA_SOURCE = dict(fc=2.0, fs=6.0, vs=0.03, B=15.0)   # fc, fs, B scale; vs does not
 LAG_TAU = 0.02                # s
+FRICTION_RIPPLE = 2.0         # N: sgn(v) 2 sin(2 pi x / RIPPLE_PERIOD + RIPPLE_PHASE)
 DRIFT_RATE = 0.02             # friction level grows by 2 % per second
 
 #: The truth axis' friction: Table 1 of the paper.
@@ -154,6 +155,8 @@ def _parameters(e: str, k: float, mass: float, force_constant: float) -> Dict[st
     """``truth_parameters`` of the effect ``e`` at magnitude ``k`` on the nominal axis."""
     if e == "position_ripple":
         return {"amplitude": RIPPLE_AMPLITUDE * k, "period": RIPPLE_PERIOD, "phase": RIPPLE_PHASE}
+    if e == "position_friction":
+        return {"amplitude": FRICTION_RIPPLE * k, "period": RIPPLE_PERIOD, "phase": RIPPLE_PHASE}
     if e == "direction_asymmetry":
         return {"gain_positive": 0.0, "gain_negative": ASYMMETRY * k}
     if e == "constant_load":
