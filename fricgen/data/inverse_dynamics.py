@@ -33,6 +33,9 @@ POLYORDER = 3
 MIN_WINDOW, WINDOW_RATIO = 7, 1.25
 #: The largest window, as a fraction of the log.
 MAX_WINDOW_FRACTION = 0.05
+#: The search stops at a window whose score exceeds the best so far by this factor: beyond the
+#: optimum the smoothing's bias only grows, and the largest windows of a long log cost the most.
+STOP_FACTOR = 2.0
 #: Windows (samples) from which ``smooth`` convolves by FFT: the direct sum costs O(window)
 #: per sample, the FFT O(log window).
 FFT_WINDOW = 64
@@ -125,7 +128,8 @@ def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: flo
     """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
     the generalized cross-validation score of smoothing the force (its noise, and the bias where
     the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
-    velocity noise leaves in the derivative. ``progress`` (a callable taking one line) hears
+    velocity noise leaves in the derivative; from the smallest window up, until one scores
+    STOP_FACTOR times the best. ``progress`` (a callable taking one line) hears
     how far the search is when it takes long (``fricgen._progress.Progress``)."""
     windows = candidate_windows(rows.size)
     report = Progress(progress)
@@ -134,6 +138,8 @@ def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: flo
         scores.append(gcv_score(force, window, rows)
                       + (mass * v_noise * derivative_noise(window, sample_time)) ** 2)
         report(f"smoothing window: scored {len(scores)} of {len(windows)} windows, up to {window} samples")
+        if scores[-1] > STOP_FACTOR * min(scores):
+            break
     return windows[int(np.argmin(scores))]
 
 
