@@ -347,4 +347,7 @@ def test_the_choice_keeps_its_digits_when_small():
     from fricgen.fit import DefaultRegressor
     est = DefaultRegressor()
     est.choice_, est.cv_rmse_ = "stribeck", {"stribeck": 2.5e-7, "elm_auto": 3.1e-7}
-    assert "error 2.5e-07 against 3.1e-07 for elm_auto" in est.why()
+    est.elm_gain_sigmas_ = -4.0
+    assert est.why().endswith("error 2.5e-07 against 3.1e-07 for elm_auto")
+    est.cv_rmse_, est.elm_gain_sigmas_ = {"stribeck": 3.1e-7, "elm_auto": 2.5e-7}, 0.5
+    assert "(elm_auto's gain 0.5 standard errors, within 1: the grey-box kept)" in est.why()
