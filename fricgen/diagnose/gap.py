@@ -13,7 +13,6 @@ from typing import Sequence, Tuple
 import numpy as np
 
 from ..effects import Effect, Signals
-from ..effects.timing import shifted
 from ..metrics import rmse
 from ..sim.axis import AxisState, MotorAxis
 from ..sim.effect_law import EffectLaw
@@ -27,8 +26,7 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
                substeps: int = 10) -> np.ndarray:
     """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
     samples from ``start`` on, driven by the measured current (smoothed; NaN before ``start``): the axis
-    of [C1] under the model's friction and ``effects``, in Karnopp steps. A sensor delay tau
-    (``EffectLaw.input_delay``) drives it with the current read tau earlier, interpolated."""
+    of [C1] under the model's friction and ``effects``, in Karnopp steps."""
     sig = problem.signals
     n = sig.t.size
     law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)
@@ -38,13 +36,10 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
         s0 = Signals(sig.model, v=problem.v_smooth, sample_time=problem.sample_time).lagged_speed(law.lag_tau)[starts]
     axis = MotorAxis(law)
     state = AxisState.of(problem.x_smooth[starts], problem.v_smooth[starts], sig.t[starts], s0)
-    current = problem.i_smooth
-    if law.input_delay:
-        current = shifted(current, -law.input_delay / problem.sample_time)
     out = np.full(n, np.nan)
     for j in range(horizon):
         k = np.minimum(starts + j, n - 1)
-        state = axis.karnopp(state, current[k], problem.sample_time, substeps)
+        state = axis.karnopp(state, problem.i_smooth[k], problem.sample_time, substeps)
         k1 = starts + j + 1
         ok = k1 < n
         out[k1[ok]] = state.v[ok]
