@@ -57,7 +57,7 @@ AVERAGING_GRID = 201
 MATCH_TOLERANCE = 0.1
 
 
-def _shape_and_slope(shape: str, x: np.ndarray, xs: float):
+def shape_and_slope(shape: str, x: np.ndarray, xs: float):
     """g(x, xs) and its derivative with respect to theta = log xs."""
     u = x / xs
     g = SHAPES[shape](x, xs)
@@ -70,7 +70,7 @@ def _shape_and_slope(shape: str, x: np.ndarray, xs: float):
 
 def _basis(shape: str, x: np.ndarray, xs: Sequence[float]):
     """[1, g(x, xs_1), ..., g(x, xs_S)] and the derivative of each g column by its theta."""
-    pairs = [_shape_and_slope(shape, x, s) for s in xs]
+    pairs = [shape_and_slope(shape, x, s) for s in xs]
     A = np.column_stack([np.ones_like(x)] + [g for g, _ in pairs])
     dA = np.column_stack([d for _, d in pairs]) if pairs else np.zeros((x.size, 0))
     return A, dA

@@ -16,6 +16,7 @@ from scipy.optimize import minimize_scalar
 
 from ..data.sweep import Sweep
 from ..data.viscous import bin_equal_counts
+from ..fit.stribeck import shape_and_slope
 from ..friction import SHAPES
 
 #: The law's g of [F2].
@@ -63,9 +64,7 @@ def fit_law(half: Sweep, samples: float, shape: str = LAW_SHAPE) -> dict:
                                   method="bounded", options={"xatol": 1e-6}).x)
     A = _basis(shape, v, theta)
     (c, a, b), *_ = np.linalg.lstsq(A, f, rcond=None)
-    u = v / np.exp(theta)
-    g = A[:, 1]
-    slope = {"gauss": 2.0 * u * u * g, "exponential": u * g, "rational": u * g * g}[shape]
+    _, slope = shape_and_slope(shape, v, float(np.exp(theta)))
     J = np.column_stack([A, a * slope])                      # d F / d (c, a, B, theta)
     r = f - A @ np.array([c, a, b])
     sigma2 = float(r @ r) / max(v.size - 4, 1)
