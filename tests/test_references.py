@@ -93,12 +93,13 @@ def test_grey_box_model_of_table1_gives_the_hand_values_and_saturates_at_v_sat(s
 
 def float32_bound(model, impl, v_max=0.12):
     """What float32 may cost against the exact force up to |v| = v_max, in N: (S + 4)
-    roundings of each term of [F1] (c, a_k g, B v and the products), and with the fast exp
-    its derived error on each a_k g."""
+    roundings of each term of [F1] (c, a_k g, B v and the products), each at least the
+    smallest normal float32 (a term below it underflows), and with the fast exp its derived
+    error on each a_k g."""
     net = model.aim
     terms = (abs(net.offset) + abs(net.slope) + np.abs(net.amplitudes).sum()) / model.scaling.k_out \
         + model.viscous * v_max
-    bound = (net.n_sources + 4) * EPS32 * terms
+    bound = (net.n_sources + 4) * (EPS32 * terms + np.finfo(np.float32).tiny / model.scaling.k_out)
     if impl == "fast" and net.shape != "rational":
         bound += exp_neg_error_bound() * np.abs(net.amplitudes).sum() / model.scaling.k_out
     return bound
