@@ -31,6 +31,8 @@ Out-of-vocabulary shapes (``hidden`` entries ``"oov:<shape>"``), at reference ma
 ripple_harmonics       cogging with its 2nd and 3rd harmonics: 0.12, 0.10, 0.08 F_c
 local_drag             0.5 F_c sgn(v) over a raised-cosine stretch of 5-15 % of the travel,
                        exactly 0 outside it
+tight_spot             F_c sgn(v) (the friction doubled) over a raised-cosine stretch of 2 %
+                       of the travel, in its middle 60 %: a tight spot of a guide or screw
 nonlinear_viscous      c sgn(v) |v|^p, p 3-4, 0.4 F_c at v_pk (p = 2 is a Gauss-shaped extra
                        source with a negative Stribeck part and a large vs: not outside)
 actuator_deadzone      h(i) = sgn(i) max(|i| - i_dz, 0), phi i_dz = 0.2 F_c
@@ -59,10 +61,10 @@ NAMED = ("position_ripple", "direction_asymmetry", "constant_load", "inertia_mis
          "position_friction")
 #: Shapes outside the named forms, hidden as ``"oov:<shape>"``.
 OUT_OF_VOCABULARY = ("ripple_harmonics", "local_drag", "nonlinear_viscous", "actuator_deadzone",
-                     "actuator_saturation", "sensor_delay")
+                     "actuator_saturation", "sensor_delay", "tight_spot")
 #: The order that seeds each effect's draws (``effect_rng``): names added later go at its end,
 #: so that the scenarios of a seed keep their draws.
-_DRAW_ORDER = NAMED[:8] + OUT_OF_VOCABULARY + NAMED[8:]
+_DRAW_ORDER = NAMED[:8] + OUT_OF_VOCABULARY[:6] + NAMED[8:] + OUT_OF_VOCABULARY[6:]
 #: The plant's Stribeck table covers speeds up to this (m/s); S is flat long before.
 TABLE_TOP = 100.0
 
@@ -206,11 +208,16 @@ def add_effect(h: HiddenEffects, name: str, k: float, rng, ctx: dict) -> None:
         h.gains.append(factor)
         signature = _gain_signature(factor)
         p = {"level": level, "time_constant": time_constant}
-    elif name == "local_drag":
+    elif name in ("local_drag", "tight_spot"):
         lo, hi = ctx["x_range"]
-        width = (hi - lo) * rng.uniform(0.05, 0.15)
-        centre = rng.uniform(lo + 0.3 * (hi - lo), hi - 0.3 * (hi - lo))
-        drag = 0.5 * fc * k
+        if name == "local_drag":
+            width = (hi - lo) * rng.uniform(0.05, 0.15)
+            centre = rng.uniform(lo + 0.3 * (hi - lo), hi - 0.3 * (hi - lo))
+            drag = 0.5 * fc * k
+        else:
+            width = 0.02 * (hi - lo)
+            centre = rng.uniform(lo + 0.2 * (hi - lo), hi - 0.2 * (hi - lo))
+            drag = fc * k
 
         def force(x, v, t):
             return _local_drag(v, x, centre, width, drag)
