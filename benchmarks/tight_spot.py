@@ -11,6 +11,9 @@ at least the held-out guard's least gain. Printed per log and in total:
 - what was named: a position table is the only right answer; any effect of the named
   vocabulary (all of them act along the whole travel or the whole log) counts as a global name.
 
+A drawn log too short for diagnose (it refuses one with too few moving samples) is counted
+apart.
+
     python benchmarks/tight_spot.py [--seeds 20] [--jobs 1]
 """
 import os
@@ -27,9 +30,19 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from diagnose_confusion import MIN_GAIN, run_case  # noqa: E402
+from diagnose_confusion import run_case, shows  # noqa: E402
+from fricgen.errors import DataError  # noqa: E402
 
 LOCAL = ("table_position", "table_position_friction")
+
+
+def diagnosed(case):
+    """``run_case``'s record, or None for a log too short to diagnose (diagnose refuses it)."""
+    try:
+        return run_case(case)
+    except DataError as e:
+        print(f"seed {case[2]}: not diagnosed: {e}", flush=True)
+        return None
 
 
 def main() -> None:
@@ -42,9 +55,10 @@ def main() -> None:
              for s in range(args.first_seed, args.first_seed + args.seeds)]
     with ProcessPoolExecutor(args.jobs) as pool:
         records = []
-        for r in pool.map(run_case, cases):
-            visible = r["gap_truth"] <= (1 - MIN_GAIN) * r["gap_before"]
-            r["visible"] = visible
+        for r in pool.map(diagnosed, cases):
+            if r is None:
+                continue
+            visible = r["visible"] = shows(r)
             records.append(r)
             print(f"seed {r['seed']}: {r['duration_s']:.0f} s at {r['rate_hz']:.0f} Hz; "
                   f"{'visible' if visible else 'invisible'}; named {r['effects'] or ['none']}; "
@@ -56,7 +70,7 @@ def main() -> None:
     truth_halved = [r for r in seen if r["gap_truth"] <= 0.5 * r["gap_before"]]
     global_names = [r for r in records if any(e not in LOCAL for e in r["effects"])]
     ratio = [r["gap_after"] / r["gap_truth"] for r in seen]
-    print(f"visible {len(seen)} of {len(records)}")
+    print(f"diagnosed {len(records)} of {len(cases)} logs; visible {len(seen)}")
     print(f"gap at least halved: {len(halved)} of {len(seen)} visible "
           f"({len(halved) / max(len(seen), 1):.0%}); the truth halves it on {len(truth_halved)}")
     if ratio:
