@@ -162,7 +162,7 @@ class TableEffect(Effect):
         return np.sign(np.asarray(sig.v)) * out if self.signed else out
 
     @classmethod
-    def fit(cls, problem, rows, knots: int = 0) -> "TableEffect":
+    def fit(cls, problem, rows) -> "TableEffect":
         sig = problem.signals
         coord = np.asarray(getattr(sig, cls.signal), dtype=float)
         inside = coord[problem.rows[rows]]
@@ -170,7 +170,7 @@ class TableEffect(Effect):
         if not hi > lo:
             hi = lo + 1.0
         weight = np.sign(sig.v) if cls.signed else None
-        H = hat_basis_at_rows(problem, coord, lo, hi, knots or cls.knots, rows, weight)
+        H = hat_basis_at_rows(problem, coord, lo, hi, cls.knots, rows, weight)
         values, _ = smooth_table(H, problem.target[rows], kinks=cls.kinks)
         return cls(lo=lo, hi=hi, values=tuple(float(c) for c in values))
 
