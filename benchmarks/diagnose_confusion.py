@@ -70,7 +70,7 @@ MIN_GAIN = Diagnoser().min_gain
 
 def cases(small: bool, per_length=None, magnitudes=()):
     """(key, kind, seed, hidden, fixed conditions) of every log of the run; ``per_length`` maps
-    a length to its number of null logs (missing: 2 in a small run, 6 in a full one);
+    a length to its number of null logs (missing: 2 in a small run, 60 in a full one);
     ``magnitudes`` the multiples of the reference magnitude the singles are run at again."""
     n_null, default_per_length, lengths = (15, 2, LENGTHS[:2]) if small else (100, 60, LENGTHS)
     per_length = per_length or {}

@@ -30,7 +30,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from diagnose_confusion import run_case, shows  # noqa: E402
+from diagnose_confusion import halves, run_case, shows  # noqa: E402
 from fricgen.errors import DataError  # noqa: E402
 
 LOCAL = ("table_position", "table_position_friction")
@@ -58,16 +58,15 @@ def main() -> None:
         for r in pool.map(diagnosed, cases):
             if r is None:
                 continue
-            visible = r["visible"] = shows(r)
             records.append(r)
             print(f"seed {r['seed']}: {r['duration_s']:.0f} s at {r['rate_hz']:.0f} Hz; "
-                  f"{'visible' if visible else 'invisible'}; named {r['effects'] or ['none']}; "
+                  f"{'visible' if shows(r) else 'invisible'}; named {r['effects'] or ['none']}; "
                   f"gap {r['gap_before']:.3g} -> {r['gap_after']:.3g} "
                   f"(x{r['gap_after'] / r['gap_before']:.2f}), truth {r['gap_truth']:.3g} "
                   f"(x{r['gap_truth'] / r['gap_before']:.2f}); {r['seconds_diagnose']:.0f} s", flush=True)
-    seen = [r for r in records if r["visible"]]
-    halved = [r for r in seen if r["gap_after"] <= 0.5 * r["gap_before"]]
-    truth_halved = [r for r in seen if r["gap_truth"] <= 0.5 * r["gap_before"]]
+    seen = [r for r in records if shows(r)]
+    halved = [r for r in seen if halves(r, "gap_after")]
+    truth_halved = [r for r in seen if halves(r, "gap_truth")]
     global_names = [r for r in records if any(e not in LOCAL for e in r["effects"])]
     ratio = [r["gap_after"] / r["gap_truth"] for r in seen]
     print(f"diagnosed {len(records)} of {len(cases)} logs; visible {len(seen)}")

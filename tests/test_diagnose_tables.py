@@ -14,7 +14,7 @@ from fricgen.codegen.cbuild import build
 from fricgen.codegen.twin import force_xv_f32
 from fricgen.effects import TABLES, PositionRipple, Signals, force_xv, with_effects
 from fricgen.effects.tables import (TablePosition, TablePositionFriction, TableTime, TableVelocity,
-                                    smooth_table)
+                                    _positions, smooth_table)
 from fricgen.data import prepare
 from fricgen.fit import StribeckRegressor
 from fricgen.model import FrictionModel, ModelError
@@ -69,11 +69,11 @@ def test_a_broken_table_is_refused(default_model, tmp_path, params, message):
 
 
 def _hat_basis(u, knots):
-    pos = u * (knots - 1)
-    k = np.minimum(pos.astype(int), knots - 2)
+    """Linear interpolation on ``knots`` equally spaced knots over [0, 1] at ``u``."""
+    k, frac = _positions(u, 0.0, 1.0, knots)
     H = np.zeros((u.size, knots))
-    H[np.arange(u.size), k] = 1 - (pos - k)
-    H[np.arange(u.size), k + 1] = pos - k
+    H[np.arange(u.size), k] = 1 - frac
+    H[np.arange(u.size), k + 1] = frac
     return H
 
 
