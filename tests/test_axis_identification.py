@@ -12,9 +12,10 @@ from fricgen.data.table import table_csv_text
 from fricgen.errors import DataError
 from fricgen.fit.directions import row_folds
 from fricgen.friction import preset
+from fricgen.model import FrictionModel
 from fricgen.sim.identification import SweepRun, simulate_sweep_run
 
-from independent_axis import MASS, friction, run_up
+from independent_axis import FLEET_AXIS, MASS, fleet_friction, fleet_log, friction, run_up
 
 FRICTION = preset("paper3")
 RUN = SweepRun(duration=8.0, rate=1500.0)
@@ -103,6 +104,26 @@ def test_train_without_mass_identifies_it_and_records_the_axis(offset_log, tmp_p
     assert axis["speed_max"] == pytest.approx(np.abs(offset_log["v"]).max(), rel=0.05)
 
 
+def test_a_load_larger_than_a_directions_friction_is_taken_out_of_the_asymmetric_curves(
+        tmp_path, capsys):
+    """Held in one direction's curve, a load of twice the Coulomb level would push the axis:
+    train keeps it apart as the axis's offset and fits the curves to the rest."""
+    axis = {**FLEET_AXIS, "coulomb": 2.2, "static": 7.6, "offset": 4.2}
+    log = _write(tmp_path, "load.csv", fleet_log(axis, 5, duration=20.0))
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "--method", "stribeck", "--asymmetric", "-o", str(out)]) == 0
+    assert "a load beside the friction" in capsys.readouterr().out
+    model = json.loads(out.read_text())
+    record = model["training"]["axis"]
+    assert abs(record["offset"] - 4.2) < 5 * record["offset_se"] + 0.05
+    fitted = FrictionModel.from_dict(model)
+    v = np.linspace(0.01, 0.24, 24)
+    for side in (1, -1):                    # each curve is the friction alone, opposing motion
+        force = side * fitted.force(side * v)
+        assert np.all(force > 0)
+        assert np.max(np.abs(force - fleet_friction(axis, v))) < 0.1 * axis["static"]
+
+
 def test_a_current_log_without_force_constant_says_what_it_determines(offset_log, tmp_path, capsys):
     k = 2.5
     log = _write(tmp_path, "i.csv", {"t": offset_log["t"], "v": offset_log["v"],
@@ -141,7 +162,6 @@ def test_run_ups_of_the_independent_simulator_succeed_over_noise_draws(tmp_path,
     budget; the mass is within 1 % and the model's RMS error against the true friction over
     the run-up's speeds within 0.2 N (the force noise is 0.3 N) in at least 7 of 8 (measured:
     the mass 0.16-0.22 % low, the error 0.058-0.092 N, in all 8)."""
-    from fricgen.model import FrictionModel
     within_mass = within_force = 0
     for seed in range(8):
         t, x, force, v = run_up(seed=seed)

@@ -156,6 +156,8 @@ class Identification:
     body: RigidBody         # mass and constant force, identified or given
     #: (K, its standard error) of a current log: the error None when K was given
     force_constant: Optional[Tuple[float, Optional[float]]] = None
+    #: The offset taken out of the samples as a load (``without_load``), not held in the curves
+    load: bool = False
 
     @property
     def n_kept(self) -> int:
@@ -190,12 +192,21 @@ class Identification:
                          "mass given (the current determines M/K)")
         return lines
 
+    def without_load(self) -> "Identification":
+        """These samples less the offset o: a load (gravity, a cable's pull) beside the
+        friction, where the curves that held it would push the axis (``fricgen.train``)."""
+        return replace(self, sweep=Sweep(self.sweep.v, self.sweep.f - self.body.offset), load=True)
+
     def offset_line(self, asymmetric: bool) -> str:
-        """The constant force o: beside a symmetric model, or held in an asymmetric one."""
+        """The constant force o: beside a symmetric model, held in an asymmetric one, or beside
+        it as a load (``without_load``)."""
         if self.body.offset is None:
             return ("offset    not determined: the log moves one way only, where a constant force "
                     "is one with the friction")
         o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} N"
+        if self.load:
+            return (f"{o}: a load beside the friction (held in the two curves, it would make one "
+                    "of them push the axis; compensate it apart)")
         if asymmetric:
             return (f"{o}: the even part of the force, held in the two curves (a constant force "
                     "and a friction that differs between the directions are not told apart)")

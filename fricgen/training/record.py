@@ -125,7 +125,7 @@ def curve_record(fit) -> dict:
 def axis_record(sweep: Sweep, ident: Optional[Identification], asymmetric: bool) -> dict:
     """model.json's ``training.axis``: the mass, force constant and constant force that training
     identified or was given (null for a sweep; the offset null where the asymmetric model's
-    curves hold it), and the speed range of the data."""
+    curves hold it, not a load taken out of them), and the speed range of the data."""
     speed = np.abs(sweep.v[sweep.v != 0])
     record = {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
               "offset": None, "offset_se": None,
@@ -134,7 +134,7 @@ def axis_record(sweep: Sweep, ident: Optional[Identification], asymmetric: bool)
         body = ident.body
         record.update(mass=body.mass, mass_se=body.mass_se,
                       mass_from="data" if body.mass_identified else "option")
-        if not asymmetric:
+        if not asymmetric or ident.load:
             record.update(offset=body.offset, offset_se=body.offset_se)
         if ident.force_constant is not None:
             record["force_constant"] = ident.force_constant[0]

@@ -47,6 +47,17 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
         warn(f"fricgen: warning: {source}: {problem}; kept ({ACCEPT_UNUSUAL})")
 
 
+def _pushes(fitted) -> bool:
+    """Whether a fitted curve fails ``Direction.check``: one that holds a load larger than its
+    direction's friction pushes the axis."""
+    try:
+        for f in fitted.fits:
+            f.curve.check()
+    except ModelError:
+        return True
+    return False
+
+
 def _friction_data(data, mass, force_constant, source, progress):
     """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
     if isinstance(data, Sweep):
@@ -148,6 +159,12 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     with named_data(source):
         fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
                               asymmetric=asymmetric, seed=seed, progress=progress)
+        if fitted.asymmetric and ident is not None and ident.body.offset is not None \
+                and _pushes(fitted):
+            ident = ident.without_load()
+            sweep = ident.sweep
+            fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
+                                  asymmetric=asymmetric, seed=seed, progress=progress)
     first = fitted.fits[0]
     curves = [curve_record(f) for f in fitted.fits]
     training = {**method_record(estimator), "seed": seed, "source": source if file is None else file,
