@@ -32,7 +32,7 @@ matrix of the singles and nulls) and the reliability table of the first step's p
 null logs (observed fraction with p < alpha against alpha).
 
     python benchmarks/diagnose_confusion.py [--small] [--jobs 2] [--out DIR]
-        [--per-length N | LENGTH:N,...] [--magnitudes K,...]
+        [--per-length N | LENGTH:N,...] [--magnitudes K,...] [--kinds KIND,...]
 
 Results are appended to DIR/records.jsonl as each log finishes; a run that stops is resumed
 by running the same command again (finished cases are not repeated).
@@ -59,6 +59,8 @@ from fricgen.sim.scenarios import make_scenario
 RATES = (250.0, 500.0, 1000.0, 2000.0, 4000.0)
 NOISES = (0.5, 1.0, 2.0)
 LENGTHS = (14.0, 60.0, 300.0, 1200.0)
+#: The kinds of logs of a run (``cases``).
+KINDS = ("null", "length", "single", "power", "pair", "triple", "oov")
 SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "asym",
          "constant_load": "load", "inertia_mismatch": "mass", "force_constant_mismatch": "phi",
          "extra_friction_source": "extra", "frictional_lag": "lag", "thermal_drift": "drift",
@@ -188,10 +190,11 @@ def report(records, out: Path, small: bool):
 
     nulls = by.get("null", [])
     fa, k, n = rate(bool(r["effects"]) for r in nulls)
-    say(f"null logs (nothing hidden): false alarms {k}/{n} = {fa:.1%} ({interval(k, n)})   "
-        f"target <= 5 %: {verdict(fa <= 0.05)}")
+    if n:
+        say(f"null logs (nothing hidden): false alarms {k}/{n} = {fa:.1%} ({interval(k, n)})   "
+            f"target <= 5 %: {verdict(fa <= 0.05)}")
     for label, field, values in (("rate (Hz)", "rate_hz", RATES), ("controller", "controller", CONTROLLERS),
-                                 ("noise scale", "noise", NOISES)):
+                                 ("noise scale", "noise", NOISES)) if n else ():
         parts = []
         for v in values:
             f, kk, nn = rate(bool(r["effects"]) for r in nulls if r[field] == v)
@@ -389,6 +392,9 @@ def main():
     ap.add_argument("--magnitudes", type=magnitude_list, default=None,
                     help="multiples of the reference magnitude the singles are run at again, "
                     "K,... (default 0.5,2; none with --small); 'none' for none")
+    ap.add_argument("--kinds", type=lambda text: set(text.split(",")), default=set(KINDS),
+                    help="the kinds of logs to run and report, of " + ",".join(KINDS)
+                    + " (default all)")
     ap.add_argument("--per-length", type=per_length_counts, default={},
                     help="null logs at each length of " + ", ".join(f"{x:g}" for x in LENGTHS)
                     + " s: N for all, or LENGTH:N,... (default 60; 2 with --small)")
@@ -397,7 +403,9 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     path = out / "records.jsonl"
     magnitudes = args.magnitudes if args.magnitudes is not None else (() if args.small else (0.5, 2.0))
-    todo = cases(args.small, args.per_length, magnitudes)
+    if not args.kinds <= set(KINDS):
+        ap.error(f"--kinds: unknown {', '.join(sorted(args.kinds - set(KINDS)))}; of {','.join(KINDS)}")
+    todo = [c for c in cases(args.small, args.per_length, magnitudes) if c[1] in args.kinds]
     keys = {c[0] for c in todo}
     done = {}
     if path.exists():
