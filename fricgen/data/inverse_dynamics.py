@@ -156,7 +156,7 @@ class Identification:
     body: RigidBody         # mass and constant force, identified or given
     #: (K, its standard error) of a current log: the error None when K was given
     force_constant: Optional[Tuple[float, Optional[float]]] = None
-    #: The offset taken out of the samples as a load (``without_load``), not held in the curves
+    #: The offset is a load beside the friction (``as_load``), not held in asymmetric curves
     load: bool = False
 
     @property
@@ -192,14 +192,20 @@ class Identification:
                          "mass given (the current determines M/K)")
         return lines
 
-    def without_load(self) -> "Identification":
-        """These samples less the offset o: a load (gravity, a cable's pull) beside the
-        friction, where the curves that held it would push the axis (``fricgen.train``)."""
-        return replace(self, sweep=Sweep(self.sweep.v, self.sweep.f - self.body.offset), load=True)
+    def as_load(self) -> "Identification":
+        """This identification with the offset o a load (gravity, a cable's pull) beside the
+        friction: where curves that held it would push the axis (``fricgen.train``)."""
+        return replace(self, load=True)
+
+    @property
+    def friction(self) -> Sweep:
+        """The samples a friction model is fitted to: ``sweep``, less the offset when it is a
+        load (``as_load``)."""
+        return Sweep(self.sweep.v, self.sweep.f - self.body.offset) if self.load else self.sweep
 
     def offset_line(self, asymmetric: bool) -> str:
         """The constant force o: beside a symmetric model, held in an asymmetric one, or beside
-        it as a load (``without_load``)."""
+        it as a load (``as_load``)."""
         if self.body.offset is None:
             return ("offset    not determined: the log moves one way only, where a constant force "
                     "is one with the friction")

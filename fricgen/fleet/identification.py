@@ -42,7 +42,8 @@ def friction_parameters(trained) -> Dict[str, float]:
     """The friction parameters (SI units) and their standard errors of one trained log (a
     ``FitReport``), per direction: the monitoring law (``law.fit_law``) fitted to the folded
     rows of each direction (of both, the same values, when the model is symmetric), binned to
-    their independent samples.
+    their independent samples. A log's rows hold its constant force, whether train kept it in
+    the curves or apart as a load, so that every log of an axis is described alike.
 
     Parameters
     ----------
@@ -67,10 +68,11 @@ def friction_parameters(trained) -> Dict[str, float]:
     """
     ident = trained.identification
     independence = ident.independent / ident.n_kept if ident is not None else 1.0
+    sweep = trained.sweep if ident is None else ident.sweep     # a load held, as train may not
     symmetric = len(trained.fit.fits) == 1
     out = {}
     for d, sign in zip(DIRECTIONS, (1, -1)):
-        half = (trained.sweep if symmetric else trained.sweep.direction(sign)).folded()
+        half = (sweep if symmetric else sweep.direction(sign)).folded()
         law = fit_law(half, len(half) * independence)
         out.update({f"{p}_{d}" + suffix: law[p + suffix] for p in PARAMETERS
                     for suffix in ("", "_se")})

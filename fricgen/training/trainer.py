@@ -161,8 +161,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
                               asymmetric=asymmetric, seed=seed, progress=progress)
         if fitted.asymmetric and ident is not None and ident.body.offset is not None \
                 and _pushes(fitted):
-            ident = ident.without_load()
-            sweep = ident.sweep
+            ident = ident.as_load()
+            sweep = ident.friction
             fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
                                   asymmetric=asymmetric, seed=seed, progress=progress)
     first = fitted.fits[0]
