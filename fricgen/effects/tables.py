@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Dict, List, Tuple
 
 import numpy as np
+from scipy.linalg import solveh_banded
 
 from ..c_literal import c_float
 from .._validate import finite_number
@@ -71,18 +72,40 @@ def _second_differences(knots: int) -> np.ndarray:
     return np.diff(np.eye(knots), n=2, axis=0)
 
 
-def _penalized(A, b, penalty, P, D, kinks: bool) -> np.ndarray:
-    """argmin |r - H c|^2 + penalty (c^T P c, or with ``kinks`` the absolute second
+def _bands(M: np.ndarray, u: int) -> np.ndarray:
+    """The upper bands of symmetric ``M`` (u above the diagonal), as ``solveh_banded`` reads them."""
+    ab = np.zeros((u + 1, M.shape[0]))
+    for k in range(u + 1):
+        ab[u - k, k:] = np.diagonal(M, k)
+    return ab
+
+
+def _weighted_differences(w: np.ndarray, u: int) -> np.ndarray:
+    """The upper bands of D^T diag(w) D, D the second differences (pentadiagonal), in O(knots)."""
+    n = w.size + 2
+    wp = np.concatenate([[0.0, 0.0], w, [0.0, 0.0]])
+    ab = np.zeros((u + 1, n))
+    ab[u] = wp[2:] + 4.0 * wp[1:-1] + wp[:-2]
+    ab[u - 1, 1:] = -2.0 * (wp[2:-1] + wp[1:-2])
+    ab[u - 2, 2:] = wp[2:-2]
+    return ab
+
+
+def _penalized(A, b, penalty, D, kinks: bool) -> np.ndarray:
+    """argmin |r - H c|^2 + penalty (c^T D^T D c, or with ``kinks`` the absolute second
     differences: reweighted least squares, each weight 1 / |D c| of the previous solve, scaled
-    so that the first solve is the quadratic one), from A = H^T H + ridge and b = H^T r."""
-    c = np.linalg.solve(A + penalty * P, b)
+    so that the first solve is the quadratic one), from A = H^T H + ridge and b = H^T r, given
+    as its upper bands (``_bands``): banded Cholesky solves."""
+    u = A.shape[0] - 1
+    ones = np.ones(D.shape[0])
+    c = solveh_banded(A + penalty * _weighted_differences(ones, u), b)
     if not kinks:
         return c
     d = np.abs(D @ c)
     typical = float(np.mean(d)) + 1e-300
     for _ in range(KINK_ITERATIONS):
         w = typical / np.maximum(d, 1e-3 * typical)
-        c = np.linalg.solve(A + penalty * (D.T * w) @ D, b)
+        c = solveh_banded(A + penalty * _weighted_differences(w, u), b)
         d = np.abs(D @ c)
     return c
 
@@ -93,22 +116,24 @@ def smooth_table(H: np.ndarray, r: np.ndarray, folds: int = 5, kinks: bool = Fal
     (``kinks``) their absolute values. Returns the values and the penalty."""
     knots = H.shape[1]
     D = _second_differences(knots)
-    P = D.T @ D
     HtH, Htr = H.T @ H, H.T @ r
     scale = float(np.trace(HtH)) / knots + 1e-300
     ridge = 1e-9 * scale * np.eye(knots)        # knots no sample reaches stay defined
+    # H^T H is banded (a smoothed sample reaches the knots its window spans), so are the folds'
+    i, j = np.nonzero(HtH)
+    u = max(2, int(np.max(j - i, initial=0)))
     blocks = np.array_split(np.arange(r.size), folds)
     # each fold's normal equations: all rows' less the block's
-    normal = [(HtH + ridge - H[b].T @ H[b], Htr - H[b].T @ r[b]) for b in blocks]
+    normal = [(_bands(HtH + ridge - H[b].T @ H[b], u), Htr - H[b].T @ r[b]) for b in blocks]
     best, best_err = PENALTIES[0], math.inf
     for lam in PENALTIES:
         err = 0.0
         for b, (A, rhs) in zip(blocks, normal):
-            c = _penalized(A, rhs, lam * scale, P, D, kinks)
+            c = _penalized(A, rhs, lam * scale, D, kinks)
             err += float(np.sum((r[b] - H[b] @ c) ** 2))
         if err < best_err:
             best, best_err = lam, err
-    return _penalized(HtH + ridge, Htr, best * scale, P, D, kinks), float(best)
+    return _penalized(_bands(HtH + ridge, u), Htr, best * scale, D, kinks), float(best)
 
 
 @dataclass(frozen=True)
