@@ -68,10 +68,6 @@ def hat_basis_at_rows(problem, coord: np.ndarray, lo: float, hi: float, knots: i
     return out.reshape(rows.size, knots)
 
 
-def _second_differences(knots: int) -> np.ndarray:
-    return np.diff(np.eye(knots), n=2, axis=0)
-
-
 def _bands(M: np.ndarray, u: int) -> np.ndarray:
     """The upper bands of symmetric ``M`` (u above the diagonal), as ``solveh_banded`` reads them."""
     ab = np.zeros((u + 1, M.shape[0]))
@@ -91,22 +87,21 @@ def _weighted_differences(w: np.ndarray, u: int) -> np.ndarray:
     return ab
 
 
-def _penalized(A, b, penalty, D, kinks: bool) -> np.ndarray:
+def _penalized(A, b, penalty, kinks: bool) -> np.ndarray:
     """argmin |r - H c|^2 + penalty (c^T D^T D c, or with ``kinks`` the absolute second
     differences: reweighted least squares, each weight 1 / |D c| of the previous solve, scaled
     so that the first solve is the quadratic one), from A = H^T H + ridge and b = H^T r, given
     as its upper bands (``_bands``): banded Cholesky solves."""
     u = A.shape[0] - 1
-    ones = np.ones(D.shape[0])
-    c = solveh_banded(A + penalty * _weighted_differences(ones, u), b)
+    c = solveh_banded(A + penalty * _weighted_differences(np.ones(b.size - 2), u), b)
     if not kinks:
         return c
-    d = np.abs(D @ c)
+    d = np.abs(np.diff(c, 2))
     typical = float(np.mean(d)) + 1e-300
     for _ in range(KINK_ITERATIONS):
         w = typical / np.maximum(d, 1e-3 * typical)
         c = solveh_banded(A + penalty * _weighted_differences(w, u), b)
-        d = np.abs(D @ c)
+        d = np.abs(np.diff(c, 2))
     return c
 
 
@@ -115,7 +110,6 @@ def smooth_table(H: np.ndarray, r: np.ndarray, folds: int = 5, kinks: bool = Fal
     chosen by blocked ``folds``-fold cross-validation, on the squared second differences or
     (``kinks``) their absolute values. Returns the values and the penalty."""
     knots = H.shape[1]
-    D = _second_differences(knots)
     HtH, Htr = H.T @ H, H.T @ r
     scale = float(np.trace(HtH)) / knots + 1e-300
     ridge = 1e-9 * scale * np.eye(knots)        # knots no sample reaches stay defined
@@ -129,11 +123,11 @@ def smooth_table(H: np.ndarray, r: np.ndarray, folds: int = 5, kinks: bool = Fal
     for lam in PENALTIES:
         err = 0.0
         for b, (A, rhs) in zip(blocks, normal):
-            c = _penalized(A, rhs, lam * scale, D, kinks)
+            c = _penalized(A, rhs, lam * scale, kinks)
             err += float(np.sum((r[b] - H[b] @ c) ** 2))
         if err < best_err:
             best, best_err = lam, err
-    return _penalized(_bands(HtH + ridge, u), Htr, best * scale, D, kinks), float(best)
+    return _penalized(_bands(HtH + ridge, u), Htr, best * scale, kinks), float(best)
 
 
 @dataclass(frozen=True)
