@@ -258,7 +258,12 @@ def test_the_two_directions_differ_in_every_constant_of_eq3(curves):
     for a, b in ((pos.v_sat, neg.v_sat), (pos.scaling.k_in, neg.scaling.k_in),
                  (pos.scaling.k_out, neg.scaling.k_out), (pos.viscous, neg.viscous)):
         assert abs(a - b) > 0.1 * max(abs(a), abs(b))
-    assert (pos.aim.shape, neg.aim.shape) == ("gauss", "exponential")
+    model = FrictionModel.from_directions(pos, neg, name="fb")
+    laws = {1: preset("paper3"), -1: _table1_like(1.3, 1.5, 0.6, "exponential")}
+    for sign, curve in ((1, pos), (-1, neg)):       # each follows its own law, not the other's
+        v = sign * np.linspace(0.0005, curve.v_sat, 400)
+        own, other = (np.sqrt(np.mean((model.force(v) - laws[s](v)) ** 2)) for s in (sign, -sign))
+        assert own < 0.2 and other > 20 * own
 
 
 def _aim_twin(curve, x, impl):

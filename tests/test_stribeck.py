@@ -341,3 +341,16 @@ def test_no_libm_call_of_the_emitted_c_sets_errno(bench, tmp_path):
                     "-o", str(exe), "-lm"], check=True)
     out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["0", "1"], out
+
+
+def test_the_point_at_v_0_is_not_fitted_so_no_narrow_source_follows_it():
+    """The [F9] point at x = 0 is the mean of the slowest rows, below F(0) where the Stribeck
+    drop has a slope at 0: [F1] extrapolates to it instead of adding a source at XS_MIN."""
+    rng = np.random.default_rng(3)
+    x = np.concatenate([[0.0], np.sort(rng.uniform(0, 1, 80))])
+    curve = lambda u: 0.5 + 0.5 * np.exp(-u / 0.1)          # noqa: E731
+    t = curve(x) + rng.uniform(-0.01, 0.01, x.size)
+    t[0] = curve(0.0) - 0.15
+    grey = StribeckRegressor(n_folds=0).fit(x, t)
+    assert grey.n_sources_ == 1 and grey.network_.stribeck[0] > 0.05
+    assert abs(grey.predict(np.array([0.0]))[0] - curve(0.0)) < 0.01

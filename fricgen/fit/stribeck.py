@@ -57,6 +57,14 @@ AVERAGING_GRID = 201
 MATCH_TOLERANCE = 0.1
 
 
+def measured(x) -> np.ndarray:
+    """A mask of the points [F1] is fitted to: x > 0. No friction is measured at v = 0; the
+    [F9] set puts there the mean of the slowest rows (section 2), which lies below F(0) wherever
+    g has a slope at 0 (exponential, rational), and a narrow negative source at XS_MIN would
+    follow it. [F1] extrapolates to v = 0 instead."""
+    return np.asarray(x) > 0
+
+
 def shape_and_slope(shape: str, x: np.ndarray, xs: float):
     """g(x, xs) and its derivative with respect to theta = log xs."""
     u = x / xs
@@ -244,7 +252,8 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: 
     aics = {}
     for k in np.unique(folds):
         out = folds == k
-        refit = fit_sources(x[~out], t[~out], fit.curve.shape, [fit.theta], xs_min, xs_max)
+        train = ~out & measured(x)
+        refit = fit_sources(x[train], t[train], fit.curve.shape, [fit.theta], xs_min, xs_max)
         held_out[out] = refit.curve(x[out]) - t[out]
         aics[int(k)] = refit.aic if refit.admissible else np.inf
     return held_out, aics
@@ -253,11 +262,11 @@ def cross_validated_residuals(x, t, fit: SourcesFit, folds: np.ndarray, xs_min: 
 class StribeckRegressor(Estimator):
     r"""The grey-box estimator: [F1] itself, with S sources of one shape g, fitted to the data.
 
-    Every S in ``sources`` and g in ``shapes`` is fitted by variable projection; the fits close in
-    Akaike's criterion (AICc) are averaged with Akaike weights and the average is matched by one
-    curve of [F1]: picking the single best fit lets a wrong shape with an extra source win on
-    noise. A source the data do not determine (infinite standard error) is dropped and the rest
-    refitted. x and t are the normalized data of [F9].
+    Every S in ``sources`` and g in ``shapes`` is fitted by variable projection to the points at
+    x > 0 (``measured``); the fits close in Akaike's criterion (AICc) are averaged with Akaike
+    weights and the average is matched by one curve of [F1]: picking the single best fit lets a
+    wrong shape with an extra source win on noise. A source the data do not determine (infinite
+    standard error) is dropped and the rest refitted. x and t are the normalized data of [F9].
 
     Parameters
     ----------
@@ -348,7 +357,8 @@ class StribeckRegressor(Estimator):
         integer("grid", self.grid, minimum=2)
         if self.n_folds != 0:
             integer("n_folds", self.n_folds, minimum=2)
-        x, t = self._inputs(x, t)
+        x_all, t_all = self._inputs(x, t)
+        x, t = x_all[measured(x_all)], t_all[measured(x_all)]
         start = time.perf_counter()
         fits, tried = {}, 0
         self.xs_min_ = xs_min = XS_MIN
@@ -380,7 +390,8 @@ class StribeckRegressor(Estimator):
                     previous = keep(fit_sources(x, t, shape, starts, xs_min, xs_max), xs_max)
                     tried += 1
         if not tried:
-            raise ValueError(f"{x.size} points are too few for [F1] with {min(sources)} sources")
+            raise ValueError(f"{x.size} points at v > 0 are too few for [F1] with {min(sources)} "
+                             "sources")
         if not fits:
             raise ValueError("the data determine no source of [F1]: every Stribeck velocity "
                              "fitted lies where no sample constrains it")
@@ -397,8 +408,9 @@ class StribeckRegressor(Estimator):
         self.xs_max_ = max(k[2] for k in self.weights_)
         self.cv_residuals_, self.cv_rmse_ = None, float("nan")
         if self.n_folds:
-            self.cv_residuals_ = self.held_out_residuals(x, t, interleaved_folds(x, self.n_folds))
-            self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x)], 0.0)
+            self.cv_residuals_ = self.held_out_residuals(x_all, t_all,
+                                                         interleaved_folds(x_all, self.n_folds))
+            self.cv_rmse_ = rmse(self.cv_residuals_[inner_points(x_all)], 0.0)
         self.train_rmse_ = best.rmse
         self.standard_errors_ = best.standard_errors()
         self.fit_seconds_ = time.perf_counter() - start
