@@ -15,7 +15,8 @@ from fricgen.friction import preset
 from fricgen.model import FrictionModel
 from fricgen.sim.identification import SweepRun, simulate_sweep_run
 
-from independent_axis import FLEET_AXIS, MASS, fleet_friction, fleet_log, friction, run_up
+from independent_axis import (FLEET_AXIS, FLEET_F_NOISE, MASS, fleet_friction, fleet_log, friction,
+                             run_up)
 
 FRICTION = preset("paper3")
 RUN = SweepRun(duration=8.0, rate=1500.0)
@@ -122,6 +123,26 @@ def test_a_load_larger_than_a_directions_friction_is_taken_out_of_the_asymmetric
         force = side * fitted.force(side * v)
         assert np.all(force > 0)
         assert np.max(np.abs(force - fleet_friction(axis, v))) < 0.1 * axis["static"]
+
+
+def test_a_load_beside_a_symmetric_friction_keeps_the_symmetric_model(tmp_path, capsys):
+    """The symmetric curve leaves the identified offset out, so its cross-validation is scored
+    on the friction without it: a load of nearly the Coulomb level, beside a friction equal in
+    both directions, must not make the asymmetric model look better by the load."""
+    axis = {**FLEET_AXIS, "offset": 5.0}
+    log = _write(tmp_path, "load.csv", fleet_log(axis, 7, duration=20.0))
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "--method", "stribeck", "-o", str(out)]) == 0
+    report = capsys.readouterr().out
+    assert "symmetry symmetric by 5-fold cross-validation" in report
+    model = json.loads(out.read_text())
+    record = model["training"]["axis"]
+    assert abs(record["offset"] - 5.0) < 5 * record["offset_se"] + 0.05
+    rms = model["training"]["cv_rmse_newton"]
+    assert rms["symmetric"] < 2 * FLEET_F_NOISE and rms["symmetric"] <= 1.05 * rms["asymmetric"]
+    v = np.linspace(0.01, 0.24, 24)
+    fitted = FrictionModel.from_dict(model)
+    assert np.max(np.abs(fitted.force(v) - fleet_friction(axis, v))) < 0.05 * axis["static"]
 
 
 def test_a_current_log_without_force_constant_says_what_it_determines(offset_log, tmp_path, capsys):

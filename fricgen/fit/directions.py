@@ -117,10 +117,11 @@ def row_folds(n: int, folds: int, seed=0, blocks: int = 0) -> np.ndarray:
 
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
                    folds: int = CV_FOLDS, seed=0, per_direction=None, blocks: int = 0,
-                   independence: float = 1.0,
+                   independence: float = 1.0, offset: float = 0.0,
                    progress: Optional[Callable[[str], None]] = None) -> np.ndarray:
     """Held-out mean squared force errors (N^2) per fold (``row_folds``): row 0 the symmetric
-    model, row 1 the asymmetric one (its curves fitted by ``per_direction``, default
+    model (fitted to and scored on f - ``offset``, the constant force it leaves out), row 1 the
+    asymmetric one (its curves fitted by ``per_direction``, default
     ``estimator``). ``vs_max`` holds (both, positive, negative). Each model's procedure runs
     once on all rows, and each fold's fit repeats it from that result (``warm_copy``: the
     grey-box's candidates refitted and averaged again, without the multi-start). ``progress``
@@ -132,7 +133,7 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
     whole = Sweep(v, f)
     fold = row_folds(v.size, folds, seed, blocks)
     fitted = [_fit(half, model, vs, CV_POINTS, independence).estimator for half, model, vs in
-              zip((whole, whole.direction(1), whole.direction(-1)),
+              zip((Sweep(v, f - offset), whole.direction(1), whole.direction(-1)),
                   (estimator, per_direction, per_direction), vs_max)]
     report("symmetry: fitted on all rows")
     mse = np.zeros((2, folds))
@@ -140,9 +141,10 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
         train, test = Sweep(v[fold != k], f[fold != k]), fold == k
         both, pos, neg = (_fit(half, model, vs, CV_POINTS, independence, warm_copy).curve
                           for half, model, vs in zip(
-                              (train, train.direction(1), train.direction(-1)), fitted, vs_max))
+                              (Sweep(train.v, train.f - offset), train.direction(1),
+                               train.direction(-1)), fitted, vs_max))
         sign, speed, target = np.sign(v[test]), np.abs(v[test]), np.sign(v[test]) * f[test]
-        mse[0, k] = np.mean((both.magnitude(speed) - target) ** 2)
+        mse[0, k] = np.mean((both.magnitude(speed) - (target - sign * offset)) ** 2)
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))
         mse[1, k] = np.mean((asym - target) ** 2)
         report(f"symmetry: cross-validated {k + 1} of {folds} folds")
@@ -175,7 +177,7 @@ def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float], blocks
 
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                    asymmetric: Optional[bool] = None, seed=0, per_direction=None,
-                   blocks: int = 0, independence: float = 1.0,
+                   blocks: int = 0, independence: float = 1.0, offset: float = 0.0,
                    progress: Optional[Callable[[str], None]] = None) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
     ``estimator``); ``asymmetric`` None chooses by cross-validation (in contiguous ``blocks`` of
@@ -184,9 +186,12 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
     of folds. ``independence`` (the share of an independent sample in a row, a smoothed log's)
     bins each curve's training set to its effective samples (``prepare``). With data in one
     direction only the model is symmetric (``DataError`` if the asymmetric one was asked for);
-    when a sweep of both directions cannot give each its own curve, ``chosen_by`` says why."""
+    when a sweep of both directions cannot give each its own curve, ``chosen_by`` says why.
+    ``offset`` is a constant force beside the symmetric curve (a log's identified o, compensated
+    apart): that curve is fitted to f - ``offset``; the asymmetric curves hold it."""
     per_direction = estimator if per_direction is None else per_direction
     halves = (sweep.direction(1), sweep.direction(-1))
+    level = Sweep(sweep.v, sweep.f - offset)            # the symmetric curve's samples
     if asymmetric is not False:
         one_direction = any(len(half) == 0 for half in halves)
         try:
@@ -200,21 +205,21 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
             if asymmetric:
                 raise DataError(f"an asymmetric model needs a sweep of each direction: {exc}") from None
             reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
-            return DirectionsFit((_fit(sweep, estimator, _vs_max(sweep, vs_max, blocks), None,
+            return DirectionsFit((_fit(level, estimator, _vs_max(level, vs_max, blocks), None,
                                        independence),), reason)
     if asymmetric is None:
-        both = _vs_max(sweep, vs_max, blocks)
+        both = _vs_max(level, vs_max, blocks)
         mse = cross_validate(sweep, estimator, (both, *vs_dirs), seed=seed,
                              per_direction=per_direction, blocks=blocks,
-                             independence=independence, progress=progress)
+                             independence=independence, offset=offset, progress=progress)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         how = "cross-validation in blocks of time" if blocks else "cross-validation"
         if not prefers_asymmetric(mse):
-            return DirectionsFit((_fit(sweep, estimator, both, None, independence),), how, cv)
+            return DirectionsFit((_fit(level, estimator, both, None, independence),), how, cv)
         return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
                                    for h, vs in zip(halves, vs_dirs)), how, cv)
     if not asymmetric:
-        return DirectionsFit((_fit(sweep, estimator, _vs_max(sweep, vs_max, blocks), None,
+        return DirectionsFit((_fit(level, estimator, _vs_max(level, vs_max, blocks), None,
                                    independence),), "forced")
     return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
                                for h, vs in zip(halves, vs_dirs)), "forced")
@@ -240,7 +245,8 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
     ``Identification``): cross-validation in blocks of BLOCK_WINDOWS smoothing windows of time,
     training sets binned to the
     effective samples, and at most the parameters they support (``within_budget``; each
-    direction has about half of them)."""
+    direction has about half of them). A symmetric curve leaves the identified offset out
+    (``fit_directions``' ``offset``), unless it is already taken out as a load."""
     if ident is None:
         return fit_directions(sweep, estimator, vs_max=vs_max, asymmetric=asymmetric, seed=seed,
                               per_direction=per_direction, progress=progress)
@@ -249,4 +255,7 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
                           asymmetric=asymmetric, seed=seed,
                           per_direction=within_budget(per_direction, ident.parameter_budget // 2),
                           blocks=BLOCK_WINDOWS * ident.window,
-                          independence=ident.independent / ident.n_kept, progress=progress)
+                          independence=ident.independent / ident.n_kept,
+                          offset=ident.body.offset if ident.body.offset is not None
+                          and not ident.load else 0.0,
+                          progress=progress)
