@@ -89,10 +89,24 @@ def test_a_sweep_without_linear_region_fits_B_with_the_rest():
     v = rng.uniform(0.0, 0.05, 300)
     f = 10.0 + 20.0 / (1.0 + v / 0.02) + 30.0 * v + rng.normal(0.0, 0.05, v.size)
     chosen = choose_vs_max(Sweep(v, f))
-    assert not chosen.linear_region and "no linear high-speed region" in chosen.describe()
+    assert not chosen.linear_region and "no linear" in chosen.describe()
     dataset = prepare(Sweep(v, f))
     assert dataset.v_sat == pytest.approx(v.max())
     assert dataset.viscous == pytest.approx(chosen.viscous) and dataset.viscous >= 0
+
+
+def test_a_sweep_that_ends_within_the_stribeck_drop_gets_no_falling_line():
+    """Speeds up to 0.6 of a Gaussian Stribeck velocity: beyond every candidate v_sat the force
+    still falls. No candidate's falling line (B < 0) is taken for a linear region, B >= 0 comes
+    from the joint fit, and the friction never reverses beyond the data."""
+    rng = np.random.default_rng(3)
+    v = rng.uniform(0.0015, 0.006, 400)
+    f = 8.0 + 6.0 * np.exp(-(v / 0.01) ** 2) + 40.0 * v + rng.normal(0.0, 0.05, v.size)
+    chosen = choose_vs_max(Sweep(v, f))
+    assert chosen.falling and not chosen.linear_region and chosen.viscous >= 0
+    assert "still falls at the fastest speeds" in chosen.describe()
+    dataset = prepare(Sweep(v, f))
+    assert dataset.viscous >= 0 and dataset.v_sat == pytest.approx(v.max())
 
 
 def test_csv_round_trip(tmp_path, bench):

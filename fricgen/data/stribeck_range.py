@@ -7,7 +7,9 @@ rows beyond v_sat (``identify_viscous``), then [F1] with a fixed dictionary of S
 velocities of every shape up to vs_max (the grey-box's bound) and non-negative amplitudes
 (a linear fit), saturated at v_sat as [F3] is. A v_sat inside the Stribeck drop bends the
 line that gives B, a vs_max below a Stribeck velocity cannot follow the drop, and a v_sat far
-beyond it leaves few rows for B: each shows up as held-out error. Of the candidates within one
+beyond it leaves few rows for B: each shows up as held-out error. A v_sat beyond which the
+force falls (B < 0 in a training fold) is no linear region and is not scored: viscous friction
+dissipates, and a falling line would push the axis wherever the model extrapolates it. Of the candidates within one
 standard error (of the paired row differences) of the best, the smallest vs_max is chosen.
 
 One more candidate has no linear high-speed region: B is fitted with the rest ([F1] with the
@@ -49,6 +51,10 @@ MAX_PROXY_ROWS = 50_000
 EDGE_FRACTION = 0.1
 
 
+class FallingForce(DataError):
+    """A candidate v_sat beyond which the force falls (B < 0): no linear region there."""
+
+
 @dataclass(frozen=True)
 class StribeckRange:
     """The chosen vs_max and how it was chosen (``choose_vs_max``).
@@ -68,6 +74,9 @@ class StribeckRange:
         the B fitted with the rest (N s/m) and the force at v_sat (N).
     viscous, f_sat : float, optional
         See ``linear_region``.
+    falling : bool
+        Whether the force falls beyond every candidate v_sat that left rows for B (the data end
+        within the Stribeck drop).
 
     Examples
     --------
@@ -83,6 +92,7 @@ class StribeckRange:
     linear_region: bool = True
     viscous: Optional[float] = None
     f_sat: Optional[float] = None
+    falling: bool = False
 
     def describe(self) -> str:
         """One line for the fit report."""
@@ -91,6 +101,9 @@ class StribeckRange:
         joint = f"B fitted with the Stribeck sources ({self.joint_rmse:.3g} N)"
         if self.linear_region:
             return f"{self.vs_max:.3g} m/s chosen by {self.folds}-fold CV over {points}; {joint}"
+        if self.falling:
+            return (f"{self.vs_max:.3g} m/s: the force still falls at the fastest speeds, beyond "
+                    f"every candidate v_sat: no linear region; {joint}; v_sat is the fastest speed")
         if not points:
             return (f"{self.vs_max:.3g} m/s: too few rows to fit B to the fastest ones alone; "
                     f"{joint}; v_sat is the fastest speed")
@@ -155,6 +168,8 @@ def _proxy(v: np.ndarray, f: np.ndarray, vs_max: Optional[float]):
         v_sat = SAT_FACTOR * vs_max
         high = v > v_sat
         B, f0, _ = identify_viscous(Sweep(v[high], f[high]))
+        if B < 0:
+            raise FallingForce("the force falls beyond v_sat: no linear region there")
         if (~high).sum() < 2:
             raise DataError("too few rows within [0, v_sat]")
         stribeck = np.geomspace(vs_max / 50, vs_max, DICTIONARY)
@@ -225,10 +240,13 @@ def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> Stribeck
     folds = speed_folds(folded.v) if folds is None else np.asarray(folds)
     v, f, folds = binned_by_fold(folded.v, folded.f, folds)     # a long log: bins per fold
     n_folds = len(np.unique(folds))
-    scored, squared = [], []
+    scored, squared, falling = [], [], 0
     for vs_max in candidate_grid(v):
         try:
             error = _held_out(v, f, folds, vs_max)
+        except FallingForce:
+            falling += 1
+            continue
         except DataError:
             continue
         if not np.all(np.isfinite(error)):       # a fold the proxy cannot fit: no candidate
@@ -247,4 +265,4 @@ def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> Stribeck
     curve, B = _proxy(v, f, None)
     top = float(v.max())
     return StribeckRange(top / SAT_FACTOR, tuple(scored), n_folds, joint_rmse, False, B,
-                         float(curve(np.array([top]))[0]))
+                         float(curve(np.array([top]))[0]), falling > 0 and not scored)

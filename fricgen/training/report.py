@@ -218,8 +218,15 @@ def choice_line(fitted: DirectionsFit) -> str:
 
 def stribeck_warning(ident: Identification, fits) -> str:
     """One line when a log's slowest speed in a direction exceeds half of that direction's
-    vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data."""
+    vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data;
+    or when the force still falls at its fastest speed (``StribeckRange.falling``)."""
     for sign, f in zip((1, -1), fits):
+        chosen = f.dataset.stribeck_range
+        if chosen is not None and chosen.falling:
+            return (f"warning: the force still falls at the log's fastest speed "
+                    f"({f.dataset.v_sat:.3g} m/s): the Stribeck drop goes on beyond the data, B "
+                    f"is not in them ({chosen.viscous:.3g} N s/m fitted with it), and beyond that "
+                    "speed the model holds its last level plus B v (log faster motion)")
         vs_max = f.dataset.v_sat / SAT_FACTOR
         speeds = ident.sweep.folded().v if len(fits) == 1 else ident.sweep.direction(sign).v
         slowest = float(speeds.min())
