@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any, Optional
 
-from ._validate import json_number
+from ._validate import ACCEPT_UNUSUAL, PHYSICAL, json_number, physical_problem
 from .errors import ModelError
 
 #: Where the mass came from: identified from the data, or given by ``--mass``.
@@ -62,8 +62,11 @@ class Axis:
         return {key: d[key] for key in FIELDS}
 
     @classmethod
-    def from_dict(cls, d: Any) -> "Axis":
-        """The validated record; ``ModelError`` naming the field otherwise."""
+    def from_dict(cls, d: Any, physical: bool = True) -> "Axis":
+        """The validated record; ``ModelError`` naming the field otherwise. With ``physical``
+        (a model trained without ``--accept-unusual``), the mass, the offset and the speeds must
+        lie within the range of a real axis (``PHYSICAL``): a hand-edited 1e9 kg or 50 m/s would
+        set the plant of ``simulate`` and the fixed-point range of ``emit``."""
         if not isinstance(d, dict):
             raise ModelError(f"{_WHERE} must be an object, got {type(d).__name__}")
         unknown = sorted(set(d) - set(FIELDS))
@@ -96,6 +99,14 @@ class Axis:
         if speed_max < speed_min:
             raise ModelError(f"{_WHERE}.speed_max ({speed_max:g} m/s) must be >= speed_min "
                              f"({speed_min:g} m/s)")
+        if physical:        # an offset may be 0: only its upper bound
+            problems = [mass is not None and physical_problem("mass", f"{_WHERE}.mass", mass),
+                        physical_problem("speed", f"{_WHERE}.speed_max", speed_max),
+                        offset is not None and abs(offset) > PHYSICAL["force"][1]
+                        and physical_problem("force", f"{_WHERE}.offset", offset)]
+            for problem in filter(None, problems):
+                raise ModelError(f"{problem} (an edited record? a model trained with "
+                                 f"{ACCEPT_UNUSUAL} may hold it)")
         return cls(speed_min=speed_min, speed_max=speed_max, mass=mass, mass_se=mass_se,
                    mass_from=mass_from, force_constant=force_constant, offset=offset,
                    offset_se=offset_se)

@@ -303,7 +303,8 @@ class FrictionModel:
         """The axis of the training data (``training.axis``: mass, force constant, offset,
         speed range), or None for a model whose training recorded none."""
         record = self.training.get("axis")
-        return None if record is None else Axis.from_dict(record)
+        return None if record is None else \
+            Axis.from_dict(record, physical=self.training.get("accept_unusual") is not True)
 
     @property
     def format_version(self) -> int:
@@ -450,7 +451,7 @@ class FrictionModel:
         if not isinstance(training, dict):
             raise ModelError("training must be an object")
         if training.get("axis") is not None:
-            Axis.from_dict(training["axis"])
+            Axis.from_dict(training["axis"], physical=training.get("accept_unusual") is not True)
         if training.get("accept_unusual") is not True:
             for where, curve in (("", positive), ("negative: ", negative)):
                 try:

@@ -56,7 +56,19 @@ BAD_RECORDS = [
     ("boolean speed_max", {"speed_max": True}, "training.axis.speed_max must be a number, got bool"),
     ("unknown key", {"masss": 1.0}, "unknown field 'training.axis.masss'"),
     ("null speed_max", {"speed_max": None}, "training.axis.speed_max must be a number, got NoneType"),
+    ("mass of no real axis", {"mass": 1e9}, "training.axis.mass is 1e+09 kg, above the 100000 kg"),
+    ("speed_max of no real axis", {"speed_max": 50.0},
+     "training.axis.speed_max is 50 m/s, above the 20 m/s of any real axis"),
+    ("offset of no real axis", {"offset": -1e6}, "training.axis.offset is 1e+06 N, above the 100000 N"),
 ]
+
+
+def test_an_unusual_record_loads_when_the_model_was_trained_to_accept_it(model10):
+    edited = with_axis(model10, {**RECORD, "mass": 1e9, "offset": 0.0, "offset_se": 0.0})
+    with pytest.raises(ModelError, match="an edited record"):
+        FrictionModel.from_dict(edited.to_dict())
+    unusual = dataclasses.replace(edited, training={**edited.training, "accept_unusual": True})
+    assert FrictionModel.from_dict(unusual.to_dict()).axis.mass == 1e9
 
 
 @pytest.mark.parametrize("edit, message", [row[1:] for row in BAD_RECORDS],
