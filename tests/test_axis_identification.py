@@ -54,6 +54,12 @@ def test_a_log_without_acceleration_does_not_determine_the_mass():
         identify_mass(0.01 * rng.standard_normal(500), v, 5.0 + 0.1 * rng.standard_normal(500), 500)
 
 
+def test_a_reversed_force_sign_is_named_not_taken_for_an_undetermined_mass(offset_log):
+    with pytest.raises(DataError, match="the mass comes out negative .* sign of the force or of "
+                                        "the position reversed"):
+        identify_friction(offset_log["t"], -offset_log["force"], None, v=offset_log["v"])
+
+
 def test_a_log_moving_one_way_leaves_the_offset_undetermined():
     rng = np.random.default_rng(1)
     a = rng.standard_normal(400)

@@ -62,6 +62,10 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
     coef, se = least_squares_errors(np.column_stack([a, friction_basis(v, odd=False)]), force,
                                     independent)
     mass, mass_se = float(coef[0]), float(se[0])
+    if -mass > MASS_SIGMAS * mass_se:
+        raise DataError(f"the mass comes out negative (m = {mass:.3g} +- {mass_se:.2g} kg by "
+                        "inverse dynamics): the force (or current) and the motion have opposite "
+                        "signs; is the sign of the force or of the position reversed?")
     if not mass > MASS_SIGMAS * mass_se:
         raise DataError(f"the log's accelerations do not determine the mass (m = {mass:.3g} +- "
                         f"{mass_se:.2g} kg by inverse dynamics): pass --mass, or log motion "
