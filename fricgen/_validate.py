@@ -46,16 +46,18 @@ def physical_problem(quantity: str, what: str, value: float) -> str:
     return ""
 
 
-def unusual(quantity: str, what: str, value: float) -> str:
+def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
     """'' if ``value`` lies within USUAL_MAX[quantity], else the clause saying it is unusual,
-    with the units that would explain it: "WHAT is 15 m/s, faster than most axes (5 m/s): in
-    m/min? --scale v=0.0166667 converts it"."""
+    with the units of ``column`` that would explain it: "WHAT is 15 m/s, above the 5 m/s of
+    most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?" (for a speed
+    taken from the position x: "is x in mm (--scale x=0.001)?")."""
     high, unit = USUAL_MAX[quantity], PHYSICAL[quantity][2]
     value = abs(float(value))
     if value <= high:
         return ""
-    return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is v in m/min "
-            "(--scale v=0.0166667) or mm/s (--scale v=0.001)?")
+    units = ("mm (--scale x=0.001)" if column == "x" else
+             f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001)")
+    return f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in {units}?"
 
 
 def unusually_small(quantity: str, what: str, value: float, column: str) -> str:

@@ -175,7 +175,7 @@ def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp
     log = _write(tmp_path, "runup.csv", {"t": t, "x": x, "force": force})
     out = tmp_path / "m.json"
     assert main(["train", str(log), "-o", str(out)]) == 0
-    capsys.readouterr()
+    assert "symmetry symmetric: the log moves one way only" in capsys.readouterr().out
     model = json.loads(out.read_text())
     training = model["training"]
     n = training["n_hidden"]

@@ -9,7 +9,7 @@ import pytest
 
 from conftest import copy_of
 from fricgen.cli import INTERRUPTED, main
-from fricgen.data.plausibility import check_merge_shift, check_sweep_shape
+from fricgen.data.plausibility import check_bounds, check_merge_shift, check_sweep_shape
 from fricgen.errors import DataError
 from fricgen.model import FrictionModel
 
@@ -174,6 +174,18 @@ def test_a_sweep_in_m_per_min_is_refused_naming_the_unit(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "is v in m/min (--scale v=0.0166667)" in err[0]
     assert not (tmp_path / "m.json").exists()
+
+
+def test_a_position_in_mm_is_named_as_the_position_s_unit():
+    """A log without v whose speed comes from x: the hint names x's unit and x's --scale."""
+    t = np.arange(2000) / 1000.0
+    x_mm = 1e3 * 0.0016 * np.sin(2 * np.pi * t)             # 1.6 mm at 10 mm/s, written in mm
+    warned = []
+    check_bounds({"t": t, "x": x_mm, "force": np.ones_like(t)}, "log.csv", warn=warned.append)
+    assert len(warned) == 1 and "is x in mm (--scale x=0.001)?" in warned[0]
+    with pytest.raises(DataError, match=r"above the 20 m/s of any real axis; is x in mm\? "
+                                        r"--scale x=0\.001 converts it"):
+        check_bounds({"t": t, "x": 1e3 * x_mm, "force": np.ones_like(t)}, "log.csv")
 
 
 def test_forces_in_kn_get_one_warning_and_scaled_the_same_model(work, capsys):

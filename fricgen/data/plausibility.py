@@ -59,6 +59,7 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
     """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
     ``value`` into PHYSICAL[quantity], or ''."""
     low, high, unit = PHYSICAL[quantity]
+    unit = "m" if column == "x" else unit           # a speed from the position: x's unit
     step = 1e-3 if value > high else 1e3
     for k in range(1, 5):
         factor = step ** k
@@ -96,8 +97,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
         if problem:
             _refuse_or_warn(f"{source}: {problem}{_unit_hint(column, quantity, value)}",
                             accept_unusual, warn)
-        elif quantity in USUAL_MAX and unusual(quantity, what, value):
-            warn(f"fricgen: warning: {source}: {unusual(quantity, what, value)}")
+        elif quantity in USUAL_MAX and unusual(quantity, what, value, column):
+            warn(f"fricgen: warning: {source}: {unusual(quantity, what, value, column)}")
         elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
             warn(f"fricgen: warning: {source}: {unusually_small(quantity, what, value, column)}")
 

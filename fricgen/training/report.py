@@ -74,7 +74,7 @@ class FitReport:
         """The report ``fricgen train`` prints: data, symmetry, each curve's model and errors."""
         ident, fitted = self.identification, self.fit
         reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
-        reports.append(choice_line(fitted))
+        reports.append(choice_line(fitted, log=ident is not None))
         curves = [self.training] + ([self.training["negative"]] if fitted.asymmetric else [])
         labels = ("v > 0:", "v < 0:") if fitted.asymmetric else ("",)
         for label, f, curve in zip(labels, fitted.fits, curves):
@@ -202,11 +202,13 @@ def _estimate(value: float, se: float, unit: str) -> str:
             f"{value:.5g} {unit} (not determined by the data)")
 
 
-def choice_line(fitted: DirectionsFit) -> str:
-    """How the model's symmetry was chosen (nothing for a sweep of one direction)."""
+def choice_line(fitted: DirectionsFit, log: bool = False) -> str:
+    """How the model's symmetry was chosen (nothing for a sweep of one direction, as the
+    paper's; a ``log`` that moves one way is told that its curve is mirrored)."""
     kind = "asymmetric (one curve per direction)" if fitted.asymmetric else "symmetric"
     if fitted.chosen_by == "one direction only":
-        return ""
+        return ("symmetry symmetric: the log moves one way only; its curve is mirrored to the "
+                "other direction, which the data do not show" if log else "")
     if fitted.chosen_by.startswith("asymmetric model not fittable"):
         return f"symmetry {kind}: the {fitted.chosen_by}"
     if fitted.cv_rmse is None:
