@@ -55,6 +55,25 @@ def test_the_augmented_model_emits_force_xv(files, tmp_path):
     assert not (tmp_path / "q").exists()
 
 
+def test_a_force_log_without_v_is_diagnosed_as_its_current_log(files, tmp_path, capsys):
+    """A log of t, x and the drive force in N (what train reads) is the log of current at a
+    force constant of 1 N/A, v from x: the same effect, and each reading said in one line."""
+    folder, log = files
+    (tmp_path / "force.csv").write_text("t,x,force\n" + "".join(
+        f"{t!r},{x!r},{20.0 * i!r}\n" for t, x, i in zip(log.t.tolist(), log.x.tolist(), log.i.tolist())))
+    assert main(["diagnose", str(tmp_path / "force.csv"), "--model", str(folder / "model.json"),
+                 "--mass", "4", "--out", str(tmp_path / "out"), "--json"]) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert summary["effect"] == "constant_load"
+    assert summary["parameters"]["load"] == pytest.approx(5.0, rel=0.05)
+    assert "read as the drive force: phi = 1 N/A" in captured.err and "v = dx/dt" in captured.err
+    assert main(["diagnose", str(tmp_path / "force.csv"), "--model", str(folder / "model.json"),
+                 *ARGS, "--out", str(tmp_path / "refused")]) == 2
+    assert "--force-constant applies to a current column i" in capsys.readouterr().err
+    assert not (tmp_path / "refused").exists()
+
+
 def test_synth_log_writes_a_readable_log(tmp_path):
     path = tmp_path / "log.csv"
     assert main(["synth-log", "--effect", "position_ripple", "--duration", "1.5", "-o", str(path)]) == 0

@@ -4,6 +4,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
+
 from .._io import check_folder, named_data
 from ..codegen.render import check_overwrite
 from ..data.motionlog import MIN_SAMPLES, log_from_columns
@@ -22,8 +24,9 @@ from .common import (add_json, add_model, add_output, check_targets,
 
 def register(p) -> None:
     """The arguments of this command."""
-    p.add_argument("log", help="measured log with columns t, x, v, i (uniformly sampled): a CSV, or a "
-                   "MATLAB .mat file with these variables (a vendor's export: see the options below)")
+    p.add_argument("log", help="measured log with columns t, x, v, i (uniformly sampled; force in N in "
+                   "place of the current i, v from x where the log has no v): a CSV, or a MATLAB .mat "
+                   "file with these variables (a vendor's export: see the options below)")
     add_model(p)
     p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
                    help="nominal moving mass m, kg (default: the mass of the model's axis record)")
@@ -42,6 +45,25 @@ def register(p) -> None:
     p.add_argument("--verbose", action="store_true",
                    help="list every refused candidate set with its reason (default: their count)")
     p.set_defaults(run=run)
+
+
+def drive_columns(columns: dict, force_constant):
+    """The columns as a log of current reads them, and the force constant they ask for: a
+    ``force`` column (N) is the current i of a force constant of 1 N/A, and a log without v
+    gets v = dx/dt by central differences; with one line for each."""
+    notes = []
+    if "i" not in columns and "force" in columns:
+        if force_constant is not None:
+            raise UsageError("--force-constant applies to a current column i; the log's force "
+                             "column is in N already")
+        columns = {**columns, "i": columns["force"]}
+        del columns["force"]
+        force_constant = 1.0
+        notes.append("the log's force (N) is read as the drive force: phi = 1 N/A")
+    if "v" not in columns and {"t", "x"} <= set(columns) and columns["t"].size > 2:
+        columns = {**columns, "v": np.gradient(columns["x"], columns["t"])}
+        notes.append("v = dx/dt by central differences (the log has no v)")
+    return columns, force_constant, notes
 
 
 def nominal_axis(model: FrictionModel, mass, force_constant):
@@ -72,8 +94,10 @@ def _run(args) -> int:
     inputs = [args.model, args.log] + ([args.merge] if args.merge else [])
     check_folder(args.output, [args.model], args.force)
     model = load_model(args.model)
-    mass, force_constant, notes = nominal_axis(model, args.mass, args.force_constant)
     columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
+    columns, force_constant, drive_notes = drive_columns(columns, args.force_constant)
+    mass, force_constant, notes = nominal_axis(model, args.mass, force_constant)
+    notes = drive_notes + notes
     source = source_name(args.log, args.merge)
     log = log_from_columns(columns, source, None if args.merge or args.columns else
                            header_cells(args.log, args.skip))
