@@ -74,6 +74,25 @@ def test_a_force_log_without_v_is_diagnosed_as_its_current_log(files, tmp_path, 
     assert not (tmp_path / "refused").exists()
 
 
+def test_the_offset_of_the_model_s_axis_is_not_named_again(files, tmp_path, capsys):
+    """The log hides a 5 N load; a model whose axis record holds that offset (a symmetric
+    curve leaves it out) carries it into the diagnosis as a constant_load, and the load is not
+    named again."""
+    folder, _ = files
+    model = json.loads((folder / "model.json").read_text())
+    speeds = {"speed_min": 0.001, "speed_max": 0.2}
+    model["training"]["axis"] = {"mass": 4.0, "mass_se": None, "mass_from": "option",
+                                 "force_constant": 20.0, "offset": 5.0, "offset_se": 0.01, **speeds}
+    (tmp_path / "m.json").write_text(json.dumps(model))
+    assert main(["diagnose", str(folder / "log.csv"), "--model", str(tmp_path / "m.json"),
+                 "--out", str(tmp_path / "out"), "--json"]) == 0
+    captured = capsys.readouterr()
+    assert "o = 5 N, held as a constant_load" in captured.err
+    assert all(e["effect"] != "constant_load" for e in json.loads(captured.out)["effects"])
+    written = json.loads((tmp_path / "out" / "model.json").read_text())
+    assert written["effects"][0] == {"effect": "constant_load", "parameters": {"load": 5.0}}
+
+
 def test_synth_log_writes_a_readable_log(tmp_path):
     path = tmp_path / "log.csv"
     assert main(["synth-log", "--effect", "position_ripple", "--duration", "1.5", "-o", str(path)]) == 0

@@ -13,7 +13,7 @@ from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files, service_hint, written_by_diagnose
-from ..effects import model_effects, range_notes
+from ..effects import ConstantLoad, model_effects, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
@@ -66,6 +66,19 @@ def drive_columns(columns: dict, force_constant):
     return columns, force_constant, notes
 
 
+def with_axis_offset(model: FrictionModel):
+    """``model`` with its axis record's offset (the constant force its curves leave out,
+    compensated apart: ``training.axis.offset``) held as a ``constant_load`` effect, so that the
+    diagnosis does not name again what training identified; and a line saying so. The model
+    as it is when it records none or carries a load already."""
+    axis = model.axis
+    if axis is None or axis.offset is None or \
+            any(e.name == ConstantLoad.name for e in model_effects(model)):
+        return model, []
+    return with_effects(model, [ConstantLoad(load=axis.offset)]), [
+        f"offset from the model's axis: o = {axis.offset:.4g} N, held as a constant_load"]
+
+
 def nominal_axis(model: FrictionModel, mass, force_constant):
     """The nominal mass and force constant: the options, else the model's axis record; and
     one line per value taken from the record. ``UsageError`` when neither gives one."""
@@ -97,7 +110,8 @@ def _run(args) -> int:
     columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
     columns, force_constant, drive_notes = drive_columns(columns, args.force_constant)
     mass, force_constant, notes = nominal_axis(model, args.mass, force_constant)
-    notes = drive_notes + notes
+    model, offset_notes = with_axis_offset(model)
+    notes = drive_notes + notes + offset_notes
     source = source_name(args.log, args.merge)
     log = log_from_columns(columns, source, None if args.merge or args.columns else
                            header_cells(args.log, args.skip))
