@@ -15,6 +15,7 @@ from ..data.inverse_dynamics import Identification
 from ..data.sweep import Sweep
 from ..fit import DEFAULT_ELM, AutoELMRegressor, DefaultRegressor, ELMRegressor, StribeckRegressor
 from ..fit.elm import EnlargedScheme
+from ..fit.stribeck import measured
 from ..metrics import rmse
 
 
@@ -88,20 +89,26 @@ def _(estimator: StribeckRegressor) -> dict:
 
 
 @singledispatch
-def fitted_rows(estimator):
-    """The training points the estimator fitted (the default sets gross outliers aside)."""
-    return slice(None)
+def fitted_rows(estimator, x: np.ndarray) -> np.ndarray:
+    """A mask of the training points ``x`` the estimator fitted (the default sets gross
+    outliers aside; the grey-box fits the measured points, ``fricgen.fit.stribeck.measured``)."""
+    return np.ones(x.shape, dtype=bool)
 
 
 @fitted_rows.register
-def _(estimator: DefaultRegressor):
-    return estimator.inliers_
+def _(estimator: StribeckRegressor, x: np.ndarray) -> np.ndarray:
+    return measured(x)
+
+
+@fitted_rows.register
+def _(estimator: DefaultRegressor, x: np.ndarray) -> np.ndarray:
+    return estimator.inliers_ & (measured(x) if estimator.choice_ == "stribeck" else True)
 
 
 def curve_errors(dataset, estimator) -> dict:
-    """The errors of the report; E_train over the points fitted (the gross outliers the default
-    sets aside are not)."""
-    rows = fitted_rows(estimator)
+    """The errors of the report; E_train over the points fitted (not the gross outliers the
+    default sets aside, nor the point at v = 0 the grey-box leaves out)."""
+    rows = fitted_rows(estimator, dataset.x)
     e_train = rmse(estimator.predict(dataset.x[rows]), dataset.t[rows])
     kind, e_validation = validation_error(estimator)
     return {"e_train": e_train, "e_train_newton": e_train / dataset.scaling.k_out,
