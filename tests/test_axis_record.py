@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from fricgen.axis import Axis
+from fricgen.effects import ConstantLoad, with_effects
 from fricgen.cli import main
 from fricgen.cli.simulate import choose_plant
 from fricgen.codegen import cbuild, fixedpoint as fx
@@ -225,6 +226,17 @@ def test_emit_says_which_speeds_fixed_point_covers(model10, tmp_path, capsys, re
     v_max = float(argv[1]) if argv else None
     assert fx.input_range(model, "q31", v_max) == v_range
     assert 2.0 ** (31 - fx.FixedSpec.of(model, "q31", v_max).f_v) == v_range
+
+
+def test_emit_says_the_axis_offset_is_not_in_the_c_unless_an_effect_carries_it(model10, tmp_path,
+                                                                               capsys):
+    model = with_axis(model10, RECORD)
+    assert main(["emit", str(model.save(tmp_path / "m.json")), "-o", str(tmp_path / "c")]) == 0
+    assert "the axis's offset o = -3.16 N (training.axis.offset) is not in this C" in \
+        capsys.readouterr().err
+    carried = with_effects(model, [ConstantLoad(load=-3.16)])
+    assert main(["emit", str(carried.save(tmp_path / "e.json")), "-o", str(tmp_path / "e")]) == 0
+    assert "is not in this C" not in capsys.readouterr().err
 
 
 def test_v_max_with_float_is_refused(model10, tmp_path, capsys):

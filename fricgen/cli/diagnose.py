@@ -13,7 +13,7 @@ from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files, service_hint, written_by_diagnose
-from ..effects import ConstantLoad, model_effects, range_notes, with_effects
+from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
@@ -71,12 +71,11 @@ def with_axis_offset(model: FrictionModel):
     compensated apart: ``training.axis.offset``) held as a ``constant_load`` effect, so that the
     diagnosis does not name again what training identified; and a line saying so. The model
     as it is when it records none or carries a load already."""
-    axis = model.axis
-    if axis is None or axis.offset is None or \
-            any(e.name == ConstantLoad.name for e in model_effects(model)):
+    offset = offset_left_out(model)
+    if offset is None:
         return model, []
-    return with_effects(model, [ConstantLoad(load=axis.offset)]), [
-        f"offset from the model's axis: o = {axis.offset:.4g} N, held as a constant_load"]
+    return with_effects(model, [ConstantLoad(load=offset)]), [
+        f"offset from the model's axis: o = {offset:.4g} N, held as a constant_load"]
 
 
 def nominal_axis(model: FrictionModel, mass, force_constant):

@@ -9,6 +9,7 @@ from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_ove
                        package_files, render)
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..control.c_adapted import render_adapt
+from ..effects import offset_left_out
 from ..errors import UsageError
 from ..model import FrictionModel
 from .inputs import load_model
@@ -47,6 +48,15 @@ def input_range_note(model: FrictionModel, dtype: str, v_max) -> str:
     return f"fricgen: the {dtype} C takes |v| < {v_range:g} m/s, covering {cover:.4g} m/s ({source})"
 
 
+def offset_note(model) -> str:
+    """One line when the model's axis records an offset that its curves leave out (a symmetric
+    model's constant force, or a load) and no constant_load effect carries it: the C lacks it."""
+    offset = offset_left_out(model)
+    return "" if offset is None else (
+        f"fricgen: note: the axis's offset o = {offset:.4g} N (training.axis.offset) is not in "
+        "this C, whose friction leaves it out: compensate it apart")
+
+
 def run(args) -> int:
     check_folder(args.output, (), args.force)
     model = load_model(args.model)
@@ -70,5 +80,7 @@ def run(args) -> int:
     write_targets(targets, files)
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
+    if offset_note(model):
+        say(offset_note(model))
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

@@ -4,7 +4,8 @@ each defined once (force law, parameters, JSON, fit, C expression) and carried i
 from __future__ import annotations
 
 from .base import PLAUSIBLE_FACTOR, Effect
-from .carried import effect_from_dict, force_xv, model_effects, validate_effects, with_effects
+from .carried import (effect_from_dict, force_xv, model_effects, offset_left_out, validate_effects,
+                      with_effects)
 from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
 from .library import EFFECTS, VOCABULARY
 from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch
@@ -16,4 +17,5 @@ __all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRippl
            "PositionSeries", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
-           "model_effects", "validate_effects", "with_effects", "TABLES", "TableEffect", "range_notes"]
+           "model_effects", "offset_left_out", "validate_effects", "with_effects", "TABLES", "TableEffect",
+           "range_notes"]

@@ -3,7 +3,7 @@ of [F3] with the effects in (v, x), and a model with effects added."""
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any, Dict, List, Sequence, Type
+from typing import Any, Dict, List, Optional, Sequence, Type
 
 import numpy as np
 
@@ -158,3 +158,31 @@ def with_effects(model, effects: Sequence[Effect]):
     (1, 0)
     """
     return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects))
+
+
+def offset_left_out(model) -> Optional[float]:
+    """The constant force of the model's axis record that no ``constant_load`` effect carries.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model.
+
+    Returns
+    -------
+    float or None
+        ``training.axis.offset`` (N: the constant force a symmetric curve leaves out, or a load
+        taken out of the curves), or None when the record holds none or an effect carries one.
+
+    Examples
+    --------
+    >>> import fricgen
+    >>> from fricgen.effects import offset_left_out
+    >>> data = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).dataset
+    >>> offset_left_out(fricgen.FrictionModel.fit(data, fricgen.ELMRegressor(n_hidden=5)))
+    """
+    axis = model.axis
+    if axis is None or axis.offset is None or \
+            any(e.name == "constant_load" for e in model_effects(model)):
+        return None
+    return axis.offset
