@@ -134,14 +134,13 @@ def _edited_columns(d, log, name, **edits):
 
 
 def _matlab_files(d, log):
-    """log.csv as MATLAB files: with scalars and variables that are no columns; without v; as
+    """log.csv as MATLAB files: with scalars and variables that are no columns; as
     v7.3 (its header), truncated, and without variables."""
     from scipy.io import savemat
     header = log[0].split(",")
     cols = {h: np.array([float(line.split(",")[k]) for line in log[1:]])[:, None] for k, h in enumerate(header)}
     savemat(d / "log.mat", {**cols, "phi": 20.0, "zero": 0.0, "note": "axis 1", "meta": {"rate": 1e3},
                             "gains": np.ones((3, 4)), "short": np.arange(7.0)})
-    savemat(d / "log_no_v.mat", {k: a for k, a in cols.items() if k != "v"})
     raw = (d / "log.mat").read_bytes()
     (d / "v73.mat").write_bytes(raw[:124] + b"\x00\x02IM" + b"\x89HDF\r\n\x1a\n" + bytes(100))
     (d / "truncated.mat").write_bytes(raw[:300])
@@ -495,8 +494,9 @@ ROWS = [
      "--scale: i='phi' is not a number"),
     ("diagnose, a MATLAB v7.3 file", ["diagnose", "v73.mat", "--model", "model.json", *DIAG, "-o", OUT],
      "WORK/v73.mat: a MATLAB v7.3 (HDF5) file"),
-    ("diagnose, a MATLAB file without v", ["diagnose", "log_no_v.mat", "--model", "model.json", *DIAG,
-                                           "-o", OUT], "WORK/log_no_v.mat: a log needs the columns t, x, v, i: missing v"),
+    ("diagnose, a force log given a force constant", ["diagnose", "log_force.csv", "--model", "model.json",
+                                                      *DIAG, "-o", OUT],
+     "--force-constant applies to a current column i; the log's force column is in N already"),
     ("--scale 0", ["train", *DRIVE, *MERGE, "--scale", "v=0", "-o", OUT], "must be finite and not 0"),
     ("--scale inf", ["train", *DRIVE, *MERGE, "--scale", "force=inf", "-o", OUT], "must be finite and not 0"),
     ("--scale of an unknown quantity", ["train", *DRIVE, *MERGE, "--scale", "rpm=2", "-o", OUT],
