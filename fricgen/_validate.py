@@ -57,7 +57,8 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
         return ""
     units = ("mm (--scale x=0.001)" if column == "x" else
              f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001)")
-    return f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in {units}?"
+    return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in "
+            f"{units}?")
 
 
 def unusually_small(quantity: str, what: str, value: float, column: str) -> str:

@@ -24,9 +24,9 @@ from .common import (add_json, add_model, add_output, check_targets,
 
 def register(p) -> None:
     """The arguments of this command."""
-    p.add_argument("log", help="measured log with columns t, x, v, i (uniformly sampled; force in N in "
-                   "place of the current i, v from x where the log has no v): a CSV, or a MATLAB .mat "
-                   "file with these variables (a vendor's export: see the options below)")
+    p.add_argument("log", help="measured log with columns t, x, v, i (uniformly sampled; force in "
+                   "N in place of the current i, v from x where the log has no v): a CSV, or a "
+                   "MATLAB .mat file with these variables (a vendor's export: see the options below)")
     add_model(p)
     p.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
                    help="nominal moving mass m, kg (default: the mass of the model's axis record)")

@@ -9,8 +9,9 @@ velocities of every shape up to vs_max (the grey-box's bound) and non-negative a
 line that gives B, a vs_max below a Stribeck velocity cannot follow the drop, and a v_sat far
 beyond it leaves few rows for B: each shows up as held-out error. A v_sat beyond which the
 force falls (B < 0 in a training fold) is no linear region and is not scored: viscous friction
-dissipates, and a falling line would push the axis wherever the model extrapolates it. Of the candidates within one
-standard error (of the paired row differences) of the best, the smallest vs_max is chosen.
+dissipates, and a falling line would push the axis wherever the model extrapolates it. Of the
+candidates within one standard error (of the paired row differences) of the best, the smallest
+vs_max is chosen.
 
 One more candidate has no linear high-speed region: B is fitted with the rest ([F1] with the
 dictionary up to a third of the fastest speed, plus B v) and v_sat is the fastest speed. It is
