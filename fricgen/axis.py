@@ -104,7 +104,8 @@ class Axis:
                         physical_problem("speed", f"{_WHERE}.speed_max", speed_max),
                         offset is not None and abs(offset) > PHYSICAL["force"][1]
                         and physical_problem("force", f"{_WHERE}.offset", offset)]
-            for problem in filter(None, problems):
+            problem = next(filter(None, problems), "")
+            if problem:
                 raise ModelError(f"{problem} (an edited record? a model trained with "
                                  f"{ACCEPT_UNUSUAL} may hold it)")
         return cls(speed_min=speed_min, speed_max=speed_max, mass=mass, mass_se=mass_se,

@@ -80,7 +80,8 @@ def run(args) -> int:
     write_targets(targets, files)
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
-    if offset_note(model):
-        say(offset_note(model))
+    note = offset_note(model)
+    if note:
+        say(note)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
     return 0

@@ -198,6 +198,12 @@ class Identification:
         return replace(self, load=True)
 
     @property
+    def offset_in_friction(self) -> float:
+        """The offset still in ``friction``: o, or 0 when it is a load taken out (``as_load``)
+        or the log does not determine it. A symmetric curve leaves it out."""
+        return 0.0 if self.load or self.body.offset is None else self.body.offset
+
+    @property
     def friction(self) -> Sweep:
         """The samples a friction model is fitted to: ``sweep``, less the offset when it is a
         load (``as_load``)."""

@@ -10,6 +10,7 @@ import numpy as np
 from ..errors import ModelError
 from .base import Effect
 from .library import EFFECTS
+from .mechanical import ConstantLoad
 from .signals import Signals
 
 #: Every kind model.json's ``effects`` may hold: the named effects and the tables without a
@@ -183,6 +184,6 @@ def offset_left_out(model) -> Optional[float]:
     """
     axis = model.axis
     if axis is None or axis.offset is None or \
-            any(e.name == "constant_load" for e in model_effects(model)):
+            any(e.name == ConstantLoad.name for e in model_effects(model)):
         return None
     return axis.offset

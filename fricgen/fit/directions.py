@@ -245,8 +245,8 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
     ``Identification``): cross-validation in blocks of BLOCK_WINDOWS smoothing windows of time,
     training sets binned to the
     effective samples, and at most the parameters they support (``within_budget``; each
-    direction has about half of them). A symmetric curve leaves the identified offset out
-    (``fit_directions``' ``offset``), unless it is already taken out as a load."""
+    direction has about half of them). A symmetric curve leaves the offset still in the
+    friction samples out (``Identification.offset_in_friction``, ``fit_directions``' ``offset``)."""
     if ident is None:
         return fit_directions(sweep, estimator, vs_max=vs_max, asymmetric=asymmetric, seed=seed,
                               per_direction=per_direction, progress=progress)
@@ -256,6 +256,5 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
                           per_direction=within_budget(per_direction, ident.parameter_budget // 2),
                           blocks=BLOCK_WINDOWS * ident.window,
                           independence=ident.independent / ident.n_kept,
-                          offset=ident.body.offset if ident.body.offset is not None
-                          and not ident.load else 0.0,
+                          offset=ident.offset_in_friction,
                           progress=progress)
