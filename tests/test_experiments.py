@@ -44,10 +44,18 @@ def test_quick_reproduction_writes_every_method_and_figure(quick_run):
     assert "Table 2" in report and "elm_auto" in report and "[0.0224, 0.0241, 0.0075]" in report
 
 
+#: The bound on default / oracle over the quick run's 2 seeds. On seeds 1000-1019 (paper3,
+#: gauss) single sweeps range from 0.60 to 2.01 (median 1.10), so the mean of 2 sweeps exceeds
+#: 1.3 for 29 % of the pairs and 1.6 for under 5 %. The 20-seed target is measured by
+#: benchmarks/default_vs_oracle.py; 2 seeds can only catch a default gone wrong.
+QUICK_DEFAULT_OVER_ORACLE = 1.6
+
+
 def test_quick_reproduction_default_meets_the_oracle_and_paper_targets(quick_run):
     result = json.loads((quick_run[1] / "results.json").read_text())
     s = result["summary"]
-    assert s["default_over_oracle"] < 1.3 and s["default_over_oracle"] <= s["auto_over_oracle"]
+    assert s["default_over_oracle"] < QUICK_DEFAULT_OVER_ORACLE
+    assert s["default_over_oracle"] <= s["auto_over_oracle"]
     assert s["best_paper_elm_over_auto"] > 2.0
 
 
