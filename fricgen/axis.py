@@ -8,7 +8,8 @@ the drive holds -offset of gravity on an inclined axis, or of a cable's pull) co
 them from a motion log; ``force_constant`` phi (N/A) is what training was told (null when the
 log held a force column); ``speed_min`` and ``speed_max`` (m/s) bound |v| of the training data.
 A sweep gives no mass, force constant or offset (null). The record does not take part in the
-force: ``FrictionModel.model_hash`` ignores it.
+force: ``FrictionModel.model_hash`` ignores it, and ``FrictionModel.axis_hash`` covers it (a load
+warns when a hand edit changed it).
 """
 from __future__ import annotations
 

@@ -255,6 +255,8 @@ class FrictionModel:
         The curve for v < 0 of an asymmetric model.
     recorded_hash : str, optional
         The ``model_hash`` model.json recorded.
+    recorded_axis_hash : str, optional
+        The ``axis_hash`` model.json recorded.
 
     Notes
     -----
@@ -284,6 +286,8 @@ class FrictionModel:
     #: The ``model_hash`` model.json recorded (None for a model not read from one, or read from
     #: a file written before the field existed).
     recorded_hash: Optional[str] = field(default=None, compare=False, repr=False)
+    #: The ``axis_hash`` model.json recorded (None likewise, or for a model without an axis).
+    recorded_axis_hash: Optional[str] = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "symmetric", self.negative is None)
@@ -370,6 +374,7 @@ class FrictionModel:
         core = self._force_fields()
         d = {"format": FORMAT, "format_version": self.format_version,
              "fricgen_version": __version__, "name": self.name, "model_hash": self.model_hash,
+             **({} if self.axis_hash is None else {"axis_hash": self.axis_hash}),
              **{k: core[k] for k in ("aim", "scaling", "viscous", "v_sat", "symmetric", "effects")},
              "training": self.training}
         if self.negative is not None:
@@ -379,20 +384,33 @@ class FrictionModel:
     @property
     def model_hash(self) -> str:
         """SHA-256 (first 16 hex digits) of everything that determines the force."""
-        core = finite_or_null(self._force_fields())
-        return hashlib.sha256(json.dumps(core, sort_keys=True).encode()).hexdigest()[:16]
+        return _digest(self._force_fields())
+
+    @property
+    def axis_hash(self) -> Optional[str]:
+        """SHA-256 (first 16 hex digits) of the axis record (``training.axis``), which
+        ``simulate``, ``diagnose`` and ``emit --dtype q15|q31`` read; None without one."""
+        axis = self.training.get("axis")
+        return None if axis is None else _digest(axis)
+
+    def _edits(self) -> list:
+        """(field, recorded, content's) for each recorded hash the content no longer gives."""
+        return [(name, recorded, now) for name, recorded, now in
+                (("model_hash", self.recorded_hash, self.model_hash),
+                 ("axis_hash", self.recorded_axis_hash, self.axis_hash))
+                if recorded is not None and recorded != now]
 
     @property
     def edited_after_training(self) -> bool:
-        """Whether model.json recorded a ``model_hash`` its force fields no longer give."""
-        return self.recorded_hash is not None and self.recorded_hash != self.model_hash
+        """Whether model.json recorded a ``model_hash`` its force fields, or an ``axis_hash``
+        its axis record, no longer give."""
+        return bool(self._edits())
 
     def hash_warning(self, path) -> str:
         """The one-line warning for a model.json edited after training ('' if it was not)."""
-        if not self.edited_after_training:
-            return ""
-        return (f"fricgen: warning: {path}: edited after training (model_hash {self.recorded_hash} "
-                f"recorded, its content gives {self.model_hash})")
+        edits = "; ".join(f"{name} {recorded} recorded, its content gives {now}"
+                          for name, recorded, now in self._edits())
+        return f"fricgen: warning: {path}: edited after training ({edits})" if edits else ""
 
     def to_json(self) -> str:
         """model.json's text: strict JSON (a non-finite number in ``training``, such as the C
@@ -458,12 +476,14 @@ class FrictionModel:
                     curve is None or curve.check_physical()
                 except ModelError as exc:
                     raise ModelError(f"{where}{exc}") from None
-        recorded = d.get("model_hash")
-        if recorded is not None and not isinstance(recorded, str):
-            raise ModelError(f"model_hash must be a string, got {type(recorded).__name__}")
+        recorded = {key: d.get(key) for key in ("model_hash", "axis_hash")}
+        for key, value in recorded.items():
+            if value is not None and not isinstance(value, str):
+                raise ModelError(f"{key} must be a string, got {type(value).__name__}")
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
                    v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
-                   negative=negative, recorded_hash=recorded)
+                   negative=negative, recorded_hash=recorded["model_hash"],
+                   recorded_axis_hash=recorded["axis_hash"])
 
     @classmethod
     def load(cls, path: Union[str, Path]) -> "FrictionModel":
@@ -488,3 +508,8 @@ class FrictionModel:
             return cls.from_dict(d)
         except ModelError as exc:
             raise ModelError(f"{path}: {exc}") from None
+
+
+def _digest(fields) -> str:
+    """SHA-256 (first 16 hex digits) of ``fields`` as sorted, strict JSON."""
+    return hashlib.sha256(json.dumps(finite_or_null(fields), sort_keys=True).encode()).hexdigest()[:16]

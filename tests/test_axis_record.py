@@ -36,6 +36,24 @@ def test_the_record_round_trips_and_leaves_the_model_hash_alone(model10, tmp_pat
     assert np.array_equal(loaded.force([0.01, -0.2]), model10.force([0.01, -0.2]))
 
 
+def test_a_hand_edited_axis_record_is_used_with_one_warning_naming_its_hash(model10, tmp_path, capsys):
+    path = with_axis(model10, RECORD).save(tmp_path / "m.json")
+    written = json.loads(path.read_text())
+    assert written["axis_hash"] == FrictionModel.load(path).axis_hash
+    assert main(["simulate", "--model", str(path), "--duration", "0.1", "--json"]) == 0
+    assert capsys.readouterr().err == ""
+    written["training"]["axis"]["mass"] = 9.51          # a plausible mass, a digit lost
+    path.write_text(json.dumps(written))
+    edited = FrictionModel.load(path)
+    assert edited.model_hash == model10.model_hash and edited.edited_after_training
+    assert main(["simulate", "--model", str(path), "--duration", "0.1", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["plant"].startswith("plant: the model's axis, m = 9.51 kg")
+    warning = captured.err.strip().splitlines()
+    assert len(warning) == 1 and "edited after training (axis_hash" in warning[0]
+    assert "model_hash" not in warning[0]
+
+
 def test_a_model_without_the_record_has_no_axis(model10, tmp_path):
     assert FrictionModel.load(model10.save(tmp_path / "m.json")).axis is None
     assert with_axis(model10, None).axis is None          # "axis": null, as absent
