@@ -113,8 +113,8 @@ def xt(bench):
 
 
 #: Tests of more than a few seconds (wheel install, cross builds under QEMU, sanitizer fuzz, the
-#: quick paper reproduction, the diagnosis matrices: test_diagnose's 40 logs took 400 s on a busy 2-core machine,
-#: long closed loops): ``-m "not slow"`` skips them.
+#: quick paper reproduction, the diagnosis matrices: test_diagnose's 40 logs took 400 s on a busy
+#: 2-core machine, long closed loops): ``-m "not slow"`` skips them.
 SLOW_MODULES = {"test_install", "test_firmware", "test_flag_matrix", "test_hardening", "test_experiments",
                 "test_bad_input",
                 "test_diagnose", "test_diagnose_scenarios", "test_static_c"}
