@@ -9,7 +9,7 @@ from fricgen.diagnose.residual import ResidualProblem
 from fricgen.diagnose.select import joint_fit, joint_linear
 from fricgen.effects import (ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
                              ForceConstantMismatch, FrictionalLag, InertiaMismatch,
-                             PositionFriction, PositionRipple, ThermalDrift, effect_from_dict)
+                             PositionFriction, PositionRipple, SensorDelay, ThermalDrift, effect_from_dict)
 from fricgen.errors import ModelError
 from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
 
@@ -84,7 +84,8 @@ EXAMPLES = [PositionRipple(amplitude=0.3, period=0.05, phase=1.0), DirectionAsym
             ForceConstantMismatch(force_constant=9.0, nominal_force_constant=10.0),
             ExtraFrictionSource(fc=0.2, fs=0.5, vs=0.01, B=0.3), FrictionalLag(tau=0.05),
             ThermalDrift(rate=0.02, offset=0.01, t0=0.0, time_constant=3.0),
-            PositionFriction(amplitude=(0.3, 0.1), period=0.02, phase=(1.0, 2.5))]
+            PositionFriction(amplitude=(0.3, 0.1), period=0.02, phase=(1.0, 2.5)),
+            SensorDelay(tau=0.003, nominal_force_constant=20.0)]
 
 
 @pytest.mark.parametrize("effect", EXAMPLES, ids=lambda e: e.name)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -18,6 +19,7 @@ import numpy as np
 from .._validate import positive
 from ..data import MotionLog
 from ..effects import EFFECTS, TABLES, Effect, model_effects, with_effects
+from ..effects.fitting import grid_then_refine
 from ..errors import DataError
 from ..metrics import rmse
 from ..model import FrictionModel
@@ -43,6 +45,11 @@ MAX_EFFECTS = 8
 SHORT_LIVED = ("frictional_lag",)
 MISMATCH_RELEVANT = 0.1
 UNDERSTATED_GAIN = 0.25
+#: A timing effect (``Effect.via_timing``: a sensor delay) shifts the force in time rather than
+#: adding one: below ``min_size`` it is judged by the held-out gap alone, which must shrink by
+#: ``min_gain`` as for any effect. Its delay is chosen again by simulation (``Diagnoser._timed``)
+#: within this many samples below and above the residual's fit.
+TIMING_SEARCH = (2.5, 1.0)
 
 
 class Diagnoser:
@@ -196,6 +203,7 @@ class Diagnoser:
         name = ranked[0].effect
         if joint is None:
             joint = joint_fit(p, chosen, classes[name])
+        joint = self._timed(base, joint)
         test = p.test_rows
         before = p.target[test] - sum((p.predict(e, test) for e in chosen), np.zeros(test.size))
         after = p.target[test] - sum((p.predict(e, test) for e in joint), np.zeros(test.size))
@@ -218,9 +226,11 @@ class Diagnoser:
         if size < self.min_size:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
                            f"{self.min_size:.0%})")
-            if not all(e.name in SHORT_LIVED or e.mismatch() >= MISMATCH_RELEVANT for e in newcomers):
+            if not all(e.name in SHORT_LIVED or e.via_timing or e.mismatch() >= MISMATCH_RELEVANT
+                       for e in newcomers):
                 return step
-            gain = UNDERSTATED_GAIN
+            if not all(e.via_timing for e in newcomers):
+                gain = UNDERSTATED_GAIN
         if len(newcomers) > 1:          # each effect a set names must matter on its own
             own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in newcomers}
             small = min(own, key=own.get)
@@ -239,6 +249,27 @@ class Diagnoser:
         self._v_sim = v_sim
         return step
 
+    def _timed(self, base, joint):
+        """``joint`` with the delay of its timing effect (sensor delay) chosen again, within
+        ``TIMING_SEARCH`` samples of the residual's, by the gap of simulations on the fit part:
+        in a closed loop the current answers to the velocity sensor's noise, which the
+        acceleration holds a sample later, so the residual's fit reads the delay about a sample
+        long; the simulations, driven by the smoothed current, do not."""
+        k = next((j for j, e in enumerate(joint) if e.via_timing), None)
+        if k is None:
+            return joint
+        ts = self.problem_.sample_time
+        trial = list(joint)
+
+        def gap(samples):
+            trial[k] = replace(joint[k], tau=samples * ts)
+            return self._fit_part_gap(base + trial)[0]
+
+        centre = joint[k].tau / ts
+        grid = centre + np.arange(-TIMING_SEARCH[0], TIMING_SEARCH[1] + 0.25, 0.5)
+        trial[k] = replace(joint[k], tau=grid_then_refine(gap, grid) * ts)
+        return trial
+
     def _try(self, p, base, chosen, gap_now, ranked, grown, tables) -> Optional[Step]:
         """Consider the candidates of one kind in turn: ``grown`` named sets (from
         ``select.extensions``, best first) or, if None, the ``ranked`` tables added to ``chosen``.
@@ -253,8 +284,8 @@ class Diagnoser:
             if joint is None:
                 step = self._consider(p, base, chosen, gap_now, ranked[k:], tables)
             else:
-                newcomer = [e for e in joint if e.name not in had][-1]
                 step = self._consider(p, base, chosen, gap_now, ranked, None, joint=joint)
+                newcomer = [e for e in step.joint if e.name not in had][-1]
                 step.effect, step.fitted = newcomer.name, newcomer
             self.steps_.append(step)
             if step.added:
@@ -322,6 +353,7 @@ class Diagnoser:
         self.problem_ = p
         self.horizon_samples_ = max(1, int(round(self.horizon / ts)))
         self._held_out = HeldOutGap(p, self.horizon_samples_, self.substeps)
+        self._fit_part_gap = HeldOutGap(p, self.horizon_samples_, self.substeps, fit_part=True)
         self.held_ = self._held_out.held
         self.gap_before_, self.v_sim_before_ = self._held_out(base)
         return p, base

@@ -13,6 +13,7 @@ from typing import Sequence, Tuple
 import numpy as np
 
 from ..effects import Effect, Signals
+from ..effects.timing import shifted
 from ..metrics import rmse
 from ..sim.axis import AxisState, MotorAxis
 from ..sim.effect_law import EffectLaw
@@ -26,7 +27,8 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
                substeps: int = 10) -> np.ndarray:
     """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
     samples from ``start`` on, driven by the measured current (smoothed; NaN before ``start``): the axis
-    of [C1] under the model's friction and ``effects``, in Karnopp steps."""
+    of [C1] under the model's friction and ``effects``, in Karnopp steps. A sensor delay tau
+    (``EffectLaw.input_delay``) drives it with the current read tau earlier, interpolated."""
     sig = problem.signals
     n = sig.t.size
     law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)
@@ -36,10 +38,13 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
         s0 = Signals(sig.model, v=problem.v_smooth, sample_time=problem.sample_time).lagged_speed(law.lag_tau)[starts]
     axis = MotorAxis(law)
     state = AxisState.of(problem.x_smooth[starts], problem.v_smooth[starts], sig.t[starts], s0)
+    current = problem.i_smooth
+    if law.input_delay:
+        current = shifted(current, -law.input_delay / problem.sample_time)
     out = np.full(n, np.nan)
     for j in range(horizon):
         k = np.minimum(starts + j, n - 1)
-        state = axis.karnopp(state, problem.i_smooth[k], problem.sample_time, substeps)
+        state = axis.karnopp(state, current[k], problem.sample_time, substeps)
         k1 = starts + j + 1
         ok = k1 < n
         out[k1[ok]] = state.v[ok]
@@ -60,16 +65,19 @@ def moving_segments(problem: ResidualProblem, start: int, horizon: int) -> np.nd
 class HeldOutGap:
     """The held-out gap of sets of effects on ``problem``: simulations restarted every
     ``horizon`` samples from its split on, in ``substeps`` Karnopp steps per sample, compared
-    on the samples whose segment stays moving (``held``)."""
+    on the samples whose segment stays moving (``held``). With ``fit_part``, the same gap on the
+    part before the split instead (what a fit may read)."""
 
-    def __init__(self, problem: ResidualProblem, horizon: int, substeps: int):
+    def __init__(self, problem: ResidualProblem, horizon: int, substeps: int, fit_part: bool = False):
         self.problem, self.horizon, self.substeps = problem, horizon, substeps
-        self.held = moving_segments(problem, problem.split, horizon)
+        self.start = 0 if fit_part else problem.split
+        self.held = moving_segments(problem, self.start, horizon)
+        if fit_part:
+            self.held &= np.arange(self.held.size) < problem.split
 
     def __call__(self, effects: Sequence[Effect]) -> Tuple[float, np.ndarray]:
         """The gap under ``effects`` and the simulated velocity."""
-        p = self.problem
-        v_sim = resimulate(p, list(effects), p.split, self.horizon, self.substeps)
+        v_sim = resimulate(self.problem, list(effects), self.start, self.horizon, self.substeps)
         return rmse(self.errors(v_sim), 0.0), v_sim
 
     def errors(self, v_sim: np.ndarray) -> np.ndarray:

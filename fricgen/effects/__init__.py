@@ -11,11 +11,12 @@ from .library import EFFECTS, VOCABULARY
 from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch
 from .position_series import PositionFriction, PositionRipple, PositionSeries
 from .signals import FrictionCurve, Signals
+from .timing import SensorDelay
 from .tables import TABLES, TableEffect, range_notes
 
 __all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRipple", "PositionFriction",
            "PositionSeries", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
-           "FrictionalLag", "ThermalDrift", "FrictionCurve", "Signals", "effect_from_dict", "force_xv",
-           "model_effects", "offset_left_out", "validate_effects", "with_effects", "TABLES", "TableEffect",
-           "range_notes"]
+           "FrictionalLag", "ThermalDrift", "SensorDelay", "FrictionCurve", "Signals", "effect_from_dict",
+           "force_xv", "model_effects", "offset_left_out", "validate_effects", "with_effects", "TABLES",
+           "TableEffect", "range_notes"]

@@ -73,6 +73,8 @@ class Effect:
     fixed: ClassVar[Tuple[str, ...]] = ()
     #: Simulated through the mass or the force constant (mass_delta, force_constant_delta).
     via_dynamics: ClassVar[bool] = False
+    #: Simulated through the timing of the current that drives the axis (input_delay).
+    via_timing: ClassVar[bool] = False
 
     @property
     def n_params(self) -> int:
@@ -88,6 +90,8 @@ class Effect:
     mass_delta: ClassVar[float] = 0.0
     force_constant_delta: ClassVar[float] = 0.0
     lag_tau: ClassVar[float] = 0.0
+    #: The simulation drives the axis with the current this much earlier (s): a log's timing.
+    input_delay: ClassVar[float] = 0.0
 
     def to_dict(self) -> dict:
         return {"effect": self.name, "parameters": self.parameters()}

@@ -10,10 +10,11 @@ from .base import Effect
 from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
 from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch
 from .position_series import PositionFriction, PositionRipple
+from .timing import SensorDelay
 
 #: The effect library, by the exact names of the diagnosis vocabulary.
 EFFECTS: Dict[str, Type[Effect]] = {cls.name: cls for cls in (
     PositionRipple, DirectionAsymmetry, ConstantLoad, InertiaMismatch, ForceConstantMismatch,
-    ExtraFrictionSource, FrictionalLag, ThermalDrift, PositionFriction)}
+    ExtraFrictionSource, FrictionalLag, ThermalDrift, PositionFriction, SensorDelay)}
 #: The vocabulary: "none" and every effect name.
 VOCABULARY = ("none",) + tuple(EFFECTS)

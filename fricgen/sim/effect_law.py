@@ -4,8 +4,9 @@
                                                     ``fricgen.effects``),
 
 split as ``MotorAxis`` needs it: effects that act at rest (ripple, load) form the external
-force, those simulated through the dynamics shift m and phi, and the others add to the sliding
-friction. One law serves the truth axes of synthesized logs, the re-simulations of the
+force, those simulated through the dynamics shift m and phi, those of the log's timing (a
+sensor delay) are no force (``input_delay``: whoever drives the law shifts its current), and
+the others add to the sliding friction. One law serves the truth axes of synthesized logs, the re-simulations of the
 diagnosis and the controlled axis; ``EffectLaw.batch`` gives each axis of a batch its own
 effects.
 """
@@ -37,6 +38,10 @@ class _OnAxes:
         return self.effect.via_dynamics
 
     @property
+    def via_timing(self) -> bool:
+        return self.effect.via_timing
+
+    @property
     def mass_delta(self):
         return np.where(self.mask, self.effect.mass_delta, 0.0)
 
@@ -47,6 +52,10 @@ class _OnAxes:
     @property
     def lag_tau(self):
         return np.where(self.mask, self.effect.lag_tau, 0.0)
+
+    @property
+    def input_delay(self):
+        return np.where(self.mask, self.effect.input_delay, 0.0)
 
     def force(self, sig: Signals) -> np.ndarray:
         return np.where(self.mask, self.effect.force(sig), 0.0)
@@ -82,6 +91,8 @@ class EffectLaw:
     a ``MultisourceFriction``) plus ``effects``, the nominal ``mass`` (kg) and
     ``force_constant`` (N/A) shifted by the effects that act through them, current limit
     ``i_max`` (A). The friction memory is that of the first effect with one (frictional lag).
+    ``input_delay`` (s): the sum of the timing effects' (sensor delay), by which a log's current
+    must be read earlier to drive the axis; the law itself leaves them out.
     """
 
     def __init__(self, friction: FrictionCurve, effects: Sequence = (), *, mass: float,
@@ -96,8 +107,10 @@ class EffectLaw:
         self.force_constant = force_constant + sum(e.force_constant_delta for e in self.effects)
         lags = [e.lag_tau for e in self.effects if np.any(np.asarray(e.lag_tau) > 0)]
         self.lag_tau = lags[0] if lags else 0.0
+        self.input_delay = sum((e.input_delay for e in self.effects), 0.0)
         self._at_rest = [e for e in self.effects if e.acts_at_rest]
-        self._sliding = [e for e in self.effects if not (e.acts_at_rest or e.via_dynamics)]
+        self._sliding = [e for e in self.effects
+                         if not (e.acts_at_rest or e.via_dynamics or e.via_timing)]
 
     @classmethod
     def batch(cls, friction: FrictionCurve, effects_per_axis: Sequence[Sequence[Effect]],
