@@ -68,6 +68,9 @@ SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "as
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 #: The held-out guard's least relative shrink of the gap, for ``visible``.
 MIN_GAIN = Diagnoser().min_gain
+#: The effects diagnose considers: its default, or every one with --sensor-delay (set by main
+#: before the workers start).
+CANDIDATES = None
 
 
 def cases(small: bool, per_length=None, magnitudes=()):
@@ -111,7 +114,7 @@ def run_case(case):
     start = time.time()
     sc = make_scenario(seed, hidden, **fixed)
     made = time.time()
-    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=CANDIDATES)
     seconds_diagnose = time.time() - made
     c = sc.conditions
     # the oracle: the gap the user's model leaves with the true effects, shapes and parameters;
@@ -386,6 +389,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--small", action="store_true", help="a quick run: 15 nulls, 14 s and 60 s "
                     "lengths, one seed per effect and shape, 6 pairs, 2 triples")
+    ap.add_argument("--sensor-delay", action="store_true",
+                    help="let diagnose consider sensor_delay too (as fricgen diagnose --sensor-delay)")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
     ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")
@@ -399,6 +404,8 @@ def main():
                     help="null logs at each length of " + ", ".join(f"{x:g}" for x in LENGTHS)
                     + " s: N for all, or LENGTH:N,... (default 60; 2 with --small)")
     args = ap.parse_args()
+    global CANDIDATES
+    CANDIDATES = list(EFFECTS) if args.sensor_delay else None
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "records.jsonl"

@@ -1,6 +1,8 @@
 """The named sensor delay (fricgen/effects/timing.py): its fit on signals shifted by
 interpolation (not by its own formula), model.json round trip and refusal, the held-out
 simulation it drives, and the diagnosis of scenario logs that hide a delay or a mass error."""
+import json
+
 import numpy as np
 import pytest
 
@@ -24,14 +26,13 @@ def problem():
 
 
 def _delayed_target(problem, samples):
-    """The residual of a log whose motion is logged ``samples`` late: m a + F(v) = phi i(t - d)
-    read half a sample earlier (the held current), so phi (i(t - 1/2) - i(t - 1/2 - d)), with i
-    read by cubic interpolation, independent of the effect's own linear interpolation."""
+    """The residual of a log whose motion is logged ``samples`` late, its current held over each
+    sample: m a + F(v) = phi i(t - 1/2 - d), so phi (i(t) - i(t - 1/2 - d)), with i read by cubic
+    interpolation, independent of the effect's own linear interpolation."""
     from scipy.interpolate import CubicSpline
     i = problem.signals.i
     k = np.arange(i.size, dtype=float)
-    spline = CubicSpline(k, i)
-    late = spline(np.clip(k - 0.5, 0, k[-1])) - spline(np.clip(k - 0.5 - samples, 0, k[-1]))
+    late = i - CubicSpline(k, i)(np.clip(k - 0.5 - samples, 0, k[-1]))
     return problem.at_rows(problem.force_constant * late, np.arange(problem.rows.size))
 
 
@@ -43,12 +44,15 @@ def test_the_fit_recovers_a_delay_of_whole_samples(problem, samples):
     assert fit.nominal_force_constant == problem.force_constant
 
 
-def test_no_delay_fits_a_delay_near_zero(problem):
+def test_a_residual_of_noise_alone_fits_the_delay_whose_force_vanishes(problem):
+    """phi (i(t) - i(t - h - tau)) vanishes at tau = -h: a residual without the held current's
+    half sample (a log of the measured current) and without delay."""
+    from fricgen.effects.timing import HOLD
     rng = np.random.default_rng(0)
     noise = 0.05 * rng.standard_normal(problem.rows.size)
     q = problem.with_target(noise)
     fit = SensorDelay.fit(q, q.fit_rows)
-    assert abs(fit.tau) < 0.2 * problem.sample_time
+    assert abs(fit.tau / problem.sample_time + HOLD) < 0.2
 
 
 def test_the_delay_is_not_a_mass_error(problem):
@@ -93,7 +97,7 @@ def test_the_law_leaves_the_delay_out_of_the_forces():
 @pytest.fixture(scope="module")
 def delayed_run():
     sc = make_scenario(14, ("oov:sensor_delay",), controller="pid", **FIXED)
-    return sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    return sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=list(EFFECTS))
 
 
 def test_a_hidden_sensor_delay_is_named(delayed_run):
@@ -107,5 +111,32 @@ def test_a_hidden_sensor_delay_is_named(delayed_run):
 def test_a_hidden_frictional_lag_is_named_as_itself():
     """Friction memory lags the velocity-weakening part alone: not read as a delay."""
     sc = make_scenario(14, ("frictional_lag",), controller="pid", **FIXED)
-    d = Diagnoser().fit(sc.log, sc.model, sc.mass, sc.force_constant)
+    d = Diagnoser(candidates=list(EFFECTS)).fit(sc.log, sc.model, sc.mass, sc.force_constant)
     assert [e.name for e in d.added_] == ["frictional_lag"], [(s.effect, s.reason) for s in d.steps_]
+
+
+def test_the_delay_is_considered_only_when_asked_for(delayed_run):
+    """By default diagnose leaves the delay out (on short closed-loop logs a delay of a sample
+    stands in for friction dynamics); the same log then gets no sensor_delay."""
+    sc, asked = delayed_run
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert "sensor_delay" in {s.effect for s in asked.steps_}
+    assert "sensor_delay" not in {s.effect for s in d.steps_}
+    assert "sensor_delay" not in {c["effect"] for c in d.summary()["candidates"]}
+
+
+def test_the_cli_considers_the_delay_with_its_flag(tmp_path):
+    from fricgen.cli import main
+    from fricgen.data.motionlog import log_csv_text
+    sc = make_scenario(14, ("oov:sensor_delay",), controller="pid", **FIXED)
+    model_path = tmp_path / "model.json"
+    sc.model.save(model_path)
+    log_path = tmp_path / "log.csv"
+    log_path.write_text(log_csv_text(sc.log))
+    common = [str(log_path), "--model", str(model_path), "--mass", str(sc.mass),
+              "--force-constant", str(sc.force_constant), "--json"]
+    for flag, named in (([], False), (["--sensor-delay"], True)):
+        out = tmp_path / ("with" if flag else "without")
+        assert main(["diagnose", *common, *flag, "-o", str(out)]) == 0
+        saved = json.loads((out / "model.json").read_text())
+        assert ("sensor_delay" in [e["effect"] for e in saved.get("effects", [])]) == named

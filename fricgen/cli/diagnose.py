@@ -14,6 +14,7 @@ from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files, service_hint, written_by_diagnose
 from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
+from ..effects import EFFECTS
 from ..errors import UsageError
 from ..model import FrictionModel
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
@@ -38,6 +39,10 @@ def register(p) -> None:
                    help="the known fundamental period, m, of forces periodic in position (a pole "
                    "pitch, a screw lead) for position_ripple and position_friction (default: "
                    "found from the log)")
+    p.add_argument("--sensor-delay", action="store_true",
+                   help="also consider a delay between the logged motion and the current "
+                   "(sensor_delay; off by default: on short closed-loop logs a delay of a sample "
+                   "or two stands in for friction dynamics)")
     add_output(p, "folder for model.json, report.md and plots",
                force_also=", and over files in it that diagnose did not write")
     add_export_options(p)
@@ -117,7 +122,8 @@ def _run(args) -> int:
     for note in notes:
         say("fricgen: " + note)
     with named_data(source):
-        d = Diagnoser(max_effects=args.max_effects, pitch=args.pitch).fit(log, model, mass, force_constant)
+        d = Diagnoser(max_effects=args.max_effects, pitch=args.pitch,
+                      candidates=list(EFFECTS) if args.sensor_delay else None).fit(log, model, mass, force_constant)
     files = render_files(d, log, Path(args.log).name)
     targets = check_targets(args, files, inputs, folder_of=[args.model])  # before any result is printed
     check_overwrite(targets.values(), args.force, written=written_by_diagnose)

@@ -109,11 +109,12 @@ class SensorDelay(Effect):
 
     @staticmethod
     def held_force(i: np.ndarray, force_constant: float, samples: float) -> np.ndarray:
-        """phi (i(t - h) - i(t - h - tau)), h half a sample: the current is held over each
-        sample, so the central-difference acceleration of a log without delay already answers
-        to i(t - h), and the residual holds phi (i(t) - i(t - h)) as it is; a delay shifts that
-        reading further by tau (``samples``)."""
-        return force_constant * (shifted(i, -HOLD) - shifted(i, -HOLD - samples))
+        """phi (i(t) - i(t - h - tau)), h half a sample: the current is held over each sample,
+        so the central-difference acceleration of a log answers to i(t - h) even without a
+        delay, and a delay shifts that reading by tau (``samples``) more. At tau = 0 the force
+        is that half sample's alone, which a simulation driven by the held current needs not
+        replay."""
+        return force_constant * (i - shifted(i, -HOLD - samples))
 
     @classmethod
     def fit(cls, problem, rows):
