@@ -65,8 +65,9 @@ def _speed_basis(v: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class SensorDelay(Effect):
-    """The logged motion lags the logged current by ``tau``: phi (i(t) - i(t - tau)), the
-    current read by linear interpolation between samples.
+    """The logged motion lags the logged current by ``tau``: phi (i(t) - i(t - h - tau)), h
+    the held current's half sample (``held_force``), the current read by linear interpolation
+    between samples.
 
     A negative ``tau`` is the current logged ``-tau`` late instead.
 
@@ -84,8 +85,8 @@ class SensorDelay(Effect):
     >>> from fricgen.effects import Signals, SensorDelay
     >>> sig = Signals(preset("paper3"), v=np.full(5, 0.5), i=np.array([0, 1, 2, 3, 4.0]),
     ...               sample_time=0.001)
-    >>> SensorDelay(tau=0.0015, nominal_force_constant=2.0).force(sig).tolist()  # 2 N/A x 1.5 A
-    [0.0, 1.0, 3.0, 3.0, 3.0]
+    >>> SensorDelay(tau=0.0015, nominal_force_constant=2.0).force(sig).tolist()  # 2 N/A x 1 A/ms x (1.5 + 0.5) ms
+    [0.0, 2.0, 4.0, 4.0, 4.0]
     """
 
     tau: float
