@@ -112,6 +112,18 @@ def xt(bench):
     return bench.dataset.x, bench.dataset.t
 
 
+@pytest.fixture(scope="session")
+def null_problem():
+    """The residual problem of [C1] of an 8 s synthesized log with nothing hidden, under the
+    nominal model (the effects' fits are tested on targets built on it)."""
+    from fricgen.diagnose.residual import ResidualProblem
+    from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
+    model = nominal_model()
+    spec = LogSpec(effect="none", seed=5, duration=8.0)
+    log = synthesize_log(spec, model)
+    return ResidualProblem(log, model, spec.mass, spec.force_constant, 21, 0.3)
+
+
 #: Tests of more than a few seconds (wheel install, cross builds under QEMU, sanitizer fuzz, the
 #: quick paper reproduction, the diagnosis matrices: test_diagnose's 40 logs took 400 s on a busy
 #: 2-core machine, long closed loops): ``-m "not slow"`` skips them.

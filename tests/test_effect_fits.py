@@ -5,21 +5,16 @@ backfitting alone does not separate them (fricgen/diagnose/select.py)."""
 import numpy as np
 import pytest
 
-from fricgen.diagnose.residual import ResidualProblem
 from fricgen.diagnose.select import joint_fit, joint_linear
 from fricgen.effects import (ConstantLoad, DirectionAsymmetry, ExtraFrictionSource,
                              ForceConstantMismatch, FrictionalLag, InertiaMismatch,
                              PositionFriction, PositionRipple, SensorDelay, ThermalDrift, effect_from_dict)
 from fricgen.errors import ModelError
-from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
 
 
 @pytest.fixture(scope="module")
-def problem():
-    model = nominal_model()
-    spec = LogSpec(effect="none", seed=5, duration=8.0)
-    log = synthesize_log(spec, model)
-    return ResidualProblem(log, model, spec.mass, spec.force_constant, 21, 0.3)
+def problem(null_problem):
+    return null_problem
 
 
 def _fit(problem, truth, cls, noise=0.0, seed=0):

@@ -7,22 +7,18 @@ import numpy as np
 import pytest
 
 from fricgen.diagnose.diagnoser import Diagnoser, diagnose
-from fricgen.diagnose.residual import ResidualProblem
 from fricgen.effects import EFFECTS, InertiaMismatch, SensorDelay, effect_from_dict
 from fricgen.errors import ModelError
 from fricgen.sim.effect_law import EffectLaw
-from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log
+from fricgen.sim.logsynth import nominal_model
 from fricgen.sim.scenarios import make_scenario
 
 FIXED = {"rate_hz": 500.0, "duration_s": 15.0}
 
 
 @pytest.fixture(scope="module")
-def problem():
-    model = nominal_model()
-    spec = LogSpec(effect="none", seed=5, duration=8.0)
-    log = synthesize_log(spec, model)
-    return ResidualProblem(log, model, spec.mass, spec.force_constant, 21, 0.3)
+def problem(null_problem):
+    return null_problem
 
 
 def _delayed_target(problem, samples):
