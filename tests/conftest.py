@@ -137,7 +137,11 @@ SLOW_TESTS = {"test_emulated_asymmetric_fast_model_is_bit_equal_to_python_twin",
               "test_grey_box_firmware_on_the_emulated_cortex_m4f_equals_its_twin",
               "test_the_folder_builds_as_a_cmake_library_of_two_axes",
               "test_the_zephyr_branch_builds_with_zephyrs_library_functions_stubbed",
-              "test_run_ups_of_the_independent_simulator_succeed_over_noise_draws"}
+              "test_run_ups_of_the_independent_simulator_succeed_over_noise_draws",
+              # the scenario diagnoses of tests/test_sensor_delay.py (six 15 s logs)
+              "test_a_hidden_sensor_delay_is_named", "test_a_hidden_frictional_lag_is_named_as_itself",
+              "test_the_delay_is_considered_only_when_asked_for",
+              "test_the_cli_considers_the_delay_with_its_flag"}
 
 
 def pytest_collection_modifyitems(config, items):
