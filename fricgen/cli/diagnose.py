@@ -13,8 +13,7 @@ from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
 from ..diagnose.report import format_value, render_files, service_hint, written_by_diagnose
-from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
-from ..effects import EFFECTS
+from ..effects import EFFECTS, ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
@@ -42,7 +41,7 @@ def register(p) -> None:
     p.add_argument("--sensor-delay", action="store_true",
                    help="also consider a delay between the logged motion and the current "
                    "(sensor_delay; off by default: on short closed-loop logs a delay of a sample "
-                   "or two stands in for friction dynamics)")
+                   "or two also fits what the model misses of an axis without one)")
     add_output(p, "folder for model.json, report.md and plots",
                force_also=", and over files in it that diagnose did not write")
     add_export_options(p)

@@ -46,9 +46,9 @@ UNDERSTATED_GAIN = 0.25
 #: A timing effect (``Effect.via_timing``: a sensor delay) shifts the force in time rather than
 #: adding one: below ``min_size`` it is judged by the held-out gap alone, which must shrink by
 #: ``min_gain`` as for any effect.
-#: Effects considered only when ``candidates`` names them: a sensor delay of one or two samples
-#: stands in, on short closed-loop logs, for friction dynamics a sine excites (at 14 s it was
-#: named on 4 of 60 null scenario logs that nothing else is named on), so it is for the user who
+#: Effects considered only when ``candidates`` names them: on short closed-loop logs a sensor
+#: delay of one or two samples also fits what the model misses of an axis without one (on 3 of
+#: 60 null scenario logs of 14 s that nothing else is named on), so it is for the user who
 #: suspects one.
 ASKED_FOR = ("sensor_delay",)
 
