@@ -43,9 +43,10 @@ MAX_EFFECTS = 8
 SHORT_LIVED = ("frictional_lag",)
 MISMATCH_RELEVANT = 0.1
 UNDERSTATED_GAIN = 0.25
-#: A timing effect (``Effect.via_timing``: a sensor delay) shifts the force in time rather than
+#: (A timing effect, ``Effect.via_timing``: a sensor delay, shifts the force in time rather than
 #: adding one: below ``min_size`` it is judged by the held-out gap alone, which must shrink by
-#: ``min_gain`` as for any effect.
+#: ``min_gain`` as for any effect.)
+#:
 #: Effects considered only when ``candidates`` names them: on short closed-loop logs a sensor
 #: delay of one or two samples also fits what the model misses of an axis without one (on 3 of
 #: 60 null scenario logs of 14 s that nothing else is named on), so it is for the user who
@@ -264,8 +265,8 @@ class Diagnoser:
             if joint is None:
                 step = self._consider(p, base, chosen, gap_now, ranked[k:], tables)
             else:
+                newcomer = [e for e in joint if e.name not in had][-1]
                 step = self._consider(p, base, chosen, gap_now, ranked, None, joint=joint)
-                newcomer = [e for e in step.joint if e.name not in had][-1]
                 step.effect, step.fitted = newcomer.name, newcomer
             self.steps_.append(step)
             if step.added:

@@ -65,19 +65,16 @@ def moving_segments(problem: ResidualProblem, start: int, horizon: int) -> np.nd
 class HeldOutGap:
     """The held-out gap of sets of effects on ``problem``: simulations restarted every
     ``horizon`` samples from its split on, in ``substeps`` Karnopp steps per sample, compared
-    on the samples whose segment stays moving (``held``). With ``fit_part``, the same gap on the
-    part before the split instead (what a fit may read)."""
+    on the samples whose segment stays moving (``held``)."""
 
-    def __init__(self, problem: ResidualProblem, horizon: int, substeps: int, fit_part: bool = False):
+    def __init__(self, problem: ResidualProblem, horizon: int, substeps: int):
         self.problem, self.horizon, self.substeps = problem, horizon, substeps
-        self.start = 0 if fit_part else problem.split
-        self.held = moving_segments(problem, self.start, horizon)
-        if fit_part:
-            self.held &= np.arange(self.held.size) < problem.split
+        self.held = moving_segments(problem, problem.split, horizon)
 
     def __call__(self, effects: Sequence[Effect]) -> Tuple[float, np.ndarray]:
         """The gap under ``effects`` and the simulated velocity."""
-        v_sim = resimulate(self.problem, list(effects), self.start, self.horizon, self.substeps)
+        p = self.problem
+        v_sim = resimulate(p, list(effects), p.split, self.horizon, self.substeps)
         return rmse(self.errors(v_sim), 0.0), v_sim
 
     def errors(self, v_sim: np.ndarray) -> np.ndarray:

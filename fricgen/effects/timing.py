@@ -143,6 +143,7 @@ class SensorDelay(Effect):
 
         grid = np.arange(-SEARCH_SAMPLES, SEARCH_SAMPLES + 1, dtype=float)
         return cls(tau=grid_then_refine(rss, grid) * sig.sample_time, nominal_force_constant=phi)
+
     def limits(self):
         out = super().limits()
         out["tau"] = (-MAX_DELAY, MAX_DELAY)
@@ -155,4 +156,3 @@ class SensorDelay(Effect):
             raise ModelError(f"effects[{cls.name}].parameters.tau must be within +-{MAX_DELAY:g} s, "
                              f"got {effect.tau:g}")
         return effect
-
