@@ -174,3 +174,13 @@ def test_a_batch_refuses_two_effects_of_one_kind_on_one_axis():
     ripple = PositionRipple(amplitude=1.0, period=0.01, phase=0.0)
     with pytest.raises(ValueError, match="two position_ripple"):
         EffectLaw.batch(preset("paper3"), [(ripple, ripple)], mass=1.0, force_constant=1.0)
+
+
+def test_a_batch_refuses_a_sensor_delay_it_could_not_simulate():
+    """A delay shifts the current that drives the axis, which no batched simulation does: it
+    would be left out without a word."""
+    from fricgen.effects.timing import SensorDelay
+    delay = SensorDelay(tau=0.002, nominal_force_constant=20.0)
+    assert EffectLaw(preset("paper3"), [delay], mass=1.0, force_constant=20.0).input_delay == 0.002
+    with pytest.raises(ValueError, match="sensor_delay is a log's timing"):
+        EffectLaw.batch(preset("paper3"), [(), (delay,)], mass=1.0, force_constant=20.0)

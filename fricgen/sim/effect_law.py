@@ -116,7 +116,12 @@ class EffectLaw:
     def batch(cls, friction: FrictionCurve, effects_per_axis: Sequence[Sequence[Effect]],
               mass: float, force_constant: float, i_max: float = np.inf) -> "EffectLaw":
         """One law for a batch of axes, axis j with the effects ``effects_per_axis[j]``. Each
-        axis moves as under ``EffectLaw(friction, effects_per_axis[j], ...)`` alone."""
+        axis moves as under ``EffectLaw(friction, effects_per_axis[j], ...)`` alone. Effects of
+        a log's timing (a sensor delay) are refused: no batched simulation shifts its current."""
+        timing = [e.name for effects in effects_per_axis for e in effects if e.via_timing]
+        if timing:
+            raise ValueError(f"{timing[0]} is a log's timing, not a force: a batch of axes "
+                             "cannot simulate it")
         return cls(friction, _stack(effects_per_axis), mass=mass, force_constant=force_constant,
                    i_max=i_max)
 
