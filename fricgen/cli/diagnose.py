@@ -12,7 +12,7 @@ from ..data.motionlog import MIN_SAMPLES, log_from_columns
 from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
-from ..diagnose.report import format_value, render_files, service_hint, written_by_diagnose
+from ..diagnose.report import format_value, refinement_note, render_files, service_hint, written_by_diagnose
 from ..effects import EFFECTS, ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
@@ -153,6 +153,9 @@ def _run(args) -> int:
         if d.effects_:
             lines.append(f"           after them: {d.where_after_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
+        refined = refinement_note(d)
+        if refined:
+            lines.append(f"refined    {refined}")
         out("\n".join(lines))
     write_folder(args, files, inputs, folder_of=[args.model])
     if not any(name.endswith(".png") for name in files):

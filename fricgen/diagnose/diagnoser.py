@@ -24,6 +24,7 @@ from ..model import FrictionModel
 from .decision import held_out_p_value
 from .gap import HeldOutGap
 from .localize import localize, where
+from .refine import output_error_fit
 from .residual import ResidualProblem
 from .select import BEAM, extensions, joint_fit, mean_square, rank, score
 from .steps import Step
@@ -116,6 +117,9 @@ class Diagnoser:
         The fundamental period (m) of the effects periodic in position (``position_ripple``,
         ``position_friction``) when it is known (a pole pitch, a screw lead); by default it is
         found from the log.
+    refine : bool
+        Whether the named effects selected are fitted again to simulations of the fit part
+        (``refine.output_error_fit``) before the held-out gap after is measured.
 
     Attributes
     ----------
@@ -130,6 +134,9 @@ class Diagnoser:
     gap_before_, gap_after_ : float
         Held-out gap (m/s) of the model as given and with the effects; ``gap_metric_`` says how
         it is measured, ``force_gap_before_``/``force_gap_after_`` the force residual's RMS (N).
+        ``gap_selected_``: the gap after with the values selection fitted, before the refinement;
+        ``fit_gap_before_``/``fit_gap_after_``: the fit part's gap before and after it (NaN
+        when nothing was refined).
     where_, where_after_ : str
         Where the residual lives before and after (``localization_``, ``localization_after_``:
         the per-axis shares).
@@ -165,11 +172,11 @@ class Diagnoser:
                  folds: int = 5, alpha: float = 0.01, min_size: float = 0.02, min_gain: float = 0.1,
                  max_effects: int = 3,
                  candidates: Optional[Sequence[str]] = None, tables: bool = True, substeps: int = 10,
-                 pitch: Optional[float] = None):
+                 pitch: Optional[float] = None, refine: bool = True):
         self.window, self.holdout, self.horizon = window, holdout, horizon
         self.folds, self.alpha, self.min_size, self.min_gain = folds, alpha, min_size, min_gain
         self.max_effects, self.candidates, self.tables, self.substeps = max_effects, candidates, tables, substeps
-        self.pitch = pitch
+        self.pitch, self.refine = pitch, refine
 
     def _validate(self):
         if not 0.05 <= self.holdout <= 0.6:
@@ -405,6 +412,14 @@ class Diagnoser:
         for s in self.effects_:
             s.fitted = final[s.effect]
         chosen = [s.fitted for s in self.effects_]       # in the order they were added
+        self.gap_selected_ = gap_now
+        self.fit_gap_before_ = self.fit_gap_after_ = math.nan
+        if chosen and self.refine:
+            chosen, self.fit_gap_before_, self.fit_gap_after_ = output_error_fit(
+                p, base, chosen, self.horizon_samples_, self.substeps)
+            for s, e in zip(self.effects_, chosen):
+                s.fitted = e
+            gap_now, self._v_sim = self._held_out(base + chosen)
         self.added_ = chosen
         self.effect_ = self.effects_[0].effect if self.effects_ else "none"
         self.p_value_ = self.steps_[0].p_value if self.steps_ else 1.0
@@ -457,6 +472,9 @@ class Diagnoser:
                              "reason": s.reason} for s in self.refused()],
                 "where": self.where_, "where_after": self.where_after_,
                 "gap_before": self.gap_before_, "gap_after": self.gap_after_,
+                "gap_selected": self.gap_selected_,
+                "fit_gap_before": None if math.isnan(self.fit_gap_before_) else self.fit_gap_before_,
+                "fit_gap_after": None if math.isnan(self.fit_gap_after_) else self.fit_gap_after_,
                 "gap_metric": self.gap_metric_, "alpha": self.alpha, "min_size": self.min_size,
                 "min_gain": self.min_gain,
                 "candidates": [{"effect": c.effect, "cv_rms": math.sqrt(c.mse)}

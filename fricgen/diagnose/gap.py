@@ -23,16 +23,16 @@ from .residual import ResidualProblem
 GAP_BATCHES = 10
 
 
-def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, horizon: int,
-               substeps: int = 10) -> np.ndarray:
-    """Velocity of simulations restarted from the (smoothed) measured state every ``horizon``
-    samples from ``start`` on, driven by the measured current (smoothed; NaN before ``start``): the axis
-    of [C1] under the model's friction and ``effects``, in Karnopp steps. A sensor delay tau
-    (``EffectLaw.input_delay``) drives it with the current read tau earlier, interpolated."""
+def resimulate(problem: ResidualProblem, effects: Sequence[Effect], starts: np.ndarray,
+               horizon: int, substeps: int = 10) -> np.ndarray:
+    """Velocity of simulations restarted from the (smoothed) measured state at each of
+    ``starts`` (samples at least ``horizon`` apart) for ``horizon`` samples, driven by the
+    measured current (smoothed; NaN elsewhere): the axis of [C1] under the model's friction
+    and ``effects``, in Karnopp steps. A sensor delay tau (``EffectLaw.input_delay``) drives it
+    with the current read tau earlier, interpolated."""
     sig = problem.signals
     n = sig.t.size
     law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)
-    starts = np.arange(start, n - 1, horizon)
     s0 = None
     if law.lag_tau > 0:
         s0 = Signals(sig.model, v=problem.v_smooth, sample_time=problem.sample_time).lagged_speed(law.lag_tau)[starts]
@@ -51,15 +51,16 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], start: int, 
     return out
 
 
-def moving_segments(problem: ResidualProblem, start: int, horizon: int) -> np.ndarray:
-    """Samples of the restarted simulations whose segment, from its restart on, stays in the
-    moving part of the log (stick and break-away are not what a friction curve identifies)."""
+def moving_segments(problem: ResidualProblem, starts: np.ndarray, horizon: int) -> np.ndarray:
+    """The samples of the simulations restarted at ``starts`` (``resimulate``) whose segment,
+    from its restart on, stays in the moving part of the log (stick and break-away are not what
+    a friction curve identifies), as sorted indices."""
     n = problem.moving.size
     broken = np.concatenate([[0], np.cumsum(~problem.moving)])    # broken[k] = count before k
-    k = np.arange(n)
-    seg_start = start + ((k - start - 1) // horizon) * horizon      # restart of k's segment
-    ok = (k > start) & (broken[k + 1] - broken[np.clip(seg_start, 0, n)] == 0)
-    return ok
+    starts = np.asarray(starts, dtype=int)
+    k = starts[:, None] + np.arange(1, horizon + 1)
+    ok = (k < n) & (broken[np.minimum(k, n - 1) + 1] - broken[starts][:, None] == 0)
+    return k[ok]
 
 
 class HeldOutGap:
@@ -69,12 +70,12 @@ class HeldOutGap:
 
     def __init__(self, problem: ResidualProblem, horizon: int, substeps: int):
         self.problem, self.horizon, self.substeps = problem, horizon, substeps
-        self.held = moving_segments(problem, problem.split, horizon)
+        self.starts = np.arange(problem.split, problem.moving.size - 1, horizon)
+        self.held = moving_segments(problem, self.starts, horizon)
 
     def __call__(self, effects: Sequence[Effect]) -> Tuple[float, np.ndarray]:
         """The gap under ``effects`` and the simulated velocity."""
-        p = self.problem
-        v_sim = resimulate(p, list(effects), p.split, self.horizon, self.substeps)
+        v_sim = resimulate(self.problem, list(effects), self.starts, self.horizon, self.substeps)
         return rmse(self.errors(v_sim), 0.0), v_sim
 
     def errors(self, v_sim: np.ndarray) -> np.ndarray:

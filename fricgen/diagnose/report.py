@@ -41,6 +41,15 @@ def verdict(d: Diagnoser) -> str:
     return ", then ".join(f"`{s.effect}` ({p_text(s.p_value)})" for s in d.effects_)
 
 
+def refinement_note(d: Diagnoser) -> str:
+    """What the output-error refinement changed, in one phrase; "" when it changed nothing."""
+    if not d.fit_gap_after_ < d.fit_gap_before_:
+        return ""
+    return (f"the parameters above were fitted again to simulations of the fit part (its gap "
+            f"{d.fit_gap_before_:.4g} -> {d.fit_gap_after_:.4g} m/s); the held-out gap with the "
+            f"values the selection fitted was {d.gap_selected_:.4g} m/s")
+
+
 #: Effects that change with time in service: a fixed model cannot follow them.
 DRIFTS = ("thermal_drift",)
 
@@ -153,6 +162,9 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
               "| | before | after |", "|---|---|---|",
               f"| velocity gap (m/s) | {d.gap_before_:.4g} | {d.gap_after_:.4g} |",
               f"| force residual rms (N) | {d.force_gap_before_:.4g} | {d.force_gap_after_:.4g} |", ""]
+    refined = refinement_note(d)
+    if refined:
+        lines += [refined[0].upper() + refined[1:] + ".", ""]
     if d.steps_:
         lines += ["## Candidates of the first step", "",
                   "| effect | cross-validated residual rms (N) |", "|---|---|"]
