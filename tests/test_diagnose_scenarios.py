@@ -95,7 +95,7 @@ def test_after_a_replacement_the_gaps_chain_from_the_log_gap():
     assert effects[0]["gap_before"] == d.gap_before_
     for prev, s in zip(effects, effects[1:]):
         assert s["gap_before"] in (prev["gap_before"], prev["gap_after"])
-    assert effects[-1]["gap_after"] == d.gap_after_
+    assert effects[-1]["gap_after"] == d.gap_selected_        # the steps are the selection's
 
 
 def _truth_gap(sc):

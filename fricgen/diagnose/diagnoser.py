@@ -134,7 +134,8 @@ class Diagnoser:
     gap_before_, gap_after_ : float
         Held-out gap (m/s) of the model as given and with the effects; ``gap_metric_`` says how
         it is measured, ``force_gap_before_``/``force_gap_after_`` the force residual's RMS (N).
-        ``gap_selected_``: the gap after with the values selection fitted, before the refinement;
+        ``gap_selected_``: the gap after with the values selection fitted (``selected_``: those
+        effects), before the refinement;
         ``fit_gap_before_``/``fit_gap_after_``: the fit part's gap before and after it (NaN
         when nothing was refined).
     where_, where_after_ : str
@@ -412,7 +413,7 @@ class Diagnoser:
         for s in self.effects_:
             s.fitted = final[s.effect]
         chosen = [s.fitted for s in self.effects_]       # in the order they were added
-        self.gap_selected_ = gap_now
+        self.gap_selected_, self.selected_ = gap_now, list(chosen)
         self.fit_gap_before_ = self.fit_gap_after_ = math.nan
         if chosen and self.refine:
             chosen, self.fit_gap_before_, self.fit_gap_after_ = output_error_fit(
