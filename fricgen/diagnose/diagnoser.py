@@ -136,8 +136,8 @@ class Diagnoser:
         it is measured, ``force_gap_before_``/``force_gap_after_`` the force residual's RMS (N).
         ``gap_selected_``: the gap after with the values selection fitted (``selected_``: those
         effects), before the refinement;
-        ``fit_gap_before_``/``fit_gap_after_``: the fit part's gap before and after it (NaN
-        when nothing was refined).
+        ``fit_gap_before_``/``fit_gap_after_``: the fit part's gap before and after it (equal
+        when it kept the values; NaN when it did not run: ``refine`` False or nothing added).
     where_, where_after_ : str
         Where the residual lives before and after (``localization_``, ``localization_after_``:
         the per-axis shares).
@@ -410,17 +410,16 @@ class Diagnoser:
         self._chain_gaps()
         # the joint refits change the parameters of earlier effects: report the final ones
         final = {e.name: e for e in chosen}
-        for s in self.effects_:
-            s.fitted = final[s.effect]
-        chosen = [s.fitted for s in self.effects_]       # in the order they were added
+        chosen = [final[s.effect] for s in self.effects_]       # in the order they were added
         self.gap_selected_, self.selected_ = gap_now, list(chosen)
         self.fit_gap_before_ = self.fit_gap_after_ = math.nan
         if chosen and self.refine:
             chosen, self.fit_gap_before_, self.fit_gap_after_ = output_error_fit(
                 p, base, chosen, self.horizon_samples_, self.substeps)
-            for s, e in zip(self.effects_, chosen):
-                s.fitted = e
-            gap_now, self._v_sim = self._held_out(base + chosen)
+            if self.fit_gap_after_ < self.fit_gap_before_:       # values changed: gap again
+                gap_now, self._v_sim = self._held_out(base + chosen)
+        for s, e in zip(self.effects_, chosen):
+            s.fitted = e
         self.added_ = chosen
         self.effect_ = self.effects_[0].effect if self.effects_ else "none"
         self.p_value_ = self.steps_[0].p_value if self.steps_ else 1.0
