@@ -7,9 +7,10 @@ import pytest
 from fricgen.diagnose.diagnoser import Diagnoser
 from fricgen.diagnose.refine import MAX_SEGMENTS, _free, fit_part_segments, output_error_fit
 from fricgen.diagnose.residual import ResidualProblem
-from fricgen.effects import ExtraFrictionSource, ForceConstantMismatch, ThermalDrift
+from fricgen.effects import ConstantLoad, ExtraFrictionSource, ForceConstantMismatch, ThermalDrift
 from fricgen.effects.tables import TABLES
 from fricgen.sim.logsynth import LogSpec, nominal_model, synthesize_log, truth_effects
+from fricgen.sim.scenarios import make_scenario
 
 HORIZON, SUBSTEPS = 20, 4
 
@@ -62,7 +63,8 @@ def test_long_fit_parts_are_spread_over_at_most_max_segments():
 
 def test_structural_zeros_fixed_fields_and_tables_stay_put():
     drift = ThermalDrift(rate=0.01, offset=0.0, t0=3.0, time_constant=0.0)
-    assert _free(drift) == [("rate", -1)]                   # linear drift stays linear
+    assert _free(drift) == [("rate", -1), ("time_constant", -1)]    # fitted as 1 / T, from 0
+    assert _free(replace(drift, rate=0.0)) == [("time_constant", -1)]
     extra = ExtraFrictionSource(fc=1.0, fs=2.0, vs=0.01, B=0.0)
     assert [n for n, _ in _free(extra)] == ["fc", "fs", "vs"]
     assert _free(ForceConstantMismatch(force_constant=21.0, nominal_force_constant=20.0)) == [
@@ -74,9 +76,27 @@ def test_structural_zeros_fixed_fields_and_tables_stay_put():
 def test_nothing_free_comes_back_unchanged(phi_log):
     log, model, spec, _ = phi_log
     p = problem_of(log, model, spec)
-    drift = ThermalDrift(rate=0.0, offset=0.0, t0=0.0, time_constant=0.0)
-    (same,), before, after = output_error_fit(p, [], [drift], HORIZON, SUBSTEPS)
-    assert same is drift and before == after
+    load = ConstantLoad(load=0.0)
+    (same,), before, after = output_error_fit(p, [], [load], HORIZON, SUBSTEPS)
+    assert same is load and before == after
+
+
+def test_a_linear_drift_becomes_the_saturating_one_the_log_holds():
+    """Selection may keep a drift linear; its time constant is refitted from 0 (as 1 / T)."""
+    sc = make_scenario(1, ("thermal_drift",), rate_hz=500.0, duration_s=8.0)
+    true = sc.conditions["magnitudes"]["thermal_drift"]
+    p = ResidualProblem(sc.log, sc.model, sc.mass, sc.force_constant, 11, 0.3)
+    t_split, t_end = p.signals.t[p.split], p.signals.t[-1]
+    # the straight line through the true level at the split
+    level = true["level"] * -np.expm1(-t_split / true["time_constant"])
+    linear = ThermalDrift(rate=level / t_split, offset=0.0, t0=0.0, time_constant=0.0)
+    (refined,), before, after = output_error_fit(p, [], [linear], 10, SUBSTEPS)
+    assert after < before and 0.0 < refined.time_constant < 10.0 * true["time_constant"]
+
+    def at_end(drift):
+        return drift.rate * drift._shape(t_end, drift.time_constant)
+    true_end = true["level"] * -np.expm1(-t_end / true["time_constant"])
+    assert abs(at_end(refined) - true_end) < 0.5 * abs(at_end(linear) - true_end)
 
 
 def test_the_diagnosis_reports_the_refined_values_and_their_gap(phi_log):

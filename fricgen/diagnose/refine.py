@@ -7,8 +7,10 @@ which simulates the axis, is sensitive to it (a force constant 1 % off can leave
 above the true one's). Here the named effects' parameters are fitted again, by least squares
 on the velocity errors of simulations restarted from the measured state on the fit part
 (the held-out part is not touched, so the held-out gap stays an honest score). Zero values
-are structural (a linear drift's time constant) and stay; position and velocity tables keep
-their knots.
+are structural and stay, but a time constant whose 0 means none (``Effect.time_constants``:
+a linear drift's) is fitted as its inverse, from 0 on: selection's choice between a linear and
+a saturating drift, made on the force residual, is made again on the simulations. Position and
+velocity tables keep their knots.
 """
 from __future__ import annotations
 
@@ -29,8 +31,9 @@ NFEV_PER_PARAMETER = 12
 
 
 def _free(effect: Effect, held: Sequence[str] = ()) -> List[Tuple[str, int]]:
-    """(field, index) of the effect's non-zero free values (index -1 for a scalar) but the
-    fields ``held``; none for an effect without a physical name (a table)."""
+    """(field, index) of the effect's free values (index -1 for a scalar): the non-zero ones
+    and its ``time_constants``, but the fields ``held``; none for an effect without a physical
+    name (a table)."""
     if effect.name not in EFFECTS:
         return []
     out = []
@@ -39,20 +42,28 @@ def _free(effect: Effect, held: Sequence[str] = ()) -> List[Tuple[str, int]]:
             continue
         value = getattr(effect, f.name)
         if isinstance(value, float):
-            out += [(f.name, -1)] if value != 0.0 else []
+            out += [(f.name, -1)] if value != 0.0 or f.name in effect.time_constants else []
         elif isinstance(value, (tuple, list)):
             out += [(f.name, j) for j, x in enumerate(value) if isinstance(x, float) and x != 0.0]
     return out
 
 
+def _inverse(x: float) -> float:
+    """1 / x, and 0 for 0: a time constant and its rate, 0 meaning none both ways."""
+    return 1.0 / x if x != 0.0 else 0.0
+
+
 def _value(effect: Effect, name: str, j: int) -> float:
+    """The value the refinement fits: the parameter, or the inverse of a time constant."""
     value = getattr(effect, name)
-    return value if j < 0 else value[j]
+    return _inverse(value) if name in effect.time_constants else (value if j < 0 else value[j])
 
 
 def _with_values(effects: Sequence[Effect], slots, values) -> List[Effect]:
     out = list(effects)
     for (k, name, j), x in zip(slots, values):
+        if name in out[k].time_constants:
+            x = _inverse(float(x))
         if j < 0:
             out[k] = replace(out[k], **{name: float(x)})
         else:
@@ -98,14 +109,23 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
         return effects, before, before
     scale = np.abs(x0)
     lo, hi = np.full(x0.size, -np.inf), np.full(x0.size, np.inf)
+    # the inverse of a time constant: from 0 (none) to 20 / the log's span (the drift's grid),
+    # in units of 1 / span
+    span = max(float(np.ptp(problem.signals.t)), problem.sample_time)
     for m, (k, name, j) in enumerate(slots):
+        if name in effects[k].time_constants:
+            scale[m], lo[m], hi[m] = 1.0 / span, 0.0, max(20.0 / span, x0[m])
+            continue
         low, high = effects[k].limits().get(name, (-np.inf, np.inf))
         if name in effects[k].positive:
             low = max(low, 1e-3 * x0[m])
         lo[m], hi[m] = min(low, x0[m]), max(high, x0[m])
     fit = least_squares(lambda z: errors(z * scale), x0 / scale, bounds=(lo / scale, hi / scale),
                         diff_step=1e-3, max_nfev=NFEV_PER_PARAMETER * (x0.size + 1))
-    refined = _with_values(effects, slots, fit.x * scale)
+    z = fit.x.copy()
+    z[[m for m, (k, name, _) in enumerate(slots)
+       if name in effects[k].time_constants and z[m] < 1e-6]] = 0.0    # T of 1e6 spans: none
+    refined = _with_values(effects, slots, z * scale)
     after = float(np.sqrt(np.mean(fit.fun ** 2)))
     if not after < before or any(e.implausible() for e in refined):
         return effects, before, before

@@ -283,6 +283,7 @@ class ThermalDrift(Effect):
     name: ClassVar[str] = "thermal_drift"
     fixed: ClassVar[Tuple[str, ...]] = ("t0", "offset")
     non_negative: ClassVar[Tuple[str, ...]] = ("time_constant",)
+    time_constants: ClassVar[Tuple[str, ...]] = ("time_constant",)
 
     def for_log(self, mass, force_constant, t_start):
         """The drift starts anew with each log (from the model's level at its start)."""
