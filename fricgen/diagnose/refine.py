@@ -104,13 +104,14 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
         return np.where(np.isfinite(e), e, 0.0)
 
     x0 = np.array([_value(effects[k], name, j) for k, name, j in slots])
-    before = float(np.sqrt(np.mean(errors(x0) ** 2))) if samples.size else float("nan")
+    first = errors(x0)
+    before = float(np.sqrt(np.mean(first ** 2))) if samples.size else float("nan")
     if not slots or samples.size < 2 * len(slots):
         return effects, before, before
     scale = np.abs(x0)
     lo, hi = np.full(x0.size, -np.inf), np.full(x0.size, np.inf)
-    # the inverse of a time constant: from 0 (none) to 20 / the log's span (the drift's grid),
-    # in units of 1 / span
+    # the inverse of a time constant: from 0 (none) to 20 / the log's span, in units of
+    # 1 / span
     span = max(float(np.ptp(problem.signals.t)), problem.sample_time)
     for m, (k, name, j) in enumerate(slots):
         if name in effects[k].time_constants:
@@ -120,8 +121,12 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
         if name in effects[k].positive:
             low = max(low, 1e-3 * x0[m])
         lo[m], hi[m] = min(low, x0[m]), max(high, x0[m])
-    fit = least_squares(lambda z: errors(z * scale), x0 / scale, bounds=(lo / scale, hi / scale),
-                        diff_step=1e-3, max_nfev=NFEV_PER_PARAMETER * (x0.size + 1))
+    z0 = x0 / scale
+
+    def scaled(z):                  # the start's errors are known: least_squares asks first
+        return first if np.array_equal(z, z0) else errors(z * scale)
+    fit = least_squares(scaled, z0, bounds=(lo / scale, hi / scale), diff_step=1e-3,
+                        max_nfev=NFEV_PER_PARAMETER * (x0.size + 1))
     z = fit.x.copy()
     z[[m for m, (k, name, _) in enumerate(slots)
        if name in effects[k].time_constants and z[m] < 1e-6]] = 0.0    # T of 1e6 spans: none
