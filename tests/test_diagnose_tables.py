@@ -178,6 +178,10 @@ def test_a_named_drift_points_to_online_adaptation():
     assert "rate 0.002/s" in hint and "time constant 120 s" in hint
     assert "`fricgen emit --adapt`" in hint and "Lyapunov" in hint and "readback" in hint
     assert service_hint(SimpleNamespace(effects_=[load])) == ""
+    linear = SimpleNamespace(effect="thermal_drift", fitted=ThermalDrift(rate=0.002, offset=0.0,
+                                                                         t0=0.0, time_constant=0.0))
+    hint = service_hint(SimpleNamespace(effects_=[linear]))
+    assert "linear in time" in hint and "time constant" not in hint
 
 
 def test_where_names_the_simplest_axis_among_those_that_explain_as_much():

@@ -60,8 +60,10 @@ def service_hint(d: Diagnoser) -> str:
     if not drifts:
         return ""
     fitted = drifts[0].fitted
+    shape = (f"time constant {fitted.time_constant:.3g} s" if fitted.time_constant > 0
+             else "linear in time")
     return (f"the friction level drifts in service ({drifts[0].effect}, rate {fitted.rate:.3g}/s, "
-            f"time constant {fitted.time_constant:.3g} s): a fixed model cannot follow it; "
+            f"{shape}): a fixed model cannot follow it; "
             "`fricgen emit --adapt` adds online adaptation of the model's output parameters "
             "(the Lyapunov rule, fric_adapt_params_t.rule, by default; leak and box bound it), "
             "and `fricgen readback` keeps what it learned")
