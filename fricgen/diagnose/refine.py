@@ -92,8 +92,8 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
     error before and after. The effects come back as they are when nothing is free or the
     fitted values are not what the names say (``Effect.implausible``)."""
     effects = list(effects)
-    held = ("period",) if problem.pitch is not None else ()        # a pitch the user gave
-    slots = [(k, name, j) for k, e in enumerate(effects) for name, j in _free(e, held)]
+    slots = [(k, name, j) for k, e in enumerate(effects)
+             for name, j in _free(e, e.given_by_pitch if problem.pitch is not None else ())]
     starts = fit_part_segments(problem, horizon)
     samples = moving_segments(problem, starts, horizon)
 

@@ -78,6 +78,8 @@ class Effect:
     #: Time constants whose 0 means none (a linear drift): the output-error refinement fits
     #: their inverse, so that 0 is a value like any other (``diagnose.refine``).
     time_constants: ClassVar[Tuple[str, ...]] = ()
+    #: Parameters a known pole pitch or screw lead (``--pitch``) fixes: no fit changes them.
+    given_by_pitch: ClassVar[Tuple[str, ...]] = ()
 
     @property
     def n_params(self) -> int:

@@ -89,6 +89,7 @@ class PositionSeries(Effect):
     in_xv: ClassVar[bool] = True
     acts_at_rest: ClassVar[bool] = True       # the simulation reads x only in external forces
     positive: ClassVar[Tuple[str, ...]] = ("period",)
+    given_by_pitch: ClassVar[Tuple[str, ...]] = ("period",)
 
     def __post_init__(self):
         object.__setattr__(self, "amplitude", _harmonics(self.amplitude))
