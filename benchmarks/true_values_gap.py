@@ -17,8 +17,8 @@ The true values in the forms: a load, a mass, a force constant as they are; a dr
 L (1 - exp(-t / T)) as rate L / T with time constant T; an asymmetry (1 + g on one side) as
 that side's gain; friction along the travel and ripple as amplitude, period and phase. Logs
 hiding an extra source or a frictional lag are left out (the generator's shapes are not the
-forms'). Reads the records of a ``diagnose_confusion.py`` run (the logs are made again from
-their seeds, which draw everything).
+forms'). Reads the records of a ``diagnose_confusion.py`` run, with their gaps (diagnose's and
+the truth's); the logs are made again from their seeds, which draw everything.
 
     python benchmarks/true_values_gap.py DIR/records.jsonl [--all] [--jobs 2]
 """
@@ -32,9 +32,9 @@ import json
 from concurrent.futures import ProcessPoolExecutor
 
 from fricgen.diagnose.diagnoser import Diagnoser
-from fricgen.effects.carried import with_effects
 from fricgen.effects import (ConstantLoad, DirectionAsymmetry, ForceConstantMismatch,
                              InertiaMismatch, PositionFriction, PositionRipple, ThermalDrift)
+from fricgen.effects.carried import with_effects
 from fricgen.sim.scenarios import make_scenario
 
 #: Hidden effects whose true values have a form in ``fricgen.effects`` (see the docstring).
@@ -67,9 +67,9 @@ def in_form(name, p, t_start):
 def run(record):
     sc = make_scenario(record["seed"], record["hidden"])
     effects = [in_form(e, sc.conditions["magnitudes"][e], float(sc.log.t[0])) for e in sc.hidden]
-    truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)
     form = Diagnoser().held_out_gap(sc.log, with_effects(sc.model, effects), sc.mass,
                                     sc.force_constant)
+    truth = record["gap_truth"]
     return record["key"], record["hidden"], record["gap_after"] / truth, form / truth
 
 

@@ -113,8 +113,9 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
     # the inverse of a time constant: from 0 (none) to 20 / the log's span, in units of
     # 1 / span
     span = max(float(np.ptp(problem.signals.t)), problem.sample_time)
+    inverse = np.array([name in effects[k].time_constants for k, name, _ in slots])
     for m, (k, name, j) in enumerate(slots):
-        if name in effects[k].time_constants:
+        if inverse[m]:
             scale[m], lo[m], hi[m] = 1.0 / span, 0.0, max(20.0 / span, x0[m])
             continue
         low, high = effects[k].limits().get(name, (-np.inf, np.inf))
@@ -127,9 +128,7 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
         return first if np.array_equal(z, z0) else errors(z * scale)
     fit = least_squares(scaled, z0, bounds=(lo / scale, hi / scale), diff_step=1e-3,
                         max_nfev=NFEV_PER_PARAMETER * (x0.size + 1))
-    z = fit.x.copy()
-    z[[m for m, (k, name, _) in enumerate(slots)
-       if name in effects[k].time_constants and z[m] < 1e-6]] = 0.0    # T of 1e6 spans: none
+    z = np.where(inverse & (fit.x < 1e-6), 0.0, fit.x)             # T of 1e6 spans: none
     refined = _with_values(effects, slots, z * scale)
     after = float(np.sqrt(np.mean(fit.fun ** 2)))
     if not after < before or any(e.implausible() for e in refined):
