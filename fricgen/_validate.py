@@ -21,13 +21,15 @@ FLOAT32_MAX = float(np.finfo(np.float32).max)
 #: the fastest speed of the data, m/s (1 um/s scans to 20 m/s linear motors and belt drives);
 #: v_sat = 3 vs_max, m/s (Stribeck velocities of 0.1 um/s to 0.7 m/s); the largest friction
 #: force, N (10 uN in a flexure stage to 100 kN in a heavy gantry); the moving mass, kg (1 g to
-#: 100 t).
+#: 100 t); the largest motor current of a log, A (1 uA in a voice coil to 10 kA in the largest
+#: drives).
 PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
-            "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg")}
+            "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg"), "current": (1e-6, 1e4, "A")}
 #: Within PHYSICAL, beyond what most axes do (a warning line, no refusal): the fastest speed
 #: above 5 m/s, v_sat above 0.3 m/s (Stribeck velocities above 0.1 m/s): speeds in m/min or
-#: mm/s read as m/s land there.
-USUAL_MAX = {"speed": 5.0, "v_sat": 0.3}
+#: mm/s read as m/s land there; the largest current above 500 A: a current in mA read as A
+#: lands there (and would give a mass and forces a thousand times the axis').
+USUAL_MAX = {"speed": 5.0, "v_sat": 0.3, "current": 500.0}
 #: ... and a largest friction force below 0.1 N: forces in kN read as N land there.
 USUAL_MIN = {"force": 0.1}
 #: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
@@ -55,8 +57,12 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
     value = abs(float(value))
     if value <= high:
         return ""
-    units = ("mm (--scale x=0.001)" if column == "x" else
-             f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001)")
+    if quantity == "current":
+        units = f"mA (--scale {column}=0.001)"
+    elif column == "x":
+        units = "mm (--scale x=0.001)"
+    else:
+        units = f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001)"
     return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in "
             f"{units}?")
 

@@ -8,6 +8,7 @@ import pytest
 from fricgen.cli import main
 from fricgen.data.idim import identify_mass, identify_rigid_body
 from fricgen.data.inverse_dynamics import identify_friction
+from fricgen.data.plausibility import check_bounds
 from fricgen.data.table import table_csv_text
 from fricgen.errors import DataError
 from fricgen.fit.directions import row_folds
@@ -167,6 +168,40 @@ def test_a_current_log_without_force_constant_says_what_it_determines(offset_log
     assert "force     constant K" in report
     ident_k = json.loads(out.read_text())["training"]["axis"]["force_constant"]
     assert ident_k == pytest.approx(k, rel=0.03)
+
+
+def test_a_current_in_ma_gets_one_warning_naming_the_unit_and_scaled_the_same_axis(
+        offset_log, tmp_path, capsys):
+    """A current written in mA is a thousand times the axis' (a mass a thousand times its own):
+    one warning line naming mA and --scale i=0.001, which gives the axis of the log in A (a
+    current of 19 A written in mA is refused outright: beyond any drive)."""
+    k = 25.0
+    amperes = offset_log["force"] / k
+    cols = {"t": offset_log["t"], "v": offset_log["v"]}
+    in_a = _write(tmp_path, "a.csv", dict(cols, i=amperes))
+    in_ma = _write(tmp_path, "ma.csv", dict(cols, i=1000 * amperes))
+    args = ["--force-constant", str(k), "--method", "stribeck", "--vs-max", "0.02"]
+    assert main(["train", str(in_a), "-o", str(tmp_path / "a.json"), *args]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert main(["train", str(in_ma), "-o", str(tmp_path / "ma.json"), *args]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warnings) == 1 and "|i| (99th percentile)" in warnings[0] \
+        and "is i in mA (--scale i=0.001)?" in warnings[0]
+    assert main(["train", str(in_ma), "-o", str(tmp_path / "scaled.json"), "--scale", "i=0.001",
+                 *args]) == 0
+    assert "warning" not in capsys.readouterr().err
+    mass = {name: json.loads((tmp_path / f"{name}.json").read_text())["training"]["axis"]["mass"]
+            for name in ("a", "ma", "scaled")}
+    assert mass["scaled"] == pytest.approx(mass["a"], rel=1e-6)
+    assert mass["ma"] == pytest.approx(1000 * mass["a"], rel=1e-3)
+
+
+def test_a_current_beyond_any_drive_is_refused_naming_the_scale():
+    t = np.arange(2000) / 1000.0
+    v = 0.1 * np.sin(2 * np.pi * t)
+    with pytest.raises(DataError, match=r"\|i\| \(99th percentile\) is 2e\+04 A, above the "
+                                        r"10000 A of any real axis; is i in mA\? --scale i=0\.001"):
+        check_bounds({"t": t, "v": v, "i": 2e4 * np.sign(v)}, "log.csv")
 
 
 def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp_path, capsys):

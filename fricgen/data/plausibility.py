@@ -4,8 +4,9 @@ Each check returns nothing when the data are plausible; otherwise it refuses wit
 ``DataError`` line naming the column and the likely cause, or, where the user said the data
 really are unusual (``--accept-unusual``), gives that line back as a warning:
 
-- ``check_bounds``: the fastest speed and the largest force within ``_validate.PHYSICAL`` (a
-  speed in mm/s read as m/s, a force in mN), with the ``--scale`` that would bring it there;
+- ``check_bounds``: the fastest speed, the largest force and current within
+  ``_validate.PHYSICAL`` (a speed in mm/s read as m/s, a force in mN, a current in mA), with
+  the ``--scale`` that would bring it there;
 - ``check_sweep_shape``: a sweep whose force follows the speed as friction does (section 2:
   the force of [F1] is a function of v, from a Coulomb level at low speed): swapped columns
   (the speed then never comes near 0, and v follows f more closely than f follows v), or a force
@@ -78,9 +79,10 @@ def _top(values: np.ndarray) -> float:
 
 def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bool = False,
                  warn: Callable[[str], None] = print) -> None:
-    """The fastest speed (|v|, or |dx/dt| of a log without v) and the largest force (|f|,
-    |force|), each but for the top 1 % of rows (``_top``), within ``_validate.PHYSICAL``; else one line naming the column and the --scale that
-    brings it there."""
+    """The fastest speed (|v|, or |dx/dt| of a log without v), the largest force (|f|, |force|)
+    and the largest current (|i|), each but for the top 1 % of rows (``_top``), within
+    ``_validate.PHYSICAL``; else one line naming the column and the --scale that brings it
+    there. Within it, beyond ``USUAL_MAX`` or below ``USUAL_MIN``: one warning line."""
     checks = []
     if "v" in columns:
         checks.append(("v", "speed", "|v| (99th percentile)", _top(columns["v"])))
@@ -90,6 +92,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     for name in ("f", "force"):
         if name in columns:
             checks.append((name, "force", f"|{name}| (99th percentile)", _top(columns[name])))
+    if "i" in columns:
+        checks.append(("i", "current", "|i| (99th percentile)", _top(columns["i"])))
     for column, quantity, what, value in checks:
         if value == 0:
             continue                # no motion or no force: the readers name that
