@@ -81,6 +81,16 @@ def test_one_harmonic_gives_one_harmonic(problem, seed):
     assert fit.to_dict()["parameters"]["amplitude"] == pytest.approx(2.0, rel=0.05)
 
 
+@pytest.mark.parametrize("amplitudes", [(0.5, 1.5, 0.4), (0.4, 0.3, 1.5)])
+def test_a_harmonic_larger_than_the_fundamental_is_not_taken_for_it(problem, amplitudes):
+    """The periodogram peaks at the 2nd (3rd) harmonic; the fit still finds the fundamental and
+    every harmonic (a fundamental at the peak would lose the others)."""
+    q = _residual(problem, amplitudes, THREE[1])
+    fit = PositionRipple.fit(q, q.fit_rows)
+    assert fit.harmonics == 3 and abs(fit.period / PERIOD - 1) < 0.01
+    np.testing.assert_allclose(fit.amplitude, amplitudes, rtol=0.2)
+
+
 def test_a_pitch_fixes_the_period(problem):
     q = _residual(problem, *THREE)
     pitch = PERIOD * 1.003                 # what the user knows, not what the data say

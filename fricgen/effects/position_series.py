@@ -6,8 +6,9 @@ with a_h = A_h cos(phi_h), b_h = A_h sin(phi_h): cogging or force ripple (``posi
 a force that acts at rest too) and a friction level that changes periodically along the travel
 (``position_friction``: sgn(v) F(x), it acts against motion), extending [C1] as ``base`` says.
 
-The fit finds P (a least-squares periodogram over wavenumbers, refined by Brent), or takes the
-problem's ``pitch`` (a known pole pitch or screw lead), chooses H by blocked cross-validation
+The fit finds P (a least-squares periodogram over wavenumbers, refined by Brent; the peak or
+the fundamental it is the 2nd to 4th harmonic of), or takes the problem's ``pitch`` (a known
+pole pitch or screw lead), chooses H (and the fundamental) by blocked cross-validation
 (``fitting.choose_by_cross_validation``: the fewest harmonics within one standard error of the
 best), and solves (a_h, b_h) by least squares. model.json holds ``amplitude`` and ``phase`` per
 harmonic (lists, or numbers for one harmonic: the one-sinusoid form of earlier versions).
@@ -163,8 +164,9 @@ class PositionSeries(Effect):
 
     @classmethod
     def fit(cls, problem, rows) -> "PositionSeries":
-        """P from the problem's ``pitch`` or by the periodogram and Brent, H by blocked
-        cross-validation (one-standard-error rule), (a_h, b_h) by least squares."""
+        """P from the problem's ``pitch`` or by the periodogram and Brent (the peak, or the
+        fundamental it is a harmonic of), H by blocked cross-validation (one-standard-error
+        rule), (a_h, b_h) by least squares."""
         x, r = problem.signals.x, problem.target[rows]
         weight = np.sign(problem.signals.v) if cls.signed else None
 
@@ -182,11 +184,21 @@ class PositionSeries(Effect):
         else:
             ks, j = cls._periodogram(problem, rows)
             lo, hi = ks[max(j - 1, 0)], ks[min(j + 1, ks.size - 1)]
-            k = refine(rss(1), lo, hi)
-            basis = design(k, HARMONICS)
-            harmonics = choose_by_cross_validation([basis[:, :2 * h] for h in range(1, HARMONICS + 1)], r)
+            # the periodogram's peak may be a harmonic (a slot harmonic of cogging often
+            # outweighs the fundamental): the fundamentals peak / m whose period the travel
+            # holds, each with the peak as its m-th harmonic, compete with the peak itself
+            # in one cross-validation, the series of fewest harmonics first
+            options = []
+            for m in range(1, HARMONICS + 1):
+                if ks[j] / m < ks[0]:
+                    break
+                k_m = refine(rss(m), lo / m, hi / m)
+                basis = design(k_m, HARMONICS)
+                options += [(h, m, k_m, basis[:, :2 * h]) for h in range(1, HARMONICS + 1)]
+            options.sort(key=lambda o: o[:2])
+            harmonics, m, k, _ = options[choose_by_cross_validation([o[3] for o in options], r) - 1]
             if harmonics > 1:         # the harmonics sharpen the period
-                k = refine(rss(harmonics), lo, hi)
+                k = refine(rss(harmonics), lo / m, hi / m)
             basis = design(k, harmonics)
         coef, _ = lstsq(basis[:, :2 * harmonics], r)
         return cls(amplitude=(0.0,) * harmonics, period=float(2 * np.pi / k),
