@@ -188,13 +188,13 @@ class PositionSeries(Effect):
             # outweighs the fundamental): the fundamentals peak / m whose period the travel
             # holds, each with the peak as its m-th harmonic, compete with the peak itself
             # in one cross-validation, the series of fewest harmonics first
+            peak = refine(rss(1), lo, hi)
             options = []
             for m in range(1, HARMONICS + 1):
                 if ks[j] / m < ks[0]:
                     break
-                k_m = refine(rss(m), lo / m, hi / m)
-                basis = design(k_m, HARMONICS)
-                options += [(h, m, k_m, basis[:, :2 * h]) for h in range(1, HARMONICS + 1)]
+                basis = design(peak / m, HARMONICS)
+                options += [(h, m, peak / m, basis[:, :2 * h]) for h in range(1, HARMONICS + 1)]
             options.sort(key=lambda o: o[:2])
             harmonics, m, k, _ = options[choose_by_cross_validation([o[3] for o in options], r) - 1]
             if harmonics > 1:         # the harmonics sharpen the period
