@@ -46,7 +46,8 @@ FIT_FOLDS = 10
 
 
 def choose_by_cross_validation(designs, target: np.ndarray, folds: int = FIT_FOLDS) -> int:
-    """How many of the nested ``designs`` (each an (n, k) basis, simplest first) to take: the
+    """How many of the ``designs`` (each an (n, k) basis, simplest first: nested, or as a
+    position series orders its fundamentals' series by harmonics) to take: the
     simplest whose blocked cross-validated mean square (least squares fitted on the other
     contiguous blocks of the rows) is within one standard error of the best's, the standard
     error of the best's mean over the blocks (the one-standard-error rule of Breiman et al.):
