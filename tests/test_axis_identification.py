@@ -8,7 +8,6 @@ import pytest
 from fricgen.cli import main
 from fricgen.data.idim import identify_mass, identify_rigid_body
 from fricgen.data.inverse_dynamics import identify_friction
-from fricgen.data.plausibility import check_bounds
 from fricgen.data.table import table_csv_text
 from fricgen.errors import DataError
 from fricgen.fit.directions import row_folds
@@ -194,14 +193,6 @@ def test_a_current_in_ma_gets_one_warning_naming_the_unit_and_scaled_the_same_ax
             for name in ("a", "ma", "scaled")}
     assert mass["scaled"] == pytest.approx(mass["a"], rel=1e-6)
     assert mass["ma"] == pytest.approx(1000 * mass["a"], rel=1e-3)
-
-
-def test_a_current_beyond_any_drive_is_refused_naming_the_scale():
-    t = np.arange(2000) / 1000.0
-    v = 0.1 * np.sin(2 * np.pi * t)
-    with pytest.raises(DataError, match=r"\|i\| \(99th percentile\) is 2e\+04 A, above the "
-                                        r"10000 A of any real axis; is i in mA\? --scale i=0\.001"):
-        check_bounds({"t": t, "v": v, "i": 2e4 * np.sign(v)}, "log.csv")
 
 
 def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp_path, capsys):

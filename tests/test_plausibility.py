@@ -188,6 +188,14 @@ def test_a_position_in_mm_is_named_as_the_position_s_unit():
         check_bounds({"t": t, "x": 1e3 * x_mm, "force": np.ones_like(t)}, "log.csv")
 
 
+def test_a_current_beyond_any_drive_is_refused_naming_the_scale():
+    t = np.arange(2000) / 1000.0
+    v = 0.1 * np.sin(2 * np.pi * t)
+    with pytest.raises(DataError, match=r"\|i\| \(99th percentile\) is 2e\+04 A, above the "
+                                        r"10000 A of any real axis; is i in mA\? --scale i=0\.001"):
+        check_bounds({"t": t, "v": v, "i": 2e4 * np.sign(v)}, "log.csv")
+
+
 def test_forces_in_kn_get_one_warning_and_scaled_the_same_model(work, capsys):
     rows = [line.split(",") for line in (work / "sweep.csv").read_text().splitlines()[1:]]
     (work / "kn.csv").write_text("v,f\n" + "".join(f"{v},{float(f) / 1000!r}\n" for v, f in rows))

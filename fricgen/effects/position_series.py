@@ -178,27 +178,24 @@ class PositionSeries(Effect):
 
         pitch = getattr(problem, "pitch", None)
         if pitch is not None:
-            k = 2 * np.pi / pitch
-            basis = design(k, HARMONICS)
-            harmonics = choose_by_cross_validation([basis[:, :2 * h] for h in range(1, HARMONICS + 1)], r)
+            fundamentals = [(1, 2 * np.pi / pitch)]
         else:
             ks, j = cls._periodogram(problem, rows)
             lo, hi = ks[max(j - 1, 0)], ks[min(j + 1, ks.size - 1)]
             # the periodogram's peak may be a harmonic (a slot harmonic of cogging often
             # outweighs the fundamental): the fundamentals peak / m whose period the travel
             # holds, each with the peak as its m-th harmonic, compete with the peak itself
-            # in one cross-validation, the series of fewest harmonics first
             peak = refine(rss(1), lo, hi)
-            options = []
-            for m in range(1, HARMONICS + 1):
-                if ks[j] / m < ks[0]:
-                    break
-                basis = design(peak / m, HARMONICS)
-                options += [(h, m, peak / m, basis[:, :2 * h]) for h in range(1, HARMONICS + 1)]
-            options.sort(key=lambda o: o[:2])
-            harmonics, m, k, _ = options[choose_by_cross_validation([o[3] for o in options], r) - 1]
-            if harmonics > 1:         # the harmonics sharpen the period
-                k = refine(rss(harmonics), lo / m, hi / m)
+            fundamentals = [(m, peak / m) for m in range(1, HARMONICS + 1) if ks[j] / m >= ks[0]]
+        # one cross-validation over every fundamental's series, the fewest harmonics first
+        options = []
+        for m, k_m in fundamentals:
+            basis = design(k_m, HARMONICS)
+            options += [(h, m, k_m, basis[:, :2 * h]) for h in range(1, HARMONICS + 1)]
+        options.sort(key=lambda o: o[:2])
+        harmonics, m, k, basis = options[choose_by_cross_validation([o[3] for o in options], r) - 1]
+        if pitch is None and harmonics > 1:         # the harmonics sharpen the period
+            k = refine(rss(harmonics), lo / m, hi / m)
             basis = design(k, harmonics)
         coef, _ = lstsq(basis[:, :2 * harmonics], r)
         return cls(amplitude=(0.0,) * harmonics, period=float(2 * np.pi / k),
