@@ -132,7 +132,7 @@ def test_summary_has_the_documented_keys(results):
     from fricgen.diagnose.diagnoser import ASKED_FOR
     assert ASKED_FOR == ("sensor_delay",)
     assert {c["effect"] for c in s["candidates"]} | {"none"} == set(EFFECTS) - set(ASKED_FOR) | {"none"}
-    assert set(EFFECTS) | {"none"} == set(HIDDEN_EFFECTS) | {"sensor_delay"}
+    assert set(EFFECTS) | {"none"} == set(HIDDEN_EFFECTS) | {"sensor_delay", "actuator_saturation"}
     first = s["effects"][0]
     assert first["effect"] == s["effect"] and first["parameters"] == s["parameters"]
     assert first["p_value"] == s["p_value"] < s["alpha"] and 0.5 < first["share"] <= 1.0

@@ -9,7 +9,7 @@ import pytest
 from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.codegen.cbuild import build
-from fricgen.effects import (EFFECTS, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource, ForceConstantMismatch,
+from fricgen.effects import (EFFECTS, ActuatorSaturation, ConstantLoad, DirectionAsymmetry, ExtraFrictionSource, ForceConstantMismatch,
                              FrictionalLag, InertiaMismatch, PositionFriction, PositionRipple, SensorDelay, Signals,
                              ThermalDrift, force_xv, with_effects)
 from fricgen.codegen.twin import force_xv_f32
@@ -26,7 +26,8 @@ XV_EFFECTS = [PositionRipple(amplitude=2.5, period=0.0123, phase=1.1),
               ExtraFrictionSource(fc=0.5, fs=1.5, vs=0.02, B=-1.0, shape="rational"),
               PositionFriction(amplitude=(0.8, 0.3, 0.2), period=0.031, phase=(0.2, 2.0, 4.0))]
 OTHER_EFFECTS = [InertiaMismatch(mass=5.2, nominal_mass=4.0), FrictionalLag(tau=0.02),
-                 ThermalDrift(rate=0.02, offset=0.01, t0=0.0), SensorDelay(tau=0.0015, nominal_force_constant=20.0)]
+                 ThermalDrift(rate=0.02, offset=0.01, t0=0.0), SensorDelay(tau=0.0015, nominal_force_constant=20.0),
+                 ActuatorSaturation(droop=0.1, peak_current=3.0, nominal_force_constant=20.0)]
 
 
 @pytest.fixture(scope="module")
@@ -100,7 +101,7 @@ def test_force_xv_in_c_equals_the_python_effects(augmented, tmp_path):
     codegen.emit(augmented, tmp_path, "fx")
     header = (tmp_path / "fx.h").read_text()
     assert "float fx_force_xv(float v, float x);" in header
-    assert "frictional_lag, thermal_drift, sensor_delay" in header and "FX_N_EFFECTS_XV 7" in header
+    assert "frictional_lag, thermal_drift, sensor_delay, actuator_saturation" in header and "FX_N_EFFECTS_XV 7" in header
     lib = build(tmp_path, "fx.h", "float fx_force(float v);\nfloat fx_force_xv(float v, float x);\n",
                 build_dir=tmp_path / "build")
     rng = np.random.default_rng(0)

@@ -34,7 +34,7 @@ def null_fixed():
 
 def test_named_effects_are_the_vocabulary():
     assert set(NAMED) | set(HIDDEN_AS_OOV) == set(EFFECTS)
-    assert set(OUT_OF_VOCABULARY) & set(EFFECTS) == set(HIDDEN_AS_OOV) == {"sensor_delay"}
+    assert set(OUT_OF_VOCABULARY) & set(EFFECTS) == set(HIDDEN_AS_OOV) == {"sensor_delay", "actuator_saturation"}
 
 
 def test_scenario_is_deterministic_per_seed():

@@ -3,6 +3,7 @@ each defined once (force law, parameters, JSON, fit, C expression) and carried i
 ``effects`` list."""
 from __future__ import annotations
 
+from .actuator import ActuatorSaturation
 from .base import PLAUSIBLE_FACTOR, Effect
 from .carried import (effect_from_dict, force_xv, model_effects, offset_left_out, validate_effects,
                       with_effects)
@@ -14,7 +15,7 @@ from .signals import FrictionCurve, Signals
 from .timing import SensorDelay
 from .tables import TABLES, TableEffect, range_notes
 
-__all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "PositionRipple", "PositionFriction",
+__all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "ActuatorSaturation", "PositionRipple", "PositionFriction",
            "PositionSeries", "DirectionAsymmetry",
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "SensorDelay", "FrictionCurve", "Signals", "effect_from_dict",

@@ -75,6 +75,8 @@ class Effect:
     via_dynamics: ClassVar[bool] = False
     #: Simulated through the timing of the current that drives the axis (input_delay).
     via_timing: ClassVar[bool] = False
+    #: A function of the current (the actuator's): simulated as a loss of the motor's force.
+    via_current: ClassVar[bool] = False
     #: Time constants whose 0 means none (a linear drift): the output-error refinement fits
     #: their inverse, so that 0 is a value like any other (``diagnose.refine``).
     time_constants: ClassVar[Tuple[str, ...]] = ()

@@ -52,6 +52,9 @@ class Float32Plant:
         level = f(self.f_c) + (f(self.f_s) - f(self.f_c)) * (vs2 / (vs2 + v * v))
         return level * (v / (speed + f(self.v_eps))) + f(self.viscous) * v
 
+    def thrust(self, i):
+        return self.phi * i
+
     def sliding_friction(self, v, t, s):
         return self.friction(v)
 

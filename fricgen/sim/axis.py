@@ -35,6 +35,9 @@ class ForceLaw(Protocol):
     i_max: float
     lag_tau: float
 
+    def thrust(self, i) -> np.ndarray:
+        """The motor's force at the current ``i`` (phi i of an ideal actuator)."""
+
     def sliding_friction(self, v, t, s) -> np.ndarray:
         """F_fr: odd in v, discontinuous at v = 0; ``s`` is the friction memory."""
 
@@ -132,7 +135,7 @@ class MotorAxis:
         0 stops the axis there. The memory s follows the same RK4 stages.
         """
         law = self.law
-        thrust = law.force_constant * self._current(i)
+        thrust = law.thrust(self._current(i))
         tau = _memory_tau(law)
         h = dt / substeps
         x, v, t, s = state.x, state.v, state.t, state.s
@@ -175,7 +178,7 @@ class MotorAxis:
         gain min(h / tau, 1) per step of h = dt / substeps.
         """
         law = self.law
-        thrust = law.force_constant * self._current(i)
+        thrust = law.thrust(self._current(i))
         tau = _memory_tau(law)
         h = dt / substeps
         gain = _memory_gain(tau, h)
@@ -197,8 +200,8 @@ class MotorAxis:
         then x with the new v), as ``fw_plant_advance`` of examples/firmware/fw_plant.c.
 
         For smooth (regularized) friction laws: there is no stick model. The law's forces
-        are rounded to float32; a law that computes in float32, without external force or
-        memory, reproduces the C operation for operation. The memory s is low-passed with
+        are rounded to float32; a law that computes in float32, without external force,
+        memory or actuator effects, reproduces the C operation for operation. The memory s is low-passed with
         gain min(h / tau, 1) per step.
         """
         f32 = np.float32
@@ -206,7 +209,9 @@ class MotorAxis:
         x, v, s, t = f32(state.x), f32(state.v), f32(state.s), state.t
         h = f32(dt) / f32(substeps)
         i_max = f32(law.i_max)
-        thrust = f32(law.force_constant) * np.clip(f32(i), -i_max, i_max)
+        current = np.clip(f32(i), -i_max, i_max)
+        actuator_loss = law.force_constant * current - law.thrust(current)    # 0: ideal actuator
+        thrust = f32(law.force_constant) * current - f32(actuator_loss)
         mass = f32(law.mass)
         tau = _memory_tau(law)
         gain = f32(_memory_gain(tau, h))

@@ -4,7 +4,8 @@
                                                     ``fricgen.effects``),
 
 split as ``MotorAxis`` needs it: effects that act at rest (ripple, load) form the external
-force, those simulated through the dynamics shift m and phi, those of the log's timing (a
+force, those simulated through the dynamics shift m and phi, those of the actuator (a
+saturation) take from the motor's force phi i (``thrust``), those of the log's timing (a
 sensor delay) are no force (``input_delay``: whoever drives the law shifts its current), and
 the others add to the sliding friction. One law serves the truth axes of synthesized logs, the re-simulations of the
 diagnosis and the controlled axis; ``EffectLaw.batch`` gives each axis of a batch its own
@@ -40,6 +41,10 @@ class _OnAxes:
     @property
     def via_timing(self) -> bool:
         return self.effect.via_timing
+
+    @property
+    def via_current(self) -> bool:
+        return self.effect.via_current
 
     @property
     def mass_delta(self):
@@ -109,8 +114,9 @@ class EffectLaw:
         self.lag_tau = lags[0] if lags else 0.0
         self.input_delay = sum((e.input_delay for e in self.effects), 0.0)
         self._at_rest = [e for e in self.effects if e.acts_at_rest]
+        self._actuator = [e for e in self.effects if e.via_current]
         self._sliding = [e for e in self.effects
-                         if not (e.acts_at_rest or e.via_dynamics or e.via_timing)]
+                         if not (e.acts_at_rest or e.via_dynamics or e.via_timing or e.via_current)]
 
     @classmethod
     def batch(cls, friction: FrictionCurve, effects_per_axis: Sequence[Sequence[Effect]],
@@ -124,6 +130,16 @@ class EffectLaw:
                              "cannot simulate it")
         return cls(friction, _stack(effects_per_axis), mass=mass, force_constant=force_constant,
                    i_max=i_max)
+
+    def thrust(self, i) -> np.ndarray:
+        """The motor's force at current ``i``: phi i less the effects of the actuator
+        (saturation)."""
+        force = self.force_constant * i
+        if self._actuator:
+            sig = Signals(self.friction, i=np.asarray(i, dtype=float))
+            for e in self._actuator:
+                force = force - e.force(sig)
+        return force
 
     def sliding_friction(self, v, t, s) -> np.ndarray:
         """F(v) plus the effects that change friction (asymmetry, extra source, lag, drift)."""

@@ -69,8 +69,9 @@ _DRAW_ORDER = NAMED[:8] + OUT_OF_VOCABULARY[:6] + NAMED[8:] + OUT_OF_VOCABULARY[
 TABLE_TOP = 100.0
 
 #: Named effects the generator hides under an out-of-vocabulary name of its own, kept so that
-#: the scenarios of a seed keep their draws (the diagnosis names ``sensor_delay`` since).
-HIDDEN_AS_OOV = ("sensor_delay",)
+#: the scenarios of a seed keep their draws (the diagnosis names ``sensor_delay`` since, and
+#: ``actuator_saturation`` in a form of its own: a force constant falling with i^2, not tanh).
+HIDDEN_AS_OOV = ("sensor_delay", "actuator_saturation")
 
 assert set(NAMED) | set(HIDDEN_AS_OOV) == set(EFFECTS) and set(HIDDEN_AS_OOV) <= set(OUT_OF_VOCABULARY)
 
@@ -102,6 +103,10 @@ class PlantLaw:
         self.i_max = i_max
         self.lag_tau = hidden.lag_tau
         self._speeds, self._stribeck = friction.table(TABLE_TOP)
+
+    def thrust(self, i):
+        """phi i: the hidden actuator's shape acts on the current before (``closed_loop``)."""
+        return self.force_constant * i
 
     def sliding_friction(self, v, t, s):
         """F_p at the speed (lagged speed under frictional lag), times the gains, plus the
