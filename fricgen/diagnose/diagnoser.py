@@ -40,10 +40,8 @@ MAX_EFFECTS = 8
 #: held-out gap alone, which must then shrink by ``UNDERSTATED_GAIN`` rather than ``min_gain``:
 #: those whose force lives in short stretches (the lag: at the reversals), and a mass or force
 #: constant at least ``MISMATCH_RELEVANT`` off the nominal one (a mass half the nominal one on
-#: a slow log changes the force by 2 % of the friction, and detunes any controller built on it),
-#: and an effect of the actuator (``Effect.via_current``: a saturation scales with the motor's
-#: force, which on a fast log is many times the friction, so its share of the friction says
-#: nothing of what it does to the motion).
+#: a slow log changes the force by 2 % of the friction, and detunes any controller built on it;
+#: a saturation whose force constant falls by that much at the log's peak current, likewise).
 SHORT_LIVED = ("frictional_lag",)
 MISMATCH_RELEVANT = 0.1
 UNDERSTATED_GAIN = 0.25
@@ -239,8 +237,8 @@ class Diagnoser:
         if size < self.min_size:
             step.reason = (f"too small to matter ({size:.1%} of the friction force, below "
                            f"{self.min_size:.0%})")
-            if not all(e.name in SHORT_LIVED or e.via_timing or e.via_current
-                       or e.mismatch() >= MISMATCH_RELEVANT for e in newcomers):
+            if not all(e.name in SHORT_LIVED or e.via_timing or e.mismatch() >= MISMATCH_RELEVANT
+                       for e in newcomers):
                 return step
             if not all(e.via_timing for e in newcomers):
                 gain = UNDERSTATED_GAIN

@@ -74,6 +74,11 @@ class ActuatorSaturation(Effect):
     def with_coefficients(self, coef):
         return replace(self, droop=float(coef[0]))
 
+    def mismatch(self):
+        """The fall of the force constant at the peak current, |d|: a force-constant error
+        where the current is largest."""
+        return abs(self.droop)
+
     def limits(self):
         return {"droop": (0.0, MAX_DROOP), **super().limits()}
 
