@@ -201,8 +201,8 @@ class MotorAxis:
 
         For smooth (regularized) friction laws: there is no stick model. The law's forces
         are rounded to float32; a law that computes in float32, without external force,
-        memory or actuator effects, reproduces the C operation for operation. The memory s is low-passed with
-        gain min(h / tau, 1) per step.
+        memory or actuator effects, reproduces the C operation for operation. The memory s is
+        low-passed with gain min(h / tau, 1) per step.
         """
         f32 = np.float32
         law = self.law
