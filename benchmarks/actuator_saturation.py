@@ -1,7 +1,8 @@
 """fricgen diagnose on scenario logs (fricgen.sim.scenarios, its own plant, controller and
 trajectory) whose drive saturates (``oov:actuator_saturation``: the plant receives
 i_s tanh(i / i_s), a shape the diagnosis' d (i / i_pk)^2 does not share), and on logs hiding a
-force-constant or a mass error, which a saturation must not take over. For each seed: the
+force-constant or a mass error, which a saturation must not take over, with
+actuator_saturation asked for (``fricgen diagnose --saturation``). For each seed: the
 effects named, the fitted fall d of the force constant at the peak current, and the held-out
 gap after diagnose over the truth's (the hidden force undone, ``Scenario.truth_log``). A log's
 effect is visible when the truth shrinks the held-out gap by ``VISIBLE_GAIN``.
@@ -20,7 +21,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import argparse                                         # noqa: E402
 from concurrent.futures import ProcessPoolExecutor      # noqa: E402
 
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose     # noqa: E402
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose     # noqa: E402
 from fricgen.sim.scenarios import make_scenario         # noqa: E402
 
 #: An effect is visible when the truth shrinks the held-out gap by at least this (issue 29's
@@ -31,7 +32,8 @@ SATURATION = "oov:actuator_saturation"
 
 def one(seed: int, hidden: str) -> dict:
     sc = make_scenario(seed, (hidden,))
-    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant,
+                 candidates=candidates_with("actuator_saturation"))       # --saturation
     gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)
     sat = [e for e in d.added_ if e.name == "actuator_saturation"]
     return {"seed": seed, "hidden": hidden, "named": [e.name for e in d.added_],

@@ -51,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.effects import EFFECTS
 from fricgen.sim.closed_loop import CONTROLLERS
 from fricgen.sim.hidden_effects import NAMED, OUT_OF_VOCABULARY
@@ -69,8 +69,8 @@ SHORT = {"none": "none", "position_ripple": "ripple", "direction_asymmetry": "as
 ALPHAS = (0.001, 0.01, 0.05, 0.1, 0.25, 0.5)
 #: The held-out guard's least relative shrink of the gap, for ``visible``.
 MIN_GAIN = Diagnoser().min_gain
-#: The effects diagnose considers: its default, or every one with --sensor-delay (set by main
-#: before the workers start).
+#: The effects diagnose considers: its default, and those --sensor-delay and --saturation ask
+#: for (set by main before the workers start).
 CANDIDATES = None
 
 
@@ -398,6 +398,8 @@ def main():
                     "lengths, one seed per effect and shape, 6 pairs, 2 triples")
     ap.add_argument("--sensor-delay", action="store_true",
                     help="let diagnose consider sensor_delay too (as fricgen diagnose --sensor-delay)")
+    ap.add_argument("--saturation", action="store_true",
+                    help="let diagnose consider actuator_saturation too (as fricgen diagnose --saturation)")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--out", default="diagnose_confusion", help="folder for records, summary, figure")
     ap.add_argument("--report-only", action="store_true", help="report the records found, run nothing")
@@ -412,7 +414,8 @@ def main():
                     + " s: N for all, or LENGTH:N,... (default 60; 2 with --small)")
     args = ap.parse_args()
     global CANDIDATES
-    CANDIDATES = list(EFFECTS) if args.sensor_delay else None
+    CANDIDATES = candidates_with(*(["sensor_delay"] if args.sensor_delay else []),
+                                 *(["actuator_saturation"] if args.saturation else []))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "records.jsonl"

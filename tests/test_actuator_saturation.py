@@ -2,10 +2,12 @@
 here (the cubic form, and a tanh saturation it does not share), the refusal of a force constant
 that grows with the current, the simulation that takes the loss from the motor's force,
 model.json, and the diagnosis of a scenario log whose drive saturates as tanh."""
+import json
+
 import numpy as np
 import pytest
 
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.effects import EFFECTS, ActuatorSaturation, effect_from_dict
 from fricgen.errors import ModelError
 from fricgen.sim.axis import AxisState, MotorAxis
@@ -91,7 +93,8 @@ def test_the_effect_is_registered_round_trips_and_bad_values_are_refused():
 @pytest.fixture(scope="module")
 def saturated_run():
     sc = make_scenario(1100, ("oov:actuator_saturation",), rate_hz=1000.0, duration_s=15.0)
-    return sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    return sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant,
+                        candidates=candidates_with("actuator_saturation"))
 
 
 @pytest.mark.slow
@@ -101,3 +104,31 @@ def test_a_drive_that_saturates_as_tanh_is_named_and_closes_the_gap_as_the_truth
     truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)
     assert d.gap_after_ <= 1.1 * truth
     assert 0.0 < d.added_[0].droop <= 0.5
+
+
+@pytest.mark.slow
+def test_the_saturation_is_considered_only_when_asked_for(saturated_run):
+    """By default diagnose leaves it out (it would take the place of a force-constant or mass
+    error among the sets a step tries); the same log then names something else."""
+    sc, asked = saturated_run
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant)
+    assert "actuator_saturation" not in {s.effect for s in d.steps_}
+    assert "actuator_saturation" not in {c["effect"] for c in d.summary()["candidates"]}
+    assert candidates_with("actuator_saturation") == [n for n in EFFECTS if n != "sensor_delay"]
+
+
+@pytest.mark.slow
+def test_the_cli_considers_the_saturation_with_its_flag(saturated_run, tmp_path):
+    from fricgen.cli import main
+    from fricgen.data.motionlog import log_csv_text
+    sc, _ = saturated_run
+    model_path, log_path = tmp_path / "model.json", tmp_path / "log.csv"
+    sc.model.save(model_path)
+    log_path.write_text(log_csv_text(sc.log))
+    common = [str(log_path), "--model", str(model_path), "--mass", str(sc.mass),
+              "--force-constant", str(sc.force_constant), "--json"]
+    for flag, named in (([], False), (["--saturation"], True)):
+        out = tmp_path / ("with" if flag else "without")
+        assert main(["diagnose", *common, *flag, "-o", str(out)]) == 0
+        saved = json.loads((out / "model.json").read_text())
+        assert ("actuator_saturation" in [e["effect"] for e in saved.get("effects", [])]) == named

@@ -128,9 +128,10 @@ def test_summary_has_the_documented_keys(results):
     assert list(s) == ["effect", "p_value", "parameters", "effects", "refused", "where", "where_after",
                        "gap_before", "gap_after", "gap_selected", "fit_gap_before", "fit_gap_after", "gap_metric", "alpha", "min_size", "min_gain", "candidates"]
     # every named effect but those asked for is a candidate; the truth axes hide each but the
-    # sensor delay (the scenario generator's oov:sensor_delay, tests/test_sensor_delay.py)
+    # sensor delay and the saturation (the scenario generator's oov:sensor_delay and
+    # oov:actuator_saturation, tests/test_sensor_delay.py, tests/test_actuator_saturation.py)
     from fricgen.diagnose.diagnoser import ASKED_FOR
-    assert ASKED_FOR == ("sensor_delay",)
+    assert ASKED_FOR == ("sensor_delay", "actuator_saturation")
     assert {c["effect"] for c in s["candidates"]} | {"none"} == set(EFFECTS) - set(ASKED_FOR) | {"none"}
     assert set(EFFECTS) | {"none"} == set(HIDDEN_EFFECTS) | {"sensor_delay", "actuator_saturation"}
     first = s["effects"][0]

@@ -11,9 +11,9 @@ from ..codegen.render import check_overwrite
 from ..data.motionlog import MIN_SAMPLES, log_from_columns
 from ..data.table import header_cells
 from ..diagnose.decision import p_text
-from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser
+from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser, candidates_with
 from ..diagnose.report import format_value, refinement_note, render_files, service_hint, written_by_diagnose
-from ..effects import EFFECTS, ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
+from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
@@ -42,6 +42,10 @@ def register(p) -> None:
                    help="also consider a delay between the logged motion and the current "
                    "(sensor_delay; off by default: on short closed-loop logs a delay of a sample "
                    "or two also fits what the model misses of an axis without one)")
+    p.add_argument("--saturation", action="store_true",
+                   help="also consider a force constant that falls as the current grows "
+                   "(actuator_saturation; off by default: close to a force-constant or mass "
+                   "error, it takes their place among the sets a step tries)")
     add_output(p, "folder for model.json, report.md and plots",
                force_also=", and over files in it that diagnose did not write")
     add_export_options(p)
@@ -49,6 +53,12 @@ def register(p) -> None:
     p.add_argument("--verbose", action="store_true",
                    help="list every refused candidate set with its reason (default: their count)")
     p.set_defaults(run=run)
+
+
+def asked_for(args):
+    """The effects off by default that the flags ask for (``ASKED_FOR``)."""
+    return [name for name, flag in (("sensor_delay", args.sensor_delay),
+                                    ("actuator_saturation", args.saturation)) if flag]
 
 
 def drive_columns(columns: dict, force_constant):
@@ -122,7 +132,7 @@ def _run(args) -> int:
         say("fricgen: " + note)
     with named_data(source):
         d = Diagnoser(max_effects=args.max_effects, pitch=args.pitch,
-                      candidates=list(EFFECTS) if args.sensor_delay else None).fit(log, model, mass, force_constant)
+                      candidates=candidates_with(*asked_for(args))).fit(log, model, mass, force_constant)
     files = render_files(d, log, Path(args.log).name)
     targets = check_targets(args, files, inputs, folder_of=[args.model])  # before any result is printed
     check_overwrite(targets.values(), args.force, written=written_by_diagnose)
