@@ -156,3 +156,21 @@ def assert_builds_strictly(folder, source, cc) -> None:
     proc = subprocess.run([cc, "-std=c99", *STRICT_WARNINGS, "-c", str(source), "-o", "/dev/null"],
                           cwd=folder, capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+
+
+def assert_cli_names_only_with(flag: str, effect: str, scenario, folder) -> None:
+    """``fricgen diagnose`` on the scenario's log saves ``effect`` in model.json with ``flag``
+    and not without it."""
+    import json
+    from fricgen.cli import main
+    from fricgen.data.motionlog import log_csv_text
+    model_path, log_path = folder / "model.json", folder / "log.csv"
+    scenario.model.save(model_path)
+    log_path.write_text(log_csv_text(scenario.log))
+    common = [str(log_path), "--model", str(model_path), "--mass", str(scenario.mass),
+              "--force-constant", str(scenario.force_constant), "--json"]
+    for flags, named in (([], False), ([flag], True)):
+        out = folder / ("with" if flags else "without")
+        assert main(["diagnose", *common, *flags, "-o", str(out)]) == 0
+        saved = json.loads((out / "model.json").read_text())
+        assert (effect in [e["effect"] for e in saved.get("effects", [])]) == named, flags

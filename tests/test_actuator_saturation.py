@@ -2,11 +2,10 @@
 here (the cubic form, and a tanh saturation it does not share), the refusal of a force constant
 that grows with the current, the simulation that takes the loss from the motor's force,
 model.json, and the diagnosis of a scenario log whose drive saturates as tanh."""
-import json
-
 import numpy as np
 import pytest
 
+from conftest import assert_cli_names_only_with
 from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.effects import EFFECTS, ActuatorSaturation, effect_from_dict
 from fricgen.errors import ModelError
@@ -119,16 +118,4 @@ def test_the_saturation_is_considered_only_when_asked_for(saturated_run):
 
 @pytest.mark.slow
 def test_the_cli_considers_the_saturation_with_its_flag(saturated_run, tmp_path):
-    from fricgen.cli import main
-    from fricgen.data.motionlog import log_csv_text
-    sc, _ = saturated_run
-    model_path, log_path = tmp_path / "model.json", tmp_path / "log.csv"
-    sc.model.save(model_path)
-    log_path.write_text(log_csv_text(sc.log))
-    common = [str(log_path), "--model", str(model_path), "--mass", str(sc.mass),
-              "--force-constant", str(sc.force_constant), "--json"]
-    for flag, named in (([], False), (["--saturation"], True)):
-        out = tmp_path / ("with" if flag else "without")
-        assert main(["diagnose", *common, *flag, "-o", str(out)]) == 0
-        saved = json.loads((out / "model.json").read_text())
-        assert ("actuator_saturation" in [e["effect"] for e in saved.get("effects", [])]) == named
+    assert_cli_names_only_with("--saturation", "actuator_saturation", saturated_run[0], tmp_path)

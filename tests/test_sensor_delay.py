@@ -1,11 +1,10 @@
 """The named sensor delay (fricgen/effects/timing.py): its fit on signals shifted by
 interpolation (not by its own formula), model.json round trip and refusal, the held-out
 simulation it drives, and the diagnosis of scenario logs that hide a delay or a mass error."""
-import json
-
 import numpy as np
 import pytest
 
+from conftest import assert_cli_names_only_with
 from fricgen.diagnose.diagnoser import Diagnoser, diagnose
 from fricgen.effects import EFFECTS, InertiaMismatch, SensorDelay, effect_from_dict
 from fricgen.errors import ModelError
@@ -122,17 +121,5 @@ def test_the_delay_is_considered_only_when_asked_for(delayed_run):
 
 
 def test_the_cli_considers_the_delay_with_its_flag(tmp_path):
-    from fricgen.cli import main
-    from fricgen.data.motionlog import log_csv_text
     sc = make_scenario(14, ("oov:sensor_delay",), controller="pid", **FIXED)
-    model_path = tmp_path / "model.json"
-    sc.model.save(model_path)
-    log_path = tmp_path / "log.csv"
-    log_path.write_text(log_csv_text(sc.log))
-    common = [str(log_path), "--model", str(model_path), "--mass", str(sc.mass),
-              "--force-constant", str(sc.force_constant), "--json"]
-    for flag, named in (([], False), (["--sensor-delay"], True)):
-        out = tmp_path / ("with" if flag else "without")
-        assert main(["diagnose", *common, *flag, "-o", str(out)]) == 0
-        saved = json.loads((out / "model.json").read_text())
-        assert ("sensor_delay" in [e["effect"] for e in saved.get("effects", [])]) == named
+    assert_cli_names_only_with("--sensor-delay", "sensor_delay", sc, tmp_path)
