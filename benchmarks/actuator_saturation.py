@@ -22,6 +22,7 @@ import argparse                                         # noqa: E402
 from concurrent.futures import ProcessPoolExecutor      # noqa: E402
 
 from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose     # noqa: E402
+from fricgen.errors import DataError                    # noqa: E402
 from fricgen.sim.scenarios import make_scenario         # noqa: E402
 
 #: An effect is visible when the truth shrinks the held-out gap by at least this (issue 29's
@@ -32,8 +33,11 @@ SATURATION = "oov:actuator_saturation"
 
 def one(seed: int, hidden: str) -> dict:
     sc = make_scenario(seed, (hidden,))
-    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant,
-                 candidates=candidates_with("actuator_saturation"))       # --saturation
+    try:
+        d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant,
+                     candidates=candidates_with("actuator_saturation"))       # --saturation
+    except DataError as e:          # a log diagnose refuses (too little motion): reported apart
+        return {"seed": seed, "hidden": hidden, "refused": str(e)}
     gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)
     sat = [e for e in d.added_ if e.name == "actuator_saturation"]
     return {"seed": seed, "hidden": hidden, "named": [e.name for e in d.added_],
@@ -55,6 +59,10 @@ def main():
              + [(s, "inertia_mismatch") for s in others])
     with ProcessPoolExecutor(args.jobs) as pool:
         rows = list(pool.map(one, *zip(*cases)))
+    for r in rows:
+        if "refused" in r:
+            print(f"{r['seed']:5d} {r['hidden']:>24s} refused by diagnose: {r['refused'][:90]}")
+    rows = [r for r in rows if "refused" not in r]
     print(f"{'seed':>5s} {'hidden':>24s} {'visible':>7s} {'d':>6s} {'gap/truth':>9s}  named")
     for r in rows:
         print(f"{r['seed']:5d} {r['hidden']:>24s} {'yes' if r['visible'] else 'no':>7s} "
