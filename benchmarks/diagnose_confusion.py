@@ -51,6 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fricgen.cli.diagnose import asked_for
 from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.effects import EFFECTS
 from fricgen.sim.closed_loop import CONTROLLERS
@@ -414,8 +415,7 @@ def main():
                     + " s: N for all, or LENGTH:N,... (default 60; 2 with --small)")
     args = ap.parse_args()
     global CANDIDATES
-    CANDIDATES = candidates_with(*(["sensor_delay"] if args.sensor_delay else []),
-                                 *(["actuator_saturation"] if args.saturation else []))
+    CANDIDATES = candidates_with(*asked_for(args))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "records.jsonl"
