@@ -54,6 +54,7 @@ import numpy as np
 from fricgen.cli.diagnose import asked_for
 from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.effects import EFFECTS
+from fricgen.errors import DataError
 from fricgen.sim.closed_loop import CONTROLLERS
 from fricgen.sim.hidden_effects import NAMED, OUT_OF_VOCABULARY
 from fricgen.sim.scenarios import make_scenario
@@ -116,7 +117,12 @@ def run_case(case):
     start = time.time()
     sc = make_scenario(seed, hidden, **fixed)
     made = time.time()
-    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=CANDIDATES)
+    try:
+        d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=CANDIDATES)
+    except DataError as e:              # a log diagnose refuses (too little motion): apart
+        return {"key": key, "kind": kind, "seed": seed, "hidden": list(sc.hidden),
+                "rate_hz": sc.conditions["rate_hz"], "duration_s": sc.conditions["duration_s"],
+                "refused": str(e), "effects": [], "seconds_diagnose": time.time() - made}
     seconds_diagnose = time.time() - made
     c = sc.conditions
     # the oracle: the gap the user's model leaves with the true effects, shapes and parameters;
@@ -185,6 +191,8 @@ def verdict(ok):
 
 
 def report(records, out: Path, small: bool):
+    refused = [r for r in records if "refused" in r]
+    records = [r for r in records if "refused" not in r]
     by = {}
     for r in records:
         by.setdefault(r["kind"], []).append(r)
@@ -194,6 +202,8 @@ def report(records, out: Path, small: bool):
         print(text)
         lines.append(text)
 
+    for r in refused:
+        say(f"{r['key']}: refused by diagnose, left out of every figure: {r['refused'][:100]}")
     nulls = by.get("null", [])
     fa, k, n = rate(bool(r["effects"]) for r in nulls)
     if n:
