@@ -77,7 +77,8 @@ class Diagnoser:
     against the chosen set,
 
     1. the held-out test (``decision.held_out_p_value``) gives p < ``alpha``, and
-    2. the fitted values are what the names say (``Effect.implausible``: no mass five times off),
+    2. the fitted values are what the names say (``Effect.implausible``: no mass five times off)
+       and the log can resolve them (``Effect.unresolved``: no delay within half a sample),
     3. it is practically relevant: the force it changes on the held-out part is at least
        ``min_size`` of the RMS friction force (a friction model fitted to a sweep is off by
        about a percent; such bias is real structure, significant on long logs, but not a
@@ -235,7 +236,7 @@ class Diagnoser:
         if p_value >= self.alpha:
             step.reason = f"not significant on the held-out part (p = {p_value:.2g} >= {self.alpha:g})"
             return step
-        why = next((e.implausible() for e in joint if e.implausible()), "")
+        why = next((w for e in joint for w in (e.implausible(), e.unresolved(p.sample_time)) if w), "")
         if why:
             step.reason = why if len(joint) == 1 else f"in the set {', '.join(e.name for e in joint)}: {why}"
             return step

@@ -130,6 +130,11 @@ class Effect:
                 return why
         return ""
 
+    def unresolved(self, sample_time: float) -> str:
+        """Why a log sampled every ``sample_time`` cannot tell the fitted values from none
+        ('' if it can)."""
+        return ""
+
     def mismatch(self) -> float:
         """How far the fitted values are from their nominal ones (``nominal_of``): the largest
         |value / nominal - 1| (0 for an effect without nominal values)."""

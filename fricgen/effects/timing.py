@@ -144,6 +144,16 @@ class SensorDelay(Effect):
         grid = np.arange(-SEARCH_SAMPLES, SEARCH_SAMPLES + 1, dtype=float)
         return cls(tau=grid_then_refine(rss, grid) * sig.sample_time, nominal_force_constant=phi)
 
+    def unresolved(self, sample_time):
+        """A delay within half a sample either way is refused: where in each sample the drive
+        reads its current and its position is not logged, and the held current's own half
+        sample (``HOLD``) is that large."""
+        samples = self.tau / sample_time
+        if abs(samples) < HOLD:
+            return (f"a delay of {samples:.2f} samples is within half a sample, which the log "
+                    f"cannot resolve")
+        return ""
+
     def limits(self):
         out = super().limits()
         out["tau"] = (-MAX_DELAY, MAX_DELAY)
