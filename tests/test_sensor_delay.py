@@ -81,6 +81,17 @@ def test_the_delay_round_trips_and_bad_values_are_refused():
         effect_from_dict({"effect": "sensor_delay", "parameters": {"tau": 0.0, "nominal_force_constant": -1.0}})
 
 
+@pytest.mark.parametrize("samples, refused", [(0.0, True), (0.49, True), (-0.49, True),
+                                                (0.51, False), (-0.51, False), (3.0, False)])
+def test_a_delay_within_half_a_sample_is_unresolved(samples, refused):
+    """Where in each sample a drive reads its signals is not logged: no delay below half a
+    sample is named, whatever the sample time."""
+    for ts in (1e-3, 2.5e-4):
+        why = SensorDelay(tau=samples * ts, nominal_force_constant=20.0).unresolved(ts)
+        assert bool(why) == refused, why
+    assert InertiaMismatch(mass=3.0, nominal_mass=2.0).unresolved(1e-3) == ""
+
+
 def test_the_law_leaves_the_delay_out_of_the_forces():
     model = nominal_model()
     law = EffectLaw(model, [SensorDelay(tau=0.002, nominal_force_constant=20.0)], mass=4.0, force_constant=20.0)
