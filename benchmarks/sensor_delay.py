@@ -20,8 +20,7 @@ from concurrent.futures import ProcessPoolExecutor      # noqa: E402
 
 import numpy as np                                      # noqa: E402
 
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose     # noqa: E402
-from fricgen.effects import EFFECTS                             # noqa: E402
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose     # noqa: E402
 from fricgen.sim.scenarios import make_scenario         # noqa: E402
 
 
@@ -32,7 +31,7 @@ VISIBLE_GAIN = 0.1
 
 def one(seed: int, hidden: str, duration: float) -> dict:
     sc = make_scenario(seed, (hidden,), duration_s=duration)
-    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=list(EFFECTS))   # --sensor-delay
+    d = diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=candidates_with("sensor_delay"))   # --sensor-delay
     delay = [e for e in d.added_ if e.name == "sensor_delay"]
     truth = sc.conditions["magnitudes"][hidden].get("delay_s", float("nan"))
     gap_truth = Diagnoser().held_out_gap(sc.truth_log(), sc.model, sc.truth_mass(), sc.force_constant)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import assert_cli_names_only_with
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.effects import EFFECTS, InertiaMismatch, SensorDelay, effect_from_dict
 from fricgen.errors import ModelError
 from fricgen.sim.effect_law import EffectLaw
@@ -103,7 +103,7 @@ def test_the_law_leaves_the_delay_out_of_the_forces():
 @pytest.fixture(scope="module")
 def delayed_run():
     sc = make_scenario(14, ("oov:sensor_delay",), controller="pid", **FIXED)
-    return sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=list(EFFECTS))
+    return sc, diagnose(sc.log, sc.model, sc.mass, sc.force_constant, candidates=candidates_with("sensor_delay"))
 
 
 def test_a_hidden_sensor_delay_is_named(delayed_run):
@@ -117,7 +117,7 @@ def test_a_hidden_sensor_delay_is_named(delayed_run):
 def test_a_hidden_frictional_lag_is_named_as_itself():
     """Friction memory lags the velocity-weakening part alone: not read as a delay."""
     sc = make_scenario(14, ("frictional_lag",), controller="pid", **FIXED)
-    d = Diagnoser(candidates=list(EFFECTS)).fit(sc.log, sc.model, sc.mass, sc.force_constant)
+    d = Diagnoser(candidates=candidates_with("sensor_delay")).fit(sc.log, sc.model, sc.mass, sc.force_constant)
     assert [e.name for e in d.added_] == ["frictional_lag"], [(s.effect, s.reason) for s in d.steps_]
 
 
