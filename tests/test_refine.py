@@ -90,7 +90,9 @@ def test_a_linear_drift_becomes_the_saturating_one_the_log_holds():
     # the straight line through the true level at the split
     level = true["level"] * -np.expm1(-t_split / true["time_constant"])
     linear = ThermalDrift(rate=level / t_split, offset=0.0, t0=0.0, time_constant=0.0)
-    (refined,), before, after = output_error_fit(p, [], [linear], 10, SUBSTEPS)
+    # with diagnose's own substeps: at 4 the simulated error is rough enough on some machines
+    # for least_squares to stop on its cost tolerance after its first step
+    (refined,), before, after = output_error_fit(p, [], [linear], 10, Diagnoser().substeps)
     assert after < before and 0.0 < refined.time_constant < 10.0 * true["time_constant"]
 
     def at_end(drift):
