@@ -87,8 +87,10 @@ def test_a_delay_within_half_a_sample_is_unresolved(samples, refused):
     """Where in each sample a drive reads its signals is not logged: no delay below half a
     sample is named, whatever the sample time."""
     for ts in (1e-3, 2.5e-4):
-        why = SensorDelay(tau=samples * ts, nominal_force_constant=20.0).unresolved(ts)
+        delay = SensorDelay(tau=samples * ts, nominal_force_constant=20.0)
+        why = delay.unresolved(ts)
         assert bool(why) == refused, why
+        assert delay.refused(ts) == why        # what the selection and the refinement ask
     assert InertiaMismatch(mass=3.0, nominal_mass=2.0).unresolved(1e-3) == ""
 
 

@@ -236,7 +236,7 @@ class Diagnoser:
         if p_value >= self.alpha:
             step.reason = f"not significant on the held-out part (p = {p_value:.2g} >= {self.alpha:g})"
             return step
-        why = next((w for e in joint for w in (e.implausible(), e.unresolved(p.sample_time)) if w), "")
+        why = next((w for w in (e.refused(p.sample_time) for e in joint) if w), "")
         if why:
             step.reason = why if len(joint) == 1 else f"in the set {', '.join(e.name for e in joint)}: {why}"
             return step

@@ -90,7 +90,8 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
     (``fit_part_segments``), within each parameter's limits (the period of a position series
     stays when the problem has a known ``pitch``); the fit part's RMS velocity
     error before and after. The effects come back as they are when nothing is free or the
-    fitted values are not what the names say (``Effect.implausible``)."""
+    fitted values cannot be named (``Effect.refused``: not what the names say, or a delay
+    the log cannot resolve)."""
     effects = list(effects)
     slots = [(k, name, j) for k, e in enumerate(effects)
              for name, j in _free(e, e.given_by_pitch if problem.pitch is not None else ())]
@@ -131,6 +132,6 @@ def output_error_fit(problem: ResidualProblem, base: Sequence[Effect], effects: 
     z = np.where(inverse & (fit.x < 1e-6), 0.0, fit.x)             # T of 1e6 spans: none
     refined = _with_values(effects, slots, z * scale)
     after = float(np.sqrt(np.mean(fit.fun ** 2)))
-    if not after < before or any(e.implausible() for e in refined):
+    if not after < before or any(e.refused(problem.sample_time) for e in refined):
         return effects, before, before
     return refined, before, after

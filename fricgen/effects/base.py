@@ -135,6 +135,12 @@ class Effect:
         ('' if it can)."""
         return ""
 
+    def refused(self, sample_time: float) -> str:
+        """Why the fitted values cannot be named on a log sampled every ``sample_time``: not
+        what the name says (``implausible``) or not resolved by the log (``unresolved``); ''
+        if they can."""
+        return self.implausible() or self.unresolved(sample_time)
+
     def mismatch(self) -> float:
         """How far the fitted values are from their nominal ones (``nominal_of``): the largest
         |value / nominal - 1| (0 for an effect without nominal values)."""
