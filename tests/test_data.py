@@ -127,7 +127,7 @@ def _csv(tmp_path, text):
     ("v,f\n" + "0.1,inf\n" * 30, "NaN or infinite"),
     ("v,f\n" + "0.1,abc\n" * 30, "non-numeric"),
     ("v,g\n" + "0.1,1\n" * 30, "missing column 'f'"),
-    ("v,f\n" + "0.1,1\n" * 5, "need at least 20"),
+    ("v,f\n" + "0.1,1\n" * 2, "need at least 3"),
     ("", "empty file"),
 ])
 def test_bad_sweep_csv_is_named(tmp_path, body, message):

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, is_log
-from ..data.sweep import MIN_ROWS
+from ..data.sweep import MIN_SWEEP_POINTS
 from ..data.table import header_cells
 from .._validate import MAX_HIDDEN
 from ..errors import DataError, UsageError
@@ -63,7 +63,7 @@ def _estimator(args):
 def read_columns(args):
     """The input's columns by fricgen's names, read with the vendor-export options
     (``common.read_data``): a merge needs the rows of a log or of a sweep."""
-    return read_data(args, args.sweep, lambda c: MIN_LOG_ROWS if is_log(c) else MIN_ROWS)
+    return read_data(args, args.sweep, lambda c: MIN_LOG_ROWS if is_log(c) else MIN_SWEEP_POINTS)
 
 
 def source_name(args) -> str:

@@ -54,11 +54,18 @@ class RigidBody:
     def mass_identified(self) -> bool:
         return self.mass_se is not None
 
+    @property
+    def mass_determined(self) -> bool:
+        """Given, or identified at least MASS_SIGMAS standard errors above 0."""
+        return self.mass_se is None or self.mass > MASS_SIGMAS * self.mass_se
+
 
 def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float):
     """m and its standard error from f = m a + F(v) + o over moving rows (F by
-    ``friction_basis`` per direction, which also absorbs o). ``DataError`` when the
-    accelerations do not determine a positive mass."""
+    ``friction_basis`` per direction, which also absorbs o). Where the accelerations do not
+    determine it (within MASS_SIGMAS standard errors of 0: a slow log, or one whose inertia was
+    removed before), m is that estimate, at least 0, and ``RigidBody.mass_determined`` says so.
+    ``DataError`` when it is clearly negative (a reversed sign)."""
     coef, se = least_squares_errors(np.column_stack([a, friction_basis(v, odd=False)]), force,
                                     independent)
     mass, mass_se = float(coef[0]), float(se[0])
@@ -66,11 +73,7 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
         raise DataError(f"the mass comes out negative (m = {mass:.3g} +- {mass_se:.2g} kg by "
                         "inverse dynamics): the force (or current) and the motion have opposite "
                         "signs; is the sign of the force or of the position reversed?")
-    if not mass > MASS_SIGMAS * mass_se:
-        raise DataError(f"the log's accelerations do not determine the mass (m = {mass:.3g} +- "
-                        f"{mass_se:.2g} kg by inverse dynamics): pass --mass, or log motion "
-                        "that accelerates and brakes")
-    return mass, mass_se
+    return max(mass, 0.0), mass_se
 
 
 def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float,

@@ -23,7 +23,8 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from .idim import RigidBody, identify_mass, identify_rigid_body
-from .motionlog import check_finite, check_moves, check_units, check_varies, uniform_time
+from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
+                        uniform_time)
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -158,6 +159,8 @@ class Identification:
     force_constant: Optional[Tuple[float, Optional[float]]] = None
     #: The offset is a load beside the friction (``as_load``), not held in asymmetric curves
     load: bool = False
+    #: The log's jittering time stamps were resampled onto a uniform grid
+    resampled: bool = False
 
     @property
     def n_kept(self) -> int:
@@ -172,8 +175,10 @@ class Identification:
         lo, hi = self.velocity_range
         moving = np.abs(self.sweep.v)
         return "\n".join([
-            f"log       {self.n_rows} rows at {1 / self.sample_time:.6g} Hz; {self.n_kept} kept where "
-            f"the axis moves (about {self.independent:.0f} independent samples)",
+            f"log       {self.n_rows} rows at {1 / self.sample_time:.6g} Hz"
+            + (" (resampled from jittering time stamps)" if self.resampled else "")
+            + f"; {self.n_kept} kept where the axis moves (about {self.independent:.0f} "
+            "independent samples)",
             f"smoothing zero-phase Savitzky-Golay, cubic, {self.window} samples "
             f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
             f"{self.velocity_noise:.3g} m/s",
@@ -185,6 +190,10 @@ class Identification:
         b = self.body
         mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} kg identified by inverse dynamics"
                 if b.mass_identified else f"{b.mass:.5g} kg as given")
+        if not b.mass_determined:
+            mass = (f"not determined by the log's accelerations ({b.mass:.3g} +- {b.mass_se:.2g} "
+                    "kg, the inertia force within its noise): pass --mass, or log motion that "
+                    "accelerates and brakes")
         lines = [f"mass      {mass}"]
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
@@ -368,6 +377,12 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
     ``progress`` as there."""
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
+    columns, resampled = resampled_uniformly(columns)
+    ident = _identify_log(columns, mass, force_constant, progress)
+    return replace(ident, resampled=resampled) if resampled else ident
+
+
+def _identify_log(columns, mass, force_constant, progress) -> Identification:
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress}
     if "force" in columns:
         if force_constant is not None:
@@ -380,6 +395,10 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
         return replace(identify_friction(t, force_constant * current, mass, **motion),
                        force_constant=(float(force_constant), None))
     in_amperes = identify_friction(t, current, None, **motion).body     # m/K, o/K
+    if mass is not None and not in_amperes.mass_determined:
+        raise DataError(f"the log's accelerations do not determine M/K ({in_amperes.mass:.3g} +- "
+                        f"{in_amperes.mass_se:.2g} kg/(N/A)), so --mass cannot give K: pass "
+                        "--force-constant, or log motion that accelerates and brakes")
     if mass is None:
         raise DataError(f"the log has a current i but no force: it determines M/K = "
                         f"{in_amperes.mass:.4g} +- {in_amperes.mass_se:.2g} kg/(N/A) and the "

@@ -44,6 +44,34 @@ def uniform_time(t: np.ndarray) -> Tuple[np.ndarray, float]:
         return grid, float(np.median(np.diff(grid)))
 
 
+#: A log's time stamps may jitter by up to this factor of the median step and still be
+#: resampled onto a uniform grid (a robot controller's 10-12 ms); beyond it, a gap is refused.
+JITTER_RESAMPLED = 10.0
+
+
+def resampled_uniformly(columns: Dict[str, np.ndarray]) -> Tuple[Dict[str, np.ndarray], bool]:
+    """The columns on a uniform time grid: as they are when ``t`` is uniform (``uniform_time``),
+    else every column linearly interpolated onto the grid of the median step over t's span
+    (time stamps that jitter, as a robot controller's or an irregular logger's do). The flag
+    says whether they were resampled. ``DataError`` when t does not increase, or when one step
+    exceeds JITTER_RESAMPLED median steps (a gap, not jitter)."""
+    t = columns["t"]
+    try:
+        grid = uniform_time(t)[0]
+        return {**columns, "t": grid}, False
+    except DataError:
+        dt = np.diff(t)
+        ts = float(np.median(dt))
+        if not (ts > 0 and np.all(dt > 0)):
+            raise
+        if float(dt.max()) > JITTER_RESAMPLED * ts:
+            k = int(np.argmax(dt))
+            raise DataError(f"log has a gap: t steps by {dt[k]:.6g} s between data rows {k + 1} "
+                            f"and {k + 2}, {dt[k] / ts:.3g} times its median step {ts:.6g} s") from None
+    grid = t[0] + ts * np.arange(int(np.floor((t[-1] - t[0]) / ts + 1e-9)) + 1)
+    return {k: (grid if k == "t" else np.interp(grid, t, c)) for k, c in columns.items()}, True
+
+
 def uniform_sample_time(t: np.ndarray) -> float:
     """The median sampling interval of the time column ``t``; ``DataError`` unless t increases
     and every step lies within UNIFORM_TOLERANCE of it. Messages count data rows from 1."""

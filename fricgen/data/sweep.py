@@ -10,8 +10,11 @@ import numpy as np
 from ..errors import DataError
 from .table import read_table_csv, table_csv_text
 
-#: Fewest rows a sweep may have before training refuses it.
+#: Fewest rows of a multi-source fit (the grey-box [F1] or an ELM, ``fit.directions``).
 MIN_ROWS = 20
+#: Fewest points a sweep may have: Coulomb + viscous, with one point left to judge it
+#: (``fit.textbook``).
+MIN_SWEEP_POINTS = 3
 
 
 @dataclass(frozen=True)
@@ -77,7 +80,7 @@ def read_sweep_csv(path: Union[str, Path]) -> Sweep:
     -------
     Sweep
         ``DataError`` naming the row for a non-finite value, or when there are fewer than
-        ``MIN_ROWS`` rows.
+        ``MIN_SWEEP_POINTS`` rows.
 
     Examples
     --------
@@ -97,8 +100,8 @@ def sweep_from_columns(cols: Dict[str, np.ndarray], path: Union[str, Path]) -> S
     bad = ~(np.isfinite(v) & np.isfinite(f))
     if bad.any():
         raise DataError(f"{path}: data row {int(np.flatnonzero(bad)[0]) + 1}: NaN or infinite value")
-    if v.size < MIN_ROWS:
-        raise DataError(f"{path}: {v.size} data rows, need at least {MIN_ROWS}")
+    if v.size < MIN_SWEEP_POINTS:
+        raise DataError(f"{path}: {v.size} data rows, need at least {MIN_SWEEP_POINTS}")
     return Sweep(v, f)
 
 

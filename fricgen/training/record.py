@@ -16,6 +16,7 @@ from ..data.sweep import Sweep
 from ..fit import DEFAULT_ELM, AutoELMRegressor, DefaultRegressor, ELMRegressor, StribeckRegressor
 from ..fit.elm import EnlargedScheme
 from ..fit.stribeck import measured
+from ..fit.textbook import TextbookRegressor
 from ..metrics import rmse
 
 
@@ -86,6 +87,24 @@ def _(estimator: DefaultRegressor) -> dict:
 def _(estimator: StribeckRegressor) -> dict:
     return {"activation": estimator.activation, "n_hidden": estimator.n_hidden,
             "shape": estimator.shape_, "n_sources": estimator.n_sources_}
+
+
+@validation_error.register
+def _(estimator: TextbookRegressor) -> tuple:
+    return "held-out", estimator.cv_rmse_
+
+
+@chosen_record.register
+def _(estimator: TextbookRegressor) -> dict:
+    law = estimator.law_
+    entry = {"activation": "stribeck", "n_hidden": estimator.n_hidden,
+             "law": "coulomb_viscous_stribeck" if law.stribeck else "coulomb_viscous",
+             "coulomb": law.coulomb, "viscous": law.viscous}
+    if law.stribeck:
+        entry.update(static=law.static, v_s=law.v_s, shape=law.shape)
+    entry["standard_errors"] = {k: (v if np.isfinite(v) else None)
+                                for k, v in law.standard_errors.items()}
+    return entry
 
 
 @singledispatch

@@ -20,6 +20,9 @@ from ..data.sweep import Sweep
 from ..data.training_set import SAT_FACTOR
 from ..fit import DefaultRegressor, StribeckRegressor
 from ..fit.directions import CV_FOLDS, DirectionsFit
+from ..fit.law_choice import LawChoice
+from ..fit.textbook import TextbookRegressor
+from ..units import LINEAR
 from ..fit.stribeck import XS_MAX
 from ..model import FrictionModel
 
@@ -46,6 +49,9 @@ class FitReport:
         The friction samples fitted: the sweep given, or those a log's inverse dynamics gave.
     warnings : tuple of str
         Notes on the data that do not stop training (a log too fast to show the Stribeck region).
+    law : LawChoice or None
+        How the default chose its law among the textbook laws and the multi-source fit
+        (``fricgen.fit.law_choice``); None when an estimator was given.
 
     Examples
     --------
@@ -63,6 +69,8 @@ class FitReport:
     identification: Optional[Identification] = None
     sweep: Optional[Sweep] = None
     warnings: Tuple[str, ...] = field(default=())
+    #: How the default chose its law (``fit.law_choice``); None for an estimator given.
+    law: Optional[LawChoice] = None
 
     @property
     def training(self) -> dict:
@@ -74,7 +82,10 @@ class FitReport:
         """The report ``fricgen train`` prints: data, symmetry, each curve's model and errors."""
         ident, fitted = self.identification, self.fit
         reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
-        reports.append(choice_line(fitted, log=ident is not None))
+        if self.law is not None:
+            reports.append(self.law.line())
+        if fitted.chosen_by != "textbook":
+            reports.append(choice_line(fitted, log=ident is not None))
         curves = [self.training] + ([self.training["negative"]] if fitted.asymmetric else [])
         labels = ("v > 0:", "v < 0:") if fitted.asymmetric else ("",)
         for label, f, curve in zip(labels, fitted.fits, curves):
@@ -122,6 +133,12 @@ def _(estimator: StribeckRegressor, dataset) -> list:
     return lines
 
 
+@model_lines.register
+def _(estimator: TextbookRegressor, dataset) -> list:
+    """The textbook law in SI units, each parameter +- its standard error."""
+    return [f"model     {estimator.law_.describe(LINEAR)}"]
+
+
 @singledispatch
 def cost_lines(estimator) -> list:
     """The C cost per call of an ELM (``fricgen.codegen.cost``, fitted to ELM kernels), and per
@@ -136,6 +153,11 @@ def _(estimator: DefaultRegressor) -> list:
 
 @cost_lines.register
 def _(estimator: StribeckRegressor) -> list:
+    return []
+
+
+@cost_lines.register
+def _(estimator: TextbookRegressor) -> list:
     return []
 
 
@@ -170,6 +192,9 @@ def curve_report(dataset, estimator, errors: dict) -> str:
     chosen = dataset.stribeck_range
     vs_note = " (vs_max chosen from the data; pass --vs-max to set it)" if chosen else ""
     joint = chosen is not None and not chosen.linear_region
+    if isinstance(estimator, TextbookRegressor):
+        return "\n".join([f"data      {dataset.x.size} points, fastest {dataset.v_sat:.6g} m/s"]
+                          + model_lines(estimator, dataset) + [error_line(errors)])
     lines = [
         f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
         f"{vs_note}" + (f"; the {dataset.n_rows} rows there averaged in bins of equal count"

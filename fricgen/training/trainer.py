@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from typing import Callable, Mapping, Optional, Union
+from typing import Callable, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -14,8 +14,9 @@ from ..c_names import check_model_name
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log
 from ..data.sweep import Sweep, sweep_from_columns
 from ..errors import DataError, ModelError
-from ..fit import default_estimator
-from ..fit.directions import fit_friction
+from ..fit import DefaultRegressor, default_estimator
+from ..fit.directions import BLOCK_WINDOWS, fit_friction
+from ..fit.law_choice import LawChoice, choose_law, point_weights
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, stribeck_warning
@@ -39,7 +40,7 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
         if note:
             warn(f"fricgen: warning: {source}: {note}")
             break
-    if ident is not None and ident.body.mass_identified:
+    if ident is not None and ident.body.mass_identified and ident.body.mass_determined:
         problems.append(physical_problem("mass", "the identified mass", ident.body.mass))
     for problem in filter(None, problems):
         if not accept_unusual:
@@ -56,6 +57,21 @@ def _pushes(fitted) -> bool:
     except ModelError:
         return True
     return False
+
+
+def sweep_spread(columns: Mapping[str, np.ndarray]) -> Tuple[Optional[np.ndarray], Optional[np.ndarray]]:
+    """A sweep's per-point standard deviation ``f_std`` and count ``n`` where it has them (None
+    where not); ``DataError`` for one that is not finite and > 0."""
+    out = []
+    for name in ("f_std", "n"):
+        values = None
+        if name in columns:
+            values = np.asarray(columns[name], dtype=float)
+            if not np.all(np.isfinite(values) & (values > 0)):
+                raise DataError(f"column {name} must be finite and > 0 in every row (it weights "
+                                "the sweep's points)")
+        out.append(values)
+    return out[0], out[1]
 
 
 def _friction_data(data, mass, force_constant, source, progress):
@@ -75,6 +91,32 @@ def _friction_data(data, mass, force_constant, source, progress):
     if mass is not None or force_constant is not None:
         raise ValueError(f"mass and force_constant apply to a motion log; {source} is a sweep (v, f)")
     return sweep_from_columns(columns, source), None
+
+
+def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, progress):
+    """The default's fit (``fit.law_choice``): the textbook laws and, where the data allow, the
+    multi-source fit, the simplest within the noise of the best kept. Returns the fit, the
+    identification (its offset made a load where the multi-source curves would push the
+    axis) and the choice."""
+    rich, reason = None, ""
+    try:
+        rich = fit_friction(sweep, estimator, None, ident, vs_max=vs_max, asymmetric=asymmetric,
+                            seed=seed, progress=progress)
+        if rich.asymmetric and ident is not None and ident.body.offset is not None and _pushes(rich):
+            ident = ident.as_load()
+            sweep = ident.friction
+            rich = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
+                                asymmetric=asymmetric, seed=seed, progress=progress)
+        if _pushes(rich):
+            rich, reason = None, "multi-source fit: its curve would push the axis"
+    except DataError as exc:
+        reason = f"multi-source fit: {exc}"
+    log = {} if ident is None else dict(independence=ident.independent / ident.n_kept,
+                                        offset=ident.offset_in_friction,
+                                        blocks=BLOCK_WINDOWS * ident.window)
+    choice = choose_law(sweep, point_weights(sweep, *spread), rich, reason, seed=seed,
+                        asymmetric=asymmetric, **log)
+    return choice.fit, ident, choice
 
 
 def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float] = None,
@@ -154,17 +196,24 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
     sweep, ident = _friction_data(data, mass, force_constant, source, progress)
+    spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
     warn = warn or (lambda line: warnings.warn(line, stacklevel=3))
+    choice: Optional[LawChoice] = None
     with named_data(source):
-        fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
-                              asymmetric=asymmetric, seed=seed, progress=progress)
-        if fitted.asymmetric and ident is not None and ident.body.offset is not None \
-                and _pushes(fitted):
-            ident = ident.as_load()
-            sweep = ident.friction
+        if isinstance(estimator, DefaultRegressor):
+            fitted, ident, choice = _fit_default(sweep, estimator, ident, spread, vs_max,
+                                                 asymmetric, seed, progress)
+            sweep = sweep if ident is None else ident.friction
+        else:
             fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
                                   asymmetric=asymmetric, seed=seed, progress=progress)
+            if fitted.asymmetric and ident is not None and ident.body.offset is not None \
+                    and _pushes(fitted):
+                ident = ident.as_load()
+                sweep = ident.friction
+                fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
+                                      asymmetric=asymmetric, seed=seed, progress=progress)
     first = fitted.fits[0]
     curves = [curve_record(f) for f in fitted.fits]
     training = {**method_record(estimator), "seed": seed, "source": source if file is None else file,
@@ -173,6 +222,9 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         training["negative"] = curves[1]
     if fitted.cv_rmse is not None:
         training["cv_rmse_newton"] = dict(zip(("symmetric", "asymmetric"), fitted.cv_rmse))
+    if choice is not None:
+        training["law"] = {"chosen": choice.name, "cv_rmse_newton": dict(choice.cv_rmse),
+                           "left_out": list(choice.left_out)}
     training["axis"] = axis_record(sweep, ident, fitted.asymmetric)
     if accept_unusual:
         training["accept_unusual"] = True
@@ -191,4 +243,4 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
     notes = (stribeck_warning(ident, fitted.fits),) if ident is not None else ()
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
-                     warnings=tuple(n for n in notes if n))
+                     warnings=tuple(n for n in notes if n), law=choice)

@@ -1,0 +1,191 @@
+"""Real rigs nobody here recorded: fricgen's default against the textbook fit and the published models.
+
+For every dataset folder of ../shared/data that is present (a missing one is skipped with one line):
+  - ur10e: per joint, the default trained on jointJ_train.csv (a log: t, dq, tau, read as a
+    user's file through --columns); scored on jointJ_test.csv (M a + F(v) + o), on the other
+    trajectory jointJ_heldout_ptp.csv and on its cruise points jointJ_sweep_ptp.csv (F(v) + o:
+    the rigid body removed there already);
+  - panda: per joint, trained on jointJ_train.csv, scored on jointJ_test.csv (M a + F(v) + o);
+  - kinova_gen3: the sweep, trained on sweep_train.csv (weighted by its F_std and n), scored on
+    sweep_test.csv;
+  - emps: the log DATA_EMPS.mat (force = gtau vir), trained on its first 70 % in time and scored
+    on the rest (M a + F(v) + o).
+Beside each: the textbook fit, per-direction Coulomb + viscous by ordinary least squares with the
+inertia where the data hold it (the folder's baseline.py), and the published model where there is
+one; v and a of the scores come from each folder's own filter (its baseline's), the same for every
+model, over samples with |v| above the folder's threshold. Ratios are the default's RMS error over
+the textbook's and over the published model's.
+
+Run: python benchmarks/real_data.py [--data ../shared/data]
+"""
+import argparse
+import contextlib
+import io
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.io import loadmat
+from scipy.signal import butter, filtfilt
+
+import fricgen
+from fricgen.data.table import read_table_csv
+
+DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+VMIN = 0.01
+
+
+def rms(e):
+    return float(np.sqrt(np.mean(np.square(e))))
+
+
+def basis(v):
+    p, n = v > 0, v < 0
+    return np.column_stack([p * 1.0, p * v, -1.0 * n, n * v])
+
+
+def textbook(v, a, tau, inertia=True):
+    """Per-direction Coulomb + viscous (+ inertia) least squares; a predictor of (v, a)."""
+    cols = [basis(v)] + ([a[:, None]] if inertia else [])
+    theta, *_ = np.linalg.lstsq(np.column_stack(cols), tau, rcond=None)
+    return lambda v, a: np.column_stack([basis(v)] + ([a[:, None]] if inertia else [])) @ theta
+
+
+def trained(columns):
+    """fricgen's default on the columns, silent; (predictor of (v, a), what it chose, seconds)."""
+    start = time.process_time()
+    with contextlib.redirect_stderr(io.StringIO()):
+        report = fricgen.train(columns, warn=lambda line: None)
+    seconds = time.process_time() - start
+    model, ident = report.model, report.identification
+    mass = ident.body.mass if ident is not None else 0.0
+    offset = report.training["axis"]["offset"] or 0.0
+    chose = report.law.name if report.law is not None else report.training["method"]
+    return (lambda v, a: model.force(v) + mass * a + offset), chose, seconds, mass
+
+
+def csv(path):
+    return read_table_csv(path, (), keep_extra=True)
+
+
+def log_columns(d):
+    return {"t": d["t"], "v": d["dq"], "force": d["tau"]}
+
+
+def row(name, fit_err, tb_err, pub_err, chose, extra=""):
+    pub = f"{pub_err:8.4f} {fit_err / pub_err:6.3f}" if pub_err is not None else f"{'-':>8s} {'-':>6s}"
+    print(f"{name:22s} {fit_err:8.4f} {tb_err:8.4f} {fit_err / tb_err:6.3f} {pub} {chose}{extra}")
+    return fit_err / tb_err, (fit_err / pub_err if pub_err else None)
+
+
+def load_baseline(folder):
+    """The folder's baseline.py as a module (its filter and published constants)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(f"baseline_{folder.name}", folder / "baseline.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def ur10e(folder, ratios):
+    b = load_baseline(folder)
+    for j in range(6):
+        tr = csv(folder / f"joint{j + 1}_train.csv")
+        predict, chose, sec, mass = trained(log_columns(tr))
+        v, a = b.va(tr["t"], tr["dq"])
+        m = np.abs(v) > b.VMIN
+        tb = textbook(v[m], a[m], tr["tau"][m])
+        te = csv(folder / f"joint{j + 1}_test.csv")
+        v, a = b.va(te["t"], te["dq"])
+        m = np.abs(v) > b.VMIN
+        y = te["tau"][m]
+        pub = b.fric_pub(j, v[m]) + b.PUB_MJJ[j] * a[m]
+        ratios.append(row(f"ur10e J{j + 1} test", rms(y - predict(v[m], a[m])), rms(y - tb(v[m], a[m])),
+                          rms(y - pub), chose, f" (m {mass:.3g}, {sec:.2f} s CPU)"))
+        ho = csv(folder / f"joint{j + 1}_heldout_ptp.csv")
+        v, _ = b.va(ho["t"], ho["dq"])
+        m = np.abs(v) > b.VMIN
+        y, zero = ho["tau"][m], np.zeros(int(m.sum()))
+        ratios.append(row(f"ur10e J{j + 1} ptp", rms(y - predict(v[m], zero) ), rms(y - tb(v[m], zero)),
+                          rms(y - b.fric_pub(j, v[m])), chose))
+        sw = csv(folder / f"joint{j + 1}_sweep_ptp.csv")
+        zero = np.zeros(sw["v"].size)
+        ratios.append(row(f"ur10e J{j + 1} sweep", rms(sw["f"] - predict(sw["v"], zero)),
+                          rms(sw["f"] - tb(sw["v"], zero)), rms(sw["f"] - b.fric_pub(j, sw["v"])), chose))
+
+
+def panda(folder, ratios):
+    b = load_baseline(folder)
+    for j in range(7):
+        tr = csv(folder / f"joint{j + 1}_train.csv")
+        predict, chose, sec, mass = trained(log_columns(tr))
+        v, a = b.va(tr["t"], tr["dq"])
+        m = np.abs(v) > b.VMIN
+        tb = textbook(v[m], a[m], tr["tau"][m])
+        te = csv(folder / f"joint{j + 1}_test.csv")
+        v, a = b.va(te["t"], te["dq"])
+        m = np.abs(v) > b.VMIN
+        y = te["tau"][m]
+        pub = min(rms(y - b.sigmoid(j, v[m])), rms(y - b.linear(j, v[m])))
+        ratios.append(row(f"panda J{j + 1}", rms(y - predict(v[m], a[m])), rms(y - tb(v[m], a[m])), pub,
+                          chose, f" (m {mass:.3g}, {sec:.2f} s CPU)"))
+
+
+def kinova(folder, ratios):
+    tr, te = csv(folder / "sweep_train.csv"), csv(folder / "sweep_test.csv")
+    start = time.process_time()
+    report = fricgen.train({"v": tr["v"], "f": tr["f"], "f_std": tr["f_std"], "n": tr["n"]},
+                           warn=lambda line: None)
+    sec = time.process_time() - start
+    fc_fv, *_ = np.linalg.lstsq(np.column_stack([np.ones_like(tr["v"]), tr["v"]]), tr["f"], rcond=None)
+    tb = fc_fv[0] + fc_fv[1] * te["v"]
+    ratios.append(row("kinova sweep", rms(te["f"] - report.model.force(te["v"])), rms(te["f"] - tb),
+                      None, report.law.name, f" ({sec:.2f} s CPU)"))
+
+
+def emps(folder, ratios):
+    d = loadmat(folder / "DATA_EMPS.mat")
+    t, qm = d["t"].ravel(), d["qm"].ravel()
+    force = float(d["gtau"].ravel()[0]) * d["vir"].ravel()
+    cut = int(0.7 * t.size)
+    predict, chose, sec, mass = trained({"t": t[:cut], "x": qm[:cut], "force": force[:cut]})
+    ts = float(np.median(np.diff(t)))
+    bb, aa = butter(4, 100.0 / (0.5 / ts))
+    q = filtfilt(bb, aa, qm)
+    v = np.gradient(q, ts)
+    a = np.gradient(v, ts)
+    m = np.abs(v) > VMIN * 0.1
+    train = m & (np.arange(t.size) < cut)
+    test = m & (np.arange(t.size) >= cut)
+    tb = textbook(v[train], a[train], force[train] - 0.0)
+    cols = lambda v, a: np.column_stack([a, v, np.sign(v), np.ones_like(v)])
+    theta, *_ = np.linalg.lstsq(cols(v[train], a[train]), force[train], rcond=None)
+    y = force[test]
+    ratios.append(row("emps (last 30 %)", rms(y - predict(v[test], a[test])), rms(y - tb(v[test], a[test])),
+                      rms(y - cols(v[test], a[test]) @ theta), chose,
+                      f" (m {mass:.4g}, {sec:.2f} s CPU; 'published' = IDIM-LS refitted)"))
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--data", type=Path, default=DATA)
+    args = p.parse_args()
+    print(f"{'dataset':22s} {'default':>8s} {'textbook':>8s} {'ratio':>6s} {'publish.':>8s} {'ratio':>6s} chose")
+    ratios = []
+    for name, run in (("ur10e", ur10e), ("panda", panda), ("kinova_gen3", kinova), ("emps", emps)):
+        folder = args.data / name
+        if not folder.is_dir():
+            print(f"{name}: skipped, no folder {folder}")
+            continue
+        try:
+            run(folder, ratios)
+        except fricgen.FricgenError as exc:
+            print(f"{name}: REFUSED: {exc}")
+    tb = np.array([r[0] for r in ratios])
+    pub = np.array([r[1] for r in ratios if r[1] is not None])
+    print(f"\n{len(tb)} scores: default / textbook worst {tb.max():.3f}, median {np.median(tb):.3f}; "
+          f"default / published worst {pub.max():.3f}, median {np.median(pub):.3f}")
+
+
+if __name__ == "__main__":
+    main()

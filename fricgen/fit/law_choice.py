@@ -1,0 +1,269 @@
+"""The default's choice of law: the textbook laws first, richer models only where the data ask.
+
+Candidates, simplest first: Coulomb + viscous (one curve, then one per direction), Coulomb +
+viscous + one Stribeck term (likewise; ``fit.textbook``), then fricgen's multi-source fit (the
+grey-box [F1] or the automatic ELM, its symmetry chosen as ``fit.directions`` does) where the
+data hold enough points for it. Each is refitted without each fold of one cross-validation and
+scored in newtons on the held-out points (leave-one-out on a sweep of up to LOO_POINTS points,
+else CV_FOLDS folds; a log's in contiguous blocks of time, ``row_folds``). The simplest
+candidate whose mean held-out squared error is within one standard error of the paired fold
+differences of the best one's is kept (the one-standard-error rule), so that no richer model is
+kept for a gain within the noise and the default is never clearly worse than the textbook fit.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, List, Optional, Tuple
+
+import numpy as np
+
+from ..data.sweep import Sweep
+from ..data.outliers import gross_outliers, unexplained
+from ..data.training_set import Dataset
+from ..errors import DataError
+from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
+                         warm_copy)
+from .textbook import MIN_POINTS, LawFit, TextbookRegressor, fit_law
+
+#: Sweeps of up to this many points are cross-validated leaving one point out.
+LOO_POINTS = 30
+#: A candidate is kept when its mean held-out squared error exceeds the best one's by at most
+#: this many standard errors of their paired fold differences.
+SE_RULE = 1.0
+#: ... and the multi-source fit must also lower the best textbook law's held-out RMS error by
+#: this fraction: its many parameters are determined where the data are and free beyond them
+#: (below a log's slowest steady speed), which held-out folds of the same motion do not test.
+RICH_MARGIN = 0.05
+
+
+def _signed(v: np.ndarray, magnitude: Callable, negative: Optional[Callable] = None) -> np.ndarray:
+    """The signed force of curves of |v|: one for both directions, or one per direction."""
+    speed, sign = np.abs(v), np.sign(v)
+    if negative is None:
+        return sign * magnitude(speed)
+    return np.where(sign > 0, magnitude(speed), -negative(speed))
+
+
+@dataclass(frozen=True)
+class TextbookLaw:
+    """A textbook candidate: with or without the Stribeck term, one curve or one per direction."""
+
+    stribeck: bool
+    asymmetric: bool
+
+    @property
+    def name(self) -> str:
+        law = "Coulomb + viscous + Stribeck" if self.stribeck else "Coulomb + viscous"
+        return f"{law}, {'per direction' if self.asymmetric else 'symmetric'}"
+
+    @property
+    def n_parameters(self) -> int:
+        return (4 if self.stribeck else 2) * (2 if self.asymmetric else 1)
+
+    def fits(self, sweep: Sweep, weight: np.ndarray) -> Tuple[LawFit, ...]:
+        """The law's curves fitted to ``sweep`` (``ValueError`` where a curve has too few points)."""
+        if not self.asymmetric:
+            moving = sweep.v != 0
+            return (fit_law(np.abs(sweep.v[moving]), (np.sign(sweep.v) * sweep.f)[moving],
+                            weight[moving], self.stribeck),)
+        return tuple(fit_law(np.abs(sweep.v[np.sign(sweep.v) == s]),
+                             s * sweep.f[np.sign(sweep.v) == s], weight[np.sign(sweep.v) == s],
+                             self.stribeck) for s in (1, -1))
+
+    def predictor(self, sweep: Sweep, weight: np.ndarray) -> Callable:
+        laws = self.fits(sweep, weight)
+        return lambda v: _signed(v, laws[0].magnitude, laws[1].magnitude if len(laws) > 1 else None)
+
+    def feasible(self, sweep: Sweep) -> bool:
+        need = MIN_POINTS[self.stribeck]
+        if not self.asymmetric:
+            return int(np.count_nonzero(sweep.v)) >= need
+        return all(int(np.count_nonzero(np.sign(sweep.v) == s)) >= need for s in (1, -1))
+
+
+def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,
+                 cv_rmse: float = float("nan")) -> DirectionsFit:
+    """The law's fit as the curves of a model (``DirectionsFit``), each with its points in the
+    coordinates of [F9] for the report (``cv_rmse``: the law's held-out RMS error, N)."""
+    fitted = []
+    for curve_law, sign in zip(law.fits(sweep, weight), (1, -1) if law.asymmetric else (0,)):
+        rows = (sweep.v != 0) if sign == 0 else (np.sign(sweep.v) == sign)
+        speed = np.abs(sweep.v[rows])
+        magnitude = (np.sign(sweep.v) * sweep.f)[rows]
+        curve = curve_law.direction()
+        x, t = curve.network_input(speed), curve.scaling.k_out * (magnitude - curve.viscous * speed)
+        dataset = Dataset(x=x, t=t, scaling=curve.scaling, viscous=curve.viscous,
+                          v_sat=curve.v_sat, n_rows=int(speed.size))
+        estimator = TextbookRegressor.from_law(curve_law, curve)
+        estimator.cv_rmse_ = cv_rmse * curve.scaling.k_out
+        fitted.append(FittedDirection(curve, dataset, estimator))
+    return DirectionsFit(tuple(fitted), "textbook")
+
+
+def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
+    """Weights of a sweep's points from their spread: 1 / (f_std^2 / n + tau^2), the variance of
+    each point's mean plus the scatter tau^2 between points that no point's own spread explains
+    (position-dependent friction, drift), estimated from the residual variance of Coulomb +
+    viscous fitted unweighted; n alone weights as n; None without either."""
+    if f_std is None:
+        return None if n is None else np.asarray(n, dtype=float)
+    variance = np.asarray(f_std, float) ** 2 / (1.0 if n is None else np.asarray(n, float))
+    moving = sweep.v != 0
+    law = fit_law(np.abs(sweep.v[moving]), (np.sign(sweep.v) * sweep.f)[moving])
+    dof = max(int(moving.sum()) - 2, 1)
+    residual = law.rms ** 2 * moving.sum() / dof
+    return 1.0 / (variance + max(residual - float(np.mean(variance[moving])), 0.0))
+
+
+def textbook_outliers(sweep: Sweep) -> np.ndarray:
+    """Gross outliers of a sweep: per direction, the points off a running median by more than
+    OUTLIER_SIGMAS robust standard deviations (``data.outliers``) that Coulomb + viscous fitted
+    to the others does not explain either."""
+    out = np.zeros(len(sweep), dtype=bool)
+    for s in (1, -1):
+        rows = np.flatnonzero(np.sign(sweep.v) == s)
+        speed, magnitude = np.abs(sweep.v[rows]), s * sweep.f[rows]
+        suspects = gross_outliers(speed, magnitude)
+        if suspects.any() and (~suspects).sum() >= MIN_POINTS[False]:
+            law = fit_law(speed[~suspects], magnitude[~suspects])
+            out[rows] = unexplained(magnitude, suspects, [law.magnitude(speed)])
+    return out
+
+
+def folds_for(n: int, seed, blocks: int) -> np.ndarray:
+    """The fold of each of ``n`` moving rows: a log's contiguous blocks, one point each on a small
+    sweep, else ``row_folds``' random partition (``cross_validate``'s own)."""
+    if not blocks and n <= LOO_POINTS:
+        return np.arange(n)
+    return row_folds(n, CV_FOLDS, seed, blocks)
+
+
+def _fold_mse(predict_fold: Callable, sweep: Sweep, weight: np.ndarray, folds: np.ndarray):
+    """Per-fold weighted mean squared held-out error of a procedure (``predict_fold(train,
+    weight)`` returns a predictor of the signed force); None where a fold cannot be fitted."""
+    mse = np.empty(int(folds.max()) + 1)
+    for k in range(mse.size):
+        out = folds == k
+        try:
+            predict = predict_fold(Sweep(sweep.v[~out], sweep.f[~out]), weight[~out])
+        except (ValueError, DataError):
+            return None
+        e = predict(sweep.v[out]) - sweep.f[out]
+        mse[k] = np.sum(weight[out] * e ** 2) / np.sum(weight[out])
+    return mse
+
+
+def _vs(fitted: FittedDirection):
+    """The vs_max a curve was fitted with: the choice made on all rows (with its B where the data
+    have no linear high-speed region), or v_sat / 3."""
+    return fitted.dataset.stribeck_range or fitted.dataset.v_sat / 3
+
+
+def rich_predictor(rich: DirectionsFit, independence: float, offset: float) -> Callable:
+    """Refits of the multi-source curves on a fold, started from their fit on all rows
+    (``warm_copy``), in the symmetry chosen on all rows."""
+    def predict_fold(train: Sweep, weight):
+        if rich.asymmetric:
+            curves = [_fit(train.direction(s), f.estimator, _vs(f), CV_POINTS, independence,
+                           warm_copy).curve for s, f in zip((1, -1), rich.fits)]
+            return lambda v: _signed(v, curves[0].magnitude, curves[1].magnitude)
+        f = rich.fits[0]
+        curve = _fit(Sweep(train.v, train.f - offset), f.estimator, _vs(f), CV_POINTS,
+                     independence, warm_copy).curve
+        return lambda v: _signed(v, curve.magnitude) + offset
+    return predict_fold
+
+
+@dataclass(frozen=True)
+class LawChoice:
+    """What the default chose, the candidates' cross-validated RMS errors (N) and why some
+    were not candidates."""
+
+    fit: DirectionsFit
+    name: str
+    cv_rmse: Tuple[Tuple[str, float], ...]
+    left_out: Tuple[str, ...]
+    folds: int
+
+    def line(self) -> str:
+        """The report's line: the law kept and each candidate's held-out error."""
+        errors = ", ".join(f"{n} {e:.4g}" for n, e in self.cv_rmse)
+        kind = "leave-one-out" if self.folds > CV_FOLDS else f"{self.folds}-fold"
+        text = f"law       {self.name}, by {kind} held-out RMS (N): {errors}"
+        return text + "".join(f"\nleft out  {why}" for why in self.left_out)
+
+
+def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional[DirectionsFit] = None,
+               rich_reason: str = "", independence: float = 1.0, offset: float = 0.0,
+               seed=0, blocks: int = 0, asymmetric: Optional[bool] = None) -> LawChoice:
+    """The simplest candidate within the noise of the best (see the module). ``rich``: the
+    multi-source fit on all rows (None, with ``rich_reason``, where the data could not give
+    one); ``offset``: the constant force the symmetric curves leave out (a log's);
+    ``asymmetric`` True or False: only the candidates of that symmetry."""
+    moving = sweep.v != 0
+    if not np.any(moving) or np.ptp(np.abs(sweep.v[moving])) <= 0:
+        raise DataError("the points are all at one speed: a friction law needs two speeds or more")
+    weight = np.ones(len(sweep)) if weight is None else np.asarray(weight, float)
+    sweep, weight = Sweep(sweep.v[moving], sweep.f[moving]), weight[moving]
+    outliers = textbook_outliers(sweep) if not blocks else np.zeros(len(sweep), dtype=bool)
+    sweep, weight = Sweep(sweep.v[~outliers], sweep.f[~outliers]), weight[~outliers]
+    level = Sweep(sweep.v, sweep.f - offset)
+    folds = folds_for(len(sweep), seed, blocks)
+    candidates: List[tuple] = []
+    left_out = [rich_reason] if rich is None and rich_reason else []
+    if outliers.any():
+        left_out.append(f"{int(outliers.sum())} points: gross outliers (off a running median and "
+                        "off Coulomb + viscous fitted without them)")
+    one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
+    if one_way and asymmetric is not False:
+        left_out.append("per direction: the data move one way only")
+    for law in (TextbookLaw(False, False), TextbookLaw(False, True), TextbookLaw(True, False),
+                TextbookLaw(True, True)):
+        if asymmetric is not None and law.asymmetric != asymmetric:
+            continue
+        if law.asymmetric and one_way:
+            continue
+        if not law.feasible(sweep):
+            need = MIN_POINTS[law.stribeck]
+            left_out.append(f"{law.name}: fewer than {need} points" +
+                            (" in a direction" if law.asymmetric else ""))
+            continue
+        data = sweep if law.asymmetric else level
+        shift = 0.0 if law.asymmetric else offset
+        mse = _fold_mse(lambda tr, w, law=law, shift=shift: (
+            lambda p: (lambda v: p(v) + shift))(law.predictor(Sweep(tr.v, tr.f - shift), w)),
+            sweep, weight, folds)
+        if mse is None:
+            left_out.append(f"{law.name}: a fold leaves too few points to fit it")
+            continue
+        candidates.append((law.name, mse, lambda law=law, data=data, mse=mse: textbook_fit(
+            law, data, weight, float(np.sqrt(mse.mean())))))
+    if rich is not None:
+        mse = _fold_mse(rich_predictor(rich, independence, offset), sweep, weight, folds)
+        name = "multi-source " + ("per direction" if rich.asymmetric else "symmetric")
+        if mse is None:
+            left_out.append(f"{name}: a fold leaves too few points to fit it")
+        else:
+            candidates.append((name, mse, lambda: rich))
+    if not candidates:
+        raise DataError("too few moving points for any friction law: "
+                        f"{len(sweep)}, need {MIN_POINTS[False]} (Coulomb + viscous)")
+    textbook_best = min((m.mean() for n, m, _ in candidates if not n.startswith("multi-source")),
+                        default=np.inf)
+    if candidates[-1][0].startswith("multi-source") and len(candidates) > 1 and \
+            np.sqrt(candidates[-1][1].mean()) > (1 - RICH_MARGIN) * np.sqrt(textbook_best):
+        left_out.append(f"{candidates[-1][0]}: held-out RMS {np.sqrt(candidates[-1][1].mean()):.4g} "
+                        f"N, not {RICH_MARGIN:.0%} below the best textbook law's")
+        scored = candidates
+        candidates = candidates[:-1]
+    else:
+        scored = candidates
+    means = np.array([m.mean() for _, m, _ in candidates])
+    best = candidates[int(np.argmin(means))][1]
+    for (name, mse, make), mean in zip(candidates, means):
+        d = mse - best
+        se = d.std(ddof=1) / np.sqrt(d.size) if d.size > 1 else 0.0
+        if mean - best.mean() <= SE_RULE * se:
+            return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in
+                                                 scored), tuple(left_out), int(folds.max()) + 1)
+    raise AssertionError("the best candidate is within its own noise")

@@ -1,0 +1,206 @@
+"""The textbook friction laws of drive manuals, fitted by least squares in newtons.
+
+Per direction of motion (or once for both, the sweep folded) the magnitude of the friction is
+
+    F(|v|) = F_c + F_v |v|                                  (Coulomb + viscous)
+    F(|v|) = F_c + (F_s - F_c) g(|v| / v_s) + F_v |v|       (+ one Stribeck term, [F1] with S = 1)
+
+with g of [F2] (Gaussian or exponential, whichever fits better). F_c, F_s and F_v are fitted by
+bounded linear least squares (all >= 0: friction opposes the motion and does not fall with the
+speed beyond the Stribeck drop), v_s by a grid and a bounded scalar search around its best point.
+Points may carry weights (a sweep's ``F_std`` or ``n``). Standard errors come from the Jacobian at
+the optimum, the residual variance estimated from the fit (infinite where the data do not
+determine a parameter).
+
+A fitted law is a ``Direction`` of [F3] like any other curve: its AIM is a ``StribeckCurve`` in
+the coordinates of [F9] with v_sat the fastest speed of the data, and B = F_v carried beyond it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Dict, Optional
+
+import numpy as np
+from scipy.optimize import lsq_linear, minimize_scalar
+
+from ..friction import SHAPES
+from ..model import Direction, Scaling
+from ..networks import StribeckCurve
+from .base import Estimator
+
+#: The shapes g of [F2] tried for the Stribeck term.
+STRIBECK_SHAPES = ("gauss", "exponential")
+#: Points of the grid of Stribeck velocities, from a quarter of the slowest speed to
+#: VS_FASTEST of the fastest: the drop is over (g < 1e-4 at three v_s) within the data, as
+#: v_sat = 3 vs_max of section 2 has it.
+VS_GRID = 24
+VS_FASTEST = 1.0 / 3.0
+#: Parameters of a curve without and with the Stribeck term.
+PARAMETERS = {False: 2, True: 4}
+#: Fewest points per curve for the law to be a candidate: one more than its parameters, so
+#: that a point is left to judge it (a Stribeck term from 6: its velocity needs points on both
+#: sides of it).
+MIN_POINTS = {False: 3, True: 6}
+
+
+@dataclass(frozen=True)
+class LawFit:
+    """One fitted textbook curve: F(|v|) = F_c + (F_s - F_c) g(|v| / v_s) + F_v |v| (``stribeck``)
+    or F_c + F_v |v|, with standard errors (same keys) and the data's fastest speed."""
+
+    coulomb: float
+    viscous: float
+    static: Optional[float]
+    v_s: Optional[float]
+    shape: Optional[str]
+    standard_errors: Dict[str, float]
+    fastest: float
+    rms: float
+
+    @property
+    def stribeck(self) -> bool:
+        return self.static is not None
+
+    @property
+    def n_parameters(self) -> int:
+        return 4 if self.stribeck else 2
+
+    def magnitude(self, speed) -> np.ndarray:
+        s = np.abs(np.asarray(speed, dtype=float))
+        f = self.coulomb + self.viscous * s
+        if self.stribeck:
+            f = f + (self.static - self.coulomb) * SHAPES[self.shape](s, self.v_s)
+        return f
+
+    def direction(self) -> Direction:
+        """The curve as a ``Direction`` of [F3]: AIM = K_out (F_c + (F_s - F_c) g) on
+        x = |v| / v_sat, B = F_v (the same force on [0, v_sat], the law's line beyond)."""
+        v_sat = self.fastest
+        top = float(np.max(self.magnitude(np.linspace(0.0, v_sat, 65)) - self.viscous
+                           * np.linspace(0.0, v_sat, 65)))
+        k_out = 1.0 / top if top > 0 else 1.0
+        if self.stribeck:
+            aim = StribeckCurve(self.shape, k_out * self.coulomb, [k_out * (self.static - self.coulomb)],
+                                [self.v_s / v_sat])
+        else:                                    # no drop: amplitude 0 (one exact zero term)
+            aim = StribeckCurve("exponential", k_out * self.coulomb, [0.0], [1.0])
+        return Direction(aim=aim, scaling=Scaling(k_in=1.0 / v_sat, k_out=k_out),
+                         viscous=self.viscous, v_sat=v_sat)
+
+    def describe(self, unit) -> str:
+        """One line of the law and its standard errors, in the axis' units (``fricgen.axis``)."""
+        se = self.standard_errors
+        text = (f"F_c = {self.coulomb:.5g} +- {se['coulomb']:.2g} {unit.force}, "
+                f"F_v = {self.viscous:.5g} +- {se['viscous']:.2g} {unit.viscous}")
+        if self.stribeck:
+            text += (f", F_s = {self.static:.5g} +- {se['static']:.2g} {unit.force}, "
+                     f"v_s = {self.v_s:.4g} +- {se['v_s']:.2g} {unit.speed} ({self.shape})")
+        return text
+
+
+def _solve(columns: np.ndarray, force: np.ndarray, root_w: np.ndarray):
+    """Non-negative weighted least squares: coefficients and weighted residual sum of squares."""
+    a = columns * root_w[:, None]
+    b = force * root_w
+    sol = lsq_linear(a, b, bounds=(0.0, np.inf), method="bvls")
+    r = a @ sol.x - b
+    return sol.x, float(r @ r)
+
+
+def _design(speed, v_s=None, shape=None) -> np.ndarray:
+    if v_s is None:
+        return np.column_stack([np.ones_like(speed), speed])
+    g = SHAPES[shape](speed, v_s)
+    return np.column_stack([1.0 - g, g, speed])
+
+
+def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float) -> Dict[str, float]:
+    """Standard errors of ``params`` from the weighted Jacobian (central differences), the
+    residual variance rss / (n - p); infinite where the data do not determine one."""
+    names = list(params)
+    def magnitude(p):
+        return LawFit(p["coulomb"], p["viscous"], p.get("static"), p.get("v_s"), shape, {}, 0.0,
+                      0.0).magnitude(speed)
+    jac = np.empty((speed.size, len(names)))
+    for j, k in enumerate(names):
+        h = 1e-6 * max(abs(params[k]), 1e-9)
+        up, down = {**params, k: params[k] + h}, {**params, k: params[k] - h}
+        jac[:, j] = (magnitude(up) - magnitude(down)) / (2 * h)
+    dof = speed.size - len(names)
+    se = np.full(len(names), np.inf)
+    if dof > 0:
+        jw = jac * np.sqrt(weight)[:, None]
+        try:
+            se = np.sqrt(np.clip(np.diag(rss / dof * np.linalg.inv(jw.T @ jw)), 0, None))
+        except np.linalg.LinAlgError:
+            pass
+    return {k: float(s) if np.isfinite(s) else float("inf") for k, s in zip(names, se)}
+
+
+def fit_law(speed, force, weight=None, stribeck: bool = False) -> LawFit:
+    """The textbook curve fitted to (|v|, F) points (``weight``: relative weights, default 1).
+
+    ``ValueError`` with fewer points than parameters (``PARAMETERS``)."""
+    speed = np.abs(np.asarray(speed, dtype=float))
+    force = np.asarray(force, dtype=float)
+    weight = np.ones_like(speed) if weight is None else np.asarray(weight, dtype=float)
+    if speed.size < PARAMETERS[stribeck]:
+        raise ValueError(f"{speed.size} points, the law needs {PARAMETERS[stribeck]}")
+    weight = weight / np.mean(weight)
+    root_w = np.sqrt(weight)
+    fastest = float(speed.max())
+    if not stribeck:
+        (fc, fv), rss = _solve(_design(speed), force, root_w)
+        se = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv}, None, rss)
+        return LawFit(float(fc), float(fv), None, None, None, se, fastest,
+                      float(np.sqrt(rss / speed.size)))
+    slowest = float(speed[speed > 0].min()) if np.any(speed > 0) else fastest
+    grid = np.geomspace(min(slowest / 4.0, VS_FASTEST * fastest / 2), VS_FASTEST * fastest, VS_GRID)
+    best = None
+    for shape in STRIBECK_SHAPES:
+        scores = [_solve(_design(speed, vs, shape), force, root_w)[1] for vs in grid]
+        k = int(np.argmin(scores))
+        lo, hi = np.log(grid[max(k - 1, 0)]), np.log(grid[min(k + 1, grid.size - 1)])
+        found = minimize_scalar(lambda u: _solve(_design(speed, np.exp(u), shape), force, root_w)[1],
+                                bounds=(lo, hi), method="bounded", options={"xatol": 1e-3})
+        vs = float(np.exp(found.x)) if found.fun <= scores[k] else float(grid[k])
+        coef, rss = _solve(_design(speed, vs, shape), force, root_w)
+        if best is None or rss < best[0]:
+            best = (rss, shape, vs, coef)
+    rss, shape, vs, (fc, fs, fv) = best
+    se = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv, "static": fs, "v_s": vs},
+                          shape, rss)
+    return LawFit(float(fc), float(fv), float(fs), vs, shape, se, fastest,
+                  float(np.sqrt(rss / speed.size)))
+
+
+class TextbookRegressor(Estimator):
+    """A fitted textbook curve as an estimator of [F9] (``law``: its ``LawFit``), so that the
+    report and the training record treat it as any other curve. ``fit`` is not how it is made:
+    ``from_law`` wraps a law fitted in newtons."""
+
+    activation = "stribeck"
+    scheme = "textbook"
+
+    def __init__(self, stribeck: bool = False):
+        self.stribeck = stribeck
+
+    @classmethod
+    def from_law(cls, law: LawFit, curve: Direction) -> "TextbookRegressor":
+        est = cls(stribeck=law.stribeck)
+        est.law_ = law
+        est.network_ = curve.aim
+        return est
+
+    #: The held-out RMS error of the choice (normalized as t; ``fit.law_choice``).
+    cv_rmse_ = float("nan")
+
+    def fit(self, x, t):
+        raise TypeError("TextbookRegressor is fitted in newtons by fit_law, not on [F9] data")
+
+    def predict(self, x) -> np.ndarray:
+        return self.network_(np.asarray(x, dtype=float))
+
+    @property
+    def n_hidden(self) -> int:
+        return self.network_.n_sources

@@ -1,0 +1,34 @@
+"""The units an axis speaks: a linear axis in m, m/s, N and kg, a rotary one (a robot joint, a
+motor shaft) in rad, rad/s, Nm and kg m^2. fricgen computes in either alike; only the words
+differ."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Units:
+    """The unit names of one kind of axis.
+
+    Examples
+    --------
+    >>> from fricgen.units import units_of
+    >>> units_of(True).viscous, units_of(False).mass
+    ('Nm s/rad', 'kg')
+    """
+
+    kind: str
+    position: str
+    speed: str
+    force: str
+    viscous: str
+    mass: str
+
+
+LINEAR = Units("linear", "m", "m/s", "N", "N s/m", "kg")
+ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2")
+
+
+def units_of(rotary: bool) -> Units:
+    """ROTARY or LINEAR."""
+    return ROTARY if rotary else LINEAR
