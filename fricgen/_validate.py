@@ -1,8 +1,10 @@
 """Validation helpers shared by every boundary: one message shape, ``NAME must be ..., got X``."""
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
-from typing import Type
+from typing import Iterator, Type
 
 import numpy as np
 
@@ -32,6 +34,36 @@ PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
 USUAL_MAX = {"speed": 5.0, "v_sat": 0.3, "current": 500.0}
 #: ... and a largest friction force below 0.1 N: forces in kN read as N land there.
 USUAL_MIN = {"force": 0.1}
+#: The same of a rotary axis (a robot joint, a motor shaft), in rad/s, Nm and kg m^2: speeds of
+#: 1 urad/s to 1000 rad/s (a motor shaft at 9500 rpm), v_sat to 300 rad/s, friction torques of
+#: 10 uNm to 100 kNm, inertias of 1e-8 kg m^2 (a small rotor) to 1e5 kg m^2; most joints and
+#: shafts turn below 300 rad/s, with v_sat below 30 rad/s.
+PHYSICAL_ROTARY = {"speed": (1e-6, 1000.0, "rad/s"), "v_sat": (1e-7, 300.0, "rad/s"),
+                   "force": (1e-5, 1e5, "Nm"), "mass": (1e-8, 1e5, "kg m^2"),
+                   "current": PHYSICAL["current"]}
+USUAL_MAX_ROTARY = {"speed": 300.0, "v_sat": 30.0, "current": 500.0}
+_ROTARY = contextvars.ContextVar("rotary", default=False)
+
+
+@contextlib.contextmanager
+def rotary_axis(rotary: bool) -> Iterator[None]:
+    """Within: the physical bounds and their messages are those of a rotary axis (``rotary``)."""
+    token = _ROTARY.set(bool(rotary))
+    try:
+        yield
+    finally:
+        _ROTARY.reset(token)
+
+
+def _tables():
+    return (PHYSICAL_ROTARY, USUAL_MAX_ROTARY) if _ROTARY.get() else (PHYSICAL, USUAL_MAX)
+
+
+def usual_max(quantity: str) -> float:
+    """USUAL_MAX[quantity], or USUAL_MAX_ROTARY's within ``rotary_axis(True)``."""
+    return _tables()[1][quantity]
+
+
 #: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
 ACCEPT_UNUSUAL = "--accept-unusual"
 
@@ -39,7 +71,7 @@ ACCEPT_UNUSUAL = "--accept-unusual"
 def physical_problem(quantity: str, what: str, value: float) -> str:
     """'' if ``value`` (a magnitude) lies within PHYSICAL[quantity], else the clause saying it does
     not: "WHAT is 199 m/s, beyond the 20 m/s of any real axis"."""
-    low, high, unit = PHYSICAL[quantity]
+    low, high, unit = _tables()[0][quantity]
     value = abs(float(value))
     if value > high:
         return f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of any real axis"
@@ -53,12 +85,16 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
     with the units of ``column`` that would explain it: "WHAT is 15 m/s, above the 5 m/s of
     most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?" (for a speed
     taken from the position x: "is x in mm (--scale x=0.001)?")."""
-    high, unit = USUAL_MAX[quantity], PHYSICAL[quantity][2]
+    physical, usual = _tables()
+    high, unit = usual[quantity], physical[quantity][2]
     value = abs(float(value))
     if value <= high:
         return ""
     if quantity == "current":
         units = f"mA (--scale {column}=0.001)"
+    elif _ROTARY.get():
+        units = (f"deg (--scale {column}=0.0174533)" if column == "x" else
+                 f"rpm (--scale {column}=0.10472) or deg/s (--scale {column}=0.0174533)")
     elif column == "x":
         units = "mm (--scale x=0.001)"
     else:

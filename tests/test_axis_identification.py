@@ -48,10 +48,13 @@ def test_a_given_mass_is_kept_and_the_offset_still_identified(offset_log):
 
 
 def test_a_log_without_acceleration_does_not_determine_the_mass():
+    # cruising: a is noise; the mass is not refused but reported as not determined, never < 0
+    from fricgen.data.idim import MASS_SIGMAS, RigidBody
     rng = np.random.default_rng(0)
-    v = 0.1 + 0.001 * rng.standard_normal(500)          # cruising: a is noise
-    with pytest.raises(DataError, match="do not determine the mass"):
-        identify_mass(0.01 * rng.standard_normal(500), v, 5.0 + 0.1 * rng.standard_normal(500), 500)
+    v = 0.1 + 0.001 * rng.standard_normal(500)
+    mass, se = identify_mass(0.01 * rng.standard_normal(500), v, 5.0 + 0.1 * rng.standard_normal(500), 500)
+    assert mass >= 0 and not mass > MASS_SIGMAS * se
+    assert not RigidBody(mass, se, 0.0, 0.0).mass_determined
 
 
 def test_a_reversed_force_sign_is_named_not_taken_for_an_undetermined_mass(offset_log):
@@ -201,11 +204,14 @@ def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp
     log = _write(tmp_path, "runup.csv", {"t": t, "x": x, "force": force})
     out = tmp_path / "m.json"
     assert main(["train", str(log), "-o", str(out)]) == 0
-    assert "symmetry symmetric: the log moves one way only" in capsys.readouterr().out
+    assert "the log moves one way only" in capsys.readouterr().out
     model = json.loads(out.read_text())
     training = model["training"]
     n = training["n_hidden"]
-    parameters = 2 * n + 2 if training["choice"] == "stribeck" else 2 * n + 1
+    if "choice" in training:
+        parameters = 2 * n + 2 if training["choice"] == "stribeck" else 2 * n + 1
+    else:                                   # a textbook law
+        parameters = 4 if training["law"]["chosen"].count("Stribeck") else 2
     assert parameters <= training["log"]["independent"] // 10
     assert abs(model["training"]["axis"]["mass"] - MASS) < 0.05 * MASS
 
@@ -224,7 +230,8 @@ def test_run_ups_of_the_independent_simulator_succeed_over_noise_draws(tmp_path,
         capsys.readouterr()
         record = json.loads(out.read_text())["training"]
         n = record["n_hidden"]
-        assert (2 * n + 2 if record["choice"] == "stribeck" else 2 * n + 1) <= record["log"]["independent"] // 10
+        assert (2 * n + 2 if record.get("choice", "stribeck") == "stribeck" else 2 * n + 1) \
+            <= record["log"]["independent"] // 10
         within_mass += abs(record["axis"]["mass"] - MASS) < 0.01 * MASS
         speeds = np.linspace(0.05, 0.6, 50)
         model = FrictionModel.load(out)

@@ -7,7 +7,10 @@ from pathlib import Path
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, is_log
 from ..data.sweep import MIN_SWEEP_POINTS
+from ..data.export import names_rotary_axis
+from ..data.matfile import is_matfile
 from ..data.table import header_cells
+from .._validate import rotary_axis
 from .._validate import MAX_HIDDEN
 from ..errors import DataError, UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, StribeckRegressor, default_elm, default_estimator
@@ -85,8 +88,14 @@ def training_columns(args) -> dict:
     return columns
 
 
+def is_rotary(args) -> bool:
+    """``--rotary``, or a header that names a robot joint's columns (q, dq, tau, ...)."""
+    return bool(args.rotary) or (not is_matfile(args.sweep) and
+                                 names_rotary_axis(header_cells(args.sweep, args.skip)))
+
+
 def run(args) -> int:
-    with data_warnings(args):
+    with rotary_axis(is_rotary(args)), data_warnings(args):
         return _run(args)
 
 
@@ -96,7 +105,8 @@ def fit(args, progress=say, warn=say) -> FitReport:
     return train(training_columns(args), estimator=_estimator(args), vs_max=args.vs_max,
                  asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
                  seed=args.seed, name=name, source=source_name(args), file=Path(args.sweep).name,
-                 accept_unusual=args.accept_unusual, progress=progress, warn=warn)
+                 accept_unusual=args.accept_unusual, progress=progress, warn=warn,
+                 rotary=is_rotary(args))
 
 
 def train_argv(argv) -> FitReport:
@@ -157,6 +167,10 @@ def register(p) -> None:
     log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
                      help="force constant, N/A, for a log with current i instead of force")
     add_export_options(p)
+    p.add_argument("--rotary", action="store_true",
+                   help="a rotary axis (a joint, a shaft): v in rad/s, force in Nm, inertia in kg m^2 "
+                   "in every report and record (default: a linear axis, unless the header names a "
+                   "joint's columns q, dq, qd, tau or effort)")
     p.add_argument("--name", default=DEFAULT_MODEL_NAME,
                    help=f"model name, a C identifier not beginning with fric_ (default {DEFAULT_MODEL_NAME})")
     p.set_defaults(run=run)

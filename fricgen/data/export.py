@@ -26,6 +26,14 @@ from .table import header_cells, read_table_csv
 #: The quantities a column may be mapped to, with their SI units.
 QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A"}
 
+#: Column names of robot and drive logs, read as fricgen's quantities where the file has no
+#: column of fricgen's own name for it and ``--columns`` maps none: a joint's position q,
+#: velocity dq (qd), torque tau (effort), motor current. They name a rotary axis
+#: (``names_rotary_axis``).
+ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "current": "i"}
+#: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
+ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort")
+
 #: Two files whose time spans differ by this factor or more are not timed in one unit.
 SPAN_RATIO = 100.0
 
@@ -172,10 +180,18 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
             raise DataError(f"{path}: column {name!r} appears twice once the columns are named "
                             f"({header!r} is mapped to it)")
         columns[name] = values
+    for alias, name in ALIASES.items():
+        if alias in columns and name not in columns and name not in layout.columns:
+            columns[name] = columns.pop(alias)
     for name, factor in scales.items():
         if name in columns:
             columns[name] = columns[name] * _factor(name, factor, path, mat)
     return columns
+
+
+def names_rotary_axis(cells) -> bool:
+    """Whether a header's names are a robot joint's (q, dq, qd, tau, effort: ``ROTARY_NAMES``)."""
+    return any(c.strip().lower() in ROTARY_NAMES for c in cells)
 
 
 def _increasing_time(columns: Dict[str, np.ndarray], path) -> np.ndarray:

@@ -25,6 +25,7 @@ from ..metrics import least_squares_errors
 from .idim import RigidBody, identify_mass, identify_rigid_body
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
+from ..units import LINEAR
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -170,8 +171,8 @@ class Identification:
     def velocity_range(self) -> Tuple[float, float]:
         return float(self.sweep.v.min()), float(self.sweep.v.max())
 
-    def summary(self) -> str:
-        """The lines ``fricgen train`` prints about the log."""
+    def summary(self, units=LINEAR) -> str:
+        """The lines ``fricgen train`` prints about the log, in ``units`` (``fricgen.units``)."""
         lo, hi = self.velocity_range
         moving = np.abs(self.sweep.v)
         return "\n".join([
@@ -181,18 +182,19 @@ class Identification:
             "independent samples)",
             f"smoothing zero-phase Savitzky-Golay, cubic, {self.window} samples "
             f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
-            f"{self.velocity_noise:.3g} m/s",
-            f"velocity  {lo:.4g} to {hi:.4g} m/s; speeds {moving.min():.3g} to {moving.max():.3g} m/s",
-        ] + self.body_lines())
+            f"{self.velocity_noise:.3g} {units.speed}",
+            f"velocity  {lo:.4g} to {hi:.4g} {units.speed}; speeds {moving.min():.3g} to "
+            f"{moving.max():.3g} {units.speed}",
+        ] + self.body_lines(units))
 
-    def body_lines(self) -> list:
+    def body_lines(self, units=LINEAR) -> list:
         """The mass and the constant force, each with its standard error or its source."""
         b = self.body
-        mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} kg identified by inverse dynamics"
-                if b.mass_identified else f"{b.mass:.5g} kg as given")
+        mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} {units.mass} identified by inverse dynamics"
+                if b.mass_identified else f"{b.mass:.5g} {units.mass} as given")
         if not b.mass_determined:
             mass = (f"not determined by the log's accelerations ({b.mass:.3g} +- {b.mass_se:.2g} "
-                    "kg, the inertia force within its noise): pass --mass, or log motion that "
+                    f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
         lines = [f"mass      {mass}"]
         if self.force_constant is not None and self.force_constant[1] is not None:

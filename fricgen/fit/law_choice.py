@@ -9,6 +9,8 @@ else CV_FOLDS folds; a log's in contiguous blocks of time, ``row_folds``). The s
 candidate whose mean held-out squared error is within one standard error of the paired fold
 differences of the best one's is kept (the one-standard-error rule), so that no richer model is
 kept for a gain within the noise and the default is never clearly worse than the textbook fit.
+The per-direction Coulomb + viscous law is the floor: another candidate, simpler or richer,
+replaces it only when it beats it by more than that noise.
 """
 from __future__ import annotations
 
@@ -34,6 +36,9 @@ SE_RULE = 1.0
 #: this fraction: its many parameters are determined where the data are and free beyond them
 #: (below a log's slowest steady speed), which held-out folds of the same motion do not test.
 RICH_MARGIN = 0.05
+#: The textbook floor: kept unless another candidate beats it clearly (the law of the
+#: engineer's spreadsheet; symmetric Coulomb + viscous where the data move one way).
+ANCHOR = "Coulomb + viscous, per direction"
 
 
 def _signed(v: np.ndarray, magnitude: Callable, negative: Optional[Callable] = None) -> np.ndarray:
@@ -185,11 +190,11 @@ class LawChoice:
     left_out: Tuple[str, ...]
     folds: int
 
-    def line(self) -> str:
-        """The report's line: the law kept and each candidate's held-out error."""
+    def line(self, unit: str = "N") -> str:
+        """The report's line: the law kept and each candidate's held-out error (in ``unit``)."""
         errors = ", ".join(f"{n} {e:.4g}" for n, e in self.cv_rmse)
         kind = "leave-one-out" if self.folds > CV_FOLDS else f"{self.folds}-fold"
-        text = f"law       {self.name}, by {kind} held-out RMS (N): {errors}"
+        text = f"law       {self.name}, by {kind} held-out RMS ({unit}): {errors}"
         return text + "".join(f"\nleft out  {why}" for why in self.left_out)
 
 
@@ -198,7 +203,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                seed=0, blocks: int = 0, asymmetric: Optional[bool] = None) -> LawChoice:
     """The simplest candidate within the noise of the best (see the module). ``rich``: the
     multi-source fit on all rows (None, with ``rich_reason``, where the data could not give
-    one); ``offset``: the constant force the symmetric curves leave out (a log's);
+    one); ``offset``: the constant force the textbook curves and the symmetric multi-source
+    curve leave out (a log's, compensated apart);
     ``asymmetric`` True or False: only the candidates of that symmetry."""
     moving = sweep.v != 0
     if not np.any(moving) or np.ptp(np.abs(sweep.v[moving])) <= 0:
@@ -216,7 +222,9 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                         "off Coulomb + viscous fitted without them)")
     one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
     if one_way and asymmetric is not False:
-        left_out.append("per direction: the data move one way only")
+        left_out.append("per direction: the log moves one way only; its curve is mirrored to the "
+                        "other direction, which the data do not show" if blocks else
+                        "per direction: the data move one way only")
     for law in (TextbookLaw(False, False), TextbookLaw(False, True), TextbookLaw(True, False),
                 TextbookLaw(True, True)):
         if asymmetric is not None and law.asymmetric != asymmetric:
@@ -228,16 +236,13 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{law.name}: fewer than {need} points" +
                             (" in a direction" if law.asymmetric else ""))
             continue
-        data = sweep if law.asymmetric else level
-        shift = 0.0 if law.asymmetric else offset
-        mse = _fold_mse(lambda tr, w, law=law, shift=shift: (
-            lambda p: (lambda v: p(v) + shift))(law.predictor(Sweep(tr.v, tr.f - shift), w)),
-            sweep, weight, folds)
+        mse = _fold_mse(lambda tr, w, law=law: (lambda p: (lambda v: p(v) + offset))(
+            law.predictor(Sweep(tr.v, tr.f - offset), w)), sweep, weight, folds)
         if mse is None:
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
             continue
-        candidates.append((law.name, mse, lambda law=law, data=data, mse=mse: textbook_fit(
-            law, data, weight, float(np.sqrt(mse.mean())))))
+        candidates.append((law.name, mse, lambda law=law, mse=mse: textbook_fit(
+            law, level, weight, float(np.sqrt(mse.mean())))))
     if rich is not None:
         mse = _fold_mse(rich_predictor(rich, independence, offset), sweep, weight, folds)
         name = "multi-source " + ("per direction" if rich.asymmetric else "symmetric")
@@ -258,12 +263,22 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
         candidates = candidates[:-1]
     else:
         scored = candidates
-    means = np.array([m.mean() for _, m, _ in candidates])
-    best = candidates[int(np.argmin(means))][1]
-    for (name, mse, make), mean in zip(candidates, means):
-        d = mse - best
+    chosen = _choose([m for _, m, _ in candidates],
+                     [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])
+    name, _, make = candidates[chosen]
+    return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in scored),
+                     tuple(left_out), int(folds.max()) + 1)
+
+
+def _choose(mse: List[np.ndarray], anchor: List[int]) -> int:
+    """The candidate kept (indices into ``mse``, simplest first): the anchor (the textbook
+    floor) unless others beat it by more than SE_RULE standard errors of their paired fold
+    differences; then, among those, the simplest within SE_RULE standard errors of the best."""
+    def beats(a, b):                       # a's mean error below b's by more than the noise
+        d = mse[b] - mse[a]
         se = d.std(ddof=1) / np.sqrt(d.size) if d.size > 1 else 0.0
-        if mean - best.mean() <= SE_RULE * se:
-            return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in
-                                                 scored), tuple(left_out), int(folds.max()) + 1)
-    raise AssertionError("the best candidate is within its own noise")
+        return d.mean() > SE_RULE * se
+    floor = anchor[0]
+    better = [k for k in range(len(mse)) if k == floor or beats(k, floor)]
+    best = min(better, key=lambda k: mse[k].mean())
+    return next(k for k in better if k == best or not beats(best, k))

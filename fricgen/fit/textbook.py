@@ -30,9 +30,9 @@ from .base import Estimator
 
 #: The shapes g of [F2] tried for the Stribeck term.
 STRIBECK_SHAPES = ("gauss", "exponential")
-#: Points of the grid of Stribeck velocities, from a quarter of the slowest speed to
-#: VS_FASTEST of the fastest: the drop is over (g < 1e-4 at three v_s) within the data, as
-#: v_sat = 3 vs_max of section 2 has it.
+#: Points of the grid of Stribeck velocities, from the slowest speed (below it the drop's height
+#: is an extrapolation the data do not hold) to VS_FASTEST of the fastest: the drop is over
+#: (g < 1e-4 at three v_s) within the data, as v_sat = 3 vs_max of section 2 has it.
 VS_GRID = 24
 VS_FASTEST = 1.0 / 3.0
 #: Parameters of a curve without and with the Stribeck term.
@@ -87,15 +87,18 @@ class LawFit:
         return Direction(aim=aim, scaling=Scaling(k_in=1.0 / v_sat, k_out=k_out),
                          viscous=self.viscous, v_sat=v_sat)
 
-    def describe(self, unit) -> str:
-        """One line of the law and its standard errors, in the axis' units (``fricgen.axis``)."""
-        se = self.standard_errors
-        text = (f"F_c = {self.coulomb:.5g} +- {se['coulomb']:.2g} {unit.force}, "
-                f"F_v = {self.viscous:.5g} +- {se['viscous']:.2g} {unit.viscous}")
+    def describe(self, units) -> str:
+        """One line of the law, each parameter with its standard error, in ``units``
+        (``fricgen.units``); "not determined" where the error exceeds the value tenfold."""
+        def est(name, symbol, unit):
+            value, se = getattr(self, name), self.standard_errors[name]
+            if not se <= 10 * abs(value) and not (value == 0 and se < np.inf):
+                return f"{symbol} = {value:.5g} {unit} (not determined by the data)"
+            return f"{symbol} = {value:.5g} +- {se:.2g} {unit}"
+        parts = [est("coulomb", "F_c", units.force), est("viscous", "F_v", units.viscous)]
         if self.stribeck:
-            text += (f", F_s = {self.static:.5g} +- {se['static']:.2g} {unit.force}, "
-                     f"v_s = {self.v_s:.4g} +- {se['v_s']:.2g} {unit.speed} ({self.shape})")
-        return text
+            parts += [est("static", "F_s", units.force), est("v_s", "v_s", units.speed) + f" ({self.shape})"]
+        return ", ".join(parts)
 
 
 def _solve(columns: np.ndarray, force: np.ndarray, root_w: np.ndarray):
@@ -155,7 +158,7 @@ def fit_law(speed, force, weight=None, stribeck: bool = False) -> LawFit:
         return LawFit(float(fc), float(fv), None, None, None, se, fastest,
                       float(np.sqrt(rss / speed.size)))
     slowest = float(speed[speed > 0].min()) if np.any(speed > 0) else fastest
-    grid = np.geomspace(min(slowest / 4.0, VS_FASTEST * fastest / 2), VS_FASTEST * fastest, VS_GRID)
+    grid = np.geomspace(slowest, max(VS_FASTEST * fastest, 1.01 * slowest), VS_GRID)
     best = None
     for shape in STRIBECK_SHAPES:
         scores = [_solve(_design(speed, vs, shape), force, root_w)[1] for vs in grid]

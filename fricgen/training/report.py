@@ -22,7 +22,7 @@ from ..fit import DefaultRegressor, StribeckRegressor
 from ..fit.directions import CV_FOLDS, DirectionsFit
 from ..fit.law_choice import LawChoice
 from ..fit.textbook import TextbookRegressor
-from ..units import LINEAR
+from ..units import LINEAR, units_of
 from ..fit.stribeck import XS_MAX
 from ..model import FrictionModel
 
@@ -81,15 +81,17 @@ class FitReport:
     def text(self) -> str:
         """The report ``fricgen train`` prints: data, symmetry, each curve's model and errors."""
         ident, fitted = self.identification, self.fit
-        reports = [] if ident is None else [ident.summary(), ident.offset_line(fitted.asymmetric)]
+        units = units_of(self.training.get("units") == "rotary")
+        reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric)]
         if self.law is not None:
-            reports.append(self.law.line())
+            reports.append(self.law.line(units_of(self.training.get("units") == "rotary").force))
         if fitted.chosen_by != "textbook":
             reports.append(choice_line(fitted, log=ident is not None))
         curves = [self.training] + ([self.training["negative"]] if fitted.asymmetric else [])
         labels = ("v > 0:", "v < 0:") if fitted.asymmetric else ("",)
         for label, f, curve in zip(labels, fitted.fits, curves):
-            text = curve_report(f.dataset, f.estimator, curve["metrics"])
+            text = curve_report(f.dataset, f.estimator, curve["metrics"],
+                                units_of(self.training.get("units") == "rotary"))
             reports.append(text if not label else
                            f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
         problem = float32_problem(self.model)
@@ -133,12 +135,6 @@ def _(estimator: StribeckRegressor, dataset) -> list:
     return lines
 
 
-@model_lines.register
-def _(estimator: TextbookRegressor, dataset) -> list:
-    """The textbook law in SI units, each parameter +- its standard error."""
-    return [f"model     {estimator.law_.describe(LINEAR)}"]
-
-
 @singledispatch
 def cost_lines(estimator) -> list:
     """The C cost per call of an ELM (``fricgen.codegen.cost``, fitted to ELM kernels), and per
@@ -179,22 +175,24 @@ def adapt_cost(n_hidden: int) -> str:
             "beside the controller step")
 
 
-def error_line(errors: dict) -> str:
+def error_line(errors: dict, unit: str = "N") -> str:
     """The training and validation errors (normalized, and in N) to four significant digits:
     a fixed number of decimals would print a fit to clean data as 0.0000 N."""
-    return (f"errors    E_train = {errors['e_train']:.4g} ({errors['e_train_newton']:.4g} N), "
-            f"{errors['e_validation_kind']} = {errors['e_loo']:.4g} ({errors['e_loo_newton']:.4g} N)")
+    return (f"errors    E_train = {errors['e_train']:.4g} ({errors['e_train_newton']:.4g} {unit}), "
+            f"{errors['e_validation_kind']} = {errors['e_loo']:.4g} ({errors['e_loo_newton']:.4g} {unit})")
 
 
-def curve_report(dataset, estimator, errors: dict) -> str:
-    """The report of one fitted curve: its data, B, the [F9] scaling, the model, the errors."""
+def curve_report(dataset, estimator, errors: dict, units=LINEAR) -> str:
+    """The report of one fitted curve: its data, B, the [F9] scaling, the model, the errors
+    (a textbook law's in ``units``)."""
     s = dataset.scaling
     chosen = dataset.stribeck_range
     vs_note = " (vs_max chosen from the data; pass --vs-max to set it)" if chosen else ""
     joint = chosen is not None and not chosen.linear_region
     if isinstance(estimator, TextbookRegressor):
-        return "\n".join([f"data      {dataset.x.size} points, fastest {dataset.v_sat:.6g} m/s"]
-                          + model_lines(estimator, dataset) + [error_line(errors)])
+        return "\n".join([f"data      {dataset.x.size} points, fastest {dataset.v_sat:.6g} {units.speed}",
+                           f"model     {estimator.law_.describe(units)}",
+                           error_line(errors, units.force)])
     lines = [
         f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
         f"{vs_note}" + (f"; the {dataset.n_rows} rows there averaged in bins of equal count"

@@ -8,7 +8,8 @@ from typing import Callable, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
-from .._validate import ACCEPT_UNUSUAL, USUAL_MAX, physical_problem, unusual
+from .._validate import ACCEPT_UNUSUAL, physical_problem, rotary_axis, unusual, usual_max
+from ..units import units_of
 from .._io import named_data
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log
@@ -34,7 +35,7 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
             curve.check_physical()
         except ModelError as exc:
             problems.append(f"the fitted model's {str(exc).split(' (a digit')[0]}")
-    said = fastest > USUAL_MAX["speed"]            # the data's speed was warned about already
+    said = fastest > usual_max("speed")            # the data's speed was warned about already
     for curve in model.directions:
         note = "" if any(problems) or said else unusual("v_sat", "the fitted model's v_sat", curve.v_sat)
         if note:
@@ -116,6 +117,9 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
                                         blocks=BLOCK_WINDOWS * ident.window)
     choice = choose_law(sweep, point_weights(sweep, *spread), rich, reason, seed=seed,
                         asymmetric=asymmetric, **log)
+    if choice.fit.chosen_by == "textbook" and choice.fit.asymmetric and ident is not None \
+            and ident.offset_in_friction:
+        ident = ident.as_load()             # the textbook curves leave the offset out
     return choice.fit, ident, choice
 
 
@@ -124,7 +128,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           force_constant: Optional[float] = None, seed: int = 0, name: str = DEFAULT_MODEL_NAME,
           source: str = "data", file: Optional[str] = None, accept_unusual: bool = False,
           progress: Optional[Callable[[str], None]] = None,
-          warn: Optional[Callable[[str], None]] = None) -> FitReport:
+          warn: Optional[Callable[[str], None]] = None, rotary: bool = False) -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -159,6 +163,9 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         Called with a line of progress on long fits.
     warn : callable, optional
         Called with each warning line; default ``warnings.warn``.
+    rotary : bool, default False
+        A rotary axis: the data are in rad, rad/s, Nm (and the inertia in kg m^2); the report,
+        the physical bounds and ``training.units`` say so.
 
     Returns
     -------
@@ -192,6 +199,13 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     >>> print(report.model.force([0.05, -0.05]) > 0)    # friction opposes the motion
     [ True False]
     """
+    with rotary_axis(rotary):
+        return _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
+                      source, file, accept_unusual, progress, warn, rotary)
+
+
+def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
+           accept_unusual, progress, warn, rotary) -> FitReport:
     if vs_max is not None and not (isinstance(vs_max, (int, float)) and 0 < vs_max < math.inf):
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
@@ -226,6 +240,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         training["law"] = {"chosen": choice.name, "cv_rmse_newton": dict(choice.cv_rmse),
                            "left_out": list(choice.left_out)}
     training["axis"] = axis_record(sweep, ident, fitted.asymmetric)
+    training["units"] = units_of(rotary).kind
     if accept_unusual:
         training["accept_unusual"] = True
     if ident is not None:
