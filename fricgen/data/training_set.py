@@ -91,6 +91,13 @@ class Dataset:
         return self.scaling.k_in * v, self.scaling.k_out * (np.asarray(f, dtype=float) - self.viscous * v)
 
 
+def check_friction_sign(folded: Sweep) -> None:
+    """``DataError`` when the folded force (sgn(v) f) is negative in most rows."""
+    if np.count_nonzero(folded.f < 0) > folded.f.size / 2:
+        raise DataError("the force has the opposite sign of v in most rows, yet friction acts "
+                        "with the sign of v [F1]: check the sign of v, force or i (or --scale)")
+
+
 def checked_fold(sweep: Sweep) -> Sweep:
     """The folded sweep, if it can be friction data at all; else ``DataError``: too few rows or
     moving rows, a force against the motion, or speeds or forces beyond the float32 C."""
@@ -100,9 +107,7 @@ def checked_fold(sweep: Sweep) -> Sweep:
     if len(folded) < MIN_ROWS:
         raise DataError(f"{len(folded)} rows with v != 0, need at least {MIN_ROWS}: a friction "
                         "sweep needs motion")
-    if np.count_nonzero(folded.f < 0) > folded.f.size / 2:
-        raise DataError("the force has the opposite sign of v in most rows, yet friction acts "
-                        "with the sign of v [F1]: check the sign of v, force or i (or --scale)")
+    check_friction_sign(folded)
     check_float32_scale("the sweep's median speed", float(np.median(folded.v)), "m/s")
     check_float32_scale("the sweep's median force", float(np.median(np.abs(folded.f))) or 1.0, "N")
     return folded

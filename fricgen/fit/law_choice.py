@@ -21,7 +21,7 @@ import numpy as np
 
 from ..data.sweep import Sweep
 from ..data.outliers import gross_outliers, unexplained
-from ..data.training_set import Dataset
+from ..data.training_set import Dataset, check_friction_sign
 from ..errors import DataError
 from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
                          warm_copy)
@@ -122,16 +122,18 @@ def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
 
 def textbook_outliers(sweep: Sweep) -> np.ndarray:
     """Gross outliers of a sweep: per direction, the points off a running median by more than
-    OUTLIER_SIGMAS robust standard deviations (``data.outliers``) that Coulomb + viscous fitted
-    to the others does not explain either."""
+    OUTLIER_SIGMAS robust standard deviations (``data.outliers``) that neither Coulomb + viscous
+    nor (from 6 points) its Stribeck law, fitted to the others, explains."""
     out = np.zeros(len(sweep), dtype=bool)
     for s in (1, -1):
         rows = np.flatnonzero(np.sign(sweep.v) == s)
         speed, magnitude = np.abs(sweep.v[rows]), s * sweep.f[rows]
         suspects = gross_outliers(speed, magnitude)
-        if suspects.any() and (~suspects).sum() >= MIN_POINTS[False]:
-            law = fit_law(speed[~suspects], magnitude[~suspects])
-            out[rows] = unexplained(magnitude, suspects, [law.magnitude(speed)])
+        kept = int((~suspects).sum())
+        if suspects.any() and kept >= MIN_POINTS[False]:
+            laws = [fit_law(speed[~suspects], magnitude[~suspects], stribeck=s)
+                    for s in (False, True) if kept >= MIN_POINTS[s]]
+            out[rows] = unexplained(magnitude, suspects, [law.magnitude(speed) for law in laws])
     return out
 
 
@@ -207,8 +209,14 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     curve leave out (a log's, compensated apart);
     ``asymmetric`` True or False: only the candidates of that symmetry."""
     moving = sweep.v != 0
-    if not np.any(moving) or np.ptp(np.abs(sweep.v[moving])) <= 0:
+    if not np.any(moving):
+        raise DataError("no row with v != 0: a friction sweep needs motion")
+    if asymmetric and not (np.any(sweep.v > 0) and np.any(sweep.v < 0)):
+        raise DataError("an asymmetric model needs a sweep of each direction: the data move one "
+                        "way only")
+    if np.ptp(np.abs(sweep.v[moving])) <= 0:
         raise DataError("the points are all at one speed: a friction law needs two speeds or more")
+    check_friction_sign(sweep.folded())
     weight = np.ones(len(sweep)) if weight is None else np.asarray(weight, float)
     sweep, weight = Sweep(sweep.v[moving], sweep.f[moving]), weight[moving]
     outliers = textbook_outliers(sweep) if not blocks else np.zeros(len(sweep), dtype=bool)
@@ -219,7 +227,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     left_out = [rich_reason] if rich is None and rich_reason else []
     if outliers.any():
         left_out.append(f"{int(outliers.sum())} points: gross outliers (off a running median and "
-                        "off Coulomb + viscous fitted without them)")
+                        "off the textbook laws fitted without them)")
     one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
     if one_way and asymmetric is not False:
         left_out.append("per direction: the log moves one way only; its curve is mirrored to the "

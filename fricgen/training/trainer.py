@@ -108,8 +108,14 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
             sweep = ident.friction
             rich = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
                                 asymmetric=asymmetric, seed=seed, progress=progress)
-        if _pushes(rich):
-            rich, reason = None, "multi-source fit: its curve would push the axis"
+        for f in rich.fits:
+            try:
+                f.curve.check()
+            except ModelError as exc:
+                if "must oppose the motion" in str(exc):     # a force falling through zero
+                    raise DataError(f"the fitted model is no friction model: {exc}") from None
+                rich, reason = None, "multi-source fit: its curve would push the axis"
+                break
     except DataError as exc:
         reason = f"multi-source fit: {exc}"
     log = {} if ident is None else dict(independence=ident.independent / ident.n_kept,
