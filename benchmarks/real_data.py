@@ -87,48 +87,59 @@ def load_baseline(folder):
     return module
 
 
+def joint_log(b, folder, j, test_name):
+    """Joint j's default and textbook fit, both trained on jointJ_train.csv, and the moving
+    samples of ``test_name`` through the folder's own filter ``b.va``: (predict, textbook, what
+    the default chose, a note, v, a, tau) of those samples."""
+    tr = csv(folder / f"joint{j + 1}_train.csv")
+    predict, chose, sec, mass = trained(log_columns(tr))
+    v, a = b.va(tr["t"], tr["dq"])
+    m = np.abs(v) > b.VMIN
+    tb = textbook(v[m], a[m], tr["tau"][m])
+    te = csv(folder / test_name.format(j + 1))
+    v, a = b.va(te["t"], te["dq"])
+    m = np.abs(v) > b.VMIN
+    return predict, tb, chose, f" (m {mass:.3g}, {sec:.2f} s CPU)", v[m], a[m], te["tau"][m]
+
+
+def per_joint(name, joints, score):
+    """``score(j)`` for each joint, a refused one reported with one line and the rest scored."""
+    for j in range(joints):
+        try:
+            score(j)
+        except fricgen.FricgenError as exc:
+            print(f"{name} J{j + 1}: REFUSED: {exc}")
+
+
 def ur10e(folder, ratios):
     b = load_baseline(folder)
-    for j in range(6):
-        tr = csv(folder / f"joint{j + 1}_train.csv")
-        predict, chose, sec, mass = trained(log_columns(tr))
-        v, a = b.va(tr["t"], tr["dq"])
-        m = np.abs(v) > b.VMIN
-        tb = textbook(v[m], a[m], tr["tau"][m])
-        te = csv(folder / f"joint{j + 1}_test.csv")
-        v, a = b.va(te["t"], te["dq"])
-        m = np.abs(v) > b.VMIN
-        y = te["tau"][m]
-        pub = b.fric_pub(j, v[m]) + b.PUB_MJJ[j] * a[m]
-        ratios.append(row(f"ur10e J{j + 1} test", rms(y - predict(v[m], a[m])), rms(y - tb(v[m], a[m])),
-                          rms(y - pub), chose, f" (m {mass:.3g}, {sec:.2f} s CPU)"))
+
+    def score(j):
+        predict, tb, chose, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv")
+        pub = b.fric_pub(j, v) + b.PUB_MJJ[j] * a
+        ratios.append(row(f"ur10e J{j + 1} test", rms(y - predict(v, a)), rms(y - tb(v, a)),
+                          rms(y - pub), chose, note))
         ho = csv(folder / f"joint{j + 1}_heldout_ptp.csv")
         v, _ = b.va(ho["t"], ho["dq"])
         m = np.abs(v) > b.VMIN
         y, zero = ho["tau"][m], np.zeros(int(m.sum()))
-        ratios.append(row(f"ur10e J{j + 1} ptp", rms(y - predict(v[m], zero) ), rms(y - tb(v[m], zero)),
+        ratios.append(row(f"ur10e J{j + 1} ptp", rms(y - predict(v[m], zero)), rms(y - tb(v[m], zero)),
                           rms(y - b.fric_pub(j, v[m])), chose))
         sw = csv(folder / f"joint{j + 1}_sweep_ptp.csv")
         zero = np.zeros(sw["v"].size)
         ratios.append(row(f"ur10e J{j + 1} sweep", rms(sw["f"] - predict(sw["v"], zero)),
                           rms(sw["f"] - tb(sw["v"], zero)), rms(sw["f"] - b.fric_pub(j, sw["v"])), chose))
+    per_joint("ur10e", 6, score)
 
 
 def panda(folder, ratios):
     b = load_baseline(folder)
-    for j in range(7):
-        tr = csv(folder / f"joint{j + 1}_train.csv")
-        predict, chose, sec, mass = trained(log_columns(tr))
-        v, a = b.va(tr["t"], tr["dq"])
-        m = np.abs(v) > b.VMIN
-        tb = textbook(v[m], a[m], tr["tau"][m])
-        te = csv(folder / f"joint{j + 1}_test.csv")
-        v, a = b.va(te["t"], te["dq"])
-        m = np.abs(v) > b.VMIN
-        y = te["tau"][m]
-        pub = min(rms(y - b.sigmoid(j, v[m])), rms(y - b.linear(j, v[m])))
-        ratios.append(row(f"panda J{j + 1}", rms(y - predict(v[m], a[m])), rms(y - tb(v[m], a[m])), pub,
-                          chose, f" (m {mass:.3g}, {sec:.2f} s CPU)"))
+
+    def score(j):
+        predict, tb, chose, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv")
+        pub = min(rms(y - b.sigmoid(j, v)), rms(y - b.linear(j, v)))
+        ratios.append(row(f"panda J{j + 1}", rms(y - predict(v, a)), rms(y - tb(v, a)), pub, chose, note))
+    per_joint("panda", 7, score)
 
 
 def kinova(folder, ratios):

@@ -10,8 +10,7 @@ from ..data.sweep import MIN_SWEEP_POINTS
 from ..data.export import names_rotary_axis
 from ..data.matfile import is_matfile
 from ..data.table import header_cells
-from .._validate import rotary_axis
-from .._validate import MAX_HIDDEN
+from .._validate import MAX_HIDDEN, rotary_axis
 from ..errors import DataError, UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, StribeckRegressor, default_elm, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
@@ -95,18 +94,20 @@ def is_rotary(args) -> bool:
 
 
 def run(args) -> int:
-    with rotary_axis(is_rotary(args)), data_warnings(args):
+    with data_warnings(args):
         return _run(args)
 
 
 def fit(args, progress=say, warn=say) -> FitReport:
     """The fit the arguments describe (``fricgen.train`` on the columns they read)."""
     name = check_model_name(args.name, "--name")
-    return train(training_columns(args), estimator=_estimator(args), vs_max=args.vs_max,
-                 asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
-                 seed=args.seed, name=name, source=source_name(args), file=Path(args.sweep).name,
-                 accept_unusual=args.accept_unusual, progress=progress, warn=warn,
-                 rotary=is_rotary(args))
+    rotary = is_rotary(args)
+    with rotary_axis(rotary):                  # the data checks' bounds too
+        return train(training_columns(args), estimator=_estimator(args), vs_max=args.vs_max,
+                     asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
+                     seed=args.seed, name=name, source=source_name(args),
+                     file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
+                     progress=progress, warn=warn, rotary=rotary)
 
 
 def train_argv(argv) -> FitReport:

@@ -22,10 +22,10 @@ from scipy.signal import oaconvolve, savgol_coeffs, savgol_filter
 from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
+from ..units import LINEAR
 from .idim import RigidBody, identify_mass, identify_rigid_body
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
-from ..units import LINEAR
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 

@@ -49,6 +49,15 @@ def _signed(v: np.ndarray, magnitude: Callable, negative: Optional[Callable] = N
     return np.where(sign > 0, magnitude(speed), -negative(speed))
 
 
+def curve_points(sweep: Sweep, weight: np.ndarray, asymmetric: bool):
+    """Each curve's points as (|v|, the force's magnitude sgn(v) f, weight): the moving rows
+    folded for one curve, or those of v > 0 and of v < 0 for two (``Sweep.folded``,
+    ``Sweep.direction``)."""
+    signs = np.sign(sweep.v)
+    masks = (signs == 1, signs == -1) if asymmetric else (signs != 0,)
+    return [(np.abs(sweep.v[m]), (signs * sweep.f)[m], weight[m]) for m in masks]
+
+
 @dataclass(frozen=True)
 class TextbookLaw:
     """A textbook candidate: with or without the Stribeck term, one curve or one per direction."""
@@ -61,29 +70,20 @@ class TextbookLaw:
         law = "Coulomb + viscous + Stribeck" if self.stribeck else "Coulomb + viscous"
         return f"{law}, {'per direction' if self.asymmetric else 'symmetric'}"
 
-    @property
-    def n_parameters(self) -> int:
-        return (4 if self.stribeck else 2) * (2 if self.asymmetric else 1)
-
     def fits(self, sweep: Sweep, weight: np.ndarray) -> Tuple[LawFit, ...]:
         """The law's curves fitted to ``sweep`` (``ValueError`` where a curve has too few points)."""
-        if not self.asymmetric:
-            moving = sweep.v != 0
-            return (fit_law(np.abs(sweep.v[moving]), (np.sign(sweep.v) * sweep.f)[moving],
-                            weight[moving], self.stribeck),)
-        return tuple(fit_law(np.abs(sweep.v[np.sign(sweep.v) == s]),
-                             s * sweep.f[np.sign(sweep.v) == s], weight[np.sign(sweep.v) == s],
-                             self.stribeck) for s in (1, -1))
+        return tuple(fit_law(speed, magnitude, w, self.stribeck)
+                     for speed, magnitude, w in curve_points(sweep, weight, self.asymmetric))
 
-    def predictor(self, sweep: Sweep, weight: np.ndarray) -> Callable:
-        laws = self.fits(sweep, weight)
-        return lambda v: _signed(v, laws[0].magnitude, laws[1].magnitude if len(laws) > 1 else None)
+    def predictor(self, sweep: Sweep, weight: np.ndarray, offset: float = 0.0) -> Callable:
+        """The signed force of the law fitted to ``sweep`` less ``offset``, plus ``offset``."""
+        laws = self.fits(Sweep(sweep.v, sweep.f - offset), weight)
+        return lambda v: _signed(v, laws[0].magnitude, laws[-1].magnitude if self.asymmetric
+                                 else None) + offset
 
     def feasible(self, sweep: Sweep) -> bool:
-        need = MIN_POINTS[self.stribeck]
-        if not self.asymmetric:
-            return int(np.count_nonzero(sweep.v)) >= need
-        return all(int(np.count_nonzero(np.sign(sweep.v) == s)) >= need for s in (1, -1))
+        return all(speed.size >= MIN_POINTS[self.stribeck] for speed, _, _ in
+                   curve_points(sweep, np.ones(len(sweep)), self.asymmetric))
 
 
 def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,
@@ -91,10 +91,8 @@ def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,
     """The law's fit as the curves of a model (``DirectionsFit``), each with its points in the
     coordinates of [F9] for the report (``cv_rmse``: the law's held-out RMS error, N)."""
     fitted = []
-    for curve_law, sign in zip(law.fits(sweep, weight), (1, -1) if law.asymmetric else (0,)):
-        rows = (sweep.v != 0) if sign == 0 else (np.sign(sweep.v) == sign)
-        speed = np.abs(sweep.v[rows])
-        magnitude = (np.sign(sweep.v) * sweep.f)[rows]
+    for curve_law, (speed, magnitude, _) in zip(law.fits(sweep, weight),
+                                                curve_points(sweep, weight, law.asymmetric)):
         curve = curve_law.direction()
         x, t = curve.network_input(speed), curve.scaling.k_out * (magnitude - curve.viscous * speed)
         dataset = Dataset(x=x, t=t, scaling=curve.scaling, viscous=curve.viscous,
@@ -113,11 +111,10 @@ def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
     if f_std is None:
         return None if n is None else np.asarray(n, dtype=float)
     variance = np.asarray(f_std, float) ** 2 / (1.0 if n is None else np.asarray(n, float))
-    moving = sweep.v != 0
-    law = fit_law(np.abs(sweep.v[moving]), (np.sign(sweep.v) * sweep.f)[moving])
-    dof = max(int(moving.sum()) - 2, 1)
-    residual = law.rms ** 2 * moving.sum() / dof
-    return 1.0 / (variance + max(residual - float(np.mean(variance[moving])), 0.0))
+    speed, magnitude, moving_variance = curve_points(sweep, variance, asymmetric=False)[0]
+    law = fit_law(speed, magnitude)
+    residual = law.rms ** 2 * speed.size / max(speed.size - 2, 1)
+    return 1.0 / (variance + max(residual - float(np.mean(moving_variance)), 0.0))
 
 
 def textbook_outliers(sweep: Sweep) -> np.ndarray:
@@ -125,9 +122,7 @@ def textbook_outliers(sweep: Sweep) -> np.ndarray:
     OUTLIER_SIGMAS robust standard deviations (``data.outliers``) that neither Coulomb + viscous
     nor (from 6 points) its Stribeck law, fitted to the others, explains."""
     out = np.zeros(len(sweep), dtype=bool)
-    for s in (1, -1):
-        rows = np.flatnonzero(np.sign(sweep.v) == s)
-        speed, magnitude = np.abs(sweep.v[rows]), s * sweep.f[rows]
+    for speed, magnitude, rows in curve_points(sweep, np.arange(len(sweep)), asymmetric=True):
         suspects = gross_outliers(speed, magnitude)
         kept = int((~suspects).sum())
         if suspects.any() and kept >= MIN_POINTS[False]:
@@ -244,8 +239,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{law.name}: fewer than {need} points" +
                             (" in a direction" if law.asymmetric else ""))
             continue
-        mse = _fold_mse(lambda tr, w, law=law: (lambda p: (lambda v: p(v) + offset))(
-            law.predictor(Sweep(tr.v, tr.f - offset), w)), sweep, weight, folds)
+        mse = _fold_mse(lambda train, w, law=law: law.predictor(train, w, offset), sweep, weight,
+                        folds)
         if mse is None:
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
             continue
@@ -263,14 +258,12 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                         f"{len(sweep)}, need {MIN_POINTS[False]} (Coulomb + viscous)")
     textbook_best = min((m.mean() for n, m, _ in candidates if not n.startswith("multi-source")),
                         default=np.inf)
+    scored = candidates
     if candidates[-1][0].startswith("multi-source") and len(candidates) > 1 and \
             np.sqrt(candidates[-1][1].mean()) > (1 - RICH_MARGIN) * np.sqrt(textbook_best):
         left_out.append(f"{candidates[-1][0]}: held-out RMS {np.sqrt(candidates[-1][1].mean()):.4g} "
                         f"N, not {RICH_MARGIN:.0%} below the best textbook law's")
-        scored = candidates
         candidates = candidates[:-1]
-    else:
-        scored = candidates
     chosen = _choose([m for _, m, _ in candidates],
                      [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])
     name, _, make = candidates[chosen]

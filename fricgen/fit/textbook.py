@@ -61,10 +61,6 @@ class LawFit:
     def stribeck(self) -> bool:
         return self.static is not None
 
-    @property
-    def n_parameters(self) -> int:
-        return 4 if self.stribeck else 2
-
     def magnitude(self, speed) -> np.ndarray:
         s = np.abs(np.asarray(speed, dtype=float))
         f = self.coulomb + self.viscous * s
@@ -76,8 +72,8 @@ class LawFit:
         """The curve as a ``Direction`` of [F3]: AIM = K_out (F_c + (F_s - F_c) g) on
         x = |v| / v_sat, B = F_v (the same force on [0, v_sat], the law's line beyond)."""
         v_sat = self.fastest
-        top = float(np.max(self.magnitude(np.linspace(0.0, v_sat, 65)) - self.viscous
-                           * np.linspace(0.0, v_sat, 65)))
+        speeds = np.linspace(0.0, v_sat, 65)
+        top = float(np.max(self.magnitude(speeds) - self.viscous * speeds))
         k_out = 1.0 / top if top > 0 else 1.0
         if self.stribeck:
             aim = StribeckCurve(self.shape, k_out * self.coulomb, [k_out * (self.static - self.coulomb)],

@@ -84,14 +84,13 @@ class FitReport:
         units = units_of(self.training.get("units") == "rotary")
         reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric)]
         if self.law is not None:
-            reports.append(self.law.line(units_of(self.training.get("units") == "rotary").force))
+            reports.append(self.law.line(units.force))
         if fitted.chosen_by != "textbook":
             reports.append(choice_line(fitted, log=ident is not None))
         curves = [self.training] + ([self.training["negative"]] if fitted.asymmetric else [])
         labels = ("v > 0:", "v < 0:") if fitted.asymmetric else ("",)
         for label, f, curve in zip(labels, fitted.fits, curves):
-            text = curve_report(f.dataset, f.estimator, curve["metrics"],
-                                units_of(self.training.get("units") == "rotary"))
+            text = curve_report(f.dataset, f.estimator, curve["metrics"], units)
             reports.append(text if not label else
                            f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
         problem = float32_problem(self.model)

@@ -49,15 +49,27 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
         warn(f"fricgen: warning: {source}: {problem}; kept ({ACCEPT_UNUSUAL})")
 
 
-def _pushes(fitted) -> bool:
-    """Whether a fitted curve fails ``Direction.check``: one that holds a load larger than its
-    direction's friction pushes the axis."""
+def _check_error(fitted) -> Optional[ModelError]:
+    """Why a fitted curve fails ``Direction.check`` (one that holds a load larger than its
+    direction's friction pushes the axis), or None."""
     try:
         for f in fitted.fits:
             f.curve.check()
-    except ModelError:
-        return True
-    return False
+    except ModelError as exc:
+        return exc
+    return None
+
+
+def _fit_multi_source(sweep, estimator, ident, **options):
+    """``fit_friction``, refitted with the log's offset a load (``Identification.as_load``) where
+    the asymmetric curves that hold it would push the axis; the fit, identification and sweep."""
+    fitted = fit_friction(sweep, estimator, None, ident, **options)
+    if fitted.asymmetric and ident is not None and ident.body.offset is not None \
+            and _check_error(fitted) is not None:
+        ident = ident.as_load()
+        sweep = ident.friction
+        fitted = fit_friction(sweep, estimator, None, ident, **options)
+    return fitted, ident, sweep
 
 
 def sweep_spread(columns: Mapping[str, np.ndarray]) -> Tuple[Optional[np.ndarray], Optional[np.ndarray]]:
@@ -101,23 +113,15 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
     axis) and the choice."""
     rich, reason = None, ""
     try:
-        rich = fit_friction(sweep, estimator, None, ident, vs_max=vs_max, asymmetric=asymmetric,
-                            seed=seed, progress=progress)
-        if rich.asymmetric and ident is not None and ident.body.offset is not None and _pushes(rich):
-            ident = ident.as_load()
-            sweep = ident.friction
-            rich = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
-                                asymmetric=asymmetric, seed=seed, progress=progress)
-        for f in rich.fits:
-            try:
-                f.curve.check()
-            except ModelError as exc:
-                if "must oppose the motion" in str(exc):     # a force falling through zero
-                    raise DataError(f"the fitted model is no friction model: {exc}") from None
-                rich, reason = None, "multi-source fit: its curve would push the axis"
-                break
+        rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
+                                               asymmetric=asymmetric, seed=seed, progress=progress)
     except DataError as exc:
         reason = f"multi-source fit: {exc}"
+    error = None if rich is None else _check_error(rich)
+    # a curve that pushes the axis is no candidate; one whose negative B turns the force against
+    # the motion stays one, for train's own check to refuse by name when it is kept
+    if error is not None and "must oppose the motion" not in str(error):
+        rich, reason = None, "multi-source fit: its curve would push the axis"
     log = {} if ident is None else dict(independence=ident.independent / ident.n_kept,
                                         offset=ident.offset_in_friction,
                                         blocks=BLOCK_WINDOWS * ident.window)
@@ -226,14 +230,9 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
                                                  asymmetric, seed, progress)
             sweep = sweep if ident is None else ident.friction
         else:
-            fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
-                                  asymmetric=asymmetric, seed=seed, progress=progress)
-            if fitted.asymmetric and ident is not None and ident.body.offset is not None \
-                    and _pushes(fitted):
-                ident = ident.as_load()
-                sweep = ident.friction
-                fitted = fit_friction(sweep, estimator, None, ident, vs_max=vs_max,
-                                      asymmetric=asymmetric, seed=seed, progress=progress)
+            fitted, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
+                                                     asymmetric=asymmetric, seed=seed,
+                                                     progress=progress)
     first = fitted.fits[0]
     curves = [curve_record(f) for f in fitted.fits]
     training = {**method_record(estimator), "seed": seed, "source": source if file is None else file,
