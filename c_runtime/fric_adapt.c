@@ -1,6 +1,8 @@
 /* fricgen C runtime: online adaptation of the friction model's output parameters (fric_adapt.h).
  * Every operation is a float operation in a fixed order; fricgen.control.adaptation with
- * dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit --adapt`. */
+ * dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit --adapt`.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #include "fric_float.h"   /* first: no -ffast-math, no contraction (as fric_ctrl.c) */
 #include "fric_adapt.h"
 

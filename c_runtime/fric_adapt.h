@@ -20,7 +20,9 @@
  * fric_adapt_init(&a, &p)):
  *     flags = fric_adapt_ctrl_step(&a, &c, NAME_regressor, x, v, xd, xd_dot, xd_ddot, &i);
  * The float operations are those written here, in this order, each rounded to float;
- * fricgen.control.adaptation (dtype="float32") computes the same bits. */
+ * fricgen.control.adaptation (dtype="float32") computes the same bits.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_ADAPT_H
 #define FRIC_ADAPT_H
 

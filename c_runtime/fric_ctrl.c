@@ -1,6 +1,8 @@
 /* fricgen C runtime: adaptive backstepping position control, section 6 (see fric_ctrl.h).
  * Every operation is a float operation in a fixed order; fricgen.control.AdaptiveBackstepping
- * with dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit`. */
+ * with dtype="float32" mirrors it exactly. Part of fricgen; copied by `fricgen emit`.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #include "fric_float.h" /* first: float semantics independent of the compiler's flags */
 
 #include "fric_ctrl.h"

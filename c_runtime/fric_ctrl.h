@@ -37,7 +37,9 @@
  * - A NULL c or current returns FRIC_CTRL_FAULT_NULL and writes nothing.
  * The float operations are those written here, in this order, each rounded to float (the file
  * refuses -ffast-math and turns contraction to fused multiply-add off);
- * fricgen.control.AdaptiveBackstepping(dtype="float32") computes the same bits. */
+ * fricgen.control.AdaptiveBackstepping(dtype="float32") computes the same bits.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_CTRL_H
 #define FRIC_CTRL_H
 

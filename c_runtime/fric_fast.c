@@ -7,7 +7,9 @@
  * float exponent field: (bits of the sum) << 23 equals n << 23 modulo 2^32. Valid, and exact as
  * described, for |t| <= 125. fric_sigmoid_fast_f32 clamps |z| <= 86 (|t| <= 125); the kernel
  * takes tables pre-multiplied by -log2(e), so t = w x + b directly, and clamps x so that every
- * |t| stays inside (`fricgen emit` checks the tables). */
+ * |t| stays inside (`fricgen emit` checks the tables).
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #include "fric_fast.h"
 
 #include <stdint.h>

@@ -1,7 +1,9 @@
 /* fricgen C runtime: ELM hidden-layer kernel with the fast sigmoid, [F7]-[F8], without libm.
  * Also exp(-a) without libm for the grey-box Stribeck model, [F2].
  * C99, float only, no dynamic memory, no global state. Part of fricgen; copied by
- * `fricgen emit --activation-impl fast`. */
+ * `fricgen emit --activation-impl fast`.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_FAST_H
 #define FRIC_FAST_H
 

@@ -13,7 +13,9 @@
  * Other flags that relax IEEE arithmetic one by one (-fassociative-math, -freciprocal-math)
  * define no macro and cannot be detected here: do not build the runtime with them.
  * Include it from .c files only: the pragma applies to the rest of the including translation
- * unit (the public headers NAME.h and fric_ctrl.h do not include it). */
+ * unit (the public headers NAME.h and fric_ctrl.h do not include it).
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_FLOAT_H
 #define FRIC_FLOAT_H
 

@@ -3,7 +3,9 @@
  * One header, one source per kernel: fric_elm_sigmoid.c, fric_elm_sine.c, fric_elm_rbf.c,
  * fric_elm_multiquadric.c, and fric_exp_neg.c (exp(-a), also for the grey-box shapes of [F2]);
  * `fricgen emit` copies the sources its model calls, so a link without --gc-sections pulls in
- * only the libm functions the model needs (sinf, sqrtf and expf each add kilobytes). */
+ * only the libm functions the model needs (sinf, sqrtf and expf each add kilobytes).
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_KERNEL_H
 #define FRIC_KERNEL_H
 

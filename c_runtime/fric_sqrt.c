@@ -1,4 +1,6 @@
-/* fricgen C runtime: the correctly rounded square root without libm (fric_sqrt.h). */
+/* fricgen C runtime: the correctly rounded square root without libm (fric_sqrt.h).
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #include "fric_float.h" /* first: as every runtime source (integers only here) */
 #include "fric_sqrt.h"
 

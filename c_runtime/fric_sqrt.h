@@ -1,7 +1,9 @@
 /* fricgen C runtime: the square root without libm, correctly rounded.
  * C99, no float library call, no dynamic memory, no global state. Part of fricgen; copied by
  * `fricgen emit --with-controller` (the adaptive law c of section 6 needs sqrt(e1^2 + e2^2)), so
- * that the controller links without libm, as the models of `--activation-impl fast` do. */
+ * that the controller links without libm, as the models of `--activation-impl fast` do.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_SQRT_H
 #define FRIC_SQRT_H
 

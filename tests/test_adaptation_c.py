@@ -72,6 +72,27 @@ def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_
     assert "    fm_adapt.c\n" in (adapt / "CMakeLists.txt").read_text()
 
 
+def test_a_re_emit_without_adapt_leaves_no_adaptation_of_the_old_model(default_model, grey_model,
+                                                                       tmp_path, capsys):
+    # --adapt of one model, then another model under the same name without it: the stale
+    # fm_adapt.{c,h} are removed and the build files no longer list them
+    folder = tmp_path / "c"
+    assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(folder), "--adapt"]) == 0
+    assert (folder / "fm_adapt.c").is_file()
+    grey = tmp_path / "grey.json"
+    grey_model.save(grey)
+    capsys.readouterr()
+    assert main(["emit", str(grey), "-o", str(folder), "--name", "fm"]) == 0
+    assert "removed fm_adapt.c, fm_adapt.h" in capsys.readouterr().err
+    assert not (folder / "fm_adapt.c").exists() and not (folder / "fm_adapt.h").exists()
+    for build in ("CMakeLists.txt", "library.json"):
+        assert "fm_adapt" not in (folder / build).read_text(), build
+    # a file of the same name that fricgen did not write is left alone
+    (folder / "fm_adapt.c").write_text("/* mine */\n")
+    assert main(["emit", str(grey), "-o", str(folder), "--name", "fm"]) == 0
+    assert (folder / "fm_adapt.c").read_text() == "/* mine */\n"
+
+
 def _saved(model, tmp_path):
     path = tmp_path / "model.json"
     if not path.exists():

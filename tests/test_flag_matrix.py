@@ -10,6 +10,7 @@ import pytest
 
 from fricgen import codegen
 from fricgen._io import resource_dir
+from fricgen.codegen.package import STRICT_FLOAT_FLAGS
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.faults import Glitched, random_glitches
 from fricgen.control.loop import default_axis, simulate
@@ -79,6 +80,36 @@ def test_every_build_equals_the_twins_bit_for_bit(matrix):
     assert any(line.startswith("c ") and int(line.split()[2], 16) & 2 for line in twin)  # faults
     for r in rows:
         assert fm.first_difference(r.lines, twin) is None, r.flags.label
+
+
+@pytest.mark.parametrize("extra", fm.RELAXING_FLAGS)
+def test_a_flag_that_relaxes_ieee_arithmetic_gives_the_twins_bits_or_a_compile_error(
+        tmp_path, extra, model10, bench):
+    """-funsafe-math-optimizations, -fassociative-math, -freciprocal-math and -ffp-contract=fast
+    under gcc and clang (-std=gnu99 -O2, FMA available): every build of the runtime with both
+    models and the controller either refuses to compile, naming the flag, or equals the twins'
+    bits with no fused multiply-add. Clang's -ffp-contract=fast alone overrides its pragmas
+    (it contracts regardless): there the build files fricgen writes add -ffp-contract=off after
+    the project's flags (``package.STRICT_FLOAT_FLAGS``), and the build with both gives the bits."""
+    models = {"fm": model10, "gb": fm.table1_greybox(bench)}
+    for name, model in models.items():
+        codegen.emit(model, tmp_path / "src", name, activation_impl="fast", with_controller=True)
+    v = np.linspace(-2 * model10.v_sat, 2 * model10.v_sat, 101).astype(np.float32)
+    rows = np.zeros((1, 6), dtype=np.float32)
+    settings = AdaptiveBackstepping()
+    twin = fm.twin_lines(models, "fast", v, rows, settings)
+    sets = [fm.FlagSet(c, "gnu99", "-O2", extra + (" " + " ".join(STRICT_FLOAT_FLAGS)
+                                                   if (c, extra) == ("clang", "-ffp-contract=fast")
+                                                   else "")) for c in fm.HOST_COMPILERS if shutil.which(c)]
+    assert sets
+    for k, flags in enumerate(sets):
+        try:
+            row, = fm.run_matrix(tmp_path / "src", list(models), [flags], tmp_path / f"out{k}", v,
+                                 rows, settings)
+        except fm.fw.FirmwareError as exc:
+            assert "change its results" in str(exc) or "-Werror" in str(exc), str(exc)[:500]
+            continue
+        assert fm.first_difference(row.lines, twin) is None and row.fma == 0, flags.label
 
 
 def test_no_build_contains_a_fused_multiply_add(matrix):

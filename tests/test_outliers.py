@@ -21,11 +21,14 @@ def test_robust_scale_is_1_4826_times_the_median_and_never_below_its_floor():
     r = np.array([0.0, 0.1, 0.2, 0.3, 0.4])
     assert robust_scale(r, np.ones(5)) == pytest.approx(1.4826 * 0.2, rel=1e-15)
     assert robust_scale(np.zeros(5), np.full(5, 10.0)) == pytest.approx(1e-3 * 10.0)   # SCALE_FLOOR
-    # mostly zero (a quantized force): the median of the residuals beyond rounding
-    assert robust_scale(np.array([0, 0, 0, 0.5, 1.5]), np.ones(5)) == pytest.approx(1.4826 * 1.0)
-    # "beyond rounding" is relative to the values: 1e-8 counts next to values of 1e-6
-    r = np.array([0, 0, 0, 1e-8, 1e-2])
-    assert robust_scale(r, np.full(5, 1e-6)) == pytest.approx(1.4826 * (1e-8 + 1e-2) / 2, rel=1e-12)
+    # mostly zero (a quantized force): the values' quantum, the median step between their
+    # distinct values, whatever the few nonzero residuals are (a spike among them)
+    values = np.array([1.0, 1.0, 1.05, 1.05, 1.1, 1.15, 51.1])
+    for spike in (0.05, 50.0):
+        r = np.array([0, 0, 0, 0, 0, 0.05, spike])
+        assert robust_scale(r, values) == pytest.approx(1.4826 * 0.05, rel=1e-9)
+    # and never below the floor: a quantum of 1e-9 next to values of 1
+    assert robust_scale(np.zeros(4), np.array([1.0, 1.0 + 1e-9, 1.0, 1.0])) == pytest.approx(1e-3)
 
 
 def test_running_median_and_inner_points_by_hand():

@@ -1,6 +1,7 @@
 """The textbook laws as the default's floor (``fit.textbook``, ``fit.law_choice``): small sweeps,
 weights, the choice against richer models, rotary units and jittering logs."""
 import json
+import re
 
 import numpy as np
 import pytest
@@ -110,6 +111,8 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys):
     assert main(["train", str(path), "-o", str(tmp_path / "m.json")]) == 0
     out = capsys.readouterr().out
     assert "rad/s" in out and "kg m^2" in out and "m/s;" not in out
+    offset = next(line for line in out.splitlines() if line.startswith("offset"))
+    assert " Nm" in offset and not re.search(r"\d N\b|\(N\)", out), out
     assert "resampled from jittering time stamps" in out
     record = json.loads((tmp_path / "m.json").read_text())["training"]
     assert record["units"] == "rotary"

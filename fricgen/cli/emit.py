@@ -6,7 +6,7 @@ from .._io import check_folder
 from .._validate import PHYSICAL
 from ..c_names import check_model_name
 from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite,
-                       package_files, render)
+                       package_files, remove_stale, render)
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..control.c_adapted import render_adapt
 from ..effects import offset_left_out
@@ -78,6 +78,10 @@ def run(args) -> int:
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)
     write_targets(targets, files)
+    removed = remove_stale(args.output, name, files)
+    if removed:
+        say(f"removed {', '.join(removed)}: the adaptation of the model emitted before under "
+            f"the name {name}")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
     note = offset_note(model)

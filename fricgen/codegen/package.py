@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
-from typing import Dict, Iterable, Optional, Union
+from typing import Dict, Iterable, List, Optional, Union
 
 from .. import __version__
 from .._io import write_all_atomic
@@ -39,13 +39,31 @@ def uses_libm(texts: Iterable[str]) -> bool:
     return any(LIBM_CALL.search(_COMMENT.sub(" ", text)) for text in texts)
 
 
-def _folder_texts(folder: Path, files: Dict[str, str]) -> Dict[str, str]:
-    """The C files of the folder once ``files`` are written: those fricgen wrote before, then
-    ``files``, by name."""
+def stale_files(folder: Union[str, Path], name: str, files: Dict[str, str]) -> List[Path]:
+    """The files fricgen wrote into ``folder`` for the model ``name`` before (its adaptation,
+    NAME_adapt.c and .h) that this emit, ``files``, no longer writes: removed with it, so that
+    the folder never builds an adaptation of a model it no longer holds."""
+    folder = Path(folder)
+    return [folder / f for f in (f"{name}_adapt.c", f"{name}_adapt.h")
+            if f not in files and (folder / f).is_file() and written_by_fricgen(folder / f)]
+
+
+def remove_stale(folder: Union[str, Path], name: str, files: Dict[str, str]) -> List[str]:
+    """Remove ``stale_files``; their names."""
+    stale = stale_files(folder, name, files)
+    for path in stale:
+        path.unlink()
+    return [path.name for path in stale]
+
+
+def _folder_texts(folder: Path, files: Dict[str, str], name: str) -> Dict[str, str]:
+    """The C files of the folder once ``files`` are written: those fricgen wrote before (but
+    the model ``name``'s ``stale_files``), then ``files``, by name."""
     texts = {}
+    stale = set(stale_files(folder, name, files))
     if folder.is_dir():
         for path in sorted(folder.glob("*.[ch]")):
-            if path.is_file() and written_by_fricgen(path):
+            if path.is_file() and written_by_fricgen(path) and path not in stale:
                 texts[path.name] = path.read_text(errors="replace")
     texts.update({fname: text for fname, text in files.items() if fname.endswith((".c", ".h"))})
     return texts
@@ -83,8 +101,9 @@ def package_files(folder: Union[str, Path], files: Dict[str, str], name: str) ->
     (['CMakeLists.txt', 'Kconfig', 'library.json', 'zephyr/module.yml'], True)
     """
     folder = Path(folder)
-    texts = _folder_texts(folder, files)
-    names = set(generated_models(folder)) | {name}
+    texts = _folder_texts(folder, files, name)
+    stale = {path.stem for path in stale_files(folder, name, files)}
+    names = (set(generated_models(folder)) - stale) | {name}
     models = sorted(m for m in names if not (m.endswith("_adapt") and m[:-len("_adapt")] in names))
     lib = library_name(folder)
     ctx = {"lib": lib, "LIB": lib.upper(), "kconfig": f"FRICGEN_{lib.upper()}",
@@ -158,4 +177,6 @@ def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = 
     check_name_in_folder(out_dir, name)
     files.update(package_files(out_dir, files, name))
     check_overwrite([Path(out_dir) / fname for fname in files], force)
-    return write_all_atomic(out_dir, files)
+    written = write_all_atomic(out_dir, files)
+    remove_stale(out_dir, name, files)
+    return written

@@ -49,6 +49,9 @@ class RigidBody:
     mass_se: Optional[float]
     offset: float
     offset_se: float
+    #: the least-squares estimate where it fell below 0 (``mass`` is then 0): a residual
+    #: inertia of a force whose inertia model was removed before, overestimated
+    mass_estimate: Optional[float] = None
 
     @property
     def mass_identified(self) -> bool:
@@ -61,19 +64,22 @@ class RigidBody:
 
 
 def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float):
-    """m and its standard error from f = m a + F(v) + o over moving rows (F by
-    ``friction_basis`` per direction, which also absorbs o). Where the accelerations do not
+    """m, its standard error and the raw estimate from f = m a + F(v) + o over moving rows (F
+    by ``friction_basis`` per direction, which also absorbs o). Where the accelerations do not
     determine it (within MASS_SIGMAS standard errors of 0: a slow log, or one whose inertia was
     removed before), m is that estimate, at least 0, and ``RigidBody.mass_determined`` says so.
-    ``DataError`` when it is clearly negative (a reversed sign)."""
-    coef, se = least_squares_errors(np.column_stack([a, friction_basis(v, odd=False)]), force,
-                                    independent)
+    A clearly negative m is a reversed sign only where the friction fitted beside it pushes
+    the axis as well (``DataError``); where that friction opposes the motion it is a residual
+    inertia (a rigid-body model removed from the force, overestimated), and m is 0."""
+    basis = np.column_stack([a, friction_basis(v, odd=False)])
+    coef, se = least_squares_errors(basis, force, independent)
     mass, mass_se = float(coef[0]), float(se[0])
-    if -mass > MASS_SIGMAS * mass_se:
+    friction = basis[:, 1:] @ coef[1:]
+    if -mass > MASS_SIGMAS * mass_se and np.mean(np.sign(v) * friction) <= 0:
         raise DataError(f"the mass comes out negative (m = {mass:.3g} +- {mass_se:.2g} kg by "
                         "inverse dynamics): the force (or current) and the motion have opposite "
                         "signs; is the sign of the force or of the position reversed?")
-    return max(mass, 0.0), mass_se
+    return max(mass, 0.0), mass_se, mass
 
 
 def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float,
@@ -88,10 +94,11 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
                         mass: Optional[float] = None) -> RigidBody:
     """The mass (unless given) and the offset of the axis from smoothed dv/dt, v and force at
     rows where it moves."""
-    mass_se = None
+    mass_se = estimate = None
     if mass is None:
-        mass, mass_se = identify_mass(a, v, force, independent)
+        mass, mass_se, estimate = identify_mass(a, v, force, independent)
     offset = offset_se = None
     if np.any(v > 0) and np.any(v < 0):
         offset, offset_se = identify_offset(a, v, force, mass, independent)
-    return RigidBody(float(mass), mass_se, offset, offset_se)
+    return RigidBody(float(mass), mass_se, offset, offset_se,
+                     estimate if estimate is not None and estimate < 0 else None)

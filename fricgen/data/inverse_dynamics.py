@@ -23,7 +23,7 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import RigidBody, identify_mass, identify_rigid_body
+from .idim import MASS_SIGMAS, RigidBody, identify_mass, identify_rigid_body
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -192,7 +192,12 @@ class Identification:
         b = self.body
         mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} {units.mass} identified by inverse dynamics"
                 if b.mass_identified else f"{b.mass:.5g} {units.mass} as given")
-        if not b.mass_determined:
+        if b.mass_estimate is not None and -b.mass_estimate > MASS_SIGMAS * b.mass_se:
+            mass = (f"0 {units.mass}: the log's accelerations give {b.mass_estimate:.3g} +- "
+                    f"{b.mass_se:.2g} {units.mass}, below zero while the friction opposes the "
+                    "motion: a residual inertia (was a rigid-body model removed from the force "
+                    "already?); pass --mass to set it")
+        elif not b.mass_determined:
             mass = (f"not determined by the log's accelerations ({b.mass:.3g} +- {b.mass_se:.2g} "
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
@@ -220,13 +225,13 @@ class Identification:
         load (``as_load``)."""
         return Sweep(self.sweep.v, self.sweep.f - self.body.offset) if self.load else self.sweep
 
-    def offset_line(self, asymmetric: bool) -> str:
+    def offset_line(self, asymmetric: bool, units=LINEAR) -> str:
         """The constant force o: beside a symmetric model, held in an asymmetric one, or beside
         it as a load (``as_load``)."""
         if self.body.offset is None:
             return ("offset    not determined: the log moves one way only, where a constant force "
                     "is one with the friction")
-        o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} N"
+        o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} {units.force}"
         if self.load:
             return (f"{o}: a load beside the friction (held in the two curves, it would make one "
                     "of them push the axis; compensate it apart)")

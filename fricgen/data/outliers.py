@@ -25,14 +25,15 @@ MEDIAN_WINDOW = 7
 
 def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
     """A robust standard deviation of the absolute residuals of ``values``: 1.4826 times their
-    median, or, when most are 0 (a quantized force), times the median of those beyond rounding
-    (1e-9 of the values' median magnitude); never below ``SCALE_FLOOR`` of that magnitude
+    median, or, when most are 0 (a quantized force), times the values' quantum (the median step
+    between their distinct values: a few spikes among the rare nonzero residuals would set a
+    median of those alone); never below ``SCALE_FLOOR`` of the values' median magnitude
     (noise-free data: the curve's own bend off a line or a running median is no outlier)."""
     typical = float(np.median(np.abs(values)))
     scale = 1.4826 * float(np.median(residual))
     if not scale > 0:
-        beyond = residual[residual > 1e-9 * typical]
-        scale = 1.4826 * float(np.median(beyond)) if beyond.size else 0.0
+        steps = np.diff(np.unique(np.asarray(values, dtype=float)))
+        scale = 1.4826 * float(np.median(steps)) if steps.size else 0.0
     return max(scale, SCALE_FLOOR * typical)
 
 

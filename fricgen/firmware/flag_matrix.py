@@ -34,6 +34,10 @@ from ..networks import StribeckCurve
 from . import build as fw
 
 STDS = ("c99", "gnu99")
+#: Flags that relax IEEE arithmetic one by one: each build must give the twins' bits or fail
+#: to compile (``fric_float.h``).
+RELAXING_FLAGS = ("-funsafe-math-optimizations", "-fassociative-math", "-freciprocal-math",
+                  "-ffp-contract=fast")
 OPTS = ("-O0", "-O2", "-Os")
 HOST_COMPILERS = ("gcc", "clang")
 #: Mnemonics of fused multiply-add: x86 (vfmadd231ss ...), Arm VFP (vfma.f32 ...), AArch64.
@@ -74,6 +78,9 @@ class FlagSet:
         The C standard: "c99" or "gnu99".
     opt : str
         The optimization flag: "-O0", "-O2" or "-Os".
+    extra : str
+        More flags, space-separated ("" for none), e.g. "-funsafe-math-optimizations"
+        (``RELAXING_FLAGS``).
 
     Examples
     --------
@@ -86,6 +93,7 @@ class FlagSet:
     compiler: str
     std: str
     opt: str
+    extra: str = ""
 
     @property
     def target(self) -> str:
@@ -93,11 +101,11 @@ class FlagSet:
 
     @property
     def lang_flags(self) -> List[str]:
-        return [f"-std={self.std}", self.opt]
+        return [f"-std={self.std}", self.opt] + self.extra.split()
 
     @property
     def label(self) -> str:
-        return f"{self.compiler} -std={self.std} {self.opt}"
+        return " ".join([self.compiler, f"-std={self.std}", self.opt] + self.extra.split())
 
 
 def available_flag_sets(stds: Sequence[str] = STDS, opts: Sequence[str] = OPTS,

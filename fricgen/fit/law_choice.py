@@ -20,7 +20,7 @@ from typing import Callable, List, Optional, Tuple
 import numpy as np
 
 from ..data.sweep import Sweep
-from ..data.outliers import gross_outliers, unexplained
+from ..data.outliers import MEDIAN_WINDOW, gross_outliers, unexplained
 from ..data.training_set import Dataset, check_friction_sign
 from ..errors import DataError
 from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
@@ -36,6 +36,11 @@ SE_RULE = 1.0
 #: this fraction: its many parameters are determined where the data are and free beyond them
 #: (below a log's slowest steady speed), which held-out folds of the same motion do not test.
 RICH_MARGIN = 0.05
+#: A sweep's multi-source fit is tried only where the textbook law's residuals run in fewer
+#: sign runs than chance by this many standard deviations (a one-sided 2.3 % test) ...
+STRUCTURE_Z = 2.0
+#: ... on a curve of at least this many points (fewer give the test no power).
+STRUCTURE_POINTS = 10
 #: The textbook floor: kept unless another candidate beats it clearly (the law of the
 #: engineer's spreadsheet; symmetric Coulomb + viscous where the data move one way).
 ANCHOR = "Coulomb + viscous, per direction"
@@ -119,17 +124,69 @@ def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
 
 def textbook_outliers(sweep: Sweep) -> np.ndarray:
     """Gross outliers of a sweep: per direction, the points off a running median by more than
-    OUTLIER_SIGMAS robust standard deviations (``data.outliers``) that neither Coulomb + viscous
-    nor (from 6 points) its Stribeck law, fitted to the others, explains."""
+    OUTLIER_SIGMAS robust standard deviations (``data.outliers``), and the fastest point (which
+    no running median judges), that neither Coulomb + viscous nor (from 5 points) its Stribeck
+    law, fitted to the others, nor the line through its two neighbours in speed (``between``:
+    a curve bending beyond the textbook laws, a drag, is no outlier) explains."""
     out = np.zeros(len(sweep), dtype=bool)
     for speed, magnitude, rows in curve_points(sweep, np.arange(len(sweep)), asymmetric=True):
         suspects = gross_outliers(speed, magnitude)
+        if speed.size >= 2 * MEDIAN_WINDOW:
+            suspects[np.argmax(speed)] = True
         kept = int((~suspects).sum())
         if suspects.any() and kept >= MIN_POINTS[False]:
             laws = [fit_law(speed[~suspects], magnitude[~suspects], stribeck=s)
                     for s in (False, True) if kept >= MIN_POINTS[s]]
-            out[rows] = unexplained(magnitude, suspects, [law.magnitude(speed) for law in laws])
+            out[rows] = unexplained(magnitude, suspects, [law.magnitude(speed) for law in laws]
+                                    + [between(speed, magnitude)])
     return out
+
+
+def between(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Each point's value on the line through its two neighbours in x (the two nearest at an
+    end), the point itself left out."""
+    order = np.argsort(x, kind="stable")
+    xs, ys = x[order], y[order]
+    left = np.clip(np.arange(xs.size) - 1, 0, None)
+    right = np.clip(np.arange(xs.size) + 1, None, xs.size - 1)
+    left[0], right[0] = 1, min(2, xs.size - 1)
+    left[-1], right[-1] = max(xs.size - 3, 0), xs.size - 2
+    span = xs[right] - xs[left]
+    slope = np.divide(ys[right] - ys[left], span, out=np.zeros_like(span), where=span != 0)
+    out = np.empty_like(ys)
+    out[order] = ys[left] + slope * (xs - xs[left])
+    return out
+
+
+def runs_z(residual: np.ndarray) -> float:
+    """The Wald-Wolfowitz statistic of the residuals' signs in their order: (R - E[R]) / sd(R)
+    for R runs; strongly negative where the signs come in long runs (a curve the law misses)."""
+    signs = np.sign(residual)[residual != 0] > 0
+    n1, n = int(signs.sum()), signs.size
+    n2 = n - n1
+    if n1 == 0 or n2 == 0:
+        return -np.inf if n >= STRUCTURE_POINTS else 0.0
+    runs = 1 + int(np.count_nonzero(signs[1:] != signs[:-1]))
+    mean = 2.0 * n1 * n2 / n + 1.0
+    variance = 2.0 * n1 * n2 * (2.0 * n1 * n2 - n) / (n * n * (n - 1.0))
+    return (runs - mean) / np.sqrt(variance) if variance > 0 else 0.0
+
+
+def shows_structure(sweep: Sweep, weight: Optional[np.ndarray] = None) -> bool:
+    """Whether the richest textbook law the points allow (per direction where the sweep has
+    both) leaves residuals with structure along the speed: fewer sign runs than chance by
+    STRUCTURE_Z standard deviations (``runs_z``) on a curve of at least STRUCTURE_POINTS points.
+    Where it does not, no richer curve has anything to find."""
+    weight = np.ones(len(sweep)) if weight is None else weight
+    two_way = bool(np.any(sweep.v > 0) and np.any(sweep.v < 0))
+    for speed, magnitude, w in curve_points(sweep, weight, asymmetric=two_way):
+        if speed.size < STRUCTURE_POINTS:
+            continue
+        order = np.argsort(speed, kind="stable")
+        law = fit_law(speed, magnitude, w, stribeck=speed.size >= MIN_POINTS[True])
+        if runs_z((magnitude - law.magnitude(speed))[order]) < -STRUCTURE_Z:
+            return True
+    return False
 
 
 def folds_for(n: int, seed, blocks: int) -> np.ndarray:
@@ -221,7 +278,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     candidates: List[tuple] = []
     left_out = [rich_reason] if rich is None and rich_reason else []
     if outliers.any():
-        left_out.append(f"{int(outliers.sum())} points: gross outliers (off a running median and "
+        n = int(outliers.sum())
+        left_out.append(f"{n} point{'s' * (n > 1)}: gross outliers (off a running median and "
                         "off the textbook laws fitted without them)")
     one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
     if one_way and asymmetric is not False:
@@ -261,8 +319,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     scored = candidates
     if candidates[-1][0].startswith("multi-source") and len(candidates) > 1 and \
             np.sqrt(candidates[-1][1].mean()) > (1 - RICH_MARGIN) * np.sqrt(textbook_best):
-        left_out.append(f"{candidates[-1][0]}: held-out RMS {np.sqrt(candidates[-1][1].mean()):.4g} "
-                        f"N, not {RICH_MARGIN:.0%} below the best textbook law's")
+        left_out.append(f"{candidates[-1][0]}: its held-out RMS is not {RICH_MARGIN:.0%} below "
+                        "the best textbook law's")
         candidates = candidates[:-1]
     chosen = _choose([m for _, m, _ in candidates],
                      [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])

@@ -38,9 +38,8 @@ VS_FASTEST = 1.0 / 3.0
 #: Parameters of a curve without and with the Stribeck term.
 PARAMETERS = {False: 2, True: 4}
 #: Fewest points per curve for the law to be a candidate: one more than its parameters, so
-#: that a point is left to judge it (a Stribeck term from 6: its velocity needs points on both
-#: sides of it).
-MIN_POINTS = {False: 3, True: 6}
+#: that a point is left to judge it.
+MIN_POINTS = {False: 3, True: 5}
 
 
 @dataclass(frozen=True)

@@ -82,7 +82,7 @@ class FitReport:
         """The report ``fricgen train`` prints: data, symmetry, each curve's model and errors."""
         ident, fitted = self.identification, self.fit
         units = units_of(self.training.get("units") == "rotary")
-        reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric)]
+        reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric, units)]
         if self.law is not None:
             reports.append(self.law.line(units.force))
         if fitted.chosen_by != "textbook":

@@ -17,7 +17,7 @@ from ..data.sweep import Sweep, sweep_from_columns
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import LawChoice, choose_law, point_weights
+from ..fit.law_choice import LawChoice, choose_law, point_weights, shows_structure
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, stribeck_warning
@@ -112,11 +112,17 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
     identification (its offset made a load where the multi-source curves would push the
     axis) and the choice."""
     rich, reason = None, ""
-    try:
-        rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
-                                               asymmetric=asymmetric, seed=seed, progress=progress)
-    except DataError as exc:
-        reason = f"multi-source fit: {exc}"
+    weight = point_weights(sweep, *spread)
+    if ident is None and not shows_structure(sweep, weight):
+        reason = ("multi-source fit: not tried, the textbook law's residuals run along the speed "
+                  "as chance does (no curve left for it to find)")
+    else:
+        try:
+            rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
+                                                   asymmetric=asymmetric, seed=seed,
+                                                   progress=progress)
+        except DataError as exc:
+            reason = f"multi-source fit: {exc}"
     error = None if rich is None else _check_error(rich)
     # a curve that pushes the axis is no candidate; one whose negative B turns the force against
     # the motion stays one, for train's own check to refuse by name when it is kept
@@ -125,7 +131,7 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
     log = {} if ident is None else dict(independence=ident.independent / ident.n_kept,
                                         offset=ident.offset_in_friction,
                                         blocks=BLOCK_WINDOWS * ident.window)
-    choice = choose_law(sweep, point_weights(sweep, *spread), rich, reason, seed=seed,
+    choice = choose_law(sweep, weight, rich, reason, seed=seed,
                         asymmetric=asymmetric, **log)
     if choice.fit.chosen_by == "textbook" and choice.fit.asymmetric and ident is not None \
             and ident.offset_in_friction:
