@@ -6,7 +6,8 @@ from .._io import check_folder
 from .._validate import PHYSICAL
 from ..c_names import check_model_name
 from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite,
-                       package_files, remove_stale, render)
+                       package_files, render)
+from ..codegen.package import remove_stale
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..control.c_adapted import render_adapt
 from ..effects import offset_left_out
