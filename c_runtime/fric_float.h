@@ -10,8 +10,13 @@
  *   translation unit. GCC ignores `#pragma STDC FP_CONTRACT` but honours
  *   `#pragma GCC optimize ("fp-contract=off")` for the functions defined after it (GCC 12,
  *   -std=gnu99 -O2 -mfma: 17 vfmadd in fric_fast.o without it, 0 with it, same code size).
- * Other flags that relax IEEE arithmetic one by one (-fassociative-math, -freciprocal-math)
- * define no macro and cannot be detected here: do not build the runtime with them.
+ * - GCC's -funsafe-math-optimizations, -freciprocal-math and an effective -fassociative-math
+ *   (which define __ASSOCIATIVE_MATH__ or __RECIPROCAL_MATH__) are refused: they reorder the
+ *   sums and divisions the twin rounds as written (fm_force(-0.029) came out 28 % off).
+ * - Clang defines no macro for these flags; its file-scope pragmas below turn reassociation,
+ *   reciprocal division and contraction off for the rest of the translation unit, whatever
+ *   the command line says (clang's -ffp-contract=fast ignores the pragma: the emitted
+ *   CMakeLists.txt adds -ffp-contract=off after the user's flags).
  * Include it from .c files only: the pragma applies to the rest of the including translation
  * unit (the public headers NAME.h and fric_ctrl.h do not include it).
  * SPDX-License-Identifier: MIT
@@ -22,7 +27,14 @@
 #if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && (__FINITE_MATH_ONLY__ > 0))
 #error "fricgen runtime: -ffast-math / -ffinite-math-only change its results; build it without them"
 #endif
-#if defined(__GNUC__) && !defined(__clang__)
+#if defined(__ASSOCIATIVE_MATH__) || defined(__RECIPROCAL_MATH__)
+#error "fricgen runtime: -funsafe-math-optimizations / -fassociative-math / -freciprocal-math change its results; build it without them"
+#endif
+#if defined(__clang__)
+#pragma float_control(precise, on)
+#pragma clang fp reassociate(off)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
 #pragma GCC optimize ("fp-contract=off")
 #else
 #pragma STDC FP_CONTRACT OFF
