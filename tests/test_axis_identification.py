@@ -11,6 +11,7 @@ from fricgen.data.inverse_dynamics import identify_friction
 from fricgen.data.table import table_csv_text
 from fricgen.errors import DataError
 from fricgen.fit.directions import row_folds
+from fricgen.fit.textbook import PARAMETERS
 from fricgen.friction import preset
 from fricgen.model import FrictionModel
 from fricgen.sim.identification import SweepRun, simulate_sweep_run
@@ -219,7 +220,7 @@ def _parameters(training: dict) -> int:
         n = training["n_hidden"]
         return 2 * n + 2 if training["choice"] == "stribeck" else 2 * n + 1
     curves = 2 if training["law"]["chosen"].endswith("per direction") else 1
-    return curves * (4 if "Stribeck" in training["law"]["chosen"] else 2)
+    return curves * PARAMETERS["Stribeck" in training["law"]["chosen"]]
 
 
 def test_a_short_run_up_of_an_independent_simulator_trains_within_its_budget(tmp_path, capsys):

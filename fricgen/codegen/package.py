@@ -56,11 +56,10 @@ def remove_stale(folder: Union[str, Path], name: str, files: Dict[str, str]) -> 
     return [path.name for path in stale]
 
 
-def _folder_texts(folder: Path, files: Dict[str, str], name: str) -> Dict[str, str]:
-    """The C files of the folder once ``files`` are written: those fricgen wrote before (but
-    the model ``name``'s ``stale_files``), then ``files``, by name."""
+def _folder_texts(folder: Path, files: Dict[str, str], stale: List[Path]) -> Dict[str, str]:
+    """The C files of the folder once ``files`` are written and ``stale`` removed: those fricgen
+    wrote before, then ``files``, by name."""
     texts = {}
-    stale = set(stale_files(folder, name, files))
     if folder.is_dir():
         for path in sorted(folder.glob("*.[ch]")):
             if path.is_file() and written_by_fricgen(path) and path not in stale:
@@ -101,9 +100,9 @@ def package_files(folder: Union[str, Path], files: Dict[str, str], name: str) ->
     (['CMakeLists.txt', 'Kconfig', 'library.json', 'zephyr/module.yml'], True)
     """
     folder = Path(folder)
-    texts = _folder_texts(folder, files, name)
-    stale = {path.stem for path in stale_files(folder, name, files)}
-    names = (set(generated_models(folder)) - stale) | {name}
+    stale = stale_files(folder, name, files)
+    texts = _folder_texts(folder, files, stale)
+    names = (set(generated_models(folder)) - {path.stem for path in stale}) | {name}
     models = sorted(m for m in names if not (m.endswith("_adapt") and m[:-len("_adapt")] in names))
     lib = library_name(folder)
     ctx = {"lib": lib, "LIB": lib.upper(), "kconfig": f"FRICGEN_{lib.upper()}",

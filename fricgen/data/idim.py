@@ -49,8 +49,9 @@ class RigidBody:
     mass_se: Optional[float]
     offset: float
     offset_se: float
-    #: the least-squares estimate where it fell below 0 (``mass`` is then 0): a residual
-    #: inertia of a force whose inertia model was removed before, overestimated
+    #: the least-squares estimate where it fell clearly below 0 (beyond MASS_SIGMAS standard
+    #: errors; ``mass`` is then 0): a residual inertia of a force whose inertia model was
+    #: removed before, overestimated
     mass_estimate: Optional[float] = None
 
     @property
@@ -100,5 +101,6 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
     offset = offset_se = None
     if np.any(v > 0) and np.any(v < 0):
         offset, offset_se = identify_offset(a, v, force, mass, independent)
+    clearly_negative = estimate is not None and -estimate > MASS_SIGMAS * mass_se
     return RigidBody(float(mass), mass_se, offset, offset_se,
-                     estimate if estimate is not None and estimate < 0 else None)
+                     estimate if clearly_negative else None)

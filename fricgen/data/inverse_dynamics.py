@@ -23,7 +23,7 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import MASS_SIGMAS, RigidBody, identify_mass, identify_rigid_body
+from .idim import RigidBody, identify_mass, identify_rigid_body
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -192,7 +192,7 @@ class Identification:
         b = self.body
         mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} {units.mass} identified by inverse dynamics"
                 if b.mass_identified else f"{b.mass:.5g} {units.mass} as given")
-        if b.mass_estimate is not None and -b.mass_estimate > MASS_SIGMAS * b.mass_se:
+        if b.mass_estimate is not None:
             mass = (f"0 {units.mass}: the log's accelerations give {b.mass_estimate:.3g} +- "
                     f"{b.mass_se:.2g} {units.mass}, below zero while the friction opposes the "
                     "motion: a residual inertia (was a rigid-body model removed from the force "

@@ -278,8 +278,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     candidates: List[tuple] = []
     left_out = [rich_reason] if rich is None and rich_reason else []
     if outliers.any():
-        n = int(outliers.sum())
-        left_out.append(f"{n} point{'s' * (n > 1)}: gross outliers (off a running median and "
+        count = int(outliers.sum())
+        left_out.append(f"{count} point{'s' * (count > 1)}: gross outliers (off a running median and "
                         "off the textbook laws fitted without them)")
     one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
     if one_way and asymmetric is not False:

@@ -39,7 +39,7 @@ VS_FASTEST = 1.0 / 3.0
 PARAMETERS = {False: 2, True: 4}
 #: Fewest points per curve for the law to be a candidate: one more than its parameters, so
 #: that a point is left to judge it.
-MIN_POINTS = {False: 3, True: 5}
+MIN_POINTS = {stribeck: n + 1 for stribeck, n in PARAMETERS.items()}
 
 
 @dataclass(frozen=True)
