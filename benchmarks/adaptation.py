@@ -61,8 +61,8 @@ class DriftEffect:
     """The drift as a sliding-friction effect of the plant (``sim.effect_law``): it reads the
     time of the simulation's signals."""
 
-    acts_at_rest = via_dynamics = False
-    mass_delta = force_constant_delta = lag_tau = 0.0
+    acts_at_rest = via_dynamics = via_timing = via_current = False
+    mass_delta = force_constant_delta = lag_tau = input_delay = 0.0
     name = "drift"
 
     def __init__(self, drift: Drift, friction):

@@ -14,7 +14,7 @@ static int fric_adapt_params_ok(const fric_adapt_params_t *p)
 {
     unsigned int k;
     const float scalars[] = {p->forgetting, p->p0, p->trace_max, p->gain, p->leak, p->v_dead,
-                             p->e_dead};
+                             p->e_dead, p->e_max, p->band, p->v_max};
     if ((p->n < 1u) || (p->n > FRIC_ADAPT_MAX_PARAMS)) {
         return 0;
     }
@@ -35,7 +35,8 @@ static int fric_adapt_params_ok(const fric_adapt_params_t *p)
     }
     return (p->forgetting > 0.0f) && (p->forgetting <= 1.0f) && (p->p0 > 0.0f)
            && (p->trace_max >= (p->p0 * (float)p->n)) && (p->gain >= 0.0f) && (p->leak >= 0.0f)
-           && (p->leak < 1.0f) && (p->v_dead >= 0.0f) && (p->e_dead >= 0.0f);
+           && (p->leak < 1.0f) && (p->v_dead >= 0.0f) && (p->e_dead >= 0.0f) && (p->e_max > 0.0f)
+           && (p->band > 0.0f) && (p->v_max > 0.0f);
 }
 
 static void fric_adapt_reset_covariance(fric_adapt_t *a)
@@ -96,10 +97,25 @@ static float fric_adapt_predict(const fric_adapt_t *a, fric_adapt_regressor_fn r
 float fric_adapt_force(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v)
 {
     float phi[FRIC_ADAPT_MAX_PARAMS];
+    float trained;
+    float delta = 0.0f;
+    unsigned int k;
     if ((a == NULL) || (reg == NULL) || !isfinite(v)) {
         return 0.0f;
     }
-    return fric_adapt_predict(a, reg, v, phi);
+    trained = reg(v, phi);
+    for (k = 0; k < a->p.n; ++k) {
+        trained += a->p.theta0[k] * phi[k];
+        delta += (a->theta[k] - a->p.theta0[k]) * phi[k];
+    }
+    if (delta > a->p.band) {
+        delta = a->p.band;
+    } else if (delta < -a->p.band) {
+        delta = -a->p.band;
+    } else {
+        /* within the band */
+    }
+    return trained + delta;
 }
 
 static fric_adapt_flags_t fric_adapt_done(fric_adapt_t *a, fric_adapt_flags_t flags)
@@ -131,8 +147,22 @@ static fric_adapt_flags_t fric_adapt_finish(fric_adapt_t *a, const float *update
     return fric_adapt_done(a, out);
 }
 
+/* e clamped to +-e_max; FRIC_ADAPT_CLAMPED added to *flags when it was */
+static float fric_adapt_clamp(const fric_adapt_t *a, float e, fric_adapt_flags_t *flags)
+{
+    if (e > a->p.e_max) {
+        *flags |= FRIC_ADAPT_CLAMPED;
+        return a->p.e_max;
+    }
+    if (e < -a->p.e_max) {
+        *flags |= FRIC_ADAPT_CLAMPED;
+        return -a->p.e_max;
+    }
+    return e;
+}
+
 /* Whether an update stops at its inputs (fricgen.control.adaptation's _gate): v or the rule's
- * input x not finite, or hold; then *flags holds the finished update's flags. */
+ * input x not finite, hold, or |v| > v_max; then *flags holds the finished update's flags. */
 static int fric_adapt_stops(fric_adapt_t *a, float v, float x, int hold, fric_adapt_flags_t *flags)
 {
     if (!isfinite(v) || !isfinite(x)) {
@@ -141,6 +171,10 @@ static int fric_adapt_stops(fric_adapt_t *a, float v, float x, int hold, fric_ad
     }
     if (hold != 0) {
         *flags = fric_adapt_done(a, FRIC_ADAPT_HELD);
+        return 1;
+    }
+    if (fabsf(v) > a->p.v_max) {
+        *flags = fric_adapt_done(a, FRIC_ADAPT_OUT_OF_RANGE);
         return 1;
     }
     return 0;
@@ -154,6 +188,7 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
     float g[FRIC_ADAPT_MAX_PARAMS];
     float updated[FRIC_ADAPT_MAX_PARAMS];
     float err;
+    float step;
     float denom;
     float trace;
     float lam;
@@ -175,6 +210,7 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
     if (!((fabsf(v) >= a->p.v_dead) && (fabsf(err) >= a->p.e_dead))) {
         return fric_adapt_done(a, FRIC_ADAPT_DEAD_ZONE);
     }
+    step = fric_adapt_clamp(a, err, &flags);
     for (i = 0; i < n; ++i) {                    /* P phi, each row in k order */
         float acc = 0.0f;
         for (k = 0; k < n; ++k) {
@@ -188,11 +224,11 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
     }
     if (!isfinite(denom) || !(denom > 0.0f)) {   /* P lost definiteness: start it again */
         fric_adapt_reset_covariance(a);
-        return fric_adapt_done(a, FRIC_ADAPT_INPUT_FAULT);
+        return fric_adapt_done(a, FRIC_ADAPT_COVARIANCE_RESET);
     }
     for (i = 0; i < n; ++i) {
         g[i] = p_phi[i] / denom;
-        updated[i] = a->theta[i] + (g[i] * err);
+        updated[i] = a->theta[i] + (g[i] * step);
     }
     for (i = 0; i < n; ++i) {
         for (k = 0; k < n; ++k) {
@@ -218,6 +254,7 @@ fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn 
 {
     float phi[FRIC_ADAPT_MAX_PARAMS];
     float updated[FRIC_ADAPT_MAX_PARAMS];
+    float step;
     unsigned int k;
     fric_adapt_flags_t flags = FRIC_ADAPT_OK;
 
@@ -231,11 +268,12 @@ fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn 
     if (!((fabsf(v) >= a->p.v_dead) && (fabsf(e2) >= a->p.e_dead))) {
         return fric_adapt_done(a, FRIC_ADAPT_DEAD_ZONE);
     }
+    step = fric_adapt_clamp(a, e2, &flags);
     (void)reg(v, phi);
     for (k = 0; k < a->p.n; ++k) {
-        updated[k] = a->theta[k] + (((a->p.gain * a->scale2[k]) * e2) * phi[k]);
+        updated[k] = a->theta[k] + (((a->p.gain * a->scale2[k]) * step) * phi[k]);
     }
-    return fric_adapt_finish(a, updated, FRIC_ADAPT_OK);
+    return fric_adapt_finish(a, updated, flags);
 }
 
 fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_adapt_regressor_fn reg,
@@ -250,12 +288,6 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     if ((a == NULL) || (c == NULL) || (reg == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
     }
-    if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
-        const float accel = (v - a->v_prev) / c->p.ts;
-        const float observed = c->p.phi_n * (a->i_prev - (c->m_o_hat * accel));
-        const float v_mid = 0.5f * (v + a->v_prev);
-        (void)fric_adapt_rls(a, reg, v_mid, observed, a->held);
-    }
     u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD) ? (xd_dot + (c->p.k1 * (xd - x))) : v;
     force = fric_adapt_force(a, reg, u);
     flags = fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
@@ -264,7 +296,12 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     } else {
         held = 0;
     }
-    if (a->p.rule == FRIC_ADAPT_RULE_LYAPUNOV) {
+    if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
+        const float accel = (v - a->v_prev) / c->p.ts;
+        const float observed = c->p.phi_n * (a->i_prev - (c->m_o_hat * accel));
+        const float v_mid = 0.5f * (v + a->v_prev);
+        (void)fric_adapt_rls(a, reg, v_mid, observed, ((a->held != 0) || (held != 0)) ? 1 : 0);
+    } else {
         (void)fric_adapt_lyapunov(a, reg, v, c->e2, held);
     }
     a->v_prev = v;

@@ -11,10 +11,15 @@
  *       y = phi_n (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2;
  *   Lyapunov ([C14] extended to theta): theta += gain scale^2 e2 phi(v).
  * Safety, in this order: a non-finite input changes nothing (FRIC_ADAPT_INPUT_FAULT); hold != 0
- * (the controller saturated or faulted) changes nothing (FRIC_ADAPT_HELD); no update for
- * |v| < v_dead or |error| < e_dead (FRIC_ADAPT_DEAD_ZONE); RLS: sum_k P_kk / scale_k^2 is held
- * at most trace_max (FRIC_ADAPT_TRACE_CLAMPED); leakage theta -= leak (theta - theta0); each
- * theta_k projected onto [lo_k, hi_k] (FRIC_ADAPT_PROJECTED; a NaN update keeps theta_k).
+ * (the controller saturated or faulted) changes nothing (FRIC_ADAPT_HELD); |v| > v_max changes
+ * nothing (FRIC_ADAPT_OUT_OF_RANGE: the viscous feature v is unbounded); no update for
+ * |v| < v_dead or |error| < e_dead (FRIC_ADAPT_DEAD_ZONE); the error clamped to +-e_max
+ * (FRIC_ADAPT_CLAMPED: one update moves theta a bounded step, whatever finite input it gets);
+ * RLS: sum_k P_kk / scale_k^2 is held at most trace_max (FRIC_ADAPT_TRACE_CLAMPED); leakage
+ * theta -= leak (theta - theta0); each theta_k projected onto [lo_k, hi_k] (FRIC_ADAPT_PROJECTED;
+ * a NaN update keeps theta_k). The force applied, fric_adapt_force, is the trained model's plus
+ * the adapted correction sum_k (theta_k - theta0_k) phi_k saturated at +-band (N): within the
+ * band around the trained model at every velocity, whatever the parameters.
  *
  * Usage, every ts (after fric_ctrl_init(&c, ...) and NAME_adapt_default_params(&p),
  * fric_adapt_init(&a, &p)):
@@ -32,7 +37,7 @@
 extern "C" {
 #endif
 
-#define FRIC_ADAPT_VERSION 1
+#define FRIC_ADAPT_VERSION 2
 /* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
 #define FRIC_ADAPT_MAX_PARAMS 16u
 
@@ -51,11 +56,14 @@ typedef enum {
 typedef unsigned int fric_adapt_flags_t;
 #define FRIC_ADAPT_OK 0u
 #define FRIC_ADAPT_FAULT_NULL 1u      /* a NULL pointer: nothing written */
-#define FRIC_ADAPT_INPUT_FAULT 2u     /* an input not finite (or P lost definiteness: P reset) */
+#define FRIC_ADAPT_INPUT_FAULT 2u     /* an input not finite: no update */
 #define FRIC_ADAPT_HELD 4u            /* hold was set: no update */
 #define FRIC_ADAPT_DEAD_ZONE 8u       /* |v| < v_dead or |error| < e_dead: no update */
 #define FRIC_ADAPT_PROJECTED 16u      /* a parameter was held at an end of its interval */
 #define FRIC_ADAPT_TRACE_CLAMPED 32u  /* P was scaled down to the trace bound */
+#define FRIC_ADAPT_CLAMPED 64u        /* the error was clamped to +-e_max */
+#define FRIC_ADAPT_COVARIANCE_RESET 128u  /* RLS: P lost definiteness and was reset */
+#define FRIC_ADAPT_OUT_OF_RANGE 256u  /* |v| > v_max: no update */
 
 /* The regressor: writes phi[0 .. n-1] at the finite velocity v (m/s), returns f0(v) (N). */
 typedef float (*fric_adapt_regressor_fn)(float v, float *phi);
@@ -74,6 +82,9 @@ typedef struct {
     float leak;                              /* in [0, 1) */
     float v_dead;                            /* m/s, >= 0 */
     float e_dead;                            /* N (RLS) or m/s (Lyapunov), >= 0 */
+    float e_max;                             /* the error's clamp, same unit, > 0 */
+    float band;                              /* N, > 0: |F - F_trained| <= band */
+    float v_max;                             /* m/s, > 0: no update beyond */
 } fric_adapt_params_t;
 
 typedef struct {
@@ -95,7 +106,8 @@ fric_adapt_status_t fric_adapt_init(fric_adapt_t *a, const fric_adapt_params_t *
  * first controller step). A NULL a is ignored. */
 void fric_adapt_reset(fric_adapt_t *a);
 
-/* The adapted force F(v), N; 0 at a non-finite v or for a NULL argument. */
+/* The adapted force F(v), N: f0 + sum_k theta0_k phi_k + sat_band(sum_k (theta_k - theta0_k)
+ * phi_k), k ascending; 0 at a non-finite v or for a NULL argument. */
 float fric_adapt_force(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v);
 
 /* One RLS update on the friction force (N) observed at velocity v (m/s). */
@@ -106,9 +118,10 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
 fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
                                        float e2, int hold);
 
-/* One sample of the controller c compensating with the adapted model: RLS update on the last
- * sample (held if it saturated or faulted), F at v or v_d (c->p.friction_at), fric_ctrl_step,
- * then the Lyapunov update with its e2 (held unless it was fault-free and unsaturated).
+/* One sample of the controller c compensating with the adapted model: F at v or v_d
+ * (c->p.friction_at), fric_ctrl_step, then the RLS update on the friction observed over the
+ * last sample (held unless this step and the last were fault-free and unsaturated) or the
+ * Lyapunov update with its e2 (held unless this step was fault-free and unsaturated).
  * Returns fric_ctrl_step's flags (a->flags holds the update's). */
 fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_adapt_regressor_fn reg,
                                        float x, float v, float xd, float xd_dot, float xd_ddot,

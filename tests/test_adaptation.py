@@ -3,7 +3,8 @@ the regressor reproduces the model, and each safety mechanism is provoked once."
 import numpy as np
 import pytest
 
-from fricgen.control.adaptation import FLAGS, MAX_PARAMS, FrictionAdapter, adapted
+from fricgen.control.adaptation import (FLAGS, LEAK_TIME, MAX_PARAMS, RATE_TIME, FrictionAdapter,
+                                        adapted, parameter_scale)
 from fricgen.control.regressor import Regressor, parameter_names, trained_parameters, with_parameters
 from fricgen.errors import ModelError
 from fricgen.fit import StribeckRegressor
@@ -55,7 +56,7 @@ def _adapter(model, **kw):
 
 
 def test_rls_learns_a_scaled_friction(model):
-    a = _adapter(model)
+    a = _adapter(model, rule="rls")
     rng = np.random.default_rng(0)
     for v in rng.uniform(-0.2, 0.2, 4000):
         a.rls(v, 1.2 * model.force(v))
@@ -67,7 +68,7 @@ def test_rls_learns_a_scaled_friction(model):
 
 
 def test_projection_keeps_parameters_in_the_box(model):
-    a = _adapter(model, box=0.2)
+    a = _adapter(model, box=0.2, e_max=1e6)
     lo, hi = a.bounds()
     flags = [a.rls(v, 1e4 * np.sign(v)) for v in np.tile([0.02, -0.1, 0.15], 50)]
     assert any(f & FLAGS.value("projected") for f in flags)
@@ -137,7 +138,8 @@ def test_reset_returns_to_the_trained_values(model):
 
 @pytest.mark.parametrize("name, value", [("rule", "x"), ("forgetting", 0.0), ("forgetting", 1.5),
                                          ("p0", -1.0), ("leak", 1.0), ("v_dead", -1.0),
-                                         ("trace_max", 1e-9), ("box", 0.0)])
+                                         ("trace_max", 1e-9), ("box", 0.0),
+                                             ("band", 0.0), ("e_max", -1.0)])
 def test_bad_settings_name_the_parameter(default_model, name, value):
     with pytest.raises(ValueError, match=name):
         FrictionAdapter(default_model, **{name: value}).validate()
@@ -153,3 +155,67 @@ def test_the_fit_report_states_what_an_update_costs_and_where_adaptation_stops()
     line = adapt_cost(10)
     assert f"about {adapt_instructions(10):.0f} instructions per update" in line and "RLS" in line
     assert f"--max-neurons {MAX_PARAMS - 1}" in adapt_cost(MAX_PARAMS) and "about" not in adapt_cost(MAX_PARAMS)
+
+
+def _expected_update(a, rule, v, e):
+    """theta after one update from theta0, from the module doc's laws computed directly: the
+    error clamped to +-e_max, then the leakage toward theta0."""
+    f0, phi = Regressor(a.model)(v)
+    scale2 = parameter_scale(a.model) ** 2
+    step = float(np.clip(e, -a.input_limit(), a.input_limit()))
+    theta0 = trained_parameters(a.model)
+    if rule == "lyapunov":
+        updated = theta0 + a.gain() * scale2 * step * phi
+    else:
+        P = a.p0 * np.diag(scale2)
+        updated = theta0 + P @ phi / (a.forgetting + phi @ P @ phi) * step
+    return updated - a.leakage() * (updated - theta0)
+
+
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+@pytest.mark.parametrize("size", ["small", "outlier"])
+def test_one_update_is_the_law_with_its_clamp_and_leakage(model, rule, size):
+    a = _adapter(model, rule=rule, leak=0.01)
+    v = 0.03
+    e = (0.3 if size == "small" else 1e20) * a.input_limit()
+    if rule == "lyapunov":
+        flags = a.lyapunov(v, e)
+    else:
+        flags = a.rls(v, float(model.force(v)) + e)
+    np.testing.assert_allclose(a.theta_, _expected_update(a, rule, v, e), rtol=1e-9, atol=1e-12)
+    assert bool(flags & FLAGS.value("clamped")) == (size == "outlier")
+
+
+def test_defaults_leak_for_lyapunov_and_clamp_one_step_to_the_rate(model):
+    """Lyapunov's default leakage is Ts / LEAK_TIME and its e_max moves the force by at most
+    band Ts / RATE_TIME per update, however large e2; RLS leaks nothing by default."""
+    a = _adapter(model)
+    assert a.leakage() == pytest.approx(a.ts / LEAK_TIME) and _adapter(model, rule="rls").leakage() == 0
+    a.lyapunov(0.03, 1e20)
+    v = np.linspace(-2 * model.v_sat, 2 * model.v_sat, 401)
+    moved = np.abs([a.force(u) - model.force(u) for u in v])
+    assert 0 < moved.max() <= a.force_band() * a.ts / RATE_TIME * (1 + 1e-9)
+
+
+def test_the_adapted_force_stays_in_its_band_whatever_the_parameters(model):
+    a = _adapter(model, band=2.0)
+    v = np.linspace(-3 * model.v_sat, 3 * model.v_sat, 601)
+    reg = Regressor(model)
+    for corner in (a._hi, a._lo, np.where(np.arange(a._hi.size) % 2, a._hi, a._lo)):
+        a.theta_ = corner.copy()
+        unsaturated = np.array([phi @ (corner - a._theta0) for _, phi in map(reg, v)])
+        assert np.max(np.abs(unsaturated)) > 2.0                 # the box alone lets it out
+        gap = np.abs([a.force(u) - model.force(u) for u in v])
+        assert gap.max() <= 2.0 + 1e-9
+
+
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_a_speed_beyond_v_max_changes_nothing(model, rule):
+    """The viscous feature is v itself: one glitch of v = 1e20 would move B to its box."""
+    a = _adapter(model, rule=rule)
+    update = getattr(a, rule)
+    assert a.speed_limit() == pytest.approx(10 * model.v_sat)
+    assert update(1e20, 1e-3) == FLAGS.value("out of range")
+    assert update(-1.01 * a.speed_limit(), 1e-3) == FLAGS.value("out of range")
+    np.testing.assert_array_equal(a.theta_, a._theta0)
+    assert update(0.99 * a.speed_limit(), 1e-2) & FLAGS.value("out of range") == 0

@@ -18,8 +18,9 @@ from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES, emit
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.codegen.render import render
-from fricgen.control.adaptation import MAX_PARAMS, adapted
-from fricgen.control.c_adapted import CAdaptedController, build_adapted, render_adapt
+from fricgen.control.adaptation import FLAGS, MAX_PARAMS, FrictionAdapter, adapted
+from fricgen.control.c_abi import FLAGS as CTRL_FLAGS
+from fricgen.control.c_adapted import CAdaptedController, build_adapted, c_params, render_adapt
 from fricgen.control.loop import default_axis, simulate
 from fricgen.errors import ModelError
 from fricgen.firmware import flag_matrix
@@ -158,3 +159,51 @@ def test_c_init_rejects_bad_parameters(default_model):
     q = ffi.new("fric_adapt_params_t *", p[0])
     q.lo[0] = q.theta0[0] + 1.0
     assert lib.fric_adapt_init(a, q) == -2
+
+
+def _c_adapter(module, twin):
+    """A fric_adapt_t initialised with the parameters of ``twin`` (a float32 FrictionAdapter)."""
+    a = module.ffi.new("fric_adapt_t *")
+    assert module.lib.fric_adapt_init(a, c_params(module, twin)) == 0
+    return a
+
+
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_c_clamps_an_outlier_and_keeps_the_force_in_its_band_as_the_twin(default_model, rule):
+    """A finite outlier (1e20) moves theta one clamped step, bit-equal to the twin; with theta at
+    a corner of its box the force stays within the band, bit-equal too."""
+    module = build_adapted(default_model)
+    lib, ffi = module.lib, module.ffi
+    reg = ffi.addressof(lib, "fm_regressor")
+    twin = FrictionAdapter(default_model, rule, dtype="float32", band=3.0).reset()
+    a = _c_adapter(module, twin)
+    update = lib.fric_adapt_lyapunov if rule == "lyapunov" else lib.fric_adapt_rls
+    assert update(a, reg, 1e20, 1.0, 0) == FLAGS.value("out of range") == getattr(twin, rule)(1e20, 1.0)
+    flags = update(a, reg, 0.03, 1e20, 0)
+    assert flags == getattr(twin, rule)(0.03, 1e20) and flags & FLAGS.value("clamped")
+    np.testing.assert_array_equal(np.float32(list(a.theta)[:a.p.n]), twin.theta_)
+    corner = np.where(np.arange(twin._hi.size) % 2, twin._hi, twin._lo)
+    a.theta[0:corner.size] = corner.tolist()
+    twin.theta_ = corner.copy()
+    v = np.float32(np.linspace(-0.2, 0.2, 81))
+    c_force = np.float32([lib.fric_adapt_force(a, reg, float(u)) for u in v])
+    np.testing.assert_array_equal(c_force, np.float32([twin.force(u) for u in v]))
+    assert np.max(np.abs(c_force - default_model.force(v))) <= 3.0 + 1e-3
+
+
+def test_rls_is_held_when_this_step_saturates(default_model):
+    """A glitch of v (+0.5 m/s) that saturates the controller moves no parameter, in C and in
+    the twin (the update is gated on this step, not the last)."""
+    module = build_adapted(default_model)
+    twin = adapted(default_model, "rls", dtype="float32")
+    c = CAdaptedController(module, adapted(default_model, "rls", dtype="float32"))
+    for ctrl in (twin.reset(), c.reset()):
+        for k in range(200):
+            t = k * 1e-3
+            ctrl.step(0.01 * t, 0.01, 0.01 * t, 0.01, 0.0)
+        before = np.float32(ctrl.theta_ if ctrl is c else ctrl.adapter.theta_).copy()
+        ctrl.step(0.002, 0.5, 0.002, 0.01, 0.0)
+        flags = ctrl.flags_ if ctrl is c else ctrl.controller.flags_
+        assert flags & CTRL_FLAGS.value("saturated")
+        after = np.float32(ctrl.theta_ if ctrl is c else ctrl.adapter.theta_)
+        np.testing.assert_array_equal(after, before)

@@ -351,3 +351,23 @@ def test_the_choice_keeps_its_digits_when_small():
     assert est.why().endswith("error 2.5e-07 against 3.1e-07 for elm_auto")
     est.cv_rmse_, est.elm_gain_sigmas_ = {"stribeck": 3.1e-7, "elm_auto": 2.5e-7}, 0.5
     assert "(elm_auto's gain 0.5 standard errors, within 1: the grey-box kept)" in est.why()
+
+
+def test_train_reads_a_semicolon_decimal_comma_export_with_a_preamble_to_the_same_model(tmp_path, bench):
+    """One log written as a plain CSV, and as a drive writes it (';', decimal comma, preamble),
+    trains to the same model hash; the dialect forced by the options gives it too."""
+    from fricgen.data.sweep import sweep_csv_text
+    from fricgen.model import FrictionModel
+    text = sweep_csv_text(bench.train)
+    export = ("Scope export\nAxis;X1\n\n"
+              + "\n".join(line.replace(",", ";").replace(".", ",") for line in text.splitlines()) + "\n")
+    hashes = []
+    for name, body, options in (("plain.csv", text, []), ("drive.csv", export, []),
+                                ("forced.csv", export, ["--skip", "3", "--delimiter", ";",
+                                                        "--decimal-comma"])):
+        (tmp_path / name).write_text(body)
+        out = tmp_path / (name + ".json")
+        assert main(["train", str(tmp_path / name), "--method", "stribeck", "-o", str(out),
+                     *options]) == 0
+        hashes.append(FrictionModel.load(out).model_hash)
+    assert hashes[0] == hashes[1] == hashes[2]

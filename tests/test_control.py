@@ -125,19 +125,31 @@ def test_controller_keeps_its_parameters_and_clone_changes_only_what_is_asked():
     assert gamma_matrix(2.0).tolist() == [[2.0, 0.0], [0.0, 2.0]]
 
 
-def test_one_step_implements_eqs_3_to_12():
-    c = AdaptiveBackstepping(compensation=lambda v: 10.0 + 0.0 * v, law="b", k1=2.0, k2=3.0,
-                             gamma=((1.0, 0.5), (0.5, 2.0)), delta=0.1, ts=0.01, phi_n=5.0,
-                             a0=(0.2, 0.9)).reset()
-    i = c.step(x=0.1, v=0.3, xd=0.2, xd_dot=0.5, xd_ddot=1.0)
+def one_step_expected(law):
+    """(current, A_hat after) of one step of ``ONE_STEP`` computed from [C3]-[C14] directly."""
     e1 = 0.1
     e2 = 0.5 + 2.0 * e1 - 0.3                                     # [C3], [C5]
     vd_dot = 1.0 + 2.0 * (-2.0 * e1 + e2)                          # [C7]
     xi = np.array([vd_dot, 10.0 / 5.0])                            # [C10]
     A = np.array([0.2, 0.9])
     G = np.array([[1.0, 0.5], [0.5, 2.0]])
-    assert i == pytest.approx(A @ xi + 3.0 * e2 + e1)             # [C11]
-    assert c.a_ == pytest.approx(A + 0.01 * (e2 * G @ xi - 0.1 * G @ A))   # law (b)
+    sigma = {"a": 0.0, "b": 0.1, "c": 0.1 * np.hypot(e1, e2)}[law]  # [C14] (a), (b), (c)
+    return A @ xi + 3.0 * e2 + e1, A + 0.01 * (e2 * G @ xi - sigma * G @ A)   # [C11], [C14]
+
+
+#: The settings and the inputs of one step with every term of [C3]-[C14] nonzero.
+ONE_STEP = (dict(k1=2.0, k2=3.0, gamma=((1.0, 0.5), (0.5, 2.0)), delta=0.1, ts=0.01, phi_n=5.0,
+                 a0=(0.2, 0.9)), dict(x=0.1, v=0.3, xd=0.2, xd_dot=0.5, xd_ddot=1.0))
+
+
+@pytest.mark.parametrize("law", ["a", "b", "c"])
+def test_one_step_implements_eqs_3_to_14(law):
+    settings, inputs = ONE_STEP
+    c = AdaptiveBackstepping(compensation=lambda v: 10.0 + 0.0 * v, law=law, **settings).reset()
+    i = c.step(**inputs)
+    current, A = one_step_expected(law)
+    assert i == pytest.approx(current, rel=1e-12)
+    assert c.a_ == pytest.approx(A, rel=1e-12)
 
 
 def test_current_is_limited_to_i_max():

@@ -29,6 +29,7 @@ from fricgen.errors import UsageError
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.c_controller import CController, build_controller, float32_twin
 from fricgen.control.loop import default_axis, simulate
+from test_control import ONE_STEP, one_step_expected
 
 CC = shutil.which("cc") or shutil.which("gcc")
 pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
@@ -103,6 +104,21 @@ def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, d
     c_m, py_m = c_run.metrics(), py_run.metrics()
     assert c_m["rms_e1"] == pytest.approx(py_m["rms_e1"], rel=1e-5)
     assert c_m["k_hat"] == pytest.approx(py_m["k_hat"], rel=1e-4)
+
+
+@pytest.mark.parametrize("law", ["a", "b", "c"])
+def test_one_c_step_implements_eqs_3_to_14(ctrl_module, law):
+    """fric_ctrl_step against [C3]-[C14] computed directly (tests/test_control.py), to float32
+    rounding: a one-token change of any coefficient of the laws moves a result far more."""
+    settings, inputs = ONE_STEP
+    c = CController(ctrl_module, AdaptiveBackstepping(compensation=lambda v: 10.0, law=law,
+                                                      **settings)).reset()
+    i = c.step(**inputs)
+    current, A = one_step_expected(law)
+    assert i == pytest.approx(current, rel=1e-6)
+    assert c.adaptive_parameters == pytest.approx(A, rel=1e-6)
+    # the three laws differ in A_hat by more than the tolerance: the test tells them apart
+    assert abs(one_step_expected("c")[1][1] - one_step_expected("b")[1][1]) > 1e-4 * abs(A[1])
 
 
 def test_c_step_with_the_force_as_argument_equals_the_function_pointer(ctrl_module, default_model):

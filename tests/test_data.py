@@ -240,3 +240,33 @@ def test_an_underflowed_dictionary_column_gets_no_weight_and_no_overflow():
         coef = _nonnegative_fit(A, f)
     assert coef[2] == 0.0 and np.allclose(coef[:2], [2.0, 3.0])
     np.testing.assert_array_equal(coef[:2], _nonnegative_fit(A[:, :2], f))
+
+
+PREAMBLE = "Oscilloscope export\nDevice;Drive 3\nSample time;0,5 ms\n\n"
+
+
+def _dialect(text, sep, decimal_comma, preamble):
+    """``text`` (a ','-separated CSV with '.' decimals) written as a drive's export."""
+    lines = [line.replace(".", ",") if decimal_comma else line for line in
+             (line.replace(",", sep) for line in text.splitlines())]
+    return (PREAMBLE if preamble else "") + "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("preamble", [False, True], ids=["header first", "preamble"])
+@pytest.mark.parametrize("sep, decimal_comma", [(",", False), (";", False), ("\t", False),
+                                                (";", True), ("\t", True), ("  ", False)],
+                         ids=["comma", "semicolon", "tab", "semicolon decimal comma",
+                              "tab decimal comma", "whitespace"])
+def test_a_drive_export_reads_as_the_plain_csv(tmp_path, bench, sep, decimal_comma, preamble):
+    text = _dialect(sweep_csv_text(bench.train), sep, decimal_comma, preamble)
+    back = read_sweep_csv(_csv(tmp_path, text))
+    assert np.array_equal(back.v, bench.train.v) and np.array_equal(back.f, bench.train.f)
+
+
+def test_a_header_that_does_not_split_names_the_delimiter(tmp_path, bench):
+    from fricgen.data.table import read_table_csv
+    path = _csv(tmp_path, _dialect(sweep_csv_text(bench.train), ";", True, False))
+    with pytest.raises(DataError, match=r"does not split at ','.*--delimiter"):
+        read_table_csv(path, ["v", "f"], delimiter=",")
+    forced = read_table_csv(path, ["v", "f"], delimiter=";", decimal_comma=True)
+    assert np.array_equal(forced["v"], bench.train.v)

@@ -7,6 +7,7 @@ from contextlib import contextmanager
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments,
                            parse_scales, read_export)
 from ..data.inverse_dynamics import is_log
+from ..data.table import DELIMITERS
 from ..data.plausibility import check_columns, check_merge_shift
 from ..errors import FricgenError, UsageError
 from ..model import FrictionModel
@@ -33,6 +34,11 @@ def add_export_options(p) -> None:
     export = p.add_argument_group("vendor exports")
     export.add_argument("--skip", type=number(0, 1e6, integer=True), default=0,
                         help="preamble lines before the header (default 0; not for a .mat file)")
+    export.add_argument("--delimiter", choices=list(DELIMITERS),
+                        help="the cells' delimiter (default: read off the header line)")
+    export.add_argument("--decimal-comma", action="store_true", default=None,
+                        help="numbers written with a decimal comma, 0,25 (default: detected "
+                        "where the cells are not ','-separated)")
     export.add_argument("--columns", action="append", default=[], metavar="NAME=COLUMN,...",
                         help="the file's column (a .mat file's variable) of each quantity (t, x, v, "
                         "f, force, i), e.g. 't=Time [s],v=Speed [rpm]'")
@@ -68,8 +74,10 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     and a second instrument's file merged on time (``min_rows(columns)``: the fewest common rows
     the merged data need); then checked for plausibility (``data.plausibility``)."""
     scales = parse_scales(args.scale)
-    columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns")),
-                          scales, drop_text)
+    dialect = dict(delimiter=DELIMITERS[args.delimiter] if args.delimiter else ",?",
+                   decimal_comma=args.decimal_comma)
+    columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns"),
+                                             **dialect), scales, drop_text)
     if args.merge is None:
         if args.merge_columns or args.merge_skip or args.merge_shift or args.merge_scale:
             raise UsageError("--merge-columns, --merge-skip, --merge-scale and --merge-shift need "
@@ -78,7 +86,7 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     else:
         merge_scales = parse_scales(args.merge_scale, "--merge-scale")
         second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
-            args.merge_columns, "--merge-columns")), {**scales, **merge_scales}, drop_text,
+            args.merge_columns, "--merge-columns"), **dialect), {**scales, **merge_scales}, drop_text,
             "--merge-columns")
         check_scaled({k: f for k, f in scales.items() if k not in merge_scales},
                      {path: columns, args.merge: second})

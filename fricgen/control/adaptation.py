@@ -23,14 +23,25 @@ per sample:
 Safety, for both rules, in this order each sample:
   1. a non-finite input (v, the observed force or e2) changes nothing (``input fault``);
   2. while the controller's current saturates (``hold``) nothing changes (no wind-up);
-  3. dead zone: no update for |v| < ``v_dead`` (friction at rest is not observable, the axis
+  3. out of range: no update at |v| > ``v_max`` (a speed beyond what the axis does is a
+     glitch; the viscous feature v is unbounded, so one such sample would move B far);
+  4. dead zone: no update for |v| < ``v_dead`` (friction at rest is not observable, the axis
      sticks) or a small error, |e| < ``e_dead`` (N, RLS) or |e2| < ``e_dead`` (m/s, Lyapunov);
-  4. RLS only: the covariance is bounded, trace(P) <= ``trace_max`` (P is scaled down when the
+  5. the rule's input is clamped to +-``e_max`` (``clamped``): whatever finite value a glitch
+     delivers, one update moves theta a bounded step. Default: the band (N) for RLS; for
+     Lyapunov the e2 at which one update moves the force by at most band Ts / ``RATE_TIME``;
+  6. RLS only: the covariance is bounded, trace(P) <= ``trace_max`` (P is scaled down when the
      forgetting would take it beyond: no wind-up of P with poor excitation); and no update at
      all in the dead zone, so P does not grow at rest;
-  5. leakage toward the trained values: theta -= ``leak`` (theta - theta0) every update;
-  6. projection onto the box [lo, hi] around theta0 (``box``: half-width relative to the
+  7. leakage toward the trained values: theta -= ``leak`` (theta - theta0) every update.
+     Default: Lyapunov Ts / ``LEAK_TIME`` (what a glitch left decays); RLS 0, its forgetting
+     lets later samples overwrite it (a leakage above 1 - lambda would outweigh the data);
+  8. projection onto the box [lo, hi] around theta0 (``box``: half-width relative to the
      parameters' scale); an update that is NaN keeps the old value.
+And the force the loop applies is bounded in what it means: the adapted correction
+sum_k (theta_k - theta0_k) phi_k(v) is saturated at +-``band`` (N), so the adapted force stays
+within the band around the trained model at every velocity, whatever the parameters (the rules
+learn on the unsaturated model, so that a correction beyond the band is not wound up by them).
 ``reset()`` returns to theta0 and P0 = p0 I.
 
 With projection onto a convex set containing theta*, the Lyapunov derivative of sec. 6 is not
@@ -68,7 +79,22 @@ FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
     ("FRIC_ADAPT_HELD", 4, "held"),
     ("FRIC_ADAPT_DEAD_ZONE", 8, "dead zone"),
     ("FRIC_ADAPT_PROJECTED", 16, "projected"),
-    ("FRIC_ADAPT_TRACE_CLAMPED", 32, "trace clamped"))))
+    ("FRIC_ADAPT_TRACE_CLAMPED", 32, "trace clamped"),
+    ("FRIC_ADAPT_CLAMPED", 64, "clamped"),
+    ("FRIC_ADAPT_COVARIANCE_RESET", 128, "covariance reset"),
+    ("FRIC_ADAPT_OUT_OF_RANGE", 256, "out of range"))))
+
+
+#: The default band, as a fraction of the trained model's peak |F| over |v| <= v_sat.
+BAND_FRACTION = 0.5
+#: The default leakage's time constant, s: leak = Ts / LEAK_TIME.
+LEAK_TIME = 10.0
+#: Lyapunov's default e_max lets one update move the force by at most band Ts / RATE_TIME.
+RATE_TIME = 10.0
+#: The default v_max, in multiples of the model's v_sat (declare the axis's top speed instead).
+V_MAX_FACTOR = 10.0
+#: The velocities, as fractions of v_max, at which the regressor's peaks are taken.
+_PEAK_GRID = np.linspace(0.0, 1.0, 4001)
 
 
 def parameter_scale(model: FrictionModel) -> np.ndarray:
@@ -108,8 +134,17 @@ class FrictionAdapter:
         Lyapunov gain: Gamma_theta = gamma diag(scale^2), 1/(N s m/s).
     box : float
         Half-width of the projection box, relative to ``parameter_scale``: theta0 +- box scale.
-    leak : float
-        Leakage toward theta0 per update, in [0, 1).
+    band : float or None
+        The declared force band, N: the adapted force stays within +-band of the trained
+        model at every velocity. Default: ``BAND_FRACTION`` of the trained model's peak |F|
+        over |v| <= v_sat.
+    v_max : float or None
+        No update at |v| > v_max, m/s. Default: ``V_MAX_FACTOR`` v_sat.
+    e_max : float or None
+        The clamp of the rule's input: N (RLS) or m/s of e2 (Lyapunov). Default: module doc.
+    leak : float or None
+        Leakage toward theta0 per update, in [0, 1). Default: Ts / ``LEAK_TIME`` (Lyapunov),
+        0 (RLS).
     v_dead : float
         Dead zone in velocity, m/s.
     e_dead : float
@@ -131,7 +166,7 @@ class FrictionAdapter:
 
     def __init__(self, model: FrictionModel, rule: str = "lyapunov", forgetting: float = 0.99995,
                  p0: float = 1e-3, trace_max: float = 1.0, gamma: float = 2.0, box: float = 0.5,
-                 leak: float = 0.0, v_dead: float = 0.005, e_dead: float = 0.0, ts: float = 1e-3,
+                 band: Optional[float] = None, v_max: Optional[float] = None, e_max: Optional[float] = None, leak: Optional[float] = None, v_dead: float = 0.005, e_dead: float = 0.0, ts: float = 1e-3,
                  phi_n: float = 20.0, dtype: str = "float64", activation_impl: str = "libm"):
         self.model = model
         self.rule = rule
@@ -140,6 +175,9 @@ class FrictionAdapter:
         self.trace_max = trace_max
         self.gamma = gamma
         self.box = box
+        self.band = band
+        self.v_max = v_max
+        self.e_max = e_max
         self.leak = leak
         self.v_dead = v_dead
         self.e_dead = e_dead
@@ -148,7 +186,7 @@ class FrictionAdapter:
         self.dtype = dtype
         self.activation_impl = activation_impl
 
-    _PARAMS = ("model", "rule", "forgetting", "p0", "trace_max", "gamma", "box", "leak",
+    _PARAMS = ("model", "rule", "forgetting", "p0", "trace_max", "gamma", "box", "band", "v_max", "e_max", "leak",
                "v_dead", "e_dead", "ts", "phi_n", "dtype", "activation_impl")
 
     def get_params(self) -> dict:
@@ -167,9 +205,12 @@ class FrictionAdapter:
             raise ValueError(f"forgetting must be in (0, 1], got {self.forgetting}")
         for name in ("p0", "trace_max", "gamma", "box", "ts", "phi_n"):
             _positive(name, getattr(self, name))
+        for name in ("band", "v_max", "e_max"):
+            if getattr(self, name) is not None:
+                _positive(name, getattr(self, name))
         for name in ("v_dead", "e_dead"):
             _positive(name, getattr(self, name), allow_zero=True)
-        if not (0.0 <= float(self.leak) < 1.0):
+        if self.leak is not None and not (0.0 <= float(self.leak) < 1.0):
             raise ValueError(f"leak must be in [0, 1), got {self.leak}")
         n = len(Regressor(self.model).theta0)
         if n > MAX_PARAMS:
@@ -179,6 +220,26 @@ class FrictionAdapter:
         if not float(self.trace_max) >= float(self.p0) * n:
             raise ValueError(f"trace_max must be >= p0 n = {float(self.p0) * n:g}, got {self.trace_max}")
         return self
+
+    def speed_limit(self) -> float:
+        """v_max, m/s: the declared one or ``V_MAX_FACTOR`` v_sat."""
+        return float(self.v_max) if self.v_max is not None else V_MAX_FACTOR * float(self.model.v_sat)
+
+    def feature_peaks(self) -> np.ndarray:
+        """max |phi_k(v)| over |v| <= v_max (phi is odd in v; float64, on a grid of 4001
+        speeds and v_sat)."""
+        reg = Regressor(self.model)
+        v_max = self.speed_limit()
+        speeds = np.append(_PEAK_GRID * v_max, min(float(self.model.v_sat), v_max))
+        return np.max(np.abs([reg(v)[1] for v in speeds]), axis=0)
+
+    def force_band(self) -> float:
+        """The band, N: the declared one or ``BAND_FRACTION`` of the trained model's peak |F|
+        over |v| <= v_sat."""
+        if self.band is not None:
+            return float(self.band)
+        speeds = np.linspace(0.0, float(self.model.v_sat), _PEAK_GRID.size)
+        return BAND_FRACTION * float(np.max(np.abs(self.model.force(speeds))))
 
     def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
         """The projection box [lo, hi] (float64)."""
@@ -191,6 +252,24 @@ class FrictionAdapter:
         scale^2)."""
         return float(self.ts) * float(self.gamma) / float(self.phi_n)
 
+    def input_limit(self) -> float:
+        """e_max: the declared one, or the band (N) for RLS, or for Lyapunov the |e2| (m/s) at
+        which one update moves the force by at most band Ts / RATE_TIME anywhere:
+        |dF| <= gain e_max sum_k scale_k^2 max |phi_k|^2."""
+        if self.e_max is not None:
+            return float(self.e_max)
+        band = self.force_band()
+        if self.rule == "rls":
+            return band
+        reach = self.gain() * float(np.sum((parameter_scale(self.model) * self.feature_peaks()) ** 2))
+        return band * float(self.ts) / RATE_TIME / reach
+
+    def leakage(self) -> float:
+        """leak: the declared one, or Ts / LEAK_TIME for Lyapunov and 0 for RLS."""
+        if self.leak is not None:
+            return float(self.leak)
+        return float(self.ts) / LEAK_TIME if self.rule == "lyapunov" else 0.0
+
     def reset(self) -> "FrictionAdapter":
         """Validate, then theta = theta0, P = p0 I (the C ``fric_adapt_init``)."""
         self.validate()
@@ -201,9 +280,11 @@ class FrictionAdapter:
         self._theta0, self._lo, self._hi, scale = (np.asarray(a, dtype=kind) for a in
                                                    (reg.theta0, lo, hi, parameter_scale(self.model)))
         self._scale2 = scale * scale
-        self._lam, self._p0, self._trace_max, self._leak, self._v_dead, self._e_dead, self._gain = (
-            f(p) for p in (self.forgetting, self.p0, self.trace_max, self.leak, self.v_dead,
-                           self.e_dead, self.gain()))
+        (self._lam, self._p0, self._trace_max, self._leak, self._v_dead, self._e_dead,
+         self._gain, self._e_max, self._band, self._v_max) = (
+            f(p) for p in (self.forgetting, self.p0, self.trace_max, self.leakage(), self.v_dead,
+                           self.e_dead, self.gain(), self.input_limit(), self.force_band(),
+                           self.speed_limit()))
         self._kind = kind
         return self.restart()
 
@@ -226,11 +307,19 @@ class FrictionAdapter:
         return acc, phi
 
     def force(self, v):
-        """The adapted friction force at v, N (0 at a non-finite v: ``fric_adapt_force``)."""
+        """The adapted friction force at v, N: the trained model's plus the adapted correction
+        saturated at +-band, f0 + sum_k theta0_k phi_k + sat(sum_k (theta_k - theta0_k) phi_k),
+        k ascending (0 at a non-finite v: ``fric_adapt_force``)."""
         v = self._f(v)
         if not math.isfinite(v):
             return self._f(0.0)
-        return self._predict(v)[0]
+        trained, phi = self._reg(v)
+        delta = self._f(0.0)
+        for k in range(phi.size):
+            trained = trained + self._theta0[k] * phi[k]
+            delta = delta + (self.theta_[k] - self._theta0[k]) * phi[k]
+        band = self._band
+        return trained + (band if delta > band else (-band if delta < -band else delta))
 
     # ------------------------------------------------------------------ the two rules
 
@@ -242,6 +331,8 @@ class FrictionAdapter:
             return v, x, self._done(FLAGS.value("input fault"))
         if hold:
             return v, x, self._done(FLAGS.value("held"))
+        if abs(v) > self._v_max:
+            return v, x, self._done(FLAGS.value("out of range"))
         return v, x, None
 
     def rls(self, v, force, hold: bool = False) -> int:
@@ -255,6 +346,7 @@ class FrictionAdapter:
         err = force - pred
         if not (abs(v) >= self._v_dead and abs(err) >= self._e_dead):
             return self._done(FLAGS.value("dead zone"), err)
+        step, flags = self._clamp(err)
         P, lam = self.P_, self._lam
         n = phi.size
         p_phi = np.zeros(n, dtype=self._kind)
@@ -265,11 +357,10 @@ class FrictionAdapter:
             denom = denom + phi[k] * p_phi[k]
         if not (math.isfinite(denom) and denom > 0):      # P lost definiteness: start again
             self.P_ = np.diag(self._p0 * self._scale2).astype(self._kind)
-            return self._done(FLAGS.value("input fault"), err)
+            return self._done(FLAGS.value("covariance reset"), err)
         g = p_phi / denom
-        updated = self.theta_ + g * err
+        updated = self.theta_ + g * step
         P = (P - g[:, None] * p_phi[None, :]) / lam
-        flags = 0
         trace = f(0.0)
         for k in range(n):
             trace = trace + P[k, k] / self._scale2[k]
@@ -287,9 +378,19 @@ class FrictionAdapter:
             return stop
         if not (abs(v) >= self._v_dead and abs(e2) >= self._e_dead):
             return self._done(FLAGS.value("dead zone"), e2)
+        error = e2
+        e2, flags = self._clamp(e2)
         _, phi = self._reg(v)
         updated = self.theta_ + ((self._gain * self._scale2) * e2) * phi
-        return self._finish(updated, 0, e2)
+        return self._finish(updated, flags, error)
+
+    def _clamp(self, e):
+        """(e clamped to +-e_max, the ``clamped`` flag or 0)."""
+        if e > self._e_max:
+            return self._e_max, FLAGS.value("clamped")
+        if e < -self._e_max:
+            return -self._e_max, FLAGS.value("clamped")
+        return e, 0
 
     def _finish(self, updated, flags, err) -> int:
         """Leakage toward theta0, then projection onto [lo, hi] (NaN keeps the old value)."""
@@ -319,11 +420,12 @@ class AdaptedController:
     """The backstepping controller of section 6 compensating with an adapted friction model:
     every sample (the C ``fric_adapt_ctrl_step``)
 
-    1. RLS: update on the friction observed over the last sample (module doc), held while the
-       last step saturated or faulted;
-    2. the force F(u) of the adapted model at u = v or v_d (``controller.friction_input``);
-    3. the controller's step with that force (``AdaptiveBackstepping.step_with_force``);
-    4. Lyapunov: update with the step's e2, held unless the step was fault-free and
+    1. the force F(u) of the adapted model at u = v or v_d (``controller.friction_input``);
+    2. the controller's step with that force (``AdaptiveBackstepping.step_with_force``);
+    3. RLS: update on the friction observed over the last sample (module doc, with the m_o_hat
+       of this step), held unless this step and the last were fault-free and unsaturated (a
+       glitch of this sample's v is in the observation);
+       Lyapunov: update with the step's e2, held unless this step was fault-free and
        unsaturated.
 
     ``controller`` and ``adapter`` are reset with this; their ``dtype`` must agree (float32:
@@ -351,18 +453,18 @@ class AdaptedController:
     def step(self, x, v, xd, xd_dot, xd_ddot):
         c, a, f = self.controller, self.adapter, self._f
         x, v, xd, xd_dot, xd_ddot = (f(q) for q in (x, v, xd, xd_dot, xd_ddot))
+        u = c.friction_velocity(x, v, xd, xd_dot)
+        force = a.force(u)
+        i = c.step_with_force(x, v, xd, xd_dot, xd_ddot, force)
+        ok = c.flags_ & (CTRL_FLAGS.value("saturated") | CTRL_FLAGS.value("input fault")) == 0
         if a.rule == "rls":
             m_o_hat = c.a_[0]
             with np.errstate(all="ignore"):
                 accel = (v - self._v_prev) / c._ts
                 observed = c._phi_n * (self._i_prev - m_o_hat * accel)
                 v_mid = f(0.5) * (v + self._v_prev)
-            a.rls(v_mid, observed, hold=self._held)
-        u = c.friction_velocity(x, v, xd, xd_dot)
-        force = a.force(u)
-        i = c.step_with_force(x, v, xd, xd_dot, xd_ddot, force)
-        ok = c.flags_ & (CTRL_FLAGS.value("saturated") | CTRL_FLAGS.value("input fault")) == 0
-        if a.rule == "lyapunov":
+            a.rls(v_mid, observed, hold=self._held or not ok)
+        else:
             a.lyapunov(v, c.e2_, hold=not ok)
         self._v_prev, self._i_prev, self._held = v, i, not ok
         return i

@@ -30,7 +30,7 @@ ACTIVATION_C = {"libm": {"sigmoid": "1.0f / (1.0f + expf(-z))", "sine": "sinf(z)
                          "rbf": "expf(-(z * z))", "multiquadric": "sqrtf(1.0f + z * z)"},
                 "fast": {"sigmoid": "fric_sigmoid_fast_f32(z)"}}
 #: The fields of fric_adapt_params_t that are one float, in the header's order.
-SCALAR_FIELDS = ("forgetting", "p0", "trace_max", "gain", "leak", "v_dead", "e_dead")
+SCALAR_FIELDS = ("forgetting", "p0", "trace_max", "gain", "leak", "v_dead", "e_dead", "e_max", "band", "v_max")
 
 
 
@@ -41,8 +41,7 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
         + "typedef float (*fric_adapt_regressor_fn)(float v, float *phi);\n"
         + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n"
         + "".join(f"    float {a}[{MAX_PARAMS}];\n" for a in ("theta0", "lo", "hi", "scale"))
-        + "".join(f"    float {s};\n" for s in ("forgetting", "p0", "trace_max", "gain", "leak",
-                                                 "v_dead", "e_dead"))
+        + "".join(f"    float {s};\n" for s in SCALAR_FIELDS)
         + "} fric_adapt_params_t;\n"
         + f"typedef struct {{\n    fric_adapt_params_t p;\n    float theta[{MAX_PARAMS}];\n"
           f"    float P[{MAX_PARAMS * MAX_PARAMS}];\n    float scale2[{MAX_PARAMS}];\n"
@@ -71,9 +70,22 @@ def adapt_params(adapter) -> dict:
     values = {"n": theta0.size, "rule": RULE.member(adapter.rule), "theta0": list(theta0),
               "lo": list(lo), "hi": list(hi), "scale": list(parameter_scale(adapter.model))}
     values.update({"forgetting": adapter.forgetting, "p0": adapter.p0,
-                   "trace_max": adapter.trace_max, "gain": adapter.gain(), "leak": adapter.leak,
-                   "v_dead": adapter.v_dead, "e_dead": adapter.e_dead})
+                   "trace_max": adapter.trace_max, "gain": adapter.gain(),
+                   "leak": adapter.leakage(), "v_dead": adapter.v_dead, "e_dead": adapter.e_dead,
+                   "e_max": adapter.input_limit(), "band": adapter.force_band(),
+                   "v_max": adapter.speed_limit()})
     return values
+
+
+def c_params(module, adapter):
+    """A fric_adapt_params_t (cffi, of ``module``) holding ``adapt_params(adapter)``."""
+    p = module.ffi.new("fric_adapt_params_t *")
+    for field, value in adapt_params(adapter).items():
+        if isinstance(value, list):
+            getattr(p, field)[0:len(value)] = value
+        else:
+            setattr(p, field, getattr(value, "value", value))
+    return p
 
 
 def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm") -> Dict[str, str]:
@@ -85,7 +97,8 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
     params = adapt_params(adapter)
     net = model.aim
     ctx = {**identity_context(model, name), "GUARD": f"FRICGEN_{name.upper()}_ADAPT_H",
-           "names": parameter_names(model), "n": params["n"], "box": f"{adapter.box:g}",
+           "names": parameter_names(model), "n": params["n"],
+           "band": f"{adapter.force_band():.4g}", "box": f"{adapter.box:g}",
            "rule": adapter.rule, "rule_enum": params["rule"].name, "kind": net.kind,
            "k_in": c_float(model.scaling.k_in), "v_sat": c_float(model.v_sat),
            "inv_k_out": c_float(1.0 / model.scaling.k_out),
@@ -148,14 +161,8 @@ class CAdaptedController:
     def reset(self) -> "CAdaptedController":
         ffi, lib = self.module.ffi, self.module.lib
         self._ctrl = CController(self.module, self.twin.controller).reset()
-        p = ffi.new("fric_adapt_params_t *")
-        for field, value in adapt_params(self.twin.adapter).items():
-            if isinstance(value, list):
-                getattr(p, field)[0:len(value)] = value
-            else:
-                setattr(p, field, getattr(value, "value", value))
         self._a = ffi.new("fric_adapt_t *")
-        code = lib.fric_adapt_init(self._a, p)
+        code = lib.fric_adapt_init(self._a, c_params(self.module, self.twin.adapter))
         if code != 0:
             raise ValueError(f"fric_adapt_init rejected the parameters ({code})")
         self._reg = ffi.addressof(lib, f"{self.name}_regressor")

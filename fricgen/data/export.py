@@ -113,11 +113,15 @@ def check_scaled(scales: Mapping[str, Factor], files: Mapping[str, Dict[str, np.
 
 @dataclass(frozen=True)
 class ExportLayout:
-    """How to read one exported file: ``skip`` preamble lines, then a header whose columns
-    ``columns`` maps from fricgen's names to the file's (unmapped columns keep their own name)."""
+    """How to read one exported file: ``skip`` preamble lines (0: found, ``table.header_skip``),
+    then a header whose columns ``columns`` maps from fricgen's names to the file's (unmapped
+    columns keep their own name); ``delimiter`` (a value of ``table.DELIMITERS``, or ",?" to
+    detect) and ``decimal_comma`` (None to detect) as ``table.read_table_csv`` takes them."""
 
     skip: int = 0
     columns: Mapping[str, str] = field(default_factory=dict)
+    delimiter: Optional[str] = ",?"
+    decimal_comma: Optional[bool] = None
 
     def __post_init__(self):
         vendor = [name.strip().lower() for name in self.columns.values()]
@@ -131,7 +135,7 @@ def _header_line(path, layout: ExportLayout, lines: int = 50) -> int:
     maps, or 0: where the header of a file with a longer preamble is."""
     wanted = {v.strip().lower() for v in layout.columns.values()}
     for k in range(lines):
-        cells = header_cells(path, k)
+        cells = header_cells(path, k, layout.delimiter)
         if not cells:
             return 0
         if wanted <= {c.strip().lower() for c in cells}:
@@ -142,7 +146,7 @@ def _header_line(path, layout: ExportLayout, lines: int = 50) -> int:
 def _check_mapped(path, layout: ExportLayout, option: str) -> None:
     """``UsageError`` naming a column ``layout`` maps that the CSV's header lacks, with the
     header's closest name (a typo is no matter of units)."""
-    cells = header_cells(path, layout.skip)
+    cells = header_cells(path, layout.skip, layout.delimiter)
     if not cells:
         return                          # unreadable: the reader says why
     names = {c.strip().lower(): c for c in cells}
@@ -172,7 +176,8 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         raw = mat.columns(rename, [q for q in QUANTITIES if q not in layout.columns])
     else:
         _check_mapped(path, layout, option)
-        raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text)
+        raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text,
+                             delimiter=layout.delimiter, decimal_comma=layout.decimal_comma)
     columns = {}
     for header, values in raw.items():
         name = rename.get(header, header)

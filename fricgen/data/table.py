@@ -1,4 +1,8 @@
-"""The numeric CSV every sweep and motion log is read from and written to."""
+"""The numeric CSV every sweep and motion log is read from and written to, as drives and
+spreadsheets write it: ',', ';', tab or whitespace between cells (detected on the header line,
+or given), '.' or a decimal comma (detected on the first data line where the cells are not
+','-separated, or given), and a preamble before the header (given as a line count, or found:
+the first line followed by a numeric row of as many cells)."""
 from __future__ import annotations
 
 import csv
@@ -19,7 +23,7 @@ _WITH_UNIT = re.compile(r"\s*([A-Za-z_]\w*)\s*[\[(].*[\])]\s*")
 
 
 #: What a header with ';' in it is told.
-_SEMICOLONS = "looks ';'-separated: fricgen reads ','-separated CSV with '.' decimals"
+_SEMICOLONS = "looks ';'-separated: say --delimiter ';'"
 
 
 def header_hint(cells: Sequence[str]) -> str:
@@ -54,10 +58,58 @@ def _thousands_hint(row: Sequence[str], width: int) -> str:
     return ""
 
 
-def _delimiter(header: str) -> str:
-    """The delimiter of a CSV, read off its header line: a tab where the line holds more tabs
-    than commas, else ','."""
-    return "\t" if header.count("\t") > header.count(",") else ","
+#: The delimiters by the names ``--delimiter`` takes; None splits on runs of whitespace.
+DELIMITERS = {",": ",", ";": ";", "tab": "\t", "space": None}
+#: How many lines a preamble may have for the header to be found without ``skip``.
+PREAMBLE_LINES = 100
+
+
+def _delimiter(header: str, given: Optional[str] = ",?") -> Optional[str]:
+    """The delimiter of a CSV: ``given`` (a value of ``DELIMITERS``), or read off its header
+    line: the most frequent of ';', tab and ',' (',' on a tie), else whitespace where the line
+    holds several words, else ','."""
+    if given != ",?":
+        return given
+    counts = {sep: header.count(sep) for sep in (",", ";", "\t")}
+    best = max(counts, key=lambda sep: (counts[sep], sep == ","))
+    if counts[best]:
+        return best
+    return None if len(header.split()) > 1 else ","
+
+
+def _split(line: str, sep: Optional[str]) -> List[str]:
+    return line.split() if sep is None else line.split(sep)
+
+
+def _decimal_comma(cells: Sequence[str], sep: Optional[str]) -> bool:
+    """Whether a data row's cells are written with a decimal comma: a cell like 0,25 in a
+    file not separated by ','."""
+    return sep != "," and any(_DECIMAL_COMMA.fullmatch(c.strip()) for c in cells)
+
+
+def header_skip(path: Union[str, Path], delimiter: Optional[str] = ",?") -> int:
+    """The lines before the header of ``path``: 0 where the first line is followed by a row of
+    as many cells, else the first line among ``PREAMBLE_LINES`` that is (its next non-blank line
+    numeric, with as many cells: a drive's preamble), else 0 (the reader then says what is
+    wrong)."""
+    try:
+        with open(path, encoding="utf-8-sig", newline="") as fh:
+            lines = [fh.readline() for _ in range(PREAMBLE_LINES + 1)]
+    except (OSError, UnicodeDecodeError):
+        return 0
+    lines = [line for line in lines if line]
+    for k, line in enumerate(lines[:-1]):
+        if not line.strip():
+            continue
+        sep = _delimiter(line, delimiter)
+        cells = _split(line.strip("\r\n"), sep)
+        following = next((n for n in lines[k + 1:] if n.strip()), "")
+        row = _split(following.strip("\r\n"), sep)
+        comma = _decimal_comma(row, sep)
+        if len(cells) == len(row) and len(cells) > 1 and all(_is_number(c, comma) for c in row) \
+                and not all(_is_number(c, comma) for c in cells):
+            return k
+    return 0
 
 
 def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
@@ -65,9 +117,11 @@ def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
 
 
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
-                   keep_extra: bool = False, skip: int = 0, drop_text: bool = False) -> Dict[str, np.ndarray]:
-    """Read a numeric CSV (','- or tab-separated, as its header) whose header names (at least)
-    the ``required`` columns.
+                   keep_extra: bool = False, skip: int = 0, drop_text: bool = False,
+                   delimiter: Optional[str] = ",?",
+                   decimal_comma: Optional[bool] = None) -> Dict[str, np.ndarray]:
+    """Read a numeric CSV (the module doc's dialects) whose header names (at least) the
+    ``required`` columns.
 
     Returns the columns by lower-case name: the required ones and, with ``keep_extra``, all
     others. Blank lines are skipped; a missing column, a repeated column name, a row of the
@@ -75,19 +129,24 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     is streamed: memory holds the numbers, not the text. Finiteness and lengths are for the
     caller to judge. The first ``skip`` lines (an export's preamble) are passed over unread;
     line numbers in messages count them. With ``drop_text``, an extra column holding text is
-    left out instead of refused.
+    left out instead of refused. Without ``skip`` a preamble is found (``header_skip``);
+    ``delimiter`` (a value of ``DELIMITERS``) and ``decimal_comma`` force the dialect.
     """
     try:
-        fast = _read_plain(path, required, keep_extra, skip)
-        if fast is not None:
-            return fast
+        skip = skip or header_skip(path, delimiter)
+        if delimiter == ",?" and not decimal_comma:
+            fast = _read_plain(path, required, keep_extra, skip)
+            if fast is not None:
+                return fast
         with open(path, encoding="utf-8-sig", newline="") as fh:
             _skip_lines(path, fh, skip)
             start = fh.tell()
-            sep = _delimiter(fh.readline())
+            sep = _delimiter(fh.readline(), delimiter)
             fh.seek(start)
-            return _read_rows(path, csv.reader(fh, delimiter=sep), required, keep_extra,
-                              first_line=skip + 1, drop_text=drop_text)
+            rows = (csv.reader(fh, delimiter=sep) if sep is not None else
+                    (line.split() for line in fh))
+            return _read_rows(path, rows, required, keep_extra, first_line=skip + 1,
+                              drop_text=drop_text, sep=sep, decimal_comma=decimal_comma)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
@@ -96,14 +155,19 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
         raise DataError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
-def header_cells(path: Union[str, Path], skip: int = 0) -> List[str]:
-    """The header's names as written (for messages; [] if unreadable)."""
+def header_cells(path: Union[str, Path], skip: int = 0, delimiter: Optional[str] = ",?") -> List[str]:
+    """The header's names as written (for messages; [] if unreadable); without ``skip`` after
+    a preamble found by ``header_skip``."""
     try:
+        skip = skip or header_skip(path, delimiter)
         with open(path, encoding="utf-8-sig", newline="") as fh:
             for _ in range(skip):
                 fh.readline()
             line = fh.readline()
-            return [h.strip() for h in next(csv.reader([line], delimiter=_delimiter(line)), [])]
+            sep = _delimiter(line, delimiter)
+            if sep is None:
+                return line.split()
+            return [h.strip() for h in next(csv.reader([line], delimiter=sep), [])]
     except (OSError, UnicodeDecodeError, csv.Error):
         return []
 
@@ -151,15 +215,16 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
     return {h: table[:, k].copy() for k, h in enumerate(header) if keep_extra or h in required}
 
 
-def _is_number(cell: str) -> bool:
+def _is_number(cell: str, decimal_comma: bool = False) -> bool:
     try:
-        plain_float(cell)
+        plain_float(cell.replace(",", ".") if decimal_comma else cell)
     except ValueError:
         return False
     return True
 
 
-def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) -> Dict[str, np.ndarray]:
+def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, sep=",",
+               decimal_comma=None) -> Dict[str, np.ndarray]:
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
@@ -167,8 +232,10 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
         raise DataError(f"{path}: the header line is blank; the first line must name the columns")
     written = [h.strip() for h in header]
     header = [h.lower() for h in written]
-    if len(header) == 1 and ";" in header[0]:
-        raise DataError(f"{path}: the header {written[0][:40]!r} {_SEMICOLONS}")
+    named = {",": "','", ";": "';'", "\t": "tab", None: "whitespace"}[sep]
+    if len(header) == 1 and any(c in header[0] for c in ",;\t"):
+        raise DataError(f"{path}: the header {written[0][:40]!r} does not split at {named}; "
+                        f"say which delimiter it uses (--delimiter)")
     repeated = sorted({h for h in header if h and header.count(h) > 1})
     if repeated:
         raise DataError(f"{path}: column {repeated[0]!r} appears more than once in the header")
@@ -179,9 +246,14 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False) 
     wanted = [k for k, h in enumerate(header) if keep_extra or h in required]
     values = array("d")
     text = set()            # extra columns with a cell that is not a number: left out
+    comma = decimal_comma
     for n, row in enumerate(rows, start=first_line + 1):
         if not any(c.strip() for c in row):
             continue
+        if comma is None:
+            comma = _decimal_comma(row, sep)
+        if comma:
+            row = [c.replace(",", ".") for c in row]
         if len(row) != len(header):
             raise DataError(f"{path}: line {n}: {len(row)} cells, the header names {len(header)}"
                             f"{_thousands_hint(row, len(header))}")
