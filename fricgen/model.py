@@ -363,6 +363,20 @@ class FrictionModel:
 
     __call__ = force
 
+    @property
+    def axis_offset(self) -> float:
+        """The axis's constant force, N (Nm on a rotary axis): ``training.axis.offset``, 0 where
+        training identified none. [C1] with a constant force reads phi i = m v' + F(v) + offset:
+        the part of the drive force that does not depend on v (gravity on an inclined axis, a
+        cable's pull), not friction."""
+        axis = self.axis
+        return 0.0 if axis is None or axis.offset is None else float(axis.offset)
+
+    def force_with_offset(self, v) -> np.ndarray:
+        """``force(v) + axis_offset``: the drive force at constant velocity v (``fricgen eval``'s
+        default, the C ``NAME_FORCE_WITH_OFFSET``)."""
+        return self.force(v) + self.axis_offset
+
     def _force_fields(self) -> dict:
         """The fields of model.json that determine the force (what ``model_hash`` covers)."""
         d = {**self.positive.to_dict(), "symmetric": self.symmetric, "effects": list(self.effects)}

@@ -257,3 +257,40 @@ def test_run_ups_of_the_independent_simulator_succeed_over_noise_draws(tmp_path,
         model = FrictionModel.load(out)
         within_force += float(np.sqrt(np.mean((model.force(speeds) - friction(speeds)) ** 2))) < 0.25
     assert within_mass >= 7 and within_force >= 7, (within_mass, within_force)
+
+
+def test_the_offset_is_in_eval_the_c_and_the_python_model_alike(offset_log, tmp_path, capsys, monkeypatch):
+    """The identified offset round-trips: eval adds it (``--no-offset`` leaves it out), the
+    emitted header records it as NAME_AXIS_OFFSET and NAME_FORCE_WITH_OFFSET adds it in C; all
+    within 1e-5 of max |F| of the Python model's force_with_offset."""
+    import io
+    import shutil
+    from fricgen.codegen import emit
+    from fricgen.codegen.cbuild import build_module, model_cdef
+    if shutil.which("cc") is None and shutil.which("gcc") is None:
+        pytest.skip("no C compiler")
+    log = _write(tmp_path, "log.csv", offset_log)
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "--method", "stribeck", "-o", str(out)]) == 0
+    model = FrictionModel.load(out)
+    assert abs(model.axis_offset - OFFSET) < 0.2
+    v = np.linspace(-0.15, 0.15, 61)
+    expected = model.force_with_offset(v)
+    scale = np.max(np.abs(model.force(v)))
+    capsys.readouterr()
+    for options, want in (([], expected), (["--no-offset"], model.force(v))):
+        monkeypatch.setattr("sys.stdin", io.StringIO("\n".join(repr(float(u)) for u in v)))
+        assert main(["eval", str(out), *options]) == 0
+        got = np.array([float(line) for line in capsys.readouterr().out.split()])
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * scale)
+    folder = tmp_path / "c"
+    emit(model, folder, "ax")
+    (folder / "with_offset.c").write_text(
+        '#include "ax.h"\nfloat ax_force_with_offset(float v) { return AX_FORCE_WITH_OFFSET(v); }\n'
+        "float ax_offset(void) { return AX_AXIS_OFFSET; }\n")
+    (folder / "with_offset.h").write_text("float ax_force_with_offset(float v);\nfloat ax_offset(void);\n")
+    lib = build_module(folder, ["ax.h", "with_offset.h"], model_cdef("ax") + "float ax_force_with_offset(float v);\n"
+                       "float ax_offset(void);\n", build_dir=tmp_path / "build").lib
+    assert lib.ax_offset() == pytest.approx(model.axis_offset, rel=1e-6)
+    c = np.array([lib.ax_force_with_offset(float(u)) for u in v])
+    assert np.max(np.abs(c - expected)) <= 1e-5 * scale

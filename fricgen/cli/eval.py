@@ -1,4 +1,6 @@
-"""``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line, streamed."""
+"""``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line, streamed:
+F(v) of [F3] plus the axis's identified offset (``FrictionModel.force_with_offset``), or F(v)
+alone with ``--no-offset``."""
 from __future__ import annotations
 
 import itertools
@@ -20,6 +22,8 @@ CHUNK = 1 << 16
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("model", help="model.json")
+    p.add_argument("--no-offset", action="store_true",
+                   help="F(v) alone, without the constant force training identified on the axis")
     p.set_defaults(run=run)
 
 
@@ -50,7 +54,12 @@ def run(args) -> int:
         names = ", ".join(e.get("effect", "?") for e in model.effects)
         say(f"fricgen: note: eval gives F(v) of [F3] alone; the model's effects ({names}) "
             "need x, t or i and are not applied")
+    force = model.force
+    if model.axis_offset and not args.no_offset:
+        say(f"fricgen: note: the forces include the axis's offset {model.axis_offset:.6g} "
+            "(identified in training); --no-offset for F(v) alone")
+        force = model.force_with_offset
     velocities = _velocities(stdin)
     while chunk := list(itertools.islice(velocities, CHUNK)):
-        out("\n".join(repr(f) for f in model.force(np.array(chunk)).tolist()))
+        out("\n".join(repr(f) for f in force(np.array(chunk)).tolist()))
     return 0

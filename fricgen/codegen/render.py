@@ -14,7 +14,7 @@ from ..errors import ModelError, UsageError
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
 from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER,
-                      VERSION_HEADER, effects_context, emit_options, identity_context,
+                      VERSION_HEADER, axis_context, effects_context, emit_options, identity_context,
                       render_source_and_header, runtime_text)
 from .cost import INSTRUCTIONS_MARGIN, TARGETS, instructions_max
 from .fast_sigmoid import check_fast_model, fast_tables
@@ -156,6 +156,7 @@ def template_context(model: FrictionModel, name: str, activation_impl: str = "li
             "instr_margin": f"{INSTRUCTIONS_MARGIN:.0%}",
             "negative": curves[1] if len(curves) == 2 else None,
             "includes": list(dict.fromkeys(c["header"] for c in curves)),
+            **axis_context(model),
             **effects_context(model, name)}  # effects, effects_not_in_c: NAME_force_xv
 
 
