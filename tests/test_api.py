@@ -98,3 +98,31 @@ def test_docstring_examples_run(name, tmp_path):
     module = importlib.import_module(name)
     result = doctest.testmod(module, extraglobs={"tmp": tmp_path}, optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0, result
+
+
+def test_the_api_checks_the_data_as_the_command_line_does(tmp_path, capsys):
+    """A current in mA read as A: fricgen.train warns with the line fricgen train prints;
+    checks=False leaves the checks out."""
+    import warnings
+    from fricgen.cli import main
+    from fricgen.data.table import table_csv_text
+    from fricgen.friction import preset
+    from fricgen.sim.identification import SweepRun, simulate_sweep_run
+    s = simulate_sweep_run(preset("paper3"), SweepRun(duration=4.0, rate=1000.0))
+    columns = {"t": s["t"], "v": s["v"], "i": 1000 * s["force"] / 20.0}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fricgen.train(columns, force_constant=20.0, estimator=fricgen.StribeckRegressor(),
+                      source="log.csv")
+    api = [str(w.message) for w in caught if "mA" in str(w.message)]
+    (tmp_path / "log.csv").write_text(table_csv_text(columns))
+    assert main(["train", str(tmp_path / "log.csv"), "--force-constant", "20", "--method",
+                 "stribeck", "-o", str(tmp_path / "m.json")]) == 0
+    cli = [line for line in capsys.readouterr().err.splitlines() if "mA" in line]
+    assert len(api) == 1 and len(cli) == 1
+    assert api[0].split("log.csv")[-1] == cli[0].split("log.csv")[-1]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fricgen.train(columns, force_constant=20.0, estimator=fricgen.StribeckRegressor(),
+                      checks=False)
+    assert not [w for w in caught if "mA" in str(w.message)]

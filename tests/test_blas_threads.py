@@ -48,3 +48,27 @@ def test_fricgen_blas_threads_asks_for_more(cli_inputs, tmp_path):
     got, proc = _run(argv, threads="2")
     assert got["rc"] == 0, proc.stderr
     assert got["blas"] and set(got["blas"]) == {min(2, os.cpu_count())}
+
+
+def test_the_python_api_trains_on_the_threads_the_command_line_uses(bench, monkeypatch):
+    """fricgen.train sets every OpenBLAS of the process to FRICGEN_BLAS_THREADS (default 1)
+    for the fit and restores the count after (numpy loaded before it: no variable helps)."""
+    import fricgen
+    from fricgen import _blas
+    before = _blas.thread_counts()
+    if not before:
+        pytest.skip("no OpenBLAS loaded in this process")
+    seen = []
+    real = _blas.blas_threads
+
+    def spy(count):
+        seen.append(count)
+        return real(count)
+    monkeypatch.setattr("fricgen.training.trainer.blas_threads", spy)
+    with _blas.blas_threads(3):
+        assert _blas.thread_counts() == [3] * len(before)
+    assert _blas.thread_counts() == before
+    fricgen.train(bench.train, vs_max=0.02, estimator=fricgen.StribeckRegressor())
+    monkeypatch.setenv("FRICGEN_BLAS_THREADS", "2")
+    fricgen.train(bench.train, vs_max=0.02, estimator=fricgen.StribeckRegressor())
+    assert seen == [1, 2] and _blas.thread_counts() == before

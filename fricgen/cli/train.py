@@ -107,7 +107,7 @@ def fit(args, progress=say, warn=say) -> FitReport:
                      asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
                      seed=args.seed, name=name, source=source_name(args),
                      file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
-                     progress=progress, warn=warn, rotary=rotary)
+                     progress=progress, warn=warn, rotary=rotary, checks=False)
 
 
 def train_argv(argv) -> FitReport:

@@ -28,8 +28,9 @@ Safety, for both rules, in this order each sample:
   4. dead zone: no update for |v| < ``v_dead`` (friction at rest is not observable, the axis
      sticks) or a small error, |e| < ``e_dead`` (N, RLS) or |e2| < ``e_dead`` (m/s, Lyapunov);
   5. the rule's input is clamped to +-``e_max`` (``clamped``): whatever finite value a glitch
-     delivers, one update moves theta a bounded step. Default: the band (N) for RLS; for
-     Lyapunov the e2 at which one update moves the force by at most band Ts / ``RATE_TIME``;
+     delivers, one update moves theta a bounded step. Default: ``RLS_ERROR_FRACTION`` of the
+     band (N) for RLS; for Lyapunov the e2 at which one update moves the force by at most
+     band Ts / ``RATE_TIME`` (adaptation follows slow change: drift, wear, temperature);
   6. RLS only: the covariance is bounded, trace(P) <= ``trace_max`` (P is scaled down when the
      forgetting would take it beyond: no wind-up of P with poor excitation); and no update at
      all in the dead zone, so P does not grow at rest;
@@ -90,9 +91,11 @@ BAND_FRACTION = 0.5
 #: The default leakage's time constant, s: leak = Ts / LEAK_TIME.
 LEAK_TIME = 10.0
 #: Lyapunov's default e_max lets one update move the force by at most band Ts / RATE_TIME.
-RATE_TIME = 10.0
+RATE_TIME = 100.0
 #: The default v_max, in multiples of the model's v_sat (declare the axis's top speed instead).
 V_MAX_FACTOR = 10.0
+#: RLS's default e_max, as a fraction of the band.
+RLS_ERROR_FRACTION = 0.1
 #: The velocities, as fractions of v_max, at which the regressor's peaks are taken.
 _PEAK_GRID = np.linspace(0.0, 1.0, 4001)
 
@@ -253,14 +256,15 @@ class FrictionAdapter:
         return float(self.ts) * float(self.gamma) / float(self.phi_n)
 
     def input_limit(self) -> float:
-        """e_max: the declared one, or the band (N) for RLS, or for Lyapunov the |e2| (m/s) at
-        which one update moves the force by at most band Ts / RATE_TIME anywhere:
+        """e_max: the declared one, or RLS_ERROR_FRACTION of the band (N) for RLS, or for
+        Lyapunov the |e2| (m/s) at which one update moves the force by at most band Ts /
+        RATE_TIME anywhere:
         |dF| <= gain e_max sum_k scale_k^2 max |phi_k|^2."""
         if self.e_max is not None:
             return float(self.e_max)
         band = self.force_band()
         if self.rule == "rls":
-            return band
+            return RLS_ERROR_FRACTION * band
         reach = self.gain() * float(np.sum((parameter_scale(self.model) * self.feature_peaks()) ** 2))
         return band * float(self.ts) / RATE_TIME / reach
 

@@ -10,9 +10,11 @@ import numpy as np
 
 from .._validate import ACCEPT_UNUSUAL, physical_problem, rotary_axis, unusual, usual_max
 from ..units import units_of
+from .._blas import blas_threads, wanted_threads
 from .._io import named_data
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log
+from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
@@ -144,7 +146,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           force_constant: Optional[float] = None, seed: int = 0, name: str = DEFAULT_MODEL_NAME,
           source: str = "data", file: Optional[str] = None, accept_unusual: bool = False,
           progress: Optional[Callable[[str], None]] = None,
-          warn: Optional[Callable[[str], None]] = None, rotary: bool = False) -> FitReport:
+          warn: Optional[Callable[[str], None]] = None, rotary: bool = False,
+          checks: bool = True) -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -182,6 +185,10 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     rotary : bool, default False
         A rotary axis: the data are in rad, rad/s, Nm (and the inertia in kg m^2); the report,
         the physical bounds and ``training.units`` say so.
+    checks : bool, default True
+        The plausibility checks of ``fricgen train``'s data reader (``data.plausibility``:
+        swapped columns, values beyond a real axis such as a current in mA read as A), refusing
+        as it does (warnings through ``warn`` with ``accept_unusual``); False skips them.
 
     Returns
     -------
@@ -202,8 +209,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     .. math:: x = K_{in} v, \\qquad t = K_{out} (F - B v),
 
     and the model is [F3]: :math:`F(v) = \\mathrm{AIM}(K_{in} |v|) / K_{out} + B v`.
-    A log's friction samples are :math:`F = f - m \\dot v` [C1]. The plausibility
-    checks of the CLI's data reader (``fricgen.data.plausibility``) are not run here.
+    A log's friction samples are :math:`F = f - m \\dot v` [C1]. The numerics run on
+    ``FRICGEN_BLAS_THREADS`` BLAS threads (default 1) as the command line's do, restored after.
 
     Examples
     --------
@@ -215,9 +222,24 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     >>> print(report.model.force([0.05, -0.05]) > 0)    # friction opposes the motion
     [ True False]
     """
-    with rotary_axis(rotary):
+    warn = warn or (lambda line: warnings.warn(line, stacklevel=4))
+    with rotary_axis(rotary), blas_threads(wanted_threads()):
+        if checks:
+            _check_data(data, source, accept_unusual, warn)
         return _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
                       source, file, accept_unusual, progress, warn, rotary)
+
+
+def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
+    """The data reader's plausibility checks (``data.plausibility.check_columns``) on the
+    columns of ``data``; columns that are no numbers are left for the fit to name."""
+    try:
+        columns = ({"v": data.v, "f": data.f} if isinstance(data, Sweep) else
+                   {str(k): np.asarray(v, dtype=float) for k, v in data.items()})
+    except (TypeError, ValueError, AttributeError):
+        return
+    if all(c.ndim == 1 for c in columns.values()):
+        check_columns(columns, source, is_log(columns), accept_unusual, warn)
 
 
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
@@ -228,7 +250,6 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     sweep, ident = _friction_data(data, mass, force_constant, source, progress)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
-    warn = warn or (lambda line: warnings.warn(line, stacklevel=3))
     choice: Optional[LawChoice] = None
     with named_data(source):
         if isinstance(estimator, DefaultRegressor):
