@@ -367,3 +367,167 @@ unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, ch
     buf[len] = '\0';
     return len;
 }
+
+
+/* ---------------------------------------------------------------- saved state */
+
+static uint32_t fric_adapt_crc32(const unsigned char *bytes, unsigned int count)
+{
+    uint32_t crc = 0xFFFFFFFFu;
+    unsigned int k;
+    unsigned int bit;
+    for (k = 0u; k < count; ++k) {
+        crc ^= (uint32_t)bytes[k];
+        for (bit = 0u; bit < 8u; ++bit) {
+            crc = ((crc & 1u) != 0u) ? ((crc >> 1) ^ 0xEDB88320u) : (crc >> 1);
+        }
+    }
+    return crc ^ 0xFFFFFFFFu;
+}
+
+static void fric_adapt_put_u32(unsigned char *at, uint32_t value)
+{
+    at[0] = (unsigned char)(value & 0xFFu);
+    at[1] = (unsigned char)((value >> 8) & 0xFFu);
+    at[2] = (unsigned char)((value >> 16) & 0xFFu);
+    at[3] = (unsigned char)((value >> 24) & 0xFFu);
+}
+
+static uint32_t fric_adapt_get_u32(const unsigned char *at)
+{
+    return (uint32_t)at[0] | ((uint32_t)at[1] << 8) | ((uint32_t)at[2] << 16) | ((uint32_t)at[3] << 24);
+}
+
+static uint32_t fric_adapt_float_bits(float f)
+{
+    union {
+        float f;
+        uint32_t u;
+    } pun;
+    pun.f = f;
+    return pun.u;
+}
+
+static float fric_adapt_bits_float(uint32_t u)
+{
+    union {
+        float f;
+        uint32_t u;
+    } pun;
+    pun.u = u;
+    return pun.f;
+}
+
+/* The length of model_hash if at most FRIC_ADAPT_HASH_MAX, else FRIC_ADAPT_HASH_MAX + 1. */
+static unsigned int fric_adapt_hash_length(const char *model_hash)
+{
+    unsigned int k = 0u;
+    while ((k <= FRIC_ADAPT_HASH_MAX) && (model_hash[k] != '\0')) {
+        k = k + 1u;
+    }
+    return k;
+}
+
+/* The 24 bytes before theta: format, version, n and the NUL-padded hash. */
+static void fric_adapt_state_head(unsigned char *head, unsigned int n, const char *model_hash)
+{
+    const unsigned int length = fric_adapt_hash_length(model_hash);
+    unsigned int k;
+    head[0] = (unsigned char)'F';
+    head[1] = (unsigned char)'R';
+    head[2] = (unsigned char)'A';
+    head[3] = (unsigned char)'S';
+    head[4] = (unsigned char)(FRIC_ADAPT_VERSION & 0xFFu);
+    head[5] = (unsigned char)((FRIC_ADAPT_VERSION >> 8) & 0xFFu);
+    head[6] = (unsigned char)(n & 0xFFu);
+    head[7] = (unsigned char)((n >> 8) & 0xFFu);
+    for (k = 0u; k < FRIC_ADAPT_HASH_MAX; ++k) {
+        head[8u + k] = (k < length) ? (unsigned char)model_hash[k] : 0u;
+    }
+}
+
+unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsigned char *buf,
+                             unsigned int size)
+{
+    unsigned int n;
+    unsigned int total;
+    unsigned int k;
+    unsigned char *at;
+    if ((a == NULL) || (model_hash == NULL) || (buf == NULL)) {
+        return 0u;
+    }
+    n = a->p.n;
+    if ((n < 1u) || (n > FRIC_ADAPT_MAX_PARAMS)
+        || (fric_adapt_hash_length(model_hash) > FRIC_ADAPT_HASH_MAX)) {
+        return 0u;
+    }
+    total = FRIC_ADAPT_STATE_SIZE(n);
+    if (size < total) {
+        return 0u;
+    }
+    fric_adapt_state_head(buf, n, model_hash);
+    at = &buf[24];
+    for (k = 0u; k < n; ++k) {
+        fric_adapt_put_u32(at, fric_adapt_float_bits(a->theta[k]));
+        at = &at[4];
+    }
+    for (k = 0u; k < (n * n); ++k) {
+        fric_adapt_put_u32(at, fric_adapt_float_bits(a->P[k]));
+        at = &at[4];
+    }
+    fric_adapt_put_u32(at, fric_adapt_crc32(buf, total - 4u));
+    return total;
+}
+
+fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
+                                       const unsigned char *buf, unsigned int size)
+{
+    unsigned char head[24];
+    float theta[FRIC_ADAPT_MAX_PARAMS];
+    unsigned int n;
+    unsigned int total;
+    unsigned int k;
+    const unsigned char *at;
+    if ((a == NULL) || (model_hash == NULL) || (buf == NULL)) {
+        return FRIC_ADAPT_ERR_NULL;
+    }
+    n = a->p.n;
+    if ((n < 1u) || (n > FRIC_ADAPT_MAX_PARAMS)
+        || (fric_adapt_hash_length(model_hash) > FRIC_ADAPT_HASH_MAX)) {
+        return FRIC_ADAPT_ERR_PARAM;
+    }
+    total = FRIC_ADAPT_STATE_SIZE(n);
+    if (size != total) {
+        return FRIC_ADAPT_ERR_SIZE;
+    }
+    fric_adapt_state_head(head, n, model_hash);
+    for (k = 0u; k < 24u; ++k) {
+        if (head[k] != buf[k]) {
+            return FRIC_ADAPT_ERR_FOREIGN;
+        }
+    }
+    if (fric_adapt_crc32(buf, total - 4u) != fric_adapt_get_u32(&buf[total - 4u])) {
+        return FRIC_ADAPT_ERR_CHECKSUM;
+    }
+    at = &buf[24];
+    for (k = 0u; k < n; ++k) {
+        theta[k] = fric_adapt_bits_float(fric_adapt_get_u32(at));
+        if (!isfinite(theta[k]) || !(theta[k] >= a->p.lo[k]) || !(theta[k] <= a->p.hi[k])) {
+            return FRIC_ADAPT_ERR_RANGE;
+        }
+        at = &at[4];
+    }
+    for (k = 0u; k < (n * n); ++k) {
+        if (!isfinite(fric_adapt_bits_float(fric_adapt_get_u32(&at[4u * k])))) {
+            return FRIC_ADAPT_ERR_RANGE;
+        }
+    }
+    for (k = 0u; k < n; ++k) {
+        a->theta[k] = theta[k];
+    }
+    for (k = 0u; k < (n * n); ++k) {
+        a->P[k] = fric_adapt_bits_float(fric_adapt_get_u32(&at[4u * k]));
+    }
+    a->held = 1;
+    return FRIC_ADAPT_OK_INIT;
+}

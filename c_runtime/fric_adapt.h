@@ -44,8 +44,19 @@ extern "C" {
 typedef enum {
     FRIC_ADAPT_OK_INIT = 0,
     FRIC_ADAPT_ERR_NULL = -1,
-    FRIC_ADAPT_ERR_PARAM = -2
+    FRIC_ADAPT_ERR_PARAM = -2,
+    FRIC_ADAPT_ERR_SIZE = -3,      /* a saved state of another size than this adaptation's */
+    FRIC_ADAPT_ERR_FOREIGN = -4,   /* a saved state of another format, version, size or model */
+    FRIC_ADAPT_ERR_CHECKSUM = -5,  /* a saved state whose CRC-32 does not match */
+    FRIC_ADAPT_ERR_RANGE = -6      /* a saved state with a value not finite or out of its box */
 } fric_adapt_status_t;
+
+/* The bytes of a saved state of n parameters (fric_adapt_save): "FRAS", FRIC_ADAPT_VERSION and n
+ * (16 bits each, little-endian), the model hash (16 bytes, NUL-padded), theta (n) and P (n x n)
+ * as float bits (32 bits each, little-endian), then the CRC-32 (IEEE 802.3) of all before it. */
+#define FRIC_ADAPT_STATE_SIZE(n) (28u + (4u * (n)) + (4u * (n) * (n)))
+/* The longest model hash a saved state holds. */
+#define FRIC_ADAPT_HASH_MAX 16u
 
 typedef enum {
     FRIC_ADAPT_RULE_RLS = 0,
@@ -126,6 +137,20 @@ fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn 
 fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_adapt_regressor_fn reg,
                                        float x, float v, float xd, float xd_dot, float xd_ddot,
                                        float *current);
+
+/* Save what a has learned (theta and P) into buf for non-volatile memory: returns
+ * FRIC_ADAPT_STATE_SIZE(a->p.n) bytes written, or 0 (nothing written) for a NULL argument, a
+ * model_hash (NAME_ADAPT_MODEL_HASH) longer than FRIC_ADAPT_HASH_MAX or a buf too small. No float
+ * arithmetic, no libc. */
+unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsigned char *buf,
+                             unsigned int size);
+
+/* Restore a state fric_adapt_save wrote, at boot after fric_adapt_init: FRIC_ADAPT_OK_INIT, or
+ * (a untouched) _ERR_NULL, _ERR_SIZE, _ERR_FOREIGN (another format, version, number of parameters
+ * or model), _ERR_CHECKSUM, _ERR_RANGE (theta outside [lo, hi] or a value not finite). The next
+ * controller step does no RLS update (no last sample to observe). */
+fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
+                                       const unsigned char *buf, unsigned int size);
 
 /* The adapted parameters as text, for fricgen to read back (`fricgen readback`): three lines,
  *     fricgen-adapt-dump 1

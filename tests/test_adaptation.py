@@ -168,7 +168,7 @@ def _expected_update(a, rule, v, e):
         updated = theta0 + a.gain() * scale2 * step * phi
     else:
         P = a.p0 * np.diag(scale2)
-        updated = theta0 + P @ phi / (a.forgetting + phi @ P @ phi) * step
+        updated = theta0 + P @ phi / (a.forgetting_factor() + phi @ P @ phi) * step
     return updated - a.leakage() * (updated - theta0)
 
 

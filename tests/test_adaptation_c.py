@@ -148,7 +148,7 @@ def test_c_init_rejects_bad_parameters(default_model):
     module = build_adapted(default_model)
     ffi, lib = module.ffi, module.lib
     p = ffi.new("fric_adapt_params_t *")
-    lib.fm_adapt_default_params(p)
+    assert lib.fm_adapt_default_params(p, 1e-3) == 0
     a = ffi.new("fric_adapt_t *")
     assert lib.fric_adapt_init(a, p) == 0
     for field, bad in (("forgetting", 0.0), ("p0", -1.0), ("leak", 1.0), ("n", 0),
@@ -207,3 +207,79 @@ def test_rls_is_held_when_this_step_saturates(default_model):
         assert flags & CTRL_FLAGS.value("saturated")
         after = np.float32(ctrl.theta_ if ctrl is c else ctrl.adapter.theta_)
         np.testing.assert_array_equal(after, before)
+
+
+def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_model):
+    """NAME_adapt_default_params(p, ts): at the reference 1 ms the Python defaults bit for bit;
+    at 0.1 ms a tenth of the gain and leakage per sample and a tenth of 1 - lambda, so that a
+    10 kHz loop adapts per second as a 1 kHz one does; a ts not > 0 is refused."""
+    module = build_adapted(default_model)
+    ffi, lib = module.ffi, module.lib
+    ref, fast = ffi.new("fric_adapt_params_t *"), ffi.new("fric_adapt_params_t *")
+    assert lib.fm_adapt_default_params(ref, 1e-3) == 0 and lib.fm_adapt_default_params(fast, 1e-4) == 0
+    expected = c_params(module, FrictionAdapter(default_model))
+    for field in ("gain", "leak", "forgetting", "e_max", "band", "v_max"):
+        assert getattr(ref, field) == getattr(expected, field), field
+    twin = FrictionAdapter(default_model, ts=1e-4)
+    assert fast.gain == pytest.approx(twin.gain(), rel=1e-6)
+    assert fast.leak == pytest.approx(twin.leakage(), rel=1e-6)
+    # lambda is a float near 1: 1 - lambda = 5e-6 is held to its ULP there, 6e-8 (1.2 %)
+    assert 1 - fast.forgetting == pytest.approx(1 - twin.forgetting_factor(), rel=0.015)
+    assert fast.e_max == ref.e_max
+    for bad in (0.0, -1e-3, float("nan"), float("inf")):
+        assert lib.fm_adapt_default_params(fast, bad) == -2
+    assert lib.fm_adapt_default_params(ffi.NULL, 1e-3) == -1
+
+
+def _state(blob):
+    """(version, n, hash, theta, P) of a saved state, read from the layout of fric_adapt.h with
+    the CRC-32 checked by zlib."""
+    import struct
+    import zlib
+    blob = bytes(blob)
+    assert blob[:4] == b"FRAS" and zlib.crc32(blob[:-4]) == struct.unpack("<I", blob[-4:])[0]
+    version, n = struct.unpack("<HH", blob[4:8])
+    values = np.frombuffer(blob[24:-4], dtype="<f4")
+    return version, n, blob[8:24].rstrip(b"\0").decode(), values[:n], values[n:].reshape(n, n)
+
+
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_a_saved_state_restores_bit_for_bit_and_a_foreign_one_is_refused(default_model, rule):
+    module = build_adapted(default_model)
+    ffi, lib = module.ffi, module.lib
+    reg = ffi.addressof(lib, "fm_regressor")
+    twin = FrictionAdapter(default_model, rule, dtype="float32")
+    a, b = _c_adapter(module, twin), _c_adapter(module, twin)
+    update = lib.fric_adapt_lyapunov if rule == "lyapunov" else lib.fric_adapt_rls
+    for v in np.linspace(-0.1, 0.1, 40):
+        update(a, reg, float(v), 1e-3 if rule == "lyapunov" else 1.1 * float(default_model.force(v)), 0)
+    n, model_hash = a.p.n, default_model.model_hash.encode()
+    size = 28 + 4 * n + 4 * n * n
+    buf = ffi.new("unsigned char[]", size + 8)
+    assert lib.fric_adapt_save(a, model_hash, buf, size - 1) == 0           # too small
+    assert lib.fric_adapt_save(a, model_hash, buf, size + 8) == size
+    blob = bytes(ffi.buffer(buf, size))
+    version, count, saved_hash, theta, P = _state(blob)
+    assert (count, saved_hash) == (n, default_model.model_hash)
+    np.testing.assert_array_equal(theta, np.float32(list(a.theta)[:n]))
+    np.testing.assert_array_equal(P.ravel(), np.float32(list(a.P)[:n * n]))
+    assert not np.array_equal(theta, np.float32(list(b.theta)[:n]))         # it adapted
+    assert lib.fric_adapt_restore(b, model_hash, blob, size) == 0
+    assert bytes(ffi.buffer(b.theta, 4 * n)) == bytes(ffi.buffer(a.theta, 4 * n))
+    assert bytes(ffi.buffer(b.P, 4 * n * n)) == bytes(ffi.buffer(a.P, 4 * n * n))
+    c = _c_adapter(module, twin)
+    before = bytes(ffi.buffer(c.theta, 4 * n))
+    flipped = bytearray(blob)
+    flipped[30] ^= 0x01                                                       # one bit of theta
+    out_of_box = bytearray(blob)
+    out_of_box[24:28] = np.float32(1e30).tobytes()
+    import struct
+    import zlib
+    out_of_box[-4:] = struct.pack("<I", zlib.crc32(bytes(out_of_box[:-4])))
+    for bad, hash_, status in ((blob, b"0123456789abcdef", -4),                # another model
+                               (blob[:4] + b"\x01\x00" + blob[6:], model_hash, -4),   # version 1
+                               (bytes(flipped), model_hash, -5),
+                               (bytes(out_of_box), model_hash, -6),
+                               (blob[:-1], model_hash, -3)):
+        assert lib.fric_adapt_restore(c, hash_, bad, len(bad)) == status
+        assert bytes(ffi.buffer(c.theta, 4 * n)) == before                   # untouched

@@ -102,9 +102,10 @@ def axis_context(model: FrictionModel) -> dict:
     units = units_of(model.training.get("units") == "rotary")
     if axis is None:
         return {"axis": [], "axis_units": units}
-    fields = [("OFFSET", axis.offset, f"{units.force}, the constant force (0 where none was identified)"),
+    fields = [("OFFSET", axis.offset, f"{units.force}, the constant force"),
               ("OFFSET_SE", axis.offset_se, f"{units.force}, its standard error"),
-              ("MASS", axis.mass, f"{units.mass}, {'identified' if axis.mass_from == 'data' else 'given to train'}"),
+              ("MASS", axis.mass,
+               f"{units.mass}, {'identified' if axis.mass_from == 'data' else 'given to train'}"),
               ("MASS_SE", axis.mass_se, f"{units.mass}, its standard error"),
               ("FORCE_CONSTANT", axis.force_constant, f"{units.force}/A"),
               ("SPEED_MIN", axis.speed_min, f"{units.speed}, the slowest speed of the data"),

@@ -88,6 +88,8 @@ FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
 
 #: The default band, as a fraction of the trained model's peak |F| over |v| <= v_sat.
 BAND_FRACTION = 0.5
+#: RLS's default memory, s: lambda = 1 - Ts / FORGET_TIME.
+FORGET_TIME = 20.0
 #: The default leakage's time constant, s: leak = Ts / LEAK_TIME.
 LEAK_TIME = 10.0
 #: Lyapunov's default e_max lets one update move the force by at most band Ts / RATE_TIME.
@@ -127,8 +129,8 @@ class FrictionAdapter:
     model : FrictionModel
         A symmetric ELM or grey-box model (``regressor.check_adaptable``).
     rule : {"rls", "lyapunov"}
-    forgetting : float
-        lambda of RLS, in (0, 1]; 1 - Ts / forgetting time (default: 20 s at 1 kHz).
+    forgetting : float or None
+        lambda of RLS, in (0, 1]. Default: 1 - Ts / ``FORGET_TIME`` (0.99995 at 1 kHz).
     p0 : float
         Initial covariance P0 = p0 diag(scale^2) (``parameter_scale``; per N^2 of error), > 0.
     trace_max : float
@@ -167,10 +169,13 @@ class FrictionAdapter:
         What the last update returned (``FLAGS``); ``error_`` its prediction error (N) or e2.
     """
 
-    def __init__(self, model: FrictionModel, rule: str = "lyapunov", forgetting: float = 0.99995,
-                 p0: float = 1e-3, trace_max: float = 1.0, gamma: float = 2.0, box: float = 0.5,
-                 band: Optional[float] = None, v_max: Optional[float] = None, e_max: Optional[float] = None, leak: Optional[float] = None, v_dead: float = 0.005, e_dead: float = 0.0, ts: float = 1e-3,
-                 phi_n: float = 20.0, dtype: str = "float64", activation_impl: str = "libm"):
+    def __init__(self, model: FrictionModel, rule: str = "lyapunov",
+                 forgetting: Optional[float] = None, p0: float = 1e-3, trace_max: float = 1.0,
+                 gamma: float = 2.0, box: float = 0.5, band: Optional[float] = None,
+                 v_max: Optional[float] = None, e_max: Optional[float] = None,
+                 leak: Optional[float] = None, v_dead: float = 0.005, e_dead: float = 0.0,
+                 ts: float = 1e-3, phi_n: float = 20.0, dtype: str = "float64",
+                 activation_impl: str = "libm"):
         self.model = model
         self.rule = rule
         self.forgetting = forgetting
@@ -189,8 +194,8 @@ class FrictionAdapter:
         self.dtype = dtype
         self.activation_impl = activation_impl
 
-    _PARAMS = ("model", "rule", "forgetting", "p0", "trace_max", "gamma", "box", "band", "v_max", "e_max", "leak",
-               "v_dead", "e_dead", "ts", "phi_n", "dtype", "activation_impl")
+    _PARAMS = ("model", "rule", "forgetting", "p0", "trace_max", "gamma", "box", "band", "v_max",
+               "e_max", "leak", "v_dead", "e_dead", "ts", "phi_n", "dtype", "activation_impl")
 
     def get_params(self) -> dict:
         return {k: getattr(self, k) for k in self._PARAMS}
@@ -203,7 +208,7 @@ class FrictionAdapter:
         check_adaptable(self.model)
         if self.rule not in RULE.keys:
             raise ValueError(f"rule must be one of {list(RULE.keys)}, got {self.rule!r}")
-        lam = float(self.forgetting)
+        lam = self.forgetting_factor()
         if not (0.0 < lam <= 1.0):
             raise ValueError(f"forgetting must be in (0, 1], got {self.forgetting}")
         for name in ("p0", "trace_max", "gamma", "box", "ts", "phi_n"):
@@ -268,6 +273,12 @@ class FrictionAdapter:
         reach = self.gain() * float(np.sum((parameter_scale(self.model) * self.feature_peaks()) ** 2))
         return band * float(self.ts) / RATE_TIME / reach
 
+    def forgetting_factor(self) -> float:
+        """lambda: the declared one or 1 - Ts / FORGET_TIME."""
+        if self.forgetting is not None:
+            return float(self.forgetting)
+        return 1.0 - float(self.ts) / FORGET_TIME
+
     def leakage(self) -> float:
         """leak: the declared one, or Ts / LEAK_TIME for Lyapunov and 0 for RLS."""
         if self.leak is not None:
@@ -286,7 +297,7 @@ class FrictionAdapter:
         self._scale2 = scale * scale
         (self._lam, self._p0, self._trace_max, self._leak, self._v_dead, self._e_dead,
          self._gain, self._e_max, self._band, self._v_max) = (
-            f(p) for p in (self.forgetting, self.p0, self.trace_max, self.leakage(), self.v_dead,
+            f(p) for p in (self.forgetting_factor(), self.p0, self.trace_max, self.leakage(), self.v_dead,
                            self.e_dead, self.gain(), self.input_limit(), self.force_band(),
                            self.speed_limit()))
         self._kind = kind

@@ -30,14 +30,16 @@ ACTIVATION_C = {"libm": {"sigmoid": "1.0f / (1.0f + expf(-z))", "sine": "sinf(z)
                          "rbf": "expf(-(z * z))", "multiquadric": "sqrtf(1.0f + z * z)"},
                 "fast": {"sigmoid": "fric_sigmoid_fast_f32(z)"}}
 #: The fields of fric_adapt_params_t that are one float, in the header's order.
-SCALAR_FIELDS = ("forgetting", "p0", "trace_max", "gain", "leak", "v_dead", "e_dead", "e_max", "band", "v_max")
+SCALAR_FIELDS = ("forgetting", "p0", "trace_max", "gain", "leak", "v_dead", "e_dead", "e_max",
+                 "band", "v_max")
 
 
 
 #: The cffi declarations of fric_adapt.h (tests/test_adaptation_c.py checks them against it).
 CDEF = (RULE.cdef() + FLAGS.cdef()
         + "typedef enum { FRIC_ADAPT_OK_INIT = 0, FRIC_ADAPT_ERR_NULL = -1, "
-          "FRIC_ADAPT_ERR_PARAM = -2 } fric_adapt_status_t;\n"
+          "FRIC_ADAPT_ERR_PARAM = -2, FRIC_ADAPT_ERR_SIZE = -3, FRIC_ADAPT_ERR_FOREIGN = -4, "
+          "FRIC_ADAPT_ERR_CHECKSUM = -5, FRIC_ADAPT_ERR_RANGE = -6 } fric_adapt_status_t;\n"
         + "typedef float (*fric_adapt_regressor_fn)(float v, float *phi);\n"
         + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n"
         + "".join(f"    float {a}[{MAX_PARAMS}];\n" for a in ("theta0", "lo", "hi", "scale"))
@@ -58,7 +60,11 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
           "fric_adapt_regressor_fn reg, float x, float v, float xd, float xd_dot, float xd_ddot, "
           "float *current);\n"
           "unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, "
-          "char *buf, unsigned int size);\n")
+          "char *buf, unsigned int size);\n"
+          "unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, "
+          "unsigned char *buf, unsigned int size);\n"
+          "fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash, "
+          "const unsigned char *buf, unsigned int size);\n")
 
 
 def adapt_params(adapter) -> dict:
@@ -69,7 +75,7 @@ def adapt_params(adapter) -> dict:
     theta0 = trained_parameters(adapter.model)
     values = {"n": theta0.size, "rule": RULE.member(adapter.rule), "theta0": list(theta0),
               "lo": list(lo), "hi": list(hi), "scale": list(parameter_scale(adapter.model))}
-    values.update({"forgetting": adapter.forgetting, "p0": adapter.p0,
+    values.update({"forgetting": adapter.forgetting_factor(), "p0": adapter.p0,
                    "trace_max": adapter.trace_max, "gain": adapter.gain(),
                    "leak": adapter.leakage(), "v_dead": adapter.v_dead, "e_dead": adapter.e_dead,
                    "e_max": adapter.input_limit(), "band": adapter.force_band(),
@@ -104,7 +110,8 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
            "inv_k_out": c_float(1.0 / model.scaling.k_out),
            "theta0": c_array(params["theta0"]), "lo": c_array(params["lo"]),
            "hi": c_array(params["hi"]), "scale": c_array(params["scale"]),
-           "scalars": [(f, c_float(params[f])) for f in SCALAR_FIELDS]}
+           "scalars": [(f, c_float(params[f])) for f in SCALAR_FIELDS],
+           "ts_ref": c_float(adapter.ts)}
     if isinstance(net, StribeckCurve):
         ctx.update(n_basis=net.n_sources, inv_stribeck=c_array(stribeck_table(net)),
                    slope=c_float(net.slope), g_expr=STRIBECK_C_SHAPES[activation_impl][net.shape],
@@ -126,7 +133,7 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
 def adapt_cdef(name: str) -> str:
     """The cffi declarations of an emitted NAME_adapt.h."""
     return (f"float {name}_regressor(float v, float *phi);\n"
-            f"void {name}_adapt_default_params(fric_adapt_params_t *p);\n")
+            f"fric_adapt_status_t {name}_adapt_default_params(fric_adapt_params_t *p, float ts);\n")
 
 
 def build_adapted(model: FrictionModel, name: str = "fm", activation_impl: str = "libm",
