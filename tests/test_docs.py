@@ -64,7 +64,12 @@ def test_the_readme_is_a_front_page_whose_links_resolve():
 
 def _shell_lines(page: Path) -> list:
     """The command lines of a page's ``sh`` blocks, in order."""
-    blocks = re.findall(r"```sh\n(.*?)```", page.read_text(encoding="utf-8"), flags=re.S)
+    return _shell_lines_of(page.read_text(encoding="utf-8"))
+
+
+def _shell_lines_of(text: str) -> list:
+    """The command lines of the ``sh`` blocks of a text, in order."""
+    blocks = re.findall(r"```sh\n(.*?)```", text, flags=re.S)
     return [line for block in blocks for line in block.splitlines() if line.strip()]
 
 
@@ -81,6 +86,25 @@ def test_the_tutorial_commands_run_as_written(tmp_path):
         done = subprocess.run(command, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True)
         assert done.returncode == 0, f"{line}\n{done.stderr}"
     assert (tmp_path / "out" / "fm.h").is_file() and (tmp_path / "diag" / "model.json").is_file()
+
+
+@pytest.mark.slow
+def test_the_readme_tour_runs_as_written_in_order(tmp_path):
+    """Every command of the README's five-minute tour, in order, in an empty folder (the
+    install lines before it are what CI runs)."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    tour = text[text.index("## A five-minute tour"):]
+    lines = [line for line in _shell_lines_of(tour) if not line.startswith("pip ")]
+    assert len(lines) >= 8
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    fricgen = f"{shlex.quote(sys.executable)} -m fricgen"
+    for line in lines:
+        if line.startswith("cc ") and shutil.which("cc") is None:
+            continue
+        command = re.sub(r"(^|\| )fricgen ", rf"\g<1>{fricgen} ", line.split("  #")[0])
+        done = subprocess.run(command, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True)
+        assert done.returncode == 0, f"{line}\n{done.stderr}"
+    assert (tmp_path / "adapt" / "fm_adapt.c").is_file() and (tmp_path / "log.json").is_file()
 
 
 @pytest.mark.slow

@@ -128,3 +128,22 @@ def test_a_bad_spread_column_is_refused_in_one_line(tmp_path, capsys, column, va
     assert main(["train", str(path), "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and column.lower() in err and not out.exists()
+
+
+def test_a_robot_logs_grey_box_report_speaks_rad_and_nm(tmp_path, capsys):
+    """The multi-source fit's lines (data, viscous, scaling, sources, errors) in the joint's
+    units too, not in m/s and N."""
+    rng = np.random.default_rng(1001)
+    t = np.arange(0.0, 40.0, 0.002)
+    dq = 0.6 * np.sin(2 * np.pi * t / 8)
+    q = np.cumsum(dq) * 0.002
+    tau = (np.sign(dq) * (1.0 + 0.8 * np.exp(-(dq / 0.05) ** 2)) + 0.4 * dq
+           + 0.02 * rng.standard_normal(t.size))
+    path = tmp_path / "joint.csv"
+    path.write_text("t,q,dq,tau\n" + "".join(f"{a:.6f},{b:.7f},{c:.7f},{d:.6f}\n" for a, b, c, d in
+                                             zip(t, q, dq, tau)))
+    assert main(["train", str(path), "--method", "stribeck", "--mass", "0.01",
+                 "-o", str(tmp_path / "m.json")]) == 0
+    out = capsys.readouterr().out
+    assert "v_s = " in out and "Nm s/rad" in out and "1/(rad/s)" in out, out
+    assert not re.search(r"\bm/s\b|\d N\b|\(N\)|N s/m", out), out

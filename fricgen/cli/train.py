@@ -136,7 +136,9 @@ def register(p) -> None:
                    "or x (m), and force (N) or i (A) (a motion log); or a MATLAB .mat "
                    "file, its vectors the columns")
     add_output(p, "model.json to write (default model.json)", default="model.json")
-    p.add_argument("--vs-max", type=positive_float, help="bound on the Stribeck velocities, m/s "
+    p.add_argument("--vs-max", type=positive_float, help="the Stribeck range, m/s (rad/s): "
+                   "v_sat = 3 vs_max, and the bound on the Stribeck velocities except a broad "
+                   "source the grey-box may place up to v_sat, which the report names "
                    "(default: chosen by cross-validation from the data)")
     p.add_argument("--method", choices=["auto", "elm_auto", "stribeck", "elm"],
                    help="auto: the grey-box [F1], or the automatic ELM where its "

@@ -28,6 +28,7 @@ from scipy.optimize import nnls
 
 from ..errors import DataError
 from ..friction import SHAPES
+from ..units import LINEAR
 from .sweep import MIN_ROWS, Sweep
 from .viscous import MIN_HIGH_SPEED_ROWS, SAT_FACTOR, bin_equal_counts, identify_viscous
 
@@ -95,20 +96,21 @@ class StribeckRange:
     f_sat: Optional[float] = None
     falling: bool = False
 
-    def describe(self) -> str:
-        """One line for the fit report."""
-        points = ", ".join(f"{v:.3g} ({e:.3g} N)" for i, (v, e) in enumerate(self.curve)
+    def describe(self, units=LINEAR) -> str:
+        """One line for the fit report, in ``units``."""
+        force, speed = units.force, units.speed
+        points = ", ".join(f"{v:.3g} ({e:.3g} {force})" for i, (v, e) in enumerate(self.curve)
                            if i % 2 == 0 or v == self.vs_max)      # every other, and the choice
-        joint = f"B fitted with the Stribeck sources ({self.joint_rmse:.3g} N)"
+        joint = f"B fitted with the Stribeck sources ({self.joint_rmse:.3g} {force})"
         if self.linear_region:
-            return f"{self.vs_max:.3g} m/s chosen by {self.folds}-fold CV over {points}; {joint}"
+            return f"{self.vs_max:.3g} {speed} chosen by {self.folds}-fold CV over {points}; {joint}"
         if self.falling:
-            return (f"{self.vs_max:.3g} m/s: the force still falls at the fastest speeds, beyond "
+            return (f"{self.vs_max:.3g} {speed}: the force still falls at the fastest speeds, beyond "
                     f"every candidate v_sat: no linear region; {joint}; v_sat is the fastest speed")
         if not points:
-            return (f"{self.vs_max:.3g} m/s: too few rows to fit B to the fastest ones alone; "
+            return (f"{self.vs_max:.3g} {speed}: too few rows to fit B to the fastest ones alone; "
                     f"{joint}; v_sat is the fastest speed")
-        return (f"{self.vs_max:.3g} m/s: no linear high-speed region; {joint} beats every vs_max "
+        return (f"{self.vs_max:.3g} {speed}: no linear high-speed region; {joint} beats every vs_max "
                 f"by {self.folds}-fold CV: {points}; v_sat is the fastest speed")
 
 

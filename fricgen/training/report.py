@@ -86,7 +86,7 @@ class FitReport:
         if self.law is not None:
             reports.append(self.law.line(units.force))
         if fitted.chosen_by != "textbook":
-            reports.append(choice_line(fitted, log=ident is not None))
+            reports.append(choice_line(fitted, log=ident is not None, unit=units.force))
         curves = [self.training] + ([self.training["negative"]] if fitted.asymmetric else [])
         labels = ("v > 0:", "v < 0:") if fitted.asymmetric else ("",)
         for label, f, curve in zip(labels, fitted.fits, curves):
@@ -103,8 +103,9 @@ class FitReport:
 
 
 @singledispatch
-def model_lines(estimator, dataset) -> list:
-    """The report's lines on the fitted model (an ELM's size, C and weights by default)."""
+def model_lines(estimator, dataset, units=LINEAR) -> list:
+    """The report's lines on the fitted model (an ELM's size, C and weights by default), its
+    quantities in ``units``."""
     return [f"model     {estimator.n_hidden} {estimator.activation} neurons, "
             f"{estimator.scheme}, C = {estimator.C_:.3g}",
             f"weights   ||beta|| = {estimator.beta_norm_:.4g}, log10 cond(H^T H) = "
@@ -113,24 +114,26 @@ def model_lines(estimator, dataset) -> list:
 
 
 @model_lines.register
-def _(estimator: DefaultRegressor, dataset) -> list:
+def _(estimator: DefaultRegressor, dataset, units=LINEAR) -> list:
     return ([f"chose     {estimator.why()}", f"outliers  {estimator.outlier_note()}"]
-            + model_lines(estimator.chosen_, dataset))
+            + model_lines(estimator.chosen_, dataset, units))
 
 
 @model_lines.register
-def _(estimator: StribeckRegressor, dataset) -> list:
-    """The grey-box model of [F1] in SI units, each parameter +- its standard error."""
+def _(estimator: StribeckRegressor, dataset, units=LINEAR) -> list:
+    """The grey-box model of [F1] in the axis's units, each parameter +- its standard error."""
     net, se = estimator.network_, estimator.standard_errors_
     k_in, k_out = dataset.scaling.k_in, dataset.scaling.k_out
-    broad = "" if estimator.xs_max_ <= XS_MAX else f", v_s searched up to {estimator.xs_max_ / k_in:.4g} m/s"
+    broad = ("" if estimator.xs_max_ <= XS_MAX else
+             f", a broad source allowed beyond vs_max (v_s up to {estimator.xs_max_ / k_in:.4g} "
+             f"{units.speed})")
     lines = [f"model     grey-box [F1]: {net.n_sources} {net.shape} source(s){broad}, "
              f"{_origin(estimator)}",
-             f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, 'N')}"]
+             f"coulomb   sum f_c = {_estimate(net.offset / k_out, se['offset'] / k_out, units.force)}"]
     for k in range(net.n_sources):
         lines.append(f"source {k + 1:<2d} f_s - f_c = "
-                     f"{_estimate(net.amplitudes[k] / k_out, se['amplitudes'][k] / k_out, 'N')}, "
-                     f"v_s = {_estimate(net.stribeck[k] / k_in, se['stribeck'][k] / k_in, 'm/s')}")
+                     f"{_estimate(net.amplitudes[k] / k_out, se['amplitudes'][k] / k_out, units.force)}, "
+                     f"v_s = {_estimate(net.stribeck[k] / k_in, se['stribeck'][k] / k_in, units.speed)}")
     return lines
 
 
@@ -193,18 +196,18 @@ def curve_report(dataset, estimator, errors: dict, units=LINEAR) -> str:
                            f"model     {estimator.law_.describe(units)}",
                            error_line(errors, units.force)])
     lines = [
-        f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} m/s"
+        f"data      {dataset.x.size} training points in [0, v_sat], v_sat = {dataset.v_sat:.6g} {units.speed}"
         f"{vs_note}" + (f"; the {dataset.n_rows} rows there averaged in bins of equal count"
                         if dataset.binned else ""),
-    ] + ([f"vs_max    {chosen.describe()}"] if chosen else []) + [
-        f"viscous   B = {dataset.viscous:.6g} N s/m "
+    ] + ([f"vs_max    {chosen.describe(units)}"] if chosen else []) + [
+        f"viscous   B = {dataset.viscous:.6g} {units.viscous} "
         + ("fitted with the Stribeck sources (no linear high-speed region)" if joint else
            f"from {dataset.n_high_speed} high-speed points")
         + (f" ({dataset.n_outliers} rejected as gross outliers, > {OUTLIER_SIGMAS:g} robust sd "
            "off the line)" if dataset.n_outliers else ""),
-        f"scaling   K_in = {s.k_in:.6g} 1/(m/s), K_out = {s.k_out:.6g} 1/N",
+        f"scaling   K_in = {s.k_in:.6g} 1/({units.speed}), K_out = {s.k_out:.6g} 1/{units.force}",
     ]
-    return "\n".join(lines + model_lines(estimator, dataset) + [error_line(errors)]
+    return "\n".join(lines + model_lines(estimator, dataset, units) + [error_line(errors, units.force)]
                      + cost_lines(estimator))
 
 
@@ -224,7 +227,7 @@ def _estimate(value: float, se: float, unit: str) -> str:
             f"{value:.5g} {unit} (not determined by the data)")
 
 
-def choice_line(fitted: DirectionsFit, log: bool = False) -> str:
+def choice_line(fitted: DirectionsFit, log: bool = False, unit: str = "N") -> str:
     """How the model's symmetry was chosen (nothing for a sweep of one direction, as the
     paper's; a ``log`` that moves one way is told that its curve is mirrored)."""
     kind = "asymmetric (one curve per direction)" if fitted.asymmetric else "symmetric"
@@ -237,7 +240,7 @@ def choice_line(fitted: DirectionsFit, log: bool = False) -> str:
         return f"symmetry {kind}, as asked"
     sym, asym = fitted.cv_rmse
     return (f"symmetry {kind} by {CV_FOLDS}-fold {fitted.chosen_by}: held-out RMS "
-            f"{sym:.4g} N symmetric, {asym:.4g} N asymmetric")
+            f"{sym:.4g} {unit} symmetric, {asym:.4g} {unit} asymmetric")
 
 
 def stribeck_warning(ident: Identification, fits) -> str:
