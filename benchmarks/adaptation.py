@@ -87,13 +87,18 @@ class TrueFriction:
         return (1 + level) * self.friction.stribeck(v) * np.sign(v) + (1 + visc) * self.friction.viscous * v
 
 
+def drifting_axis(drift):
+    """The built-in axis (Table 1's friction) with ``drift`` (None: none)."""
+    friction = preset("paper3")
+    law = default_axis().law
+    effects = (DriftEffect(drift, friction),) if drift else ()
+    return MotorAxis(EffectLaw(friction, effects, mass=law.mass, force_constant=law.force_constant,
+                               i_max=law.i_max))
+
+
 def run(duration, window, drift, model, module, substeps):
     friction = preset("paper3")
-    base = default_axis()
-    law = base.law
-    effects = (DriftEffect(drift, friction),) if drift else ()
-    axis = MotorAxis(EffectLaw(friction, effects, mass=law.mass, force_constant=law.force_constant,
-                               i_max=law.i_max))
+    axis = drifting_axis(drift)
     clock = Clock()
     exact = TrueFriction(drift or Drift(0, 0, 1, 1e9, 0, 0), friction, clock)
     settings = AdaptiveBackstepping()

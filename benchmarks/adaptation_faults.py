@@ -30,15 +30,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from adaptation import Clock, Drift, DriftEffect  # noqa: E402
+from adaptation import Clock, Drift, drifting_axis  # noqa: E402
 from fricgen.control.adaptation import adapted  # noqa: E402
 from fricgen.control.c_abi import FLAGS as CTRL_FLAGS  # noqa: E402
 from fricgen.control.c_adapted import build_adapted, c_params  # noqa: E402
 from fricgen.control.c_controller import CController  # noqa: E402
-from fricgen.control.loop import default_axis, default_model, simulate  # noqa: E402
-from fricgen.friction import preset  # noqa: E402
-from fricgen.sim.axis import MotorAxis  # noqa: E402
-from fricgen.sim.effect_law import EffectLaw  # noqa: E402
+from fricgen.control.loop import default_model, simulate  # noqa: E402
 from fricgen.sim.trajectory import reversing  # noqa: E402
 
 VALUES = {"nan": float("nan"), "+inf": float("inf"), "-inf": float("-inf"), "+1e20": 1e20,
@@ -165,11 +162,7 @@ def campaign(module, model, rule, entry, duration, seed):
     every_check = sorted({c for cs in checks.values() for c in cs})
     clean = Harness(module, model, rule, entry, {}, every_check)
     runs = {name: Harness(module, model, rule, entry, plan, checks[name]) for name, plan in plans.items()}
-    friction = preset("paper3")
-    law = default_axis().law
-    drift = Drift(level=0.3, viscous=0.0, tau=30.0, end=duration)
-    axis = MotorAxis(EffectLaw(friction, (DriftEffect(drift, friction),), mass=law.mass,
-                               force_constant=law.force_constant, i_max=law.i_max))
+    axis = drifting_axis(Drift(level=0.3, viscous=0.0, tau=30.0, end=duration))
     clock = Clock()
 
     def tick(t):

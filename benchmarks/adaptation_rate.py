@@ -22,25 +22,18 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from adaptation import Clock, Drift, DriftEffect  # noqa: E402
+from adaptation import Clock, Drift, drifting_axis  # noqa: E402
 from fricgen.control.adaptation import adapted  # noqa: E402
 from fricgen.control.backstepping import AdaptiveBackstepping  # noqa: E402
 from fricgen.control.c_adapted import CAdaptedController, build_adapted  # noqa: E402
 from fricgen.control.c_controller import CController  # noqa: E402
-from fricgen.control.loop import default_axis, default_model, simulate  # noqa: E402
-from fricgen.friction import preset  # noqa: E402
-from fricgen.sim.axis import MotorAxis  # noqa: E402
-from fricgen.sim.effect_law import EffectLaw  # noqa: E402
+from fricgen.control.loop import default_model, simulate  # noqa: E402
 from fricgen.sim.trajectory import reversing  # noqa: E402
 
 
 def run(module, model, ts, duration):
     """rms e1 over the last 10 s: {rule or "fixed": value}, and the adapted force moves."""
-    friction = preset("paper3")
-    law = default_axis().law
-    drift = Drift(level=0.3, viscous=0.0, tau=30.0, end=duration)
-    axis = MotorAxis(EffectLaw(friction, (DriftEffect(drift, friction),), mass=law.mass,
-                               force_constant=law.force_constant, i_max=law.i_max))
+    axis = drifting_axis(Drift(level=0.3, viscous=0.0, tau=30.0, end=duration))
     clock = Clock()
     settings = AdaptiveBackstepping(ts=ts)
     ctrls = {"fixed": CController(module, settings.clone(compensation=model), "fm_force"),

@@ -78,8 +78,8 @@ def module(default_model):
     return build_adapted(default_model, activation_impl="fast")
 
 
-def _controller(module, model, rule):
-    twin = adapted(model, rule, dtype="float32", activation_impl="fast")
+def _controller(module, model, rule, **adapter):
+    twin = adapted(model, rule, dtype="float32", activation_impl="fast", **adapter)
     twin.adapter.reset()                                      # its theta0 and bounds, for the checks
     return CAdaptedController(module, twin)
 
@@ -143,16 +143,22 @@ def other_axis_model():
 @pytest.mark.parametrize("rule", RULES)
 def test_a_model_of_another_axis_is_adapted_toward_this_one(other_axis_model, rule):
     """Deployed on the wrong axis, the model stays in its box and the loop stable and within
-    +-i_max. Over the last 5 s of 20 s the default Lyapunov rule tracks better than the fixed
-    wrong model (measured 0.90x; the box, 0.5 of each parameter's scale, limits how far it goes);
-    RLS, whose observation goes through a finite-difference acceleration, does not gain here
-    (measured 1.02x) and must do no great harm."""
+    +-i_max. The defaults adapt slowly (one update moves the force at most band Ts / 100 s, so
+    that glitches and a stuck sensor cannot take it far: benchmarks/adaptation_faults.py), so
+    over 20 s they must do no harm; Lyapunov with its error clamp a hundred times wider (band
+    Ts / 1 s) tracks better than the fixed wrong model over the last 5 s (measured 0.90x); RLS,
+    whose observation goes through a finite-difference acceleration, must do no great harm."""
     axis, model = default_axis(), other_axis_model
     module = build_adapted(model, activation_impl="fast")
     c = _controller(module, model, rule)
+    default_e_max = c.twin.adapter.input_limit()
+    quick = _controller(module, model, rule, e_max=100 * default_e_max)
     fixed = CController(module, AdaptiveBackstepping(dtype="float32", compensation=model), "fm_force")
-    rec = Recorder([c])
-    run, ref = simulate(axis, [c, fixed], duration=20.0, on_sample=rec)
-    assert run.finite and np.all(np.abs(run.i) <= axis.law.i_max)
-    assert _in_box(rec.theta[0], c)
-    assert _rms(run, 5.0) < (0.95 if rule == "lyapunov" else 1.5) * _rms(ref, 5.0)
+    rec = Recorder([c, quick])
+    run, fast_run, ref = simulate(axis, [c, quick, fixed], duration=20.0, on_sample=rec)
+    for r, controller, theta in ((run, c, rec.theta[0]), (fast_run, quick, rec.theta[1])):
+        assert r.finite and np.all(np.abs(r.i) <= axis.law.i_max)
+        assert _in_box(theta, controller)
+    assert _rms(run, 5.0) < (1.02 if rule == "lyapunov" else 1.5) * _rms(ref, 5.0)
+    if rule == "lyapunov":
+        assert _rms(fast_run, 5.0) < 0.97 * _rms(ref, 5.0)

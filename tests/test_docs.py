@@ -73,18 +73,24 @@ def _shell_lines_of(text: str) -> list:
     return [line for block in blocks for line in block.splitlines() if line.strip()]
 
 
-@pytest.mark.slow
-def test_the_tutorial_commands_run_as_written(tmp_path):
-    lines = _shell_lines(DOCS / "tutorials.md")
-    assert len(lines) >= 6
+def _run_lines(lines, folder) -> None:
+    """Run each shell line in ``folder``, ``fricgen`` as this Python's module (a C compiler's
+    lines skipped where there is none); each must exit 0."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     fricgen = f"{shlex.quote(sys.executable)} -m fricgen"
     for line in lines:
         if line.startswith("cc ") and shutil.which("cc") is None:
             continue
         command = re.sub(r"(^|\| )fricgen ", rf"\g<1>{fricgen} ", line)
-        done = subprocess.run(command, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True)
+        done = subprocess.run(command, shell=True, cwd=folder, env=env, capture_output=True, text=True)
         assert done.returncode == 0, f"{line}\n{done.stderr}"
+
+
+@pytest.mark.slow
+def test_the_tutorial_commands_run_as_written(tmp_path):
+    lines = _shell_lines(DOCS / "tutorials.md")
+    assert len(lines) >= 6
+    _run_lines(lines, tmp_path)
     assert (tmp_path / "out" / "fm.h").is_file() and (tmp_path / "diag" / "model.json").is_file()
 
 
@@ -96,14 +102,7 @@ def test_the_readme_tour_runs_as_written_in_order(tmp_path):
     tour = text[text.index("## A five-minute tour"):]
     lines = [line for line in _shell_lines_of(tour) if not line.startswith("pip ")]
     assert len(lines) >= 8
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    fricgen = f"{shlex.quote(sys.executable)} -m fricgen"
-    for line in lines:
-        if line.startswith("cc ") and shutil.which("cc") is None:
-            continue
-        command = re.sub(r"(^|\| )fricgen ", rf"\g<1>{fricgen} ", line.split("  #")[0])
-        done = subprocess.run(command, shell=True, cwd=tmp_path, env=env, capture_output=True, text=True)
-        assert done.returncode == 0, f"{line}\n{done.stderr}"
+    _run_lines(lines, tmp_path)
     assert (tmp_path / "adapt" / "fm_adapt.c").is_file() and (tmp_path / "log.json").is_file()
 
 
