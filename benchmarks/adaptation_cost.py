@@ -53,8 +53,7 @@ float fw_step(float v)
         fric_adapt_params_t ap;
         fric_ctrl_default_params(&cp);
         (void)fric_ctrl_init(&c, &cp);
-        fm_adapt_default_params(&ap, 1e-3f);
-        ap.rule = %(rule)s;
+        (void)fm_adapt_default_params(&ap, %(rule)s, 1e-3f);
         ap.e_dead = 0.0f;
         ap.gain = 1e-9f;   /* the same operations, but theta barely moves: no saturation */
         (void)fric_adapt_init(&a, &ap);

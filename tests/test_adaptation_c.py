@@ -148,7 +148,7 @@ def test_c_init_rejects_bad_parameters(default_model):
     module = build_adapted(default_model)
     ffi, lib = module.ffi, module.lib
     p = ffi.new("fric_adapt_params_t *")
-    assert lib.fm_adapt_default_params(p, 1e-3) == 0
+    assert lib.fm_adapt_default_params(p, lib.FRIC_ADAPT_RULE_LYAPUNOV, 1e-3) == 0
     a = ffi.new("fric_adapt_t *")
     assert lib.fric_adapt_init(a, p) == 0
     for field, bad in (("forgetting", 0.0), ("p0", -1.0), ("leak", 1.0), ("n", 0),
@@ -210,16 +210,22 @@ def test_rls_is_held_when_this_step_saturates(default_model):
 
 
 def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_model):
-    """NAME_adapt_default_params(p, ts): at the reference 1 ms the Python defaults bit for bit;
+    """NAME_adapt_default_params(p, rule, ts): at the reference 1 ms each rule's Python defaults
+    bit for bit;
     at 0.1 ms a tenth of the gain and leakage per sample and a tenth of 1 - lambda, so that a
     10 kHz loop adapts per second as a 1 kHz one does; a ts not > 0 is refused."""
     module = build_adapted(default_model)
     ffi, lib = module.ffi, module.lib
+    lyapunov, rls = lib.FRIC_ADAPT_RULE_LYAPUNOV, lib.FRIC_ADAPT_RULE_RLS
+    for rule, enum in (("lyapunov", lyapunov), ("rls", rls)):
+        ref = ffi.new("fric_adapt_params_t *")
+        assert lib.fm_adapt_default_params(ref, enum, 1e-3) == 0 and ref.rule == enum
+        expected = c_params(module, FrictionAdapter(default_model, rule))
+        for field in ("gain", "leak", "forgetting", "e_max", "band", "v_max", "p0", "trace_max"):
+            assert getattr(ref, field) == getattr(expected, field), (rule, field)
     ref, fast = ffi.new("fric_adapt_params_t *"), ffi.new("fric_adapt_params_t *")
-    assert lib.fm_adapt_default_params(ref, 1e-3) == 0 and lib.fm_adapt_default_params(fast, 1e-4) == 0
-    expected = c_params(module, FrictionAdapter(default_model))
-    for field in ("gain", "leak", "forgetting", "e_max", "band", "v_max"):
-        assert getattr(ref, field) == getattr(expected, field), field
+    assert lib.fm_adapt_default_params(ref, lyapunov, 1e-3) == 0
+    assert lib.fm_adapt_default_params(fast, lyapunov, 1e-4) == 0
     twin = FrictionAdapter(default_model, ts=1e-4)
     assert fast.gain == pytest.approx(twin.gain(), rel=1e-6)
     assert fast.leak == pytest.approx(twin.leakage(), rel=1e-6)
@@ -227,8 +233,9 @@ def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_
     assert 1 - fast.forgetting == pytest.approx(1 - twin.forgetting_factor(), rel=0.015)
     assert fast.e_max == ref.e_max
     for bad in (0.0, -1e-3, float("nan"), float("inf")):
-        assert lib.fm_adapt_default_params(fast, bad) == -2
-    assert lib.fm_adapt_default_params(ffi.NULL, 1e-3) == -1
+        assert lib.fm_adapt_default_params(fast, lyapunov, bad) == -2
+    assert lib.fm_adapt_default_params(fast, 7, 1e-3) == -2
+    assert lib.fm_adapt_default_params(ffi.NULL, lyapunov, 1e-3) == -1
 
 
 def _state(blob):

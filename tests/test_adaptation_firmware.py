@@ -35,9 +35,7 @@ static int fw_adapted_loop_run(void)
     fric_adapt_params_t ap;
     fw_plant_t s = {0.0f, 0.0f};
     unsigned k;
-    fm_adapt_default_params(&ap, 1e-3f);
-    ap.rule = %(rule)s;
-    if ((fric_ctrl_init(&c, &cp) != FRIC_CTRL_OK) || (fric_adapt_init(&a, &ap) != 0)) {
+    if ((fm_adapt_default_params(&ap, %(rule)s, 1e-3f) != 0) || (fric_ctrl_init(&c, &cp) != FRIC_CTRL_OK) || (fric_adapt_init(&a, &ap) != 0)) {
         sh_write0("al init-failed\n");
         return 1;
     }

@@ -83,6 +83,12 @@ def adapt_params(adapter) -> dict:
     return values
 
 
+def rule_scalars(adapter) -> dict:
+    """The one-float fields of ``adapt_params(adapter)`` (``SCALAR_FIELDS``), by name."""
+    params = adapt_params(adapter)
+    return {f: params[f] for f in SCALAR_FIELDS}
+
+
 def c_params(module, adapter):
     """A fric_adapt_params_t (cffi, of ``module``) holding ``adapt_params(adapter)``."""
     p = module.ffi.new("fric_adapt_params_t *")
@@ -110,7 +116,9 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
            "inv_k_out": c_float(1.0 / model.scaling.k_out),
            "theta0": c_array(params["theta0"]), "lo": c_array(params["lo"]),
            "hi": c_array(params["hi"]), "scale": c_array(params["scale"]),
-           "scalars": [(f, c_float(params[f])) for f in SCALAR_FIELDS],
+           "rules": [(RULE.member(rule).name,
+                      [(f, c_float(v)) for f, v in rule_scalars(adapter.clone(rule=rule)).items()])
+                     for rule in RULE.keys],
            "ts_ref": c_float(adapter.ts)}
     if isinstance(net, StribeckCurve):
         ctx.update(n_basis=net.n_sources, inv_stribeck=c_array(stribeck_table(net)),
@@ -133,7 +141,8 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
 def adapt_cdef(name: str) -> str:
     """The cffi declarations of an emitted NAME_adapt.h."""
     return (f"float {name}_regressor(float v, float *phi);\n"
-            f"fric_adapt_status_t {name}_adapt_default_params(fric_adapt_params_t *p, float ts);\n")
+            f"fric_adapt_status_t {name}_adapt_default_params(fric_adapt_params_t *p, "
+            "fric_adapt_rule_t rule, float ts);\n")
 
 
 def build_adapted(model: FrictionModel, name: str = "fm", activation_impl: str = "libm",
