@@ -1,4 +1,5 @@
-"""Instructions per update of the online adaptation (``emit --adapt``) on the emulated Cortex-M4F.
+"""Instructions per update of the online adaptation (``emit --adapt``) on the emulated Cortex-M4F
+and Cortex-M0+ (soft float).
 
 For a 10-neuron sigmoid ELM and a grey-box model with S = 3 gauss sources, fitted to the
 paper's benchmark, each with ``--activation-impl`` libm and fast, the firmware of
@@ -13,7 +14,7 @@ as well (M <= 15: the C holds 16 parameters) and prints, per implementation and 
 a + b M (Lyapunov) or a + b M + c M^2 (RLS, whose covariance update is quadratic) through them:
 what ``fricgen.codegen.cost.ADAPT_INSTRUCTIONS`` holds for the fit report.
 
-    python benchmarks/adaptation_cost.py [--sizes 1,5,10,15]
+    python benchmarks/adaptation_cost.py [--sizes 1,5,10,15] [--targets cortex-m4f,cortex-m0plus]
 
 Needs arm-none-eabi-gcc, libnewlib-arm-none-eabi and qemu-system-arm.
 """
@@ -36,7 +37,6 @@ from fricgen.friction import preset
 from fricgen.model import FrictionModel
 
 N_BENCH = 200
-TARGET = "cortex-m4f"
 
 WRAPPER = r"""
 #include "fw_step.h"
@@ -75,7 +75,7 @@ def models(sizes=(10,)):
     return {**elms, "grey-box S = 3": FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")}
 
 
-def per_call(model, impl: str, rule: str, call: str, tmp: Path) -> float:
+def per_call(model, impl: str, rule: str, call: str, tmp: Path, target: str) -> float:
     src = tmp / "src"
     codegen.emit(model, src, "fm", activation_impl=impl, with_controller=True)
     for name, text in render_adapt(model, "fm", impl).items():     # what emit --adapt adds
@@ -83,36 +83,42 @@ def per_call(model, impl: str, rule: str, call: str, tmp: Path) -> float:
     (src / "fw_step.h").write_text("float fw_step(float v);\n")
     (src / "fw_step.c").write_text(WRAPPER % {"rule": rule, "call": call})
     cfg = fw.config_float("fw_step.h", "fw_step", [0.05, 0.06], N_BENCH)
-    elf = fw.build_firmware(src, cfg, TARGET, tmp / "build", strict_model=False)
-    return sum(fw.count_instructions(elf, TARGET).values()) / N_BENCH
+    elf = fw.build_firmware(src, cfg, target, tmp / "build", strict_model=False)
+    return sum(fw.count_instructions(elf, target).values()) / N_BENCH
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="10", help="ELM sizes M, comma-separated (default 10)")
+    ap.add_argument("--targets", default="cortex-m4f,cortex-m0plus",
+                    help="targets, comma-separated (default both)")
     args = ap.parse_args(argv)
+    targets = args.targets.split(",")
     sizes = [int(m) for m in args.sizes.split(",")]
     reason = fw.missing_tools()
     if reason:
         print(f"adaptation_cost: {reason}", file=sys.stderr)
         return 2
-    print(f"{'model':16s} {'impl':5s} {'rule':9s} {'adapted step':>12s} {'fixed step':>10s} "
-          f"{'adaptation':>10s}  (instructions per call, Cortex-M4F)", flush=True)
+    print(f"{'target':13s} {'model':16s} {'impl':5s} {'rule':9s} {'adapted step':>12s} "
+          f"{'fixed step':>10s} {'adaptation':>10s}  (instructions per call)", flush=True)
     cost = {}
     with tempfile.TemporaryDirectory(prefix="fricgen_acost_") as tmp:
-        for label, model in models(sizes).items():
-            for impl in ("libm", "fast"):
-                for rule in ("FRIC_ADAPT_RULE_LYAPUNOV", "FRIC_ADAPT_RULE_RLS"):
-                    folder = Path(tmp) / f"{label[:3]}{impl}{rule[-3:]}"
-                    adapted = per_call(model, impl, rule, ADAPTED, folder / "a")
-                    fixed = per_call(model, impl, rule, FIXED, folder / "f")
-                    short = "lyapunov" if rule.endswith("LYAPUNOV") else "rls"
-                    print(f"{label:16s} {impl:5s} {short:9s} {adapted:12.0f} {fixed:10.0f} "
-                          f"{adapted - fixed:10.0f}", flush=True)
-                    if label.startswith("ELM"):
-                        cost.setdefault((short, impl), []).append((model.aim.n_hidden, adapted - fixed))
+        for target in targets:
+            for label, model in models(sizes).items():
+                for impl in ("libm", "fast"):
+                    for rule in ("FRIC_ADAPT_RULE_LYAPUNOV", "FRIC_ADAPT_RULE_RLS"):
+                        folder = Path(tmp) / f"{target}{label[:3]}{impl}{rule[-3:]}"
+                        adapted = per_call(model, impl, rule, ADAPTED, folder / "a", target)
+                        fixed = per_call(model, impl, rule, FIXED, folder / "f", target)
+                        short = "lyapunov" if rule.endswith("LYAPUNOV") else "rls"
+                        print(f"{target:13s} {label:16s} {impl:5s} {short:9s} {adapted:12.0f} "
+                              f"{fixed:10.0f} {adapted - fixed:10.0f}", flush=True)
+                        if label.startswith("ELM") and target == "cortex-m4f":
+                            cost.setdefault((short, impl), []).append((model.aim.n_hidden,
+                                                                       adapted - fixed))
     if len(sizes) > 1:
-        print("\nadaptation alone through the ELM sizes (instructions per update), a + b M [+ c M^2]:")
+        print("\nadaptation alone through the ELM sizes on Cortex-M4F (instructions per update), "
+              "a + b M [+ c M^2]:")
         for (rule, impl), points in sorted(cost.items()):
             m, n = np.array(points, dtype=float).T
             coef = np.polyfit(m, n, 2 if rule == "rls" else 1)[::-1]

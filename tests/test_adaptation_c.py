@@ -290,3 +290,26 @@ def test_a_saved_state_restores_bit_for_bit_and_a_foreign_one_is_refused(default
                                (blob[:-1], model_hash, -3)):
         assert lib.fric_adapt_restore(c, hash_, bad, len(bad)) == status
         assert bytes(ffi.buffer(c.theta, 4 * n)) == before                   # untouched
+
+
+@pytest.mark.parametrize("activation", ["rbf", "sigmoid"])
+def test_the_libm_regressor_sets_no_errno_and_equals_its_twin(bench, activation):
+    """The generated regressor computes each unit with the model's own clamped exponential: no
+    call sets errno (an unclamped expf underflows for most of an rbf ELM's speeds), and phi is
+    the float32 twin's within libm's last bits (the twin takes expf as correctly rounded, glibc's
+    is within 1 ULP)."""
+    from fricgen.control.regressor import Regressor
+    from fricgen.fit.elm import ELMRegressor, EnlargedScheme
+    model = FrictionModel.fit(bench.dataset, ELMRegressor(
+        n_hidden=8, activation=activation, scheme=EnlargedScheme(w_max=30.0), random_state=0), name="fm")
+    z = np.outer(np.linspace(0, 1, 101), model.aim.input_weights) + model.aim.biases
+    assert np.any(z * z > 104)                  # where an unclamped exp(-z^2) underflows
+    module = build_adapted(model)
+    ffi, lib = module.ffi, module.lib
+    twin = Regressor(model, "float32")
+    phi = ffi.new("float[]", MAX_PARAMS)
+    for v in np.float32(np.linspace(-2 * model.v_sat, 2 * model.v_sat, 2001)):
+        ffi.errno = 0
+        lib.fm_regressor(float(v), phi)
+        assert ffi.errno == 0, float(v)
+        np.testing.assert_allclose(np.float32(list(phi)[:twin.n]), twin(v)[1], rtol=5e-7, atol=1e-30)

@@ -25,9 +25,11 @@ from .regressor import Regressor, parameter_names, trained_parameters
 
 #: The adaptation runtime copied beside the controller runtime.
 ADAPT_FILES = ("fric_adapt.h", "fric_adapt.c")
-#: One hidden unit's output h(z) of [F8] in the generated regressor, by implementation.
-ACTIVATION_C = {"libm": {"sigmoid": "1.0f / (1.0f + expf(-z))", "sine": "sinf(z)",
-                         "rbf": "expf(-(z * z))", "multiquadric": "sqrtf(1.0f + z * z)"},
+#: One hidden unit's output h(z) of [F8] in the generated regressor, by implementation: the
+#: model's own kernels (exp's argument clamped: no errno, ``fric_kernel.h``).
+ACTIVATION_C = {"libm": {"sigmoid": "1.0f / (1.0f + fric_exp_neg_inline_f32(z))", "sine": "sinf(z)",
+                         "rbf": "fric_exp_neg_inline_f32(z * z)",
+                         "multiquadric": "sqrtf(1.0f + (z * z))"},
                 "fast": {"sigmoid": "fric_sigmoid_fast_f32(z)"}}
 #: The fields of fric_adapt_params_t that are one float, in the header's order.
 SCALAR_FIELDS = ("forgetting", "p0", "trace_max", "gain", "leak", "v_dead", "e_dead", "e_max",
