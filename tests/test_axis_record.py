@@ -119,7 +119,13 @@ def test_simulate_runs_the_models_axis_and_keeps_the_reference_within_its_speeds
     law = plant.axis.law
     assert law.mass == 95.1 and law.friction.model_hash == model10.model_hash
     assert law.external_force(np.zeros(1), np.zeros(1), np.zeros(1))[0] == pytest.approx(-3.16)  # = offset
-    assert plant.phi_n / law.force_constant == pytest.approx(20 / 18)  # the built-in's m / phi
+    # the axis's own motor (the force constant training read the current with), known to the
+    # controller, with the built-in's thrust per kg
+    assert law.force_constant == plant.phi_n == RECORD["force_constant"]
+    assert law.force_constant * law.i_max == pytest.approx(90.0 * 95.1) and plant.i_max == law.i_max
+    assert f"motor 1 N/A (the model's axis), {law.i_max:.4g} A" in plant.text
+    plain = choose_plant(with_axis(model10, {**RECORD, "force_constant": None}))
+    assert plain.phi_n / plain.axis.law.force_constant == pytest.approx(20 / 18)  # scaled built-in
     speeds = np.abs(sampled(plant.trajectory, np.arange(0, 4.0, 1e-3))[:, 1])
     assert 0.9 * RECORD["speed_max"] < speeds.max() <= RECORD["speed_max"]
     assert plant.text.startswith("plant: the model's axis, m = 95.1 kg (identified from the data)")

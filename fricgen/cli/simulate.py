@@ -64,7 +64,7 @@ def run(args) -> int:
     plant = choose_plant(model, args.mass)
     axis = plant.axis
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,
-                                    phi_n=plant.phi_n)
+                                    phi_n=plant.phi_n, i_max=plant.i_max)
     try:
         settings.validate()
     except ValueError as exc:
@@ -109,10 +109,11 @@ def choose_plant(model, mass=None):
     record = model.axis
     speed_max = record.speed_max if record is not None else None
     offset = (record.offset or 0.0) if record is not None else 0.0
+    phi = record.force_constant if record is not None else None
     if mass is not None:
-        return model_plant(model, mass, offset, speed_max, f"m = {mass:.4g} kg (--mass)")
+        return model_plant(model, mass, offset, speed_max, f"m = {mass:.4g} kg (--mass)", phi)
     if record is not None and record.mass is not None:
-        return model_plant(model, record.mass, offset, speed_max, record.mass_text)
+        return model_plant(model, record.mass, offset, speed_max, record.mass_text, phi)
     why = ("the model carries no axis" if record is None else
            "the model's axis has no mass (trained on a sweep); --mass simulates that axis")
     return builtin_plant(why, speed_max)
@@ -124,13 +125,13 @@ def table(report: dict) -> str:
              f"law ({report['law']}), Ts = {report['ts']:g} s, {report['duration']:g} s simulated, "
              f"{report['backend']} controller, friction model at {report['friction_input']}",
              f"{'variant':8s} {'rms_e1 mm':>10s} {'max_e1 mm':>10s} {'rms_i A':>8s} {'max_i A':>8s} "
-             f"{'m_o_hat':>8s} {'k_hat':>7s}"]
+             f"{'m_o_hat A s^2/m':>15s} {'k_hat':>7s}  (k_hat: no unit)"]
     for name, m in report["variants"].items():
         note = "" if m["finite"] else "  (unstable: diverged)"
         if m.get("friction_in") == "python":
             note += "  (friction computed in Python)"
         lines.append(f"{name:8s} {1e3 * m['rms_e1']:10.4f} {1e3 * m['max_e1']:10.4f} "
-                     f"{m['rms_i']:8.3f} {m['max_i']:8.3f} {m['m_o_hat']:8.4f} {m['k_hat']:7.4f}{note}")
+                     f"{m['rms_i']:8.3f} {m['max_i']:8.3f} {m['m_o_hat']:15.4f} {m['k_hat']:7.4f}{note}")
     return "\n".join(lines)
 
 

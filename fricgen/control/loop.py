@@ -81,28 +81,36 @@ class Plant:
     phi_n: float
     trajectory: object
     text: str
+    i_max: float = 10.0
 
 
 def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
-                speed_max: Optional[float] = None, mass_text: str = "") -> Plant:
+                speed_max: Optional[float] = None, mass_text: str = "",
+                force_constant: Optional[float] = None) -> Plant:
     """The axis a model was trained on: [C1] with mass ``mass`` (kg), the model itself as its
     friction (sticking at rest up to F(0+)) and the constant force ``offset`` (N, the constant
     part of the drive force: an external force of -offset along +x, ``fricgen.axis``).
 
-    Its motor is the built-in one scaled with the mass (phi = 9 N/A per kg, the controller
-    assuming 10 N/A per kg, 10 A): m / phi, and so the controller's gains and loop bandwidth,
-    stay those of the built-in axis. The reference reverses at peak speeds up to
-    min(0.2 m/s, ``speed_max``), the fastest speed the model was trained on.
+    Its motor: the axis's ``force_constant`` (N/A, the one training read the current with),
+    which the controller then knows; without one, the built-in motor scaled with the mass
+    (phi = 9 N/A per kg, the controller assuming 10 N/A per kg). The current limit gives the
+    built-in's thrust per kg (90 N/kg), so that the controller's gains and loop stay those of the
+    built-in axis up to m / phi. The reference reverses at peak speeds up to min(0.2 m/s,
+    ``speed_max``), the fastest speed the model was trained on.
     """
     scale = mass / DEFAULT_MASS
-    axis = default_axis(model, mass=mass, force_constant=DEFAULT_FORCE_CONSTANT * scale,
-                        load=offset)
+    if force_constant is None:
+        phi, phi_n, whose = DEFAULT_FORCE_CONSTANT * scale, DEFAULT_PHI_N * scale, "scaled with the mass"
+    else:
+        phi, phi_n, whose = force_constant, force_constant, "the model's axis"
+    i_max = 10.0 * DEFAULT_FORCE_CONSTANT * scale / phi
+    axis = default_axis(model, mass=mass, force_constant=phi, load=offset, i_max=i_max)
     trajectory, speeds = reference_within(speed_max)
     offset_text = f", offset {offset:.4g} N as a constant force" if offset else ""
-    return Plant(axis, DEFAULT_PHI_N * scale, trajectory,
+    return Plant(axis, phi_n, trajectory,
                  f"plant: the model's axis, {mass_text or f'm = {mass:.4g} kg'}{offset_text}, "
-                 f"friction = the model; motor {DEFAULT_FORCE_CONSTANT * scale:.4g} N/A, 10 A; "
-                 f"{speeds}")
+                 f"friction = the model; motor {phi:.4g} N/A ({whose}), {i_max:.4g} A; "
+                 f"{speeds}", i_max)
 
 
 def builtin_plant(why: str, speed_max: Optional[float] = None) -> Plant:
