@@ -10,6 +10,7 @@ survives when they pass. The file is restored after every mutant, also on Ctrl-C
     python benchmarks/mutation.py                       # every module, 8 sampled mutants each
     python benchmarks/mutation.py --modules decision outliers --per-module 0   # all of them
     python benchmarks/mutation.py --list                # the mutants, without running tests
+    python benchmarks/mutation.py --modules controller adaptation runtime_ctrl runtime_adapt --default-run
 
 Run it from the repository root on a clean tree: it edits the files in place.
 """
@@ -58,6 +59,15 @@ MODULES: Dict[str, Tuple[str, Optional[Sequence[str]], Sequence[str]]] = {
                    ["_project", "AdaptiveBackstepping.friction_force", "AdaptiveBackstepping.friction_velocity",
                     "AdaptiveBackstepping.compensation_force", "AdaptiveBackstepping.step_with_force"],
                    ["tests/test_control.py", "tests/test_control_faults.py", "tests/test_control_c.py"]),
+    "adaptation": ("fricgen/control/adaptation.py",
+                   ["FrictionAdapter.force", "FrictionAdapter._gate", "FrictionAdapter.rls",
+                    "FrictionAdapter.lyapunov", "FrictionAdapter._clamp", "FrictionAdapter._finish",
+                    "FrictionAdapter.gain", "FrictionAdapter.input_limit", "AdaptedController.step"],
+                   ["tests/test_adaptation.py", "tests/test_adaptation_c.py"]),
+    "runtime_adapt": ("c_runtime/fric_adapt.c", None,
+                      ["tests/test_adaptation_c.py", "tests/test_adaptation.py"]),
+    "runtime_ctrl": ("c_runtime/fric_ctrl.c", None,
+                     ["tests/test_control_c.py", "tests/test_control_faults.py"]),
     "template_curve": ("templates/curve.c.j2", None, [
         "tests/test_references.py", "tests/test_hardening.py::"
         "test_grey_box_force_has_defined_behaviour_for_every_input_under_sanitizers"]),
@@ -180,9 +190,9 @@ def apply(m: Mutant, text: str) -> str:
     return "".join(lines)
 
 
-def run_tests(tests: Sequence[str], timeout: float) -> str:
-    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-m", "slow or not slow",
-           *tests]
+def run_tests(tests: Sequence[str], timeout: float, default_run: bool = False) -> str:
+    marks = "not slow" if default_run else "slow or not slow"
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-m", marks, *tests]
     try:
         proc = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -200,6 +210,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--timeout", type=float, default=300.0, help="seconds per test run")
     ap.add_argument("--list", action="store_true", help="list the mutants and stop")
+    ap.add_argument("--default-run", action="store_true",
+                    help="run the tests of the default run only (no slow ones): what CI's first "
+                    "run catches")
     args = ap.parse_args(argv)
     status = subprocess.run(["git", "status", "--porcelain", "--", *(MODULES[m][0] for m in args.modules)],
                             cwd=ROOT, capture_output=True, text=True).stdout
@@ -223,7 +236,7 @@ def main(argv=None) -> int:
         for m in chosen:
             try:
                 (ROOT / path).write_text(apply(m, original))
-                outcome = run_tests(tests, args.timeout)
+                outcome = run_tests(tests, args.timeout, args.default_run)
             finally:
                 (ROOT / path).write_text(original)
             counts[outcome] += 1
