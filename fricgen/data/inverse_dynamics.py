@@ -62,6 +62,19 @@ def robust_sd(values: np.ndarray) -> float:
     return float(1.4826 * np.median(np.abs(values - np.median(values))))
 
 
+def position_quantum(x: np.ndarray) -> float:
+    """The step of a position logged in encoder counts (every change between samples a whole
+    number of one step, to 1e-6 of it), else 0."""
+    steps = np.abs(np.diff(np.asarray(x, dtype=float)))
+    steps = steps[steps > 0]
+    if steps.size < MIN_LOG_ROWS:
+        return 0.0
+    quantum = float(steps.min())
+    counts = steps / quantum
+    whole = np.abs(counts - np.round(counts)) <= 1e-6 * np.maximum(counts, 1.0)
+    return quantum if np.median(counts) < 1e3 and whole.mean() >= 0.99 else 0.0
+
+
 def velocity_noise(v: np.ndarray) -> float:
     """The standard deviation of white noise on v, from its second differences (variance
     6 sigma^2; a smooth signal barely contributes at the sampling rate)."""
@@ -277,6 +290,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     if given and x is not None:
         check_units(x, v, ts)
     noise = velocity_noise(v)
+    if not given:                           # encoder counts: the central difference's rounding
+        noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))
     use = np.ones(t.size, dtype=bool) if use is None else np.asarray(use, dtype=bool)
     if window is None:
         rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
@@ -308,12 +323,14 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
               use: np.ndarray):
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
-    (whole windows) where the axis moves: |v| above MOVING_SIGMAS noise and MOVING_FRACTION of
+    (whole windows) where the axis moves: |v| above MOVING_SIGMAS of the noise the smoothing
+    leaves (the raw noise times the root of the centre weight) and MOVING_FRACTION of
     the top speed; ``DataError`` when there are none."""
     v_s = smooth(v, window)
     a_s = smooth(v, window, deriv=1, delta=ts)
     f_s = smooth(force, window)
-    threshold = max(MOVING_SIGMAS * noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
+    smoothed_noise = noise * np.sqrt(_centre_weight(window))   # the noise left in v_s
+    threshold = max(MOVING_SIGMAS * smoothed_noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
     whole = minimum_filter1d(use.astype(np.int8), window).astype(bool)    # whole windows of use
     moving = (np.abs(v_s) > threshold) & whole
     if not moving.any():
