@@ -5,6 +5,7 @@ import json
 import numpy as np
 import pytest
 
+import fricgen
 from fricgen.cli import main
 from fricgen.data.idim import MASS_SIGMAS, identify_mass, identify_rigid_body
 from fricgen.data.inverse_dynamics import identify_friction
@@ -294,3 +295,44 @@ def test_the_offset_is_in_eval_the_c_and_the_python_model_alike(offset_log, tmp_
     assert lib.ax_offset() == pytest.approx(model.axis_offset, rel=1e-6)
     c = np.array([lib.ax_force_with_offset(float(u)) for u in v])
     assert np.max(np.abs(c - expected)) <= 1e-5 * scale
+
+
+def test_a_position_in_encoder_counts_is_recognised_and_only_then():
+    from fricgen.data.inverse_dynamics import position_quantum
+    x = np.cumsum(np.random.default_rng(1000).normal(0.0, 3e-5, 5000))
+    assert position_quantum(x) == 0.0                              # a continuous position
+    assert position_quantum(np.round(x / 1e-5) * 1e-5) == pytest.approx(1e-5, rel=1e-6)
+    assert position_quantum(np.round(x / 1e-6) * 1e-6) == pytest.approx(1e-6, rel=1e-6)
+
+
+def test_a_log_in_10_um_encoder_counts_keeps_its_stribeck_region():
+    """x in 10 um steps at 4 kHz, no velocity column: the slow rows where the Stribeck curve
+    falls are kept (the smoothed velocity resolves them), so the friction there is right; a
+    threshold on the raw differentiated velocity's noise dropped them (2.5 N off at 8 mm/s)."""
+    rng = np.random.default_rng(1001)
+    rate, sub, mass = 4000.0, 10, 3.0
+    n, h = int(8 * rate), 1.0 / (rate * sub)
+
+    def law(v):
+        return np.tanh(v / 2e-4) * (6.0 + 4.0 / (1.0 + (v / 0.015) ** 2)) + 25.0 * v
+    t = np.arange(n) / rate
+    s = 4 * np.abs((t / 4.0 + 0.25) % 1.0 - 0.5) - 1
+    v_ref = 0.2 * s * np.abs(s)
+    x = v = integral = 0.0
+    xs, force = np.empty(n), np.empty(n)
+    kp, ki = mass * 2 * np.pi * 60, mass * (2 * np.pi * 60) ** 2 / 4
+    for k in range(n):
+        error = v_ref[k] - v
+        integral += error / rate
+        f = kp * error + ki * integral
+        xs[k], force[k] = x, f
+        for _ in range(sub):
+            v += h * (f - law(v)) / mass
+            x += h * v
+    log = {"t": t, "x": np.round(xs / 1e-5) * 1e-5, "force": force + 0.2 * rng.standard_normal(n)}
+    ident = identify_friction(log["t"], log["force"], None, x=log["x"])
+    assert abs(ident.body.mass - mass) < 0.02 * mass
+    slow = np.array([0.006, 0.01, 0.02])
+    assert ident.sweep.v.min() < 0.006                              # the slow rows are kept
+    report = fricgen.train(log, estimator=fricgen.StribeckRegressor())
+    assert np.max(np.abs(report.model.force(slow) - law(slow))) < 0.2
