@@ -309,27 +309,9 @@ def test_a_log_in_10_um_encoder_counts_keeps_its_stribeck_region():
     """x in 10 um steps at 4 kHz, no velocity column: the slow rows where the Stribeck curve
     falls are kept (the smoothed velocity resolves them), so the friction there is right; a
     threshold on the raw differentiated velocity's noise dropped them (2.5 N off at 8 mm/s)."""
-    rng = np.random.default_rng(1001)
-    rate, sub, mass = 4000.0, 10, 3.0
-    n, h = int(8 * rate), 1.0 / (rate * sub)
-
-    def law(v):
-        return np.tanh(v / 2e-4) * (6.0 + 4.0 / (1.0 + (v / 0.015) ** 2)) + 25.0 * v
-    t = np.arange(n) / rate
-    s = 4 * np.abs((t / 4.0 + 0.25) % 1.0 - 0.5) - 1
-    v_ref = 0.2 * s * np.abs(s)
-    x = v = integral = 0.0
-    xs, force = np.empty(n), np.empty(n)
-    kp, ki = mass * 2 * np.pi * 60, mass * (2 * np.pi * 60) ** 2 / 4
-    for k in range(n):
-        error = v_ref[k] - v
-        integral += error / rate
-        f = kp * error + ki * integral
-        xs[k], force[k] = x, f
-        for _ in range(sub):
-            v += h * (f - law(v)) / mass
-            x += h * v
-    log = {"t": t, "x": np.round(xs / 1e-5) * 1e-5, "force": force + 0.2 * rng.standard_normal(n)}
+    from independent_axis import COUNTS_MASS as mass, counts_friction as law, counts_log
+    exact = counts_log(1001, 4000.0, 8.0, substeps=10)
+    log = {**exact, "x": np.round(exact["x"] / 1e-5) * 1e-5}
     ident = identify_friction(log["t"], log["force"], None, x=log["x"])
     assert abs(ident.body.mass - mass) < 0.02 * mass
     slow = np.array([0.006, 0.01, 0.02])
