@@ -403,7 +403,7 @@ class FrictionAdapter:
         """(e clamped to +-e_max, the ``clamped`` flag or 0)."""
         if e > self._e_max:
             return self._e_max, FLAGS.value("clamped")
-        if e <= -self._e_max:
+        if e < -self._e_max:
             return -self._e_max, FLAGS.value("clamped")
         return e, 0
 
