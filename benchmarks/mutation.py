@@ -65,7 +65,7 @@ MODULES: Dict[str, Tuple[str, Optional[Sequence[str]], Sequence[str]]] = {
                     "FrictionAdapter.gain", "FrictionAdapter.input_limit", "AdaptedController.step"],
                    ["tests/test_adaptation.py", "tests/test_adaptation_c.py"]),
     "runtime_adapt": ("c_runtime/fric_adapt.c", None,
-                      ["tests/test_adaptation_c.py", "tests/test_adaptation.py"]),
+                      ["tests/test_adaptation_c.py", "tests/test_adaptation.py", "tests/test_readback.py"]),
     "runtime_ctrl": ("c_runtime/fric_ctrl.c", None,
                      ["tests/test_control_c.py", "tests/test_control_faults.py"]),
     "template_curve": ("templates/curve.c.j2", None, [

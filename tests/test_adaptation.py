@@ -220,3 +220,14 @@ def test_a_speed_beyond_v_max_changes_nothing(model, rule):
     assert update(-1.01 * a.speed_limit(), 1e-3) == FLAGS.value("out of range")
     np.testing.assert_array_equal(a.theta_, a._theta0)
     assert update(0.99 * a.speed_limit(), 1e-2) & FLAGS.value("out of range") == 0
+
+
+def test_an_error_at_its_clamp_or_an_update_onto_the_box_edge_is_no_event(model):
+    """CLAMPED means an error beyond +-e_max and PROJECTED an update beyond the box: exactly at
+    the limit neither flag is raised (the flags count the events the campaign counts)."""
+    a = _adapter(model, rule="lyapunov", leak=0.0)
+    limit = a._e_max
+    assert a._clamp(limit) == (limit, 0) and a._clamp(-limit) == (-limit, 0)
+    assert a._clamp(np.nextafter(-limit, -np.inf))[1] == FLAGS.value("clamped")
+    assert a._finish(a._lo.copy(), 0, 0.0) == 0 and np.array_equal(a.theta_, a._lo)
+    assert a._finish(a._lo - 1.0, 0, 0.0) == FLAGS.value("projected")

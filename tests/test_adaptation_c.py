@@ -151,8 +151,9 @@ def test_c_init_rejects_bad_parameters(default_model):
     assert lib.fm_adapt_default_params(p, lib.FRIC_ADAPT_RULE_LYAPUNOV, 1e-3) == 0
     a = ffi.new("fric_adapt_t *")
     assert lib.fric_adapt_init(a, p) == 0
-    for field, bad in (("forgetting", 0.0), ("p0", -1.0), ("leak", 1.0), ("n", 0),
-                       ("n", MAX_PARAMS + 1), ("v_dead", float("nan")), ("rule", 2)):
+    for field, bad in (("forgetting", 0.0), ("forgetting", 1.5), ("p0", -1.0), ("leak", 1.0), ("n", 0),
+                       ("n", MAX_PARAMS + 1), ("v_dead", float("nan")), ("rule", 2),
+                       ("e_max", 0.0), ("band", -1.0), ("v_max", float("inf"))):
         q = ffi.new("fric_adapt_params_t *", p[0])
         setattr(q, field, bad)
         assert lib.fric_adapt_init(a, q) == -2, field
