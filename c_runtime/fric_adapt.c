@@ -437,8 +437,8 @@ static void fric_adapt_state_head(unsigned char *head, unsigned int n, const cha
     head[1] = (unsigned char)'R';
     head[2] = (unsigned char)'A';
     head[3] = (unsigned char)'S';
-    head[4] = (unsigned char)(FRIC_ADAPT_VERSION & 0xFFu);
-    head[5] = (unsigned char)((FRIC_ADAPT_VERSION >> 8) & 0xFFu);
+    head[4] = (unsigned char)((unsigned int)FRIC_ADAPT_VERSION & 0xFFu);
+    head[5] = (unsigned char)(((unsigned int)FRIC_ADAPT_VERSION >> 8) & 0xFFu);
     head[6] = (unsigned char)(n & 0xFFu);
     head[7] = (unsigned char)((n >> 8) & 0xFFu);
     for (k = 0u; k < FRIC_ADAPT_HASH_MAX; ++k) {
@@ -484,6 +484,7 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
 {
     unsigned char head[24];
     float theta[FRIC_ADAPT_MAX_PARAMS];
+    const unsigned char *covariance;
     unsigned int n;
     unsigned int total;
     unsigned int k;
@@ -517,16 +518,19 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         }
         at = &at[4];
     }
-    for (k = 0u; k < (n * n); ++k) {
-        if (!isfinite(fric_adapt_bits_float(fric_adapt_get_u32(&at[4u * k])))) {
+    covariance = at;
+    for (k = 0u; k < (n * n); ++k) {                 /* checked first: a untouched if not */
+        if (!isfinite(fric_adapt_bits_float(fric_adapt_get_u32(at)))) {
             return FRIC_ADAPT_ERR_RANGE;
         }
+        at = &at[4];
     }
     for (k = 0u; k < n; ++k) {
         a->theta[k] = theta[k];
     }
     for (k = 0u; k < (n * n); ++k) {
-        a->P[k] = fric_adapt_bits_float(fric_adapt_get_u32(&at[4u * k]));
+        a->P[k] = fric_adapt_bits_float(fric_adapt_get_u32(covariance));
+        covariance = &covariance[4];
     }
     a->held = 1;
     return FRIC_ADAPT_OK_INIT;
