@@ -11,7 +11,7 @@ from __future__ import annotations
 import ctypes
 import os
 from contextlib import contextmanager
-from typing import Iterator, List, Tuple
+from typing import Iterator, List, Optional, Tuple
 
 #: The name stems of OpenBLAS's thread functions, with their prefixes and suffixes.
 _STEMS = ("openblas_{}_num_threads", "openblas_{}_num_threads64_",
@@ -40,10 +40,15 @@ def _openblas() -> List[Tuple[object, object]]:
     return found
 
 
+def thread_count(text: str) -> Optional[int]:
+    """A value of ``FRICGEN_BLAS_THREADS`` as a thread count: an integer from 1 to 1024, else
+    None."""
+    return int(text) if text.isascii() and text.isdigit() and 1 <= int(text) <= 1024 else None
+
+
 def wanted_threads(environ=os.environ) -> int:
     """The BLAS threads fricgen's numerics use: ``FRICGEN_BLAS_THREADS`` (1 .. 1024), else 1."""
-    text = environ.get("FRICGEN_BLAS_THREADS", "1")
-    return int(text) if text.isascii() and text.isdigit() and 1 <= int(text) <= 1024 else 1
+    return thread_count(environ.get("FRICGEN_BLAS_THREADS", "1")) or 1
 
 
 @contextmanager

@@ -14,6 +14,7 @@ import sys
 import warnings
 
 from .. import __version__
+from .._blas import thread_count
 from ..errors import FricgenError, UsageError
 from .common import ArgumentParser, say
 
@@ -79,10 +80,11 @@ def pin_blas_threads(environ=os.environ) -> None:
         for key in BLAS_VARIABLES:
             environ.setdefault(key, "1")
         return
-    if not (wanted.isascii() and wanted.isdigit() and 1 <= int(wanted) <= 1024):
+    count = thread_count(wanted)
+    if count is None:
         raise UsageError(f"FRICGEN_BLAS_THREADS must be an integer from 1 to 1024, got {wanted[:40]!r}")
     for key in BLAS_VARIABLES:
-        environ[key] = str(int(wanted))
+        environ[key] = str(count)
 
 
 def main(argv=None) -> int:

@@ -7,7 +7,7 @@ from contextlib import contextmanager
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments,
                            parse_scales, read_export)
 from ..data.inverse_dynamics import is_log
-from ..data.table import DELIMITERS
+from ..data.table import DELIMITERS, DETECT
 from ..data.plausibility import check_columns, check_merge_shift
 from ..errors import FricgenError, UsageError
 from ..model import FrictionModel
@@ -74,7 +74,7 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     and a second instrument's file merged on time (``min_rows(columns)``: the fewest common rows
     the merged data need); then checked for plausibility (``data.plausibility``)."""
     scales = parse_scales(args.scale)
-    dialect = dict(delimiter=DELIMITERS[args.delimiter] if args.delimiter else ",?",
+    dialect = dict(delimiter=DELIMITERS[args.delimiter] if args.delimiter else DETECT,
                    decimal_comma=args.decimal_comma)
     columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns"),
                                              **dialect), scales, drop_text)

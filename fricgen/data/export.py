@@ -21,7 +21,7 @@ from .._io import plain_float
 from ..errors import DataError, UsageError
 from .matfile import MatFile, is_matfile, read_matfile
 from .motionlog import check_finite
-from .table import header_cells, read_table_csv
+from .table import DETECT, header_cells, read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
 QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A"}
@@ -115,12 +115,13 @@ def check_scaled(scales: Mapping[str, Factor], files: Mapping[str, Dict[str, np.
 class ExportLayout:
     """How to read one exported file: ``skip`` preamble lines (0: found, ``table.header_skip``),
     then a header whose columns ``columns`` maps from fricgen's names to the file's (unmapped
-    columns keep their own name); ``delimiter`` (a value of ``table.DELIMITERS``, or ",?" to
-    detect) and ``decimal_comma`` (None to detect) as ``table.read_table_csv`` takes them."""
+    columns keep their own name); ``delimiter`` (a value of ``table.DELIMITERS``, or
+    ``table.DETECT``) and ``decimal_comma`` (None to detect) as ``table.read_table_csv`` takes
+    them."""
 
     skip: int = 0
     columns: Mapping[str, str] = field(default_factory=dict)
-    delimiter: Optional[str] = ",?"
+    delimiter: Optional[str] = DETECT
     decimal_comma: Optional[bool] = None
 
     def __post_init__(self):

@@ -60,15 +60,17 @@ def _thousands_hint(row: Sequence[str], width: int) -> str:
 
 #: The delimiters by the names ``--delimiter`` takes; None splits on runs of whitespace.
 DELIMITERS = {",": ",", ";": ";", "tab": "\t", "space": None}
+#: The delimiter argument that asks for the delimiter to be read off the header line.
+DETECT = ",?"
 #: How many lines a preamble may have for the header to be found without ``skip``.
 PREAMBLE_LINES = 100
 
 
-def _delimiter(header: str, given: Optional[str] = ",?") -> Optional[str]:
+def _delimiter(header: str, given: Optional[str] = DETECT) -> Optional[str]:
     """The delimiter of a CSV: ``given`` (a value of ``DELIMITERS``), or read off its header
     line: the most frequent of ';', tab and ',' (',' on a tie), else whitespace where the line
     holds several words, else ','."""
-    if given != ",?":
+    if given != DETECT:
         return given
     counts = {sep: header.count(sep) for sep in (",", ";", "\t")}
     best = max(counts, key=lambda sep: (counts[sep], sep == ","))
@@ -87,7 +89,7 @@ def _decimal_comma(cells: Sequence[str], sep: Optional[str]) -> bool:
     return sep != "," and any(_DECIMAL_COMMA.fullmatch(c.strip()) for c in cells)
 
 
-def header_skip(path: Union[str, Path], delimiter: Optional[str] = ",?") -> int:
+def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> int:
     """The lines before the header of ``path``: 0 where the first line is followed by a row of
     as many cells, else the first line among ``PREAMBLE_LINES`` that is (its next non-blank line
     numeric, with as many cells: a drive's preamble), else 0 (the reader then says what is
@@ -118,7 +120,7 @@ def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
 
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
                    keep_extra: bool = False, skip: int = 0, drop_text: bool = False,
-                   delimiter: Optional[str] = ",?",
+                   delimiter: Optional[str] = DETECT,
                    decimal_comma: Optional[bool] = None) -> Dict[str, np.ndarray]:
     """Read a numeric CSV (the module doc's dialects) whose header names (at least) the
     ``required`` columns.
@@ -134,7 +136,7 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     """
     try:
         skip = skip or header_skip(path, delimiter)
-        if delimiter == ",?" and not decimal_comma:
+        if delimiter == DETECT and not decimal_comma:
             fast = _read_plain(path, required, keep_extra, skip)
             if fast is not None:
                 return fast
@@ -155,7 +157,7 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
         raise DataError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
-def header_cells(path: Union[str, Path], skip: int = 0, delimiter: Optional[str] = ",?") -> List[str]:
+def header_cells(path: Union[str, Path], skip: int = 0, delimiter: Optional[str] = DETECT) -> List[str]:
     """The header's names as written (for messages; [] if unreadable); without ``skip`` after
     a preamble found by ``header_skip``."""
     try:
