@@ -310,6 +310,17 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     return flags;
 }
 
+/* The bits of a float (the dump's and the saved state's words). */
+static uint32_t fric_adapt_float_bits(float f)
+{
+    union {
+        float f;
+        uint32_t u;
+    } pun;
+    pun.f = f;
+    return pun.u;
+}
+
 /* Appends text to buf at *len if it fits below size - 1 (room for the NUL); 0 if not. */
 static int fric_adapt_put(char *buf, unsigned int size, unsigned int *len, const char *text)
 {
@@ -345,14 +356,8 @@ unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, ch
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, model_hash) : 0;
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, "\ntheta") : 0;
     for (k = 0u; (ok != 0) && (k < n); ++k) {
-        union {
-            float f;
-            uint32_t u;
-        } pun;
-        uint32_t bits;
+        const uint32_t bits = fric_adapt_float_bits(a->theta[k]);
         unsigned int d;
-        pun.f = a->theta[k];
-        bits = pun.u;
         word[0] = ' ';
         for (d = 0u; d < 8u; ++d) {
             word[1u + d] = hex[(bits >> (28u - (4u * d))) & 0xFu];
@@ -396,16 +401,6 @@ static void fric_adapt_put_u32(unsigned char *at, uint32_t value)
 static uint32_t fric_adapt_get_u32(const unsigned char *at)
 {
     return (uint32_t)at[0] | ((uint32_t)at[1] << 8) | ((uint32_t)at[2] << 16) | ((uint32_t)at[3] << 24);
-}
-
-static uint32_t fric_adapt_float_bits(float f)
-{
-    union {
-        float f;
-        uint32_t u;
-    } pun;
-    pun.f = f;
-    return pun.u;
 }
 
 static float fric_adapt_bits_float(uint32_t u)
