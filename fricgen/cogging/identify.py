@@ -1,0 +1,282 @@
+"""The cogging map identified from a slow move over the travel (a calibration of two
+revolutions each way, or a log of normal operation that covers the period):
+
+    f = J a + c_d + b_d v + C(x) + sgn(v) R(x) + noise,
+
+d the direction of motion: the drive force f is the inertia's, a per-direction Coulomb and
+viscous friction, the position force C (cogging, unbalance: ``CoggingMap``) and a friction
+that varies along the travel R (a ripple times sgn(v)), kept apart from C because the two
+directions see R with opposite signs.
+
+1. J and the friction from the rows in motion with a smoothed acceleration (the starts and
+   stops determine J; ``--inertia`` fixes it).
+2. Screening: the residual f - J a - friction averaged in position bins per direction, and its
+   Fourier coefficients up to the highest harmonic the encoder and the sample rate resolve;
+   C's are the mean of the two directions', R's half their difference. A harmonic is a
+   candidate when its amplitude exceeds the level that noise alone reaches with probability
+   ALPHA over all harmonics tried (Rayleigh, the noise level a running median of the
+   amplitudes around it).
+3. How many candidates (strongest first) by blocked cross-validation of the time-domain least
+   squares with the one-standard-error rule (``effects.fitting.choose_by_cross_validation``);
+   none is an answer: the log has no cogging.
+4. The coefficients by least squares, their standard errors by the blocked jackknife (the
+   residual of a drive's loop is correlated in time; the blocks are long beside that).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+import numpy as np
+from scipy.ndimage import uniform_filter1d
+
+from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
+from ..data.motionlog import uniform_time
+from ..effects.fitting import FIT_FOLDS, choose_by_cross_validation, lstsq
+from ..errors import DataError
+from .map import MAX_TERMS, CoggingMap
+
+#: Family-wise probability that noise alone puts a harmonic among the candidates.
+ALPHA = 0.01
+#: Highest harmonic screened; harmonics per period the encoder (QUANTA_PER_WAVE counts) and the
+#: sample rate (SAMPLES_PER_WAVE samples) must resolve.
+MAX_HARMONIC = 512
+QUANTA_PER_WAVE = 6
+SAMPLES_PER_WAVE = 6
+#: Half-width (harmonics) of the running median that sets the noise level.
+NOISE_SPAN = 16
+#: The window (s) of the smoothed velocity (rows in motion) and of the acceleration with which
+#: the number of harmonics is chosen.
+INERTIA_WINDOW = 0.02
+#: The acceleration's smoothing window spans at most 1 / A_WINDOW_WAVES of the fastest
+#: candidate harmonic's period in time (less smoothing: more noise; more: J a attenuated).
+A_WINDOW_WAVES = 3.0
+#: J is taken when it exceeds this many of its standard errors.
+INERTIA_Z = 3.0
+#: Fewest position bins per period; a direction must visit every bin.
+MIN_BINS = 32
+
+
+@dataclass(frozen=True)
+class CoggingFit:
+    """What ``identify_cogging`` found: the position force ``map`` and the position-dependent
+    friction ``friction`` (None when the log shows none), the inertia used, the per-direction
+    friction (c+, b+, c-, b-), the harmonics screened and the residual's RMS."""
+
+    map: Optional[CoggingMap]
+    friction: Optional[CoggingMap]
+    inertia: float
+    inertia_source: str
+    coulomb_viscous: Tuple[float, float, float, float]
+    highest_harmonic: int
+    residual_rms: float
+    rows: int
+
+
+def _velocity_acceleration(x: np.ndarray, ts: float, window: int):
+    return smooth(x, window, 1, ts), smooth(x, window, 2, ts)
+
+
+def _odd(n: float) -> int:
+    return max(MIN_WINDOW, int(n) | 1)
+
+
+def _nuisance(v: np.ndarray) -> np.ndarray:
+    """Columns of the per-direction Coulomb and viscous friction: [v>0], v [v>0], [v<0], v [v<0]."""
+    pos, neg = (v > 0).astype(float), (v < 0).astype(float)
+    return np.column_stack([pos, v * pos, neg, v * neg])
+
+
+def _moving(v: np.ndarray, window: int) -> np.ndarray:
+    """Rows where the axis moves in one direction over the whole window, faster than a fifth of
+    its typical speed."""
+    typical = np.percentile(np.abs(v), 90)
+    fast = np.abs(v) > 0.2 * typical
+    sign = np.sign(v) * fast
+    kernel = np.ones(window)
+    agree = np.convolve(sign, kernel, "same")
+    return np.abs(agree) >= window - 0.5
+
+
+def _inertia(x, f, a, sign, nuisance, period, harmonics) -> Optional[float]:
+    """J from how the two directions differ at the harmonics of the position force: a force
+    C(x) the loop only partly rejects leaves a velocity ripple whose phase turns with the
+    direction of motion (the loop's response at +w and at -w are conjugate), so at each of those
+    harmonics F+ - F- = J (A+ - A-) (F, A the per-direction coefficients of the force and of the
+    acceleration). Least squares over the harmonics; None when the directions' accelerations do
+    not differ beyond their noise (the log does not determine J)."""
+    h = np.asarray(sorted(harmonics), dtype=float)
+    if h.size == 0:
+        return None
+    bins = MIN_BINS
+    while bins < 4 * h.max():
+        bins *= 2
+    r = f - nuisance @ lstsq(nuisance, f)[0]
+    (fpa, fpb), (fna, fnb) = _bin_coefficients(x, r, sign, period, bins, h)
+    (apa, apb), (ana, anb) = _bin_coefficients(x, a - a.mean(), sign, period, bins, h)
+    dF = np.concatenate([fpa - fna, fpb - fnb])
+    dA = np.concatenate([apa - ana, apb - anb])
+    norm = float(dA @ dA)
+    if norm <= 0:
+        return None
+    inertia = float(dA @ dF) / norm
+    residual = dF - inertia * dA
+    se = np.sqrt(float(residual @ residual) / max(dF.size - 1, 1) / norm)
+    return inertia if inertia > 0 and inertia > INERTIA_Z * se else None
+
+
+def _bin_coefficients(x, r, sign, period, bins, harmonics):
+    """Per direction (+, -), the sine and cosine coefficients of the bin means of r over one
+    period (each divided by the bin's sinc attenuation); DataError if a direction leaves a bin
+    unvisited."""
+    k = 2 * np.pi / period
+    idx = np.floor((x % period) / period * bins).astype(int) % bins
+    centres = (np.arange(bins) + 0.5) / bins * 2 * np.pi
+    arg = np.outer(harmonics, centres)
+    attenuation = np.sinc(harmonics / bins)
+    out = []
+    for d, label in ((1, "+"), (-1, "-")):
+        rows = sign == d
+        counts = np.bincount(idx[rows], minlength=bins)
+        if np.any(counts == 0):
+            raise DataError(f"the move covers {np.mean(counts > 0):.0%} of one period "
+                            f"({period:.6g}) in the {label} direction; a cogging map needs the "
+                            "whole period each way")
+        means = np.bincount(idx[rows], weights=r[rows], minlength=bins) / counts
+        out.append((2 / bins * np.sin(arg) @ means / attenuation,
+                    2 / bins * np.cos(arg) @ means / attenuation))
+    del k
+    return out
+
+
+def _candidates(a, b, span):
+    """Indices of the harmonics whose amplitude exceeds the noise level's ALPHA threshold, and
+    every harmonic's z (amplitude over the noise scale: the median amplitude of the ``span``
+    harmonics on each side, itself left out, as Rayleigh's median sigma sqrt(2 ln 2))."""
+    amp = np.hypot(a, b)
+    n = amp.size
+    scale = np.empty(n)
+    for j in range(n):
+        lo, hi = max(0, min(j - span, n - 1 - 2 * span)), min(n, max(j + span, 2 * span) + 1)
+        around = np.delete(amp[lo:hi], j - lo) if hi - lo > 1 else amp
+        scale[j] = np.median(around) / np.sqrt(2 * np.log(2))
+    z = amp / np.maximum(scale, 1e-300)
+    threshold = np.sqrt(2 * np.log(n / ALPHA))
+    return np.flatnonzero(z > threshold), z
+
+
+def _waves(x, k, terms, sign):
+    """The time-domain columns of the terms: (h, signed) -> sin(h k x), cos(h k x) (times sgn)."""
+    cols = []
+    for h, signed in terms:
+        w = np.column_stack([np.sin(h * k * x), np.cos(h * k * x)])
+        cols.append(w * sign[:, None] if signed else w)
+    return np.hstack(cols) if cols else np.empty((x.size, 0))
+
+
+def _jackknife_se(design, target, folds=FIT_FOLDS):
+    """The blocked jackknife standard error of each least-squares coefficient."""
+    blocks = np.array_split(np.arange(target.size), folds)
+    coefs = []
+    for block in blocks:
+        keep = np.ones(target.size, bool)
+        keep[block] = False
+        coefs.append(lstsq(design[keep], target[keep])[0])
+    coefs = np.array(coefs)
+    return np.sqrt((folds - 1) / folds * np.sum((coefs - coefs.mean(axis=0)) ** 2, axis=0))
+
+
+def _screen(x, f, sign, nuisance, period, speed, ts, quantum):
+    """The candidate terms (h, signed), strongest first, and the highest harmonic screened: the
+    harmonics of the bin means per direction whose amplitude noise alone reaches with
+    probability below ALPHA (``_candidates``)."""
+    r = f - nuisance @ lstsq(nuisance, f)[0]
+    highest = int(min(MAX_HARMONIC, period / (SAMPLES_PER_WAVE * speed * ts),
+                      period / (QUANTA_PER_WAVE * quantum) if quantum > 0 else MAX_HARMONIC))
+    highest = max(highest, 1)
+    harmonics = np.arange(1, highest + 1)
+    bins = MIN_BINS
+    while bins < 4 * highest:
+        bins *= 2
+    (ap, bp), (an, bn) = _bin_coefficients(x, r, sign, period, bins, harmonics)
+    span = min(NOISE_SPAN, max(highest // 2, 1))
+    ranked = []
+    for signed, (sa, sb) in ((False, ((ap + an) / 2, (bp + bn) / 2)), (True, ((ap - an) / 2, (bp - bn) / 2))):
+        chosen, z = _candidates(sa, sb, span)
+        ranked += [(float(z[j]), int(harmonics[j]), signed) for j in chosen]
+    ranked.sort(reverse=True)
+    return [(h, s) for _, h, s in ranked[:MAX_TERMS]], highest
+
+
+def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None) -> CoggingFit:
+    """The cogging map of a log (see the module docstring).
+
+    Parameters
+    ----------
+    t, x, force : array
+        Time (s, uniform), position (m or rad, e.g. encoder counts times their size) and the
+        drive force (N or Nm: the current times the force constant).
+    period : float
+        The fundamental period P (a revolution: 2 pi rad; a pole pitch; a screw lead).
+    inertia : float, optional
+        The moving mass or inertia; identified from the log if not given.
+    """
+    t, x, f = (np.asarray(c, dtype=float) for c in (t, x, force))
+    _, ts = uniform_time(t)
+    if not (np.isfinite(period) and period > 0):
+        raise DataError(f"the cogging period must be a finite number > 0, got {period!r}")
+    if np.ptp(x) < period:
+        raise DataError(f"the log travels {np.ptp(x):.6g}, less than one period ({period:.6g}); "
+                        "a cogging map needs the whole period each way")
+    window = _odd(INERTIA_WINDOW / ts)
+    v, a_smooth = _velocity_acceleration(x, ts, window)
+    rows = _moving(v, window)
+    if rows.sum() < 10 * MIN_BINS:
+        raise DataError("the log has too few rows in motion for a cogging map")
+    sign = np.sign(v)
+    # the viscous columns take the speed averaged over one period's travel: the velocity ripple
+    # that the cogging itself causes would otherwise take part of it
+    speed = float(np.median(np.abs(v[rows])))
+    v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
+    xs, ss = x[rows], sign[rows]
+    nuisance = _nuisance(v_mean[rows])
+    terms, highest = _screen(xs, f[rows], ss, nuisance, period, speed, ts, position_quantum(x))
+
+    # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
+    # for the coefficients (the encoder's steps add noise, periodic in the count, that the
+    # harmonics below the count's are nearly orthogonal to; smoothing would attenuate J a)
+    fastest = max([h for h, _ in terms], default=1) * speed / period
+    _, a = _velocity_acceleration(x, ts, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))))
+    given = inertia is not None
+    if not given:
+        inertia = _inertia(xs, f[rows], a[rows], ss, nuisance, period,
+                           [h for h, signed in terms if not signed and h > 1])
+    determined = inertia is not None
+    inertia = inertia if determined else 0.0
+    target = (f - inertia * a)[rows]
+
+    k = 2 * np.pi / period
+    full = np.hstack([nuisance, _waves(xs, k, terms, ss)])
+    designs = [full[:, :4 + 2 * n] for n in range(len(terms) + 1)]
+    n_terms = choose_by_cross_validation(designs, (f - inertia * a_smooth)[rows]) - 1
+    terms = terms[:n_terms]
+    design = designs[n_terms]
+    coef, rss = lstsq(design, target)
+    se = _jackknife_se(design, target)
+
+    def series(signed):
+        picked = [(j, h) for j, (h, s) in enumerate(terms) if s == signed]
+        if not picked:
+            return None
+        picked.sort(key=lambda p: p[1])
+        at = [4 + 2 * j for j, _ in picked]
+        return CoggingMap(period=float(period), harmonics=tuple(h for _, h in picked),
+                          sine=tuple(float(coef[i]) for i in at),
+                          cosine=tuple(float(coef[i + 1]) for i in at),
+                          sine_se=tuple(float(se[i]) for i in at),
+                          cosine_se=tuple(float(se[i + 1]) for i in at))
+
+    return CoggingFit(map=series(False), friction=series(True), inertia=float(inertia),
+                      inertia_source="given" if given else ("identified" if determined else "undetermined"), coulomb_viscous=tuple(float(c) for c in coef[:4]),
+                      highest_harmonic=highest, residual_rms=float(np.sqrt(rss / target.size)),
+                      rows=int(rows.sum()))
