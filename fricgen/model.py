@@ -23,9 +23,10 @@ from . import __version__
 from ._io import read_only, write_atomic
 from ._json import finite_or_null, read_json
 from .axis import Axis
-from ._validate import (ACCEPT_UNUSUAL, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, float32_overflow,
+from ._validate import (ACCEPT_UNUSUAL, rotary_axis, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, float32_overflow,
                         float32_scale, json_number, physical_problem)
 from .c_names import check_c_identifier
+from .cogging.map import CoggingMap
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict
@@ -253,6 +254,11 @@ class FrictionModel:
         How it was trained (model.json's ``training``); not part of the hash.
     negative : Direction, optional
         The curve for v < 0 of an asymmetric model.
+    cogging_map : CoggingMap, optional
+        The position force ``fricgen train --cogging`` identified (``cogging``).
+    cogging_friction : CoggingMap, optional
+        The friction that varies along the travel (times sgn(v)) identified with it; reported,
+        not emitted.
     recorded_hash : str, optional
         The ``model_hash`` model.json recorded.
     recorded_axis_hash : str, optional
@@ -283,6 +289,8 @@ class FrictionModel:
     effects: Tuple[dict, ...] = ()
     training: Dict[str, Any] = field(default_factory=dict)
     negative: Optional[Direction] = None
+    cogging_map: Optional[CoggingMap] = None
+    cogging_friction: Optional[CoggingMap] = None
     #: The ``model_hash`` model.json recorded (None for a model not read from one, or read from
     #: a file written before the field existed).
     recorded_hash: Optional[str] = field(default=None, compare=False, repr=False)
@@ -382,7 +390,25 @@ class FrictionModel:
         d = {**self.positive.to_dict(), "symmetric": self.symmetric, "effects": list(self.effects)}
         if self.negative is not None:
             d["negative"] = self.negative.to_dict()
+        if self.cogging_map is not None or self.cogging_friction is not None:
+            d["cogging"] = {key: m.to_dict() for key, m in
+                            (("map", self.cogging_map), ("friction", self.cogging_friction)) if m is not None}
         return d
+
+    def cogging(self, x) -> np.ndarray:
+        """The cogging map alone at positions ``x`` (m, or rad): array in, array out; zeros for
+        a model without one.
+
+        Examples
+        --------
+        >>> import fricgen
+        >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+        >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
+        >>> model.cogging([0.0, 0.1]).tolist()
+        [0.0, 0.0]
+        """
+        x = np.asarray(x, dtype=float)
+        return np.zeros(x.shape) if self.cogging_map is None else self.cogging_map.force(x)
 
     def to_dict(self) -> dict:
         core = self._force_fields()
@@ -393,6 +419,8 @@ class FrictionModel:
              "training": self.training}
         if self.negative is not None:
             d["negative"] = core["negative"]
+        if "cogging" in core:
+            d["cogging"] = core["cogging"]
         return d
 
     @property
@@ -487,16 +515,19 @@ class FrictionModel:
         if training.get("accept_unusual") is not True:
             for where, curve in (("", positive), ("negative: ", negative)):
                 try:
-                    curve is None or curve.check_physical()
+                    with rotary_axis(training.get("units") == "rotary"):
+                        curve is None or curve.check_physical()
                 except ModelError as exc:
                     raise ModelError(f"{where}{exc}") from None
         recorded = {key: d.get(key) for key in ("model_hash", "axis_hash")}
         for key, value in recorded.items():
             if value is not None and not isinstance(value, str):
                 raise ModelError(f"{key} must be a string, got {type(value).__name__}")
+        cogging = _cogging_from_dict(d.get("cogging"))
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
                    v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
-                   negative=negative, recorded_hash=recorded["model_hash"],
+                   negative=negative, cogging_map=cogging.get("map"),
+                   cogging_friction=cogging.get("friction"), recorded_hash=recorded["model_hash"],
                    recorded_axis_hash=recorded["axis_hash"])
 
     @classmethod
@@ -522,6 +553,15 @@ class FrictionModel:
             return cls.from_dict(d)
         except ModelError as exc:
             raise ModelError(f"{path}: {exc}") from None
+
+
+def _cogging_from_dict(d) -> Dict[str, CoggingMap]:
+    """The maps of model.json's optional ``cogging`` object: ``map``, ``friction``."""
+    if d is None:
+        return {}
+    if not isinstance(d, dict) or not d or not set(d) <= {"map", "friction"}:
+        raise ModelError(f"cogging must be an object with 'map' and/or 'friction', got {d!r}"[:200])
+    return {key: CoggingMap.from_dict(value, f"cogging.{key}") for key, value in d.items()}
 
 
 def _digest(fields) -> str:

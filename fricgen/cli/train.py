@@ -17,6 +17,7 @@ from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..model import DEFAULT_MODEL_NAME
 from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
+from ..training.with_cogging import train_with_cogging
 from .._io import check_destination
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
@@ -98,16 +99,28 @@ def run(args) -> int:
         return _run(args)
 
 
-def fit(args, progress=say, warn=say) -> FitReport:
-    """The fit the arguments describe (``fricgen.train`` on the columns they read)."""
+def fit(args, progress=say, warn=say):
+    """The fit the arguments describe (``fricgen.train`` on the columns they read; with
+    ``--cogging``, ``train_with_cogging``)."""
     name = check_model_name(args.name, "--name")
     rotary = is_rotary(args)
+    if args.pitch is not None and not args.cogging:
+        raise UsageError("--pitch is the period of --cogging's map; give --cogging too")
     with rotary_axis(rotary):                  # the data checks' bounds too
-        return train(training_columns(args), estimator=_estimator(args), vs_max=args.vs_max,
-                     asymmetric=args.asymmetric, mass=args.mass, force_constant=args.force_constant,
-                     seed=args.seed, name=name, source=source_name(args),
-                     file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
-                     progress=progress, warn=warn, rotary=rotary, checks=False)
+        columns = training_columns(args)
+
+        def fit_friction(data, mass=args.mass, force_constant=args.force_constant):
+            return train(data, estimator=_estimator(args), vs_max=args.vs_max,
+                         asymmetric=args.asymmetric, mass=mass, force_constant=force_constant,
+                         seed=args.seed, name=name, source=source_name(args),
+                         file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
+                         progress=progress, warn=warn, rotary=rotary, checks=False)
+        if not args.cogging:
+            return fit_friction(columns)
+        return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
+                                  force_constant=args.force_constant,
+                                  train_friction=lambda data: fit_friction(data, force_constant=None),
+                                  name=name)
 
 
 def train_argv(argv) -> FitReport:
@@ -170,6 +183,14 @@ def register(p) -> None:
     log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
                      help="force constant, N/A, for a log with current i instead of force")
     add_export_options(p)
+    cogging = p.add_argument_group("cogging (a slow move over the travel, e.g. 2 revolutions each way)")
+    cogging.add_argument("--cogging", action="store_true",
+                         help="also identify the cogging map (the position force: cogging, unbalance) "
+                         "and the position-dependent friction; emit writes NAME_cogging(x) and "
+                         "NAME_cogging_q15(phase)")
+    cogging.add_argument("--pitch", type=positive_float,
+                         help="the map's period: a pole pitch or screw lead, m (default for a rotary "
+                         "axis: one revolution, 2 pi rad)")
     p.add_argument("--rotary", action="store_true",
                    help="a rotary axis (a joint, a shaft): v in rad/s, force in Nm, inertia in kg m^2 "
                    "in every report and record (default: a linear axis, unless the header names a "

@@ -11,6 +11,7 @@ import numpy as np
 from .._io import read_only
 from ..c_literal import c_array, c_float
 from ..errors import ModelError, UsageError
+from .cogging_table import CoggingTable
 from ..model import FrictionModel
 from ..networks import ElmNetwork, StribeckCurve
 from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER,
@@ -157,7 +158,8 @@ def template_context(model: FrictionModel, name: str, activation_impl: str = "li
             "negative": curves[1] if len(curves) == 2 else None,
             "includes": list(dict.fromkeys(c["header"] for c in curves)),
             **axis_context(model),
-            **effects_context(model, name)}  # effects, effects_not_in_c: NAME_force_xv
+            **effects_context(model, name),  # effects, effects_not_in_c: NAME_force_xv
+            "cogging": None if model.cogging_map is None else CoggingTable.of(model.cogging_map).context()}
 
 
 #: ``--activation-impl``: libm's expf (the default) or the fast sigmoid without libm (fric_fast.c).
@@ -299,6 +301,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         if model.negative is not None:
             raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
                              "(emit it with --dtype float)")
+        if model.cogging_map is not None:
+            raise ModelError(f"--dtype {dtype} does not emit the cogging map; --dtype float "
+                             "emits it in float and in q15 (NAME_cogging, NAME_cogging_q15)")
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")

@@ -17,7 +17,7 @@ directions see R with opposite signs.
    ALPHA over all harmonics tried (Rayleigh, the noise level a running median of the
    amplitudes around it).
 3. How many candidates (strongest first) by blocked cross-validation of the time-domain least
-   squares with the one-standard-error rule (``effects.fitting.choose_by_cross_validation``);
+   squares with the one-standard-error rule (``effects.fitting.nested_cross_validation``);
    none is an answer: the log has no cogging.
 4. The coefficients by least squares, their standard errors by the blocked jackknife (the
    residual of a drive's loop is correlated in time; the blocks are long beside that).
@@ -32,7 +32,7 @@ from scipy.ndimage import uniform_filter1d
 
 from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
 from ..data.motionlog import uniform_time
-from ..effects.fitting import FIT_FOLDS, choose_by_cross_validation, lstsq
+from ..effects.fitting import FIT_FOLDS, lstsq, nested_cross_validation
 from ..errors import DataError
 from .map import MAX_TERMS, CoggingMap
 
@@ -175,14 +175,12 @@ def _waves(x, k, terms, sign):
 
 
 def _jackknife_se(design, target, folds=FIT_FOLDS):
-    """The blocked jackknife standard error of each least-squares coefficient."""
-    blocks = np.array_split(np.arange(target.size), folds)
-    coefs = []
-    for block in blocks:
-        keep = np.ones(target.size, bool)
-        keep[block] = False
-        coefs.append(lstsq(design[keep], target[keep])[0])
-    coefs = np.array(coefs)
+    """The blocked jackknife standard error of each least-squares coefficient (each fold's fit
+    from the Gram matrices less its block's)."""
+    blocks = [slice(b[0], b[-1] + 1) for b in np.array_split(np.arange(target.size), folds)]
+    grams = [(design[b].T @ design[b], design[b].T @ target[b]) for b in blocks]
+    g_all, b_all = sum(g for g, _ in grams), sum(b for _, b in grams)
+    coefs = np.array([np.linalg.lstsq(g_all - g, b_all - b, rcond=None)[0] for g, b in grams])
     return np.sqrt((folds - 1) / folds * np.sum((coefs - coefs.mean(axis=0)) ** 2, axis=0))
 
 
@@ -257,10 +255,10 @@ def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None
 
     k = 2 * np.pi / period
     full = np.hstack([nuisance, _waves(xs, k, terms, ss)])
-    designs = [full[:, :4 + 2 * n] for n in range(len(terms) + 1)]
-    n_terms = choose_by_cross_validation(designs, (f - inertia * a_smooth)[rows]) - 1
+    n_terms = nested_cross_validation(full, (f - inertia * a_smooth)[rows],
+                                      [4 + 2 * n for n in range(len(terms) + 1)]) - 1
     terms = terms[:n_terms]
-    design = designs[n_terms]
+    design = full[:, :4 + 2 * n_terms]
     coef, rss = lstsq(design, target)
     se = _jackknife_se(design, target)
 

@@ -1,0 +1,83 @@
+"""The cogging map as the firmware evaluates it: a table of N points of one period (N a power of
+two, the fewest whose linear interpolation stays within TABLE_TOLERANCE of the map's RMS),
+in float (``NAME_cogging(x)``) and in q15 (``NAME_cogging_q15(phase)``, the phase a uint32 with
+2^32 per period: an encoder count times 2^(32 - bits) for a power-of-two encoder). Each comes
+with the largest error against the fitted series, measured here over the whole period, and the
+q15 integer arithmetic mirrored in numpy (``q15_twin``) so that tests compare the C bit for bit.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..c_literal import c_float
+from ..cogging.map import ERROR_GRID, CoggingMap
+
+#: The table's interpolation error allowed, as a fraction of the map's RMS.
+TABLE_TOLERANCE = 0.01
+#: q15's largest magnitude.
+Q15_MAX = 32767
+
+
+@dataclass(frozen=True)
+class CoggingTable:
+    """The tables and their error bounds (N or Nm)."""
+
+    map: CoggingMap
+    points: int
+    values: np.ndarray        # float32, N
+    float_bound: float
+    q15: np.ndarray           # int16, N
+    q15_scale: float          # the force of q15 32768
+    q15_bound: float
+
+    @classmethod
+    def of(cls, cogging: CoggingMap) -> "CoggingTable":
+        points = cogging.table_size(TABLE_TOLERANCE * cogging.rms)
+        exact = cogging.table(points)
+        values = exact.astype(np.float32)
+        peak = float(np.max(np.abs(exact)))
+        scale = peak * 32768.0 / Q15_MAX if peak > 0 else 1.0
+        q15 = np.clip(np.round(exact / scale * 32768.0), -Q15_MAX, Q15_MAX).astype(np.int16)
+        interpolation = cogging.table_error(points)
+        # float: the interpolation's error plus float32 rounding of table, position and product
+        float_bound = interpolation + 4 * float(np.finfo(np.float32).eps) * peak
+        # q15: evaluated at ERROR_GRID phases per interval (the integer arithmetic exactly) plus
+        # what lies between them: the series' slope times a grid step, and one LSB
+        phases = (np.arange(points * ERROR_GRID, dtype=np.uint64) << np.uint64(32)) // np.uint64(points * ERROR_GRID)
+        got = q15_twin(q15, phases.astype(np.uint32)) * (scale / 32768.0)
+        want = cogging.force(phases.astype(float) / 2.0 ** 32 * cogging.period)
+        slope = float(np.sum(cogging.amplitude * cogging.wavenumber * np.asarray(cogging.harmonics)))
+        step = cogging.period / (points * ERROR_GRID)
+        q15_bound = float(np.max(np.abs(got - want))) + slope * step + scale / 32768.0
+        return cls(cogging, points, values, float_bound, q15, scale, q15_bound)
+
+    @property
+    def shift(self) -> int:
+        """32 - log2 N: the phase's bits below the table index."""
+        return 32 - int(self.points).bit_length() + 1
+
+    def context(self) -> dict:
+        """The template's values for ``cogging.c.j2`` and the header."""
+        m = self.map
+        return {
+            "points": self.points, "shift": self.shift, "period": c_float(m.period),
+            "per_unit": c_float(self.points / m.period), "inv_points": c_float(1.0 / self.points),
+            "values": [c_float(v) for v in self.values],
+            "q15": [str(int(q)) for q in self.q15], "q15_scale": c_float(self.q15_scale),
+            "float_bound": c_float(self.float_bound), "q15_bound": c_float(self.q15_bound),
+            "harmonics": ", ".join(str(h) for h in m.harmonics), "rms": f"{m.rms:.4g}"}
+
+
+def q15_twin(table: np.ndarray, phase: np.ndarray) -> np.ndarray:
+    """``NAME_cogging_q15`` in numpy: the same integer operations on the same int16 table."""
+    points = table.size
+    shift = 32 - points.bit_length() + 1
+    phase = np.asarray(phase, dtype=np.uint64)
+    k = (phase >> np.uint64(shift)).astype(np.int64)
+    frac = ((phase >> np.uint64(shift - 15)) & np.uint64(0x7FFF)).astype(np.int64)
+    lo = table.astype(np.int64)[k]
+    hi = table.astype(np.int64)[(k + 1) & (points - 1)]
+    y = lo * 32768 + (hi - lo) * frac + 16384 + 1073741824
+    return ((y.astype(np.uint64) >> np.uint64(15)).astype(np.int64) - 32768).astype(np.int16)

@@ -1,0 +1,104 @@
+"""``fricgen train LOG --cogging``: the cogging map of a slow move (``fricgen.cogging``) and a
+friction model of the same log with the map's force taken out: the default fit where the log
+holds the speeds it needs, else (a calibration at one speed each way) Coulomb + viscous per
+direction from the map's own fit."""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Callable, Mapping, Optional, Tuple
+
+import numpy as np
+
+from ..cogging import CoggingFit, CoggingMap, identify_cogging
+from ..errors import DataError, ModelError, UsageError
+from ..fit.textbook import LawFit
+from ..model import FrictionModel
+from ..units import units_of
+from .report import FitReport
+
+
+@dataclass(frozen=True)
+class CoggingReport:
+    """The model (friction and cogging map), the report's text and the notes on the data."""
+
+    model: FrictionModel
+    text: str
+    warnings: Tuple[str, ...]
+
+
+def log_force(columns: Mapping[str, np.ndarray], force_constant: Optional[float]) -> np.ndarray:
+    """The drive force of a log: ``force``, or the current ``i`` times the force constant."""
+    if "force" in columns:
+        return np.asarray(columns["force"], dtype=float)
+    if force_constant is None:
+        raise UsageError("--cogging on a log of current i needs --force-constant (N/A, Nm/A): the map "
+                         "is a force")
+    return force_constant * np.asarray(columns["i"], dtype=float)
+
+
+def _law(coulomb: float, viscous: float, fastest: float) -> LawFit:
+    return LawFit(max(coulomb, 0.0), max(viscous, 0.0), None, None, None,
+                  {"coulomb": 0.0, "viscous": 0.0}, fastest, 0.0)
+
+
+def _per_direction(fit: CoggingFit, fastest: float, name: str, units) -> FrictionModel:
+    cp, bp, cn, bn = fit.coulomb_viscous
+    return FrictionModel.from_directions(_law(cp, bp, fastest).direction(),
+                                         _law(-cn, bn, fastest).direction(), name=name,
+                                         training={"units": units.kind,
+                                                   "method": "coulomb_viscous_per_direction"})
+
+
+def describe(m: CoggingMap, what: str, units) -> list:
+    """Lines of a map: each harmonic's amplitude and phase with its standard error."""
+    lines = [f"{what}: {len(m.harmonics)} harmonics of the period {m.period:.6g} {units.position}, "
+             f"RMS {m.rms:.4g} {units.force}"]
+    phase = np.arctan2(m.cosine, m.sine)
+    for h, amp, se, ph in zip(m.harmonics, m.amplitude, m.amplitude_se, phase):
+        lines.append(f"  harmonic {h:4d}: {amp:.4g} +- {se:.2g} {units.force}, phase {ph % (2 * np.pi):.3f} rad")
+    return lines
+
+
+def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[float], rotary: bool,
+                       inertia: Optional[float], force_constant: Optional[float],
+                       train_friction: Callable[[Mapping[str, np.ndarray]], FitReport],
+                       name: str) -> CoggingReport:
+    """The map and the friction model (see the module docstring); ``train_friction`` fits the
+    default model to columns (the map's force removed) and may refuse them."""
+    if "x" not in columns or "t" not in columns:
+        raise UsageError("--cogging needs a motion log with time t and position x (the map is a "
+                         "function of the position)")
+    units = units_of(rotary)
+    if pitch is None:
+        if not rotary:
+            raise UsageError("--cogging on a linear axis needs --pitch (m): the pole pitch, screw "
+                             "lead or other period of the cogging")
+        pitch = 2 * np.pi
+    force = log_force(columns, force_constant)
+    fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia)
+    cleaned = {k: c for k, c in columns.items() if k != "i"}
+    cleaned["force"] = force - (fit.map.force(columns["x"]) if fit.map is not None else 0.0)
+    lines = []
+    try:
+        report = train_friction(cleaned)
+        model, text, warnings = report.model, report.text, list(report.warnings)
+    except (DataError, ModelError) as exc:
+        speed = np.abs(np.gradient(columns["x"], columns["t"]))
+        model = _per_direction(fit, float(np.percentile(speed, 99)), name, units)
+        text = (f"friction: Coulomb + viscous per direction from the move (the default fit "
+                f"refused the log: {exc})")
+        warnings = []
+    model = replace(model, cogging_map=fit.map, cogging_friction=fit.friction)
+    j = {"given": "given", "identified": "identified from the two directions' ripple",
+         "undetermined": "not determined by this log (taken as 0: the map holds the inertia's "
+                         "ripple; move slower or give --mass)"}[fit.inertia_source]
+    lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
+                 f"up to {fit.highest_harmonic}; {fit.rows} rows in motion")
+    if fit.map is None:
+        lines.append("cogging: none found (no harmonic above the noise): no map is emitted")
+    else:
+        lines += describe(fit.map, "cogging map (position force)", units)
+    if fit.friction is not None:
+        lines += describe(fit.friction, "position-dependent friction (times sgn(v); reported, "
+                          "not emitted)", units)
+    return CoggingReport(model=model, text=text + "\n" + "\n".join(lines), warnings=tuple(warnings))
