@@ -1,6 +1,7 @@
 """``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line, streamed:
 F(v) of [F3] plus the axis's identified offset (``FrictionModel.force_with_offset``), or F(v)
-alone with ``--no-offset``."""
+alone with ``--no-offset``; with ``--position`` each line holds v and x and the cogging map's
+force C(x) is added (``FrictionModel.cogging``)."""
 from __future__ import annotations
 
 import itertools
@@ -24,11 +25,15 @@ def register(p) -> None:
     p.add_argument("model", help="model.json")
     p.add_argument("--no-offset", action="store_true",
                    help="F(v) alone, without the constant force training identified on the axis")
+    p.add_argument("--position", action="store_true",
+                   help="each line holds v and x (comma or space between): add the cogging map C(x)")
     p.set_defaults(run=run)
 
 
-def _velocities(stream):
-    """The velocity of every non-blank line of a binary (or text) stream."""
+def _rows(stream, columns: int):
+    """The ``columns`` numbers (velocity, and position) of every non-blank line of a binary (or
+    text) stream."""
+    what = "velocity" if columns == 1 else "velocity and position"
     for n, raw in enumerate(stream, start=1):
         try:
             text = (raw.decode("utf-8-sig") if isinstance(raw, bytes) else raw).strip()
@@ -36,13 +41,16 @@ def _velocities(stream):
             raise UsageError(f"stdin line {n}: not UTF-8 text") from None
         if not text:
             continue
+        fields = text.replace(",", " ").split()
+        if len(fields) != columns:
+            raise UsageError(f"stdin line {n}: {len(fields)} numbers, need {columns} ({what}): {text[:40]!r}")
         try:
-            value = plain_float(text)
+            values = [plain_float(f) for f in fields]
         except ValueError:
             raise UsageError(f"stdin line {n}: not a number: {text[:40]!r}") from None
-        if not math.isfinite(value):
-            raise UsageError(f"stdin line {n}: velocity must be finite, got {text[:40]}")
-        yield value
+        if not all(math.isfinite(v) for v in values):
+            raise UsageError(f"stdin line {n}: {what} must be finite, got {text[:40]}")
+        yield values
 
 
 def run(args) -> int:
@@ -59,7 +67,13 @@ def run(args) -> int:
         say(f"fricgen: note: the forces include the axis's offset {model.axis_offset:.6g} "
             "(identified in training); --no-offset for F(v) alone")
         force = model.force_with_offset
-    velocities = _velocities(stdin)
-    while chunk := list(itertools.islice(velocities, CHUNK)):
-        out("\n".join(repr(f) for f in force(np.array(chunk)).tolist()))
+    if args.position and model.cogging_map is None:
+        say("fricgen: note: the model has no cogging map; --position adds nothing")
+    rows = _rows(stdin, 2 if args.position else 1)
+    while chunk := list(itertools.islice(rows, CHUNK)):
+        chunk = np.array(chunk)
+        f = force(chunk[:, 0])
+        if args.position:
+            f = f + model.cogging(chunk[:, 1])
+        out("\n".join(repr(v) for v in f.tolist()))
     return 0

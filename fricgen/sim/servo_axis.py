@@ -206,13 +206,14 @@ def run(drive: Drive, theta_ref: np.ndarray, omega_ref: np.ndarray, position_loo
 
 
 def calibration_move(axis: ServoAxis, turns: float = 2.0, speed: float = 3.0,
-                     feedforward=None) -> Dict[str, np.ndarray]:
-    """The log of a position-controlled move of ``turns`` revolutions forward and back at
-    ``speed`` (rad/s of theta), with a quarter second at rest before, between and after."""
+                     feedforward=None, every: int = 4) -> Dict[str, np.ndarray]:
+    """The log (every ``every`` periods) of a position-controlled move of ``turns`` revolutions
+    forward and back at ``speed`` (rad/s of theta), with a quarter second at rest before,
+    between and after."""
     dt = 1.0 / axis.rate
     ramp = np.arange(0.0, turns * TWO_PI / speed, dt) * speed
     rest = np.zeros(int(0.25 * axis.rate))
     top = turns * TWO_PI
     theta = np.concatenate([rest, ramp, rest + top, top - ramp, rest])
     omega = np.concatenate([rest, np.full(ramp.size, speed), rest, np.full(ramp.size, -speed), rest])
-    return run(Drive(axis, feedforward), theta, omega, position_loop=True)
+    return run(Drive(axis, feedforward), theta, omega, position_loop=True, every=every)

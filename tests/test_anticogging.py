@@ -1,0 +1,213 @@
+"""Anticogging (fricgen.cogging, train --cogging, NAME_cogging): the map identified from two
+turns each way of a servo axis simulated from the motor's own law (fricgen/sim/servo_axis.py),
+none on an axis without cogging, model.json's cogging object, and the emitted float and q15
+functions against the series and the integer twin over every encoder count."""
+import json
+import shutil
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from conftest import assert_builds_strictly
+from fricgen import codegen
+from fricgen.cli import main
+from fricgen.codegen.cbuild import build
+from fricgen.codegen.cogging_table import CoggingTable, q15_twin
+from fricgen.cogging import CoggingMap, identify_cogging
+from fricgen.errors import ModelError
+from fricgen.model import FrictionModel
+from fricgen.sim.servo_axis import TWO_PI, calibration_move, random_axis
+
+CC = shutil.which("gcc") or shutil.which("cc")
+needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+
+def relative_error(axis, cogging_map):
+    """RMS over the encoder's counts of map - truth (the truth averaged over each count), over
+    the truth's RMS about its mean."""
+    truth = axis.cogging_per_count()
+    x = np.arange(axis.counts) * TWO_PI / axis.counts
+    est = cogging_map.force(x) if cogging_map is not None else np.zeros_like(x)
+    return float(np.sqrt(np.mean((est - truth) ** 2)) / np.std(truth))
+
+
+def calibration(axis):
+    """Two turns each way at 1.5 rad/s, logged at the drive's rate: (t, x, force)."""
+    log = calibration_move(axis, turns=2.0, speed=1.5, every=1)
+    return log["t"], log["x"], axis.kt * log["i"]
+
+
+@pytest.fixture(scope="module")
+def axis():
+    return random_axis(17, bits=12)
+
+
+@pytest.fixture(scope="module")
+def fitted(axis):
+    return identify_cogging(*calibration(axis), period=TWO_PI)
+
+
+def test_map_from_two_turns_is_within_ten_percent(axis, fitted):
+    assert relative_error(axis, fitted.map) < 0.10
+    assert axis.period_count in fitted.map.harmonics and 1 in fitted.map.harmonics
+
+
+def test_each_harmonic_has_a_standard_error_smaller_than_itself(fitted):
+    assert np.all(fitted.map.amplitude_se > 0)
+    assert np.all(fitted.map.amplitude > 3 * fitted.map.amplitude_se)
+
+
+def test_position_friction_is_kept_apart_from_the_position_force(axis, fitted):
+    # the axis' friction varies once and twice per turn; its unbalance is once per turn
+    assert fitted.friction is not None and {1, 2} & set(fitted.friction.harmonics)
+    h1 = fitted.map.harmonics.index(1)
+    assert fitted.map.amplitude[h1] == pytest.approx(axis.unbalance[0], rel=0.15)
+
+
+def test_an_axis_without_cogging_gets_no_map():
+    axis = replace(random_axis(23, bits=14), cogging=(), unbalance=(0.0, 0.0), ripple=(0.0, 0.0),
+                   position_friction=())
+    fit = identify_cogging(*calibration(axis), period=TWO_PI)
+    assert fit.map is None
+
+
+def test_a_move_shorter_than_one_period_is_refused(axis):
+    t, x, f = calibration(axis)
+    with pytest.raises(Exception, match="less than one period"):
+        identify_cogging(t, x, f, period=100.0)
+
+
+# ----------------------------------------------------------------------------- model.json
+
+@pytest.fixture(scope="module")
+def model(fitted):
+    from fricgen.fit.textbook import fit_law
+    law = fit_law(np.array([0.5, 1.0, 2.0]), np.array([0.02, 0.021, 0.022]))
+    base = FrictionModel.from_directions(law.direction(), name="axis_c", training={"units": "rotary"})
+    return replace(base, cogging_map=fitted.map, cogging_friction=fitted.friction)
+
+
+def test_model_json_round_trip_keeps_the_map_and_its_hash(model, tmp_path):
+    path = model.save(tmp_path / "m.json")
+    back = FrictionModel.load(path)
+    assert back.cogging_map == model.cogging_map and back.model_hash == model.model_hash
+    x = np.linspace(-7, 7, 11)
+    np.testing.assert_allclose(back.cogging(x), model.cogging_map.force(x))
+    assert replace(model, cogging_map=None).model_hash != model.model_hash
+
+
+def test_a_model_without_a_map_has_zero_cogging(model):
+    assert replace(model, cogging_map=None).cogging(np.ones((2, 3))).tolist() == [[0.0] * 3] * 2
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda c: c["map"].update(harmonics=[1, 1]), "distinct"),
+    (lambda c: c["map"].update(sine=[0.1]), "sine must list"),
+    (lambda c: c["map"].update(period=-1), "period"),
+    (lambda c: c.update(other={}), "cogging must be"),
+])
+def test_a_hand_edited_cogging_object_is_refused(model, edit, message):
+    d = json.loads(model.to_json())
+    edit(d["cogging"])
+    with pytest.raises(ModelError, match=message):
+        FrictionModel.from_dict(d)
+
+
+# ----------------------------------------------------------------------------- C
+
+CDEF = """float axis_c_cogging(float x); int16_t axis_c_cogging_q15(uint32_t phase);"""
+
+
+@pytest.fixture(scope="module")
+def lib(model, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("cogging_c")
+    for fname, text in codegen.render(model).items():
+        (folder / fname).write_text(text)
+    return folder, build(folder, "axis_c.h", CDEF)
+
+
+@needs_cc
+def test_float_cogging_is_within_its_stated_bound(model, lib):
+    folder, c = lib
+    table = CoggingTable.of(model.cogging_map)
+    x = np.concatenate([np.linspace(-20.0, 20.0, 20001), np.arange(64) * TWO_PI / 64])
+    got = np.array([c.axis_c_cogging(float(v)) for v in x])
+    bound = float((folder / "axis_c.h").read_text().split("AXIS_C_COGGING_ERROR_BOUND ")[1].split("f")[0])
+    assert bound == pytest.approx(table.float_bound, rel=1e-6)
+    assert np.max(np.abs(got - model.cogging(x))) <= bound + 1e-6 * np.max(np.abs(table.values)) * 20
+
+
+@needs_cc
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf"), 1e30])
+def test_float_cogging_gives_zero_for_an_unusable_position(lib, value):
+    assert lib[1].axis_c_cogging(value) == 0.0
+
+
+@needs_cc
+@pytest.mark.parametrize("bits", [12, 14])
+def test_q15_matches_its_twin_and_its_bound_at_every_count(model, lib, bits):
+    c = lib[1]
+    table = CoggingTable.of(model.cogging_map)
+    counts = np.arange(2 ** bits, dtype=np.uint64)
+    phase = (counts << np.uint64(32 - bits)).astype(np.uint32)
+    got = np.array([c.axis_c_cogging_q15(int(p)) for p in phase], dtype=np.int16)
+    np.testing.assert_array_equal(got, q15_twin(table.q15, phase))
+    force = got * (table.q15_scale / 32768.0)
+    exact = model.cogging(counts.astype(float) * TWO_PI / 2 ** bits)
+    assert np.max(np.abs(force - exact)) <= table.q15_bound
+
+
+def test_q15_twin_at_the_extreme_phases_stays_in_range(model):
+    table = CoggingTable.of(model.cogging_map)
+    phase = np.array([0, 1, 2 ** 31, 2 ** 32 - 1], dtype=np.uint32)
+    out = q15_twin(table.q15, phase)
+    assert np.all(np.abs(out.astype(int)) <= 32767)
+
+
+@needs_cc
+def test_emitted_cogging_builds_strictly(lib):
+    assert_builds_strictly(lib[0], "axis_c.c", CC)
+
+
+def test_fixed_point_emit_refuses_a_model_with_a_map(model):
+    with pytest.raises(ModelError, match="cogging map"):
+        codegen.render(model, dtype="q15")
+
+
+# ----------------------------------------------------------------------------- command line
+
+@pytest.fixture(scope="module")
+def calibration_csv(axis, tmp_path_factory):
+    t, x, f = calibration(axis)
+    path = tmp_path_factory.mktemp("cal") / "cal.csv"
+    np.savetxt(path, np.column_stack([t, x, f / axis.kt]), delimiter=",", header="t,x,i",
+               comments="", fmt="%.9g")
+    return path
+
+
+def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tmp_path, capsys):
+    out = tmp_path / "m.json"
+    assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--force-constant",
+                 str(axis.kt), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "cogging map (position force)" in text and f"harmonic {axis.period_count:4d}" in text
+    model = FrictionModel.load(out)
+    assert relative_error(axis, model.cogging_map) < 0.10
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--pitch", "0.01"], "--pitch is the period of --cogging"),
+    (["--cogging", "--rotary"], "needs --force-constant"),
+    (["--cogging", "--force-constant", "0.08", "--rotary", "--pitch", "100"], "less than one period"),
+])
+def test_train_cogging_refuses_what_it_cannot_do(calibration_csv, tmp_path, capsys, argv, message):
+    out = tmp_path / "m.json"
+    assert main(["train", str(calibration_csv), "-o", str(out), *argv]) != 0
+    assert message in capsys.readouterr().err and not out.exists()
+
+
+def test_a_linear_axis_needs_its_pitch(calibration_csv, tmp_path, capsys):
+    assert main(["train", str(calibration_csv), "--cogging", "--force-constant", "0.08",
+                 "-o", str(tmp_path / "m.json")]) != 0
+    assert "needs --pitch" in capsys.readouterr().err
