@@ -4,7 +4,7 @@ Axes of fricgen/sim/servo_axis.py (a PMSM whose cogging is its slot/pole law, wi
 proportional to the current, an unbalance, a friction that varies along the turn, a quantized
 encoder and a cascaded P/PI loop), one per seed from 1000 up (none tuned anything here). Per
 seed and encoder (12 and 14 bits): a calibration of 2 turns each way at 1 rad/s logged at the
-drive's rate, ``fricgen.cogging.identify_cogging`` on it, and the RMS over every count of the map
+drive's rate, ``fricgen.fit.identify_cogging`` on it, and the RMS over every count of the map
 minus the truth (averaged over the count), over the truth's RMS. Also: a linear motor (two pole
 pitches each way, ``--pitch``), the same at a quarter of the drive's rate (a log decimated
 without filtering), the share of axes without cogging that get no map, and the emitted table's
@@ -30,7 +30,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from fricgen.cogging import identify_cogging  # noqa: E402
+from fricgen.fit.cogging import identify_cogging  # noqa: E402
 from fricgen.sim.servo_axis import TWO_PI, calibration_move, random_axis  # noqa: E402
 
 TURNS, SPEED = 2.0, 1.0

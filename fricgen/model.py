@@ -26,7 +26,7 @@ from .axis import Axis
 from ._validate import (ACCEPT_UNUSUAL, rotary_axis, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, float32_overflow,
                         float32_scale, json_number, physical_problem)
 from .c_names import check_c_identifier
-from .cogging.map import CoggingMap
+from .effects.cogging_map import CoggingMap
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict

@@ -1,4 +1,4 @@
-"""Anticogging (fricgen.cogging, train --cogging, NAME_cogging): the map identified from two
+"""Anticogging (fricgen.fit.cogging, fricgen.effects.CoggingMap, train --cogging, NAME_cogging): the map identified from two
 turns each way of a servo axis simulated from the motor's own law (fricgen/sim/servo_axis.py),
 none on an axis without cogging, model.json's cogging object, and the emitted float and q15
 functions against the series and the integer twin over every encoder count."""
@@ -14,7 +14,8 @@ from fricgen import codegen
 from fricgen.cli import main
 from fricgen.codegen.cbuild import build
 from fricgen.codegen.cogging_table import CoggingTable, q15_twin
-from fricgen.cogging import CoggingMap, identify_cogging
+from fricgen.effects import CoggingMap
+from fricgen.fit.cogging import identify_cogging
 from fricgen.errors import ModelError
 from fricgen.model import FrictionModel
 from fricgen.sim.servo_axis import TWO_PI, calibration_move, random_axis

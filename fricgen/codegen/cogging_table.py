@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..c_literal import c_float
-from ..cogging.map import ERROR_GRID, CoggingMap
+from ..effects.cogging_map import ERROR_GRID, CoggingMap
 
 #: The table's interpolation error allowed, as a fraction of the map's RMS.
 TABLE_TOLERANCE = 0.01

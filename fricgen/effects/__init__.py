@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from .actuator import ActuatorSaturation
 from .base import PLAUSIBLE_FACTOR, Effect
+from .cogging_map import CoggingMap
 from .carried import (effect_from_dict, force_xv, model_effects, offset_left_out, validate_effects,
                       with_effects)
 from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
@@ -20,4 +21,4 @@ __all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "ActuatorSatur
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "SensorDelay", "FrictionCurve", "Signals", "effect_from_dict",
            "force_xv", "model_effects", "offset_left_out", "validate_effects", "with_effects", "TABLES",
-           "TableEffect", "range_notes"]
+           "TableEffect", "range_notes", "CoggingMap"]

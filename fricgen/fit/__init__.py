@@ -11,6 +11,7 @@ from __future__ import annotations
 from .anfis import AnfisRegressor
 from .auto import AutoELMRegressor
 from .base import Estimator, NotFittedError, as_rng
+from .cogging import CoggingFit, identify_cogging
 from .conditioning import ConditionedELMRegressor
 from .elm import DEFAULT_ELM, ELMRegressor
 from .default import DefaultRegressor
@@ -73,4 +74,4 @@ def default_estimator(random_state=0, max_neurons=None, max_parameters=None) -> 
 __all__ = ["Estimator", "NotFittedError", "as_rng", "ELMRegressor", "AutoELMRegressor",
            "AnfisRegressor", "ConditionedELMRegressor", "OracleRegressor", "StribeckRegressor",
            "DefaultRegressor", "DEFAULT_ELM",
-           "default_estimator", "default_elm"]
+           "default_estimator", "default_elm", "CoggingFit", "identify_cogging"]

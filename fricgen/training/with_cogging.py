@@ -1,4 +1,4 @@
-"""``fricgen train LOG --cogging``: the cogging map of a slow move (``fricgen.cogging``) and a
+"""``fricgen train LOG --cogging``: the cogging map of a slow move (``fit.cogging``) and a
 friction model of the same log with the map's force taken out: the default fit where the log
 holds the speeds it needs, else (a calibration at one speed each way) Coulomb + viscous per
 direction from the map's own fit."""
@@ -9,7 +9,8 @@ from typing import Callable, Mapping, Optional, Tuple
 
 import numpy as np
 
-from ..cogging import CoggingFit, CoggingMap, identify_cogging
+from ..effects.cogging_map import CoggingMap
+from ..fit.cogging import CoggingFit, identify_cogging
 from ..errors import DataError, ModelError, UsageError
 from ..fit.textbook import LawFit
 from ..model import FrictionModel

@@ -34,7 +34,7 @@ from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
 from ..data.motionlog import uniform_time
 from ..effects.fitting import FIT_FOLDS, lstsq, nested_cross_validation
 from ..errors import DataError
-from .map import MAX_TERMS, CoggingMap
+from ..effects.cogging_map import MAX_TERMS, CoggingMap
 
 #: Family-wise probability that noise alone puts a harmonic among the candidates.
 ALPHA = 0.01
@@ -59,9 +59,34 @@ MIN_BINS = 32
 
 @dataclass(frozen=True)
 class CoggingFit:
-    """What ``identify_cogging`` found: the position force ``map`` and the position-dependent
-    friction ``friction`` (None when the log shows none), the inertia used, the per-direction
-    friction (c+, b+, c-, b-), the harmonics screened and the residual's RMS."""
+    """What ``identify_cogging`` found.
+
+    Parameters
+    ----------
+    map : CoggingMap or None
+        The position force (cogging, unbalance); None when no harmonic stands above the noise.
+    friction : CoggingMap or None
+        The friction that varies along the travel (times sgn(v)), likewise.
+    inertia : float
+        The inertia (mass) whose J a was taken out of the force.
+    inertia_source : str
+        "given", "identified" (from the two directions' ripple) or "undetermined" (then 0: the
+        map holds the inertia's ripple too).
+    coulomb_viscous : tuple of float
+        c+, b+, c-, b-: the friction per direction, c_d + b_d v.
+    highest_harmonic : int
+        The highest harmonic screened (what the encoder and the sample rate resolve).
+    residual_rms : float
+        The RMS of the fit's residual.
+    rows : int
+        The rows in motion that were fitted.
+
+    Examples
+    --------
+    >>> fit = CoggingFit(None, None, 0.0, "undetermined", (0.02, 0.0, -0.02, 0.0), 64, 0.01, 4000)
+    >>> fit.map is None
+    True
+    """
 
     map: Optional[CoggingMap]
     friction: Optional[CoggingMap]
@@ -211,13 +236,30 @@ def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None
 
     Parameters
     ----------
-    t, x, force : array
+    t, x, force : array_like
         Time (s, uniform), position (m or rad, e.g. encoder counts times their size) and the
         drive force (N or Nm: the current times the force constant).
     period : float
-        The fundamental period P (a revolution: 2 pi rad; a pole pitch; a screw lead).
+        P, the fundamental period (a revolution: 2 pi rad; a pole pitch; a screw lead).
     inertia : float, optional
         The moving mass or inertia; identified from the log if not given.
+
+    Returns
+    -------
+    CoggingFit
+        ``DataError`` for a log that does not cover one period in each direction.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(0, 16, 1e-3)
+    >>> x = 2 * np.pi * 2 * (1 - np.abs(1 - t / 8))                 # two turns out, two back
+    >>> v = np.gradient(x, t)
+    >>> rng = np.random.default_rng(0)
+    >>> f = 0.05 * np.sin(24 * x + 0.3) + 0.02 * np.sign(v) + 0.005 * rng.standard_normal(t.size)
+    >>> fit = identify_cogging(t, x, f, period=2 * np.pi, inertia=0.0)
+    >>> fit.map.harmonics, round(float(fit.map.amplitude[0]), 3), fit.friction
+    ((24,), 0.05, None)
     """
     t, x, f = (np.asarray(c, dtype=float) for c in (t, x, force))
     _, ts = uniform_time(t)
