@@ -28,7 +28,7 @@ def relative_error(axis, cogging_map):
     """RMS over the encoder's counts of map - truth (the truth averaged over each count), over
     the truth's RMS about its mean."""
     truth = axis.cogging_per_count()
-    x = np.arange(axis.counts) * TWO_PI / axis.counts
+    x = np.arange(axis.counts) * axis.pitch / axis.counts
     est = cogging_map.force(x) if cogging_map is not None else np.zeros_like(x)
     return float(np.sqrt(np.mean((est - truth) ** 2)) / np.std(truth))
 
@@ -208,7 +208,15 @@ def test_train_cogging_refuses_what_it_cannot_do(calibration_csv, tmp_path, caps
     assert message in capsys.readouterr().err and not out.exists()
 
 
-def test_a_linear_axis_needs_its_pitch(calibration_csv, tmp_path, capsys):
-    assert main(["train", str(calibration_csv), "--cogging", "--force-constant", "0.08",
-                 "-o", str(tmp_path / "m.json")]) != 0
-    assert "needs --pitch" in capsys.readouterr().err
+def test_a_linear_motor_without_its_pitch_gets_the_period_from_the_data(tmp_path, capsys):
+    axis = random_axis(29, bits=12, linear=True)
+    t, x, f = calibration(axis)
+    path = tmp_path / "lin.csv"
+    np.savetxt(path, np.column_stack([t, x, f]), delimiter=",", header="t,x,force", comments="",
+               fmt="%.10g")
+    out = tmp_path / "m.json"
+    assert main(["train", str(path), "--cogging", "-o", str(out)]) == 0
+    assert "found from the data" in capsys.readouterr().out
+    model = FrictionModel.load(out)
+    assert model.cogging_map.period == pytest.approx(axis.pitch / axis.period_count, rel=1e-3)
+    assert relative_error(axis, model.cogging_map) < 0.10

@@ -189,8 +189,9 @@ def register(p) -> None:
                          "and the position-dependent friction; emit writes NAME_cogging(x) and "
                          "NAME_cogging_q15(phase)")
     cogging.add_argument("--pitch", type=positive_float,
-                         help="the map's period: a pole pitch or screw lead, m (default for a rotary "
-                         "axis: one revolution, 2 pi rad)")
+                         help="the map's period: a pole pitch or screw lead, m (default: one "
+                         "revolution, 2 pi rad, on a rotary axis; on a linear axis the wavelength of "
+                         "the strongest position harmonic in the log)")
     p.add_argument("--rotary", action="store_true",
                    help="a rotary axis (a joint, a shaft): v in rad/s, force in Nm, inertia in kg m^2 "
                    "in every report and record (default: a linear axis, unless the header names a "

@@ -32,7 +32,7 @@ from scipy.ndimage import uniform_filter1d
 
 from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
 from ..data.motionlog import uniform_time
-from ..effects.fitting import FIT_FOLDS, lstsq, nested_cross_validation
+from ..effects.fitting import FIT_FOLDS, lstsq, nested_cross_validation, refine
 from ..errors import DataError
 from ..effects.cogging_map import MAX_TERMS, CoggingMap
 
@@ -53,6 +53,9 @@ INERTIA_WINDOW = 0.02
 A_WINDOW_WAVES = 3.0
 #: J is taken when it exceeds this many of its standard errors.
 INERTIA_Z = 3.0
+#: Position bins of the periodogram that finds the period, and the fewest periods it must see.
+FUNDAMENTAL_BINS = 1 << 16
+FUNDAMENTAL_PERIODS = 2
 #: Fewest position bins per period; a direction must visit every bin.
 MIN_BINS = 32
 
@@ -231,7 +234,36 @@ def _screen(x, f, sign, nuisance, period, speed, ts, quantum):
     return [(h, s) for _, h, s in ranked[:MAX_TERMS]], highest
 
 
-def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None) -> CoggingFit:
+def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
+    """The map's period found in the data: the wavelength of the strongest peak of the position
+    periodogram (the residual's bin means over the travel, both directions together, zero-padded
+    FFT, at least FUNDAMENTAL_PERIODS periods in the travel), refined by bounded Brent on the
+    residual sum of squares of its sinusoid. Content at a longer period (a
+    once-per-pole-pair or once-per-turn term) needs the period given."""
+    travel = float(np.ptp(x))
+    r = f - nuisance @ lstsq(nuisance, f)[0]
+    step = max(quantum, travel / FUNDAMENTAL_BINS)
+    n = int(travel / step) + 1
+    idx = np.minimum(((x - x.min()) / step).astype(int), n - 1)
+    counts = np.bincount(idx, minlength=n)
+    means = np.bincount(idx, weights=r, minlength=n) / np.maximum(counts, 1)
+    means = np.where(counts > 0, means - means[counts > 0].mean(), 0.0)
+    spectrum = np.abs(np.fft.rfft(means, 4 * n))
+    k = 2 * np.pi * np.fft.rfftfreq(4 * n, step)
+    finest = min(2 * np.pi / (QUANTA_PER_WAVE * max(quantum, step)), 2 * np.pi / (SAMPLES_PER_WAVE * speed * ts))
+    usable = (k >= 2 * np.pi * FUNDAMENTAL_PERIODS / travel) & (k <= finest)
+    if not usable.any():
+        raise DataError(f"the log travels {travel:.6g}: too short to find the cogging's period; give --pitch")
+    peak = float(k[usable][np.argmax(spectrum[usable])])
+    grid = 2 * np.pi / (4 * n * step)                  # the zero-padded FFT's spacing
+
+    def rss(wavenumber):
+        return lstsq(np.column_stack([np.sin(wavenumber * x), np.cos(wavenumber * x)]), r)[1]
+    return float(2 * np.pi / refine(rss, peak - grid, peak + grid))
+
+
+def identify_cogging(t, x, force, period: Optional[float] = None,
+                     inertia: Optional[float] = None) -> CoggingFit:
     """The cogging map of a log (see the module docstring).
 
     Parameters
@@ -239,8 +271,10 @@ def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None
     t, x, force : array_like
         Time (s, uniform), position (m or rad, e.g. encoder counts times their size) and the
         drive force (N or Nm: the current times the force constant).
-    period : float
-        P, the fundamental period (a revolution: 2 pi rad; a pole pitch; a screw lead).
+    period : float, optional
+        P, the fundamental period (a revolution: 2 pi rad; a pole pitch; a screw lead); if not
+        given, the wavelength of the strongest position harmonic in the data (``_fundamental``:
+        a travel of at least two of them).
     inertia : float, optional
         The moving mass or inertia; identified from the log if not given.
 
@@ -263,9 +297,9 @@ def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None
     """
     t, x, f = (np.asarray(c, dtype=float) for c in (t, x, force))
     _, ts = uniform_time(t)
-    if not (np.isfinite(period) and period > 0):
+    if period is not None and not (np.isfinite(period) and period > 0):
         raise DataError(f"the cogging period must be a finite number > 0, got {period!r}")
-    if np.ptp(x) < period:
+    if period is not None and np.ptp(x) < period:
         raise DataError(f"the log travels {np.ptp(x):.6g}, less than one period ({period:.6g}); "
                         "a cogging map needs the whole period each way")
     window = _odd(INERTIA_WINDOW / ts)
@@ -274,13 +308,16 @@ def identify_cogging(t, x, force, period: float, inertia: Optional[float] = None
     if rows.sum() < 10 * MIN_BINS:
         raise DataError("the log has too few rows in motion for a cogging map")
     sign = np.sign(v)
+    speed = float(np.median(np.abs(v[rows])))
+    quantum = position_quantum(x)
+    if period is None:
+        period = _fundamental(x[rows], f[rows], _nuisance(v[rows]), speed, ts, quantum)
     # the viscous columns take the speed averaged over one period's travel: the velocity ripple
     # that the cogging itself causes would otherwise take part of it
-    speed = float(np.median(np.abs(v[rows])))
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
     xs, ss = x[rows], sign[rows]
     nuisance = _nuisance(v_mean[rows])
-    terms, highest = _screen(xs, f[rows], ss, nuisance, period, speed, ts, position_quantum(x))
+    terms, highest = _screen(xs, f[rows], ss, nuisance, period, speed, ts, quantum)
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
     # for the coefficients (the encoder's steps add noise, periodic in the count, that the

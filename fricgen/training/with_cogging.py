@@ -70,10 +70,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         raise UsageError("--cogging needs a motion log with time t and position x (the map is a "
                          "function of the position)")
     units = units_of(rotary)
-    if pitch is None:
-        if not rotary:
-            raise UsageError("--cogging on a linear axis needs --pitch (m): the pole pitch, screw "
-                             "lead or other period of the cogging")
+    if pitch is None and rotary:
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
     fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia)
@@ -93,6 +90,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     j = {"given": "given", "identified": "identified from the two directions' ripple",
          "undetermined": "not determined by this log (taken as 0: the map holds the inertia's "
                          "ripple; move slower or give --mass)"}[fit.inertia_source]
+    if pitch is None and fit.map is not None:
+        lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
+                     "strongest position harmonic's wavelength; --pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic}; {fit.rows} rows in motion")
     if fit.map is None:
