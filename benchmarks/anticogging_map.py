@@ -6,8 +6,9 @@ encoder and a cascaded P/PI loop), one per seed from 1000 up (none tuned anythin
 seed and encoder (12 and 14 bits): a calibration of 2 turns each way at 1 rad/s logged at the
 drive's rate, ``fricgen.fit.identify_cogging`` on it, and the RMS over every count of the map
 minus the truth (averaged over the count), over the truth's RMS. Also: a linear motor (two pole
-pitches each way, ``--pitch``), the same at a quarter of the drive's rate (a log decimated
-without filtering), the share of axes without cogging that get no map, and the emitted table's
+pitches each way, the period found from the data), the same at a quarter of the drive's rate (a log decimated without
+filtering), a log of normal operation instead of the calibration (two turns out and back along
+a cosine, up to pi rad/s), the share of axes without cogging that get no map, and the emitted table's
 size and error bounds; with ``--cost``, the instructions of one NAME_cogging and
 NAME_cogging_q15 call on Cortex-M0+ and M4F (QEMU, as benchmarks/instructions_per_call.py).
 
@@ -31,10 +32,21 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fricgen.fit.cogging import identify_cogging  # noqa: E402
-from fricgen.sim.servo_axis import TWO_PI, calibration_move, random_axis  # noqa: E402
+from fricgen.sim.servo_axis import TWO_PI, Drive, calibration_move, random_axis, run  # noqa: E402
 
 TURNS, SPEED = 2.0, 1.0
 TARGET = 0.10
+
+
+NORMAL = "rotary 12 bit, normal operation"
+
+
+def normal_operation(axis):
+    """Two turns out and back along a cosine, 16 s: speeds from rest to pi rad/s."""
+    t = np.arange(0.0, 16.0, 1.0 / axis.rate)
+    theta = 2 * TWO_PI * 0.5 * (1 - np.cos(2 * np.pi * t / 8.0))
+    omega = 2 * TWO_PI * 0.5 * np.sin(2 * np.pi * t / 8.0) * 2 * np.pi / 8.0
+    return run(Drive(axis), theta, omega, position_loop=True, every=1)
 
 
 def relative_error(axis, cogging_map) -> float:
@@ -53,9 +65,10 @@ def one(job):
     if case == "no cogging":
         axis = replace(axis, cogging=(), unbalance=(0.0, 0.0), ripple=(0.0, 0.0))
     every = 4 if case == "rotary 12 bit, log at 2 kHz" else 1
-    log = calibration_move(axis, turns=TURNS, speed=SPEED, every=every)
+    log = normal_operation(axis) if case == NORMAL else calibration_move(axis, turns=TURNS, speed=SPEED, every=every)
     start = time.perf_counter()
-    fit = identify_cogging(log["t"], log["x"], axis.kt * log["i"], axis.pitch)
+    period = None if case.startswith("linear") else axis.pitch        # linear: found from the data
+    fit = identify_cogging(log["t"], log["x"], axis.kt * log["i"], period)
     seconds = time.perf_counter() - start
     error = None if case == "no cogging" else relative_error(axis, fit.map)
     found = () if fit.map is None else fit.map.harmonics
@@ -123,7 +136,7 @@ def main(argv=None) -> int:
     ap.add_argument("--cost", action="store_true", help="instructions per call under QEMU")
     args = ap.parse_args(argv)
     seeds = range(1000, 1000 + args.seeds)
-    cases = ("rotary 12 bit", "rotary 14 bit", "linear 12 bit", "rotary 12 bit, log at 2 kHz")
+    cases = ("rotary 12 bit", "rotary 14 bit", "linear 12 bit", "rotary 12 bit, log at 2 kHz", NORMAL)
     jobs = [(c, s) for c in cases for s in seeds]
     jobs += [("no cogging", s) for s in range(1000, 1000 + args.null_seeds)]
     start = time.perf_counter()
