@@ -315,8 +315,10 @@ class FrictionModel:
         """The axis of the training data (``training.axis``: mass, force constant, offset,
         speed range), or None for a model whose training recorded none."""
         record = self.training.get("axis")
-        return None if record is None else \
-            Axis.from_dict(record, physical=self.training.get("accept_unusual") is not True)
+        if record is None:
+            return None
+        with rotary_axis(self.training.get("units") == "rotary"):
+            return Axis.from_dict(record, physical=self.training.get("accept_unusual") is not True)
 
     @property
     def format_version(self) -> int:
@@ -510,15 +512,15 @@ class FrictionModel:
         training = d.get("training", {})
         if not isinstance(training, dict):
             raise ModelError("training must be an object")
-        if training.get("axis") is not None:
-            Axis.from_dict(training["axis"], physical=training.get("accept_unusual") is not True)
-        if training.get("accept_unusual") is not True:
-            for where, curve in (("", positive), ("negative: ", negative)):
-                try:
-                    with rotary_axis(training.get("units") == "rotary"):
+        with rotary_axis(training.get("units") == "rotary"):    # the bounds of its units
+            if training.get("axis") is not None:
+                Axis.from_dict(training["axis"], physical=training.get("accept_unusual") is not True)
+            if training.get("accept_unusual") is not True:
+                for where, curve in (("", positive), ("negative: ", negative)):
+                    try:
                         curve is None or curve.check_physical()
-                except ModelError as exc:
-                    raise ModelError(f"{where}{exc}") from None
+                    except ModelError as exc:
+                        raise ModelError(f"{where}{exc}") from None
         recorded = {key: d.get(key) for key in ("model_hash", "axis_hash")}
         for key, value in recorded.items():
             if value is not None and not isinstance(value, str):

@@ -140,6 +140,15 @@ def test_float_cogging_is_within_its_stated_bound(model, lib):
 
 
 @needs_cc
+def test_float_cogging_far_from_zero_stays_within_its_bound(model, lib):
+    table = CoggingTable.of(model.cogging_map)
+    turns = np.array([-4000, -1000, -7, 3, 100, 1000, 4000])
+    x = (np.linspace(0.0, TWO_PI, 97)[None, :] + TWO_PI * turns[:, None]).astype(np.float32).ravel()
+    got = np.array([lib[1].axis_c_cogging(float(v)) for v in x])
+    assert np.max(np.abs(got - model.cogging(x.astype(float)))) <= table.float_bound * 1.01
+
+
+@needs_cc
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf"), 1e30])
 def test_float_cogging_gives_zero_for_an_unusable_position(lib, value):
     assert lib[1].axis_c_cogging(value) == 0.0

@@ -7,6 +7,7 @@ q15 integer arithmetic mirrored in numpy (``q15_twin``) so that tests compare th
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -61,9 +62,12 @@ class CoggingTable:
     def context(self) -> dict:
         """The template's values for ``cogging.c.j2`` and the header."""
         m = self.map
+        mantissa, exponent = math.frexp(m.period)
+        period_hi = math.ldexp(round(mantissa * 4096) / 4096, exponent)     # 12 significant bits
         return {
             "points": self.points, "shift": self.shift, "period": c_float(m.period),
-            "per_unit": c_float(self.points / m.period), "inv_points": c_float(1.0 / self.points),
+            "per_unit": c_float(self.points / m.period), "inv_period": c_float(1.0 / m.period),
+            "period_hi": c_float(period_hi), "period_lo": c_float(m.period - period_hi),
             "values": [c_float(v) for v in self.values],
             "q15": [str(int(q)) for q in self.q15], "q15_scale": c_float(self.q15_scale),
             "float_bound": c_float(self.float_bound), "q15_bound": c_float(self.q15_bound),

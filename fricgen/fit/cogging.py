@@ -126,7 +126,7 @@ def _moving(v: np.ndarray, window: int) -> np.ndarray:
     return np.abs(agree) >= window - 0.5
 
 
-def _inertia(x, f, a, sign, nuisance, period, harmonics) -> Optional[float]:
+def _inertia(x, f, a, sign, nuisance, period, bins, harmonics) -> Optional[float]:
     """J from how the two directions differ at the harmonics of the position force: a force
     C(x) the loop only partly rejects leaves a velocity ripple whose phase turns with the
     direction of motion (the loop's response at +w and at -w are conjugate), so at each of those
@@ -136,9 +136,6 @@ def _inertia(x, f, a, sign, nuisance, period, harmonics) -> Optional[float]:
     h = np.asarray(sorted(harmonics), dtype=float)
     if h.size == 0:
         return None
-    bins = MIN_BINS
-    while bins < 4 * h.max():
-        bins *= 2
     r = f - nuisance @ lstsq(nuisance, f)[0]
     (fpa, fpb), (fna, fnb) = _bin_coefficients(x, r, sign, period, bins, h)
     (apa, apb), (ana, anb) = _bin_coefficients(x, a - a.mean(), sign, period, bins, h)
@@ -153,12 +150,34 @@ def _inertia(x, f, a, sign, nuisance, period, harmonics) -> Optional[float]:
     return inertia if inertia > 0 and inertia > INERTIA_Z * se else None
 
 
+def _bin_index(x, period, bins):
+    return np.floor((x % period) / period * bins).astype(int) % bins
+
+
+def _filled_bins(x, sign, period, most) -> int:
+    """The most position bins per period (a power of two from MIN_BINS up to ``most``) that each
+    direction visits every one of (the encoder's steps and the sample rate leave finer bins
+    empty); DataError if the move does not cover the period each way."""
+    bins = MIN_BINS
+    while 2 * bins <= most:
+        bins *= 2
+    while True:
+        empty = [(label, np.bincount(_bin_index(x[sign == d], period, bins), minlength=bins) == 0)
+                 for d, label in ((1, "+"), (-1, "-"))]
+        if not any(e.any() for _, e in empty):
+            return bins
+        if bins == MIN_BINS:
+            label, e = next((label, e) for label, e in empty if e.any())
+            raise DataError(f"the move covers {1 - e.mean():.0%} of one period ({period:.6g}) in the "
+                            f"{label} direction; a cogging map needs the whole period each way")
+        bins //= 2
+
+
 def _bin_coefficients(x, r, sign, period, bins, harmonics):
     """Per direction (+, -), the sine and cosine coefficients of the bin means of r over one
     period (each divided by the bin's sinc attenuation); DataError if a direction leaves a bin
     unvisited."""
-    k = 2 * np.pi / period
-    idx = np.floor((x % period) / period * bins).astype(int) % bins
+    idx = _bin_index(x, period, bins)
     centres = (np.arange(bins) + 0.5) / bins * 2 * np.pi
     arg = np.outer(harmonics, centres)
     attenuation = np.sinc(harmonics / bins)
@@ -173,7 +192,6 @@ def _bin_coefficients(x, r, sign, period, bins, harmonics):
         means = np.bincount(idx[rows], weights=r[rows], minlength=bins) / counts
         out.append((2 / bins * np.sin(arg) @ means / attenuation,
                     2 / bins * np.cos(arg) @ means / attenuation))
-    del k
     return out
 
 
@@ -213,17 +231,21 @@ def _jackknife_se(design, target, folds=FIT_FOLDS):
 
 
 def _screen(x, f, sign, nuisance, period, speed, ts, quantum):
-    """The candidate terms (h, signed), strongest first, and the highest harmonic screened: the
-    harmonics of the bin means per direction whose amplitude noise alone reaches with
+    """The candidate terms (h, signed), strongest first, the highest harmonic screened and the
+    position bins per period (``_filled_bins``): the harmonics of the bin means per direction whose amplitude noise alone reaches with
     probability below ALPHA (``_candidates``)."""
     r = f - nuisance @ lstsq(nuisance, f)[0]
-    highest = int(min(MAX_HARMONIC, period / (SAMPLES_PER_WAVE * speed * ts),
-                      period / (QUANTA_PER_WAVE * quantum) if quantum > 0 else MAX_HARMONIC))
-    highest = max(highest, 1)
-    harmonics = np.arange(1, highest + 1)
-    bins = MIN_BINS
-    while bins < 4 * highest:
-        bins *= 2
+    samples = period / (speed * ts)                 # samples per period in each pass
+    cells = period / quantum if quantum > 0 else np.inf
+    if min(samples, cells) < 2 * MIN_BINS:
+        what = (f"{samples:.0f} samples per period at {speed:.3g} per s" if samples <= cells else
+                f"{cells:.0f} encoder steps per period")
+        raise DataError(f"the log resolves the cogging's period too coarsely ({what}, need "
+                        f"{2 * MIN_BINS}): move slower or log faster")
+    bins = _filled_bins(x, sign, period, min(samples, cells) / 2)
+    # harmonics up to a quarter of the bins (their averaging attenuates those by at most 10 %)
+    highest = int(min(MAX_HARMONIC, bins // 4, samples / SAMPLES_PER_WAVE, cells / QUANTA_PER_WAVE))
+    harmonics = np.arange(1, max(highest, 1) + 1)
     (ap, bp), (an, bn) = _bin_coefficients(x, r, sign, period, bins, harmonics)
     span = min(NOISE_SPAN, max(highest // 2, 1))
     ranked = []
@@ -231,7 +253,7 @@ def _screen(x, f, sign, nuisance, period, speed, ts, quantum):
         chosen, z = _candidates(sa, sb, span)
         ranked += [(float(z[j]), int(harmonics[j]), signed) for j in chosen]
     ranked.sort(reverse=True)
-    return [(h, s) for _, h, s in ranked[:MAX_TERMS]], highest
+    return [(h, s) for _, h, s in ranked[:MAX_TERMS]], int(harmonics[-1]), bins
 
 
 def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
@@ -317,7 +339,7 @@ def identify_cogging(t, x, force, period: Optional[float] = None,
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
     xs, ss = x[rows], sign[rows]
     nuisance = _nuisance(v_mean[rows])
-    terms, highest = _screen(xs, f[rows], ss, nuisance, period, speed, ts, quantum)
+    terms, highest, bins = _screen(xs, f[rows], ss, nuisance, period, speed, ts, quantum)
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
     # for the coefficients (the encoder's steps add noise, periodic in the count, that the
@@ -326,7 +348,7 @@ def identify_cogging(t, x, force, period: Optional[float] = None,
     _, a = _velocity_acceleration(x, ts, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))))
     given = inertia is not None
     if not given:
-        inertia = _inertia(xs, f[rows], a[rows], ss, nuisance, period,
+        inertia = _inertia(xs, f[rows], a[rows], ss, nuisance, period, bins,
                            [h for h, signed in terms if not signed and h > 1])
     determined = inertia is not None
     inertia = inertia if determined else 0.0

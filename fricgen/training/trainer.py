@@ -123,7 +123,7 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
             rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
                                                    asymmetric=asymmetric, seed=seed,
                                                    progress=progress)
-        except DataError as exc:
+        except (DataError, ValueError) as exc:  # ValueError: the estimator found no admissible fit
             reason = f"multi-source fit: {exc}"
     error = None if rich is None else _check_error(rich)
     # a curve that pushes the axis is no candidate; one whose negative B turns the force against

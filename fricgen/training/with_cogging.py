@@ -80,11 +80,11 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     try:
         report = train_friction(cleaned)
         model, text, warnings = report.model, report.text, list(report.warnings)
-    except (DataError, ModelError) as exc:
+    except (DataError, ModelError, ValueError):
         speed = np.abs(np.gradient(columns["x"], columns["t"]))
         model = _per_direction(fit, float(np.percentile(speed, 99)), name, units)
-        text = (f"friction: Coulomb + viscous per direction from the move (the default fit "
-                f"refused the log: {exc})")
+        text = ("friction: Coulomb + viscous per direction from the move (a calibration at one "
+                "speed each way holds too few speeds for the default fit)")
         warnings = []
     model = replace(model, cogging_map=fit.map, cogging_friction=fit.friction)
     j = {"given": "given", "identified": "identified from the two directions' ripple",
