@@ -229,3 +229,19 @@ def test_a_linear_motor_without_its_pitch_gets_the_period_from_the_data(tmp_path
     model = FrictionModel.load(out)
     assert model.cogging_map.period == pytest.approx(axis.pitch / axis.period_count, rel=1e-3)
     assert relative_error(axis, model.cogging_map) < 0.10
+
+
+def test_a_grey_box_without_an_admissible_fit_leaves_the_textbook_law(monkeypatch):
+    """The default fit's grey-box may find no admissible curve (ValueError, as a new user's
+    linear-motor log did): the textbook law is fitted instead of a traceback."""
+    import fricgen
+    from fricgen.fit.stribeck import StribeckRegressor
+
+    def no_fit(self, x, t):
+        raise ValueError("no fit of [F1] keeps sum |a_k| <= 10")
+    monkeypatch.setattr(StribeckRegressor, "fit", no_fit)
+    v = np.linspace(0.005, 0.2, 40)
+    f = 20 + 10 * np.exp(-(v / 0.03) ** 2) + 30 * v
+    report = fricgen.train({"v": np.concatenate([v, -v]), "f": np.concatenate([f, -f])})
+    assert report.model.force(0.1) == pytest.approx(23.0, abs=0.3)
+    assert "no fit of [F1]" in report.text
