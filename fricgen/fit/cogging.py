@@ -8,19 +8,22 @@ viscous friction, the position force C (cogging, unbalance: ``CoggingMap``) and 
 that varies along the travel R (a ripple times sgn(v)), kept apart from C because the two
 directions see R with opposite signs.
 
-1. J and the friction from the rows in motion with a smoothed acceleration (the starts and
-   stops determine J; ``--inertia`` fixes it).
-2. Screening: the residual f - J a - friction averaged in position bins per direction, and its
-   Fourier coefficients up to the highest harmonic the encoder and the sample rate resolve;
-   C's are the mean of the two directions', R's half their difference. A harmonic is a
-   candidate when its amplitude exceeds the level that noise alone reaches with probability
-   ALPHA over all harmonics tried (Rayleigh, the noise level a running median of the
-   amplitudes around it).
+1. Screening: the force less the per-direction friction, averaged in position bins per
+   direction (the most bins both directions fill), and its Fourier coefficients up to the
+   highest harmonic the bins, the encoder and the sample rate resolve; C's are the mean of the
+   two directions', R's half their difference. A harmonic is a candidate when its amplitude
+   exceeds the level that noise alone reaches with probability ALPHA over all harmonics tried
+   (Rayleigh, the noise level the median amplitude of the harmonics around it).
+2. J (``--mass`` fixes it) from how the two directions differ at the candidates of C: the
+   velocity ripple the loop leaves turns its phase with the direction (``_inertia``). Where it
+   does not differ beyond its noise, J is undetermined and taken as 0, and the report says so.
 3. How many candidates (strongest first) by blocked cross-validation of the time-domain least
    squares with the one-standard-error rule (``effects.fitting.nested_cross_validation``);
    none is an answer: the log has no cogging.
-4. The coefficients by least squares, their standard errors by the blocked jackknife (the
-   residual of a drive's loop is correlated in time; the blocks are long beside that).
+4. The coefficients by least squares on f - J a, their standard errors by the blocked jackknife
+   (the residual of a drive's loop is correlated in time; the blocks are long beside that).
+
+BLAS runs on the threads ``fricgen.train`` uses (``_blas``).
 """
 from __future__ import annotations
 
@@ -30,6 +33,7 @@ from typing import Optional, Tuple
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
+from .._blas import blas_threads, wanted_threads
 from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
 from ..data.motionlog import uniform_time
 from ..effects.fitting import FIT_FOLDS, lstsq, nested_cross_validation, refine
@@ -317,6 +321,11 @@ def identify_cogging(t, x, force, period: Optional[float] = None,
     >>> fit.map.harmonics, round(float(fit.map.amplitude[0]), 3), fit.friction
     ((24,), 0.05, None)
     """
+    with blas_threads(wanted_threads()):
+        return _identify(t, x, force, period, inertia)
+
+
+def _identify(t, x, force, period, inertia) -> CoggingFit:
     t, x, f = (np.asarray(c, dtype=float) for c in (t, x, force))
     _, ts = uniform_time(t)
     if period is not None and not (np.isfinite(period) and period > 0):
