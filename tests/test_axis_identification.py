@@ -303,6 +303,8 @@ def test_a_position_in_encoder_counts_is_recognised_and_only_then():
     assert position_quantum(x) == 0.0                              # a continuous position
     assert position_quantum(np.round(x / 1e-5) * 1e-5) == pytest.approx(1e-5, rel=1e-6)
     assert position_quantum(np.round(x / 1e-6) * 1e-6) == pytest.approx(1e-6, rel=1e-6)
+    counts = np.round(x / 1e-5) * 1e-5 + 0.5                       # written with 9 digits
+    assert position_quantum(np.array([float(f"{v:.9g}") for v in counts])) == pytest.approx(1e-5, rel=1e-4)
 
 
 def test_a_log_in_10_um_encoder_counts_keeps_its_stribeck_region():

@@ -87,6 +87,11 @@ class CoggingFit:
         The RMS of the fit's residual.
     rows : int
         The rows in motion that were fitted.
+    period : float, optional
+        The period fitted (given, or found in the data).
+    unexplained_wavelength : float, optional
+        The wavelength of a position-periodic force the residual still holds that no harmonic
+        of the period can (a wrong period given); None when there is none.
 
     Examples
     --------
@@ -103,6 +108,8 @@ class CoggingFit:
     highest_harmonic: int
     residual_rms: float
     rows: int
+    period: Optional[float] = None
+    unexplained_wavelength: Optional[float] = None
 
 
 def _velocity_acceleration(x: np.ndarray, ts: float, window: int):
@@ -260,14 +267,12 @@ def _screen(x, f, sign, nuisance, period, speed, ts, quantum):
     return [(h, s) for _, h, s in ranked[:MAX_TERMS]], int(harmonics[-1]), bins
 
 
-def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
-    """The map's period found in the data: the wavelength of the strongest peak of the position
-    periodogram (the residual's bin means over the travel, both directions together, zero-padded
-    FFT, at least FUNDAMENTAL_PERIODS periods in the travel), refined by bounded Brent on the
-    residual sum of squares of its sinusoid. Content at a longer period (a
-    once-per-pole-pair or once-per-turn term) needs the period given."""
+def _travel_spectrum(x, r, speed, ts, quantum):
+    """The position periodogram of r: its bin means over the whole travel (both directions
+    together), zero-padded FFT; the wavenumbers, the amplitudes, the usable ones (at least
+    FUNDAMENTAL_PERIODS periods in the travel, resolved by the encoder and the sample rate) and
+    the FFT's wavenumber spacing."""
     travel = float(np.ptp(x))
-    r = f - nuisance @ lstsq(nuisance, f)[0]
     step = max(quantum, travel / FUNDAMENTAL_BINS)
     n = int(travel / step) + 1
     idx = np.minimum(((x - x.min()) / step).astype(int), n - 1)
@@ -278,14 +283,42 @@ def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
     k = 2 * np.pi * np.fft.rfftfreq(4 * n, step)
     finest = min(2 * np.pi / (QUANTA_PER_WAVE * max(quantum, step)), 2 * np.pi / (SAMPLES_PER_WAVE * speed * ts))
     usable = (k >= 2 * np.pi * FUNDAMENTAL_PERIODS / travel) & (k <= finest)
+    return k, spectrum, usable, 2 * np.pi / (4 * n * step)
+
+
+def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
+    """The map's period found in the data: the wavelength of the strongest peak of the position
+    periodogram (``_travel_spectrum``), refined by bounded Brent on the residual sum of squares
+    of its sinusoid. Content at a longer period (a once-per-pole-pair or once-per-turn term)
+    needs the period given."""
+    r = f - nuisance @ lstsq(nuisance, f)[0]
+    k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     if not usable.any():
-        raise DataError(f"the log travels {travel:.6g}: too short to find the cogging's period; give --pitch")
+        raise DataError(f"the log travels {np.ptp(x):.6g}: too short to find the cogging's period; "
+                        "give --pitch")
     peak = float(k[usable][np.argmax(spectrum[usable])])
-    grid = 2 * np.pi / (4 * n * step)                  # the zero-padded FFT's spacing
 
     def rss(wavenumber):
         return lstsq(np.column_stack([np.sin(wavenumber * x), np.cos(wavenumber * x)]), r)[1]
     return float(2 * np.pi / refine(rss, peak - grid, peak + grid))
+
+
+def _unexplained(x, r, period, speed, ts, quantum) -> Optional[float]:
+    """The wavelength of a position-periodic force left in the residual r that no harmonic of
+    ``period`` holds (a wrong period given): the periodogram's strongest peak when noise alone
+    reaches it with probability below ALPHA (Rayleigh, the noise level its median) and its
+    wavenumber is not within two FFT spacings of a multiple of 2 pi / period; else None."""
+    k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
+    if usable.sum() < 2:
+        return None
+    amp = spectrum[usable]
+    j = int(np.argmax(amp))
+    scale = np.median(amp) / np.sqrt(2 * np.log(2))
+    if amp[j] <= scale * np.sqrt(2 * np.log(amp.size / ALPHA)):
+        return None
+    h = k[usable][j] * period / (2 * np.pi)
+    return None if abs(h - round(h)) * 2 * np.pi / period <= 2 * grid and round(h) >= 1 \
+        else float(2 * np.pi / k[usable][j])
 
 
 def identify_cogging(t, x, force, period: Optional[float] = None,
@@ -384,7 +417,9 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
                           sine_se=tuple(float(se[i]) for i in at),
                           cosine_se=tuple(float(se[i + 1]) for i in at))
 
+    left = _unexplained(xs, target - design @ coef, period, speed, ts, quantum)
     return CoggingFit(map=series(False), friction=series(True), inertia=float(inertia),
-                      inertia_source="given" if given else ("identified" if determined else "undetermined"), coulomb_viscous=tuple(float(c) for c in coef[:4]),
-                      highest_harmonic=highest, residual_rms=float(np.sqrt(rss / target.size)),
-                      rows=int(rows.sum()))
+                      inertia_source="given" if given else ("identified" if determined else "undetermined"),
+                      coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
+                      residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),
+                      period=float(period), unexplained_wavelength=left)

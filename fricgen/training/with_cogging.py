@@ -95,6 +95,10 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic}; {fit.rows} rows in motion")
+    if fit.unexplained_wavelength is not None:
+        warnings.append(f"fricgen: warning: the log holds a position-periodic force of wavelength "
+                        f"{fit.unexplained_wavelength:.6g} {units.position} that no harmonic of the "
+                        f"period {fit.map.period if fit.map else pitch or 0:.6g} holds: is --pitch right?")
     if fit.map is None:
         lines.append("cogging: none found (no harmonic above the noise): no map is emitted")
     else:
