@@ -35,6 +35,8 @@ from fricgen.fit.cogging import identify_cogging  # noqa: E402
 from fricgen.sim.servo_axis import TWO_PI, Drive, calibration_move, random_axis, run  # noqa: E402
 
 TURNS, SPEED = 2.0, 1.0
+#: The null seeds below this one were looked at when fit.cogging.UNEXPLAINED_PERIODS was set.
+UNEXPLAINED_TUNED_UP_TO = 1016
 TARGET = 0.10
 
 
@@ -58,7 +60,8 @@ def relative_error(axis, cogging_map) -> float:
 
 
 def one(job):
-    """(case, seed, relative error or None, harmonics found, inertia source, seconds)."""
+    """(case, seed, relative error or None, harmonics found, inertia source, seconds, whether a
+    wrong period was warned of)."""
     case, seed = job
     bits = 14 if case == "rotary 14 bit" else 12
     axis = random_axis(seed, bits=bits, linear=case.startswith("linear"))
@@ -72,7 +75,7 @@ def one(job):
     seconds = time.perf_counter() - start
     error = None if case == "no cogging" else relative_error(axis, fit.map)
     found = () if fit.map is None else fit.map.harmonics
-    return case, seed, error, found, fit.inertia_source, seconds
+    return case, seed, error, found, fit.inertia_source, seconds, fit.unexplained_wavelength is not None
 
 
 def table_bounds(seeds) -> list:
@@ -164,6 +167,14 @@ def main(argv=None) -> int:
     for r in null:
         if r[3]:
             print(f"  seed {r[1]}: harmonics {r[3]}")
+    warned = [r[1] for r in null if r[6]]
+    late = [r for r in null if r[1] >= UNEXPLAINED_TUNED_UP_TO]
+    print(f"  'is --pitch right?' warnings on them: {len(warned)}/{len(null)} (seeds {warned}); on the "
+          f"seeds from {UNEXPLAINED_TUNED_UP_TO} (fit.UNEXPLAINED_PERIODS was set looking at 1000-"
+          f"{UNEXPLAINED_TUNED_UP_TO - 1}): {sum(r[6] for r in late)}/{len(late)}")
+    wrong = [r for r in results if r[0] != "no cogging" and r[6]]
+    print(f"  the same warning on the logs with cogging and the right period: {len(wrong)}/"
+          f"{len(results) - len(null)}")
     print("\nworst seeds:")
     for case in cases:
         rows = sorted((r for r in results if r[0] == case), key=lambda r: -r[2])[:2]

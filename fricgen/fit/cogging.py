@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
+from scipy.ndimage import median_filter, uniform_filter1d
 
 from .._blas import blas_threads, wanted_threads
 from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
@@ -60,6 +60,9 @@ INERTIA_Z = 3.0
 #: Position bins of the periodogram that finds the period, and the fewest periods it must see.
 FUNDAMENTAL_BINS = 1 << 16
 FUNDAMENTAL_PERIODS = 2
+#: Periods the travel must hold for a wavelength to be checked for a wrong period (longer ones
+#: are not told from the friction's slow drifts along the travel).
+UNEXPLAINED_PERIODS = 8
 #: Fewest position bins per period; a direction must visit every bin.
 MIN_BINS = 32
 
@@ -288,37 +291,46 @@ def _travel_spectrum(x, r, speed, ts, quantum):
 
 def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
     """The map's period found in the data: the wavelength of the strongest peak of the position
-    periodogram (``_travel_spectrum``), refined by bounded Brent on the residual sum of squares
-    of its sinusoid. Content at a longer period (a once-per-pole-pair or once-per-turn term)
+    periodogram (``_travel_spectrum``), refined (``_refined_peak``). Content at a longer period (a once-per-pole-pair or once-per-turn term)
     needs the period given."""
     r = f - nuisance @ lstsq(nuisance, f)[0]
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     if not usable.any():
         raise DataError(f"the log travels {np.ptp(x):.6g}: too short to find the cogging's period; "
                         "give --pitch")
-    peak = float(k[usable][np.argmax(spectrum[usable])])
+    return float(2 * np.pi / _refined_peak(x, r, float(k[usable][np.argmax(spectrum[usable])]), grid))
 
+
+def _refined_peak(x, r, peak, grid) -> float:
+    """The wavenumber within one FFT spacing of ``peak`` whose sinusoid leaves r the least
+    residual sum of squares (bounded Brent)."""
     def rss(wavenumber):
         return lstsq(np.column_stack([np.sin(wavenumber * x), np.cos(wavenumber * x)]), r)[1]
-    return float(2 * np.pi / refine(rss, peak - grid, peak + grid))
+    return refine(rss, peak - grid, peak + grid)
 
 
-def _unexplained(x, r, period, speed, ts, quantum) -> Optional[float]:
+def _unexplained(x, r, period, highest, speed, ts, quantum) -> Optional[float]:
     """The wavelength of a position-periodic force left in the residual r that no harmonic of
-    ``period`` holds (a wrong period given): the periodogram's strongest peak when noise alone
-    reaches it with probability below ALPHA (Rayleigh, the noise level its median) and its
-    wavenumber is not within two FFT spacings of a multiple of 2 pi / period; else None."""
+    ``period`` holds (a wrong period given): of the wavelengths from a UNEXPLAINED_PERIODS-th of
+    the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that stands highest above the running median
+    around it, when noise alone reaches it with probability below ALPHA (Rayleigh) and its
+    wavenumber (refined, ``_refined_peak``) is not within one FFT spacing of a multiple of
+    2 pi / period; else None."""
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
+    usable &= (k <= 2 * np.pi * highest / period) & (k >= 2 * np.pi * UNEXPLAINED_PERIODS / np.ptp(x))
     if usable.sum() < 2:
         return None
-    amp = spectrum[usable]
-    j = int(np.argmax(amp))
-    scale = np.median(amp) / np.sqrt(2 * np.log(2))
-    if amp[j] <= scale * np.sqrt(2 * np.log(amp.size / ALPHA)):
+    # the noise level around each wavenumber (a drive's noise is not white): the running median
+    # of the periodogram over NOISE_SPAN Rayleigh resolutions (4 FFT points each) on each side
+    local = median_filter(spectrum, size=8 * NOISE_SPAN + 1, mode="nearest") / np.sqrt(2 * np.log(2))
+    z = np.where(usable, spectrum / np.maximum(local, 1e-300), 0.0)
+    j = int(np.argmax(z))
+    if z[j] <= np.sqrt(2 * np.log(usable.sum() / 4 / ALPHA)):
         return None
-    h = k[usable][j] * period / (2 * np.pi)
-    return None if abs(h - round(h)) * 2 * np.pi / period <= 2 * grid and round(h) >= 1 \
-        else float(2 * np.pi / k[usable][j])
+    peak = _refined_peak(x, r, k[j], grid)
+    h = peak * period / (2 * np.pi)
+    return None if abs(h - round(h)) * 2 * np.pi / period <= grid and round(h) >= 1 \
+        else float(2 * np.pi / peak)
 
 
 def identify_cogging(t, x, force, period: Optional[float] = None,
@@ -417,7 +429,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
                           sine_se=tuple(float(se[i]) for i in at),
                           cosine_se=tuple(float(se[i + 1]) for i in at))
 
-    left = _unexplained(xs, target - design @ coef, period, speed, ts, quantum)
+    left = _unexplained(xs, target - design @ coef, period, highest, speed, ts, quantum)
     return CoggingFit(map=series(False), friction=series(True), inertia=float(inertia),
                       inertia_source="given" if given else ("identified" if determined else "undetermined"),
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
