@@ -169,12 +169,12 @@ def main(argv=None) -> int:
             print(f"  seed {r[1]}: harmonics {r[3]}")
     warned = [r[1] for r in null if r[6]]
     late = [r for r in null if r[1] >= UNEXPLAINED_TUNED_UP_TO]
-    print(f"  'is --pitch right?' warnings on them: {len(warned)}/{len(null)} (seeds {warned}); on the "
+    print(f"  'a wrong --pitch ...?' warnings on them: {len(warned)}/{len(null)} (seeds {warned}); on the "
           f"seeds from {UNEXPLAINED_TUNED_UP_TO} (fit.UNEXPLAINED_PERIODS was set looking at 1000-"
           f"{UNEXPLAINED_TUNED_UP_TO - 1}): {sum(r[6] for r in late)}/{len(late)}")
-    wrong = [r for r in results if r[0] != "no cogging" and r[6]]
-    print(f"  the same warning on the logs with cogging and the right period: {len(wrong)}/"
-          f"{len(results) - len(null)}")
+    for case in cases:
+        rows = [r for r in results if r[0] == case]
+        print(f"  the same warning on {case}: {sum(r[6] for r in rows)}/{len(rows)}")
     print("\nworst seeds:")
     for case in cases:
         rows = sorted((r for r in results if r[0] == case), key=lambda r: -r[2])[:2]

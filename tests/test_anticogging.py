@@ -203,7 +203,7 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     captured = capsys.readouterr()
     text = captured.out
     assert "cogging map (position force)" in text and f"harmonic {axis.period_count:4d}" in text
-    assert "is --pitch right?" not in captured.err
+    assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
     assert relative_error(axis, model.cogging_map) < 0.10
 
@@ -222,7 +222,7 @@ def test_train_cogging_refuses_what_it_cannot_do(calibration_csv, tmp_path, caps
 def test_a_wrong_pitch_is_named(calibration_csv, axis, tmp_path, capsys):
     assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--pitch", "1.0",
                  "--force-constant", str(axis.kt), "-o", str(tmp_path / "m.json")]) == 0
-    assert "that no harmonic of the period 1 holds: is --pitch right?" in capsys.readouterr().err
+    assert "that no harmonic of the period 1 holds: a wrong --pitch" in capsys.readouterr().err
 
 
 def test_a_linear_motor_without_its_pitch_gets_the_period_from_the_data(tmp_path, capsys):
