@@ -253,3 +253,14 @@ def test_a_grey_box_without_an_admissible_fit_leaves_the_textbook_law(monkeypatc
     report = fricgen.train({"v": np.concatenate([v, -v]), "f": np.concatenate([f, -f])})
     assert report.model.force(0.1) == pytest.approx(23.0, abs=0.3)
     assert "no fit of [F1]" in report.text
+
+
+def test_diagnose_refuses_a_model_with_a_map_and_simulate_says_it_leaves_it_out(model, tmp_path, capsys):
+    path = model.save(tmp_path / "m.json")
+    log = tmp_path / "log.csv"
+    log.write_text("t,x,i\n0,0,0\n")
+    out = tmp_path / "diag"
+    assert main(["diagnose", str(log), "--model", str(path), "-o", str(out)]) != 0
+    assert "holds a cogging map" in capsys.readouterr().err and not out.exists()
+    assert main(["simulate", "--model", str(path), "--duration", "0.05"]) == 0
+    assert "leaves out" in capsys.readouterr().err

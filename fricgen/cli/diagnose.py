@@ -120,6 +120,10 @@ def _run(args) -> int:
     inputs = [args.model, args.log] + ([args.merge] if args.merge else [])
     check_folder(args.output, [args.model], args.force)
     model = load_model(args.model)
+    if model.cogging_map is not None:
+        raise UsageError(f"{args.model} holds a cogging map, which diagnose does not model yet: it "
+                         "would name the cogging again as position_ripple; diagnose the model trained "
+                         "without --cogging")
     columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
     columns, force_constant, drive_notes = drive_columns(columns, args.force_constant)
     mass, force_constant, notes = nominal_axis(model, args.mass, force_constant)

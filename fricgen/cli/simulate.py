@@ -61,6 +61,9 @@ def run(args) -> int:
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
     model = load_model(args.model) if args.model else None
+    if model is not None and model.cogging_map is not None:
+        say(f"fricgen: note: the simulation leaves out {args.model}'s cogging map (its plant has "
+            "friction only)")
     plant = choose_plant(model, args.mass)
     axis = plant.axis
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,
