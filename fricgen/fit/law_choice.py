@@ -235,14 +235,16 @@ def rich_predictor(rich: DirectionsFit, independence: float, offset: float) -> C
 
 @dataclass(frozen=True)
 class LawChoice:
-    """What the default chose, the candidates' cross-validated RMS errors (N) and why some
-    were not candidates."""
+    """What the default chose, the candidates' cross-validated RMS errors (N), why some
+    were not candidates, and the points it fitted (``kept``: the moving ones less the gross
+    outliers)."""
 
     fit: DirectionsFit
     name: str
     cv_rmse: Tuple[Tuple[str, float], ...]
     left_out: Tuple[str, ...]
     folds: int
+    kept: Optional[Sweep] = None
 
     def line(self, unit: str = "N") -> str:
         """The report's line: the law kept and each candidate's held-out error (in ``unit``)."""
@@ -326,7 +328,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                      [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])
     name, _, make = candidates[chosen]
     return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in scored),
-                     tuple(left_out), int(folds.max()) + 1)
+                     tuple(left_out), int(folds.max()) + 1, sweep)
 
 
 def _choose(mse: List[np.ndarray], anchor: List[int]) -> int:

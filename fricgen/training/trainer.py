@@ -271,7 +271,8 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     if choice is not None:
         training["law"] = {"chosen": choice.name, "cv_rmse_newton": dict(choice.cv_rmse),
                            "left_out": list(choice.left_out)}
-    training["axis"] = axis_record(sweep, ident, fitted.asymmetric)
+    # the speed range of the points fitted: a gross outlier's speed is not the axis'
+    training["axis"] = axis_record(sweep if choice is None else choice.kept, ident, fitted.asymmetric)
     training["units"] = units_of(rotary).kind
     if accept_unusual:
         training["accept_unusual"] = True
