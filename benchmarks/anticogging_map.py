@@ -12,7 +12,7 @@ a cosine, up to pi rad/s), the share of axes without cogging that get no map, an
 size and error bounds; with ``--cost``, the instructions of one NAME_cogging and
 NAME_cogging_q15 call on Cortex-M0+ and M4F (QEMU, as benchmarks/instructions_per_call.py).
 
-    python benchmarks/anticogging_map.py [--seeds 20] [--null-seeds 40] [--cost]
+    python benchmarks/anticogging_map.py [--first 1000] [--seeds 20] [--null-seeds 40] [--cost]
 
 Targets (issue "Anticogging from two turns"): within 10 % on >= 90 % of seeds at 12 and 14 bits;
 no map on >= 95 % of the logs without cogging; the q15 bound holding at every count.
@@ -134,14 +134,15 @@ def instruction_counts() -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--first", type=int, default=1000, help="the first seed (default 1000)")
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--null-seeds", type=int, default=40)
     ap.add_argument("--cost", action="store_true", help="instructions per call under QEMU")
     args = ap.parse_args(argv)
-    seeds = range(1000, 1000 + args.seeds)
+    seeds = range(args.first, args.first + args.seeds)
     cases = ("rotary 12 bit", "rotary 14 bit", "linear 12 bit", "rotary 12 bit, log at 2 kHz", NORMAL)
     jobs = [(c, s) for c in cases for s in seeds]
-    jobs += [("no cogging", s) for s in range(1000, 1000 + args.null_seeds)]
+    jobs += [("no cogging", s) for s in range(args.first, args.first + args.null_seeds)]
     start = time.perf_counter()
     results = []
     with multiprocessing.Pool(2) as pool:
@@ -180,7 +181,7 @@ def main(argv=None) -> int:
         rows = sorted((r for r in results if r[0] == case), key=lambda r: -r[2])[:2]
         for r in rows:
             print(f"  {case}: seed {r[1]} error {r[2]:.3f}, harmonics {r[3]}, J {r[4]}")
-    bounds = table_bounds(range(1000, 1000 + min(args.seeds, 10)))
+    bounds = table_bounds(range(args.first, args.first + min(args.seeds, 10)))
     print("\nemitted table (14-bit seeds): points, bound of float / map RMS, bound of q15 / RMS, "
           "q15's worst at any 14-bit count / RMS, bound holds")
     for b in bounds:
