@@ -35,13 +35,12 @@ class CoggingTable:
 
     @classmethod
     def of(cls, cogging: CoggingMap) -> "CoggingTable":
-        points = cogging.table_size(TABLE_TOLERANCE * cogging.rms)
+        points, interpolation = cogging.table_size(TABLE_TOLERANCE * cogging.rms)
         exact = cogging.table(points)
         values = exact.astype(np.float32)
         peak = float(np.max(np.abs(exact)))
         scale = peak * 32768.0 / Q15_MAX if peak > 0 else 1.0
         q15 = np.clip(np.round(exact / scale * 32768.0), -Q15_MAX, Q15_MAX).astype(np.int16)
-        interpolation = cogging.table_error(points)
         # float: the interpolation's error plus float32 rounding of table, position and product
         float_bound = interpolation + 4 * float(np.finfo(np.float32).eps) * peak
         # q15: evaluated at ERROR_GRID phases per interval (the integer arithmetic exactly) plus
@@ -56,8 +55,7 @@ class CoggingTable:
 
     @property
     def shift(self) -> int:
-        """32 - log2 N: the phase's bits below the table index."""
-        return 32 - int(self.points).bit_length() + 1
+        return phase_shift(self.points)
 
     def context(self) -> dict:
         """The template's values for ``cogging.c.j2`` and the header."""
@@ -74,10 +72,15 @@ class CoggingTable:
             "harmonics": ", ".join(str(h) for h in m.harmonics), "rms": f"{m.rms:.4g}"}
 
 
+def phase_shift(points: int) -> int:
+    """32 - log2 N: the bits of a uint32 phase below the index of a table of N points."""
+    return 32 - int(points).bit_length() + 1
+
+
 def q15_twin(table: np.ndarray, phase: np.ndarray) -> np.ndarray:
     """``NAME_cogging_q15`` in numpy: the same integer operations on the same int16 table."""
     points = table.size
-    shift = 32 - points.bit_length() + 1
+    shift = phase_shift(points)
     phase = np.asarray(phase, dtype=np.uint64)
     k = (phase >> np.uint64(shift)).astype(np.int64)
     frac = ((phase >> np.uint64(shift - 15)) & np.uint64(0x7FFF)).astype(np.int64)

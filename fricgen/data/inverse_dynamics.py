@@ -119,6 +119,15 @@ def smooth(signal: np.ndarray, window: int, deriv: int = 0, delta: float = 1.0) 
     return out
 
 
+def steady_rows(v: np.ndarray, moving: np.ndarray, window: int) -> np.ndarray:
+    """The ``moving`` rows whose whole centred window moves in one direction (no reversal and no
+    row at rest within it); the half windows at the log's ends are left out."""
+    direction = np.sign(v) * moving
+    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & moving
+    steady[:window // 2] = steady[-(window // 2):] = False
+    return steady
+
+
 def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
     """Generalized cross-validation of smoothing ``signal`` with ``window`` over ``rows``:
     mean (signal - smooth(signal))^2 / (1 - h0)^2, h0 the centre weight. It estimates the error
@@ -312,9 +321,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], independent)
     body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass)
     friction = f_s - body.mass * a_s
-    direction = np.sign(v_s) * moving
-    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & moving
-    steady[:window // 2] = steady[-(window // 2):] = False
+    steady = steady_rows(v_s, moving, window)
     kept = float(steady.sum()) * _centre_weight(window)
     if steady.sum() < MIN_ROWS or kept < MIN_INDEPENDENT:
         raise DataError(f"the axis moves steadily in only {int(steady.sum())} rows (about "

@@ -102,13 +102,15 @@ class CoggingMap:
         between = (self.period / points / ERROR_GRID) ** 2 / 8 * 2 * curvature
         return float(np.max(np.abs(interpolated - exact))) + between
 
-    def table_size(self, tolerance: float) -> int:
+    def table_size(self, tolerance: float) -> Tuple[int, float]:
         """The fewest points (a power of two, MIN_TABLE to MAX_TABLE) whose interpolation error
-        is within ``tolerance``; MAX_TABLE if none is."""
+        (``table_error``) is within ``tolerance``, MAX_TABLE if none is; and that error."""
         points = MIN_TABLE
-        while points < MAX_TABLE and self.table_error(points) > tolerance:
+        error = self.table_error(points)
+        while points < MAX_TABLE and error > tolerance:
             points *= 2
-        return points
+            error = self.table_error(points)
+        return points, error
 
     def to_dict(self) -> dict:
         return {"period": self.period, "harmonics": list(self.harmonics),

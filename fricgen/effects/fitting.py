@@ -74,13 +74,19 @@ def one_standard_error_choice(errors: np.ndarray) -> int:
     return int(np.flatnonzero(mean <= limit)[0]) + 1
 
 
+def block_grams(design: np.ndarray, target: np.ndarray, folds: int = FIT_FOLDS) -> list:
+    """Per contiguous block of the rows (``folds`` of them): X'X, X'y, y'y and its row count,
+    from which a least-squares fit without any one block costs O(p^3), not a pass over the rows."""
+    blocks = [slice(b[0], b[-1] + 1) for b in np.array_split(np.arange(target.size), folds)]
+    return [(design[b].T @ design[b], design[b].T @ target[b], float(target[b] @ target[b]),
+             b.stop - b.start) for b in blocks]
+
+
 def nested_cross_validation(design: np.ndarray, target: np.ndarray, sizes, folds: int = FIT_FOLDS) -> int:
     """``choose_by_cross_validation`` of the nested designs ``design[:, :p]`` for p in ``sizes``,
     through each block's Gram matrix: O(folds p^2) per design after one pass over the rows (for
     long logs). Returns 1..len(sizes)."""
-    blocks = [slice(b[0], b[-1] + 1) for b in np.array_split(np.arange(target.size), folds)]
-    grams = [(design[b].T @ design[b], design[b].T @ target[b], float(target[b] @ target[b]),
-              b.stop - b.start) for b in blocks]
+    grams = block_grams(design, target, folds)
     g_all = sum(g[0] for g in grams)
     b_all = sum(g[1] for g in grams)
     errors = np.empty((len(sizes), folds))

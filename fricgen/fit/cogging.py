@@ -34,9 +34,9 @@ import numpy as np
 from scipy.ndimage import median_filter, uniform_filter1d
 
 from .._blas import blas_threads, wanted_threads
-from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth
+from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth, steady_rows
 from ..data.motionlog import uniform_time
-from ..effects.fitting import FIT_FOLDS, lstsq, nested_cross_validation, refine
+from ..effects.fitting import FIT_FOLDS, block_grams, lstsq, nested_cross_validation, refine
 from ..errors import DataError
 from ..effects.cogging_map import MAX_TERMS, CoggingMap
 
@@ -115,12 +115,13 @@ class CoggingFit:
     unexplained_wavelength: Optional[float] = None
 
 
-def _velocity_acceleration(x: np.ndarray, ts: float, window: int):
-    return smooth(x, window, 1, ts), smooth(x, window, 2, ts)
-
-
 def _odd(n: float) -> int:
     return max(MIN_WINDOW, int(n) | 1)
+
+
+def _less_nuisance(f: np.ndarray, nuisance: np.ndarray) -> np.ndarray:
+    """f less its least-squares fit by the friction columns."""
+    return f - nuisance @ lstsq(nuisance, f)[0]
 
 
 def _nuisance(v: np.ndarray) -> np.ndarray:
@@ -131,26 +132,21 @@ def _nuisance(v: np.ndarray) -> np.ndarray:
 
 def _moving(v: np.ndarray, window: int) -> np.ndarray:
     """Rows where the axis moves in one direction over the whole window, faster than a fifth of
-    its typical speed."""
-    typical = np.percentile(np.abs(v), 90)
-    fast = np.abs(v) > 0.2 * typical
-    sign = np.sign(v) * fast
-    kernel = np.ones(window)
-    agree = np.convolve(sign, kernel, "same")
-    return np.abs(agree) >= window - 0.5
+    its typical speed (``steady_rows``)."""
+    return steady_rows(v, np.abs(v) > 0.2 * np.percentile(np.abs(v), 90), window)
 
 
-def _inertia(x, f, a, sign, nuisance, period, bins, harmonics) -> Optional[float]:
+def _inertia(x, r, a, sign, period, bins, harmonics) -> Optional[float]:
     """J from how the two directions differ at the harmonics of the position force: a force
     C(x) the loop only partly rejects leaves a velocity ripple whose phase turns with the
     direction of motion (the loop's response at +w and at -w are conjugate), so at each of those
     harmonics F+ - F- = J (A+ - A-) (F, A the per-direction coefficients of the force and of the
-    acceleration). Least squares over the harmonics; None when the directions' accelerations do
-    not differ beyond their noise (the log does not determine J)."""
+    acceleration; r the force less the friction columns). Least squares over the harmonics; None
+    when the directions' accelerations do not differ beyond their noise (the log does not
+    determine J)."""
     h = np.asarray(sorted(harmonics), dtype=float)
     if h.size == 0:
         return None
-    r = f - nuisance @ lstsq(nuisance, f)[0]
     (fpa, fpb), (fna, fnb) = _bin_coefficients(x, r, sign, period, bins, h)
     (apa, apb), (ana, anb) = _bin_coefficients(x, a - a.mean(), sign, period, bins, h)
     dF = np.concatenate([fpa - fna, fpb - fnb])
@@ -189,23 +185,16 @@ def _filled_bins(x, sign, period, most) -> int:
 
 def _bin_coefficients(x, r, sign, period, bins, harmonics):
     """Per direction (+, -), the sine and cosine coefficients of the bin means of r over one
-    period (each divided by the bin's sinc attenuation); DataError if a direction leaves a bin
-    unvisited."""
+    period (each divided by the bin's sinc attenuation); ``bins`` as ``_filled_bins`` gives them,
+    every one visited in each direction."""
     idx = _bin_index(x, period, bins)
-    centres = (np.arange(bins) + 0.5) / bins * 2 * np.pi
-    arg = np.outer(harmonics, centres)
-    attenuation = np.sinc(harmonics / bins)
+    arg = np.outer(harmonics, (np.arange(bins) + 0.5) / bins * 2 * np.pi)
+    sine, cosine = (2 / bins * w(arg) / np.sinc(harmonics / bins)[:, None] for w in (np.sin, np.cos))
     out = []
-    for d, label in ((1, "+"), (-1, "-")):
+    for d in (1, -1):
         rows = sign == d
-        counts = np.bincount(idx[rows], minlength=bins)
-        if np.any(counts == 0):
-            raise DataError(f"the move covers {np.mean(counts > 0):.0%} of one period "
-                            f"({period:.6g}) in the {label} direction; a cogging map needs the "
-                            "whole period each way")
-        means = np.bincount(idx[rows], weights=r[rows], minlength=bins) / counts
-        out.append((2 / bins * np.sin(arg) @ means / attenuation,
-                    2 / bins * np.cos(arg) @ means / attenuation))
+        means = np.bincount(idx[rows], weights=r[rows], minlength=bins) / np.bincount(idx[rows], minlength=bins)
+        out.append((sine @ means, cosine @ means))
     return out
 
 
@@ -237,18 +226,17 @@ def _waves(x, k, terms, sign):
 def _jackknife_se(design, target, folds=FIT_FOLDS):
     """The blocked jackknife standard error of each least-squares coefficient (each fold's fit
     from the Gram matrices less its block's)."""
-    blocks = [slice(b[0], b[-1] + 1) for b in np.array_split(np.arange(target.size), folds)]
-    grams = [(design[b].T @ design[b], design[b].T @ target[b]) for b in blocks]
-    g_all, b_all = sum(g for g, _ in grams), sum(b for _, b in grams)
-    coefs = np.array([np.linalg.lstsq(g_all - g, b_all - b, rcond=None)[0] for g, b in grams])
+    grams = block_grams(design, target, folds)
+    g_all, b_all = sum(g[0] for g in grams), sum(g[1] for g in grams)
+    coefs = np.array([np.linalg.lstsq(g_all - g, b_all - b, rcond=None)[0] for g, b, _, _ in grams])
     return np.sqrt((folds - 1) / folds * np.sum((coefs - coefs.mean(axis=0)) ** 2, axis=0))
 
 
-def _screen(x, f, sign, nuisance, period, speed, ts, quantum):
+def _screen(x, r, sign, period, speed, ts, quantum):
     """The candidate terms (h, signed), strongest first, the highest harmonic screened and the
-    position bins per period (``_filled_bins``): the harmonics of the bin means per direction whose amplitude noise alone reaches with
+    position bins per period (``_filled_bins``): the harmonics of the bin means of r (the force
+    less the friction columns) per direction whose amplitude noise alone reaches with
     probability below ALPHA (``_candidates``)."""
-    r = f - nuisance @ lstsq(nuisance, f)[0]
     samples = period / (speed * ts)                 # samples per period in each pass
     cells = period / quantum if quantum > 0 else np.inf
     if min(samples, cells) < 2 * MIN_BINS:
@@ -293,7 +281,7 @@ def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
     """The map's period found in the data: the wavelength of the strongest peak of the position
     periodogram (``_travel_spectrum``), refined (``_refined_peak``). Content at a longer period (a once-per-pole-pair or once-per-turn term)
     needs the period given."""
-    r = f - nuisance @ lstsq(nuisance, f)[0]
+    r = _less_nuisance(f, nuisance)
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     if not usable.any():
         raise DataError(f"the log travels {np.ptp(x):.6g}: too short to find the cogging's period; "
@@ -379,7 +367,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
         raise DataError(f"the log travels {np.ptp(x):.6g}, less than one period ({period:.6g}); "
                         "a cogging map needs the whole period each way")
     window = _odd(INERTIA_WINDOW / ts)
-    v, a_smooth = _velocity_acceleration(x, ts, window)
+    v, a_smooth = smooth(x, window, 1, ts), smooth(x, window, 2, ts)
     rows = _moving(v, window)
     if rows.sum() < 10 * MIN_BINS:
         raise DataError("the log has too few rows in motion for a cogging map")
@@ -393,16 +381,17 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
     xs, ss = x[rows], sign[rows]
     nuisance = _nuisance(v_mean[rows])
-    terms, highest, bins = _screen(xs, f[rows], ss, nuisance, period, speed, ts, quantum)
+    r = _less_nuisance(f[rows], nuisance)
+    terms, highest, bins = _screen(xs, r, ss, period, speed, ts, quantum)
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
     # for the coefficients (the encoder's steps add noise, periodic in the count, that the
     # harmonics below the count's are nearly orthogonal to; smoothing would attenuate J a)
     fastest = max([h for h, _ in terms], default=1) * speed / period
-    _, a = _velocity_acceleration(x, ts, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))))
+    a = smooth(x, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))), 2, ts)
     given = inertia is not None
     if not given:
-        inertia = _inertia(xs, f[rows], a[rows], ss, nuisance, period, bins,
+        inertia = _inertia(xs, r, a[rows], ss, period, bins,
                            [h for h, signed in terms if not signed and h > 1])
     determined = inertia is not None
     inertia = inertia if determined else 0.0

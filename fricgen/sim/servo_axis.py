@@ -113,8 +113,7 @@ def random_axis(seed: int, bits: int = 12, linear: bool = False) -> ServoAxis:
 def linear_motor(axis: ServoAxis, pole_pitch: float = 0.032) -> ServoAxis:
     """The axis as a linear motor: one 'revolution' is one pole pair's pitch (m), the cogging of
     its slots over that pitch, no unbalance (x = theta pitch / 2 pi)."""
-    return replace(axis, slots=axis.slots, pole_pairs=1, unbalance=(0.0, 0.0), label="linear",
-                   pitch=pole_pitch)
+    return replace(axis, pole_pairs=1, unbalance=(0.0, 0.0), label="linear", pitch=pole_pitch)
 
 
 @dataclass
