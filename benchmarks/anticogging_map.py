@@ -51,14 +51,6 @@ def normal_operation(axis):
     return run(Drive(axis), theta, omega, position_loop=True, every=1)
 
 
-def relative_error(axis, cogging_map) -> float:
-    """RMS over the counts of map - truth (the truth averaged over each count) / RMS(truth)."""
-    truth = axis.cogging_per_count()
-    x = np.arange(axis.counts) * axis.pitch / axis.counts
-    est = cogging_map.force(x) if cogging_map is not None else np.zeros_like(x)
-    return float(np.sqrt(np.mean((est - truth) ** 2)) / np.std(truth))
-
-
 def one(job):
     """(case, seed, relative error or None, harmonics found, inertia source, seconds, whether a
     wrong period was warned of)."""
@@ -73,7 +65,7 @@ def one(job):
     period = None if case.startswith("linear") else axis.pitch        # linear: found from the data
     fit = identify_cogging(log["t"], log["x"], axis.kt * log["i"], period)
     seconds = time.perf_counter() - start
-    error = None if case == "no cogging" else relative_error(axis, fit.map)
+    error = None if case == "no cogging" else axis.map_error(fit.map)
     found = () if fit.map is None else fit.map.harmonics
     return case, seed, error, found, fit.inertia_source, seconds, fit.unexplained_wavelength is not None
 

@@ -314,11 +314,7 @@ class FrictionModel:
     def axis(self) -> Optional[Axis]:
         """The axis of the training data (``training.axis``: mass, force constant, offset,
         speed range), or None for a model whose training recorded none."""
-        record = self.training.get("axis")
-        if record is None:
-            return None
-        with rotary_axis(self.training.get("units") == "rotary"):
-            return Axis.from_dict(record, physical=self.training.get("accept_unusual") is not True)
+        return _training_axis(self.training)
 
     @property
     def format_version(self) -> int:
@@ -461,6 +457,13 @@ class FrictionModel:
         of the pseudo-inverse, is written as null)."""
         return json.dumps(finite_or_null(self.to_dict()), indent=1, allow_nan=False) + "\n"
 
+    def checked_json(self) -> str:
+        """``to_json``, read back as ``load`` would: ``ModelError`` where load would refuse the
+        file (what the commands that write a model.json check before writing it)."""
+        text = self.to_json()
+        FrictionModel.from_dict(json.loads(text))
+        return text
+
     def save(self, path: Union[str, Path], force: bool = False) -> Path:
         """Write model.json to ``path`` all or nothing.
 
@@ -512,9 +515,8 @@ class FrictionModel:
         training = d.get("training", {})
         if not isinstance(training, dict):
             raise ModelError("training must be an object")
+        _training_axis(training)
         with rotary_axis(training.get("units") == "rotary"):    # the bounds of its units
-            if training.get("axis") is not None:
-                Axis.from_dict(training["axis"], physical=training.get("accept_unusual") is not True)
             if training.get("accept_unusual") is not True:
                 for where, curve in (("", positive), ("negative: ", negative)):
                     try:
@@ -555,6 +557,16 @@ class FrictionModel:
             return cls.from_dict(d)
         except ModelError as exc:
             raise ModelError(f"{path}: {exc}") from None
+
+
+def _training_axis(training: dict) -> Optional[Axis]:
+    """The axis record of a training record, validated against the bounds of its units (rotary
+    or linear) unless training accepted unusual data; None without one."""
+    record = training.get("axis")
+    if record is None:
+        return None
+    with rotary_axis(training.get("units") == "rotary"):
+        return Axis.from_dict(record, physical=training.get("accept_unusual") is not True)
 
 
 def _cogging_from_dict(d) -> Dict[str, CoggingMap]:

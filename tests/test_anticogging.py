@@ -24,15 +24,6 @@ CC = shutil.which("gcc") or shutil.which("cc")
 needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler")
 
 
-def relative_error(axis, cogging_map):
-    """RMS over the encoder's counts of map - truth (the truth averaged over each count), over
-    the truth's RMS about its mean."""
-    truth = axis.cogging_per_count()
-    x = np.arange(axis.counts) * axis.pitch / axis.counts
-    est = cogging_map.force(x) if cogging_map is not None else np.zeros_like(x)
-    return float(np.sqrt(np.mean((est - truth) ** 2)) / np.std(truth))
-
-
 def calibration(axis):
     """Two turns each way at 1.5 rad/s, logged at the drive's rate: (t, x, force)."""
     log = calibration_move(axis, turns=2.0, speed=1.5, every=1)
@@ -50,7 +41,7 @@ def fitted(axis):
 
 
 def test_map_from_two_turns_is_within_ten_percent(axis, fitted):
-    assert relative_error(axis, fitted.map) < 0.10
+    assert axis.map_error(fitted.map) < 0.10
     assert axis.period_count in fitted.map.harmonics and 1 in fitted.map.harmonics
 
 
@@ -205,7 +196,7 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     assert "cogging map (position force)" in text and f"harmonic {axis.period_count:4d}" in text
     assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
-    assert relative_error(axis, model.cogging_map) < 0.10
+    assert axis.map_error(model.cogging_map) < 0.10
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -236,7 +227,7 @@ def test_a_linear_motor_without_its_pitch_gets_the_period_from_the_data(tmp_path
     assert "found from the data" in capsys.readouterr().out
     model = FrictionModel.load(out)
     assert model.cogging_map.period == pytest.approx(axis.pitch / axis.period_count, rel=1e-3)
-    assert relative_error(axis, model.cogging_map) < 0.10
+    assert axis.map_error(model.cogging_map) < 0.10
 
 
 def test_a_grey_box_without_an_admissible_fit_leaves_the_textbook_law(monkeypatch):

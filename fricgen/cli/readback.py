@@ -2,14 +2,11 @@
 (``fric_adapt_export``'s text) read back into a model.json (``fricgen.control.readback``)."""
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 from ..control.readback import model_from_dump
 from ..control.regressor import parameter_names, trained_parameters
 from ..errors import DataError, ModelError
-from ..model import FrictionModel
 from .common import add_model, add_output, say, write_file
 from .inputs import load_model
 
@@ -31,11 +28,11 @@ def run(args) -> int:
         raise DataError(f"{args.dump}: not UTF-8 text") from None
     adapted = model_from_dump(model, text)
     try:                          # what eval, emit and diagnose will check when they load it
-        FrictionModel.from_dict(json.loads(adapted.to_json()))
+        text = adapted.checked_json()
     except ModelError as exc:
         raise ModelError(f"{args.dump}: the adapted parameters make a model that cannot be used: "
                          f"{exc}") from None
-    path = write_file(args, adapted.to_json(), inputs=(args.model, args.dump))
+    path = write_file(args, text, inputs=(args.model, args.dump))
     before, after = trained_parameters(model), trained_parameters(adapted)
     moved = ", ".join(f"{n} {b:.7g} -> {a:.7g}" for n, b, a in zip(parameter_names(model), before, after)
                       if a != float(np.float32(b))) or "none (the trained values, to float32)"

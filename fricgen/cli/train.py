@@ -2,7 +2,6 @@
 The fit and its report are the library's (``fricgen.train``); this command reads and writes."""
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..c_names import check_model_name
@@ -15,7 +14,7 @@ from .._validate import MAX_HIDDEN, rotary_axis
 from ..errors import DataError, UsageError
 from ..fit import DEFAULT_ELM, ELMRegressor, StribeckRegressor, default_elm, default_estimator
 from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
-from ..model import DEFAULT_MODEL_NAME, FrictionModel
+from ..model import DEFAULT_MODEL_NAME
 from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
 from ..training.with_cogging import train_with_cogging
@@ -139,9 +138,7 @@ def _run(args) -> int:
     out(report.text)
     for warning in report.warnings:
         say(warning)
-    text = report.model.to_json()
-    FrictionModel.from_dict(json.loads(text))      # never write a model.json that load refuses
-    write_file(args, text, inputs)
+    write_file(args, report.model.checked_json(), inputs)    # never one that load refuses
     say(f"wrote {args.output} (model {report.model.model_hash})")
     return 0
 

@@ -82,6 +82,14 @@ class ServoAxis:
         theta = (np.arange(n)[:, None] + (np.arange(16)[None, :] + 0.5) / 16) * TWO_PI / n
         return self.cogging_torque(theta).mean(axis=1)
 
+    def map_error(self, cogging_map) -> float:
+        """RMS over the encoder's counts of a map (anything with ``force(x)``; None counts as 0)
+        less ``cogging_per_count``, over the truth's RMS about its mean."""
+        truth = self.cogging_per_count()
+        x = np.arange(self.counts) * self.pitch / self.counts
+        est = np.zeros_like(x) if cogging_map is None else cogging_map.force(x)
+        return float(np.sqrt(np.mean((est - truth) ** 2)) / np.std(truth))
+
     def friction_level(self, speed, theta):
         """The friction against motion at ``speed`` >= 0 and theta (Nm)."""
         level = self.coulomb + (self.static - self.coulomb) * math.exp(-(speed / self.stribeck) ** 2)
