@@ -27,6 +27,7 @@ from ._validate import (ACCEPT_UNUSUAL, rotary_axis, FLOAT32_MAX, FLOAT32_SCALE,
                         float32_scale, json_number, physical_problem)
 from .c_names import check_c_identifier
 from .effects.cogging_map import CoggingMap
+from .effects.presliding import Bristles, BristleStepper
 from .effects import validate_effects
 from .errors import ModelError
 from .networks import network_from_dict
@@ -259,6 +260,12 @@ class FrictionModel:
     cogging_friction : CoggingMap, optional
         The friction that varies along the travel (times sgn(v)) identified with it; reported,
         not emitted.
+    presliding : Bristles, optional
+        The LuGre bristles ``fricgen train --dynamic`` identified (``presliding``): the
+        friction then has a state (``stepper``).
+    velocity_band : float, optional
+        The speed, m/s, below which ``compensation`` ramps linearly through zero: what the
+        velocity sensor resolves (``velocity_band``).
     recorded_hash : str, optional
         The ``model_hash`` model.json recorded.
     recorded_axis_hash : str, optional
@@ -291,6 +298,8 @@ class FrictionModel:
     negative: Optional[Direction] = None
     cogging_map: Optional[CoggingMap] = None
     cogging_friction: Optional[CoggingMap] = None
+    presliding: Optional[Bristles] = None
+    velocity_band: Optional[float] = None
     #: The ``model_hash`` model.json recorded (None for a model not read from one, or read from
     #: a file written before the field existed).
     recorded_hash: Optional[str] = field(default=None, compare=False, repr=False)
@@ -369,6 +378,59 @@ class FrictionModel:
 
     __call__ = force
 
+    def compensation(self, v) -> np.ndarray:
+        """The static compensating force at the velocity ``v`` (measured or the reference's):
+        ``force(v)``, except below ``velocity_band`` where it ramps linearly from 0 to
+        ``force(+-velocity_band)``, so that the sign never switches on a velocity the sensor
+        cannot resolve (0 for a NaN v, as the C ``NAME_compensation``). ``force`` for a model
+        without a band.
+
+        Examples
+        --------
+        >>> import dataclasses, fricgen
+        >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+        >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
+        >>> banded = dataclasses.replace(model, velocity_band=0.001)
+        >>> bool(banded.compensation(0.0005) == model.force(0.001) / 2)
+        True
+        """
+        v = np.asarray(v, dtype=float)
+        band = self.velocity_band
+        if band is None:
+            return self.force(v)
+        edge = self.force(np.where(v < 0, -band, band))
+        inside = np.where(np.isnan(v), 0.0, edge * (np.abs(v) * (1.0 / band)))
+        return np.where(np.abs(v) < band, inside, np.where(np.isnan(v), 0.0, self.force(v)))
+
+    def stepper(self, dt: float):
+        """The friction sample by sample at the sample time ``dt`` (s): an object with
+        ``step(v)`` -> force (v held over the sample) and ``reset()``. With ``presliding``, the
+        exact LuGre update (``effects.presliding``) on this model's static curve; without, the
+        static ``force``.
+
+        Examples
+        --------
+        >>> import dataclasses, fricgen
+        >>> from fricgen.effects.presliding import Bristles
+        >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+        >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
+        >>> lugre = dataclasses.replace(model, presliding=Bristles(stiffness=1e6, damping=0.0))
+        >>> friction = lugre.stepper(1e-4)
+        >>> forces = [friction.step(0.01) for _ in range(1000)]
+        >>> round(forces[0] / forces[-1], 3), bool(abs(forces[-1] - model.force(0.01)) < 1e-9)
+        (0.054, True)
+        """
+        if self.presliding is None:
+            return StaticStepper(self.force)
+        return BristleStepper(lambda v: float(self.stribeck(v)), lambda v: float(self._viscous_force(v)),
+                              self.presliding, dt)
+
+    def _viscous_force(self, v) -> np.ndarray:
+        """B v with each direction's own B."""
+        v = np.asarray(v, dtype=float)
+        negative = self.viscous if self.negative is None else self.negative.viscous
+        return np.where(v < 0, negative, self.viscous) * v
+
     @property
     def axis_offset(self) -> float:
         """The axis's constant force, N (Nm on a rotary axis): ``training.axis.offset``, 0 where
@@ -388,6 +450,10 @@ class FrictionModel:
         d = {**self.positive.to_dict(), "symmetric": self.symmetric, "effects": list(self.effects)}
         if self.negative is not None:
             d["negative"] = self.negative.to_dict()
+        if self.presliding is not None:
+            d["presliding"] = self.presliding.to_dict()
+        if self.velocity_band is not None:
+            d["velocity_band"] = self.velocity_band
         if self.cogging_map is not None or self.cogging_friction is not None:
             d["cogging"] = {key: m.to_dict() for key, m in
                             (("map", self.cogging_map), ("friction", self.cogging_friction)) if m is not None}
@@ -417,8 +483,9 @@ class FrictionModel:
              "training": self.training}
         if self.negative is not None:
             d["negative"] = core["negative"]
-        if "cogging" in core:
-            d["cogging"] = core["cogging"]
+        for key in ("presliding", "velocity_band", "cogging"):
+            if key in core:
+                d[key] = core[key]
         return d
 
     @property
@@ -528,10 +595,13 @@ class FrictionModel:
             if value is not None and not isinstance(value, str):
                 raise ModelError(f"{key} must be a string, got {type(value).__name__}")
         cogging = _cogging_from_dict(d.get("cogging"))
+        presliding = None if d.get("presliding") is None else Bristles.from_dict(d["presliding"])
+        band = None if d.get("velocity_band") is None else json_number(d, "velocity_band", "model", positive=True)
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
                    v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
                    negative=negative, cogging_map=cogging.get("map"),
-                   cogging_friction=cogging.get("friction"), recorded_hash=recorded["model_hash"],
+                   cogging_friction=cogging.get("friction"), presliding=presliding,
+                   velocity_band=band, recorded_hash=recorded["model_hash"],
                    recorded_axis_hash=recorded["axis_hash"])
 
     @classmethod
@@ -557,6 +627,19 @@ class FrictionModel:
             return cls.from_dict(d)
         except ModelError as exc:
             raise ModelError(f"{path}: {exc}") from None
+
+
+class StaticStepper:
+    """``FrictionModel.stepper`` of a model without state: ``step(v)`` is ``force(v)``."""
+
+    def __init__(self, force):
+        self._force = force
+
+    def reset(self) -> None:
+        """Nothing to reset: the static friction has no state."""
+
+    def step(self, v: float) -> float:
+        return float(self._force(v))
 
 
 def _training_axis(training: dict) -> Optional[Axis]:

@@ -29,6 +29,9 @@ def register(p) -> None:
     p.add_argument("--v-max", type=number(0, PHYSICAL["speed"][1], low_open=True, unit="m/s"),
                    help="q15/q31: the fastest speed the fixed-point input must hold, m/s (default: "
                    "the fastest speed of the model's training data, from its axis record)")
+    p.add_argument("--sample-time", type=number(0, 1.0, low_open=True, unit="s"),
+                   help="the sample time of NAME_step for a model with pre-sliding, s (default: "
+                   "its training log's)")
     p.add_argument("--with-controller", action="store_true",
                    help="also write the adaptive backstepping controller fric_ctrl.{h,c} (float)")
     p.add_argument("--adapt", action="store_true",
@@ -71,7 +74,7 @@ def run(args) -> int:
         raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller or args.adapt, v_max=args.v_max,
-                   adapt=args.adapt)
+                   adapt=args.adapt, sample_time=args.sample_time)
     if args.adapt:
         files.update(render_adapt(model, name, args.activation_impl))
     check_name_in_folder(args.output, name)

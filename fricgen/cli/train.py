@@ -18,6 +18,7 @@ from ..model import DEFAULT_MODEL_NAME
 from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
 from ..training.with_cogging import train_with_cogging
+from ..training.with_dynamic import train_dynamic
 from .._io import check_destination
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
@@ -106,6 +107,9 @@ def fit(args, progress=say, warn=say):
     rotary = is_rotary(args)
     if args.pitch is not None and not args.cogging:
         raise UsageError("--pitch is the period of --cogging's map; give --cogging too")
+    if args.cogging and args.dynamic:
+        raise UsageError("--cogging and --dynamic are trained from different logs (a slow move over "
+                         "the travel; small reversals): train one, then the other")
     with rotary_axis(rotary):                  # the data checks' bounds too
         columns = training_columns(args)
 
@@ -114,7 +118,11 @@ def fit(args, progress=say, warn=say):
                          asymmetric=args.asymmetric, mass=mass, force_constant=force_constant,
                          seed=args.seed, name=name, source=source_name(args),
                          file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
-                         progress=progress, warn=warn, rotary=rotary, checks=False)
+                         progress=progress, warn=warn, rotary=rotary, checks=False,
+                         velocity_resolution=args.velocity_resolution)
+        if args.dynamic:
+            return train_dynamic(columns, rotary=rotary, force_constant=args.force_constant,
+                                 train_friction=fit_friction)
         if not args.cogging:
             return fit_friction(columns)
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
@@ -192,6 +200,14 @@ def register(p) -> None:
                          help="the map's period: a pole pitch or screw lead, m (default: one "
                          "revolution, 2 pi rad, on a rotary axis; on a linear axis the wavelength of "
                          "the strongest position harmonic in the log)")
+    slow = p.add_argument_group("slow speeds and reversals")
+    slow.add_argument("--dynamic", action="store_true",
+                      help="also identify pre-sliding (LuGre bristles: stiffness, damping) from a log "
+                      "with small reversals or a slow force ramp at rest; emit writes NAME_step")
+    slow.add_argument("--velocity-resolution", type=positive_float,
+                      help="the smallest speed the controller's velocity resolves, m/s (rad/s): "
+                      "NAME_compensation ramps through zero below it (default: the log's, one "
+                      "encoder count per sample or 4 standard deviations of its velocity noise)")
     p.add_argument("--rotary", action="store_true",
                    help="a rotary axis (a joint, a shaft): v in rad/s, force in Nm, inertia in kg m^2 "
                    "in every report and record (default: a linear axis, unless the header names a "

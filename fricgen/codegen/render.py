@@ -10,6 +10,7 @@ import numpy as np
 
 from .._io import read_only
 from ..c_literal import c_array, c_float
+from ..effects.presliding import LEAST_LEVEL, STATIC_SIDE
 from ..errors import ModelError, UsageError
 from .cogging_table import CoggingTable
 from ..model import FrictionModel
@@ -159,7 +160,44 @@ def template_context(model: FrictionModel, name: str, activation_impl: str = "li
             "includes": list(dict.fromkeys(c["header"] for c in curves)),
             **axis_context(model),
             **effects_context(model, name),  # effects, effects_not_in_c: NAME_force_xv
-            "cogging": None if model.cogging_map is None else CoggingTable.of(model.cogging_map).context()}
+            "cogging": None if model.cogging_map is None else CoggingTable.of(model.cogging_map).context(),
+            "band": band_context(model), "presliding": None}
+
+
+#: exp(-y) in the pre-sliding update, by ``--activation-impl``, and the header that declares it.
+PRESLIDING_EXP = {"libm": ("fric_exp_neg_inline_f32", '"fric_kernel.h"'),
+                  "fast": ("fric_exp_neg_fast_f32", '"fric_fast.h"')}
+
+
+def band_context(model: FrictionModel) -> Optional[dict]:
+    """NAME_compensation's band (None for a model without ``velocity_band``)."""
+    if model.velocity_band is None:
+        return None
+    source = model.training.get("velocity_band_from", "model.json velocity_band")
+    return {"value": c_float(model.velocity_band), "inverse": c_float(1.0 / model.velocity_band),
+            "source": source}
+
+
+def presliding_context(model: FrictionModel, activation_impl: str, sample_time: Optional[float]) -> Optional[dict]:
+    """NAME_step's constants at the sample time (default: the training log's), or None for a
+    model without bristles; ``ModelError`` for a sample time given to one without."""
+    bristles = model.presliding
+    if bristles is None:
+        if sample_time is not None:
+            raise ModelError("a sample time sets NAME_step of a model with pre-sliding "
+                             "(train --dynamic); this model has none")
+        return None
+    dt = sample_time if sample_time is not None else model.training.get("log", {}).get("sample_time")
+    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+        raise ModelError("the model's pre-sliding needs the controller's sample time: give "
+                         "--sample-time (s); the model records no log sample time")
+    level = max(float(model.stribeck(0.0)), float(model.stribeck(-STATIC_SIDE)))
+    exp_fn, header = PRESLIDING_EXP[activation_impl]
+    return {"stiffness": c_float(bristles.stiffness), "damping": c_float(bristles.damping),
+            "stiffness_dt": c_float(bristles.stiffness * dt), "dt": c_float(dt),
+            "damping_per_dt": c_float(bristles.damping / dt),
+            "least_level": c_float(max(LEAST_LEVEL * level, 1e-30)), "exp_fn": exp_fn,
+            "header": header, "sample_time": float(dt)}
 
 
 #: ``--activation-impl``: libm's expf (the default) or the fast sigmoid without libm (fric_fast.c).
@@ -250,7 +288,8 @@ def controller_files() -> Dict[str, str]:
 
 def render(model: FrictionModel, name: Optional[str] = None, activation_impl: str = "libm",
            dtype: str = "float", with_controller: bool = False,
-           v_max: Optional[float] = None, adapt: bool = False) -> Dict[str, str]:
+           v_max: Optional[float] = None, adapt: bool = False,
+           sample_time: Optional[float] = None) -> Dict[str, str]:
     """All files of the emitted C folder, by file name: NAME.h, NAME.c and the runtime, plus the
     controller runtime (fric_ctrl.h, fric_ctrl.c) ``with_controller``. Nothing is written.
 
@@ -272,6 +311,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     adapt : bool
         Record in NAME_EMIT_OPTIONS that online adaptation is emitted beside the model (its
         files come from ``fricgen.control.render_adapt``; float only).
+    sample_time : float, optional
+        The sample time (s) of NAME_step, for a model with pre-sliding (default: its training
+        log's).
 
     Returns
     -------
@@ -304,6 +346,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         if model.cogging_map is not None:
             raise ModelError(f"--dtype {dtype} does not emit the cogging map; --dtype float "
                              "emits it in float and in q15 (NAME_cogging, NAME_cogging_q15)")
+        if model.presliding is not None or model.velocity_band is not None:
+            raise ModelError(f"--dtype {dtype} does not emit pre-sliding nor the compensation band; "
+                             "--dtype float does (NAME_step, NAME_compensation)")
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
@@ -318,8 +363,13 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     check_float32_range(model)
     check_determined(model)
     ctx = template_context(model, name, activation_impl)
+    ctx["presliding"] = presliding_context(model, activation_impl, sample_time)
+    if ctx["presliding"] is not None and ctx["presliding"]["header"] not in ctx["includes"]:
+        ctx["includes"].append(ctx["presliding"]["header"])
     ctx["emit_options"] = emit_options(dtype=dtype, activation_impl=activation_impl,
-                                       with_controller=with_controller, adapt=adapt)
+                                       with_controller=with_controller, adapt=adapt,
+                                       **({} if ctx["presliding"] is None else
+                                          {"sample_time": ctx["presliding"]["sample_time"]}))
     check_float32(model, activation_impl)
     files = render_source_and_header(ctx, name, "model")
     for fname in runtime_files(model, activation_impl):   # also for grey-box curves

@@ -81,6 +81,18 @@ def position_quantum(x: np.ndarray) -> float:
     return quantum if np.median(counts) < 1e3 and whole.mean() >= 0.99 else 0.0
 
 
+#: The velocity a log resolves, in standard deviations of its velocity noise (a velocity of a
+#: position in counts resolves at least one step per sample).
+RESOLUTION_SIGMAS = 4.0
+
+
+def velocity_resolution(x: Optional[np.ndarray], noise: float, sample_time: float) -> float:
+    """The smallest speed a log tells from rest: one position step per sample for a position
+    in encoder counts, and RESOLUTION_SIGMAS standard deviations of the velocity noise."""
+    quantum = 0.0 if x is None else position_quantum(x)
+    return max(quantum / sample_time, RESOLUTION_SIGMAS * noise)
+
+
 def velocity_noise(v: np.ndarray) -> float:
     """The standard deviation of white noise on v, from its second differences (variance
     6 sigma^2; a smooth signal barely contributes at the sampling rate)."""

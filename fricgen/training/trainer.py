@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import replace
 from typing import Callable, Mapping, Optional, Tuple, Union
 
 import numpy as np
@@ -13,7 +14,7 @@ from ..units import units_of
 from .._blas import blas_threads, wanted_threads
 from .._io import named_data
 from ..c_names import check_model_name
-from ..data.inverse_dynamics import describe_missing, identify_log, is_log
+from ..data.inverse_dynamics import describe_missing, identify_log, is_log, velocity_resolution
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
 from ..errors import DataError, ModelError
@@ -147,7 +148,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           source: str = "data", file: Optional[str] = None, accept_unusual: bool = False,
           progress: Optional[Callable[[str], None]] = None,
           warn: Optional[Callable[[str], None]] = None, rotary: bool = False,
-          checks: bool = True) -> FitReport:
+          checks: bool = True, velocity_resolution: Optional[float] = None) -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -189,6 +190,11 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         The plausibility checks of ``fricgen train``'s data reader (``data.plausibility``:
         swapped columns, values beyond a real axis such as a current in mA read as A), refusing
         as it does (warnings through ``warn`` with ``accept_unusual``); False skips them.
+    velocity_resolution : float, optional
+        The smallest speed the controller's velocity resolves, m/s (rad/s): the band below
+        which ``model.compensation`` ramps through zero (``velocity_band``). Default: a log's
+        own (one encoder step per sample, or RESOLUTION_SIGMAS of its velocity noise); none
+        for a sweep.
 
     Returns
     -------
@@ -226,8 +232,28 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     with rotary_axis(rotary), blas_threads(wanted_threads()):
         if checks:
             _check_data(data, source, accept_unusual, warn)
-        return _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
-                      source, file, accept_unusual, progress, warn, rotary)
+        report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
+                        source, file, accept_unusual, progress, warn, rotary)
+        return with_velocity_band(report, data, velocity_resolution)
+
+
+def with_velocity_band(report: FitReport, data, given: Optional[float]) -> FitReport:
+    """The report's model with its ``velocity_band``: ``given``, else the log's resolution
+    (``data.inverse_dynamics.velocity_resolution``); unchanged for a sweep without one."""
+    ident = report.identification
+    if given is not None:
+        if not (isinstance(given, (int, float)) and 0 < given < math.inf):
+            raise ValueError(f"velocity_resolution must be a number > 0, got {given!r}")
+        band, source = float(given), "given to train"
+    elif ident is not None:
+        x = data.get("x") if isinstance(data, Mapping) else None
+        band = velocity_resolution(None if x is None else np.asarray(x, dtype=float),
+                                   ident.velocity_noise, ident.sample_time)
+        source = "the training log's velocity resolution"
+    else:
+        return report
+    training = {**report.model.training, "velocity_band_from": source}
+    return replace(report, model=replace(report.model, velocity_band=band, training=training))
 
 
 def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
@@ -278,6 +304,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
         training["accept_unusual"] = True
     if ident is not None:
         training["log"] = {"window": ident.window, "rows": ident.n_rows, "kept": ident.n_kept,
+                           "sample_time": ident.sample_time,
                            "independent": ident.independent,
                            "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
                                        for s in (1, -1)]}

@@ -1,0 +1,65 @@
+"""``fricgen train LOG --dynamic``: the default static model of a log, then the LuGre bristles
+on its curve (``fit.presliding``) where the log determines them; where it does not, the
+static model alone and one line that says why."""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Callable, Mapping, Tuple
+
+import numpy as np
+
+from ..errors import UsageError
+from ..fit.presliding import identify_presliding
+from ..model import FrictionModel
+from ..units import units_of
+from .report import FitReport
+from .with_cogging import log_force
+
+
+@dataclass(frozen=True)
+class DynamicReport:
+    """The model (static curve, bristles where determined), the report's text and notes."""
+
+    model: FrictionModel
+    text: str
+    warnings: Tuple[str, ...]
+
+
+def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_constant,
+                  train_friction: Callable[[Mapping[str, np.ndarray]], FitReport]) -> DynamicReport:
+    """The static fit (``train_friction``), then its bristles (see the module)."""
+    if "x" not in columns or "t" not in columns:
+        raise UsageError("--dynamic needs a motion log with time t and position x (the bristles "
+                         "deflect over distances of encoder counts)")
+    units = units_of(rotary)
+    report = train_friction(columns)
+    ident = report.identification
+    force = log_force(columns, force_constant if force_constant is not None else
+                      (ident.force_constant[0] if ident.force_constant else None))
+    fit = identify_presliding(columns["t"], columns["x"], force, report.model, mass=ident.body.mass,
+                              window=ident.window)
+    stiffness_unit = f"{units.force}/{units.position}"
+    lines = [f"pre-sliding: {fit.presliding_rows} rows within the pre-sliding distance after a "
+             f"reversal; residual RMS {fit.rms_dynamic:.4g} {units.force} with bristles, "
+             f"{fit.rms_static:.4g} with the static curve"]
+    record = {"stiffness": fit.stiffness, "stiffness_se": fit.stiffness_se, "damping": fit.damping,
+              "damping_se": fit.damping_se, "presliding_rows": fit.presliding_rows}
+    model = report.model
+    if fit.bristles is None:
+        lines.append(f"pre-sliding: not identified: {fit.reason}; the model is static")
+        record["left_out"] = fit.reason
+    else:
+        b = fit.bristles
+        lines.append(f"pre-sliding: stiffness sigma0 = {b.stiffness:.4g} +- {fit.stiffness_se:.2g} "
+                     f"{stiffness_unit} (pre-sliding distance "
+                     f"{b.presliding_distance(float(model.stribeck(0.0))):.3g} {units.position})")
+        if b.damping > 0:
+            lines.append(f"pre-sliding: damping sigma1 = {b.damping:.4g} +- {fit.damping_se:.2g} "
+                         f"{units.viscous}")
+        else:
+            lines.append(f"pre-sliding: damping sigma1 not determined by this log ({fit.damping:.3g} "
+                         f"+- {fit.damping_se:.2g}): left at 0")
+        model = replace(model, presliding=b)
+    model = replace(model, training={**model.training, "presliding": record})
+    return DynamicReport(model=model, text=report.text + "\n" + "\n".join(lines),
+                         warnings=tuple(report.warnings))
