@@ -124,6 +124,10 @@ def _run(args) -> int:
         raise UsageError(f"{args.model} holds a cogging map, which diagnose does not model yet: it "
                          "would name the cogging again as position_ripple; diagnose the model trained "
                          "without --cogging")
+    if model.presliding is not None:
+        raise UsageError(f"{args.model} holds pre-sliding (train --dynamic), which diagnose does not "
+                         "model yet: it would name the bristles again as a lag or an extra source; "
+                         "diagnose the model trained without --dynamic")
     columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
     columns, force_constant, drive_notes = drive_columns(columns, args.force_constant)
     mass, force_constant, notes = nominal_axis(model, args.mass, force_constant)

@@ -62,6 +62,9 @@ def run(args) -> int:
         names = ", ".join(e.get("effect", "?") for e in model.effects)
         say(f"fricgen: note: eval gives F(v) of [F3] alone; the model's effects ({names}) "
             "need x, t or i and are not applied")
+    if model.presliding is not None:
+        say("fricgen: note: the model has pre-sliding, a state: eval gives its static curve (the "
+            "force of steady sliding at each v); model.stepper and NAME_step give the dynamics")
     force = model.force
     if model.axis_offset and not args.no_offset:
         say(f"fricgen: note: the forces include the axis's offset {model.axis_offset:.6g} "

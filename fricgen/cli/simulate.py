@@ -64,6 +64,9 @@ def run(args) -> int:
     if model is not None and model.cogging_map is not None:
         say(f"fricgen: note: the simulation leaves out {args.model}'s cogging map (its plant has "
             "friction only)")
+    if model is not None and model.presliding is not None:
+        say(f"fricgen: note: the simulation leaves out {args.model}'s pre-sliding (its plant and "
+            "compensation are the static curve; benchmarks/slow_speeds.py runs the bristles in the loop)")
     plant = choose_plant(model, args.mass)
     axis = plant.axis
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,

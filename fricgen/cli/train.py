@@ -113,8 +113,8 @@ def fit(args, progress=say, warn=say):
     with rotary_axis(rotary):                  # the data checks' bounds too
         columns = training_columns(args)
 
-        def fit_friction(data, mass=args.mass, force_constant=args.force_constant):
-            return train(data, estimator=_estimator(args), vs_max=args.vs_max,
+        def fit_friction(data, mass=args.mass, force_constant=args.force_constant, use=None):
+            return train(data, estimator=_estimator(args), vs_max=args.vs_max, use=use,
                          asymmetric=args.asymmetric, mass=mass, force_constant=force_constant,
                          seed=args.seed, name=name, source=source_name(args),
                          file=Path(args.sweep).name, accept_unusual=args.accept_unusual,

@@ -81,6 +81,8 @@ def position_quantum(x: np.ndarray) -> float:
     return quantum if np.median(counts) < 1e3 and whole.mean() >= 0.99 else 0.0
 
 
+#: The key under which ``identify_log`` carries its row mask through the resampling.
+USE_COLUMN = "_use"
 #: The velocity a log resolves, in standard deviations of its velocity noise (a velocity of a
 #: position in counts resolves at least one step per sample).
 RESOLUTION_SIGMAS = 4.0
@@ -419,20 +421,26 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
 
 def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
                  force_constant: Optional[float] = None,
-                 progress: Optional[Callable[[str], None]] = None) -> Identification:
+                 progress: Optional[Callable[[str], None]] = None,
+                 use: Optional[np.ndarray] = None) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
     ``force_constant`` (N/A). A current without a force constant determines M/K and the friction
     over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so.
-    ``progress`` as there."""
+    ``progress`` and ``use`` (a mask of the log's rows) as there."""
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
+    if use is not None:                         # resampled with the columns
+        columns = {**columns, USE_COLUMN: np.asarray(use, dtype=float)}
     columns, resampled = resampled_uniformly(columns)
-    ident = _identify_log(columns, mass, force_constant, progress)
+    use = columns.pop(USE_COLUMN, None)
+    ident = _identify_log(columns, mass, force_constant, progress,
+                          None if use is None else use > 0.5)
     return replace(ident, resampled=resampled) if resampled else ident
 
 
-def _identify_log(columns, mass, force_constant, progress) -> Identification:
-    t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress}
+def _identify_log(columns, mass, force_constant, progress, use=None) -> Identification:
+    t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress,
+                               "use": use}
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")

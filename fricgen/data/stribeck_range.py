@@ -252,10 +252,12 @@ def choose_vs_max(folded: Sweep, folds: Optional[np.ndarray] = None) -> Stribeck
             continue
         except DataError:
             continue
-        if not np.all(np.isfinite(error)):       # a fold the proxy cannot fit: no candidate
+        with np.errstate(over="ignore"):
+            square = error ** 2
+        if not np.all(np.isfinite(square)):      # a fold the proxy cannot fit: no candidate
             continue
-        scored.append((float(vs_max), float(np.sqrt(np.mean(error ** 2)))))
-        squared.append(error ** 2)
+        scored.append((float(vs_max), float(np.sqrt(np.mean(square)))))
+        squared.append(square)
     joint = _held_out(v, f, folds, None) ** 2
     joint_rmse = float(np.sqrt(joint.mean()))
     if scored:

@@ -5,10 +5,12 @@ friction passes through zero along that spring instead of jumping. With the stat
 model, F_ss(v) = sgn(v) g(v) + B v (g the velocity-weakening part of [F3], B its viscous
 slope), the bristle deflection z and the friction are
 
-    dz/dt = v - sigma0 |v| z / g(v),      F = sigma0 z + sigma1 dz/dt + B v,
+    dz/dt = v - sigma0 |v| z / g(v),      F = sigma0 z + sigma1(v) dz/dt + B v,
 
-with sigma0 the stiffness (N/m, Nm/rad) and sigma1 the micro-damping (N s/m). At constant v, F
-tends to F_ss(v): the static curve is kept, the bristles only add the transient.
+with sigma0 the stiffness (N/m, Nm/rad) and sigma1(v) = sigma1 exp(-(v / v_d)^2) the
+micro-damping (N s/m), which fades with speed beyond v_d (Canudas de Wit et al.'s variant; a
+constant sigma1 without v_d). At constant v, F tends to F_ss(v): the static curve is kept, the
+bristles only add the transient.
 
 The update over one sample time dt holds v (zero-order hold) and is exact: with
 a = sigma0 |v| / g(v) and y = a dt,
@@ -61,6 +63,8 @@ class Bristles:
         sigma0, N/m (Nm/rad on a rotary axis); > 0.
     damping : float
         sigma1, N s/m (Nm s/rad); >= 0 (0 where the data did not determine it).
+    damping_speed : float, optional
+        v_d, m/s (rad/s): the speed beyond which the damping fades; None: constant.
 
     Examples
     --------
@@ -71,20 +75,31 @@ class Bristles:
 
     stiffness: float
     damping: float
+    damping_speed: Optional[float] = None
+
+    def damping_at(self, v):
+        """sigma1(v)."""
+        if self.damping_speed is None:
+            return self.damping + 0.0 * np.asarray(v, dtype=float)
+        return self.damping * np.exp(-(np.asarray(v, dtype=float) / self.damping_speed) ** 2)
 
     def presliding_distance(self, level: float) -> float:
         """g / sigma0: how far the contact deflects before it slides at the level g."""
         return level / self.stiffness
 
     def to_dict(self) -> dict:
-        return {"kind": "lugre", "stiffness": self.stiffness, "damping": self.damping}
+        return {"kind": "lugre", "stiffness": self.stiffness, "damping": self.damping,
+                "damping_speed": self.damping_speed}
 
     @classmethod
     def from_dict(cls, d, where: str = "presliding") -> "Bristles":
-        if not isinstance(d, dict) or d.get("kind") != "lugre" or set(d) != {"kind", *_FIELDS}:
-            raise ModelError(f"{where} must be an object with kind 'lugre', stiffness and damping, "
-                             f"got {d!r}"[:200])
+        if not isinstance(d, dict) or d.get("kind") != "lugre" or not {"kind", *_FIELDS} <= set(d) \
+                or not set(d) <= {"kind", *_FIELDS, "damping_speed"}:
+            raise ModelError(f"{where} must be an object with kind 'lugre', stiffness, damping and "
+                             f"damping_speed (null: constant), got {d!r}"[:200])
         values = {key: json_number(d, key, where) for key in _FIELDS}
+        if d.get("damping_speed") is not None:
+            values["damping_speed"] = json_number(d, "damping_speed", where, positive=True)
         for key, value in values.items():
             if not (value == 0 and key == "damping") and not FLOAT32_SCALE[0] <= value <= FLOAT32_SCALE[1]:
                 raise ModelError(f"{where}.{key} must be within {FLOAT32_SCALE} (float32 C), got {value}")
@@ -149,4 +164,4 @@ class BristleStepper:
         a = s0 * abs(v) / g
         dz = dt * decay_ratio(a * dt) * (v - a * self.z)
         self.z += dz
-        return s0 * self.z + self.bristles.damping * dz / dt + float(self._viscous(v))
+        return s0 * self.z + float(self.bristles.damping_at(v)) * dz / dt + float(self._viscous(v))

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..data.inverse_dynamics import position_quantum, smooth
 from ..effects.fitting import FIT_FOLDS, block_grams, one_standard_error_choice
-from ..effects.presliding import Bristles, STATIC_SIDE, bristle_states
+from ..effects.presliding import LEAST_LEVEL, Bristles, bristle_states
 from ..errors import DataError
 
 #: Pre-sliding distances tried per decade, and the grid's ends: a quarter of the position's
@@ -40,6 +40,19 @@ from ..errors import DataError
 POINTS_PER_DECADE = 12
 LEAST_DISTANCE_STEPS = 0.25
 LARGEST_DISTANCE_TRAVEL = 0.1
+#: The windows (samples, odd) of the cubic smoothing of the position that drives the bristles,
+#: the one of least residual taken: an encoder that dithers by a count or more at rest would
+#: drive them through |v| > 0 on every toggle and relax them (their dissipation grows with the
+#: distance travelled), where the true contact holds its deflection.
+POSITION_WINDOWS = (15, 31, 63)
+#: A row's bristles have settled when their force is within this share of the static level.
+SETTLED_SHARE = 0.02
+#: A static curve whose level drops by less than this share from rest has no Stribeck velocity:
+#: its damping does not fade.
+NO_DROP = 0.05
+#: The speeds v_d tried for the damping's fading, times the static curve's Stribeck velocity
+#: (``fading_speed``), and a damping that does not fade.
+FADING_FACTORS = (0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
 #: sigma1 is kept when above this many standard errors.
 DAMPING_SIGMAS = 2.0
 
@@ -55,6 +68,7 @@ class PreslidingFit:
     damping: float              # sigma1 at that sigma0 (before the DAMPING_SIGMAS test)
     damping_se: float
     presliding_rows: int        # rows after a reversal within the pre-sliding distance
+    position_window: int        # the smoothing of the position that drives the bristles
     rms_static: float           # residual RMS with the static curve (the stiffest grid point)
     rms_dynamic: float          # ... with the bristles
     reason: str                 # '' when kept, else why not
@@ -62,6 +76,48 @@ class PreslidingFit:
     @property
     def damping_determined(self) -> bool:
         return self.bristles is not None and self.bristles.damping > 0
+
+
+def fading_speed(model) -> Optional[float]:
+    """v_d of the damping: where the static curve's velocity-weakening drop g(v) - min g has
+    fallen to 1/e of its value at rest (the Stribeck velocity of [F1]'s shapes), averaged over
+    the directions; None for a curve that drops by less than NO_DROP of its level at rest."""
+    speeds = []
+    for direction in model.directions:
+        u = direction.v_sat * np.linspace(0.0, 1.0, 1025)
+        g = direction.stribeck(u)
+        drop = g - g.min()
+        if not drop[0] > NO_DROP * g[0]:
+            return None
+        speeds.append(float(u[np.argmax(drop <= drop[0] / np.e)]))
+    return float(np.mean(speeds))
+
+
+def static_level(model) -> float:
+    """The largest level g of the static curve over its speeds: the scale of pre-sliding
+    distances g / sigma0 (``DataError`` for a curve without friction)."""
+    speeds = np.concatenate([d.v_sat * np.linspace(0.0, 1.0, 65) * sign
+                             for d, sign in zip(model.directions, (1.0, -1.0))])
+    level = float(np.max(model.stribeck(np.where(speeds == 0, 0.0, speeds))))
+    if not level > 0:
+        raise DataError("the static curve has no friction: no bristles to identify")
+    return level
+
+
+def settled_rows(x, model, bristles: Bristles, dt: float, window: int, position_window: int,
+                 share: float = SETTLED_SHARE) -> np.ndarray:
+    """The rows of a log where the bristles have settled: sigma0 z within ``share`` of the
+    static level g(v) sgn(v) at the velocity smoothed by ``window`` (the rows a static curve
+    describes); False at rest and while the bristles build up after a reversal or a start. The
+    bristles are driven by the position smoothed by ``position_window`` (``POSITION_WINDOWS``)."""
+    x = np.asarray(x, dtype=float)
+    v = np.diff(smooth(x, position_window)) / dt
+    static = static_level(model)
+    z = bristle_states(v, np.maximum(model.stribeck(v), LEAST_LEVEL * static), bristles.stiffness, dt)
+    v_s = smooth(x, window, deriv=1, delta=dt)[1:]
+    target = np.sign(v_s) * model.stribeck(v_s)
+    ok = (v_s != 0) & (np.abs(bristles.stiffness * z - target) <= share * np.abs(target))
+    return np.concatenate([[False], ok])
 
 
 def _presliding_rows(x: np.ndarray, v: np.ndarray, distance: float) -> int:
@@ -97,14 +153,11 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
     if not (t.size == x.size == force.size) or t.size < 4 * window:
         raise DataError(f"pre-sliding needs t, x and force of one length, at least {4 * window} rows")
     dt = float(np.median(np.diff(t)))
-    v = np.diff(x) / dt                                       # held over each sample
-    level = np.maximum(model.stribeck(np.where(v == 0, 0.0, v)), 0.0)
-    static = 0.5 * float(model.stribeck(0.0) + model.stribeck(-STATIC_SIDE))
-    if not static > 0:
-        raise DataError("the static curve has no friction at rest: no bristles to identify")
-    level = np.maximum(level, 1e-6 * static)
+    counts = position_quantum(x)
+    static = static_level(model)
+    v = np.diff(x) / dt
     viscous = model.force(v) - np.sign(v) * model.stribeck(v)
-    quantum = position_quantum(x) or float(np.std(np.diff(x, 2)) / np.sqrt(6.0))
+    quantum = counts or float(np.std(np.diff(x, 2)) / np.sqrt(6.0))
     travel = float(np.ptp(x))
     lo, hi = LEAST_DISTANCE_STEPS * max(quantum, 1e-12), LARGEST_DISTANCE_TRAVEL * travel
     if not hi > 4 * lo:
@@ -113,30 +166,49 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
                             int(np.ceil(POINTS_PER_DECADE * np.log10(hi / lo))) + 1)
     base = smooth(force, window)[1:] - mass * smooth(x, window, deriv=2, delta=dt)[1:] \
         - smooth(np.concatenate([[0.0], viscous]), window)[1:]
-    grams = []
-    for d in distances:
-        s0 = static / d
-        z = bristle_states(v, level, s0, dt)
+    speed = smooth(x, window, deriv=1, delta=dt)[1:]
+    fading = fading_speed(model)
+
+    def grams_at(s0, fades, motion):
+        """Per block Gram matrices of [sigma1 column for each v_d of ``fades``, 1] and the target,
+        the bristles driven by ``motion`` (velocity, level)."""
+        z = bristle_states(*motion, s0, dt)
         dz = np.diff(np.concatenate([[0.0], z])) / dt
         target = base - smooth(np.concatenate([[0.0], s0 * z]), window)[1:]
-        columns = [smooth(np.concatenate([[0.0], dz]), window)[1:]]
-        if offset_free:
-            columns.append(np.ones(v.size))
-        design = np.column_stack(columns)[window:-window]
-        grams.append(block_grams(design, target[window:-window], folds))
-    rss, coef, held_out = _profile(grams, folds)
+        out = []
+        for vd in fades:
+            weight = 1.0 if vd is None else np.exp(-(speed / vd) ** 2)
+            columns = [smooth(np.concatenate([[0.0], weight * dz]), window)[1:]]
+            if offset_free:
+                columns.append(np.ones(v.size))
+            design = np.column_stack(columns)[window:-window]
+            out.append(block_grams(design, target[window:-window], folds))
+        return out
+
+    candidates = []
+    for w in POSITION_WINDOWS:                   # the encoder's dither averaged out, or not
+        u = np.diff(smooth(x, w)) / dt
+        motion = (u, np.maximum(model.stribeck(u), LEAST_LEVEL * static))
+        grams = [grams_at(static / d, [fading], motion)[0] for d in distances]
+        candidates.append((_profile(grams, folds), grams, motion))
+    best_window = min(range(len(candidates)), key=lambda c: float(np.min(candidates[c][0][0][0])))
+    (rss, coef, held_out), grams, motion = candidates[best_window]
     best, best_by_fold = _vertex(np.log(distances), rss[0]), \
         [_vertex(np.log(distances), rss[1 + j]) for j in range(folds)]
     k = int(np.argmin(rss[0]))
     jack = np.array(best_by_fold)
-    log_se = float(np.sqrt((folds - 1) / folds * np.sum((jack - jack.mean()) ** 2)))
-    damping = float(coef[0][k][0])
-    damping_jack = np.array([coef[1 + j][int(np.argmin(rss[1 + j]))][0] for j in range(folds)])
-    damping_se = float(np.sqrt((folds - 1) / folds * np.sum((damping_jack - damping_jack.mean()) ** 2)))
+    log_se = _jackknife_se(jack)
     stiffness = static / float(np.exp(best))
+    # the damping and the speed it fades at, at that stiffness
+    fades = [None] if fading is None else [fading * f for f in FADING_FACTORS] + [None]
+    by_fade = grams_at(stiffness, fades, motion)
+    fade_rss, fade_coef, _ = _profile(by_fade, folds, held_out=False)
+    f_best = int(np.argmin(fade_rss[0]))
+    damping = float(fade_coef[0][f_best][0])
+    damping_se = _jackknife_se(np.array([fade_coef[1 + j][f_best][0] for j in range(folds)]))
     n = sum(g[3] for g in grams[0])
-    rms_static, rms_dynamic = float(np.sqrt(rss[0][0] / n)), float(np.sqrt(rss[0][k] / n))
-    rows = _presliding_rows(x, v, static / stiffness)
+    rms_static, rms_dynamic = float(np.sqrt(rss[0][0] / n)), float(np.sqrt(fade_rss[0][f_best] / n))
+    rows = _presliding_rows(x, motion[0], static / stiffness)
     errors = np.array([held_out[0], [held_out_at(grams, j, int(np.argmin(rss[1 + j]))) for j in range(folds)]])
     reason = ""
     if k == 0 or k == distances.size - 1:
@@ -148,19 +220,27 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
     bristles = None
     if not reason:
         keep = damping > DAMPING_SIGMAS * damping_se
-        bristles = Bristles(stiffness=stiffness, damping=damping if keep else 0.0)
+        bristles = Bristles(stiffness=stiffness, damping=damping if keep else 0.0,
+                            damping_speed=fades[f_best] if keep else None)
     return PreslidingFit(bristles=bristles, stiffness=stiffness, stiffness_se=stiffness * log_se,
                          damping=damping, damping_se=damping_se, presliding_rows=rows,
+                         position_window=POSITION_WINDOWS[best_window],
                          rms_static=rms_static, rms_dynamic=rms_dynamic, reason=reason)
+
+
+def _jackknife_se(replicates: np.ndarray) -> float:
+    """The blocked jackknife's standard error from the estimates without each block."""
+    folds = replicates.size
+    return float(np.sqrt((folds - 1) / folds * np.sum((replicates - replicates.mean()) ** 2)))
 
 
 def _solve(g, b):
     return np.linalg.lstsq(g, b, rcond=None)[0]
 
 
-def _profile(grams, folds):
+def _profile(grams, folds, held_out: bool = True):
     """Per grid point: the RSS and coefficients of all rows (index 0) and without each block
-    (1..folds); the held-out mean squares of the stiffest point per block."""
+    (1..folds); the held-out mean squares of the first (stiffest) point per block."""
     rss = np.empty((folds + 1, len(grams)))
     coef = [[None] * len(grams) for _ in range(folds + 1)]
     for i, blocks in enumerate(grams):
@@ -171,8 +251,7 @@ def _profile(grams, folds):
             c = _solve(g, b)
             coef[j][i] = c
             rss[j, i] = yy - 2 * c @ b + c @ g @ c
-    held_out = [[held_out_at(grams, j, 0) for j in range(folds)]]
-    return rss, coef, held_out
+    return rss, coef, [[held_out_at(grams, j, 0) for j in range(folds)]] if held_out else None
 
 
 def held_out_at(grams, j: int, i: int) -> float:

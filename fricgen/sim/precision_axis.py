@@ -14,7 +14,8 @@ of stiffness sigma0, and Fc / sigma0 is the pre-sliding distance.
 The plant is integrated by classical RK4 with ``substeps`` steps per control period (the
 bristles are stiff: |v| sigma0 / g reaches 5e4 1/s at the fastest moves), under a force held
 over the period (zero-order hold). The drive, at ``rate``: an encoder of ``resolution`` m per
-count (counts floored); a velocity estimate that is the first difference of the measured
+count (counts floored), read as the count's centre (count + 1/2) q, which takes away the
+half-count bias of the floor; a velocity estimate that is the first difference of the measured
 position over one period, low-passed by a first-order filter at ``velocity_filter`` Hz; a PID
 position loop u = m a_ref + Kp e + Kd (v_ref - v_est) + I + c, I' = Ki e (I clamped to the
 force limit: anti-windup), whose gains put a triple real pole of the rigid mass at
@@ -107,8 +108,11 @@ class PrecisionAxis:
 
 
 def random_precision_axis(seed: int) -> PrecisionAxis:
-    """An axis of random mass, friction, encoder, noise and rate from ``seed`` (the ranges of the
-    benchmark; log-uniform where the range spans a decade)."""
+    """An axis of random mass, friction, encoder, noise and rate from ``seed``: m 0.5-3 kg,
+    Fc 1-4 N, Fs / Fc 1.2-2, vs 0.5-5 mm/s, delta 1-2.5, B 2-20 N s/m, Fc / sigma0 5-50 um,
+    sigma1 = zeta 2 sqrt(sigma0 m) with zeta 0.2-1, vd 0.5-2 vs, asymmetry a within +-0.15, an
+    encoder of 0.05-0.5 um per count, a force noise of 0.5-2 % of Fc, 5-10 kHz (log-uniform
+    where the range spans a decade or so); the force limit 5.5 Fs + m 10 m/s^2."""
     rng = np.random.default_rng([seed, 31])
 
     def loguniform(lo, hi):
@@ -258,7 +262,7 @@ def simulate(axis: PrecisionAxis, x_ref, v_ref, a_ref, comp=None, use_reference:
              noise_seed: Optional[int] = None) -> Dict[str, np.ndarray]:
     """The closed loop along the references (one value per control period, m, m/s, m/s^2),
     from rest at x = x_ref[0] with relaxed bristles. Returns arrays per period k: t (s, the
-    period's start), x and v (true, at t), x_meas (the encoder's, at t), v_est (m/s), u (the
+    period's start), x and v (true, at t), x_meas (the drive's reading, (count + 1/2) q, at t), v_est (m/s), u (the
     drive force held over [t, t + dt), N), force (u + the measurement noise, N), comp (the
     compensation's share of u, N), friction (the true friction at t, N)."""
     n = len(x_ref)
@@ -276,11 +280,11 @@ def simulate(axis: PrecisionAxis, x_ref, v_ref, a_ref, comp=None, use_reference:
     ox, ov, oxm, ove, ou, oc, of = (out[k] for k in ("x", "v", "x_meas", "v_est", "u", "comp",
                                                     "friction"))
     floor = math.floor
-    xm_prev = floor(plant.x / q) * q
+    xm_prev = (floor(plant.x / q) + 0.5) * q
     v_est = integ = 0.0
     for k in range(n):
         x = plant.x
-        xm = floor(x / q) * q
+        xm = (floor(x / q) + 0.5) * q
         v_est += alpha * ((xm - xm_prev) / dt - v_est)
         xm_prev = xm
         e = xr[k] - xm
@@ -311,6 +315,8 @@ def _move(x0: float, distance: float, speed: float, dt: float, ramp: float = 0.0
     """A move of ``distance`` (signed) at the cruise ``speed`` (> 0), with raised-cosine speed
     ramps of ``ramp`` s (shortened if the move is short): (x, v, a) per period."""
     d = abs(distance)
+    if d == 0.0:
+        return np.array([x0]), np.zeros(1), np.zeros(1)
     ramp = min(ramp, d / speed)                   # the ramps cover speed * ramp of the distance
     cruise = d / speed - ramp
     total = 2 * ramp + cruise
@@ -393,9 +399,8 @@ def slow_speeds(axis: PrecisionAxis, comp=None, use_reference: bool = False,
         start = sum(p[0].size for p in pieces)
         dist = sign * speed * (SLOW_SETTLE + SLOW_MEASURE)
         x, v, a = _move(x0, dist, speed, dt, ramp=SLOW_RAMP)
-        up = int(round(SLOW_RAMP / dt))                  # keep the ramp up and the cruise only
-        n = int(round((SLOW_SETTLE + SLOW_MEASURE) / dt))
-        pieces.append((x[:n], v[:n], np.where(np.arange(n) < up, a[:n], 0.0)))
+        n = int(round((SLOW_SETTLE + SLOW_MEASURE) / dt))   # the ramp up and the cruise
+        pieces.append((x[:n], v[:n], a[:n]))
         windows.append((f, start + int(round(SLOW_SETTLE / dt)), start + n))
         x0 = float(x[n - 1] + v[n - 1] * dt)
     ref = _join(pieces)
@@ -468,7 +473,7 @@ def identification_reference(axis: PrecisionAxis, presliding: bool = True):
 
 def identification_log(axis: PrecisionAxis, seed: int, presliding: bool = True) -> Dict[str, np.ndarray]:
     """A closed-loop experiment without compensation, logged at the control rate: ``t`` (s),
-    ``x`` (the encoder's position, m), ``force`` (the measured drive force held over
+    ``x`` (the drive's reading of the encoder, (count + 1/2) resolution, m), ``force`` (the measured drive force held over
     [t, t + dt), N; noise drawn from ``seed``). Constant-velocity moves each way at ID_SPEEDS
     speeds from ID_LOW to ID_HIGH x vs, each followed by a dwell; with ``presliding``, then
     small oscillations of ID_SMALL_AMPLITUDES x Fc / sigma0 around each of ID_POINTS (displacements
@@ -476,3 +481,15 @@ def identification_log(axis: PrecisionAxis, seed: int, presliding: bool = True) 
     move of at least ID_CRUISE s."""
     log = simulate(axis, *identification_reference(axis, presliding), noise_seed=seed)
     return {"t": log["t"], "x": log["x_meas"], "force": log["force"]}
+
+
+def static_friction_log(axis: PrecisionAxis, seed: int) -> Dict[str, np.ndarray]:
+    """The motion of ``identification_log`` (small reversals included) on an axis whose friction
+    is its steady-state curve alone, sgn(v) g(v) + B v, no bristles: the true position follows
+    the reference exactly, the encoder reads it as the drive does and the force is
+    m a + friction + noise (``seed``). What a log without pre-sliding looks like."""
+    x_ref, v_ref, a_ref = (np.asarray(r, dtype=float) for r in identification_reference(axis))
+    rng = np.random.default_rng(seed)
+    force = axis.mass * a_ref + axis.steady_friction(v_ref) + axis.force_noise * rng.standard_normal(x_ref.size)
+    x_meas = (axis.counts(x_ref) + 0.5) * axis.resolution
+    return {"t": np.arange(x_ref.size) * axis.dt, "x": x_meas, "force": force}

@@ -90,7 +90,7 @@ def sweep_spread(columns: Mapping[str, np.ndarray]) -> Tuple[Optional[np.ndarray
     return out[0], out[1]
 
 
-def _friction_data(data, mass, force_constant, source, progress):
+def _friction_data(data, mass, force_constant, source, progress, use=None):
     """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
     if isinstance(data, Sweep):
         columns = {"v": np.asarray(data.v, float), "f": np.asarray(data.f, float)}
@@ -100,7 +100,7 @@ def _friction_data(data, mass, force_constant, source, progress):
         raise ValueError(f"data must be a Sweep or a mapping of columns, got {type(data).__name__}")
     if is_log(columns):
         with named_data(source):
-            ident = identify_log(columns, mass, force_constant, progress=progress)
+            ident = identify_log(columns, mass, force_constant, progress=progress, use=use)
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         raise DataError(f"{source}: {describe_missing(columns)}")
@@ -148,7 +148,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           source: str = "data", file: Optional[str] = None, accept_unusual: bool = False,
           progress: Optional[Callable[[str], None]] = None,
           warn: Optional[Callable[[str], None]] = None, rotary: bool = False,
-          checks: bool = True, velocity_resolution: Optional[float] = None) -> FitReport:
+          checks: bool = True, velocity_resolution: Optional[float] = None,
+          use: Optional[np.ndarray] = None) -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -195,6 +196,9 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         which ``model.compensation`` ramps through zero (``velocity_band``). Default: a log's
         own (one encoder step per sample, or RESOLUTION_SIGMAS of its velocity noise); none
         for a sweep.
+    use : array of bool, optional
+        The rows of a log to identify the friction on (default all): ``train --dynamic`` leaves
+        out those where the bristles are still building up.
 
     Returns
     -------
@@ -233,7 +237,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         if checks:
             _check_data(data, source, accept_unusual, warn)
         report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
-                        source, file, accept_unusual, progress, warn, rotary)
+                        source, file, accept_unusual, progress, warn, rotary, use)
         return with_velocity_band(report, data, velocity_resolution)
 
 
@@ -269,11 +273,11 @@ def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
 
 
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
-           accept_unusual, progress, warn, rotary) -> FitReport:
+           accept_unusual, progress, warn, rotary, use=None) -> FitReport:
     if vs_max is not None and not (isinstance(vs_max, (int, float)) and 0 < vs_max < math.inf):
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
-    sweep, ident = _friction_data(data, mass, force_constant, source, progress)
+    sweep, ident = _friction_data(data, mass, force_constant, source, progress, use)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
     choice: Optional[LawChoice] = None

@@ -9,11 +9,15 @@ from typing import Callable, Mapping, Tuple
 import numpy as np
 
 from ..errors import UsageError
-from ..fit.presliding import identify_presliding
+from ..fit.presliding import identify_presliding, settled_rows
 from ..model import FrictionModel
 from ..units import units_of
 from .report import FitReport
 from .with_cogging import log_force
+
+
+#: How often the static curve is fitted again on the rows where the bristles have settled.
+STATIC_PASSES = 2
 
 
 @dataclass(frozen=True)
@@ -36,8 +40,20 @@ def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_cons
     ident = report.identification
     force = log_force(columns, force_constant if force_constant is not None else
                       (ident.force_constant[0] if ident.force_constant else None))
-    fit = identify_presliding(columns["t"], columns["x"], force, report.model, mass=ident.body.mass,
-                              window=ident.window)
+    dt = ident.sample_time
+
+    def bristles_of(static: FitReport):
+        return identify_presliding(columns["t"], columns["x"], force, static.model,
+                                   mass=static.identification.body.mass,
+                                   window=static.identification.window)
+    fit = bristles_of(report)
+    for _ in range(STATIC_PASSES):          # the static curve again, on the settled rows only
+        if fit.bristles is None:
+            break
+        use = settled_rows(columns["x"], report.model, fit.bristles, dt, ident.window,
+                           fit.position_window)
+        report = train_friction(columns, use=use)
+        fit = bristles_of(report)
     stiffness_unit = f"{units.force}/{units.position}"
     lines = [f"pre-sliding: {fit.presliding_rows} rows within the pre-sliding distance after a "
              f"reversal; residual RMS {fit.rms_dynamic:.4g} {units.force} with bristles, "

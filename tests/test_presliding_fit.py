@@ -1,0 +1,123 @@
+"""Pre-sliding identified from logs (fricgen.fit.presliding, train --dynamic): the bristles of a
+precision stage simulated from its own LuGre-type law (fricgen/sim/precision_axis.py: a
+Stribeck shape of its own exponent, a damping that fades at its own speed, a quantized encoder
+read in a closed loop), none where the log's friction has no pre-sliding, the rows where the
+bristles have settled, the velocity band of a log, and what the commands refuse."""
+import json
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.data.sweep import Sweep
+from fricgen.effects.presliding import Bristles
+from fricgen.fit import StribeckRegressor
+from fricgen.fit.presliding import identify_presliding, settled_rows
+from fricgen.model import FrictionModel
+from fricgen.sim.precision_axis import identification_log, random_precision_axis, static_friction_log
+from fricgen.training import train
+from fricgen.training.trainer import with_velocity_band
+
+SEED = 7        # a seed below 1000: tests may look at it, the benchmark's figures do not
+
+
+@pytest.fixture(scope="module")
+def axis():
+    return random_precision_axis(SEED)
+
+
+@pytest.fixture(scope="module")
+def static(axis):
+    """The static curve as a user's sweep gives it: the grey-box fit of the axis's steady
+    friction at 120 speeds each way."""
+    speeds = np.geomspace(0.05 * axis.stribeck, 50 * axis.stribeck, 60)
+    v = np.concatenate([-speeds[::-1], speeds])
+    return train(Sweep(v, axis.steady_friction(v)), estimator=StribeckRegressor(), asymmetric=True).model
+
+
+@pytest.fixture(scope="module")
+def log(axis):
+    return identification_log(axis, SEED)
+
+
+def test_the_bristles_of_a_precision_stage_are_found(axis, static, log):
+    fit = identify_presliding(log["t"], log["x"], log["force"], static, mass=axis.mass, window=31)
+    assert fit.bristles is not None, fit.reason
+    assert abs(fit.bristles.stiffness / axis.sigma0 - 1) < 0.10
+    assert abs(fit.bristles.damping / axis.sigma1 - 1) < 0.25
+    assert fit.stiffness_se < 0.05 * fit.stiffness and fit.presliding_rows > 1000
+    assert fit.rms_dynamic < 0.5 * fit.rms_static
+
+
+def test_a_log_without_presliding_leaves_the_bristles_out(axis, static):
+    log = static_friction_log(axis, SEED)
+    fit = identify_presliding(log["t"], log["x"], log["force"], static, mass=axis.mass, window=31)
+    assert fit.bristles is None and "pre-sliding" in fit.reason
+
+
+def test_settled_rows_leave_out_the_build_up_after_each_start(axis, static, log):
+    bristles = Bristles(stiffness=axis.sigma0, damping=0.0)
+    settled = settled_rows(log["x"], static, bristles, axis.dt, 31, 31)
+    speed = np.abs(np.gradient(log["x"], axis.dt))
+    assert 0.2 < settled.mean() < 0.9
+    first_move = np.flatnonzero(speed > 0.5 * axis.stribeck)[0]
+    assert not settled[first_move:first_move + 10].any()       # building up from rest
+    assert settled[first_move:first_move + 4000].any()          # ... then settled
+
+
+def test_a_log_gets_its_velocity_resolution_as_band(axis, log):
+    report = train({k: log[k] for k in ("t", "x", "force")}, warn=lambda line: None)
+    quantum_per_sample = axis.resolution / axis.dt
+    assert report.model.velocity_band >= 0.99 * quantum_per_sample
+    assert report.model.velocity_band < 20 * quantum_per_sample
+    given = with_velocity_band(report, log, 0.01)
+    assert given.model.velocity_band == 0.01
+    assert given.model.training["velocity_band_from"] == "given to train"
+
+
+@pytest.fixture(scope="module")
+def log_csv(log, tmp_path_factory):
+    path = tmp_path_factory.mktemp("presliding") / "log.csv"
+    np.savetxt(path, np.column_stack([log["t"], log["x"], log["force"]]), delimiter=",",
+               header="t,x,force", comments="", fmt="%.12g")
+    return path
+
+
+@pytest.mark.slow
+def test_train_dynamic_writes_bristles_that_emit_and_the_commands_say_what_they_do(
+        axis, log_csv, tmp_path, capsys, monkeypatch):
+    out = tmp_path / "m.json"
+    assert main(["train", str(log_csv), "--dynamic", "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "pre-sliding: stiffness sigma0" in text
+    model = FrictionModel.load(out)
+    assert abs(model.presliding.stiffness / axis.sigma0 - 1) < 0.10
+    assert json.loads(out.read_text())["training"]["presliding"]["presliding_rows"] > 0
+    assert main(["emit", str(out), "-o", str(tmp_path / "c")]) == 0
+    header = (tmp_path / "c" / "friction_model.h").read_text()
+    assert "friction_model_step(friction_model_state_t *state, float v)" in header
+    assert f"FRICTION_MODEL_SAMPLE_TIME {np.float32(axis.dt)!r}"[:40] in header.replace("f\n", "\n")
+    assert main(["diagnose", str(log_csv), "--model", str(out), "-o", str(tmp_path / "d")]) != 0
+    assert "pre-sliding" in capsys.readouterr().err and not (tmp_path / "d").exists()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--dynamic", "--cogging"], "different logs"),
+    (["--pitch", "0.01", "--dynamic"], "--pitch is the period"),
+])
+def test_train_dynamic_refuses_what_it_cannot_do(log_csv, tmp_path, capsys, argv, message):
+    out = tmp_path / "m.json"
+    assert main(["train", str(log_csv), "-o", str(out), *argv]) != 0
+    assert message in capsys.readouterr().err and not out.exists()
+
+
+def test_train_dynamic_refuses_a_sweep(cli_inputs, tmp_path, capsys):
+    out = tmp_path / "m.json"
+    assert main(["train", str(cli_inputs / "sweep.csv"), "--dynamic", "-o", str(out)]) != 0
+    assert "--dynamic needs a motion log" in capsys.readouterr().err and not out.exists()
+
+
+def test_emit_refuses_a_sample_time_for_a_model_without_bristles(cli_inputs, tmp_path, capsys):
+    assert main(["emit", str(cli_inputs / "model.json"), "--sample-time", "1e-4",
+                 "-o", str(tmp_path / "c")]) != 0
+    assert "has none" in capsys.readouterr().err and not (tmp_path / "c").exists()
