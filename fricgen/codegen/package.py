@@ -139,7 +139,7 @@ def platformio_manifest(ctx: dict) -> dict:
 def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = None,
          activation_impl: str = "libm", dtype: str = "float",
          with_controller: bool = False, force: bool = False,
-         v_max: Optional[float] = None) -> Dict[str, Path]:
+         v_max: Optional[float] = None, sample_time: Optional[float] = None) -> Dict[str, Path]:
     """Write the C of a model into a folder: render everything first (the model, its runtime and
     the folder's build files), check the folder's models and that every file it replaces is
     fricgen's own and writable (``check_overwrite``, skipped with ``force``), then write each
@@ -151,7 +151,7 @@ def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = 
         The model whose [F3] the C evaluates.
     out_dir : str or pathlib.Path
         The folder (created if missing).
-    name, activation_impl, dtype, with_controller, v_max
+    name, activation_impl, dtype, with_controller, v_max, sample_time
         As for ``render``.
     force : bool
         Overwrite files fricgen did not write.
@@ -172,7 +172,8 @@ def emit(model: FrictionModel, out_dir: Union[str, Path], name: Optional[str] = 
     (['CMakeLists.txt', 'Kconfig'], True)
     """
     name = model.name if name is None else name
-    files = render(model, name, activation_impl, dtype, with_controller, v_max)
+    files = render(model, name, activation_impl, dtype, with_controller, v_max,
+                   sample_time=sample_time)
     check_name_in_folder(out_dir, name)
     files.update(package_files(out_dir, files, name))
     check_overwrite([Path(out_dir) / fname for fname in files], force)

@@ -51,8 +51,8 @@ SETTLED_SHARE = 0.02
 #: its damping does not fade.
 NO_DROP = 0.05
 #: The speeds v_d tried for the damping's fading, times the static curve's Stribeck velocity
-#: (``fading_speed``), and a damping that does not fade.
-FADING_FACTORS = (0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
+#: (``fading_speed``), refined by a parabola in log v_d; and a damping that does not fade.
+FADING_FACTORS = tuple(2.0 ** (k / 2) for k in range(-6, 7))
 #: sigma1 is kept when above this many standard errors.
 DAMPING_SIGMAS = 2.0
 
@@ -201,9 +201,13 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
     stiffness = static / float(np.exp(best))
     # the damping and the speed it fades at, at that stiffness
     fades = [None] if fading is None else [fading * f for f in FADING_FACTORS] + [None]
-    by_fade = grams_at(stiffness, fades, motion)
-    fade_rss, fade_coef, _ = _profile(by_fade, folds, held_out=False)
-    f_best = int(np.argmin(fade_rss[0]))
+    fade_rss = _profile(grams_at(stiffness, fades, motion), folds, held_out=False)[0][0]
+    if fading is not None and int(np.argmin(fade_rss)) < len(FADING_FACTORS):   # refined
+        fades = [float(np.exp(_vertex(np.log(fades[:-1]), fade_rss[:-1])))]
+    else:
+        fades = [fades[int(np.argmin(fade_rss))]]
+    fade_rss, fade_coef, _ = _profile(grams_at(stiffness, fades, motion), folds, held_out=False)
+    f_best = 0
     damping = float(fade_coef[0][f_best][0])
     damping_se = _jackknife_se(np.array([fade_coef[1 + j][f_best][0] for j in range(folds)]))
     n = sum(g[3] for g in grams[0])

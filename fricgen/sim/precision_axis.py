@@ -162,37 +162,19 @@ class Plant:
 
     def advance(self, u: float, dt: float) -> None:
         """Integrate over dt under the force u (RK4, ``axis.substeps`` steps)."""
-        fcp, dp, fcn, dn, ivs, delta, s0, s1, ivd, b, im = self._p
-        exp = math.exp
+        rates = self._rates
         n = self.axis.substeps
         h = dt / n
         h2 = 0.5 * h
         x, v, z = self.x, self.v, self.z
-        for _ in range(n):
-            # four stages of (x' = v, v' = (u - F) / m, z'), the rates inlined for speed
-            av = abs(v)
-            g = (fcp + dp * exp(-(av * ivs) ** delta)) if v >= 0.0 else (fcn + dn * exp(-(av * ivs) ** delta))
-            z1 = v - s0 * av * z / g
-            w = v * ivd
-            a1 = (u - s0 * z - s1 * exp(-w * w) * z1 - b * v) * im
-            v2, zz = v + h2 * a1, z + h2 * z1
-            av = abs(v2)
-            g = (fcp + dp * exp(-(av * ivs) ** delta)) if v2 >= 0.0 else (fcn + dn * exp(-(av * ivs) ** delta))
-            z2 = v2 - s0 * av * zz / g
-            w = v2 * ivd
-            a2 = (u - s0 * zz - s1 * exp(-w * w) * z2 - b * v2) * im
-            v3, zz = v + h2 * a2, z + h2 * z2
-            av = abs(v3)
-            g = (fcp + dp * exp(-(av * ivs) ** delta)) if v3 >= 0.0 else (fcn + dn * exp(-(av * ivs) ** delta))
-            z3 = v3 - s0 * av * zz / g
-            w = v3 * ivd
-            a3 = (u - s0 * zz - s1 * exp(-w * w) * z3 - b * v3) * im
-            v4, zz = v + h * a3, z + h * z3
-            av = abs(v4)
-            g = (fcp + dp * exp(-(av * ivs) ** delta)) if v4 >= 0.0 else (fcn + dn * exp(-(av * ivs) ** delta))
-            z4 = v4 - s0 * av * zz / g
-            w = v4 * ivd
-            a4 = (u - s0 * zz - s1 * exp(-w * w) * z4 - b * v4) * im
+        for _ in range(n):                      # RK4 of (x' = v, v' = (u - F) / m, z')
+            a1, z1, _f = rates(v, z, u)
+            v2 = v + h2 * a1
+            a2, z2, _f = rates(v2, z + h2 * z1, u)
+            v3 = v + h2 * a2
+            a3, z3, _f = rates(v3, z + h2 * z2, u)
+            v4 = v + h * a3
+            a4, z4, _f = rates(v4, z + h * z3, u)
             x += h * (v + 2.0 * v2 + 2.0 * v3 + v4) / 6.0
             v += h * (a1 + 2.0 * a2 + 2.0 * a3 + a4) / 6.0
             z += h * (z1 + 2.0 * z2 + 2.0 * z3 + z4) / 6.0

@@ -8,7 +8,7 @@ from typing import Callable, Mapping, Tuple
 
 import numpy as np
 
-from ..errors import UsageError
+from ..errors import DataError, ModelError, UsageError
 from ..fit.presliding import identify_presliding, settled_rows
 from ..model import FrictionModel
 from ..units import units_of
@@ -31,7 +31,8 @@ class DynamicReport:
 
 def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_constant,
                   train_friction: Callable[[Mapping[str, np.ndarray]], FitReport]) -> DynamicReport:
-    """The static fit (``train_friction``), then its bristles (see the module)."""
+    """The static fit (``train_friction(columns, use=None)``, ``use`` a mask of the rows to
+    identify it on), then its bristles (see the module)."""
     if "x" not in columns or "t" not in columns:
         raise UsageError("--dynamic needs a motion log with time t and position x (the bristles "
                          "deflect over distances of encoder counts)")
@@ -52,8 +53,11 @@ def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_cons
             break
         use = settled_rows(columns["x"], report.model, fit.bristles, dt, ident.window,
                            fit.position_window)
-        report = train_friction(columns, use=use)
-        fit = bristles_of(report)
+        try:
+            settled = train_friction(columns, use=use)
+        except (DataError, ModelError):     # too few settled rows: the curve of all rows stays
+            break
+        report, fit = settled, bristles_of(settled)
     stiffness_unit = f"{units.force}/{units.position}"
     lines = [f"pre-sliding: {fit.presliding_rows} rows within the pre-sliding distance after a "
              f"reversal; residual RMS {fit.rms_dynamic:.4g} {units.force} with bristles, "
