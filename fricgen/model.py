@@ -264,8 +264,8 @@ class FrictionModel:
         The LuGre bristles ``fricgen train --dynamic`` identified (``presliding``): the
         friction then has a state (``stepper``).
     velocity_band : float, optional
-        The speed, m/s, below which ``compensation`` ramps linearly through zero: what the
-        velocity sensor resolves (``velocity_band``).
+        The speed, m/s, up to which ``compensation`` is 0 (it ramps to the force at twice
+        it): what the velocity sensor resolves (``velocity_band``).
     recorded_hash : str, optional
         The ``model_hash`` model.json recorded.
     recorded_axis_hash : str, optional
@@ -380,10 +380,11 @@ class FrictionModel:
 
     def compensation(self, v) -> np.ndarray:
         """The static compensating force at the velocity ``v`` (measured or the reference's):
-        ``force(v)``, except below ``velocity_band`` where it ramps linearly from 0 to
-        ``force(+-velocity_band)``, so that the sign never switches on a velocity the sensor
-        cannot resolve (0 for a NaN v, as the C ``NAME_compensation``). ``force`` for a model
-        without a band.
+        0 while |v| <= ``velocity_band`` (what the sensor cannot tell from rest: its jitter at
+        rest never switches the compensation on), then a ramp to ``force(+-2 band)`` at twice
+        the band, and ``force(v)`` beyond: continuous, with no sign switch on an unresolved
+        velocity (0 for a NaN v, as the C ``NAME_compensation``). ``force`` for a model without
+        a band.
 
         Examples
         --------
@@ -391,16 +392,17 @@ class FrictionModel:
         >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
         >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
         >>> banded = dataclasses.replace(model, velocity_band=0.001)
-        >>> bool(banded.compensation(0.0005) == model.force(0.001) / 2)
-        True
+        >>> float(banded.compensation(0.0005)), bool(banded.compensation(0.0015) == model.force(0.002) / 2)
+        (0.0, True)
         """
         v = np.asarray(v, dtype=float)
         band = self.velocity_band
         if band is None:
             return self.force(v)
-        edge = self.force(np.where(v < 0, -band, band))
-        inside = np.where(np.isnan(v), 0.0, edge * (np.abs(v) * (1.0 / band)))
-        return np.where(np.abs(v) < band, inside, np.where(np.isnan(v), 0.0, self.force(v)))
+        speed = np.abs(v)
+        edge = self.force(np.where(v < 0, -2.0 * band, 2.0 * band))
+        ramp = edge * (np.maximum(speed - band, 0.0) * (1.0 / band))
+        return np.where(np.isnan(v), 0.0, np.where(speed < 2.0 * band, ramp, self.force(v)))
 
     def stepper(self, dt: float):
         """The friction sample by sample at the sample time ``dt`` (s): an object with
@@ -630,7 +632,19 @@ class FrictionModel:
 
 
 class StaticStepper:
-    """``FrictionModel.stepper`` of a model without state: ``step(v)`` is ``force(v)``."""
+    """``FrictionModel.stepper`` of a model without state: ``step(v)`` is ``force(v)``.
+
+    Parameters
+    ----------
+    force : callable
+        F(v), the model's ``force``.
+
+    Examples
+    --------
+    >>> from fricgen.model import StaticStepper
+    >>> StaticStepper(lambda v: 2.0 * v).step(0.5)
+    1.0
+    """
 
     def __init__(self, force):
         self._force = force

@@ -16,7 +16,7 @@ from fricgen.fit.presliding import identify_presliding, settled_rows
 from fricgen.model import FrictionModel
 from fricgen.sim.precision_axis import identification_log, random_precision_axis, static_friction_log
 from fricgen.training import train
-from fricgen.training.trainer import with_velocity_band
+from fricgen.data.inverse_dynamics import RESOLUTION_COUNTS, RESOLUTION_SIGMAS, velocity_resolution
 
 SEED = 7        # a seed below 1000: tests may look at it, the benchmark's figures do not
 
@@ -65,14 +65,28 @@ def test_settled_rows_leave_out_the_build_up_after_each_start(axis, static, log)
     assert settled[first_move:first_move + 4000].any()          # ... then settled
 
 
+def test_the_velocity_resolution_of_a_log(axis, log):
+    quantum_per_sample = axis.resolution / axis.dt
+    counts = velocity_resolution(log["x"], 0.0, axis.dt)
+    assert abs(counts / quantum_per_sample - RESOLUTION_COUNTS) < 1e-3
+    noisy = log["x"] + np.random.default_rng(0).normal(0.0, 1e-9, log["x"].size)   # no counts
+    assert velocity_resolution(noisy, 2e-4, axis.dt) == pytest.approx(RESOLUTION_SIGMAS * 2e-4)
+
+
+def test_a_band_given_to_train_is_kept_and_said(static, axis):
+    speeds = np.geomspace(0.05 * axis.stribeck, 50 * axis.stribeck, 60)
+    sweep = Sweep(np.concatenate([-speeds[::-1], speeds]), axis.steady_friction(np.concatenate([-speeds[::-1], speeds])))
+    report = train(sweep, estimator=StribeckRegressor(), velocity_resolution=0.01)
+    assert report.model.velocity_band == 0.01
+    assert report.model.training["velocity_band_from"] == "given to train"
+    assert train(sweep, estimator=StribeckRegressor()).model.velocity_band is None   # a sweep: none
+
+
+@pytest.mark.slow
 def test_a_log_gets_its_velocity_resolution_as_band(axis, log):
     report = train({k: log[k] for k in ("t", "x", "force")}, warn=lambda line: None)
-    quantum_per_sample = axis.resolution / axis.dt
-    assert report.model.velocity_band >= 0.99 * quantum_per_sample
-    assert report.model.velocity_band < 20 * quantum_per_sample
-    given = with_velocity_band(report, log, 0.01)
-    assert given.model.velocity_band == 0.01
-    assert given.model.training["velocity_band_from"] == "given to train"
+    assert report.model.velocity_band == pytest.approx(RESOLUTION_COUNTS * axis.resolution / axis.dt, rel=1e-3)
+    assert report.model.training["velocity_band_from"] == "the training log's velocity resolution"
 
 
 @pytest.fixture(scope="module")
@@ -89,7 +103,7 @@ def test_train_dynamic_writes_bristles_that_emit_and_the_commands_say_what_they_
     out = tmp_path / "m.json"
     assert main(["train", str(log_csv), "--dynamic", "-o", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "pre-sliding: stiffness sigma0" in text
+    assert "pre-sliding: stiffness sigma0" in text and "NAME_compensation is 0 up to" in text
     model = FrictionModel.load(out)
     assert abs(model.presliding.stiffness / axis.sigma0 - 1) < 0.10
     assert json.loads(out.read_text())["training"]["presliding"]["presliding_rows"] > 0

@@ -19,6 +19,7 @@ from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
 from ..training.with_cogging import train_with_cogging
 from ..training.with_dynamic import train_dynamic
+from ..units import units_of
 from .._io import check_destination
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
@@ -144,6 +145,11 @@ def _run(args) -> int:
     report = fit(args)
     say_data_warnings(args)
     out(report.text)
+    band = report.model.velocity_band
+    if band is not None:
+        speed = units_of(report.model.training.get("units") == "rotary").speed
+        out(f"zero      NAME_compensation is 0 up to |v| = {band:.3g} {speed}, the force from twice it "
+            f"({report.model.training.get('velocity_band_from', 'model.json')})")
     for warning in report.warnings:
         say(warning)
     write_file(args, report.model.checked_json(), inputs)    # never one that load refuses
@@ -206,8 +212,8 @@ def register(p) -> None:
                       "with small reversals or a slow force ramp at rest; emit writes NAME_step")
     slow.add_argument("--velocity-resolution", type=positive_float,
                       help="the smallest speed the controller's velocity resolves, m/s (rad/s): "
-                      "NAME_compensation ramps through zero below it (default: the log's, one "
-                      "encoder count per sample or 4 standard deviations of its velocity noise)")
+                      "NAME_compensation is 0 up to it and ramps to the force at twice it (default: the "
+                      "log's, 3 encoder counts per sample or 4 standard deviations of its velocity noise)")
     p.add_argument("--rotary", action="store_true",
                    help="a rotary axis (a joint, a shaft): v in rad/s, force in Nm, inertia in kg m^2 "
                    "in every report and record (default: a linear axis, unless the header names a "

@@ -175,6 +175,7 @@ def band_context(model: FrictionModel) -> Optional[dict]:
         return None
     source = model.training.get("velocity_band_from", "model.json velocity_band")
     return {"value": c_float(model.velocity_band), "inverse": c_float(1.0 / model.velocity_band),
+            "twice": c_float(2.0 * model.velocity_band),
             "source": source}
 
 

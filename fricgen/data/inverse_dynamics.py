@@ -83,16 +83,21 @@ def position_quantum(x: np.ndarray) -> float:
 
 #: The key under which ``identify_log`` carries its row mask through the resampling.
 USE_COLUMN = "_use"
-#: The velocity a log resolves, in standard deviations of its velocity noise (a velocity of a
-#: position in counts resolves at least one step per sample).
+#: The velocity a log resolves: RESOLUTION_SIGMAS standard deviations of its velocity noise,
+#: and for a position in encoder counts RESOLUTION_COUNTS steps per sample (a velocity from
+#: counts jitters by a step per sample, a filtered one by a share of it; a banded compensation
+#: switched on at one step per sample still hunted at rest on 3 of 8 simulated precision stages,
+#: at three on 1 of 8: benchmarks/slow_speeds.py --measured, seeds 0-7, which set the value).
 RESOLUTION_SIGMAS = 4.0
+RESOLUTION_COUNTS = 3.0
 
 
 def velocity_resolution(x: Optional[np.ndarray], noise: float, sample_time: float) -> float:
-    """The smallest speed a log tells from rest: one position step per sample for a position
-    in encoder counts, and RESOLUTION_SIGMAS standard deviations of the velocity noise."""
+    """The smallest speed a log tells from rest: RESOLUTION_COUNTS position steps per sample
+    for a position in encoder counts, and RESOLUTION_SIGMAS standard deviations of the velocity
+    noise."""
     quantum = 0.0 if x is None else position_quantum(x)
-    return max(quantum / sample_time, RESOLUTION_SIGMAS * noise)
+    return max(RESOLUTION_COUNTS * quantum / sample_time, RESOLUTION_SIGMAS * noise)
 
 
 def velocity_noise(v: np.ndarray) -> float:

@@ -193,8 +193,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         as it does (warnings through ``warn`` with ``accept_unusual``); False skips them.
     velocity_resolution : float, optional
         The smallest speed the controller's velocity resolves, m/s (rad/s): the band below
-        which ``model.compensation`` ramps through zero (``velocity_band``). Default: a log's
-        own (one encoder step per sample, or RESOLUTION_SIGMAS of its velocity noise); none
+        which ``model.compensation`` is 0 (``velocity_band``). Default: a log's own
+        (RESOLUTION_COUNTS encoder steps per sample, or RESOLUTION_SIGMAS of its velocity noise); none
         for a sweep.
     use : array of bool, optional
         The rows of a log to identify the friction on (default all): ``train --dynamic`` leaves
