@@ -383,7 +383,7 @@ class FrictionModel:
         0 while |v| <= ``velocity_band`` (what the sensor cannot tell from rest: its jitter at
         rest never switches the compensation on), then a ramp to ``force(+-2 band)`` at twice
         the band, and ``force(v)`` beyond: continuous, with no sign switch on an unresolved
-        velocity (0 for a NaN v, as the C ``NAME_compensation``). ``force`` for a model without
+        velocity (0 for a NaN or infinite v, as the C ``NAME_compensation``). ``force`` for a model without
         a band.
 
         Examples
@@ -402,7 +402,7 @@ class FrictionModel:
         speed = np.abs(v)
         edge = self.force(np.where(v < 0, -2.0 * band, 2.0 * band))
         ramp = edge * (np.maximum(speed - band, 0.0) * (1.0 / band))
-        return np.where(np.isnan(v), 0.0, np.where(speed < 2.0 * band, ramp, self.force(v)))
+        return np.where(~np.isfinite(v), 0.0, np.where(speed < 2.0 * band, ramp, self.force(v)))
 
     def stepper(self, dt: float):
         """The friction sample by sample at the sample time ``dt`` (s): an object with

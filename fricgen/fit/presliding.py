@@ -53,6 +53,8 @@ NO_DROP = 0.05
 #: The speeds v_d tried for the damping's fading, times the static curve's Stribeck velocity
 #: (``fading_speed``), refined by a parabola in log v_d; and a damping that does not fade.
 FADING_FACTORS = tuple(2.0 ** (k / 2) for k in range(-6, 7))
+#: The stiffness is kept when its standard error (of log sigma0) is at most this: a third of it.
+STIFFNESS_SE_MAX = 1.0 / 3.0
 #: sigma1 is kept when above this many standard errors.
 DAMPING_SIGMAS = 2.0
 
@@ -91,6 +93,26 @@ def fading_speed(model) -> Optional[float]:
             return None
         speeds.append(float(u[np.argmax(drop <= drop[0] / np.e)]))
     return float(np.mean(speeds))
+
+
+def falling_level(model):
+    """g(v) made non-increasing in |v| per direction (its upper envelope from faster speeds):
+    LuGre's velocity-weakening level never rises with speed, and a static fit that does near
+    rest has read the bristles' build-up after each start as less friction; the first pass of
+    ``train --dynamic`` drives the bristles with this level until the static curve is fitted
+    again on the settled rows. Returns a function of v (arrays)."""
+    tables = []
+    for direction in model.directions:
+        u = direction.v_sat * np.linspace(0.0, 1.0, 1025)
+        tables.append((u, np.maximum.accumulate(direction.stribeck(u)[::-1])[::-1]))
+    negative = tables[-1]
+
+    def level(v):
+        v = np.asarray(v, dtype=float)
+        speed = np.abs(v)
+        positive = np.interp(speed, *tables[0])
+        return positive if len(tables) == 1 else np.where(v < 0, np.interp(speed, *negative), positive)
+    return level
 
 
 def static_level(model) -> float:
@@ -133,7 +155,8 @@ def _presliding_rows(x: np.ndarray, v: np.ndarray, distance: float) -> int:
 
 
 def identify_presliding(t, x, force, model, mass: float, offset_free: bool = True,
-                        window: int = 31, folds: int = FIT_FOLDS) -> PreslidingFit:
+                        window: int = 31, folds: int = FIT_FOLDS,
+                        falling: bool = False) -> PreslidingFit:
     """sigma0 and sigma1 of ``model``'s static curve from a log (see the module).
 
     Parameters
@@ -148,6 +171,10 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
         Fit the constant force c (else 0).
     window : int
         The Savitzky-Golay window, samples (odd).
+    folds : int
+        Contiguous blocks of the jackknife and the cross-validation.
+    falling : bool
+        Drive the bristles with ``falling_level`` instead of the curve's own g.
     """
     t, x, force = (np.asarray(a, dtype=float) for a in (t, x, force))
     if not (t.size == x.size == force.size) or t.size < 4 * window:
@@ -155,6 +182,7 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
     dt = float(np.median(np.diff(t)))
     counts = position_quantum(x)
     static = static_level(model)
+    g = falling_level(model) if falling else model.stribeck
     v = np.diff(x) / dt
     viscous = model.force(v) - np.sign(v) * model.stribeck(v)
     quantum = counts or float(np.std(np.diff(x, 2)) / np.sqrt(6.0))
@@ -188,7 +216,7 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
     candidates = []
     for w in POSITION_WINDOWS:                   # the encoder's dither averaged out, or not
         u = np.diff(smooth(x, w)) / dt
-        motion = (u, np.maximum(model.stribeck(u), LEAST_LEVEL * static))
+        motion = (u, np.maximum(g(u), LEAST_LEVEL * static))
         grams = [grams_at(static / d, [fading], motion)[0] for d in distances]
         candidates.append((_profile(grams, folds), grams, motion))
     best_window = min(range(len(candidates)), key=lambda c: float(np.min(candidates[c][0][0][0])))
@@ -218,6 +246,9 @@ def identify_presliding(t, x, force, model, mass: float, offset_free: bool = Tru
     if k == 0 or k == distances.size - 1:
         reason = ("the best pre-sliding distance is at the end of the range tried "
                   f"({np.exp(best):.3g}): the log does not resolve pre-sliding")
+    elif log_se > STIFFNESS_SE_MAX:
+        reason = (f"the stiffness is not determined ({stiffness:.3g} +- {stiffness * log_se:.2g}): "
+                  "log small reversals, slowly, that the encoder resolves")
     elif one_standard_error_choice(errors) == 1:
         reason = ("the bristles do not lower the held-out error beyond its spread: the log holds "
                   "no pre-sliding the encoder resolves (log small reversals or a slow force ramp at rest)")

@@ -158,8 +158,9 @@ def axis_record(sweep: Sweep, ident: Optional[Identification], asymmetric: bool)
               "speed_min": float(speed.min()), "speed_max": float(speed.max())}
     if ident is not None:
         body = ident.body
-        record.update(mass=body.mass, mass_se=body.mass_se,
-                      mass_from="data" if body.mass_identified else "option")
+        if body.mass > 0:               # an inertia identified as 0 (pass --mass) records none
+            record.update(mass=body.mass, mass_se=body.mass_se,
+                          mass_from="data" if body.mass_identified else "option")
         if not asymmetric or ident.load:
             record.update(offset=body.offset, offset_se=body.offset_se)
         if ident.force_constant is not None:

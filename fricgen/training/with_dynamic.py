@@ -43,11 +43,11 @@ def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_cons
                       (ident.force_constant[0] if ident.force_constant else None))
     dt = ident.sample_time
 
-    def bristles_of(static: FitReport):
+    def bristles_of(static: FitReport, falling: bool = False):
         return identify_presliding(columns["t"], columns["x"], force, static.model,
                                    mass=static.identification.body.mass,
-                                   window=static.identification.window)
-    fit = bristles_of(report)
+                                   window=static.identification.window, falling=falling)
+    fit = bristles_of(report, falling=True)
     for _ in range(STATIC_PASSES):          # the static curve again, on the settled rows only
         if fit.bristles is None:
             break
@@ -62,17 +62,19 @@ def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_cons
     lines = [f"pre-sliding: {fit.presliding_rows} rows within the pre-sliding distance after a "
              f"reversal; residual RMS {fit.rms_dynamic:.4g} {units.force} with bristles, "
              f"{fit.rms_static:.4g} with the static curve"]
-    record = {"stiffness": fit.stiffness, "stiffness_se": fit.stiffness_se, "damping": fit.damping,
-              "damping_se": fit.damping_se, "presliding_rows": fit.presliding_rows}
+    record = {"stiffness": fit.stiffness, "stiffness_se": fit.stiffness_se,
+              "presliding_rows": fit.presliding_rows}
     model = report.model
     if fit.bristles is None:
         lines.append(f"pre-sliding: not identified: {fit.reason}; the model is static")
-        record["left_out"] = fit.reason
+        record = {"left_out": fit.reason, "presliding_rows": fit.presliding_rows}
     else:
         b = fit.bristles
         lines.append(f"pre-sliding: stiffness sigma0 = {b.stiffness:.4g} +- {fit.stiffness_se:.2g} "
                      f"{stiffness_unit} (pre-sliding distance "
                      f"{b.presliding_distance(float(model.stribeck(0.0))):.3g} {units.position})")
+        record.update(damping=b.damping, damping_se=fit.damping_se if b.damping > 0 else None,
+                      damping_speed=b.damping_speed)
         if b.damping > 0:
             lines.append(f"pre-sliding: damping sigma1 = {b.damping:.4g} +- {fit.damping_se:.2g} "
                          f"{units.viscous}")
