@@ -199,3 +199,13 @@ def test_emit_needs_a_sample_time_and_refuses_one_without_bristles(model):
         codegen.render(replace(model, presliding=None), sample_time=DT)
     with pytest.raises(ModelError, match="pre-sliding"):
         codegen.render(replace(model, presliding=None), dtype="q15")
+
+
+def test_emit_names_a_sample_time_far_from_the_logs(model, tmp_path, capsys):
+    from fricgen.cli import main
+    path = replace(model, training={"log": {"sample_time": DT}}).save(tmp_path / "m.json")
+    assert main(["emit", str(path), "--sample-time", "0.1", "-o", str(tmp_path / "slow")]) == 0
+    assert "1e+03 times the training log's" in capsys.readouterr().err
+    assert main(["emit", str(path), "--sample-time", str(2 * DT), "-o", str(tmp_path / "near")]) == 0
+    assert "times the training log's" not in capsys.readouterr().err
+    assert "#define AX_SAMPLE_TIME 0.000199999995f" in (tmp_path / "near" / "ax.h").read_text()

@@ -17,6 +17,10 @@ from .inputs import load_model
 from .common import FORCE_C, add_output, check_targets, number, say, write_targets
 
 
+#: A sample time of NAME_step this many times faster or slower than the training log's is named.
+SAMPLE_TIME_RATIO = 10.0
+
+
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("model", help="model.json")
@@ -72,6 +76,11 @@ def run(args) -> int:
         raise UsageError("--v-max sets the input range of --dtype q15 or q31; float takes any speed")
     if args.adapt and args.dtype != "float":
         raise UsageError(f"--adapt is float; it cannot be emitted with --dtype {args.dtype}")
+    logged = model.training.get("log", {}).get("sample_time")
+    if args.sample_time is not None and isinstance(logged, (int, float)) and logged > 0 \
+            and not 1 / SAMPLE_TIME_RATIO <= args.sample_time / logged <= SAMPLE_TIME_RATIO:
+        say(f"fricgen: warning: --sample-time {args.sample_time:g} s is {args.sample_time / logged:.3g} "
+            f"times the training log's {logged:.3g} s: a sample time in ms, or the wrong model?")
     files = render(model, name, activation_impl=args.activation_impl, dtype=args.dtype,
                    with_controller=args.with_controller or args.adapt, v_max=args.v_max,
                    adapt=args.adapt, sample_time=args.sample_time)
