@@ -75,9 +75,11 @@ class PreslidingFit:
     rms_dynamic: float          # ... with the bristles
     reason: str                 # '' when kept, else why not
 
-    @property
-    def damping_determined(self) -> bool:
-        return self.bristles is not None and self.bristles.damping > 0
+
+
+def _levels(model, points: int = 1025) -> list:
+    """(speeds, g) of each direction's curve on ``points`` speeds of [0, v_sat]."""
+    return [(u, d.stribeck(u)) for d in model.directions for u in [d.v_sat * np.linspace(0.0, 1.0, points)]]
 
 
 def fading_speed(model) -> Optional[float]:
@@ -85,9 +87,7 @@ def fading_speed(model) -> Optional[float]:
     fallen to 1/e of its value at rest (the Stribeck velocity of [F1]'s shapes), averaged over
     the directions; None for a curve that drops by less than NO_DROP of its level at rest."""
     speeds = []
-    for direction in model.directions:
-        u = direction.v_sat * np.linspace(0.0, 1.0, 1025)
-        g = direction.stribeck(u)
+    for u, g in _levels(model):
         drop = g - g.min()
         if not drop[0] > NO_DROP * g[0]:
             return None
@@ -101,10 +101,7 @@ def falling_level(model):
     rest has read the bristles' build-up after each start as less friction; the first pass of
     ``train --dynamic`` drives the bristles with this level until the static curve is fitted
     again on the settled rows. Returns a function of v (arrays)."""
-    tables = []
-    for direction in model.directions:
-        u = direction.v_sat * np.linspace(0.0, 1.0, 1025)
-        tables.append((u, np.maximum.accumulate(direction.stribeck(u)[::-1])[::-1]))
+    tables = [(u, np.maximum.accumulate(g[::-1])[::-1]) for u, g in _levels(model)]
     negative = tables[-1]
 
     def level(v):
@@ -118,9 +115,7 @@ def falling_level(model):
 def static_level(model) -> float:
     """The largest level g of the static curve over its speeds: the scale of pre-sliding
     distances g / sigma0 (``DataError`` for a curve without friction)."""
-    speeds = np.concatenate([d.v_sat * np.linspace(0.0, 1.0, 65) * sign
-                             for d, sign in zip(model.directions, (1.0, -1.0))])
-    level = float(np.max(model.stribeck(np.where(speeds == 0, 0.0, speeds))))
+    level = max(float(np.max(g)) for _, g in _levels(model, 65))
     if not level > 0:
         raise DataError("the static curve has no friction: no bristles to identify")
     return level
