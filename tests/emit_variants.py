@@ -1,13 +1,16 @@
 """Every kind of C folder ``fricgen emit`` writes, for the static checks of tests/test_static_c.py:
 an ELM and a grey-box [F1] model in each implementation (float with libm or the fast sigmoid,
-q15 and q31), an asymmetric model, a model with effects, two models in one folder, the
-controller, the adaptation runtime (--adapt), and the whole runtime c_runtime/ with every kernel."""
+q15 and q31), an asymmetric model, a model with effects, two models in one folder, a model with
+pre-sliding and a compensation band (libm, and fast asymmetric), the controller, the adaptation
+runtime (--adapt), and the whole runtime c_runtime/ with every kernel."""
 import shutil
+from dataclasses import replace
 
 from fricgen import codegen
 from fricgen._io import resource_dir
 from fricgen.control.c_adapted import render_adapt
 from fricgen.effects import with_effects
+from fricgen.effects.presliding import Bristles
 from fricgen.firmware.flag_matrix import table1_greybox
 from fricgen.model import FrictionModel
 
@@ -28,6 +31,7 @@ def emit_every_variant(root, bench, model10, axis2_model):
     grey_exp = table1_greybox(bench, "exponential", name="gx")
     grey_rat = table1_greybox(bench, "rational", name="gr")
     asym = FrictionModel.from_directions(model10.positive, grey.positive, name="fa")
+    slow = replace(grey, presliding=Bristles(1e5, 300.0, 2e-3), velocity_band=1e-3)    # --dynamic
     jobs = {
         "elm_libm": lambda d: codegen.emit(model10, d, "fm", activation_impl="libm"),
         "elm_fast": lambda d: codegen.emit(model10, d, "fm", activation_impl="fast"),
@@ -52,6 +56,9 @@ def emit_every_variant(root, bench, model10, axis2_model):
                                                   with_controller=True),
         "adapt_elm": lambda d: _emit_adapt(model10, d, "libm"),
         "adapt_grey": lambda d: _emit_adapt(grey, d, "fast"),
+        "slow_speeds": lambda d: [codegen.emit(slow, d, "sl", activation_impl="libm", sample_time=1e-4),
+                                  codegen.emit(replace(slow, negative=grey_exp.positive), d, "sf",
+                                               activation_impl="fast", sample_time=1e-4)],
         "runtime": lambda d: shutil.copytree(resource_dir("c_runtime"), d),
     }
     folders = {}

@@ -33,7 +33,8 @@ def stribeck_model(asymmetric=False, name="ax"):
     if asymmetric:
         f = f * np.where(v < 0, 1.1, 1.0)
     model = train(Sweep(v, f), estimator=StribeckRegressor(), asymmetric=asymmetric, name=name).model
-    return replace(model, presliding=Bristles(stiffness=1e5, damping=300.0), velocity_band=2e-3)
+    return replace(model, presliding=Bristles(stiffness=1e5, damping=300.0, damping_speed=3e-3),
+                   velocity_band=2e-3)
 
 
 @pytest.fixture(scope="module")

@@ -198,6 +198,7 @@ def presliding_context(model: FrictionModel, activation_impl: str, sample_time: 
             "stiffness_dt": c_float(bristles.stiffness * dt), "dt": c_float(dt),
             "damping_per_dt": c_float(bristles.damping / dt),
             "least_level": c_float(max(LEAST_LEVEL * level, 1e-30)), "exp_fn": exp_fn,
+            "inv_fade": None if bristles.damping_speed is None else c_float(1.0 / bristles.damping_speed),
             "header": header, "sample_time": float(dt)}
 
 
