@@ -76,8 +76,10 @@ def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_cons
         record.update(damping=b.damping, damping_se=fit.damping_se if b.damping > 0 else None,
                       damping_speed=b.damping_speed)
         if b.damping > 0:
+            fades = ("constant" if b.damping_speed is None else
+                     f"fading beyond v_d = {b.damping_speed:.3g} {units.speed}")
             lines.append(f"pre-sliding: damping sigma1 = {b.damping:.4g} +- {fit.damping_se:.2g} "
-                         f"{units.viscous}")
+                         f"{units.viscous} at rest, {fades}")
         else:
             lines.append(f"pre-sliding: damping sigma1 not determined by this log ({fit.damping:.3g} "
                          f"+- {fit.damping_se:.2g}): left at 0")
