@@ -424,11 +424,11 @@ class FrictionModel:
         """
         if self.presliding is None:
             return StaticStepper(self.force)
-        return BristleStepper(lambda v: float(self.stribeck(v)), lambda v: float(self._viscous_force(v)),
+        return BristleStepper(lambda v: float(self.stribeck(v)), lambda v: float(self.viscous_force(v)),
                               self.presliding, dt)
 
-    def _viscous_force(self, v) -> np.ndarray:
-        """B v with each direction's own B."""
+    def viscous_force(self, v) -> np.ndarray:
+        """B v with each direction's own B: ``force(v)`` less its velocity-weakening part."""
         v = np.asarray(v, dtype=float)
         negative = self.viscous if self.negative is None else self.negative.viscous
         return np.where(v < 0, negative, self.viscous) * v

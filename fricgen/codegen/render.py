@@ -10,7 +10,7 @@ import numpy as np
 
 from .._io import read_only
 from ..c_literal import c_array, c_float
-from ..effects.presliding import LEAST_LEVEL, STATIC_SIDE
+from ..effects.presliding import least_level
 from ..errors import ModelError, UsageError
 from .cogging_table import CoggingTable
 from ..model import FrictionModel
@@ -192,12 +192,11 @@ def presliding_context(model: FrictionModel, activation_impl: str, sample_time: 
     if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
         raise ModelError("the model's pre-sliding needs the controller's sample time: give "
                          "--sample-time (s); the model records no log sample time")
-    level = max(float(model.stribeck(0.0)), float(model.stribeck(-STATIC_SIDE)))
     exp_fn, header = PRESLIDING_EXP[activation_impl]
     return {"stiffness": c_float(bristles.stiffness), "damping": c_float(bristles.damping),
             "stiffness_dt": c_float(bristles.stiffness * dt), "dt": c_float(dt),
             "damping_per_dt": c_float(bristles.damping / dt),
-            "least_level": c_float(max(LEAST_LEVEL * level, 1e-30)), "exp_fn": exp_fn,
+            "least_level": c_float(max(least_level(model.stribeck), 1e-30)), "exp_fn": exp_fn,
             "inv_fade": None if bristles.damping_speed is None else c_float(1.0 / bristles.damping_speed),
             "header": header, "sample_time": float(dt)}
 

@@ -42,6 +42,14 @@ _FIELDS = ("stiffness", "damping")
 STATIC_SIDE = 1e-300
 
 
+def least_level(level: Callable[[float], float]) -> float:
+    """The least g the update divides by: LEAST_LEVEL of the curve's level at rest (the larger
+    of its two directions'), the smallest positive float for a curve without one. The C's
+    ``NAME_least_level`` is this value."""
+    static = max(float(level(0.0)), float(level(-STATIC_SIDE)), 0.0)
+    return LEAST_LEVEL * static if static > 0 else float(np.finfo(float).tiny)
+
+
 def decay_ratio(y):
     """r(y) = (1 - exp(-y)) / y for y >= 0 (arrays or floats), 1 at y = 0."""
     if np.ndim(y) == 0:
@@ -145,8 +153,7 @@ class BristleStepper:
         if not (dt > 0 and math.isfinite(dt)):
             raise ValueError(f"the sample time dt must be a positive number of seconds, got {dt!r}")
         self._level, self._viscous, self.bristles, self.dt = level, viscous, bristles, float(dt)
-        static = max(float(level(0.0)), float(level(-STATIC_SIDE)), 0.0)
-        self._least = LEAST_LEVEL * static if static > 0 else np.finfo(float).tiny
+        self._least = least_level(level)
         self.z = 0.0
 
     def reset(self, z: Optional[float] = None) -> None:
