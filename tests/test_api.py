@@ -12,7 +12,7 @@ import pytest
 import fricgen
 
 #: Modules whose docstring examples run here.
-DOCTESTED = ["fricgen", "fricgen.fleet.manifest", "fricgen.fleet.identification", "fricgen.fleet.drift", "fricgen.fleet.store", "fricgen.fleet.run", "fricgen.training.report", "fricgen.training.trainer", "fricgen.model", "fricgen.c_names", "fricgen.errors", "fricgen.friction",
+DOCTESTED = ["fricgen", "fricgen.fleet.manifest", "fricgen.fleet.identification", "fricgen.fleet.drift", "fricgen.fleet.store", "fricgen.fleet.run", "fricgen.training.report", "fricgen.training.trainer", "fricgen.model", "fricgen.direction", "fricgen.effects.presliding", "fricgen.c_names", "fricgen.errors", "fricgen.friction",
              "fricgen.data.sweep", "fricgen.data.motionlog", "fricgen.data.benchmark",
              "fricgen.data.training_set", "fricgen.data.stribeck_range", "fricgen.data.viscous",
              "fricgen.fit", "fricgen.fit.base", "fricgen.fit.elm", "fricgen.fit.auto",

@@ -13,7 +13,7 @@ import fricgen
 #: one its own public classes and functions. ``fricgen`` means the top-level names defined in one
 #: of the others.
 DOCUMENTED = ("fricgen", "fricgen.data", "fricgen.fit", "fricgen.networks", "fricgen.effects",
-              "fricgen.codegen", "fricgen.control", "fricgen.training", "fricgen.model",
+              "fricgen.codegen", "fricgen.control", "fricgen.training", "fricgen.model", "fricgen.direction",
               "fricgen.c_names", "fricgen.friction", "fricgen.errors", "fricgen.diagnose",
               "fricgen.sim", "fricgen.firmware", "fricgen.paper", "fricgen.fleet")
 
