@@ -3,8 +3,9 @@ direction is ``fricgen.direction``.
 
 Version 1 holds a symmetric model, F(-v) = -F(v). Version 2 adds the asymmetric model: a
 second curve of [F3] (``negative``: its own AIM of any network kind, scaling, B and v_sat)
-for v < 0. A symmetric model is still written as version 1, so every reader of version 1 reads
-it; an asymmetric one as version 2.
+for v < 0. Version 3 adds ``inputs``: friction that depends on the load and the temperature
+(``effects.load_temperature``). Each model is written in the oldest version that holds it, so
+that a reader too old for a model refuses it rather than dropping a field.
 
 model.json is untrusted input: ``FrictionModel.from_dict`` validates every field before any of
 it is used, and raises ``ModelError`` with one line that names the field.
@@ -14,7 +15,7 @@ from __future__ import annotations
 import errno
 import hashlib
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Dict, Optional, Tuple, Union
 
@@ -28,15 +29,18 @@ from ._validate import json_number, rotary_axis
 from .c_names import check_c_identifier
 from .direction import Direction, Scaling, _negative_from_dict  # noqa: F401  (Scaling: fricgen.model's API)
 from .effects.cogging_map import CoggingMap
+from .effects.load_temperature import LoadTemperature
 from .effects.presliding import Bristles, BristleStepper
 from .effects import validate_effects
 from .errors import ModelError
 
 FORMAT = "fricgen-model"
-#: The newest format version this fricgen reads and writes (asymmetric models).
-FORMAT_VERSION = 2
+#: The newest format version this fricgen reads and writes (models with inputs beside v).
+FORMAT_VERSION = 3
 #: The format version of a symmetric model.
 SYMMETRIC_FORMAT_VERSION = 1
+#: The format version of an asymmetric model.
+ASYMMETRIC_FORMAT_VERSION = 2
 #: Largest model.json read: MAX_HIDDEN neurons of three tables fit in well under 1 MB.
 MAX_JSON_BYTES = 16 << 20
 
@@ -86,6 +90,9 @@ class FrictionModel:
     velocity_band : float, optional
         The speed, m/s, up to which ``compensation`` is 0 (it ramps to the force at twice
         it): what the velocity sensor resolves (``velocity_band``).
+    inputs : LoadTemperature, optional
+        The friction's dependence on the load and the temperature (``fricgen train`` on a log
+        with those columns): ``force`` then needs them.
     recorded_hash : str, optional
         The ``model_hash`` model.json recorded.
     recorded_axis_hash : str, optional
@@ -120,6 +127,7 @@ class FrictionModel:
     cogging_friction: Optional[CoggingMap] = None
     presliding: Optional[Bristles] = None
     velocity_band: Optional[float] = None
+    inputs: Optional[LoadTemperature] = None
     #: The ``model_hash`` model.json recorded (None for a model not read from one, or read from
     #: a file written before the field existed).
     recorded_hash: Optional[str] = field(default=None, compare=False, repr=False)
@@ -140,6 +148,12 @@ class FrictionModel:
         return (self.positive,) if self.negative is None else (self.positive, self.negative)
 
     @property
+    def reference(self) -> "FrictionModel":
+        """The one-input curve of this model: itself without ``inputs``, the friction at load 0
+        and the reference temperature (what ``NAME_force`` of its C computes)."""
+        return self if self.inputs is None else replace(self, inputs=None)
+
+    @property
     def axis(self) -> Optional[Axis]:
         """The axis of the training data (``training.axis``: mass, force constant, offset,
         speed range), or None for a model whose training recorded none."""
@@ -147,8 +161,11 @@ class FrictionModel:
 
     @property
     def format_version(self) -> int:
-        """The model.json format version that holds this model: 1 if symmetric, else 2."""
-        return SYMMETRIC_FORMAT_VERSION if self.negative is None else FORMAT_VERSION
+        """The model.json format version that holds this model: 3 with inputs, else 1 if
+        symmetric, 2 if not."""
+        if self.inputs is not None:
+            return FORMAT_VERSION
+        return SYMMETRIC_FORMAT_VERSION if self.negative is None else ASYMMETRIC_FORMAT_VERSION
 
     @classmethod
     def from_directions(cls, positive: Direction, negative: Optional[Direction] = None,
@@ -177,24 +194,35 @@ class FrictionModel:
         v = np.asarray(v, dtype=float)
         return np.where(v < 0, self.negative.stribeck(v), positive)
 
-    def force(self, v) -> np.ndarray:
+    def force(self, v, load=None, temperature=None) -> np.ndarray:
         """Friction force for any sign of v, [F3]; each direction's own curve
-        when the model is asymmetric.
+        when the model is asymmetric; at the load and temperature given when the model has
+        ``inputs`` (``effects.load_temperature``).
 
         Parameters
         ----------
         v : array_like
             Velocities, m/s.
+        load, temperature : array_like, optional
+            The external force on the axis (N; Nm on a rotary axis) and the temperature (degC),
+            broadcast with ``v``: needed by a model that depends on them (``UsageError``
+            without), ignored by one that does not.
 
         Returns
         -------
         numpy.ndarray
-            Forces, N, of the shape of ``v``.
+            Forces, N, of the broadcast shape.
         """
         v = np.asarray(v, dtype=float)
         if self.negative is None:
-            return np.sign(v) * self.stribeck(v) + self.viscous * v
-        return np.where(v < 0, -self.negative.magnitude(v), np.sign(v) * self.positive.magnitude(v))
+            base = np.sign(v) * self.stribeck(v) + self.viscous * v
+        else:
+            base = np.where(v < 0, -self.negative.magnitude(v), np.sign(v) * self.positive.magnitude(v))
+        if self.inputs is None:
+            return base
+        level, viscous = self.inputs.factors(v, load, temperature)
+        linear = self.viscous_force(v)
+        return (base - linear) * level + linear * viscous
 
     __call__ = force
 
@@ -276,6 +304,8 @@ class FrictionModel:
             d["presliding"] = self.presliding.to_dict()
         if self.velocity_band is not None:
             d["velocity_band"] = self.velocity_band
+        if self.inputs is not None:
+            d["inputs"] = self.inputs.to_dict()
         if self.cogging_map is not None or self.cogging_friction is not None:
             d["cogging"] = {key: m.to_dict() for key, m in
                             (("map", self.cogging_map), ("friction", self.cogging_friction)) if m is not None}
@@ -305,7 +335,7 @@ class FrictionModel:
              "training": self.training}
         if self.negative is not None:
             d["negative"] = core["negative"]
-        for key in ("presliding", "velocity_band", "cogging"):
+        for key in ("presliding", "velocity_band", "inputs", "cogging"):
             if key in core:
                 d[key] = core[key]
         return d
@@ -382,9 +412,13 @@ class FrictionModel:
         if d.get("format") != FORMAT:
             raise ModelError(f"format must be {FORMAT!r}, got {d.get('format')!r}"[:200])
         version = d.get("format_version")
-        if isinstance(version, bool) or version not in (SYMMETRIC_FORMAT_VERSION, FORMAT_VERSION):
+        if isinstance(version, bool) or version not in range(SYMMETRIC_FORMAT_VERSION, FORMAT_VERSION + 1):
             raise ModelError(f"unknown format_version {d.get('format_version')!r}; this fricgen "
-                             f"reads versions {SYMMETRIC_FORMAT_VERSION} and {FORMAT_VERSION}"[:200])
+                             f"reads versions {SYMMETRIC_FORMAT_VERSION} to {FORMAT_VERSION}"[:200])
+        inputs = None if d.get("inputs") is None else LoadTemperature.from_dict(d["inputs"])
+        if (inputs is not None) != (version == FORMAT_VERSION):
+            raise ModelError(f"field 'inputs' needs format_version {FORMAT_VERSION}, and version "
+                             f"{FORMAT_VERSION} holds models with inputs only")
         name = check_c_identifier(d.get("name"))
         positive = Direction.from_dict(d)
         negative = None
@@ -423,7 +457,7 @@ class FrictionModel:
                    v_sat=positive.v_sat, name=name, effects=tuple(effects), training=training,
                    negative=negative, cogging_map=cogging.get("map"),
                    cogging_friction=cogging.get("friction"), presliding=presliding,
-                   velocity_band=band, recorded_hash=recorded["model_hash"],
+                   velocity_band=band, inputs=inputs, recorded_hash=recorded["model_hash"],
                    recorded_axis_hash=recorded["axis_hash"])
 
     @classmethod

@@ -77,7 +77,7 @@ def _mutations():
     yield "symmetric a string", lambda d: d.__setitem__("symmetric", "no"), "true or false"
     yield "negative in a symmetric model", lambda d: d.__setitem__("symmetric", True), "symmetric: false"
     yield "negative in version 1", lambda d: d.__setitem__("format_version", 1), "symmetric must be true"
-    yield "version 3", lambda d: d.__setitem__("format_version", 3), "reads versions 1 and 2"
+    yield "version 3 without inputs", lambda d: d.__setitem__("format_version", 3), "needs format_version 3"
 
 
 @pytest.mark.parametrize("label, mutate, message", list(_mutations()), ids=[m[0] for m in _mutations()])

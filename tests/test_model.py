@@ -64,7 +64,7 @@ def _mutations():
     yield "negative v_sat", lambda d: d.__setitem__("v_sat", -1.0), "must be > 0"
     yield "zero k_in", lambda d: d["scaling"].__setitem__("k_in", 0), "must be > 0"
     yield "bool weight", lambda d: d["aim"]["biases"].__setitem__(0, True), "finite number"
-    yield "unknown version", lambda d: d.__setitem__("format_version", 3), "unknown format_version"
+    yield "unknown version", lambda d: d.__setitem__("format_version", 4), "unknown format_version"
     yield "wrong format", lambda d: d.__setitem__("format", "onnx"), "format must be"
     yield "unknown activation", lambda d: d["aim"].__setitem__("activation", "relu"), "activation"
     yield "unknown kind", lambda d: d["aim"].__setitem__("kind", "svm"), "aim.kind"

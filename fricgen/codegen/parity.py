@@ -50,7 +50,7 @@ def float32_deviation(model: FrictionModel, activation_impl: str = "libm") -> di
     v_sat = max(c.v_sat for c in model.directions)
     v = parity_velocities(v_sat)
     v = v[np.abs(v) <= v_sat]
-    exact = model.force(v.astype(float))
+    exact = model.reference.force(v.astype(float))
     twin = force_f32(model, v, activation_impl).astype(float)
     k = int(np.argmax(np.abs(twin - exact)))
     return {"deviation": float(abs(twin[k] - exact[k])), "velocity": float(v[k]),

@@ -14,6 +14,7 @@ from ..effects.presliding import least_level
 from ..errors import ModelError, UsageError
 from .cogging_table import CoggingTable
 from ..model import FrictionModel
+from ..units import units_of
 from ..networks import ElmNetwork, StribeckCurve
 from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER,
                       VERSION_HEADER, axis_context, effects_context, emit_options, identity_context,
@@ -161,12 +162,34 @@ def template_context(model: FrictionModel, name: str, activation_impl: str = "li
             **axis_context(model),
             **effects_context(model, name),  # effects, effects_not_in_c: NAME_force_xv
             "cogging": None if model.cogging_map is None else CoggingTable.of(model.cogging_map).context(),
-            "band": band_context(model), "presliding": None}
+            "band": band_context(model), "presliding": None,
+            "inputs": inputs_context(model, activation_impl)}
 
 
 #: exp(-y) in the pre-sliding update, by ``--activation-impl``, and the header that declares it.
 PRESLIDING_EXP = {"libm": ("fric_exp_neg_inline_f32", '"fric_kernel.h"'),
                   "fast": ("fric_exp_neg_fast_f32", '"fric_fast.h"')}
+
+
+def inputs_context(model: FrictionModel, activation_impl: str) -> Optional[dict]:
+    """NAME_force_lt's constants (None for a model without ``inputs``)."""
+    inputs = model.inputs
+    if inputs is None:
+        return None
+    units = units_of(model.training.get("units") == "rotary")
+    exp_fn, header = PRESLIDING_EXP[activation_impl]
+    load = temperature = None
+    if inputs.load is not None:
+        load = {"driving": c_float(inputs.load.driving), "back_driving": c_float(inputs.load.back_driving),
+                "largest": c_float(inputs.load.largest)}
+    if inputs.temperature is not None:
+        t = inputs.temperature
+        temperature = {"reference": c_float(t.reference), "levels": c_float(t.levels),
+                       "viscous": c_float(t.viscous), "low": c_float(t.span[0]),
+                       "high": c_float(t.span[1])}
+    return {"load": load, "temperature": temperature, "exp_fn": exp_fn, "header": header,
+            "force_unit": units.force, "speed_unit": units.speed,
+            "load_word": "torque" if units.kind == "rotary" else "force"}
 
 
 def band_context(model: FrictionModel) -> Optional[dict]:
@@ -340,6 +363,11 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         raise ModelError(f"activation_impl must be one of {list(ACTIVATION_IMPLS)}, got {activation_impl!r}")
     if dtype not in DTYPES:
         raise ModelError(f"dtype must be one of {list(DTYPES)}, got {dtype!r}")
+    if model.inputs is not None and (dtype != "float" or with_controller or adapt):
+        what = f"--dtype {dtype}" if dtype != "float" else ("--adapt" if adapt else "the controller runtime")
+        raise ModelError(f"{what} runs the friction of v alone; this model depends on the "
+                         f"{' and the '.join(model.inputs.names)} (emit it with --dtype float: "
+                         "NAME_force_lt)")
     if dtype != "float":
         if model.negative is not None:
             raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
@@ -365,8 +393,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     check_determined(model)
     ctx = template_context(model, name, activation_impl)
     ctx["presliding"] = presliding_context(model, activation_impl, sample_time)
-    if ctx["presliding"] is not None and ctx["presliding"]["header"] not in ctx["includes"]:
-        ctx["includes"].append(ctx["presliding"]["header"])
+    for part in ("presliding", "inputs"):
+        if ctx[part] is not None and ctx[part]["header"] not in ctx["includes"]:
+            ctx["includes"].append(ctx[part]["header"])
     ctx["emit_options"] = emit_options(dtype=dtype, activation_impl=activation_impl,
                                        with_controller=with_controller, adapt=adapt,
                                        **({} if ctx["presliding"] is None else

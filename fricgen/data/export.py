@@ -24,13 +24,15 @@ from .motionlog import check_finite
 from .table import DETECT, header_cells, read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
-QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A"}
+QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A", "load": "N",
+              "temperature": "degC"}
 
 #: Column names of robot and drive logs, read as fricgen's quantities where the file has no
 #: column of fricgen's own name for it and ``--columns`` maps none: a joint's position q,
 #: velocity dq (qd), torque tau (effort), motor current. They name a rotary axis
 #: (``names_rotary_axis``).
-ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "current": "i"}
+ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "current": "i",
+           "temp": "temperature"}
 #: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
 ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort")
 
@@ -177,8 +179,10 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         raw = mat.columns(rename, [q for q in QUANTITIES if q not in layout.columns])
     else:
         _check_mapped(path, layout, option)
+        sparse = [h for h, name in rename.items() if name == "temperature"] or ["temperature", "temp"]
         raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text,
-                             delimiter=layout.delimiter, decimal_comma=layout.decimal_comma)
+                             delimiter=layout.delimiter, decimal_comma=layout.decimal_comma,
+                             sparse=sparse)
     columns = {}
     for header, values in raw.items():
         name = rename.get(header, header)

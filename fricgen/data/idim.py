@@ -64,15 +64,36 @@ class RigidBody:
         return self.mass_se is None or self.mass > MASS_SIGMAS * self.mass_se
 
 
-def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float):
+def operating_basis(v: np.ndarray, load: Optional[np.ndarray] = None,
+                    temperature: Optional[np.ndarray] = None) -> Optional[np.ndarray]:
+    """Columns spanning a friction that changes with the operating point, beside
+    ``friction_basis``: sgn(v) |L| where the drive drives the load (v L > 0) and where it is
+    driven, sgn(v) dT and v dT (dT the temperature less its mean); None without either."""
+    columns = []
+    if load is not None:
+        driving = v * load > 0
+        columns += [np.sign(v) * np.abs(load) * driving, np.sign(v) * np.abs(load) * ~driving]
+    if temperature is not None:
+        dt = temperature - np.mean(temperature)
+        columns += [np.sign(v) * dt, v * dt]
+    return np.column_stack(columns) if columns else None
+
+
+def _with(basis: np.ndarray, extra: Optional[np.ndarray]) -> np.ndarray:
+    return basis if extra is None else np.column_stack([basis, extra])
+
+
+def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
+                  extra: Optional[np.ndarray] = None):
     """m, its standard error and the raw estimate from f = m a + F(v) + o over moving rows (F
     by ``friction_basis`` per direction, which also absorbs o). Where the accelerations do not
     determine it (within MASS_SIGMAS standard errors of 0: a slow log, or one whose inertia was
     removed before), m is that estimate, at least 0, and ``RigidBody.mass_determined`` says so.
     A clearly negative m is a reversed sign only where the friction fitted beside it pushes
     the axis as well (``DataError``); where that friction opposes the motion it is a residual
-    inertia (a rigid-body model removed from the force, overestimated), and m is 0."""
-    basis = np.column_stack([a, friction_basis(v, odd=False)])
+    inertia (a rigid-body model removed from the force, overestimated), and m is 0. ``extra``:
+    columns of a friction that changes with the operating point (``operating_basis``)."""
+    basis = _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
     coef, se = least_squares_errors(basis, force, independent)
     mass, mass_se = float(coef[0]), float(se[0])
     friction = basis[:, 1:] @ coef[1:]
@@ -84,23 +105,25 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
 
 
 def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float,
-                    independent: float):
-    """o and its standard error from f - m a = o + F(v), F odd (``friction_basis``)."""
-    basis = np.column_stack([np.ones_like(v), friction_basis(v, odd=True)])
+                    independent: float, extra: Optional[np.ndarray] = None):
+    """o and its standard error from f - m a = o + F(v), F odd (``friction_basis``; ``extra``
+    as ``identify_mass``)."""
+    basis = _with(np.column_stack([np.ones_like(v), friction_basis(v, odd=True)]), extra)
     coef, se = least_squares_errors(basis, force - mass * a, independent)
     return float(coef[0]), float(se[0])
 
 
 def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
-                        mass: Optional[float] = None) -> RigidBody:
+                        mass: Optional[float] = None,
+                        extra: Optional[np.ndarray] = None) -> RigidBody:
     """The mass (unless given) and the offset of the axis from smoothed dv/dt, v and force at
-    rows where it moves."""
+    rows where it moves (``extra`` as ``identify_mass``)."""
     mass_se = estimate = None
     if mass is None:
-        mass, mass_se, estimate = identify_mass(a, v, force, independent)
+        mass, mass_se, estimate = identify_mass(a, v, force, independent, extra)
     offset = offset_se = None
     if np.any(v > 0) and np.any(v < 0):
-        offset, offset_se = identify_offset(a, v, force, mass, independent)
+        offset, offset_se = identify_offset(a, v, force, mass, independent, extra)
     clearly_negative = estimate is not None and -estimate > MASS_SIGMAS * mass_se
     return RigidBody(float(mass), mass_se, offset, offset_se,
                      estimate if clearly_negative else None)

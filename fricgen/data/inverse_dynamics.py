@@ -10,7 +10,7 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Callable, Dict, List, Optional, Tuple
 
@@ -23,7 +23,7 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import RigidBody, identify_mass, identify_rigid_body
+from .idim import RigidBody, identify_mass, identify_rigid_body, operating_basis
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -56,6 +56,9 @@ MIN_INDEPENDENT = 4 * SAMPLES_PER_PARAMETER
 #: this many times over, is a wrong mass or unit (``_check_inertia``).
 INERTIA_OFF = 10.0
 
+
+#: The columns of a log's operating point beside the motion and the force.
+CONDITIONS = ("load", "temperature")
 
 #: How close to a whole number of encoder steps each change of a logged position must be (a
 #: continuous position meets it on 0.02 % of its changes; the rule asks 99 %).
@@ -209,6 +212,9 @@ class Identification:
     load: bool = False
     #: The log's jittering time stamps were resampled onto a uniform grid
     resampled: bool = False
+    #: The operating point at the rows of ``sweep`` (``load``, ``temperature``; smoothed as v),
+    #: for a log with those columns
+    conditions: Dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def n_kept(self) -> int:
@@ -298,7 +304,8 @@ class Identification:
 def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = None,
                       v: Optional[np.ndarray] = None, x: Optional[np.ndarray] = None,
                       window: Optional[int] = None, use: Optional[np.ndarray] = None,
-                      progress: Optional[Callable[[str], None]] = None) -> Identification:
+                      progress: Optional[Callable[[str], None]] = None,
+                      conditions: Optional[Dict[str, np.ndarray]] = None) -> Identification:
     """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
@@ -307,8 +314,13 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
     (odd samples) overrides ``choose_window``, which reports to ``progress``. ``use`` (a mask of rows) confines everything
     identified to those rows, less half a window at each edge, so that a held-out block of time
-    leaks nothing into it."""
-    columns = {"t": t, "force": force, "v": v, "x": x}
+    leaks nothing into it.
+
+    ``conditions``: the log's ``load`` (the external force the drive supplies beside the
+    friction, f = m a + L + F + o; ``check_load``) and ``temperature`` columns, smoothed as v and
+    kept at the rows of the samples (``Identification.conditions``)."""
+    conditions = dict(conditions or {})
+    columns = {"t": t, "force": force, "v": v, "x": x, **conditions}
     for name, values in columns.items():
         if values is not None:
             check_finite(name, values)
@@ -336,9 +348,15 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         window = choose_window(force, rows, guess, noise, ts, progress)
     v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
     independent = moving.sum() * _centre_weight(window)
+    at_rows = {name: smooth(values, window) for name, values in conditions.items()}
+    if "load" in at_rows:
+        check_load(f_s[moving], at_rows["load"][moving], a_s[moving], v_s[moving], independent)
+        f_s = f_s - at_rows["load"]
     if mass is not None:
         _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], independent)
-    body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass)
+    extra = operating_basis(v_s[moving], *(None if k not in at_rows else at_rows[k][moving]
+                                           for k in CONDITIONS))
+    body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass, extra)
     friction = f_s - body.mass * a_s
     steady = steady_rows(v_s, moving, window)
     kept = float(steady.sum()) * _centre_weight(window)
@@ -349,7 +367,32 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                         "longer or more varied motion")
     return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
                           window=int(window), sample_time=ts, velocity_noise=noise,
-                          independent=kept, body=body)
+                          independent=kept, body=body,
+                          conditions={k: c[steady] for k, c in at_rows.items()})
+
+
+#: The force must follow the load column with a slope within this factor of 1 (f = m a + L + F):
+#: a load of the other sign convention gives -1, one in other units 1000 or 0.001.
+LOAD_SLOPE_OFF = 2.0
+
+
+def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray,
+               independent: float) -> None:
+    """``DataError`` when the force does not follow the load column as f = m a + L + F does:
+    its slope on L (regressed with a, sgn(v), v, sgn(v) |L| for a load-dependent friction and a
+    constant) below 1 / LOAD_SLOPE_OFF or above LOAD_SLOPE_OFF, three standard errors clear: a
+    load of the opposite sign convention, or in other units. A load that does not vary is not
+    checked (it is one with the offset)."""
+    if not np.ptp(load) > 0:
+        return
+    basis = np.column_stack([load, a, np.sign(v), v, np.sign(v) * np.abs(load), np.ones(v.size)])
+    coef, se = least_squares_errors(basis, force, independent)
+    k, k_se = float(coef[0]), float(se[0])
+    if k + 3.0 * k_se < 1.0 / LOAD_SLOPE_OFF or k - 3.0 * k_se > LOAD_SLOPE_OFF:
+        cause = ("the load column has the opposite sign convention (negate it)" if k < 0 else
+                 "check the load's units (the force's: N, or Nm on a rotary axis)")
+        raise DataError(f"the force follows the load column with slope {k:.3g} +- {k_se:.2g}, "
+                        f"where f = m dv/dt + load + friction gives 1: {cause}")
 
 
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
@@ -397,6 +440,18 @@ def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, indepe
                         "the mass and the units of the force or i (mA for A?) and of the force constant")
 
 
+def interpolated(values: np.ndarray, t: Optional[np.ndarray]) -> np.ndarray:
+    """A column logged at a slower rate (NaN between its readings) linearly interpolated in
+    time, held beyond its first and last reading; ``DataError`` with fewer than one reading."""
+    values = np.asarray(values, dtype=float)
+    read = np.isfinite(values)
+    if read.all() or t is None or t.size != values.size:
+        return values
+    if not read.any():
+        raise DataError("column 'temperature' holds no reading")
+    return np.interp(t, t[read], values[read])
+
+
 #: The columns that make a CSV a motion log rather than a sweep (v, f).
 LOG_TIME, LOG_MOTION, LOG_DRIVE = "t", ("v", "x"), ("force", "i")
 
@@ -432,6 +487,8 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
     ``force_constant`` (N/A). A current without a force constant determines M/K and the friction
     over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so.
     ``progress`` and ``use`` (a mask of the log's rows) as there."""
+    if "temperature" in columns:                # a sensor's slower rate: blank cells between
+        columns = {**columns, "temperature": interpolated(columns["temperature"], columns.get("t"))}
     for name, values in columns.items():        # named as the file has them (i, not force)
         check_finite(name, values)
     if use is not None:                         # resampled with the columns
@@ -444,8 +501,13 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
 
 
 def _identify_log(columns, mass, force_constant, progress, use=None) -> Identification:
+    conditions = {k: columns[k] for k in CONDITIONS if k in columns}
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress,
-                               "use": use}
+                               "use": use, "conditions": conditions}
+    if "load" in conditions and "force" not in columns and force_constant is None:
+        raise DataError("the log has a load column and a current i but no force: pass "
+                        "--force-constant (N/A) so that the current is a force the load can be "
+                        "taken from")
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
@@ -456,7 +518,7 @@ def _identify_log(columns, mass, force_constant, progress, use=None) -> Identifi
     if force_constant is not None:
         return replace(identify_friction(t, force_constant * current, mass, **motion),
                        force_constant=(float(force_constant), None))
-    in_amperes = identify_friction(t, current, None, **motion).body     # m/K, o/K
+    in_amperes = identify_friction(t, current, None, **{**motion, "conditions": {}}).body  # m/K, o/K
     if mass is not None and not in_amperes.mass_determined:
         raise DataError(f"the log's accelerations do not determine M/K ({in_amperes.mass:.3g} +- "
                         f"{in_amperes.mass_se:.2g} kg/(N/A)), so --mass cannot give K: pass "

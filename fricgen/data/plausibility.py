@@ -89,7 +89,7 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     elif {"x", "t"} <= set(columns) and columns["t"].size > 1 and np.all(np.diff(columns["t"]) > 0):
         checks.append(("x", "speed", "|dx/dt| (99th percentile)",
                        _top(np.diff(columns["x"]) / np.diff(columns["t"]))))
-    for name in ("f", "force"):
+    for name in ("f", "force", "load"):
         if name in columns:
             checks.append((name, "force", f"|{name}| (99th percentile)", _top(columns[name])))
     if "i" in columns:
@@ -215,12 +215,42 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
                         accept_unusual, warn)
 
 
+#: Temperatures (degC) of a lubricated axis in service: beyond, the column is in K or degF
+#: (refused); a log whose coolest reading exceeds WARM_START is warned about (in degF?).
+TEMPERATURE_PHYSICAL = (-60.0, 250.0)
+TEMPERATURE_USUAL = (-30.0, 120.0)
+WARM_START = 45.0
+
+
+def check_temperature(values: np.ndarray, source: str, accept_unusual: bool = False,
+                      warn: Callable[[str], None] = print) -> None:
+    """A temperature column in degC: readings beyond TEMPERATURE_PHYSICAL refused (K?), beyond
+    TEMPERATURE_USUAL refused unless ``accept_unusual`` (degF?), a coolest reading above
+    WARM_START warned about (degF?)."""
+    read = values[np.isfinite(values)]
+    if read.size == 0:
+        return
+    low, high = float(read.min()), float(read.max())
+    what = f"{source}: column 'temperature' reads {low:.4g} to {high:.4g}, in degC"
+    if low < TEMPERATURE_PHYSICAL[0] or high > TEMPERATURE_PHYSICAL[1]:
+        hint = "; in K? subtract 273.15" if 200 < low and high < 600 else "; in degF or K?"
+        raise DataError(f"{what} beyond any axis in service{hint}")
+    if low < TEMPERATURE_USUAL[0] or high > TEMPERATURE_USUAL[1]:
+        _refuse_or_warn(f"{what}: beyond {TEMPERATURE_USUAL[0]:g} to {TEMPERATURE_USUAL[1]:g} degC "
+                        "(in degF? (T - 32) / 1.8 converts it)", accept_unusual, warn)
+    elif low > WARM_START:
+        warn(f"fricgen: warning: {what}: its coolest reading is warmer than most machines' "
+             "surroundings (in degF? (T - 32) / 1.8 converts it)")
+
+
 def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
                   accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
     """Every data check that applies to the columns read from ``source``: for a sweep its shape
     (``check_sweep_shape``, first: swapped columns also break the bounds), then the physical
-    bounds."""
-    if not all(np.all(np.isfinite(values)) for values in columns.values()):
+    bounds; a log's temperature column (``check_temperature``)."""
+    if "temperature" in columns:
+        check_temperature(columns["temperature"], source, accept_unusual, warn)
+    if not all(np.all(np.isfinite(values)) for k, values in columns.items() if k != "temperature"):
         return                      # the readers name the row
     if not is_log and {"v", "f"} <= set(columns):
         check_sweep_shape(columns["v"], columns["f"], source, accept_unusual, warn)

@@ -121,7 +121,8 @@ def _utf8_error(path, exc: UnicodeDecodeError) -> DataError:
 def read_table_csv(path: Union[str, Path], required: Sequence[str],
                    keep_extra: bool = False, skip: int = 0, drop_text: bool = False,
                    delimiter: Optional[str] = DETECT,
-                   decimal_comma: Optional[bool] = None) -> Dict[str, np.ndarray]:
+                   decimal_comma: Optional[bool] = None,
+                   sparse: Sequence[str] = ()) -> Dict[str, np.ndarray]:
     """Read a numeric CSV (the module doc's dialects) whose header names (at least) the
     ``required`` columns.
 
@@ -133,6 +134,7 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     line numbers in messages count them. With ``drop_text``, an extra column holding text is
     left out instead of refused. Without ``skip`` a preamble is found (``header_skip``);
     ``delimiter`` (a value of ``DELIMITERS``) and ``decimal_comma`` force the dialect.
+    A blank cell of a ``sparse`` column (a signal logged at a slower rate) reads as NaN.
     """
     try:
         skip = skip or header_skip(path, delimiter)
@@ -148,7 +150,8 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
             rows = (csv.reader(fh, delimiter=sep) if sep is not None else
                     (line.split() for line in fh))
             return _read_rows(path, rows, required, keep_extra, first_line=skip + 1,
-                              drop_text=drop_text, sep=sep, decimal_comma=decimal_comma)
+                              drop_text=drop_text, sep=sep, decimal_comma=decimal_comma,
+                              sparse=sparse)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
@@ -226,7 +229,7 @@ def _is_number(cell: str, decimal_comma: bool = False) -> bool:
 
 
 def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, sep=",",
-               decimal_comma=None) -> Dict[str, np.ndarray]:
+               decimal_comma=None, sparse=()) -> Dict[str, np.ndarray]:
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
@@ -263,6 +266,9 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
             values.extend([plain_float(row[k]) for k in wanted])
         except ValueError:
             bad = [k for k in wanted if not _is_number(row[k])]
+            if all(header[k] in sparse and not row[k].strip() for k in bad):
+                values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
+                continue
             if not drop_text or any(header[k] in required for k in bad):
                 grouped = any(_GROUPED.fullmatch(row[k].strip()) for k in bad)
                 decimal_comma = any(_DECIMAL_COMMA.fullmatch(row[k].strip()) for k in bad)

@@ -21,10 +21,12 @@ from ..data.training_set import SAT_FACTOR
 from ..fit import DefaultRegressor, StribeckRegressor
 from ..fit.directions import CV_FOLDS, DirectionsFit
 from ..fit.law_choice import LawChoice
+from ..fit.load_temperature import DependenceFit
 from ..fit.textbook import TextbookRegressor
 from ..units import LINEAR, units_of
 from ..fit.stribeck import XS_MAX
 from ..model import FrictionModel
+from .with_inputs import dependence_lines
 
 
 @dataclass(frozen=True)
@@ -71,6 +73,9 @@ class FitReport:
     warnings: Tuple[str, ...] = field(default=())
     #: How the default chose its law (``fit.law_choice``); None for an estimator given.
     law: Optional[LawChoice] = None
+    #: The load and temperature dependence tried, for a log with those columns
+    #: (``fit.load_temperature``); None otherwise.
+    inputs: Optional[DependenceFit] = None
 
     @property
     def training(self) -> dict:
@@ -93,6 +98,8 @@ class FitReport:
             text = curve_report(f.dataset, f.estimator, curve["metrics"], units)
             reports.append(text if not label else
                            f"{label}\n" + "\n".join("  " + t for t in text.splitlines()))
+        if self.inputs is not None:
+            reports.extend(dependence_lines(self.inputs, units))
         problem = float32_problem(self.model)
         if problem:
             reports.append(f"float32   {problem}; emit refuses it")

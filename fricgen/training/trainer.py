@@ -24,6 +24,7 @@ from ..fit.law_choice import LawChoice, choose_law, point_weights, shows_structu
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, stribeck_warning
+from .with_inputs import dependence_record, fit_inputs
 
 
 def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool, fastest: float,
@@ -280,16 +281,23 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
-    choice: Optional[LawChoice] = None
-    with named_data(source):
-        if isinstance(estimator, DefaultRegressor):
-            fitted, ident, choice = _fit_default(sweep, estimator, ident, spread, vs_max,
-                                                 asymmetric, seed, progress)
-            sweep = sweep if ident is None else ident.friction
-        else:
+
+    def fit_curves(sweep, ident):
+        with named_data(source):
+            if isinstance(estimator, DefaultRegressor):
+                fitted, ident, choice = _fit_default(sweep, estimator, ident, spread, vs_max,
+                                                     asymmetric, seed, progress)
+                return fitted, ident, (sweep if ident is None else ident.friction), choice
             fitted, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
                                                      asymmetric=asymmetric, seed=seed,
                                                      progress=progress)
+            return fitted, ident, sweep, None
+
+    fitted, ident, sweep, choice = fit_curves(sweep, ident)
+    shapes, dependence = [f.curve for f in fitted.fits], None
+    if ident is not None and ident.conditions:
+        fitted, ident, sweep, choice, shapes, dependence = fit_inputs(
+            fitted, ident, sweep, choice, fit_curves, progress)
     first = fitted.fits[0]
     curves = [curve_record(f) for f in fitted.fits]
     training = {**method_record(estimator), "seed": seed, "source": source if file is None else file,
@@ -312,8 +320,11 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
                            "independent": ident.independent,
                            "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
                                        for s in (1, -1)]}
-    model = FrictionModel.from_directions(*(f.curve for f in fitted.fits), name=name,
-                                          training=training)
+    if dependence is not None:
+        training["inputs"] = dependence_record(dependence)
+    model = FrictionModel.from_directions(*shapes, name=name, training=training)
+    if dependence is not None and dependence.inputs is not None:
+        model = replace(model, inputs=dependence.inputs)
     try:
         for curve in model.directions:
             curve.check()
@@ -322,4 +333,4 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
     notes = (stribeck_warning(ident, fitted.fits),) if ident is not None else ()
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
-                     warnings=tuple(n for n in notes if n), law=choice)
+                     warnings=tuple(n for n in notes if n), law=choice, inputs=dependence)
