@@ -203,10 +203,12 @@ class FrictionModel:
         ----------
         v : array_like
             Velocities, m/s.
-        load, temperature : array_like, optional
-            The external force on the axis (N; Nm on a rotary axis) and the temperature (degC),
-            broadcast with ``v``: needed by a model that depends on them (``UsageError``
-            without), ignored by one that does not.
+        load : array_like, optional
+            The external force on the axis, N (Nm on a rotary axis), broadcast with ``v``:
+            needed by a model that depends on it (``UsageError`` without), ignored by one that
+            does not.
+        temperature : array_like, optional
+            The temperature, degC, likewise.
 
         Returns
         -------

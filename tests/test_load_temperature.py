@@ -209,3 +209,40 @@ def test_a_one_input_model_emits_no_force_lt():
     sweep = synthesize_benchmark(preset("paper3"), seed=0).train
     m = train(sweep, vs_max=0.02, estimator=StribeckRegressor()).model
     assert "_force_lt" not in "".join(codegen.render(m).values())
+
+
+def test_the_command_line_reads_mapped_sparse_columns_and_eval_takes_the_inputs(tmp_path, capsys,
+                                                                                 monkeypatch):
+    import io
+    from fricgen.cli import main
+    log, _ = joint_log(n=6000)
+    names = {"t": "t", "x": "x", "force": "force", "load": "grav", "temperature": "T_C"}
+    lines = [",".join(names.values())]
+    for k in range(log["t"].size):
+        cells = [repr(float(log[c][k])) for c in names]
+        if k % 25:
+            cells[-1] = ""                       # the temperature at a slower rate
+        lines.append(",".join(cells))
+    (tmp_path / "log.csv").write_text("\n".join(lines) + "\n")
+    model_path = tmp_path / "m.json"
+    assert main(["train", str(tmp_path / "log.csv"), "--rotary", "--columns",
+                 "load=grav,temperature=T_C", "-o", str(model_path)]) == 0
+    model = FrictionModel.load(model_path)
+    assert model.inputs is not None
+    capsys.readouterr()
+    monkeypatch.setattr("sys.stdin", io.StringIO("0.3,20,40\n-0.3 -20 50\n"))
+    assert main(["eval", str(model_path), "--no-offset"]) == 0
+    printed = [float(x) for x in capsys.readouterr().out.split()]
+    assert printed == pytest.approx(model.force([0.3, -0.3], load=[20, -20], temperature=[40, 50]))
+    monkeypatch.setattr("sys.stdin", io.StringIO("0.3\n"))
+    assert main(["eval", str(model_path)]) == 2
+    assert "need 3 (velocity, load, temperature)" in capsys.readouterr().err
+    for argv in (["simulate", "--model", str(model_path)],
+                 ["diagnose", str(tmp_path / "log.csv"), "--model", str(model_path), "-o",
+                  str(tmp_path / "dx.json"), "--columns", "load=grav,temperature=T_C"],
+                 ["train", str(tmp_path / "log.csv"), "--rotary", "--dynamic", "-o", str(tmp_path / "d.json"),
+                  "--columns", "load=grav,temperature=T_C"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and ("v alone" in err or "friction of v" in err)
+    assert not (tmp_path / "d.json").exists()

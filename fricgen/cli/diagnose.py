@@ -119,7 +119,7 @@ def run(args) -> int:
 def _run(args) -> int:
     inputs = [args.model, args.log] + ([args.merge] if args.merge else [])
     check_folder(args.output, [args.model], args.force)
-    model = load_model(args.model)
+    model = load_model(args.model, "diagnose")
     if model.cogging_map is not None:
         raise UsageError(f"{args.model} holds a cogging map, which diagnose does not model yet: it "
                          "would name the cogging again as position_ripple; diagnose the model trained "

@@ -1,7 +1,8 @@
 """``fricgen eval MODEL``: forces (N) for velocities read from stdin, one per line, streamed:
 F(v) of [F3] plus the axis's identified offset (``FrictionModel.force_with_offset``), or F(v)
-alone with ``--no-offset``; with ``--position`` each line holds v and x and the cogging map's
-force C(x) is added (``FrictionModel.cogging``)."""
+alone with ``--no-offset``. A model that depends on the load or the temperature reads them
+after v on each line (v,load,temperature; those it uses, in that order). With ``--position``
+each line ends with x and the cogging map's force C(x) is added (``FrictionModel.cogging``)."""
 from __future__ import annotations
 
 import itertools
@@ -26,14 +27,14 @@ def register(p) -> None:
     p.add_argument("--no-offset", action="store_true",
                    help="F(v) alone, without the constant force training identified on the axis")
     p.add_argument("--position", action="store_true",
-                   help="each line holds v and x (comma or space between): add the cogging map C(x)")
+                   help="each line ends with x (comma or space between): add the cogging map C(x)")
     p.set_defaults(run=run)
 
 
-def _rows(stream, columns: int):
-    """The ``columns`` numbers (velocity, and position) of every non-blank line of a binary (or
-    text) stream."""
-    what = "velocity" if columns == 1 else "velocity and position"
+def _rows(stream, names):
+    """The numbers named ``names`` (velocity, the model's inputs, position) of every non-blank
+    line of a binary (or text) stream."""
+    columns, what = len(names), ", ".join(names)
     for n, raw in enumerate(stream, start=1):
         try:
             text = (raw.decode("utf-8-sig") if isinstance(raw, bytes) else raw).strip()
@@ -65,18 +66,20 @@ def run(args) -> int:
     if model.presliding is not None:
         say("fricgen: note: the model has pre-sliding, a state: eval gives its static curve (the "
             "force of steady sliding at each v); model.stepper and NAME_step give the dynamics")
-    force = model.force
+    offset = 0.0
     if model.axis_offset and not args.no_offset:
         say(f"fricgen: note: the forces include the axis's offset {model.axis_offset:.6g} "
             "(identified in training); --no-offset for F(v) alone")
-        force = model.force_with_offset
+        offset = model.axis_offset
     if args.position and model.cogging_map is None:
         say("fricgen: note: the model has no cogging map; --position adds nothing")
-    rows = _rows(stdin, 2 if args.position else 1)
+    inputs = () if model.inputs is None else model.inputs.names
+    names = ["velocity", *inputs] + (["position"] if args.position else [])
+    rows = _rows(stdin, names)
     while chunk := list(itertools.islice(rows, CHUNK)):
         chunk = np.array(chunk)
-        f = force(chunk[:, 0])
+        f = model.force(chunk[:, 0], **{n: chunk[:, 1 + k] for k, n in enumerate(inputs)}) + offset
         if args.position:
-            f = f + model.cogging(chunk[:, 1])
+            f = f + model.cogging(chunk[:, -1])
         out("\n".join(repr(v) for v in f.tolist()))
     return 0

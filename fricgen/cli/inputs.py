@@ -14,10 +14,16 @@ from ..model import FrictionModel
 from .common import number, say
 
 
-def load_model(path):
+def load_model(path, of_v_alone: str = ""):
     """``FrictionModel.load(path)``, and one warning line when the file was edited after training
-    (its recorded model_hash no longer matches its content)."""
+    (its recorded model_hash no longer matches its content). ``of_v_alone``: the command, which
+    runs the friction of v alone, refuses a model with inputs (load, temperature) in one line
+    rather than drop them."""
     model = FrictionModel.load(path)
+    if of_v_alone and model.inputs is not None:
+        raise UsageError(f"{of_v_alone} runs the friction of v alone; {path} depends on the "
+                         f"{' and the '.join(model.inputs.names)} (eval and emit take them: "
+                         "NAME_force_lt)")
     warning = model.hash_warning(path)
     if warning:
         say(warning)

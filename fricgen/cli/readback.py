@@ -20,7 +20,7 @@ def register(p) -> None:
 
 
 def run(args) -> int:
-    model = load_model(args.model)
+    model = load_model(args.model, "readback")
     try:
         with open(args.dump, encoding="utf-8") as stream:
             text = stream.read()

@@ -60,7 +60,7 @@ def run(args) -> int:
                          f"{args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} are simulated")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
-    model = load_model(args.model) if args.model else None
+    model = load_model(args.model, "simulate") if args.model else None
     if model is not None and model.cogging_map is not None:
         say(f"fricgen: note: the simulation leaves out {args.model}'s cogging map (its plant has "
             "friction only)")

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..c_names import check_model_name
-from ..data.inverse_dynamics import MIN_LOG_ROWS, describe_missing, is_log
+from ..data.inverse_dynamics import CONDITIONS, MIN_LOG_ROWS, describe_missing, is_log
 from ..data.sweep import MIN_SWEEP_POINTS
 from ..data.export import names_rotary_axis
 from ..data.matfile import is_matfile
@@ -113,6 +113,11 @@ def fit(args, progress=say, warn=say):
                          "the travel; small reversals): train one, then the other")
     with rotary_axis(rotary):                  # the data checks' bounds too
         columns = training_columns(args)
+        given = [c for c in CONDITIONS if c in columns]
+        if given and (args.dynamic or args.cogging):
+            raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "
+                             f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
+                             "load and temperature dependence without it")
 
         def fit_friction(data, mass=args.mass, force_constant=args.force_constant, use=None):
             return train(data, estimator=_estimator(args), vs_max=args.vs_max, use=use,

@@ -193,8 +193,9 @@ def inputs_context(model: FrictionModel, activation_impl: str) -> Optional[dict]
 
 
 def band_context(model: FrictionModel) -> Optional[dict]:
-    """NAME_compensation's band (None for a model without ``velocity_band``)."""
-    if model.velocity_band is None:
+    """NAME_compensation's band (None for a model without ``velocity_band``, and for one with
+    inputs, whose compensation would need them: ``NAME_force_lt``)."""
+    if model.velocity_band is None or model.inputs is not None:
         return None
     source = model.training.get("velocity_band_from", "model.json velocity_band")
     return {"value": c_float(model.velocity_band), "inverse": c_float(1.0 / model.velocity_band),

@@ -54,6 +54,10 @@ class FitReport:
     law : LawChoice or None
         How the default chose its law among the textbook laws and the multi-source fit
         (``fricgen.fit.law_choice``); None when an estimator was given.
+    inputs : DependenceFit or None
+        For a log with load or temperature columns, the dependence tried on them
+        (``fricgen.fit.load_temperature``): the form kept, its estimates and standard errors,
+        what the data do not determine; None otherwise.
 
     Examples
     --------
