@@ -211,6 +211,7 @@ def test_a_one_input_model_emits_no_force_lt():
     assert "_force_lt" not in "".join(codegen.render(m).values())
 
 
+@pytest.mark.slow
 def test_the_command_line_reads_mapped_sparse_columns_and_eval_takes_the_inputs(tmp_path, capsys,
                                                                                  monkeypatch):
     import io
@@ -246,3 +247,25 @@ def test_the_command_line_reads_mapped_sparse_columns_and_eval_takes_the_inputs(
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and ("v alone" in err or "friction of v" in err)
     assert not (tmp_path / "d.json").exists()
+
+
+@pytest.mark.slow
+def test_diagnose_names_the_load_and_temperature_a_one_input_model_leaves_out(tmp_path, capsys):
+    from fricgen.cli import main
+    from fricgen.data.table import table_csv_text
+    log, _ = joint_log(n=12000)
+    velocity_only = train({"t": log["t"], "x": log["x"], "force": log["force"] - log["load"]},
+                          rotary=True).model
+    velocity_only.save(tmp_path / "m.json")
+    (tmp_path / "log.csv").write_text(table_csv_text(log))
+    capsys.readouterr()
+    assert main(["diagnose", str(tmp_path / "log.csv"), "--model", str(tmp_path / "m.json"), "-o",
+                 str(tmp_path / "out"), "--json"]) == 0
+    said = json.loads(capsys.readouterr().out)["operating_point"]
+    assert [line.split(":")[0] for line in said["missing"]] == ["load_dependence", "temperature_dependence"]
+    constant, _ = joint_log(n=12000, constant=True)
+    (tmp_path / "constant.csv").write_text(table_csv_text(constant))
+    assert main(["diagnose", str(tmp_path / "constant.csv"), "--model", str(tmp_path / "m.json"), "-o",
+                 str(tmp_path / "out2"), "--json"]) == 0
+    said = json.loads(capsys.readouterr().out)["operating_point"]
+    assert said["missing"] == [] and len(said["undetermined"]) == 2

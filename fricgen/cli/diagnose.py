@@ -16,6 +16,8 @@ from ..diagnose.report import format_value, refinement_note, render_files, servi
 from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
+from ..diagnose.operating_point import missing_dependence, named_lines, without_load
+from ..units import units_of
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
                      source_name)
 from .common import (add_json, add_model, add_output, check_targets,
@@ -131,6 +133,9 @@ def _run(args) -> int:
     columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
     columns, force_constant, drive_notes = drive_columns(columns, args.force_constant)
     mass, force_constant, notes = nominal_axis(model, args.mass, force_constant)
+    with named_data(source_name(args.log, args.merge)):
+        operating = missing_dependence(model, columns, mass, force_constant)
+    columns = without_load(columns, force_constant)
     model, offset_notes = with_axis_offset(model)
     notes = drive_notes + notes + offset_notes
     source = source_name(args.log, args.merge)
@@ -148,7 +153,11 @@ def _run(args) -> int:
     for note in range_notes(model_effects(model), log):
         say("fricgen: note: " + note)
     if args.json:
-        out(json.dumps(d.summary()))
+        summary = d.summary()
+        if operating is not None:
+            named, undetermined = named_lines(operating, units_of(model.training.get("units") == "rotary").force)
+            summary["operating_point"] = {"missing": named, "undetermined": undetermined}
+        out(json.dumps(summary))
     else:
         lines = []
         for j, s in enumerate(d.effects_, 1):
@@ -171,6 +180,14 @@ def _run(args) -> int:
         if d.effects_:
             lines.append(f"           after them: {d.where_after_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
+        if operating is not None:
+            named, undetermined = named_lines(operating, units_of(model.training.get("units") == "rotary").force)
+            lines += [f"missing    {line}" for line in named] or ["missing    no load nor temperature "
+                                                                 "dependence (the held-out blocks ask for none)"]
+            lines += [f"not told   {line}" for line in undetermined]
+            if named:
+                lines.append("           retrain with the log's load and temperature columns "
+                             "(fricgen train LOG --columns load=...,temperature=...)")
         refined = refinement_note(d)
         if refined:
             lines.append(f"refined    {refined}")
