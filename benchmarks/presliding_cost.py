@@ -14,13 +14,10 @@ Needs arm-none-eabi-gcc, libnewlib-arm-none-eabi and qemu-system-arm.
 from __future__ import annotations
 
 import sys
-import tempfile
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 
-from fricgen import codegen
 from fricgen.data.sweep import Sweep
 from fricgen.effects.presliding import Bristles
 from fricgen.firmware import build as fw
@@ -48,25 +45,7 @@ def main() -> int:
     if reason:
         print(f"skipped: {reason}")
         return 0
-    m = model()
-    print("instructions of one call (most over the speeds "
-          f"{', '.join(f'{v:g}' for v in SPEEDS)} m/s; QEMU, arm-none-eabi-gcc -O2, newlib; the M0+ "
-          "in soft float)")
-    print(f"  {'target':14s} {'impl':5s} " + " ".join(f"{fn:>16s}" for fn in WRAPPERS))
-    with tempfile.TemporaryDirectory(prefix="fricgen_presliding_") as tmp:
-        for impl in ("libm", "fast"):
-            src = Path(tmp) / f"src_{impl}"
-            codegen.emit(m, src, "fm", activation_impl=impl, force=True, sample_time=1e-4)
-            for target in ("cortex-m0plus", "cortex-m4f"):
-                cells = []
-                for fn, (entry, extra) in WRAPPERS.items():
-                    counts = []
-                    for k, v in enumerate(SPEEDS):
-                        cfg = fw.config_float("fm.h", entry, [v], 1, extra=extra)
-                        elf = fw.build_firmware(src, cfg, target, Path(tmp) / f"{impl}_{target}_{fn}_{k}")
-                        counts.append(sum(fw.count_instructions(elf, target).values()))
-                    cells.append(max(counts))
-                print(f"  {target:14s} {impl:5s} " + " ".join(f"{c:16d}" for c in cells), flush=True)
+    fw.print_call_costs(model(), WRAPPERS, SPEEDS, "m/s", sample_time=1e-4)
     return 0
 
 

@@ -22,6 +22,7 @@ import numpy as np
 from .._io import resource_dir
 from ..c_literal import c_float, c_list
 from ..codegen.cbuild import STRICT_WARNINGS
+from ..codegen.package import emit
 
 CC = "arm-none-eabi-gcc"
 SIZE = "arm-none-eabi-size"
@@ -250,6 +251,37 @@ def count_instructions(elf: Union[str, Path], target_name: str, timeout: float =
         if state == 0:
             raise FirmwareError("the execution log never reached fw_mark_begin")
     return counts
+
+
+def most_instructions(model_dir: Union[str, Path], header: str, entry: str, inputs,
+                      target_name: str, work_dir: Union[str, Path], extra: str = "") -> int:
+    """The most instructions one call of ``entry`` (float (float), ``extra`` may define it as a
+    wrapper) takes over ``inputs``: one firmware build per input (a call from a fresh state),
+    counted under QEMU (``count_instructions``)."""
+    counts = []
+    for k, value in enumerate(inputs):
+        cfg = config_float(header, entry, [value], 1, extra=extra)
+        elf = build_firmware(model_dir, cfg, target_name, Path(work_dir) / f"{target_name}_{entry}_{k}")
+        counts.append(sum(count_instructions(elf, target_name).values()))
+    return max(counts)
+
+
+def print_call_costs(model, wrappers: Dict[str, Tuple[str, str]], inputs, unit: str,
+                     **emit_options) -> None:
+    """Print the table of ``most_instructions`` of each of ``wrappers`` (column name -> (entry,
+    extra)) over ``inputs`` (in ``unit``), for ``model`` emitted as ``fm`` with the libm and the
+    fast activation (``emit_options`` beside), on the emulated M0+ and M4F."""
+    print(f"instructions of one call (most over the inputs {', '.join(f'{v:g}' for v in inputs)} "
+          f"{unit}; QEMU, arm-none-eabi-gcc -O2, newlib; the M0+ in soft float)")
+    print(f"  {'target':14s} {'impl':5s} " + " ".join(f"{fn:>16s}" for fn in wrappers))
+    with tempfile.TemporaryDirectory(prefix="fricgen_cost_") as tmp:
+        for impl in ("libm", "fast"):
+            src = Path(tmp) / f"src_{impl}"
+            emit(model, src, "fm", activation_impl=impl, force=True, **emit_options)
+            for target_name in ("cortex-m0plus", "cortex-m4f"):
+                cells = [most_instructions(src, "fm.h", entry, inputs, target_name, Path(tmp) / impl, extra)
+                         for entry, extra in wrappers.values()]
+                print(f"  {target_name:14s} {impl:5s} " + " ".join(f"{c:16d}" for c in cells), flush=True)
 
 
 def c_inputs(ctype: str, values) -> str:
