@@ -31,7 +31,7 @@ def joint_log(seed=0, n=20000, temperature=(25.0, 60.0), payload=50.0, constant=
         + 0.1 * np.sin(2 * np.pi * 1.3 * t + seed)
     v, = [np.gradient(q, DT)]
     a = np.gradient(v, DT)
-    load = np.full(n, payload) if constant else payload * np.cos(q + 0.3)
+    load = np.full(n, payload) if constant else payload * np.cos(q + 1.2)
     temp = np.full(n, 30.0) if constant else np.linspace(*temperature, n)
     dt = temp - 30.0
     levels = (5 + 2 * np.exp(-(np.abs(v) / 0.05) ** 2)) * np.where(v * load > 0, 1 + 0.05 * np.abs(load),
@@ -269,3 +269,14 @@ def test_diagnose_names_the_load_and_temperature_a_one_input_model_leaves_out(tm
                  str(tmp_path / "out2"), "--json"]) == 0
     said = json.loads(capsys.readouterr().out)["operating_point"]
     assert said["missing"] == [] and len(said["undetermined"]) == 2
+
+
+def test_a_load_of_one_sign_gets_one_slope_and_says_so():
+    log, truth = joint_log(n=12000)
+    log["load"] = log["load"] + 60.0             # the payload never lets the load change sign
+    log["force"] = log["force"] + 60.0
+    report = train(log, rotary=True)
+    dep = report.model.inputs.load
+    assert dep.driving == dep.back_driving
+    assert "keeps one sign" in report.training["inputs"]["undetermined"]["quadrants"]
+    assert 1.0 + dep.driving * dep.largest <= 50.0

@@ -194,9 +194,10 @@ def _within_one_se(squared: np.ndarray, reference: int, k: float = 1.0) -> np.nd
     """Whether each candidate's mean held-out squared error (candidates x rows) exceeds the
     ``reference`` one's by at most ``k`` standard errors of the paired row differences, and by
     at most ``k`` standard errors of the reference's own mean."""
-    diff = squared - squared[reference]
-    se = k * diff.std(axis=1, ddof=1) / np.sqrt(diff.shape[1])
-    own = k * squared[reference].std(ddof=1) / np.sqrt(squared.shape[1])
+    with np.errstate(over="ignore", invalid="ignore"):      # a candidate that blows up: inf
+        diff = squared - squared[reference]
+        se = k * diff.std(axis=1, ddof=1) / np.sqrt(diff.shape[1])
+        own = k * squared[reference].std(ddof=1) / np.sqrt(squared.shape[1])
     # and within the reference's own standard error: a candidate that blows up on one fold has
     # so wide a paired spread that it would pass the first test alone
     return (diff.mean(axis=1) <= se) & (diff.mean(axis=1) <= own)

@@ -92,8 +92,8 @@ def _decimal_comma(cells: Sequence[str], sep: Optional[str]) -> bool:
 def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> int:
     """The lines before the header of ``path``: 0 where the first line is followed by a row of
     as many cells, else the first line among ``PREAMBLE_LINES`` that is (its next non-blank line
-    numeric, with as many cells: a drive's preamble), else 0 (the reader then says what is
-    wrong)."""
+    numeric, with as many cells, blank cells allowed: a signal logged at a slower rate; a
+    drive's preamble), else 0 (the reader then says what is wrong)."""
     try:
         with open(path, encoding="utf-8-sig", newline="") as fh:
             lines = [fh.readline() for _ in range(PREAMBLE_LINES + 1)]
@@ -108,7 +108,9 @@ def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> in
         following = next((n for n in lines[k + 1:] if n.strip()), "")
         row = _split(following.strip("\r\n"), sep)
         comma = _decimal_comma(row, sep)
-        if len(cells) == len(row) and len(cells) > 1 and all(_is_number(c, comma) for c in row) \
+        numeric = [_is_number(c, comma) for c in row]
+        if len(cells) == len(row) and len(cells) > 1 and any(numeric) \
+                and all(n or not c.strip() for n, c in zip(numeric, row)) \
                 and not all(_is_number(c, comma) for c in cells):
             return k
     return 0
@@ -274,6 +276,9 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
                 decimal_comma = any(_DECIMAL_COMMA.fullmatch(row[k].strip()) for k in bad)
                 hint = (_thousands_hint(['', '000'], 1) if grouped else
                         "; decimal commas? fricgen reads '.' decimals" if decimal_comma else "")
+                if not hint and not row[bad[0]].strip() and header[bad[0]] not in required:
+                    hint = ("; a signal logged at a slower rate? --columns temperature=NAME reads its "
+                            "blank cells as gaps")
                 raise DataError(f"{path}: line {n}: non-numeric or missing cell {row[bad[0]][:40]!r} "
                                 f"in column {written[bad[0]][:40]!r}{hint}") from None
             text.update(bad)

@@ -30,6 +30,10 @@ from ..errors import ModelError, UsageError
 #: The least factor (1 + s |L|) over the trained box: a slope that would make a level vanish or
 #: change sign within it is no friction (a level of 5 % of the base's, at least).
 LEAST_FACTOR = 0.05
+#: The largest factor (1 + s |L|) over the trained box: a geared axis loses at most about
+#: twice the load it transmits (an efficiency of 1/3), against a no-load level rarely below a
+#: few percent of it; a steeper slope is an intercept the data did not determine.
+LARGEST_FACTOR = 50.0
 #: The largest |k (T - T_ref)| over the trained range: a factor of e^8 ~ 3000 is far beyond any
 #: lubricant's, and keeps the float32 C's exponentials finite.
 LARGEST_EXPONENT = 8.0
@@ -73,6 +77,11 @@ class LoadDependence:
         if dep.largest < 0:
             raise ModelError(f"{where}.largest must be >= 0, got {dep.largest}")
         least = 1.0 + min(dep.driving, dep.back_driving, 0.0) * dep.largest
+        most = 1.0 + max(dep.driving, dep.back_driving, 0.0) * dep.largest
+        if not most <= LARGEST_FACTOR:
+            raise ModelError(f"{where}: a slope of {max(dep.driving, dep.back_driving):.4g} per unit of "
+                             f"load makes the friction {most:.3g} x its level at |load| = "
+                             f"{dep.largest:.4g} (at most {LARGEST_FACTOR:g})")
         if not least >= LEAST_FACTOR:
             raise ModelError(f"{where}: a slope of {min(dep.driving, dep.back_driving):.4g} per unit "
                              f"of load makes the friction {least:.3g} x its level at |load| = "

@@ -8,8 +8,11 @@ samples are fitted by nonlinear least squares as
 
 c_l and c_v rescaling the curve (they are folded into it). What the data cannot determine is
 left out and said: a load dependence needs |L| to vary (its spread at least LOAD_SPREAD of its
-largest value), its two quadrant slopes need rows in both quadrants (QUADRANT_SHARE each, else
-one slope for both), a temperature dependence needs a span of TEMPERATURE_SPAN degC. The forms
+largest value), its two quadrant slopes need the load to take both signs (QUADRANT_SHARE of the
+loaded rows each: where it keeps one, driving and back-driving are the two directions of
+motion, whose difference the curves per direction hold; one slope then), a temperature
+dependence needs a span of TEMPERATURE_SPAN degC. The slopes are bounded so that the factors
+stay within LEAST_FACTOR and LARGEST_FACTOR over the trained box. The forms
 (none, load, temperature, both, as determined) are scored by cross-validation in contiguous
 blocks of the log's rows (``fit.directions.row_folds``), and the simplest within one standard
 error of the paired fold differences of the best is kept, as ``fit.law_choice`` chooses a law:
@@ -23,14 +26,14 @@ from typing import Dict, Optional, Tuple
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..effects.load_temperature import (LEAST_FACTOR, LARGEST_EXPONENT, LoadDependence,
-                                        LoadTemperature, TemperatureDependence)
+from ..effects.load_temperature import (LARGEST_EXPONENT, LARGEST_FACTOR, LEAST_FACTOR,
+                                        LoadDependence, LoadTemperature, TemperatureDependence)
 from .directions import CV_FOLDS, row_folds
 from .law_choice import SE_RULE
 
 #: |L| must spread (standard deviation) by this share of its largest value to determine a slope.
 LOAD_SPREAD = 0.05
-#: Each quadrant (driving, back-driving) needs this share of the loaded rows for its own slope.
+#: Each sign of the load needs this share of the loaded rows for a slope per quadrant.
 QUADRANT_SHARE = 0.1
 #: A temperature dependence needs the log to span this many degC (a sensor's 0.1 degC steps and a
 #: few degrees of drift determine no slope).
@@ -49,10 +52,13 @@ class Form:
     quadrants: bool = False
     temperature: bool = False
 
+    scaled: bool = True
+
     @property
     def free(self) -> np.ndarray:
-        """The mask of PARAMETERS this form fits."""
-        return np.array([True, True, self.load, self.load and self.quadrants,
+        """The mask of PARAMETERS this form fits (the curve's scales unless ``scaled`` is off:
+        a curve fitted at the reference point already)."""
+        return np.array([self.scaled, self.scaled, self.load, self.load and self.quadrants,
                          self.temperature, self.temperature])
 
     @property
@@ -87,19 +93,27 @@ def predict(p: np.ndarray, s: Samples) -> np.ndarray:
 
 
 def _fit(form: Form, s: Samples) -> Tuple[np.ndarray, np.ndarray]:
-    """The parameters of ``form`` (the others 0, the back-driving slope the driving one's without
-    quadrants) and the Jacobian of the free ones at the optimum."""
+    """The parameters of ``form`` (the others 0, the scales 1 where not fitted, the back-driving
+    slope the driving one's without quadrants) and the Jacobian of the free ones at the
+    optimum; slopes bounded by the factors' limits over the samples' |L| and dT."""
     free = form.free
+    start = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+    top = max(float(np.max(s.load)), 1e-300)
+    reach = max(float(np.max(np.abs(s.dt))), 1e-300)
+    low = np.array([0.0, 0.0, (LEAST_FACTOR - 1.0) / top, (LEAST_FACTOR - 1.0) / top,
+                    -LARGEST_EXPONENT / reach, -LARGEST_EXPONENT / reach])
+    high = np.array([np.inf, np.inf, (LARGEST_FACTOR - 1.0) / top, (LARGEST_FACTOR - 1.0) / top,
+                     LARGEST_EXPONENT / reach, LARGEST_EXPONENT / reach])
 
     def full(q):
-        p = np.zeros(len(PARAMETERS))
+        p = start.copy()
         p[free] = q
         if form.load and not form.quadrants:
             p[3] = p[2]
         return p
 
-    start = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])[free]
-    result = least_squares(lambda q: predict(full(q), s) - s.f, start, x_scale="jac")
+    result = least_squares(lambda q: predict(full(q), s) - s.f, start[free], x_scale="jac",
+                           bounds=(low[free], high[free]))
     return full(result.x), result.jac
 
 
@@ -115,6 +129,8 @@ class DependenceFit:
     undetermined: Dict[str, str] = field(default_factory=dict)
     cv_mse: Dict[str, float] = field(default_factory=dict)
     form: Form = Form()
+    #: RMS of the samples about the fitted friction
+    rms: float = 0.0
 
     @property
     def chosen(self) -> str:
@@ -129,16 +145,18 @@ def _forms(load, temperature, v) -> Tuple[list, Dict[str, str]]:
         magnitude = np.abs(load)
         top = float(magnitude.max())
         if not top > 0 or float(magnitude.std()) < LOAD_SPREAD * top:
-            undetermined["load"] = (f"|load| varies too little ({float(magnitude.std()):.3g} about "
-                                    f"{float(magnitude.mean()):.3g}): the log determines no load slope")
+            undetermined["load"] = (f"|load| hardly varies (standard deviation {float(magnitude.std()):.2g} "
+                                    f"about {float(magnitude.mean()):.4g}): the log determines no load slope")
         else:
             has_load = True
             loaded = magnitude > LOAD_SPREAD * top
-            share = float(np.mean((v * load)[loaded] > 0))
+            share = float(np.mean(load[loaded] > 0))
             quadrants = min(share, 1.0 - share) >= QUADRANT_SHARE
             if not quadrants:
-                undetermined["quadrants"] = (f"the drive drives the load on {100 * share:.0f} % of "
-                                             "the loaded rows: one slope for both quadrants")
+                undetermined["quadrants"] = (f"the load keeps one sign on {100 * max(share, 1 - share):.0f} "
+                                             "% of the loaded rows: driving and back-driving are the two "
+                                             "directions of motion there; one slope for both quadrants, "
+                                             "and the model is not tested at the other sign")
     has_temperature = False
     if temperature is not None:
         span = float(np.ptp(temperature))
@@ -223,7 +241,8 @@ def fit_dependence(model, v, f, load=None, temperature=None, independence: float
                  if form.free[k] or (k == 3 and form.load)}
     inputs = _dependence(form, p, load, temperature, reference)
     return DependenceFit(inputs=inputs, scale=(float(p[0]), float(p[1])), estimates=estimates,
-                         undetermined=undetermined, cv_mse=cv, form=form)
+                         undetermined=undetermined, cv_mse=cv, form=form,
+                         rms=float(np.sqrt(np.mean(residual ** 2))))
 
 
 def _dependence(form: Form, p, load, temperature, reference) -> Optional[LoadTemperature]:
