@@ -152,11 +152,12 @@ def _run(args) -> int:
     say_data_warnings(args)
     for note in range_notes(model_effects(model), log):
         say("fricgen: note: " + note)
+    if operating is not None:
+        named, gap, undetermined = named_lines(operating, units_of(model.training.get("units") == "rotary").force)
     if args.json:
         summary = d.summary()
         if operating is not None:
-            named, undetermined = named_lines(operating, units_of(model.training.get("units") == "rotary").force)
-            summary["operating_point"] = {"missing": named, "undetermined": undetermined}
+            summary["operating_point"] = {"missing": named, "gap": gap, "undetermined": undetermined}
         out(json.dumps(summary))
     else:
         lines = []
@@ -181,9 +182,10 @@ def _run(args) -> int:
             lines.append(f"           after them: {d.where_after_}")
         lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
         if operating is not None:
-            named, undetermined = named_lines(operating, units_of(model.training.get("units") == "rotary").force)
             lines += [f"missing    {line}" for line in named] or ["missing    no load nor temperature "
                                                                  "dependence (the held-out blocks ask for none)"]
+            if gap:
+                lines.append(f"           {gap}")
             lines += [f"not told   {line}" for line in undetermined]
             if named:
                 lines.append("           retrain with the log's load and temperature columns "

@@ -47,7 +47,7 @@ def add_export_options(p) -> None:
                         "where the cells are not ','-separated)")
     export.add_argument("--columns", action="append", default=[], metavar="NAME=COLUMN,...",
                         help="the file's column (a .mat file's variable) of each quantity (t, x, v, "
-                        "f, force, i), e.g. 't=Time [s],v=Speed [rpm]'")
+                        "f, force, i, load, temperature), e.g. 't=Time [s],v=Speed [rpm]'")
     export.add_argument("--scale", action="append", default=[], metavar="NAME=FACTOR,...",
                         help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s), "
                         "or by a scalar variable of a .mat file, e.g. force=gtau; applies to the "

@@ -2,6 +2,7 @@
 The fit and its report are the library's (``fricgen.train``); this command reads and writes."""
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from ..c_names import check_model_name
@@ -76,11 +77,22 @@ def source_name(args) -> str:
     return common_source_name(args.sweep, args.merge)
 
 
+#: Column names that look like a log's load or temperature (``training_columns`` warns when
+#: one is left unmapped).
+OPERATING_NAME = re.compile(r"load|grav|temp")
+
+
 def training_columns(args) -> dict:
     """The columns to train on: a motion log's, or a sweep's ``v`` and ``f`` (refused, naming the
     header as written, when neither is there)."""
     columns = read_columns(args)
     if is_log(columns):
+        unmapped = [c for c in columns if c not in CONDITIONS and OPERATING_NAME.search(c)]
+        for condition in (c for c in CONDITIONS if c not in columns):
+            named = [c for c in unmapped if condition[:4] in c or (condition == "load" and "grav" in c)]
+            if named:
+                say(f"fricgen: warning: {source_name(args)}: column {named[0]!r} is not used; "
+                    f"--columns {condition}={named[0]} makes the friction depend on it")
         return columns
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)

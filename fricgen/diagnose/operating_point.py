@@ -38,20 +38,24 @@ def without_load(columns: Dict[str, np.ndarray], force_constant: float) -> Dict[
     return out
 
 
-def named_lines(dependence: DependenceFit, unit: str) -> Tuple[List[str], List[str]]:
+def named_lines(dependence: DependenceFit, unit: str) -> Tuple[List[str], str, List[str]]:
     """The report's lines on what the log asks for (each dependence named, +- its standard
-    error, the held-out RMS friction error without and with it) and what it does not determine."""
+    error, the held-out RMS friction error without and with it alone), the gap with all of them
+    ('' for none), and what the log does not determine."""
     cv = {name: float(np.sqrt(mse)) for name, mse in dependence.cv_mse.items()}
-    named = []
+    named, gap = [], ""
     if dependence.inputs is not None:
         est = dependence.estimates
-        gap = f"held-out friction RMS {cv['velocity only']:.4g} -> {cv[dependence.chosen]:.4g} {unit}"
         if dependence.inputs.load is not None:
             d, b = est["load_driving"], est["load_back_driving"]
             named.append(f"load_dependence: levels x (1 + s |L|), s = {d[0]:.3g} +- {d[1]:.2g} driving, "
-                         f"{b[0]:.3g} +- {b[1]:.2g} back-driving /{unit} ({gap})")
+                         f"{b[0]:.3g} +- {b[1]:.2g} back-driving /{unit} (alone: held-out friction RMS "
+                         f"{cv['velocity only']:.4g} -> {cv['load']:.4g} {unit})")
         if dependence.inputs.temperature is not None:
             c, v = est["temperature_levels"], est["temperature_viscous"]
             named.append(f"temperature_dependence: exp(-k dT), k = {c[0]:.3g} +- {c[1]:.2g} levels, "
-                         f"{v[0]:.3g} +- {v[1]:.2g} viscous /degC ({gap})")
-    return named, [f"{name}: {why}" for name, why in dependence.undetermined.items()]
+                         f"{v[0]:.3g} +- {v[1]:.2g} viscous /degC (alone: {cv['velocity only']:.4g} -> "
+                         f"{cv['temperature']:.4g} {unit})")
+        gap = (f"held-out friction RMS {cv['velocity only']:.4g} -> {cv[dependence.chosen]:.4g} {unit} "
+               f"with {dependence.chosen}")
+    return named, gap, [f"{name}: {why}" for name, why in dependence.undetermined.items()]
