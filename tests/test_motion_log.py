@@ -164,7 +164,7 @@ def test_too_narrow_a_velocity_range_warns_in_one_line(tmp_path, capsys):
     assert main(["train", str(tmp_path / "fast.csv"), "--mass", "4", "--vs-max", "0.02",
                  "--method", "elm", "--neurons", "10", "-o", str(tmp_path / "m.json")]) == 0
     err = capsys.readouterr().err
-    warnings = [line for line in err.splitlines() if line.startswith("warning:")]
+    warnings = [line for line in err.splitlines() if line.startswith("fricgen: warning:")]
     assert len(warnings) == 1 and "Stribeck region" in warnings[0], err
 
 

@@ -13,6 +13,7 @@ from ..control.c_adapted import render_adapt
 from ..effects import offset_left_out
 from ..errors import UsageError
 from ..model import FrictionModel
+from ..units import units_of
 from .inputs import load_model
 from .common import FORCE_C, add_output, check_targets, number, say, write_targets
 
@@ -60,8 +61,9 @@ def offset_note(model) -> str:
     """One line when the model's axis records an offset that its curves leave out (a symmetric
     model's constant force, or a load) and no constant_load effect carries it: the C lacks it."""
     offset = offset_left_out(model)
+    unit = units_of(model.training.get("units") == "rotary").force
     return "" if offset is None else (
-        f"fricgen: note: the axis's offset o = {offset:.4g} N (training.axis.offset) is not in "
+        f"fricgen: note: the axis's offset o = {offset:.4g} {unit} (training.axis.offset) is not in "
         "this C, whose friction leaves it out: compensate it apart")
 
 

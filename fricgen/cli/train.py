@@ -163,12 +163,12 @@ def _run(args) -> int:
     say_data_warnings(args)
     out(report.text)
     band = report.model.velocity_band
-    if band is not None:
+    if band is not None and report.model.inputs is None:     # a model with inputs emits no band
         speed = units_of(report.model.training.get("units") == "rotary").speed
         out(f"zero      NAME_compensation is 0 up to |v| = {band:.3g} {speed}, the force from twice it "
             f"({report.model.training.get('velocity_band_from', 'model.json')})")
     for warning in report.warnings:
-        say(warning)
+        say(f"fricgen: {warning}")
     write_file(args, report.model.checked_json(), inputs)    # never one that load refuses
     say(f"wrote {args.output} (model {report.model.model_hash})")
     return 0

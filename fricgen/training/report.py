@@ -254,7 +254,7 @@ def choice_line(fitted: DirectionsFit, log: bool = False, unit: str = "N") -> st
             f"{sym:.4g} {unit} symmetric, {asym:.4g} {unit} asymmetric")
 
 
-def stribeck_warning(ident: Identification, fits) -> str:
+def stribeck_warning(ident: Identification, fits, units=LINEAR) -> str:
     """One line when a log's slowest speed in a direction exceeds half of that direction's
     vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data;
     or when the force still falls at its fastest speed (``StribeckRange.falling``)."""
@@ -262,14 +262,14 @@ def stribeck_warning(ident: Identification, fits) -> str:
         chosen = f.dataset.stribeck_range
         if chosen is not None and chosen.falling:
             return (f"warning: the force still falls at the log's fastest speed "
-                    f"({f.dataset.v_sat:.3g} m/s): the Stribeck drop goes on beyond the data, B "
-                    f"is not in them ({chosen.viscous:.3g} N s/m fitted with it), and beyond that "
+                    f"({f.dataset.v_sat:.3g} {units.speed}): the Stribeck drop goes on beyond the data, B "
+                    f"is not in them ({chosen.viscous:.3g} {units.viscous} fitted with it), and beyond that "
                     "speed the model holds its last level plus B v (log faster motion)")
         vs_max = f.dataset.v_sat / SAT_FACTOR
         speeds = ident.sweep.folded().v if len(fits) == 1 else ident.sweep.direction(sign).v
         slowest = float(speeds.min())
         if slowest > 0.5 * vs_max:
-            return (f"warning: the log's slowest speed ({slowest:.3g} m/s) is above vs_max / 2 = "
-                    f"{0.5 * vs_max:.3g} m/s; too narrow a velocity range to identify the Stribeck "
+            return (f"warning: the log's slowest speed ({slowest:.3g} {units.speed}) is above vs_max / 2 = "
+                    f"{0.5 * vs_max:.3g} {units.speed}; too narrow a velocity range to identify the Stribeck "
                     "region (log slower motion)")
     return ""

@@ -331,6 +331,6 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     except ModelError as exc:
         raise DataError(f"{source}: the fitted model is no friction model: {exc}") from None
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
-    notes = (stribeck_warning(ident, fitted.fits),) if ident is not None else ()
+    notes = (stribeck_warning(ident, fitted.fits, units_of(rotary)),) if ident is not None else ()
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
                      warnings=tuple(n for n in notes if n), law=choice, inputs=dependence)
