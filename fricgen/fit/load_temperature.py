@@ -14,9 +14,12 @@ motion, whose difference the curves per direction hold; one slope then), a tempe
 dependence needs a span of TEMPERATURE_SPAN degC. The slopes are bounded so that the factors
 stay within LEAST_FACTOR and LARGEST_FACTOR over the trained box. The forms
 (none, load, temperature, both, as determined) are scored by cross-validation in contiguous
-blocks of the log's rows (``fit.directions.row_folds``), and the simplest within one standard
-error of the paired fold differences of the best is kept, as ``fit.law_choice`` chooses a law:
-a log at one load and one temperature keeps the one-input model.
+blocks of the log's rows (``fit.directions.row_folds``), each with a correction of the curve by
+any function of v (``data.idim.friction_basis``: a dependence is kept for what no curve of v
+explains, not for the curve's own misfit, which the load would stand in for where the motion
+ties |L| to v), and the simplest within one standard error of the paired fold differences of
+the best is kept, as ``fit.law_choice`` chooses a law: a log at one load and one temperature
+keeps the one-input model.
 """
 from __future__ import annotations
 
@@ -28,6 +31,7 @@ from scipy.optimize import least_squares
 
 from ..effects.load_temperature import (LARGEST_EXPONENT, LARGEST_FACTOR, LEAST_FACTOR,
                                         LoadDependence, LoadTemperature, TemperatureDependence)
+from ..data.idim import friction_basis
 from .directions import CV_FOLDS, row_folds
 from .law_choice import SE_RULE
 
@@ -78,10 +82,13 @@ class Samples:
     load: np.ndarray
     driving: np.ndarray
     dt: np.ndarray
+    #: columns spanning any friction curve of v (``data.idim.friction_basis``): the choice's
+    #: correction of the curve, so that no form wins by what a curve of v would explain
+    curve: np.ndarray
 
     def take(self, rows) -> "Samples":
         return Samples(*(getattr(self, k)[rows] for k in
-                         ("f", "level", "viscous", "load", "driving", "dt")))
+                         ("f", "level", "viscous", "load", "driving", "dt", "curve")))
 
 
 def predict(p: np.ndarray, s: Samples) -> np.ndarray:
@@ -92,18 +99,48 @@ def predict(p: np.ndarray, s: Samples) -> np.ndarray:
             + c_v * s.viscous * np.exp(-k_v * s.dt))
 
 
-def _fit(form: Form, s: Samples) -> Tuple[np.ndarray, np.ndarray]:
-    """The parameters of ``form`` (the others 0, the scales 1 where not fitted, the back-driving
-    slope the driving one's without quadrants) and the Jacobian of the free ones at the
-    optimum; slopes bounded by the factors' limits over the samples' |L| and dT."""
+def _corrected(form: Form, s: Samples) -> Tuple[np.ndarray, np.ndarray]:
+    """``_fit`` with the curve's correction (``Samples.curve``, linear coefficients beside the
+    form's): the parameters and the correction's coefficients."""
     free = form.free
+    m = int(free.sum())
     start = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+
+    def full(q):
+        p = start.copy()
+        p[free] = q[:m]
+        if form.load and not form.quadrants:
+            p[3] = p[2]
+        return p
+
+    low, high = _bounds(s)
+    k = s.curve.shape[1]
+    result = least_squares(lambda q: predict(full(q), s) + s.curve @ q[m:] - s.f,
+                           np.concatenate([start[free], np.zeros(k)]), x_scale="jac",
+                           bounds=(np.concatenate([low[free], np.full(k, -np.inf)]),
+                                   np.concatenate([high[free], np.full(k, np.inf)])))
+    return full(result.x), result.x[m:]
+
+
+def _bounds(s: Samples) -> Tuple[np.ndarray, np.ndarray]:
+    """The parameters' bounds: the slopes those that keep the factors within their limits over
+    the samples' |L| and dT."""
     top = max(float(np.max(s.load)), 1e-300)
     reach = max(float(np.max(np.abs(s.dt))), 1e-300)
     low = np.array([0.0, 0.0, (LEAST_FACTOR - 1.0) / top, (LEAST_FACTOR - 1.0) / top,
                     -LARGEST_EXPONENT / reach, -LARGEST_EXPONENT / reach])
     high = np.array([np.inf, np.inf, (LARGEST_FACTOR - 1.0) / top, (LARGEST_FACTOR - 1.0) / top,
                      LARGEST_EXPONENT / reach, LARGEST_EXPONENT / reach])
+    return low, high
+
+
+def _fit(form: Form, s: Samples) -> Tuple[np.ndarray, np.ndarray]:
+    """The parameters of ``form`` (the others 0, the scales 1 where not fitted, the back-driving
+    slope the driving one's without quadrants) and the Jacobian of the free ones at the
+    optimum; slopes bounded (``_bounds``)."""
+    free = form.free
+    start = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+    low, high = _bounds(s)
 
     def full(q):
         p = start.copy()
@@ -183,8 +220,9 @@ def _cross_validated(forms, s: Samples, blocks: int) -> Tuple[np.ndarray, np.nda
     for k in range(CV_FOLDS):
         train, test = folds != k, folds == k
         for j, form in enumerate(forms):
-            p, _ = _fit(form, s.take(train))
-            errors[j, k] = float(np.mean((predict(p, s.take(test)) - s.f[test]) ** 2))
+            p, c = _corrected(form, s.take(train))
+            held = s.take(test)
+            errors[j, k] = float(np.mean((predict(p, held) + held.curve @ c - held.f) ** 2))
     return errors, folds
 
 
@@ -208,7 +246,8 @@ def samples_of(model, v, f, load=None, temperature=None, reference: float = 0.0)
     return Samples(f=np.asarray(f, dtype=float), level=model.force(v) - viscous, viscous=viscous,
                    load=zeros if load is None else np.abs(load),
                    driving=zeros.astype(bool) if load is None else v * load > 0,
-                   dt=zeros if temperature is None else np.asarray(temperature) - reference)
+                   dt=zeros if temperature is None else np.asarray(temperature) - reference,
+                   curve=friction_basis(v, odd=False))
 
 
 def fit_dependence(model, v, f, load=None, temperature=None, independence: float = 1.0,
