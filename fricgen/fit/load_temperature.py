@@ -8,9 +8,9 @@ samples are fitted by nonlinear least squares as
 
 c_l and c_v rescaling the curve (they are folded into it). What the data cannot determine is
 left out and said: a load dependence needs |L| to vary (its spread at least LOAD_SPREAD of its
-largest value), its two quadrant slopes need the load to take both signs (QUADRANT_SHARE of the
-loaded rows each: where it keeps one, driving and back-driving are the two directions of
-motion, whose difference the curves per direction hold; one slope then), a temperature
+largest value), its two quadrant slopes need rows in both quadrants (QUADRANT_SHARE of the
+loaded rows each; else one slope for both; where the load keeps one sign the quadrants are the
+directions of motion, and the report says the other sign is untested), a temperature
 dependence needs a span of TEMPERATURE_SPAN degC. The slopes are bounded so that the factors
 stay within LEAST_FACTOR and LARGEST_FACTOR over the trained box. The forms
 (none, load, temperature, both, as determined) are scored by cross-validation in contiguous
@@ -37,7 +37,7 @@ from .law_choice import SE_RULE
 
 #: |L| must spread (standard deviation) by this share of its largest value to determine a slope.
 LOAD_SPREAD = 0.05
-#: Each sign of the load needs this share of the loaded rows for a slope per quadrant.
+#: Each quadrant (driving, back-driving) needs this share of the loaded rows for its own slope.
 QUADRANT_SHARE = 0.1
 #: A temperature dependence needs the log to span this many degC (a sensor's 0.1 degC steps and a
 #: few degrees of drift determine no slope).
@@ -187,13 +187,17 @@ def _forms(load, temperature, v) -> Tuple[list, Dict[str, str]]:
         else:
             has_load = True
             loaded = magnitude > LOAD_SPREAD * top
-            share = float(np.mean(load[loaded] > 0))
-            quadrants = min(share, 1.0 - share) >= QUADRANT_SHARE
+            driving = float(np.mean((v * load)[loaded] > 0))
+            quadrants = min(driving, 1.0 - driving) >= QUADRANT_SHARE
             if not quadrants:
-                undetermined["quadrants"] = (f"the load keeps one sign on {100 * max(share, 1 - share):.0f} "
-                                             "% of the loaded rows: driving and back-driving are the two "
-                                             "directions of motion there; one slope for both quadrants, "
-                                             "and the model is not tested at the other sign")
+                undetermined["quadrants"] = (f"the drive drives the load on {100 * driving:.0f} % of "
+                                             "the loaded rows: one slope for both quadrants")
+            positive = float(np.mean(load[loaded] > 0))
+            if max(positive, 1.0 - positive) > 1.0 - QUADRANT_SHARE:
+                undetermined["sign"] = (f"the load keeps one sign on {100 * max(positive, 1 - positive):.0f} "
+                                        "% of the loaded rows: driving and back-driving are the two "
+                                        "directions of motion there, and the model is not tested at "
+                                        "the other sign")
     has_temperature = False
     if temperature is not None:
         span = float(np.ptp(temperature))
