@@ -271,6 +271,7 @@ def test_diagnose_names_the_load_and_temperature_a_one_input_model_leaves_out(tm
     assert said["missing"] == [] and len(said["undetermined"]) == 2
 
 
+@pytest.mark.slow
 def test_a_load_of_one_sign_is_said_and_its_slopes_bounded():
     log, truth = joint_log(n=12000)
     log["load"] = log["load"] + 60.0             # the payload never lets the load change sign
