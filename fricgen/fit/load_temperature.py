@@ -99,29 +99,6 @@ def predict(p: np.ndarray, s: Samples) -> np.ndarray:
             + c_v * s.viscous * np.exp(-k_v * s.dt))
 
 
-def _corrected(form: Form, s: Samples) -> Tuple[np.ndarray, np.ndarray]:
-    """``_fit`` with the curve's correction (``Samples.curve``, linear coefficients beside the
-    form's): the parameters and the correction's coefficients."""
-    free = form.free
-    m = int(free.sum())
-    start = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-
-    def full(q):
-        p = start.copy()
-        p[free] = q[:m]
-        if form.load and not form.quadrants:
-            p[3] = p[2]
-        return p
-
-    low, high = _bounds(s)
-    k = s.curve.shape[1]
-    result = least_squares(lambda q: predict(full(q), s) + s.curve @ q[m:] - s.f,
-                           np.concatenate([start[free], np.zeros(k)]), x_scale="jac",
-                           bounds=(np.concatenate([low[free], np.full(k, -np.inf)]),
-                                   np.concatenate([high[free], np.full(k, np.inf)])))
-    return full(result.x), result.x[m:]
-
-
 def _bounds(s: Samples) -> Tuple[np.ndarray, np.ndarray]:
     """The parameters' bounds: the slopes those that keep the factors within their limits over
     the samples' |L| and dT."""
@@ -134,24 +111,33 @@ def _bounds(s: Samples) -> Tuple[np.ndarray, np.ndarray]:
     return low, high
 
 
-def _fit(form: Form, s: Samples) -> Tuple[np.ndarray, np.ndarray]:
+def _fit(form: Form, s: Samples, corrected: bool = False):
     """The parameters of ``form`` (the others 0, the scales 1 where not fitted, the back-driving
-    slope the driving one's without quadrants) and the Jacobian of the free ones at the
-    optimum; slopes bounded (``_bounds``)."""
+    slope the driving one's without quadrants), slopes bounded (``_bounds``); with
+    ``corrected``, beside them the linear coefficients of the curve's correction
+    (``Samples.curve``). Returns the parameters, the correction's coefficients (empty without)
+    and the Jacobian of the free parameters and coefficients at the optimum."""
     free = form.free
+    m = int(free.sum())
+    k = s.curve.shape[1] if corrected else 0
     start = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
     low, high = _bounds(s)
 
     def full(q):
         p = start.copy()
-        p[free] = q
+        p[free] = q[:m]
         if form.load and not form.quadrants:
             p[3] = p[2]
         return p
 
-    result = least_squares(lambda q: predict(full(q), s) - s.f, start[free], x_scale="jac",
-                           bounds=(low[free], high[free]))
-    return full(result.x), result.jac
+    def residual(q):
+        r = predict(full(q), s) - s.f
+        return r + s.curve @ q[m:] if k else r
+
+    result = least_squares(residual, np.concatenate([start[free], np.zeros(k)]), x_scale="jac",
+                           bounds=(np.concatenate([low[free], np.full(k, -np.inf)]),
+                                   np.concatenate([high[free], np.full(k, np.inf)])))
+    return full(result.x), result.x[m:], result.jac
 
 
 @dataclass
@@ -224,7 +210,7 @@ def _cross_validated(forms, s: Samples, blocks: int) -> Tuple[np.ndarray, np.nda
     for k in range(CV_FOLDS):
         train, test = folds != k, folds == k
         for j, form in enumerate(forms):
-            p, c = _corrected(form, s.take(train))
+            p, c, _ = _fit(form, s.take(train), corrected=True)
             held = s.take(test)
             errors[j, k] = float(np.mean((predict(p, held) + held.curve @ c - held.f) ** 2))
     return errors, folds
@@ -272,7 +258,7 @@ def fit_dependence(model, v, f, load=None, temperature=None, independence: float
             form = forms[_simplest_within_noise(errors)]
         else:
             form = forms[0]
-    p, jac = _fit(form, s)
+    p, _, jac = _fit(form, s)
     residual = predict(p, s) - s.f
     dof = max(s.f.size - int(form.free.sum()), 1)
     cov = np.linalg.pinv(jac.T @ jac) * float(residual @ residual) / dof / max(independence, 1e-9)

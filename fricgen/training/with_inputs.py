@@ -50,27 +50,28 @@ def fit_inputs(fitted, ident, sweep: Sweep, choice, fit_curves: Callable,
     blocks = BLOCK_WINDOWS * ident.window
     independence = ident.independent / ident.n_kept
 
-    def dependence_of(fitted, samples: Sweep, form=None) -> DependenceFit:
-        model = FrictionModel.from_directions(*(f.curve for f in fitted.fits))
+    def curve_of(fitted) -> FrictionModel:
+        return FrictionModel.from_directions(*(f.curve for f in fitted.fits))
+
+    def dependence_of(model, samples: Sweep, form=None) -> DependenceFit:
         return fit_dependence(model, samples.v, samples.f, conditions.get("load"),
                               conditions.get("temperature"), independence, blocks, form)
 
     if progress:
         progress("inputs: the load and temperature dependence, cross-validated")
-    first = dependence_of(fitted, sweep)
+    first = dependence_of(curve_of(fitted), sweep)
     if first.inputs is None:
         return fitted, ident, sweep, choice, [f.curve for f in fitted.fits], first
     raw = ident.sweep.f                                 # the friction samples with the offset
     best = (fitted, ident, sweep, choice, first)
     for _ in range(PASSES):                             # kept while they fit the samples closer
         fitted, ident, sweep, choice, final = best
-        base = FrictionModel.from_directions(*(f.curve for f in fitted.fits))
-        reference = _at_reference(final, base, sweep, conditions) + (raw - sweep.f)
+        reference = _at_reference(final, curve_of(fitted), sweep, conditions) + (raw - sweep.f)
         fitted, ident, _, choice = fit_curves(Sweep(sweep.v, reference),
                                               replace(ident, sweep=Sweep(sweep.v, reference)))
         ident = replace(ident, sweep=Sweep(sweep.v, raw))
         sweep = ident.friction                          # as the curves' fit takes them out
-        final = dependence_of(fitted, sweep, first.form)
+        final = dependence_of(curve_of(fitted), sweep, first.form)
         if progress:
             progress(f"inputs: the curve at the reference point, RMS about the samples "
                      f"{final.rms:.4g} (was {best[-1].rms:.4g})")
