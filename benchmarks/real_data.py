@@ -58,7 +58,7 @@ def trained(columns):
         report = fricgen.train(columns, warn=lambda line: None)
     seconds = time.process_time() - start
     model, ident = report.model, report.identification
-    mass = ident.body.mass if ident is not None else 0.0
+    mass = ident.body.inertia if ident is not None else 0.0   # a residual inertia may be < 0
     offset = report.training["axis"]["offset"] or 0.0
     chose = report.law.name if report.law is not None else report.training["method"]
     return (lambda v, a: model.force(v) + mass * a + offset), chose, seconds, mass

@@ -98,7 +98,7 @@ def test_held_out_rows_leak_nothing_into_the_identification(offset_log):
     assert abs(part.body.mass - RUN.mass) < 4 * part.body.mass_se
     spoiled = offset_log["force"] + np.where(block, 1e3, 0.0)   # the block's force garbled
     again = identify_friction(offset_log["t"], spoiled, None, v=offset_log["v"], use=~block,
-                              window=part.window)
+                              window=part.window, body_window=part.body_window)
     # equal but for rounding (long windows filter by FFT, which spreads rounding over the log)
     assert again.body.mass == pytest.approx(part.body.mass, rel=1e-9)
     assert again.body.offset == pytest.approx(part.body.offset, rel=1e-9, abs=1e-9)

@@ -55,6 +55,11 @@ class RigidBody:
     mass_estimate: Optional[float] = None
 
     @property
+    def inertia(self) -> float:
+        """The coefficient of dv/dt in the force: the mass, or the residual inertia."""
+        return self.mass if self.mass_estimate is None else self.mass_estimate
+
+    @property
     def mass_identified(self) -> bool:
         return self.mass_se is not None
 
@@ -91,7 +96,8 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
     removed before), m is that estimate, at least 0, and ``RigidBody.mass_determined`` says so.
     A clearly negative m is a reversed sign only where the friction fitted beside it pushes
     the axis as well (``DataError``); where that friction opposes the motion it is a residual
-    inertia (a rigid-body model removed from the force, overestimated), and m is 0. ``extra``:
+    inertia (a rigid-body model removed from the force, overestimated): m is 0, and the
+    estimate is taken out of the friction samples (``RigidBody.inertia``). ``extra``:
     columns of a friction that changes with the operating point (``operating_basis``)."""
     basis = _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
     coef, se = least_squares_errors(basis, force, independent)
@@ -121,9 +127,9 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
     mass_se = estimate = None
     if mass is None:
         mass, mass_se, estimate = identify_mass(a, v, force, independent, extra)
+    residual = estimate if estimate is not None and -estimate > MASS_SIGMAS * mass_se else None
     offset = offset_se = None
     if np.any(v > 0) and np.any(v < 0):
-        offset, offset_se = identify_offset(a, v, force, mass, independent, extra)
-    clearly_negative = estimate is not None and -estimate > MASS_SIGMAS * mass_se
-    return RigidBody(float(mass), mass_se, offset, offset_se,
-                     estimate if clearly_negative else None)
+        offset, offset_se = identify_offset(a, v, force, mass if residual is None else residual,
+                                            independent, extra)
+    return RigidBody(float(mass), mass_se, offset, offset_se, residual)

@@ -5,7 +5,8 @@ the drive force ``force`` (N) or the motor current ``i`` (A) times the force con
 and force are smoothed by one zero-phase Savitzky-Golay filter (cubic, centred window), which
 also gives dv/dt, so F = f - m a holds between the smoothed signals. The window is chosen from
 the data (``choose_window``: generalized cross-validation of the force plus the derivative's
-noise). Rows where the axis really moves are kept: |v| above the velocity noise and one
+noise); the mass at a window of its own (``explaining_window``), where dv/dt is not so noisy
+that the mass is pulled towards 0. Rows where the axis really moves are kept: |v| above the velocity noise and one
 direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
@@ -23,7 +24,7 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import RigidBody, identify_mass, identify_rigid_body, operating_basis
+from .idim import RigidBody, friction_basis, identify_rigid_body, operating_basis
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -56,6 +57,10 @@ MIN_INDEPENDENT = 4 * SAMPLES_PER_PARAMETER
 #: this many times over, is a wrong mass or unit (``_check_inertia``).
 INERTIA_OFF = 10.0
 
+
+#: Rows (evenly spaced among the moving ones) at which ``explaining_window`` scores a window:
+#: a bound on its cost for long logs, well above the independent samples a mass needs.
+EXPLAINING_ROWS = 50_000
 
 #: The columns of a log's operating point beside the motion and the force.
 CONDITIONS = ("load", "temperature")
@@ -212,6 +217,9 @@ class Identification:
     load: bool = False
     #: The log's jittering time stamps were resampled onto a uniform grid
     resampled: bool = False
+    #: The window (samples) at which the mass and offset were identified, where it is not
+    #: ``window``: the one whose dv/dt explains the force best (``explaining_window``)
+    body_window: Optional[int] = None
     #: The operating point at the rows of ``sweep`` (``load``, ``temperature``; smoothed as v),
     #: for a log with those columns
     conditions: Dict[str, np.ndarray] = field(default_factory=dict)
@@ -235,7 +243,10 @@ class Identification:
             "independent samples)",
             f"smoothing zero-phase Savitzky-Golay, cubic, {self.window} samples "
             f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
-            f"{self.velocity_noise:.3g} {units.speed}",
+            f"{self.velocity_noise:.3g} {units.speed}"
+            + ("" if self.body_window in (None, self.window) else
+               f"; the {'inertia' if units is not LINEAR else 'mass'} at {self.body_window} samples, the smoothest window whose dv/dt "
+               "explains the force as well as any"),
             f"velocity  {lo:.4g} to {hi:.4g} {units.speed}; speeds {moving.min():.3g} to "
             f"{moving.max():.3g} {units.speed}",
         ] + self.body_lines(units))
@@ -249,7 +260,8 @@ class Identification:
             mass = (f"0 {units.mass}: the log's accelerations give {b.mass_estimate:.3g} +- "
                     f"{b.mass_se:.2g} {units.mass}, below zero while the friction opposes the "
                     "motion: a residual inertia (was a rigid-body model removed from the force "
-                    "already?); pass --mass to set it")
+                    "already?), taken out of the friction samples and recorded as no mass; pass "
+                    "--mass to set it")
         elif not b.mass_determined:
             mass = (f"not determined by the log's accelerations ({b.mass:.3g} +- {b.mass_se:.2g} "
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
@@ -303,7 +315,8 @@ class Identification:
 
 def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = None,
                       v: Optional[np.ndarray] = None, x: Optional[np.ndarray] = None,
-                      window: Optional[int] = None, use: Optional[np.ndarray] = None,
+                      window: Optional[int] = None, body_window: Optional[int] = None,
+                      use: Optional[np.ndarray] = None,
                       progress: Optional[Callable[[str], None]] = None,
                       conditions: Optional[Dict[str, np.ndarray]] = None) -> Identification:
     """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
@@ -312,7 +325,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     it in its curves (``offset_line``).
 
     ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
-    (odd samples) overrides ``choose_window``, which reports to ``progress``. ``use`` (a mask of rows) confines everything
+    (odd samples) overrides ``choose_window``, which reports to ``progress``, and ``body_window``
+    ``explaining_window`` (the mass's; at ``window`` where only that is given). ``use`` (a mask of rows) confines everything
     identified to those rows, less half a window at each edge, so that a held-out block of time
     leaks nothing into it.
 
@@ -339,25 +353,21 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     if not given:                           # encoder counts: the central difference's rounding
         noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))
     use = np.ones(t.size, dtype=bool) if use is None else np.asarray(use, dtype=bool)
+    body = None
+    rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
+    if mass is None and (window is None or body_window is not None):
+        if body_window is None:             # the body where dv/dt explains the force best
+            raw = force - conditions["load"] if "load" in conditions else force
+            body_window = explaining_window(v, raw, rows & minimum_filter1d(
+                use.astype(np.int8), candidate_windows(t.size)[-1]).astype(bool), ts)
+        body = _at_window(body_window, ts, v, force, noise, use, conditions, None)[-1]
     if window is None:
-        rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
-        guess = mass
-        if guess is None:                   # the mass at the force's own window, then refined
-            first = choose_window(force, rows, 0.0, noise, ts, progress)
-            guess = _mass_at(first, ts, v, force, noise, use)
-        window = choose_window(force, rows, guess, noise, ts, progress)
-    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
-    independent = moving.sum() * _centre_weight(window)
-    at_rows = {name: smooth(values, window) for name, values in conditions.items()}
-    if "load" in at_rows:
-        check_load(f_s[moving], at_rows["load"][moving], a_s[moving], v_s[moving], independent)
-        f_s = f_s - at_rows["load"]
-    if mass is not None:
-        _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], independent)
-    extra = operating_basis(v_s[moving], *(None if k not in at_rows else at_rows[k][moving]
-                                           for k in CONDITIONS))
-    body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass, extra)
-    friction = f_s - body.mass * a_s
+        window = choose_window(force, rows, mass if body is None else body.inertia, noise, ts,
+                               progress)
+    v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
+        window, ts, v, force, noise, use, conditions, mass, body is None)
+    body = at_window if body is None else body
+    friction = f_s - body.inertia * a_s
     steady = steady_rows(v_s, moving, window)
     kept = float(steady.sum()) * _centre_weight(window)
     if steady.sum() < MIN_ROWS or kept < MIN_INDEPENDENT:
@@ -367,7 +377,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                         "longer or more varied motion")
     return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
                           window=int(window), sample_time=ts, velocity_noise=noise,
-                          independent=kept, body=body,
+                          independent=kept, body=body, body_window=body_window,
                           conditions={k: c[steady] for k, c in at_rows.items()})
 
 
@@ -395,6 +405,29 @@ def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray
                         f"where f = m dv/dt + load + friction gives 1: {cause}")
 
 
+def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
+               use: np.ndarray, conditions: Dict[str, np.ndarray], mass: Optional[float],
+               identify: bool = True):
+    """The log smoothed by ``window`` (``_smoothed``) with its operating point, the load taken
+    out of the force (``check_load``), and the rigid body identified there (``mass`` given:
+    checked, ``_check_inertia``; None where not ``identify``): (v, dv/dt, force, the moving
+    rows, the conditions, the independent samples, the body)."""
+    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
+    independent = moving.sum() * _centre_weight(window)
+    at_rows = {name: smooth(values, window) for name, values in conditions.items()}
+    if "load" in at_rows:
+        check_load(f_s[moving], at_rows["load"][moving], a_s[moving], v_s[moving], independent)
+        f_s = f_s - at_rows["load"]
+    if mass is not None:
+        _check_inertia(f_s[moving], mass * a_s[moving], v_s[moving], independent)
+    body = None
+    if identify:
+        extra = operating_basis(v_s[moving], *(None if k not in at_rows else at_rows[k][moving]
+                                               for k in CONDITIONS))
+        body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass, extra)
+    return v_s, a_s, f_s, moving, at_rows, independent, body
+
+
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
               use: np.ndarray):
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
@@ -413,12 +446,32 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
     return v_s, a_s, f_s, moving
 
 
-def _mass_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
-             use: np.ndarray) -> float:
-    """The mass identified with the signals smoothed by ``window`` (``data.idim``)."""
-    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
-    return identify_mass(a_s[moving], v_s[moving], f_s[moving],
-                         moving.sum() * _centre_weight(window))[0]
+def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
+                      sample_time: float) -> int:
+    """The window at which the mass is identified: the widest candidate whose smoothed v and
+    dv/dt explain the raw force within one standard error of the best over ``rows`` (f = m dv/dt
+    + F(v) + o by least squares, F by ``friction_basis`` per direction; the error of the paired
+    squared residuals from blocks of the widest window's length). The raw force's noise is the
+    same at every window, so the residual marks the smoothing that leaves dv/dt least noisy
+    without smearing the motion, and where windows explain it alike the smoothest is kept: a
+    short window's noisy derivative pulls m towards 0 (errors in the variables), and the short
+    window ``choose_window`` gives a small mass would keep it there."""
+    at = np.flatnonzero(rows)
+    at = at[::max(1, at.size // EXPLAINING_ROWS)]
+    windows = candidate_windows(rows.size)
+    squared = []
+    for window in windows:
+        a = smooth(v, window, deriv=1, delta=sample_time)[at]
+        basis = np.column_stack([a, friction_basis(smooth(v, window)[at], odd=False)])
+        coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
+        squared.append((force[at] - basis @ coef) ** 2)
+    best = int(np.argmin([s.mean() for s in squared]))
+    blocks = np.array_split(np.arange(at.size), max(2, at.size // windows[-1]))
+
+    def within(k):                          # paired difference from the best within one SE
+        means = np.array([(squared[k][b] - squared[best][b]).mean() for b in blocks])
+        return means.mean() <= means.std(ddof=1) / np.sqrt(means.size)
+    return windows[max(k for k in range(len(windows)) if k == best or within(k))]
 
 
 def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, independent: float) -> None:
