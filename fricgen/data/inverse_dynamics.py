@@ -245,8 +245,8 @@ class Identification:
             f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
             f"{self.velocity_noise:.3g} {units.speed}"
             + ("" if self.body_window in (None, self.window) else
-               f"; the {'inertia' if units is not LINEAR else 'mass'} at {self.body_window} samples, the smoothest window whose dv/dt "
-               "explains the force as well as any"),
+               f"; the {'inertia' if units is not LINEAR else 'mass'} at {self.body_window} samples, "
+               "the window whose dv/dt explains the force best"),
             f"velocity  {lo:.4g} to {hi:.4g} {units.speed}; speeds {moving.min():.3g} to "
             f"{moving.max():.3g} {units.speed}",
         ] + self.body_lines(units))
@@ -356,14 +356,16 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     body = None
     rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
     if mass is None and (window is None or body_window is not None):
+        raw = force - conditions["load"] if "load" in conditions else force
+        whole = minimum_filter1d(use.astype(np.int8), candidate_windows(t.size)[-1],
+                                 mode="constant").astype(bool)        # nor the log's ends
         if body_window is None:             # the body where dv/dt explains the force best
-            raw = force - conditions["load"] if "load" in conditions else force
-            body_window = explaining_window(v, raw, rows & minimum_filter1d(
-                use.astype(np.int8), candidate_windows(t.size)[-1]).astype(bool), ts)
-        body = _at_window(body_window, ts, v, force, noise, use, conditions, None)[-1]
+            body_window = explaining_window(v, raw, rows & whole, ts)
+        if body_window is not None:
+            body = _body_at(body_window, ts, v, raw, rows & whole, conditions)
     if window is None:
-        window = choose_window(force, rows, mass if body is None else body.inertia, noise, ts,
-                               progress)
+        guess = (mass or 0.0) if body is None else body.inertia
+        window = choose_window(force, rows, guess, noise, ts, progress)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
         window, ts, v, force, noise, use, conditions, mass, body is None)
     body = at_window if body is None else body
@@ -428,6 +430,25 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
     return v_s, a_s, f_s, moving, at_rows, independent, body
 
 
+def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.ndarray,
+             conditions: Dict[str, np.ndarray]) -> RigidBody:
+    """The rigid body (``data.idim``) from the raw ``force`` (the load taken out) at ``rows``,
+    with v, dv/dt and the operating point smoothed by ``window`` (``explaining_window``). The
+    residual is the raw force's, so the rows count as independent but for its correlation from
+    one row to the next (n (1 - r) / (1 + r), r its lag-one autocorrelation)."""
+    at = np.flatnonzero(rows)
+    v_s, a_s = smooth(v, window)[at], smooth(v, window, deriv=1, delta=ts)[at]
+    at_rows = {k: smooth(c, window)[at] for k, c in conditions.items()}
+    extra = operating_basis(v_s, *(at_rows.get(k) for k in CONDITIONS))
+    basis = np.column_stack([a_s, friction_basis(v_s, odd=False)]
+                            + ([] if extra is None else [extra]))
+    coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
+    r = force[at] - basis @ coef
+    lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
+    lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / at.size)
+    return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra)
+
+
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
               use: np.ndarray):
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
@@ -447,31 +468,25 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
 
 
 def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
-                      sample_time: float) -> int:
-    """The window at which the mass is identified: the widest candidate whose smoothed v and
-    dv/dt explain the raw force within one standard error of the best over ``rows`` (f = m dv/dt
-    + F(v) + o by least squares, F by ``friction_basis`` per direction; the error of the paired
-    squared residuals from blocks of the widest window's length). The raw force's noise is the
-    same at every window, so the residual marks the smoothing that leaves dv/dt least noisy
-    without smearing the motion, and where windows explain it alike the smoothest is kept: a
-    short window's noisy derivative pulls m towards 0 (errors in the variables), and the short
-    window ``choose_window`` gives a small mass would keep it there."""
+                      sample_time: float) -> Optional[int]:
+    """The window at which the mass is identified: the candidate whose smoothed v and dv/dt
+    explain the raw force best over ``rows`` (least residual of f = m dv/dt + F(v) + o by least
+    squares, F by ``friction_basis`` per direction). The raw force's noise is the same at every
+    window, so the least residual marks the smoothing that leaves dv/dt least noisy without
+    smearing the motion: a short window's noisy derivative pulls m towards 0 (errors in the
+    variables), and the short window ``choose_window`` gives a small mass would keep it there.
+    None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column)."""
     at = np.flatnonzero(rows)
+    if at.size < SAMPLES_PER_PARAMETER * (2 + friction_basis(np.ones(2), odd=False).shape[1]):
+        return None
     at = at[::max(1, at.size // EXPLAINING_ROWS)]
-    windows = candidate_windows(rows.size)
-    squared = []
-    for window in windows:
+    scores = []
+    for window in candidate_windows(rows.size):
         a = smooth(v, window, deriv=1, delta=sample_time)[at]
         basis = np.column_stack([a, friction_basis(smooth(v, window)[at], odd=False)])
         coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
-        squared.append((force[at] - basis @ coef) ** 2)
-    best = int(np.argmin([s.mean() for s in squared]))
-    blocks = np.array_split(np.arange(at.size), max(2, at.size // windows[-1]))
-
-    def within(k):                          # paired difference from the best within one SE
-        means = np.array([(squared[k][b] - squared[best][b]).mean() for b in blocks])
-        return means.mean() <= means.std(ddof=1) / np.sqrt(means.size)
-    return windows[max(k for k in range(len(windows)) if k == best or within(k))]
+        scores.append((float(np.sum((force[at] - basis @ coef) ** 2)), window))
+    return min(scores)[1]
 
 
 def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, independent: float) -> None:
