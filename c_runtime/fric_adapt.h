@@ -26,6 +26,10 @@
  *     flags = fric_adapt_ctrl_step(&a, &c, NAME_regressor, x, v, xd, xd_dot, xd_ddot, &i);
  * The float operations are those written here, in this order, each rounded to float;
  * fricgen.control.adaptation (dtype="float32") computes the same bits.
+ * Calling contexts: no global or static variable is written and no errno is set, so every
+ * function is reentrant on distinct structs. Update one struct from one context (the control
+ * ISR); read it elsewhere (save, export, logging) from a copy taken with that interrupt masked;
+ * init, reset and restore before the ISR starts or with it masked (docs/reference/c-api.md).
  * SPDX-License-Identifier: MIT
  * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_ADAPT_H

@@ -38,6 +38,10 @@
  * The float operations are those written here, in this order, each rounded to float (the file
  * refuses -ffast-math and turns contraction to fused multiply-add off);
  * fricgen.control.AdaptiveBackstepping(dtype="float32") computes the same bits.
+ * Calling contexts: no global or static variable is written and no errno is set, so every
+ * function is reentrant on distinct structs. Update one struct from one context (the control
+ * ISR); read it elsewhere (save, export, logging) from a copy taken with that interrupt masked;
+ * init, reset and restore before the ISR starts or with it masked (docs/reference/c-api.md).
  * SPDX-License-Identifier: MIT
  * Copyright (c) 2026 the fricgen authors */
 #ifndef FRIC_CTRL_H
