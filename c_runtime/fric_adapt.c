@@ -65,6 +65,7 @@ void fric_adapt_reset(fric_adapt_t *a)
     a->error = 0.0f;
     a->v_prev = 0.0f;
     a->i_prev = 0.0f;
+    a->k_hat = 1.0f;
     a->held = 1;
     a->flags = FRIC_ADAPT_OK;
 }
@@ -306,6 +307,7 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     }
     a->v_prev = v;
     a->i_prev = *current;
+    a->k_hat = c->k_hat;
     a->held = held;
     return flags;
 }
@@ -352,18 +354,21 @@ unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, ch
         return 0u;
     }
     n = (a->p.n <= (unsigned int)FRIC_ADAPT_MAX_PARAMS) ? a->p.n : 0u;
-    ok = fric_adapt_put(buf, size, &len, "fricgen-adapt-dump 1\nmodel ");
+    ok = fric_adapt_put(buf, size, &len, "fricgen-adapt-dump 2\nmodel ");
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, model_hash) : 0;
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, "\ntheta") : 0;
-    for (k = 0u; (ok != 0) && (k < n); ++k) {
-        const uint32_t bits = fric_adapt_float_bits(a->theta[k]);
+    for (k = 0u; (ok != 0) && (k <= n); ++k) {
+        const uint32_t bits = fric_adapt_float_bits((k < n) ? a->theta[k] : a->k_hat);
         unsigned int d;
         word[0] = ' ';
         for (d = 0u; d < 8u; ++d) {
             word[1u + d] = hex[(bits >> (28u - (4u * d))) & 0xFu];
         }
         word[9] = '\0';
-        ok = fric_adapt_put(buf, size, &len, word);
+        if ((k == n) && (ok != 0)) {
+            ok = fric_adapt_put(buf, size, &len, "\nscale");
+        }
+        ok = (ok != 0) ? fric_adapt_put(buf, size, &len, word) : 0;
     }
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, "\n") : 0;
     if (ok == 0) {

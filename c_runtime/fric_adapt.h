@@ -41,7 +41,7 @@
 extern "C" {
 #endif
 
-#define FRIC_ADAPT_VERSION 2
+#define FRIC_ADAPT_VERSION 3
 /* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
 #define FRIC_ADAPT_MAX_PARAMS 16u
 
@@ -110,6 +110,7 @@ typedef struct {
     float error;                             /* last error (N, RLS) or e2 (Lyapunov) */
     float v_prev;                            /* fric_adapt_ctrl_step's last v and current */
     float i_prev;
+    float k_hat;                             /* the controller's k_hat at the last step (1 before) */
     int held;                                /* the last controller step saturated or faulted */
     fric_adapt_flags_t flags;                /* what the last update returned */
 } fric_adapt_t;
@@ -156,13 +157,17 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
 fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
                                        const unsigned char *buf, unsigned int size);
 
-/* The adapted parameters as text, for fricgen to read back (`fricgen readback`): three lines,
- *     fricgen-adapt-dump 1
+/* The adapted friction as text, for fricgen to read back (`fricgen readback`): four lines,
+ *     fricgen-adapt-dump 2
  *     model <model_hash>                      (NAME_ADAPT_MODEL_HASH)
  *     theta <8 hex digits> ... <8 hex digits> (the float bits of theta[0 .. n-1])
- * each ending in '\n', NUL-terminated, into buf (size bytes). Returns the characters written
- * without the NUL, or 0 (buf then holds "" if size > 0) for a NULL argument or a buf too small:
- * 35 + length of the hash + 9 n bytes suffice. No libc formatting, no float arithmetic. */
+ *     scale <8 hex digits>                    (the float bits of k_hat)
+ * each ending in '\n', NUL-terminated, into buf (size bytes). The loop applies k_hat F(v): k_hat
+ * scales the compensation and trades against theta (their product is what the data determine),
+ * so the dump carries both and readback's model is the friction the loop applies. Returns the
+ * characters written without the NUL, or 0 (buf then holds "" if size > 0) for a NULL argument or
+ * a buf too small: 50 + length of the hash + 9 n bytes suffice. No libc formatting, no float
+ * arithmetic. */
 unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, char *buf,
                                unsigned int size);
 

@@ -10,7 +10,7 @@ import pytest
 from fricgen.control.adaptation import adapted
 from fricgen.control.c_adapted import CAdaptedController, build_adapted
 from fricgen.control.loop import default_axis, simulate
-from fricgen.control.readback import MAGIC, dump_text, model_from_dump, parse_dump
+from fricgen.control.readback import MAGIC, MAGIC_1, dump_text, model_from_dump, parse_dump
 from fricgen.control.regressor import trained_parameters
 from fricgen.errors import DataError, ModelError
 from fricgen.model import FrictionModel
@@ -39,20 +39,25 @@ def _export(module, c, model_hash, size=512):
 def test_the_c_dump_is_its_python_writer_byte_for_byte(adapted_loop, default_model):
     module, c, _ = adapted_loop
     n, text = _export(module, c, default_model.model_hash)
-    theta = np.float32(c.theta_)
-    assert text == dump_text(default_model.model_hash, theta) and n == len(text)
+    theta, k_hat = np.float32(c.theta_), np.float32(c.adaptive_parameters[1])
+    assert text == dump_text(default_model.model_hash, theta, k_hat) and n == len(text)
     assert not np.array_equal(theta, np.float32(trained_parameters(default_model)))   # it adapted
-    model_hash, read = parse_dump(text)
+    assert k_hat != 1.0                                          # the controller's k_hat moved too
+    model_hash, read, scale = parse_dump(text)
     assert model_hash == default_model.model_hash
-    assert read.tobytes() == theta.tobytes()                                       # every bit
+    assert read.tobytes() == theta.tobytes() and np.float32(scale) == k_hat       # every bit
 
 
 def test_the_dump_reads_back_into_the_model_the_twin_adapted(adapted_loop, default_model):
-    """The read-back model's force is the adapted model's of the float32 twin (same theta)."""
+    """The read-back model's force is the friction the twin's loop applies: k_hat times its
+    adapted model's (same theta, same k_hat)."""
     module, c, twin = adapted_loop
     back = model_from_dump(default_model, _export(module, c, default_model.model_hash)[1])
     v = np.linspace(-0.1, 0.1, 41)
-    np.testing.assert_array_equal(back.force(v), twin.adapter.adapted_model.force(v))
+    k_hat = twin.adaptive_parameters[1]
+    assert k_hat == c.adaptive_parameters[1]
+    np.testing.assert_allclose(back.force(v), k_hat * twin.adapter.adapted_model.force(v),
+                               rtol=1e-12, atol=1e-12)
     assert back.model_hash != default_model.model_hash
     # and it survives model.json
     again = FrictionModel.from_dict(back.to_dict())
@@ -62,7 +67,7 @@ def test_the_dump_reads_back_into_the_model_the_twin_adapted(adapted_loop, defau
 def test_a_buffer_too_small_or_null_gives_zero_and_an_empty_string(adapted_loop, default_model):
     module, c, _ = adapted_loop
     n_full, text = _export(module, c, default_model.model_hash)
-    assert n_full + 1 == 35 + len(default_model.model_hash) + 9 * len(c.theta_)   # the size the header states
+    assert n_full + 1 == 50 + len(default_model.model_hash) + 9 * len(c.theta_)   # the size the header states
     assert _export(module, c, default_model.model_hash, size=n_full + 1)[0] == n_full
     assert _export(module, c, default_model.model_hash, size=n_full) == (0, "")
     ffi, lib = module.ffi, module.lib
@@ -74,9 +79,12 @@ def test_a_buffer_too_small_or_null_gives_zero_and_an_empty_string(adapted_loop,
 @pytest.mark.parametrize("text, words", [
     ("v,f\n0.1,2\n", "not an adaptation dump"),
     (f"{MAGIC}\nmodel abc\n", "expected the lines"),
-    (f"{MAGIC}\nmodel abc\ntheta\n", "holds no parameter"),
-    (f"{MAGIC}\nmodel abc\ntheta 3f80000g\n", "is not 8 hex digits"),
-    (f"{MAGIC}\nmodel abc\ntheta 3f800000 7fc00000\n", "theta[1] is nan"),
+    (f"{MAGIC}\nmodel abc\ntheta\nscale 3f800000\n", "holds no parameter"),
+    (f"{MAGIC}\nmodel abc\ntheta 3f80000g\nscale 3f800000\n", "is not 8 hex digits"),
+    (f"{MAGIC}\nmodel abc\ntheta 3f800000 7fc00000\nscale 3f800000\n", "theta[1] is nan"),
+    (f"{MAGIC}\nmodel abc\ntheta 3f800000\n", "and 'scale <hex>'"),
+    (f"{MAGIC}\nmodel abc\ntheta 3f800000\nscale 00000000\n", "no friction model"),
+    (f"{MAGIC}\nmodel abc\ntheta 3f800000\nscale 3f800000 3f800000\n", "must be one number"),
 ])
 def test_malformed_dumps_are_refused_by_name(text, words):
     with pytest.raises(DataError, match=words.replace("[", r"\[").replace("]", r"\]")):
@@ -110,3 +118,13 @@ def test_fricgen_readback_writes_a_model_that_eval_reads(default_model, tmp_path
     assert record["adapted_from"] == model.model_hash and "metrics" not in record
     # the dump holds float32: every parameter rounded to 6e-8 of itself, B's quarter exactly
     assert grown == pytest.approx(0.25 * model.viscous * 0.1, rel=1e-5)
+
+
+def test_a_version_1_dump_reads_as_k_hat_1_and_a_scale_scales_the_force(default_model):
+    theta = trained_parameters(default_model)
+    words = " ".join(f"{int(u):08x}" for u in np.float32(theta).view(np.uint32))
+    old = model_from_dump(default_model, f"{MAGIC_1}\nmodel {default_model.model_hash}\ntheta {words}\n")
+    v = np.linspace(-0.1, 0.1, 41)
+    np.testing.assert_allclose(old.force(v), default_model.force(v), rtol=1e-6, atol=1e-9)
+    half = model_from_dump(default_model, dump_text(default_model.model_hash, theta, 0.5))
+    np.testing.assert_allclose(half.force(v), 0.5 * old.force(v), rtol=1e-12, atol=1e-12)
