@@ -260,3 +260,18 @@ def test_a_carried_drift_starts_with_the_log(files):
     late = MotionLog(t=log.t + 1000.0, x=log.x, v=log.v, i=log.i)
     gap = Diagnoser().held_out_gap(log, drift, 4.0, 20.0)
     assert Diagnoser().held_out_gap(late, drift, 4.0, 20.0) == pytest.approx(gap, rel=1e-6)
+
+
+def test_a_rotary_model_s_gaps_are_in_rad_per_second(files, tmp_path, capsys):
+    """A model trained on a rotary axis (training.units) gets its diagnosis's gaps in rad/s,
+    on the command line and in report.md."""
+    folder, _ = files
+    model = json.loads((folder / "model.json").read_text())
+    model["training"]["units"] = "rotary"
+    (tmp_path / "m.json").write_text(json.dumps(model))
+    assert main(["diagnose", str(folder / "log.csv"), "--model", str(tmp_path / "m.json"), *ARGS,
+                 "--out", str(tmp_path / "out")]) == 0
+    gap = [line for line in capsys.readouterr().out.splitlines() if line.startswith("gap ")]
+    assert len(gap) == 1 and " rad/s (rms velocity error (rad/s)" in gap[0] and "m/s" not in gap[0]
+    report = (tmp_path / "out" / "report.md").read_text()
+    assert "| velocity gap (rad/s) |" in report and "gap before (rad/s)" in report

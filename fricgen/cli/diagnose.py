@@ -17,7 +17,6 @@ from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes,
 from ..errors import UsageError
 from ..model import FrictionModel
 from ..diagnose.operating_point import missing_dependence, named_lines, without_load
-from ..units import units_of
 from .inputs import (add_export_options, data_warnings, load_model, read_data, say_data_warnings,
                      source_name)
 from .common import (add_json, add_model, add_output, check_targets,
@@ -153,7 +152,7 @@ def _run(args) -> int:
     for note in range_notes(model_effects(model), log):
         say("fricgen: note: " + note)
     if operating is not None:
-        named, gap, undetermined = named_lines(operating, units_of(model.training.get("units") == "rotary").force)
+        named, gap, undetermined = named_lines(operating, d.units_.force)
     if args.json:
         summary = d.summary()
         if operating is not None:
@@ -163,7 +162,7 @@ def _run(args) -> int:
         lines = []
         for j, s in enumerate(d.effects_, 1):
             lines.append(f"effect {j}   {s.effect} ({p_text(s.p_value)}, {s.share:.0%} of the held-out "
-                         f"residual, gap {s.gap_before:.4g} -> {s.gap_after:.4g} m/s)")
+                         f"residual, gap {s.gap_before:.4g} -> {s.gap_after:.4g} {d.units_.speed})")
             lines.append("parameters " + ", ".join(f"{k} = {format_value(v)}"
                                                   for k, v in s.fitted.parameters().items()))
         if not d.effects_:
@@ -180,7 +179,8 @@ def _run(args) -> int:
         lines.append(f"where      before the effects: {d.where_}")
         if d.effects_:
             lines.append(f"           after them: {d.where_after_}")
-        lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} m/s ({d.gap_metric_})")
+        lines.append(f"gap        {d.gap_before_:.4g} -> {d.gap_after_:.4g} {d.units_.speed} "
+                     f"({d.gap_metric_})")
         if operating is not None:
             lines += [f"missing    {line}" for line in named] or ["missing    no load nor temperature "
                                                                  "dependence (the held-out blocks ask for none)"]

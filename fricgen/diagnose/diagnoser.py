@@ -23,6 +23,7 @@ from ..metrics import rmse
 from ..model import FrictionModel
 from .decision import held_out_p_value
 from .gap import HeldOutGap
+from ..units import units_of
 from .localize import localize, where
 from .refine import output_error_fit
 from .residual import ResidualProblem
@@ -142,7 +143,8 @@ class Diagnoser:
     model_ : FrictionModel
         The model with the effects added appended to its ``effects``.
     gap_before_, gap_after_ : float
-        Held-out gap (m/s) of the model as given and with the effects; ``gap_metric_`` says how
+        Held-out gap (m/s, or rad/s: ``units_``, the model's) of the model as given and with the
+        effects; ``gap_metric_`` says how
         it is measured, ``force_gap_before_``/``force_gap_after_`` the force residual's RMS (N).
         ``gap_selected_``: the gap after with the values selection fitted (``selected_``: those
         effects), before the refinement;
@@ -262,7 +264,7 @@ class Diagnoser:
         if not step.gap_after <= (1.0 - gain) * gap_now:
             step.reason = ((step.reason + ", and the held-out gap" if step.reason else
                             "the held-out gap") + f" does not shrink by {gain:.0%} "
-                           f"({gap_now:.3g} -> {step.gap_after:.3g} m/s)")
+                           f"({gap_now:.3g} -> {step.gap_after:.3g} {self.units_.speed})")
             return step
         step.reason = ""
         step.added = True
@@ -318,7 +320,7 @@ class Diagnoser:
                             f"mass) and is as close to the held-out part (within one standard error)"
                             if s.gap_after <= limit else
                             f"passes, but the set {names} leaves a smaller held-out gap "
-                            f"({pick[0].gap_after:.3g} m/s against {s.gap_after:.3g})")
+                            f"({pick[0].gap_after:.3g} {self.units_.speed} against {s.gap_after:.3g})")
         return pick
 
     def _replace(self, step: Step, chosen: List[Effect]) -> None:
@@ -370,6 +372,7 @@ class Diagnoser:
         """Select the effects ``model`` misses on ``log``, an axis of nominal ``mass`` (kg) and
         ``force_constant`` (N/A); returns self with the attributes above set."""
         names = self._validate()
+        self.units_ = units_of(model.training.get("units") == "rotary")
         p, base = self._prepare(log, model, mass, force_constant)
         ts = log.sample_time
         self._v_sim = self.v_sim_before_
@@ -441,9 +444,9 @@ class Diagnoser:
         self.where_after_ = where(self.localization_after_)
         self.v_sim_after_ = self._v_sim
         self.gap_after_ = gap_now
-        self.gap_metric_ = (f"rms velocity error (m/s) of simulations restarted from the measured "
-                            f"state every {self.horizon_samples_ * ts:.3g} s and driven by the measured "
-                            f"current, against the measured velocity smoothed as the residual is, on "
+        self.gap_metric_ = (f"rms velocity error ({self.units_.speed}) of simulations restarted "
+                            f"from the measured state every {self.horizon_samples_ * ts:.3g} s and "
+                            f"driven by the measured current, against the measured velocity smoothed as the residual is, on "
                             f"the held-out last {self.holdout:.0%} of the log while moving")
         test = p.test_rows
         self.force_gap_before_ = rmse(p.target[test], 0.0)

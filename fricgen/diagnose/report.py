@@ -25,13 +25,14 @@ def format_value(value) -> str:
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
-def effect_sentence(step) -> str:
-    """One line on an added effect: what, how large, how sure, how much of the gap it closes."""
+def effect_sentence(step, speed: str = "m/s") -> str:
+    """One line on an added effect: what, how large, how sure, how much of the gap it closes
+    (the gap's ``speed`` unit)."""
     params = ", ".join(f"{k} = {format_value(v)}" for k, v in step.fitted.parameters().items())
     closed = 1.0 - step.gap_after / step.gap_before if step.gap_before > 0 else 0.0
     return (f"- `{step.effect}` ({params}): {step.size:.0%} of the RMS friction force, "
             f"{p_text(step.p_value)}; it closes {closed:.0%} of the held-out gap "
-            f"({step.gap_before:.3g} -> {step.gap_after:.3g} m/s).")
+            f"({step.gap_before:.3g} -> {step.gap_after:.3g} {speed}).")
 
 
 def verdict(d: Diagnoser) -> str:
@@ -46,8 +47,8 @@ def refinement_note(d: Diagnoser) -> str:
     if not d.fit_gap_after_ < d.fit_gap_before_:
         return ""
     return (f"the parameters above were fitted again to simulations of the fit part (its gap "
-            f"{d.fit_gap_before_:.4g} -> {d.fit_gap_after_:.4g} m/s); the held-out gap with the "
-            f"values the selection fitted was {d.gap_selected_:.4g} m/s")
+            f"{d.fit_gap_before_:.4g} -> {d.fit_gap_after_:.4g} {d.units_.speed}); the held-out gap "
+            f"with the values the selection fitted was {d.gap_selected_:.4g} {d.units_.speed}")
 
 
 #: Effects that change with time in service: a fixed model cannot follow them.
@@ -108,7 +109,7 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
     p = d.problem_
     lines = [f"{REPORT_TITLE}{log_name}", "",
              f"**Missing effects: {verdict(d)}.**", ""]
-    lines += [effect_sentence(s) for s in d.effects_] + ([""] if d.effects_ else [])
+    lines += [effect_sentence(s, d.units_.speed) for s in d.effects_] + ([""] if d.effects_ else [])
     lines += [f"Where the residual lives before: {d.where_}.", "",
               f"After the effects added: {d.where_after_}.", ""]
     tables = [s.effect for s in d.effects_ if s.effect not in EFFECTS]
@@ -136,8 +137,9 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
               "number and its figures. Tables (no physical name) compete when no named set is taken, "
               f"or first when their cross-validated gain is more than {TABLE_PREFERENCE:g} times the "
               f"best named one's. At most {d.max_effects} effects.", "",
-              "| step | effect | p-value | share of residual | size | gap before (m/s) | "
-              "gap after (m/s) | decision |", "|---|---|---|---|---|---|---|---|"]
+              "| step | effect | p-value | share of residual | size | "
+              f"gap before ({d.units_.speed}) | gap after ({d.units_.speed}) | decision |",
+              "|---|---|---|---|---|---|---|---|"]
     k, last = 0, None
     for s in d.steps_:
         if s.added and s.joint is not last:         # effects that enter together: one step
@@ -162,7 +164,7 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
     lines += ["## Gap on the held-out part", "",
               f"Metric: {d.gap_metric_}.", "",
               "| | before | after |", "|---|---|---|",
-              f"| velocity gap (m/s) | {d.gap_before_:.4g} | {d.gap_after_:.4g} |",
+              f"| velocity gap ({d.units_.speed}) | {d.gap_before_:.4g} | {d.gap_after_:.4g} |",
               f"| force residual rms (N) | {d.force_gap_before_:.4g} | {d.force_gap_after_:.4g} |", ""]
     refined = refinement_note(d)
     if refined:
