@@ -126,6 +126,8 @@ def fit(args, progress=say, warn=say):
     with rotary_axis(rotary):                  # the data checks' bounds too
         columns = training_columns(args)
         given = [c for c in CONDITIONS if c in columns]
+        if args.gravity:
+            check_gravity(args, columns, rotary)
         if given and (args.dynamic or args.cogging):
             raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "
                              f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
@@ -137,7 +139,7 @@ def fit(args, progress=say, warn=say):
                          seed=args.seed, name=name, source=source_name(args),
                          file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
                          progress=progress, warn=warn, rotary=rotary, checks=False,
-                         velocity_resolution=args.velocity_resolution)
+                         velocity_resolution=args.velocity_resolution, gravity=args.gravity)
         if args.dynamic:
             return train_dynamic(columns, rotary=rotary, force_constant=args.force_constant,
                                  train_friction=fit_friction)
@@ -172,6 +174,25 @@ def _run(args) -> int:
     write_file(args, report.model.checked_json(), inputs)    # never one that load refuses
     say(f"wrote {args.output} (model {report.model.model_hash})")
     return 0
+
+
+def check_gravity(args, columns, rotary: bool) -> None:
+    """``UsageError`` where ``--gravity`` cannot apply: not a joint, no position, a sweep, or
+    beside --dynamic or --cogging (whose once-per-turn term holds the weight already)."""
+    if args.dynamic or args.cogging:
+        raise UsageError(f"--gravity with --{'dynamic' if args.dynamic else 'cogging'}: "
+                         + ("the cogging map's once-per-turn term holds the weight already; leave "
+                            "--gravity out" if args.cogging else "the bristles are identified "
+                            "from the force with no gravity term; train them without --gravity"))
+    if not is_log(columns):
+        raise UsageError("--gravity applies to a motion log (t, q, dq, tau): a sweep's points "
+                         "hold no position")
+    if not rotary:
+        raise UsageError("--gravity is for a rotary axis (a joint, --rotary or q/dq/tau columns): "
+                         "on a linear axis the weight is constant and the offset takes it")
+    if "x" not in columns:
+        raise UsageError("--gravity needs the position (a column q or x, in rad): the gravity "
+                         "torque is a function of the joint's angle")
 
 
 def register(p) -> None:
@@ -213,6 +234,10 @@ def register(p) -> None:
                      "dynamics; with a current log and no --force-constant, K is identified instead)")
     log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
                      help="force constant, N/A, for a log with current i instead of force")
+    log.add_argument("--gravity", action="store_true",
+                     help="a joint whose torque holds its link's weight: identify G_s sin q + G_c cos q "
+                     "of the position (rad) beside the inertia and take it out of the friction "
+                     "(a rotary axis with its position column)")
     add_export_options(p)
     cogging = p.add_argument_group("cogging (a slow move over the travel, e.g. 2 revolutions each way)")
     cogging.add_argument("--cogging", action="store_true",

@@ -14,7 +14,7 @@ apart from it on moving rows (1 = [v > 0] + [v < 0]), which the report says.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -53,6 +53,16 @@ class RigidBody:
     #: errors; ``mass`` is then 0): a residual inertia of a force whose inertia model was
     #: removed before, overestimated
     mass_estimate: Optional[float] = None
+    #: (G_s, G_c) of a gravity-like force G_s sin x + G_c cos x of the position (``--gravity``)
+    #: and their standard errors; None where not asked for
+    gravity: Optional[Tuple[float, float]] = None
+    gravity_se: Optional[Tuple[float, float]] = None
+
+    def gravity_force(self, x: Optional[np.ndarray]) -> np.ndarray:
+        """G_s sin x + G_c cos x at the positions ``x`` (0 without gravity)."""
+        if self.gravity is None or x is None:
+            return np.zeros(() if x is None else np.shape(x))
+        return gravity_basis(x) @ np.asarray(self.gravity)
 
     @property
     def inertia(self) -> float:
@@ -67,6 +77,12 @@ class RigidBody:
     def mass_determined(self) -> bool:
         """Given, or identified at least MASS_SIGMAS standard errors above 0."""
         return self.mass_se is None or self.mass > MASS_SIGMAS * self.mass_se
+
+
+def gravity_basis(x: np.ndarray) -> np.ndarray:
+    """Columns [sin x, cos x] of a joint's gravity torque at its angle x (rad): a link's
+    weight acting at a fixed lever, whatever the angle's zero, is G_s sin x + G_c cos x."""
+    return np.column_stack([np.sin(x), np.cos(x)])
 
 
 def operating_basis(v: np.ndarray, load: Optional[np.ndarray] = None,
@@ -120,10 +136,14 @@ def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float
 
 
 def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
-                        mass: Optional[float] = None,
-                        extra: Optional[np.ndarray] = None) -> RigidBody:
+                        mass: Optional[float] = None, extra: Optional[np.ndarray] = None,
+                        x: Optional[np.ndarray] = None) -> RigidBody:
     """The mass (unless given) and the offset of the axis from smoothed dv/dt, v and force at
-    rows where it moves (``extra`` as ``identify_mass``)."""
+    rows where it moves (``extra`` as ``identify_mass``); with the positions ``x``, a gravity
+    force G_s sin x + G_c cos x beside them (``gravity_basis``)."""
+    gravity = gravity_se = None
+    if x is not None:
+        extra = _with(gravity_basis(x), extra)
     mass_se = estimate = None
     if mass is None:
         mass, mass_se, estimate = identify_mass(a, v, force, independent, extra)
@@ -132,4 +152,10 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
     if np.any(v > 0) and np.any(v < 0):
         offset, offset_se = identify_offset(a, v, force, mass if residual is None else residual,
                                             independent, extra)
-    return RigidBody(float(mass), mass_se, offset, offset_se, residual)
+    if x is not None:                       # at the mass found, beside a per-direction friction
+        basis = _with(friction_basis(v, odd=False), extra)
+        coef, se = least_squares_errors(basis, force - (mass if residual is None else residual) * a,
+                                        independent)
+        at = friction_basis(v[:2], odd=False).shape[1]
+        gravity, gravity_se = (float(coef[at]), float(coef[at + 1])), (float(se[at]), float(se[at + 1]))
+    return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se)

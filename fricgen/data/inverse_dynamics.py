@@ -24,7 +24,8 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import RigidBody, friction_basis, identify_rigid_body, operating_basis
+from .idim import (RigidBody, friction_basis, gravity_basis, identify_rigid_body,
+                   operating_basis)
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -267,6 +268,11 @@ class Identification:
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
         lines = [f"mass      {mass}"]
+        if b.gravity is not None:
+            (g_s, g_c), (se_s, se_c) = b.gravity, b.gravity_se
+            lines.append(f"gravity   G_s sin x + G_c cos x: G_s = {g_s:.5g} +- {se_s:.2g}, G_c = "
+                         f"{g_c:.5g} +- {se_c:.2g} {units.force} (amplitude {np.hypot(g_s, g_c):.4g} "
+                         f"{units.force}), taken out of the friction samples; compensate it apart")
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
             lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} N/A identified from the "
@@ -318,7 +324,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                       window: Optional[int] = None, body_window: Optional[int] = None,
                       use: Optional[np.ndarray] = None,
                       progress: Optional[Callable[[str], None]] = None,
-                      conditions: Optional[Dict[str, np.ndarray]] = None) -> Identification:
+                      conditions: Optional[Dict[str, np.ndarray]] = None,
+                      gravity: bool = False) -> Identification:
     """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
@@ -332,7 +339,9 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
 
     ``conditions``: the log's ``load`` (the external force the drive supplies beside the
     friction, f = m a + L + F + o; ``check_load``) and ``temperature`` columns, smoothed as v and
-    kept at the rows of the samples (``Identification.conditions``)."""
+    kept at the rows of the samples (``Identification.conditions``). ``gravity``: a force
+    G_s sin x + G_c cos x of the position (a robot joint's link weight, x in rad) identified
+    beside the mass and taken out of the friction samples; it needs ``x``."""
     conditions = dict(conditions or {})
     columns = {"t": t, "force": force, "v": v, "x": x, **conditions}
     for name, values in columns.items():
@@ -352,6 +361,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     noise = velocity_noise(v)
     if not given:                           # encoder counts: the central difference's rounding
         noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))
+    if gravity and x is None:
+        raise DataError("--gravity needs the position (a column x or q): the gravity force is a "
+                        "function of the joint's angle")
+    angle = x if gravity else None
     use = np.ones(t.size, dtype=bool) if use is None else np.asarray(use, dtype=bool)
     body = None
     rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
@@ -362,14 +375,16 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         if body_window is None:             # the body where dv/dt explains the force best
             body_window = explaining_window(v, raw, rows & whole, ts)
         if body_window is not None:
-            body = _body_at(body_window, ts, v, raw, rows & whole, conditions)
+            body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
         window = choose_window(force, rows, guess, noise, ts, progress)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
-        window, ts, v, force, noise, use, conditions, mass, body is None)
+        window, ts, v, force, noise, use, conditions, mass, body is None, angle)
     body = at_window if body is None else body
     friction = f_s - body.inertia * a_s
+    if angle is not None:
+        friction = friction - body.gravity_force(smooth(angle, window))
     steady = steady_rows(v_s, moving, window)
     kept = float(steady.sum()) * _centre_weight(window)
     if steady.sum() < MIN_ROWS or kept < MIN_INDEPENDENT:
@@ -409,7 +424,7 @@ def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray
 
 def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
                use: np.ndarray, conditions: Dict[str, np.ndarray], mass: Optional[float],
-               identify: bool = True):
+               identify: bool = True, angle: Optional[np.ndarray] = None):
     """The log smoothed by ``window`` (``_smoothed``) with its operating point, the load taken
     out of the force (``check_load``), and the rigid body identified there (``mass`` given:
     checked, ``_check_inertia``; None where not ``identify``): (v, dv/dt, force, the moving
@@ -426,12 +441,13 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
     if identify:
         extra = operating_basis(v_s[moving], *(None if k not in at_rows else at_rows[k][moving]
                                                for k in CONDITIONS))
-        body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass, extra)
+        body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass, extra,
+                                   None if angle is None else smooth(angle, window)[moving])
     return v_s, a_s, f_s, moving, at_rows, independent, body
 
 
 def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.ndarray,
-             conditions: Dict[str, np.ndarray]) -> RigidBody:
+             conditions: Dict[str, np.ndarray], angle: Optional[np.ndarray] = None) -> RigidBody:
     """The rigid body (``data.idim``) from the raw ``force`` (the load taken out) at ``rows``,
     with v, dv/dt and the operating point smoothed by ``window`` (``explaining_window``). The
     residual is the raw force's, so the rows count as independent but for its correlation from
@@ -440,13 +456,16 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     v_s, a_s = smooth(v, window)[at], smooth(v, window, deriv=1, delta=ts)[at]
     at_rows = {k: smooth(c, window)[at] for k, c in conditions.items()}
     extra = operating_basis(v_s, *(at_rows.get(k) for k in CONDITIONS))
+    x_s = None if angle is None else smooth(angle, window)[at]
     basis = np.column_stack([a_s, friction_basis(v_s, odd=False)]
-                            + ([] if extra is None else [extra]))
+                            + ([] if extra is None else [extra])
+                            + ([] if x_s is None else [gravity_basis(x_s)]))
     coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
     lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / at.size)
-    return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra)
+    return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra,
+                               x_s)
 
 
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
@@ -550,11 +569,11 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
 def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
                  force_constant: Optional[float] = None,
                  progress: Optional[Callable[[str], None]] = None,
-                 use: Optional[np.ndarray] = None) -> Identification:
+                 use: Optional[np.ndarray] = None, gravity: bool = False) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
     ``force_constant`` (N/A). A current without a force constant determines M/K and the friction
     over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so.
-    ``progress`` and ``use`` (a mask of the log's rows) as there."""
+    ``progress``, ``use`` (a mask of the log's rows) and ``gravity`` as there."""
     if "temperature" in columns:                # a sensor's slower rate: blank cells between
         columns = {**columns, "temperature": interpolated(columns["temperature"], columns.get("t"))}
     for name, values in columns.items():        # named as the file has them (i, not force)
@@ -564,14 +583,15 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
     columns, resampled = resampled_uniformly(columns)
     use = columns.pop(USE_COLUMN, None)
     ident = _identify_log(columns, mass, force_constant, progress,
-                          None if use is None else use > 0.5)
+                          None if use is None else use > 0.5, gravity)
     return replace(ident, resampled=resampled) if resampled else ident
 
 
-def _identify_log(columns, mass, force_constant, progress, use=None) -> Identification:
+def _identify_log(columns, mass, force_constant, progress, use=None,
+                  gravity=False) -> Identification:
     conditions = {k: columns[k] for k in CONDITIONS if k in columns}
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress,
-                               "use": use, "conditions": conditions}
+                               "use": use, "conditions": conditions, "gravity": gravity}
     if "load" in conditions and "force" not in columns and force_constant is None:
         raise DataError("the log has a load column and a current i but no force: pass "
                         "--force-constant (N/A) so that the current is a force the load can be "

@@ -91,7 +91,7 @@ def sweep_spread(columns: Mapping[str, np.ndarray]) -> Tuple[Optional[np.ndarray
     return out[0], out[1]
 
 
-def _friction_data(data, mass, force_constant, source, progress, use=None):
+def _friction_data(data, mass, force_constant, source, progress, use=None, gravity=False):
     """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
     if isinstance(data, Sweep):
         columns = {"v": np.asarray(data.v, float), "f": np.asarray(data.f, float)}
@@ -101,7 +101,8 @@ def _friction_data(data, mass, force_constant, source, progress, use=None):
         raise ValueError(f"data must be a Sweep or a mapping of columns, got {type(data).__name__}")
     if is_log(columns):
         with named_data(source):
-            ident = identify_log(columns, mass, force_constant, progress=progress, use=use)
+            ident = identify_log(columns, mass, force_constant, progress=progress, use=use,
+                                 gravity=gravity)
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         raise DataError(f"{source}: {describe_missing(columns)}")
@@ -150,7 +151,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           progress: Optional[Callable[[str], None]] = None,
           warn: Optional[Callable[[str], None]] = None, rotary: bool = False,
           checks: bool = True, velocity_resolution: Optional[float] = None,
-          use: Optional[np.ndarray] = None) -> FitReport:
+          use: Optional[np.ndarray] = None, gravity: bool = False) -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -200,6 +201,10 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     use : array of bool, optional
         The rows of a log to identify the friction on (default all): ``train --dynamic`` leaves
         out those where the bristles are still building up.
+    gravity : bool, default False
+        A log of a joint whose force holds its link's weight: G_s sin x + G_c cos x of the
+        position ``x`` (rad) identified beside the inertia and taken out of the friction
+        samples (the report prints it; the model stays the friction). Needs ``x``.
 
     Returns
     -------
@@ -238,7 +243,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         if checks:
             _check_data(data, source, accept_unusual, warn)
         report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
-                        source, file, accept_unusual, progress, warn, rotary, use)
+                        source, file, accept_unusual, progress, warn, rotary, use, gravity)
         return with_velocity_band(report, data, velocity_resolution)
 
 
@@ -274,11 +279,11 @@ def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
 
 
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
-           accept_unusual, progress, warn, rotary, use=None) -> FitReport:
+           accept_unusual, progress, warn, rotary, use=None, gravity=False) -> FitReport:
     if vs_max is not None and not (isinstance(vs_max, (int, float)) and 0 < vs_max < math.inf):
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
-    sweep, ident = _friction_data(data, mass, force_constant, source, progress, use)
+    sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
 

@@ -1,0 +1,80 @@
+"""A joint whose torque holds its link's weight: ``train --gravity`` identifies G_s sin q + G_c cos q
+beside the inertia and takes it out of the friction; where it cannot apply, one line and exit 2."""
+import numpy as np
+import pytest
+
+import fricgen
+from fricgen.cli import main
+
+GRAVITY = (18.0, 6.0)            # Nm: G_s, G_c
+INERTIA = 0.8                    # kg m^2
+
+
+def friction(v):
+    """An asymmetric Coulomb + Stribeck + viscous joint friction, Nm (not a law of fricgen's)."""
+    return np.where(v > 0, 3.0 + 1.2 * np.exp(-np.abs(v) / 0.05) + 4.0 * v,
+                    -2.6 - 1.0 * np.exp(-np.abs(v) / 0.05) + 4.4 * v)
+
+
+@pytest.fixture(scope="module")
+def joint():
+    return joint_log()
+
+
+def joint_log():
+    """30 s of a joint swinging +-1.6 rad at 200 Hz: t, q, dq (noisy), tau (noisy)."""
+    rng = np.random.default_rng(7)
+    ts, n = 0.005, 6000
+    t = np.arange(n) * ts
+    q = 1.2 * np.sin(2 * np.pi * 0.13 * t) + 0.4 * np.sin(2 * np.pi * 0.41 * t + 1.0)
+    dq = np.gradient(q, ts)
+    tau = (INERTIA * np.gradient(dq, ts) + GRAVITY[0] * np.sin(q) + GRAVITY[1] * np.cos(q)
+           + friction(dq) + rng.normal(0.0, 0.15, n))
+    return {"t": t, "x": q, "v": dq + rng.normal(0.0, 2e-3, n), "force": tau}
+
+
+def friction_error(report):
+    """RMS error (Nm) of the model plus its offset against the true friction over 0.05-1.5 rad/s."""
+    v = np.concatenate([-np.geomspace(0.05, 1.5, 30), np.geomspace(0.05, 1.5, 30)])
+    offset = report.training["axis"]["offset"] or 0.0
+    return float(np.sqrt(np.mean((report.model.force(v) + offset - friction(v)) ** 2)))
+
+
+def test_the_weight_is_identified_and_taken_out_of_the_friction(joint):
+    quiet = dict(rotary=True, warn=lambda line: None)
+    with_gravity = fricgen.train(joint, gravity=True, **quiet)
+    body = with_gravity.identification.body
+    assert body.gravity == pytest.approx(GRAVITY, rel=0.02)
+    assert all(abs(g - truth) < 5 * se for g, truth, se in zip(body.gravity, GRAVITY, body.gravity_se))
+    assert body.mass == pytest.approx(INERTIA, rel=0.08)
+    assert "gravity   G_s sin x + G_c cos x" in str(with_gravity)
+    without = fricgen.train(joint, **quiet)
+    assert without.identification.body.gravity is None
+    assert friction_error(with_gravity) < 0.15 < 1.0 < friction_error(without)
+
+
+def _write(path, columns, header):
+    np.savetxt(path, np.column_stack(columns), delimiter=",", header=header, comments="")
+    return str(path)
+
+
+def test_the_command_line_prints_the_gravity_of_a_joint_log(joint, tmp_path, capsys):
+    log = _write(tmp_path / "joint.csv", [joint[k] for k in ("t", "x", "v", "force")], "t,q,dq,tau")
+    assert main(["train", log, "--gravity", "-o", str(tmp_path / "m.json")]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("gravity")]
+    assert len(lines) == 1 and "Nm" in lines[0]
+
+
+@pytest.mark.parametrize("header, keys, extra, words", [
+    ("t,dq,tau", ("t", "v", "force"), [], "needs the position"),
+    ("t,x,v,force", ("t", "x", "v", "force"), [], "for a rotary axis"),
+    ("t,q,dq,tau", ("t", "x", "v", "force"), ["--cogging"], "once-per-turn term"),
+    ("v,f", ("v", "force"), ["--rotary"], "applies to a motion log"),
+])
+def test_gravity_where_it_cannot_apply_is_one_line_and_nothing_written(joint, tmp_path, capsys,
+                                                                       header, keys, extra, words):
+    log = _write(tmp_path / "log.csv", [joint[k][:400] for k in keys], header)
+    out = tmp_path / "m.json"
+    assert main(["train", log, "--gravity", *extra, "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0] and not out.exists()
