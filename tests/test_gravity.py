@@ -78,3 +78,9 @@ def test_gravity_where_it_cannot_apply_is_one_line_and_nothing_written(joint, tm
     assert main(["train", log, "--gravity", *extra, "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0] and not out.exists()
+
+
+def test_the_api_refuses_gravity_for_a_sweep():
+    sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+    with pytest.raises(ValueError, match="gravity apply to a motion log"):
+        fricgen.train(sweep, gravity=True)

@@ -106,8 +106,9 @@ def _friction_data(data, mass, force_constant, source, progress, use=None, gravi
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         raise DataError(f"{source}: {describe_missing(columns)}")
-    if mass is not None or force_constant is not None:
-        raise ValueError(f"mass and force_constant apply to a motion log; {source} is a sweep (v, f)")
+    if mass is not None or force_constant is not None or gravity:
+        raise ValueError(f"mass, force_constant and gravity apply to a motion log; {source} is a "
+                         "sweep (v, f)")
     return sweep_from_columns(columns, source), None
 
 
