@@ -209,3 +209,13 @@ def test_forces_in_kn_get_one_warning_and_scaled_the_same_model(work, capsys):
     assert "warning" not in capsys.readouterr().err
     n, scaled = FrictionModel.load(work / "n.json"), FrictionModel.load(work / "scaled.json")
     assert scaled.force(0.05) == pytest.approx(n.force(0.05), rel=1e-6)
+
+
+def test_a_log_timed_in_ms_read_as_s_is_named():
+    from fricgen.data.plausibility import check_rate
+    heard = []
+    t = np.arange(2000) * 1e-3
+    check_rate(t, "log.csv", heard.append)
+    assert heard == []
+    check_rate(1000 * t, "log.csv", heard.append)
+    assert len(heard) == 1 and "sampled at 1 Hz" in heard[0] and "--scale t=0.001" in heard[0]

@@ -37,6 +37,9 @@ SWAP_RATIO = 0.5
 NOTHING_EXPLAINED = 0.5
 #: The share of rows whose magnitudes the bounds leave out (glitches; ``_top``).
 TOP_SHARE = 0.01
+#: A motion log sampled slower than this (Hz) is beyond any drive's or DAQ's log: time in ms
+#: read as s lands there (and gives an inertia a thousand times the axis's, at 1 kHz).
+USUAL_MIN_RATE = 10.0
 #: Rows the shape and shift checks look at (evenly thinned beyond).
 CHECK_ROWS = 100_000
 #: A merge shift is off when the force fits the motion at another shift this much better
@@ -255,3 +258,15 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
     if not is_log and {"v", "f"} <= set(columns):
         check_sweep_shape(columns["v"], columns["f"], source, accept_unusual, warn)
     check_bounds(columns, source, accept_unusual, warn)
+    if is_log and "t" in columns:
+        check_rate(columns["t"], source, warn)
+
+
+def check_rate(t: np.ndarray, source: str, warn: Callable[[str], None] = print) -> None:
+    """One warning line when the log's median sampling rate is below USUAL_MIN_RATE."""
+    steps = np.diff(t)
+    step = float(np.median(steps)) if steps.size else 0.0
+    if step > 1.0 / USUAL_MIN_RATE:
+        warn(f"fricgen: warning: {source}: the log is sampled at {1.0 / step:.3g} Hz, below the "
+             f"{USUAL_MIN_RATE:g} Hz of any drive's or DAQ's log: is t in ms (--scale t=0.001)? "
+             "The inertia would come out a thousand times the axis's")
