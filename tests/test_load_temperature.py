@@ -280,3 +280,18 @@ def test_a_load_of_one_sign_is_said_and_its_slopes_bounded():
     dep = report.model.inputs.load
     assert "keeps one sign" in report.training["inputs"]["undetermined"]["sign"]
     assert 1.0 + max(dep.driving, dep.back_driving) * dep.largest <= 50.0
+
+
+def test_eval_refuses_a_temperature_below_absolute_zero(model, tmp_path, capsys, monkeypatch):
+    """A temperature colder than -273.15 degC is a typo (a sign, K for degC): refused in one line,
+    not saturated at the trained range as a reading beyond it is."""
+    import io
+    from fricgen.cli import main
+    path = model.save(tmp_path / "m.json")
+    monkeypatch.setattr("sys.stdin", io.StringIO("0.3,20,-300\n"))
+    assert main(["eval", str(path), "--no-offset"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "line 1: temperature -300 degC is below absolute zero" in err[0]
+    monkeypatch.setattr("sys.stdin", io.StringIO("0.3,20,-200\n"))     # cold, but a temperature
+    assert main(["eval", str(path), "--no-offset"]) == 0
+    assert float(capsys.readouterr().out) == pytest.approx(float(model.force(0.3, load=20, temperature=-200)))

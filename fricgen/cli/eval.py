@@ -19,6 +19,8 @@ from .common import out, say
 
 #: Velocities evaluated together: memory stays constant however long the input is.
 CHUNK = 1 << 16
+#: The coldest temperature there is, degC: a colder one is a typo, not a reading to saturate.
+ABSOLUTE_ZERO = -273.15
 
 
 def register(p) -> None:
@@ -51,6 +53,9 @@ def _rows(stream, names):
             raise UsageError(f"stdin line {n}: not a number: {text[:40]!r}") from None
         if not all(math.isfinite(v) for v in values):
             raise UsageError(f"stdin line {n}: {what} must be finite, got {text[:40]}")
+        if "temperature" in names and values[names.index("temperature")] < ABSOLUTE_ZERO:
+            raise UsageError(f"stdin line {n}: temperature {values[names.index('temperature')]:g} "
+                             f"degC is below absolute zero ({ABSOLUTE_ZERO} degC)")
         yield values
 
 
