@@ -23,6 +23,9 @@ from ..metrics import least_squares_errors
 
 #: Stribeck drops in the stand-in friction basis, per direction.
 STRIBECK_TERMS = 3
+#: Columns of the per-direction basis (``friction_basis(v, odd=False)``): a level, a slope and
+#: the drops, for each direction.
+BASIS_COLUMNS = 2 * (2 + STRIBECK_TERMS)
 #: The identified mass must stand this many standard errors above 0.
 MASS_SIGMAS = 3.0
 
@@ -156,6 +159,6 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
         basis = _with(friction_basis(v, odd=False), extra)
         coef, se = least_squares_errors(basis, force - (mass if residual is None else residual) * a,
                                         independent)
-        at = friction_basis(v[:2], odd=False).shape[1]
+        at = BASIS_COLUMNS
         gravity, gravity_se = (float(coef[at]), float(coef[at + 1])), (float(se[at]), float(se[at + 1]))
     return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se)

@@ -24,8 +24,8 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import (RigidBody, friction_basis, gravity_basis, identify_rigid_body,
-                   operating_basis)
+from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, gravity_basis,
+                   identify_rigid_body, operating_basis)
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -496,7 +496,7 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
     variables), and the short window ``choose_window`` gives a small mass would keep it there.
     None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column)."""
     at = np.flatnonzero(rows)
-    if at.size < SAMPLES_PER_PARAMETER * (2 + friction_basis(np.ones(2), odd=False).shape[1]):
+    if at.size < SAMPLES_PER_PARAMETER * (2 + BASIS_COLUMNS):     # dv/dt, the basis, one more
         return None
     at = at[::max(1, at.size // EXPLAINING_ROWS)]
     scores = []
