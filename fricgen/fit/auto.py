@@ -207,18 +207,18 @@ class AutoELMRegressor(Estimator):
         for w, b, _, order, _ in members:
             for i in order:
                 ids.setdefault((w[i], b[i]), len(ids))
-        cands, total, seen = [], None, np.zeros(len(ids), dtype=bool)
+        unit_ids = [[ids[(w[i], b[i])] for i in order] for w, b, _, order, _ in members]
+        cands, total = [], None
         m_max = len(members[0][3])
         for k, (_, _, _, order, res) in enumerate(members, start=1):
             m_max = min(m_max, len(order))
             total = res[:, :m_max].copy() if total is None else total[:, :m_max] + res[:, :m_max]
             sq = (total / k) ** 2
             press, se = sq.mean(axis=0), sq.std(axis=0) / np.sqrt(n)
+            seen = set()                  # the distinct units of the first k members' first m
             for m in range(1, m_max + 1):
-                seen[:] = False
-                for wj, bj, _, oj, _ in members[:k]:
-                    seen[[ids[(wj[i], bj[i])] for i in oj[:m]]] = True
-                cands.append((int(seen.sum()), press[m - 1], se[m - 1], k, m))
+                seen.update(member[m - 1] for member in unit_ids[:k])
+                cands.append((len(seen), press[m - 1], se[m - 1], k, m))
         cap = self.max_neurons
         allowed = [c for c in cands if cap is None or c[0] <= cap]
         best = min(allowed, key=lambda c: c[1])

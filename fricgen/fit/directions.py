@@ -94,13 +94,24 @@ def warm_copy(fitted):
     return fitted.warm_copy() if hasattr(fitted, "warm_copy") else clone(fitted)
 
 
+def same_data(a: Dataset, b: Dataset) -> bool:
+    """Whether two [F9] training sets are the same points with the same scaling and B."""
+    return (a.scaling == b.scaling and a.viscous == b.viscous and a.v_sat == b.v_sat
+            and np.array_equal(a.x, b.x) and np.array_equal(a.t, b.t))
+
+
 def _fit(sweep: Sweep, estimator, vs_max, max_points: Optional[int] = None,
-         independence: float = 1.0, fresh=clone) -> FittedDirection:
-    """The curve fitted to ``sweep`` (folded) by ``fresh(estimator)``, a fresh copy."""
+         independence: float = 1.0, fresh=clone,
+         done: Optional[FittedDirection] = None) -> FittedDirection:
+    """The curve fitted to ``sweep`` (folded) by ``fresh(estimator)``, a fresh copy; ``done``
+    itself when it was fitted by the same estimator to the same training set (the
+    cross-validation's fit on all rows, when the sweep needed no binning beyond CV_POINTS)."""
     kwargs = {"independence": independence}
     if max_points is not None:
         kwargs["max_points"] = max_points
     dataset = prepare(sweep, vs_max=vs_max, **kwargs)
+    if done is not None and same_data(done.dataset, dataset):
+        return done
     fitted = fresh(estimator)
     return FittedDirection(Direction.fit(dataset, fitted), dataset, fitted)
 
@@ -118,23 +129,25 @@ def row_folds(n: int, folds: int, seed=0, blocks: int = 0) -> np.ndarray:
 def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
                    folds: int = CV_FOLDS, seed=0, per_direction=None, blocks: int = 0,
                    independence: float = 1.0, offset: float = 0.0,
-                   progress: Optional[Callable[[str], None]] = None) -> np.ndarray:
+                   progress: Optional[Callable[[str], None]] = None):
     """Held-out mean squared force errors (N^2) per fold (``row_folds``): row 0 the symmetric
     model (fitted to and scored on f - ``offset``, the constant force it leaves out), row 1 the
     asymmetric one (its curves fitted by ``per_direction``, default
     ``estimator``). ``vs_max`` holds (both, positive, negative). Each model's procedure runs
     once on all rows, and each fold's fit repeats it from that result (``warm_copy``: the
     grey-box's candidates refitted and averaged again, without the multi-start). ``progress``
-    hears of each fold done when they take long (``fricgen._progress.Progress``)."""
+    hears of each fold done when they take long (``fricgen._progress.Progress``). Returns the
+    errors and the three fits on all rows (symmetric, positive, negative: ``FittedDirection``)."""
     per_direction = estimator if per_direction is None else per_direction
     report = Progress(progress)
     moving = sweep.v != 0
     v, f = sweep.v[moving], sweep.f[moving]
     whole = Sweep(v, f)
     fold = row_folds(v.size, folds, seed, blocks)
-    fitted = [_fit(half, model, vs, CV_POINTS, independence).estimator for half, model, vs in
-              zip((Sweep(v, f - offset), whole.direction(1), whole.direction(-1)),
-                  (estimator, per_direction, per_direction), vs_max)]
+    whole_fits = [_fit(half, model, vs, CV_POINTS, independence) for half, model, vs in
+                  zip((Sweep(v, f - offset), whole.direction(1), whole.direction(-1)),
+                      (estimator, per_direction, per_direction), vs_max)]
+    fitted = [done.estimator for done in whole_fits]
     report("symmetry: fitted on all rows")
     mse = np.zeros((2, folds))
     for k in range(folds):
@@ -148,7 +161,7 @@ def cross_validate(sweep: Sweep, estimator, vs_max: Tuple[float, float, float],
         asym = np.where(sign > 0, pos.magnitude(speed), neg.magnitude(speed))
         mse[1, k] = np.mean((asym - target) ** 2)
         report(f"symmetry: cross-validated {k + 1} of {folds} folds")
-    return mse
+    return mse, whole_fits
 
 
 def prefers_asymmetric(mse: np.ndarray) -> bool:
@@ -209,15 +222,16 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                                        independence),), reason)
     if asymmetric is None:
         both = _vs_max(level, vs_max, blocks)
-        mse = cross_validate(sweep, estimator, (both, *vs_dirs), seed=seed,
-                             per_direction=per_direction, blocks=blocks,
-                             independence=independence, offset=offset, progress=progress)
+        mse, whole = cross_validate(sweep, estimator, (both, *vs_dirs), seed=seed,
+                                    per_direction=per_direction, blocks=blocks,
+                                    independence=independence, offset=offset, progress=progress)
         cv = tuple(float(np.sqrt(m)) for m in mse.mean(axis=1))
         how = "cross-validation in blocks of time" if blocks else "cross-validation"
         if not prefers_asymmetric(mse):
-            return DirectionsFit((_fit(level, estimator, both, None, independence),), how, cv)
-        return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
-                                   for h, vs in zip(halves, vs_dirs)), how, cv)
+            return DirectionsFit((_fit(level, estimator, both, None, independence,
+                                       done=whole[0]),), how, cv)
+        return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence, done=done)
+                                   for h, vs, done in zip(halves, vs_dirs, whole[1:])), how, cv)
     if not asymmetric:
         return DirectionsFit((_fit(level, estimator, _vs_max(level, vs_max, blocks), None,
                                    independence),), "forced")

@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from .._validate import integer, positive
 from ..data.outliers import inner_points
@@ -55,6 +54,10 @@ AVERAGING_GRID = 201
 #: A match within this fraction of the best fit's residual RMS (1 % of the noise's variance)
 #: is as good as exact: of those, the one with the fewest sources is taken.
 MATCH_TOLERANCE = 0.1
+#: ``bounded_least_squares`` stops at a step that lowers the cost by less than this fraction
+#: ... or moves theta by less than this (relative), as scipy's least_squares does by default.
+STOP_GAIN = 1e-6
+STOP_STEP = 1e-6
 
 
 def measured(x) -> np.ndarray:
@@ -172,11 +175,61 @@ def all_subsets(grid: int, n_sources: int) -> list:
     return list(itertools.combinations(start_grid(grid), int(n_sources)))
 
 
+def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
+                          max_iterations: int = 200):
+    """Levenberg-Marquardt (Nielsen's damping) on ``residual`` within lo <= theta <= hi (a
+    parameter at a bound that the gradient pushes out of it is held there for the step): the
+    minimizer reached from ``theta`` and its cost, half the squared residual. Far cheaper than a
+    general solver for the 1-4 parameters of [F1]'s Stribeck velocities; it stops when a step
+    gains less than STOP_GAIN of the cost or moves theta by less than STOP_STEP."""
+    theta = np.clip(np.asarray(theta, dtype=float), lo, hi)
+    r = residual(theta)
+    cost, damping, growth = 0.5 * float(r @ r), None, 2.0
+    for _ in range(max_iterations):
+        J = jacobian(theta)
+        gradient, H = J.T @ r, J.T @ J
+        free = ~(((theta <= lo) & (gradient > 0)) | ((theta >= hi) & (gradient < 0)))
+        if not free.any():
+            break
+        Hf, gf = H[np.ix_(free, free)], gradient[free]
+        curvature = float(np.max(np.diag(Hf)))
+        if not curvature > 0:                             # theta moves nothing: stationary
+            break
+        damping = 1e-3 * curvature if damping is None else max(damping, 1e-12 * curvature)
+        while True:
+            step = np.zeros_like(theta)
+            step[free] = np.linalg.lstsq(Hf + damping * np.eye(gf.size), -gf, rcond=None)[0] \
+                if gf.size > 1 else -gf / (Hf[0, 0] + damping)
+            trial = np.clip(theta + step, lo, hi)
+            r_trial = residual(trial)
+            trial_cost = 0.5 * float(r_trial @ r_trial)
+            taken = trial - theta
+            predicted = -(gradient @ taken) - 0.5 * taken @ H @ taken
+            if trial_cost < cost and predicted > 0:
+                rho = (cost - trial_cost) / predicted
+                damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+                growth = 2.0
+                break
+            damping *= growth
+            growth *= 2.0
+            if damping > 1e12 * curvature:
+                return theta, cost
+        done = cost - trial_cost <= STOP_GAIN * cost or \
+            np.linalg.norm(taken) <= STOP_STEP * (STOP_STEP + np.linalg.norm(theta))
+        theta, r, cost = trial, r_trial, trial_cost
+        if done:
+            break
+    return theta, cost
+
+
 def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
-                xs_max: float = XS_MAX) -> SourcesFit:
+                xs_max: float = XS_MAX, along_line: bool = False) -> SourcesFit:
     """[F1] with S = len(start) sources of ``shape`` by variable projection: the Stribeck
     velocities within [xs_min, xs_max], from every start in ``starts`` (vectors of theta =
-    log xs); the best optimum wins."""
+    log xs); the best optimum wins. ``along_line``: the starts lie in order along a line (a
+    grid of one source's velocity), and only those whose projected cost is a local minimum
+    along it are polished (one per basin the line crosses), the others only when none of
+    those gave an admissible fit."""
     x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
     lo, hi = np.log(xs_min), np.log(xs_max)
 
@@ -205,14 +258,21 @@ def fit_sources(x, t, shape: str, starts, xs_min: float = XS_MIN,
         return -(D - Q @ (Q.T @ D))
 
     starts = [np.clip(np.asarray(s, dtype=float), lo, hi) for s in starts]
+    polish = list(range(len(starts)))
+    if along_line and len(starts) > 2:                    # the basins the line crosses first
+        cost = [float(np.sum(residual(s) ** 2)) for s in starts]
+        basins = [i for i in polish if cost[i] <= min(cost[max(i - 1, 0):i + 2])]
+        polish = basins + [i for i in polish if i not in basins]
+        polish_first = len(basins)
     best, best_key = None, None
-    for theta0 in starts:
-        sol = least_squares(residual, theta0, jac=jacobian, bounds=(lo, hi),
-                            method="trf", x_scale=1.0)
-        key = (_amplitude_sum(project(sol.x)[3]) > AMPLITUDE_MAX, sol.cost)
+    for n, i in enumerate(polish):
+        if along_line and n >= polish_first and best_key is not None and not best_key[0]:
+            break                                         # the basins held an admissible fit
+        theta, cost = bounded_least_squares(residual, jacobian, starts[i], lo, hi)
+        key = (_amplitude_sum(project(theta)[3]) > AMPLITUDE_MAX, cost)
         if best is None or key < best_key:
-            best, best_key = sol, key
-    xs = np.exp(best.x)
+            best, best_key = theta, key
+    xs = np.exp(best)
     order = np.argsort(xs)
     xs = xs[order]
     A, _ = _basis(shape, x, xs)
@@ -286,6 +346,8 @@ class StribeckRegressor(Estimator):
     starts : dict, optional
         {(shape, S, bound): Stribeck velocities theta = log xs}: fit exactly these candidates,
         each from its own start, instead of the multi-start (``warm_copy``).
+    spare : dict, optional
+        More candidates as ``starts``, fitted only when none of those is admissible.
 
     Attributes
     ----------
@@ -330,21 +392,26 @@ class StribeckRegressor(Estimator):
 
     def __init__(self, shapes: Sequence[str] = tuple(SHAPES), sources: Sequence[int] = SOURCES,
                  xs_bounds: Sequence[float] = XS_BOUNDS, grid: int = 7, n_folds: int = 5,
-                 starts=None):
+                 starts=None, spare=None):
         self.shapes = shapes
         self.sources = sources
         self.xs_bounds = xs_bounds
         self.grid = grid
         self.n_folds = n_folds
         self.starts = starts
+        self.spare = spare
 
     def warm_copy(self) -> "StribeckRegressor":
-        """An unfitted copy that refits this fit's candidates, each from its Stribeck velocities
-        (one start instead of the multi-start), without cross-validating itself: the whole
-        procedure again (AICc, averaging, dropping) at a fraction of the cost, for data close to
-        these (a fold of them)."""
+        """An unfitted copy that refits this fit's contenders (``weights_``: the others, beyond
+        AIC_CONTENDERS, practically never win on data close to these; they are ``spare``, for a
+        fold where no contender is admissible), each from its Stribeck
+        velocities (one start instead of the multi-start), without cross-validating itself: the
+        whole procedure again (AICc, averaging, dropping) at a fraction of the cost, for data
+        close to these (a fold of them)."""
+        thetas = {k: tuple(f.theta) for k, f in self.fits_.items()}
         return StribeckRegressor(self.shapes, self.sources, self.xs_bounds, self.grid, 0,
-                                 {k: tuple(f.theta) for k, f in self.fits_.items()})
+                                 {k: thetas[k] for k in self.weights_},
+                                 {k: v for k, v in thetas.items() if k not in self.weights_})
 
     def fit(self, x, t) -> "StribeckRegressor":
         shapes = list(self.shapes)
@@ -373,9 +440,12 @@ class StribeckRegressor(Estimator):
                 fits[key] = _better(fits.get(key), kept)
             return found
 
-        for (shape, _, xs_max), theta in (self.starts or {}).items():
-            tried += 1
-            keep(fit_sources(x, t, shape, [np.asarray(theta)], xs_min, xs_max), xs_max)
+        for given in (self.starts or {}), (self.spare or {}):
+            if any(f.admissible for f in fits.values()):
+                break
+            for (shape, _, xs_max), theta in given.items():
+                tried += 1
+                keep(fit_sources(x, t, shape, [np.asarray(theta)], xs_min, xs_max), xs_max)
         for xs_max in bounds if self.starts is None else ():
             if xs_max <= xs_min:
                 continue
@@ -387,7 +457,8 @@ class StribeckRegressor(Estimator):
                         break
                     starts = [np.append(previous.theta, g) for g in grid] if previous else \
                         [np.array([g]) for g in grid]
-                    previous = keep(fit_sources(x, t, shape, starts, xs_min, xs_max), xs_max)
+                    previous = keep(fit_sources(x, t, shape, starts, xs_min, xs_max,
+                                                along_line=True), xs_max)
                     tried += 1
         if not tried:
             raise ValueError(f"{x.size} points at v > 0 are too few for [F1] with {min(sources)} "
