@@ -7,7 +7,9 @@ For every dataset folder of ../shared/data that is present (a missing one is ski
     the rigid body removed there already);
   - panda: per joint, trained on jointJ_train.csv, scored on jointJ_test.csv (M a + F(v) + o);
   - kinova_gen3: the sweep, trained on sweep_train.csv (weighted by its F_std and n), scored on
-    sweep_test.csv;
+    sweep_test.csv; and the runs: the five run_v*_train.csv logs joined end to end (t restarts at
+    0 in each) trained as one log, scored on the five test runs (M a + F(v) + o) over all their
+    samples and over their steady parts (t >= 0.5 s), as the folder's baseline.py scores them;
   - emps: the log DATA_EMPS.mat (force = gtau vir), trained on its first 70 % in time and scored
     on the rest (M a + F(v) + o).
 Beside each: the textbook fit, per-direction Coulomb + viscous by ordinary least squares with the
@@ -152,6 +154,21 @@ def kinova(folder, ratios):
     tb = fc_fv[0] + fc_fv[1] * te["v"]
     ratios.append(row("kinova sweep", rms(te["f"] - report.model.force(te["v"])), rms(te["f"] - tb),
                       None, report.law.name, f" ({sec:.2f} s CPU)"))
+    b = load_baseline(folder)
+    logs = {part: [csv(path) for path in sorted(folder.glob(f"run_v*_{part}.csv"))]
+            for part in ("train", "test")}
+    joined = {name: np.concatenate([log_columns(d)[name] for d in logs["train"]])
+              for name in ("t", "v", "force")}               # t restarts at 0 in every run
+    predict, chose, sec, mass = trained(joined)
+    filtered = [(d["t"], *b.va(d["t"], d["dq"]), d["tau"]) for d in logs["train"]]
+    v, a, y = (np.concatenate([f[k][f[1] > b.VMIN] for f in filtered]) for k in (1, 2, 3))
+    tb = textbook(v, a, y)
+    for name, steady in (("all", 0.0), ("steady", 0.5)):
+        parts = [(d["t"], *b.va(d["t"], d["dq"]), d["tau"]) for d in logs["test"]]
+        keep = [(f[1] > b.VMIN) & (f[0] >= steady) for f in parts]
+        v, a, y = (np.concatenate([f[k][m] for f, m in zip(parts, keep)]) for k in (1, 2, 3))
+        ratios.append(row(f"kinova runs {name}", rms(y - predict(v, a)), rms(y - tb(v, a)), None,
+                          chose, f" (m {mass:.3g}, {sec:.2f} s CPU)" if not steady else ""))
 
 
 def emps(folder, ratios):
@@ -194,8 +211,11 @@ def main():
             print(f"{name}: REFUSED: {exc}")
     tb = np.array([r[0] for r in ratios])
     pub = np.array([r[1] for r in ratios if r[1] is not None])
-    print(f"\n{len(tb)} scores: default / textbook worst {tb.max():.3f}, median {np.median(tb):.3f}; "
-          f"default / published worst {pub.max():.3f}, median {np.median(pub):.3f}")
+    if not tb.size:
+        print(f"\nno dataset scored: none of the folders is in {args.data} (--data names the folder)")
+        return
+    print(f"\n{len(tb)} scores: default / textbook worst {tb.max():.3f}, median {np.median(tb):.3f}"
+          + (f"; default / published worst {pub.max():.3f}, median {np.median(pub):.3f}" if pub.size else ""))
 
 
 if __name__ == "__main__":

@@ -218,7 +218,7 @@ def _motion_log_files(d, log):
     lines[5] = lines[5].partition(",")[0] + ",nan"          # data row 5
     (d / "load_nan.csv").write_text("\n".join(lines) + "\n")
     (d / "jitter.csv").write_text("t,v,force\n" + "\n".join(
-        f"{float(t) + (0.5 if k > 100 else 0.0)!r},{v},{f}"
+        f"{float(t) + (0.5 if k > 10 else 0.0)!r},{v},{f}"
         for k, (t, v, f) in enumerate(zip(cols["t"], cols["v"], force))) + "\n")
     m = FrictionModel.load(d / "model.json")
     negative = Direction(m.aim, m.scaling, 1.1 * m.viscous, m.v_sat)
@@ -444,7 +444,7 @@ ROWS = [
     ("--mass 0", ["train", "log.csv", "--mass", "0", "-o", OUT], "--mass: must be a finite number > 0"),
     ("--force-constant inf", ["train", "log.csv", "--mass", "4", "--force-constant", "inf", "-o", OUT],
      "--force-constant: must be"),
-    ("log with a gap in time", ["train", "jitter.csv", "--mass", "4", "-o", OUT], "log has a gap"),
+    ("log with a gap 11 rows in (no run)", ["train", "jitter.csv", "--mass", "4", "-o", OUT], "log has a gap"),
     ("--asymmetric on one direction", ["train", "sweep.csv", "--asymmetric", "-o", OUT],
      "needs a sweep of each direction"),
     ("--asymmetric and --symmetric", ["train", "sweep.csv", "--asymmetric", "--symmetric", "-o", OUT],

@@ -60,6 +60,17 @@ class RigidBody:
     #: and their standard errors; None where not asked for
     gravity: Optional[Tuple[float, float]] = None
     gravity_se: Optional[Tuple[float, float]] = None
+    #: A log concatenated from runs: each later run's constant force less the first run's
+    #: (a sensor zeroed again, another pose), with standard errors; None for one run, or where
+    #: the runs do not determine them (``runs_determined``)
+    run_offsets: Optional[Tuple[float, ...]] = None
+    run_offsets_se: Optional[Tuple[float, ...]] = None
+
+    def run_force(self, runs: Optional[np.ndarray]) -> np.ndarray:
+        """The constant force of each row's run less the first run's (0 without run offsets)."""
+        if self.run_offsets is None or runs is None:
+            return np.zeros(() if runs is None else np.shape(runs))
+        return np.concatenate([[0.0], self.run_offsets])[np.asarray(runs, dtype=int)]
 
     def gravity_force(self, x: Optional[np.ndarray]) -> np.ndarray:
         """G_s sin x + G_c cos x at the positions ``x`` (0 without gravity)."""
@@ -86,6 +97,20 @@ def gravity_basis(x: np.ndarray) -> np.ndarray:
     """Columns [sin x, cos x] of a joint's gravity torque at its angle x (rad): a link's
     weight acting at a fixed lever, whatever the angle's zero, is G_s sin x + G_c cos x."""
     return np.column_stack([np.sin(x), np.cos(x)])
+
+
+def runs_determined(v: np.ndarray, runs: Optional[np.ndarray]) -> bool:
+    """Whether a constant force per run can be told from the friction: every one of two or more
+    runs moves both ways (a run in one direction only holds its offset and its friction level
+    as one sum)."""
+    if runs is None or np.ptp(runs) == 0:
+        return False
+    return all(np.any(v[runs == r] > 0) and np.any(v[runs == r] < 0) for r in np.unique(runs))
+
+
+def run_basis(runs: np.ndarray) -> np.ndarray:
+    """Indicator columns of the runs after the first: their constant forces less the first's."""
+    return np.column_stack([runs == r for r in np.unique(runs)[1:]]).astype(float)
 
 
 def operating_basis(v: np.ndarray, load: Optional[np.ndarray] = None,
@@ -140,13 +165,18 @@ def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float
 
 def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
                         mass: Optional[float] = None, extra: Optional[np.ndarray] = None,
-                        x: Optional[np.ndarray] = None) -> RigidBody:
+                        x: Optional[np.ndarray] = None,
+                        runs: Optional[np.ndarray] = None) -> RigidBody:
     """The mass (unless given) and the offset of the axis from smoothed dv/dt, v and force at
     rows where it moves (``extra`` as ``identify_mass``); with the positions ``x``, a gravity
-    force G_s sin x + G_c cos x beside them (``gravity_basis``)."""
-    gravity = gravity_se = None
-    if x is not None:
-        extra = _with(gravity_basis(x), extra)
+    force G_s sin x + G_c cos x beside them (``gravity_basis``); with the run of each row
+    (``runs``, a log concatenated from runs), each later run's constant force less the first's,
+    where the runs determine them (``runs_determined``)."""
+    gravity = gravity_se = run_offsets = run_offsets_se = None
+    known = ([] if x is None else [gravity_basis(x)]) + \
+        ([run_basis(runs)] if runs_determined(v, runs) else [])
+    if known:
+        extra = _with(np.column_stack(known), extra)
     mass_se = estimate = None
     if mass is None:
         mass, mass_se, estimate = identify_mass(a, v, force, independent, extra)
@@ -155,10 +185,17 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
     if np.any(v > 0) and np.any(v < 0):
         offset, offset_se = identify_offset(a, v, force, mass if residual is None else residual,
                                             independent, extra)
-    if x is not None:                       # at the mass found, beside a per-direction friction
+    if known:                               # at the mass found, beside a per-direction friction
         basis = _with(friction_basis(v, odd=False), extra)
         coef, se = least_squares_errors(basis, force - (mass if residual is None else residual) * a,
                                         independent)
         at = BASIS_COLUMNS
-        gravity, gravity_se = (float(coef[at]), float(coef[at + 1])), (float(se[at]), float(se[at + 1]))
-    return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se)
+        if x is not None:
+            gravity, gravity_se = (float(coef[at]), float(coef[at + 1])), (float(se[at]), float(se[at + 1]))
+            at += 2
+        if len(known) > 1 or x is None:
+            count = known[-1].shape[1]
+            run_offsets = tuple(float(c) for c in coef[at:at + count])
+            run_offsets_se = tuple(float(e) for e in se[at:at + count])
+    return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se,
+                     run_offsets, run_offsets_se)

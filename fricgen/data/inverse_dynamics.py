@@ -24,9 +24,9 @@ from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, gravity_basis,
-                   identify_rigid_body, operating_basis)
-from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_uniformly,
+from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, gravity_basis, identify_rigid_body,
+                   operating_basis, run_basis, runs_determined)
+from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
@@ -182,14 +182,17 @@ def candidate_windows(n_rows: int) -> List[int]:
 
 
 def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
-                  sample_time: float, progress: Optional[Callable[[str], None]] = None) -> int:
+                  sample_time: float, progress: Optional[Callable[[str], None]] = None,
+                  span: Optional[int] = None) -> int:
     """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
     the generalized cross-validation score of smoothing the force (its noise, and the bias where
     the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
     velocity noise leaves in the derivative; from the smallest window up, until one scores
     STOP_FACTOR times the best. ``progress`` (a callable taking one line) hears
-    how far the search is when it takes long (``fricgen._progress.Progress``)."""
-    windows = candidate_windows(rows.size)
+    how far the search is when it takes long (``fricgen._progress.Progress``). ``span``: the
+    rows of the shortest run of a log concatenated from runs (default: all rows), which bounds
+    the windows (``candidate_windows``)."""
+    windows = candidate_windows(rows.size if span is None else span)
     report = Progress(progress)
     scores = []
     for window in windows:
@@ -224,6 +227,8 @@ class Identification:
     #: The operating point at the rows of ``sweep`` (``load``, ``temperature``; smoothed as v),
     #: for a log with those columns
     conditions: Dict[str, np.ndarray] = field(default_factory=dict)
+    #: The runs the log was concatenated from (``motionlog.resampled_runs``)
+    n_runs: int = 1
 
     @property
     def n_kept(self) -> int:
@@ -239,6 +244,8 @@ class Identification:
         moving = np.abs(self.sweep.v)
         return "\n".join([
             f"log       {self.n_rows} rows at {1 / self.sample_time:.6g} Hz"
+            + (f" in {self.n_runs} runs (t restarts or pauses between them; no window spans "
+               "two)" if self.n_runs > 1 else "")
             + (" (resampled from jittering time stamps)" if self.resampled else "")
             + f"; {self.n_kept} kept where the axis moves (about {self.independent:.0f} "
             "independent samples)",
@@ -273,6 +280,14 @@ class Identification:
             lines.append(f"gravity   G_s sin x + G_c cos x: G_s = {g_s:.5g} +- {se_s:.2g}, G_c = "
                          f"{g_c:.5g} +- {se_c:.2g} {units.force} (amplitude {np.hypot(g_s, g_c):.4g} "
                          f"{units.force}), taken out of the friction samples; compensate it apart")
+        if b.run_offsets is not None:
+            each = ", ".join(f"run {k + 2} {o:+.4g} +- {e:.2g}"
+                             for k, (o, e) in enumerate(zip(b.run_offsets, b.run_offsets_se)))
+            lines.append(f"runs      constant force of each run less the first's: {each} "
+                         f"{units.force}, taken out of the friction samples")
+        elif self.n_runs > 1:
+            lines.append("runs      one constant force for all runs: a run that moves one way "
+                         "only holds its own offset and its friction level as one sum")
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
             lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} N/A identified from the "
@@ -325,7 +340,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                       use: Optional[np.ndarray] = None,
                       progress: Optional[Callable[[str], None]] = None,
                       conditions: Optional[Dict[str, np.ndarray]] = None,
-                      gravity: bool = False) -> Identification:
+                      gravity: bool = False, runs: Optional[np.ndarray] = None) -> Identification:
     """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
@@ -341,7 +356,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     friction, f = m a + L + F + o; ``check_load``) and ``temperature`` columns, smoothed as v and
     kept at the rows of the samples (``Identification.conditions``). ``gravity``: a force
     G_s sin x + G_c cos x of the position (a robot joint's link weight, x in rad) identified
-    beside the mass and taken out of the friction samples; it needs ``x``."""
+    beside the mass and taken out of the friction samples; it needs ``x``. ``runs``: the run of
+    each row of a log concatenated from runs (``motionlog.resampled_runs``): no window spans two
+    runs, and where every run moves both ways each later run's constant force less the first's
+    is identified beside the mass (``RigidBody.run_offsets``) and taken out of the friction
+    samples."""
     conditions = dict(conditions or {})
     columns = {"t": t, "force": force, "v": v, "x": x, **conditions}
     for name, values in columns.items():
@@ -351,10 +370,13 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         raise DataError(f"log has {t.size} samples, need at least {MIN_LOG_ROWS}")
     if mass is not None and not (np.isfinite(mass) and mass > 0):
         raise DataError(f"mass must be > 0, got {mass}")
-    ts = uniform_time(t)[1]
+    ts = uniform_time(t)[1] if runs is None else float(t[1] - t[0])
     given = v is not None
-    if not given:
-        v = np.gradient(x, ts)
+    junction = np.zeros(t.size, dtype=bool)
+    if runs is not None:
+        junction[1:] = np.diff(runs) != 0               # the first row of each later run
+    if not given:                                       # run by run: x jumps between runs
+        v = np.concatenate([np.gradient(part, ts) for part in np.split(x, np.flatnonzero(junction))])
     check_moves(v, x)
     if given and x is not None:
         check_units(x, v, ts)
@@ -366,23 +388,25 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                         "function of the joint's angle")
     angle = x if gravity else None
     use = np.ones(t.size, dtype=bool) if use is None else np.asarray(use, dtype=bool)
+    use = use & ~junction                  # whole windows of use never span two runs
+    span = t.size if runs is None else int(np.min(np.bincount(runs)))   # the shortest run's rows
     body = None
     rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
-        whole = minimum_filter1d(use.astype(np.int8), candidate_windows(t.size)[-1],
+        whole = minimum_filter1d(use.astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool)        # nor the log's ends
         if body_window is None:             # the body where dv/dt explains the force best
-            body_window = explaining_window(v, raw, rows & whole, ts)
+            body_window = explaining_window(v, raw, rows & whole, ts, span)
         if body_window is not None:
-            body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle)
+            body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
-        window = choose_window(force, rows, guess, noise, ts, progress)
+        window = choose_window(force, rows, guess, noise, ts, progress, span)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
-        window, ts, v, force, noise, use, conditions, mass, body is None, angle)
+        window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs)
     body = at_window if body is None else body
-    friction = f_s - body.inertia * a_s
+    friction = f_s - body.inertia * a_s - body.run_force(runs)
     if angle is not None:
         friction = friction - body.gravity_force(smooth(angle, window))
     steady = steady_rows(v_s, moving, window)
@@ -395,7 +419,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
                           window=int(window), sample_time=ts, velocity_noise=noise,
                           independent=kept, body=body, body_window=body_window,
-                          conditions={k: c[steady] for k, c in at_rows.items()})
+                          conditions={k: c[steady] for k, c in at_rows.items()},
+                          n_runs=1 if runs is None else int(runs[-1]) + 1)
 
 
 #: The force must follow the load column with a slope within this factor of 1 (f = m a + L + F):
@@ -424,7 +449,8 @@ def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray
 
 def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
                use: np.ndarray, conditions: Dict[str, np.ndarray], mass: Optional[float],
-               identify: bool = True, angle: Optional[np.ndarray] = None):
+               identify: bool = True, angle: Optional[np.ndarray] = None,
+               runs: Optional[np.ndarray] = None):
     """The log smoothed by ``window`` (``_smoothed``) with its operating point, the load taken
     out of the force (``check_load``), and the rigid body identified there (``mass`` given:
     checked, ``_check_inertia``; None where not ``identify``): (v, dv/dt, force, the moving
@@ -442,12 +468,14 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
         extra = operating_basis(v_s[moving], *(None if k not in at_rows else at_rows[k][moving]
                                                for k in CONDITIONS))
         body = identify_rigid_body(a_s[moving], v_s[moving], f_s[moving], independent, mass, extra,
-                                   None if angle is None else smooth(angle, window)[moving])
+                                   None if angle is None else smooth(angle, window)[moving],
+                                   None if runs is None else runs[moving])
     return v_s, a_s, f_s, moving, at_rows, independent, body
 
 
 def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.ndarray,
-             conditions: Dict[str, np.ndarray], angle: Optional[np.ndarray] = None) -> RigidBody:
+             conditions: Dict[str, np.ndarray], angle: Optional[np.ndarray] = None,
+             runs: Optional[np.ndarray] = None) -> RigidBody:
     """The rigid body (``data.idim``) from the raw ``force`` (the load taken out) at ``rows``,
     with v, dv/dt and the operating point smoothed by ``window`` (``explaining_window``). The
     residual is the raw force's, so the rows count as independent but for its correlation from
@@ -457,15 +485,17 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     at_rows = {k: smooth(c, window)[at] for k, c in conditions.items()}
     extra = operating_basis(v_s, *(at_rows.get(k) for k in CONDITIONS))
     x_s = None if angle is None else smooth(angle, window)[at]
+    runs = None if runs is None else runs[at]
     basis = np.column_stack([a_s, friction_basis(v_s, odd=False)]
                             + ([] if extra is None else [extra])
-                            + ([] if x_s is None else [gravity_basis(x_s)]))
+                            + ([] if x_s is None else [gravity_basis(x_s)])
+                            + ([run_basis(runs)] if runs_determined(v_s, runs) else []))
     coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
     lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / at.size)
     return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra,
-                               x_s)
+                               x_s, runs)
 
 
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
@@ -487,20 +517,21 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
 
 
 def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
-                      sample_time: float) -> Optional[int]:
+                      sample_time: float, span: Optional[int] = None) -> Optional[int]:
     """The window at which the mass is identified: the candidate whose smoothed v and dv/dt
     explain the raw force best over ``rows`` (least residual of f = m dv/dt + F(v) + o by least
     squares, F by ``friction_basis`` per direction). The raw force's noise is the same at every
     window, so the least residual marks the smoothing that leaves dv/dt least noisy without
     smearing the motion: a short window's noisy derivative pulls m towards 0 (errors in the
     variables), and the short window ``choose_window`` gives a small mass would keep it there.
-    None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column)."""
+    None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column).
+    ``span`` as ``choose_window``."""
     at = np.flatnonzero(rows)
     if at.size < SAMPLES_PER_PARAMETER * (2 + BASIS_COLUMNS):     # dv/dt, the basis, one more
         return None
     at = at[::max(1, at.size // EXPLAINING_ROWS)]
     scores = []
-    for window in candidate_windows(rows.size):
+    for window in candidate_windows(rows.size if span is None else span):
         a = smooth(v, window, deriv=1, delta=sample_time)[at]
         basis = np.column_stack([a, friction_basis(smooth(v, window)[at], odd=False)])
         coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
@@ -580,18 +611,19 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
         check_finite(name, values)
     if use is not None:                         # resampled with the columns
         columns = {**columns, USE_COLUMN: np.asarray(use, dtype=float)}
-    columns, resampled = resampled_uniformly(columns)
+    columns, resampled, runs = resampled_runs(columns, MIN_LOG_ROWS)
     use = columns.pop(USE_COLUMN, None)
     ident = _identify_log(columns, mass, force_constant, progress,
-                          None if use is None else use > 0.5, gravity)
+                          None if use is None else use > 0.5, gravity, runs)
     return replace(ident, resampled=resampled) if resampled else ident
 
 
 def _identify_log(columns, mass, force_constant, progress, use=None,
-                  gravity=False) -> Identification:
+                  gravity=False, runs=None) -> Identification:
     conditions = {k: columns[k] for k in CONDITIONS if k in columns}
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress,
-                               "use": use, "conditions": conditions, "gravity": gravity}
+                               "use": use, "conditions": conditions, "gravity": gravity,
+                               "runs": runs}
     if "load" in conditions and "force" not in columns and force_constant is None:
         raise DataError("the log has a load column and a current i but no force: pass "
                         "--force-constant (N/A) so that the current is a force the load can be "

@@ -72,6 +72,57 @@ def resampled_uniformly(columns: Dict[str, np.ndarray]) -> Tuple[Dict[str, np.nd
     return {k: (grid if k == "t" else np.interp(grid, t, c)) for k, c in columns.items()}, True
 
 
+def run_starts(t: np.ndarray, min_rows: int) -> np.ndarray:
+    """The rows where a new run begins in a log concatenated from runs: t restarts (steps back
+    to the start of the run before, or earlier: a run timed from 0 again) or pauses (a step
+    beyond JITTER_RESAMPLED median steps, a logger stopped between runs). Empty when there is
+    one run, or when t steps back by less (swapped rows) or a run would hold fewer than
+    ``min_rows`` rows (shuffled or hand-edited time stamps): ``resampled_uniformly`` names
+    those."""
+    dt = np.diff(t)
+    ahead = dt[dt > 0]
+    none = np.zeros(0, dtype=int)
+    if not ahead.size:
+        return none
+    starts = np.flatnonzero((dt < 0) | (dt > JITTER_RESAMPLED * float(np.median(ahead)))) + 1
+    bounds = np.concatenate([[0], starts, [t.size]])
+    if np.any(np.diff(bounds) < min_rows):
+        return none
+    for before, start in zip(bounds[:-2], starts):
+        if t[start] < t[start - 1] and t[start] > t[before]:
+            return none                                 # back, but not to a run's start
+    return starts
+
+
+def resampled_runs(columns: Dict[str, np.ndarray], min_rows: int):
+    """``resampled_uniformly`` run by run (``run_starts``), the runs joined end to end on one
+    time grid: (columns, whether resampled, the run of each row, or None for a single run).
+    ``DataError`` when the runs were sampled at different rates."""
+    starts = run_starts(columns["t"], min_rows)
+    if not starts.size:
+        return (*resampled_uniformly(columns), None)
+    bounds = np.concatenate([[0], starts, [columns["t"].size]])
+    runs, resampled = [], False
+    for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
+        try:
+            run, again = resampled_uniformly({name: c[a:b] for name, c in columns.items()})
+        except DataError as exc:
+            raise DataError(f"run {k + 1} of {len(bounds) - 1} (data rows {a + 1} to {b}): "
+                            f"{exc}") from None
+        runs.append(run)
+        resampled |= again
+    steps = [float(np.median(np.diff(run["t"]))) for run in runs]
+    if max(steps) - min(steps) > UNIFORM_TOLERANCE * min(steps):
+        slow, fast = int(np.argmax(steps)), int(np.argmin(steps))
+        raise DataError(f"the log's runs are sampled at different rates: run {slow + 1} every "
+                        f"{steps[slow]:.6g} s, run {fast + 1} every {steps[fast]:.6g} s; train "
+                        "runs of one rate together")
+    joined = {name: np.concatenate([run[name] for run in runs]) for name in columns}
+    joined["t"] = columns["t"][0] + steps[0] * np.arange(joined["t"].size)
+    run_of_row = np.repeat(np.arange(len(runs)), [run["t"].size for run in runs])
+    return joined, resampled, run_of_row
+
+
 def uniform_sample_time(t: np.ndarray) -> float:
     """The median sampling interval of the time column ``t``; ``DataError`` unless t increases
     and every step lies within UNIFORM_TOLERANCE of it. Messages count data rows from 1."""

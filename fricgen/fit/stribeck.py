@@ -206,7 +206,7 @@ def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
             taken = trial - theta
             predicted = -(gradient @ taken) - 0.5 * taken @ H @ taken
             if trial_cost < cost and predicted > 0:
-                rho = (cost - trial_cost) / predicted
+                rho = min((cost - trial_cost) / predicted, 2.0)      # >= 1: damping / 3
                 damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
                 growth = 2.0
                 break
