@@ -45,10 +45,34 @@ def test_with_parameters_round_trips_and_changes_the_force(model):
     assert changed.force(0.1) == pytest.approx(model.force(0.1) * 1.1, rel=1e-9)
 
 
-def test_asymmetric_and_anfis_models_are_refused(model):
-    from dataclasses import replace
-    with pytest.raises(ModelError, match="symmetric"):
-        Regressor(replace(model, negative=model.positive))
+@pytest.fixture(scope="module")
+def asymmetric_model(default_model, grey_model):
+    """An ELM curve for v > 0 and a grey-box one (another scaling, B and v_sat) for v < 0."""
+    from fricgen.direction import Direction
+    g = grey_model
+    negative = Direction(g.aim, g.scaling, 1.2 * g.viscous, 0.8 * g.v_sat)
+    return FrictionModel.from_directions(default_model.positive, negative, name="asym")
+
+
+def test_an_asymmetric_model_adapts_each_direction_apart(asymmetric_model, default_model, grey_model):
+    m = asymmetric_model
+    reg = Regressor(m)
+    n_pos = trained_parameters(default_model).size
+    assert reg.n == n_pos + trained_parameters(grey_model).size
+    assert parameter_names(m)[:2] == ("beta_0+", "beta_1+") and parameter_names(m)[-1] == "B-"
+    forces = [f0 + phi @ reg.theta0 for f0, phi in map(reg, V)]
+    np.testing.assert_allclose(forces, m.force(V), rtol=0, atol=1e-12)
+    for v in V:                            # each direction's features only: the other's are 0
+        phi = reg(v)[1]
+        assert not np.any(phi[n_pos:] if v > 0 else phi[:n_pos] if v < 0 else phi)
+    theta = trained_parameters(m).copy()
+    theta[n_pos:] *= 1.1                   # the negative curve's parameters only
+    changed = with_parameters(m, theta)
+    np.testing.assert_allclose(changed.force(V[V > 0]), m.force(V[V > 0]), rtol=1e-12)
+    np.testing.assert_allclose(changed.force(V[V < 0]), 1.1 * m.force(V[V < 0]), rtol=1e-9)
+    assert with_parameters(m, trained_parameters(m)).model_hash == m.model_hash
+    low, high = FrictionAdapter(m).bounds()
+    assert np.all(low < reg.theta0) and np.all(reg.theta0 < high)
 
 
 def _adapter(model, **kw):

@@ -101,14 +101,35 @@ def _saved(model, tmp_path):
     return path
 
 
-def test_adapt_is_refused_for_fixed_point_and_asymmetric_models(default_model, tmp_path, capsys):
-    from dataclasses import replace
+def test_adapt_is_refused_for_fixed_point_models(default_model, tmp_path, capsys):
     path = _saved(default_model, tmp_path)
     assert main(["emit", str(path), "-o", str(tmp_path / "q"), "--adapt", "--dtype", "q15"]) == 2
     assert "--adapt is float" in capsys.readouterr().err
     assert not (tmp_path / "q").exists() or not any((tmp_path / "q").iterdir())
-    with pytest.raises(ModelError, match="symmetric"):
-        render_adapt(replace(default_model, negative=default_model.positive), "fm")
+
+
+def test_an_asymmetric_model_adapts_in_c_as_its_twin(default_model, grey_model):
+    """An ELM curve for v > 0, a grey-box one for v < 0: the C regressor fills each direction's
+    parameters (the other's 0) and the adapted loop is bit-equal to the float32 twin."""
+    from fricgen.direction import Direction
+    negative = Direction(grey_model.aim, grey_model.scaling, 1.2 * grey_model.viscous,
+                         0.8 * grey_model.v_sat)
+    model = FrictionModel.from_directions(default_model.positive, negative, name="asym")
+    twin, c, (py, cc) = _parity(model, "fast", "lyapunov", 1.5)
+    assert py.finite and cc.finite
+    np.testing.assert_array_equal(py.x, cc.x)
+    np.testing.assert_array_equal(py.i, cc.i)
+    np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
+    n_pos = default_model.aim.n_hidden + 1
+    moved = np.asarray(twin.adapter.theta_) != twin.adapter._theta0
+    assert moved[:n_pos].any() and moved[n_pos:].any()      # both directions adapted
+    # read back: each direction's curve with its own adapted parameters, times the k_hat
+    from fricgen.control.readback import dump_text, model_from_dump
+    k_hat = float(c.adaptive_parameters[1])
+    back = model_from_dump(model, dump_text(model.model_hash, np.float32(c.theta_), k_hat))
+    v = np.array([-0.2, -0.01, 0.01, 0.2])
+    np.testing.assert_allclose(back.force(v), k_hat * twin.adapter.adapted_model.force(v), rtol=1e-6)
+    assert back.negative is not None
 
 
 def test_header_capacity_is_the_python_one():

@@ -41,7 +41,7 @@ def register(p) -> None:
                    help="also write the adaptive backstepping controller fric_ctrl.{h,c} (float)")
     p.add_argument("--adapt", action="store_true",
                    help="also write online adaptation of the model's output parameters: "
-                   "NAME_adapt.{h,c}, fric_adapt.{h,c} and the controller (float, symmetric ELM "
+                   "NAME_adapt.{h,c}, fric_adapt.{h,c} and the controller (float, ELM "
                    "or grey-box models)")
     p.set_defaults(run=run)
 

@@ -105,13 +105,17 @@ _PEAK_GRID = np.linspace(0.0, 1.0, 4001)
 def parameter_scale(model: FrictionModel) -> np.ndarray:
     """The scale each parameter's box and Lyapunov gain are relative to: max |beta| (ELM) or
     max |a_k|, |c| [F1] for the curve's weights, and for B |B| or (1 / K_out) / v_sat when B
-    is 0 (the viscous slope that adds the curve's force scale at v_sat)."""
-    net = check_adaptable(model).aim
-    weights = (np.concatenate([net.amplitudes, [net.offset]]) if isinstance(net, StribeckCurve)
-               else net.output_weights)
-    w_scale = float(np.max(np.abs(weights))) or 1.0
-    b_scale = abs(model.viscous) or 1.0 / (model.scaling.k_out * model.v_sat)
-    return np.concatenate([np.full(weights.size, w_scale), [b_scale]])
+    is 0 (the viscous slope that adds the curve's force scale at v_sat); each direction's of an
+    asymmetric model from its own curve."""
+    scales = []
+    for curve in check_adaptable(model).directions:
+        net = curve.aim
+        weights = (np.concatenate([net.amplitudes, [net.offset]]) if isinstance(net, StribeckCurve)
+                   else net.output_weights)
+        w_scale = float(np.max(np.abs(weights))) or 1.0
+        b_scale = abs(curve.viscous) or 1.0 / (curve.scaling.k_out * curve.v_sat)
+        scales.append(np.concatenate([np.full(weights.size, w_scale), [b_scale]]))
+    return np.concatenate(scales)
 
 
 def _positive(name, value, allow_zero=False):
@@ -222,32 +226,39 @@ class FrictionAdapter:
             raise ValueError(f"leak must be in [0, 1), got {self.leak}")
         n = len(Regressor(self.model).theta0)
         if n > MAX_PARAMS:
+            units = MAX_PARAMS - 1 if self.model.symmetric else MAX_PARAMS // 2 - 1
             raise ModelError(f"the model has {n} output parameters; online adaptation holds at most "
-                             f"{MAX_PARAMS} (FRIC_ADAPT_MAX_PARAMS): an ELM of at most "
-                             f"{MAX_PARAMS - 1} neurons (train --max-neurons {MAX_PARAMS - 1})")
+                             f"{MAX_PARAMS} (FRIC_ADAPT_MAX_PARAMS): an ELM of at most {units} "
+                             f"neurons{'' if self.model.symmetric else ' per direction'} (train "
+                             f"--max-neurons {units})")
         if not float(self.trace_max) >= float(self.p0) * n:
             raise ValueError(f"trace_max must be >= p0 n = {float(self.p0) * n:g}, got {self.trace_max}")
         return self
 
+    def _v_sat(self) -> float:
+        """The model's v_sat (the larger of an asymmetric model's two), m/s."""
+        return max(float(c.v_sat) for c in self.model.directions)
+
     def speed_limit(self) -> float:
         """v_max, m/s: the declared one or ``V_MAX_FACTOR`` v_sat."""
-        return float(self.v_max) if self.v_max is not None else V_MAX_FACTOR * float(self.model.v_sat)
+        return float(self.v_max) if self.v_max is not None else V_MAX_FACTOR * self._v_sat()
 
     def feature_peaks(self) -> np.ndarray:
-        """max |phi_k(v)| over |v| <= v_max (phi is odd in v; float64, on a grid of 4001
-        speeds and v_sat)."""
+        """max |phi_k(v)| over |v| <= v_max (float64, on a grid of 4001 speeds and v_sat each
+        way: an asymmetric model's features differ between the directions)."""
         reg = Regressor(self.model)
         v_max = self.speed_limit()
-        speeds = np.append(_PEAK_GRID * v_max, min(float(self.model.v_sat), v_max))
-        return np.max(np.abs([reg(v)[1] for v in speeds]), axis=0)
+        speeds = np.append(_PEAK_GRID * v_max, min(self._v_sat(), v_max))
+        signs = (1.0,) if self.model.symmetric else (1.0, -1.0)
+        return np.max(np.abs([reg(s * v)[1] for v in speeds for s in signs]), axis=0)
 
     def force_band(self) -> float:
         """The band, N: the declared one or ``BAND_FRACTION`` of the trained model's peak |F|
-        over |v| <= v_sat."""
+        over |v| <= v_sat (each way)."""
         if self.band is not None:
             return float(self.band)
-        speeds = np.linspace(0.0, float(self.model.v_sat), _PEAK_GRID.size)
-        return BAND_FRACTION * float(np.max(np.abs(self.model.force(speeds))))
+        speeds = np.linspace(0.0, self._v_sat(), _PEAK_GRID.size)
+        return BAND_FRACTION * float(np.max(np.abs(self.model.force(np.concatenate([speeds, -speeds])))))
 
     def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
         """The projection box [lo, hi] (float64)."""

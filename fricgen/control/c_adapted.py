@@ -110,35 +110,45 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
     Regressor(model, "float32", activation_impl)                 # refuses what cannot adapt
     adapter = FrictionAdapter(model, activation_impl=activation_impl)
     params = adapt_params(adapter)
-    net = model.aim
+    curves = [_curve_context(curve, activation_impl) for curve in model.directions]
+    if len(curves) == 2:
+        for c, suffix, what in zip(curves, ("_pos", "_neg"), ("v > 0", "v < 0")):
+            c.update(suffix=suffix, what=f"the curve for {what}")
     ctx = {**identity_context(model, name), "GUARD": f"FRICGEN_{name.upper()}_ADAPT_H",
            "names": parameter_names(model), "n": params["n"],
            "band": f"{adapter.force_band():.4g}", "box": f"{adapter.box:g}",
-           "rule": adapter.rule, "rule_enum": params["rule"].name, "kind": net.kind,
-           "k_in": c_float(model.scaling.k_in), "v_sat": c_float(model.v_sat),
-           "inv_k_out": c_float(1.0 / model.scaling.k_out),
+           "rule": adapter.rule, "rule_enum": params["rule"].name, "curves": curves,
+           "describe": curves[0]["describe"] if len(curves) == 1 else
+           f"v > 0: {curves[0]['describe']}; v < 0: {curves[1]['describe']}",
+           "header": '"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"',
            "theta0": c_array(params["theta0"]), "lo": c_array(params["lo"]),
            "hi": c_array(params["hi"]), "scale": c_array(params["scale"]),
            "rules": [(RULE.member(rule).name,
                       [(f, c_float(v)) for f, v in rule_scalars(adapter.clone(rule=rule)).items()])
                      for rule in RULE.keys],
            "ts_ref": c_float(adapter.ts)}
-    if isinstance(net, StribeckCurve):
-        ctx.update(n_basis=net.n_sources, inv_stribeck=c_array(stribeck_table(net)),
-                   slope=c_float(net.slope), g_expr=STRIBECK_C_SHAPES[activation_impl][net.shape],
-                   describe=f"grey-box [F1], {net.n_sources} {net.shape} Stribeck sources",
-                   header='"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"')
-    else:
-        ctx.update(n_basis=net.n_hidden, input_weights=c_array(net.input_weights),
-                   biases=c_array(net.biases),
-                   act_expr=ACTIVATION_C[activation_impl][net.activation],
-                   describe=f"{net.n_hidden} {net.activation} neurons",
-                   header='"fric_fast.h"' if activation_impl == "fast" else '"fric_kernel.h"')
     env = template_environment()
     return {f"{name}_adapt.h": env.get_template("model_adapt.h.j2").render(ctx),
             f"{name}_adapt.c": env.get_template("model_adapt.c.j2").render(ctx),
             **{fname: runtime_text(fname) for fname in ADAPT_FILES},
             **controller_files()}
+
+
+def _curve_context(curve, activation_impl: str) -> dict:
+    """The template's fields of one curve (a ``Direction``) of the regressor."""
+    net = curve.aim
+    ctx = {"suffix": "_curve", "what": "the curve", "kind": net.kind,
+           "k_in": c_float(curve.scaling.k_in), "v_sat": c_float(curve.v_sat),
+           "inv_k_out": c_float(1.0 / curve.scaling.k_out)}
+    if isinstance(net, StribeckCurve):
+        return {**ctx, "n_basis": net.n_sources, "n": net.n_sources + 2,
+                "inv_stribeck": c_array(stribeck_table(net)), "slope": c_float(net.slope),
+                "g_expr": STRIBECK_C_SHAPES[activation_impl][net.shape],
+                "describe": f"grey-box [F1], {net.n_sources} {net.shape} Stribeck sources"}
+    return {**ctx, "n_basis": net.n_hidden, "n": net.n_hidden + 1,
+            "input_weights": c_array(net.input_weights), "biases": c_array(net.biases),
+            "act_expr": ACTIVATION_C[activation_impl][net.activation],
+            "describe": f"{net.n_hidden} {net.activation} neurons"}
 
 
 def adapt_cdef(name: str) -> str:

@@ -99,8 +99,13 @@ def model_from_dump(model: FrictionModel, text: str) -> FrictionModel:
 
 
 def scaled(model: FrictionModel, k: float) -> FrictionModel:
-    """``model`` whose force is k F(v) (k > 0): [F3]'s K_out divided by k, B times k."""
+    """``model`` whose force is k F(v) (k > 0): [F3]'s K_out divided by k, B times k (each
+    direction's of an asymmetric model)."""
     if k == 1.0:
         return model
+    negative = model.negative
+    if negative is not None:
+        negative = replace(negative, scaling=replace(negative.scaling, k_out=negative.scaling.k_out / k),
+                           viscous=negative.viscous * k)
     return replace(model, scaling=replace(model.scaling, k_out=model.scaling.k_out / k),
-                   viscous=model.viscous * k)
+                   viscous=model.viscous * k, negative=negative)

@@ -13,6 +13,10 @@ and in B. So F(v) = f0(v) + theta^T phi(v) with
 
 where s = sgn(v) / K_out, and f0 = s d x for [F1] (its slope d stays fixed; 0 for an ELM).
 
+An asymmetric model is two such curves, one per direction of motion (each with its own AIM,
+scaling, B and v_sat, [F3]): theta = [theta+, theta-] and phi(v) = [phi+(v), 0] for v > 0,
+[0, phi-(v)] for v < 0, 0 at rest, so each direction adapts its own parameters.
+
 In float32 (``dtype="float32"``) the regressor is the exact twin of the ``NAME_regressor``
 that ``fricgen emit --adapt`` generates (``fricgen.codegen.adapt``): the same float operations
 in the same order.
@@ -36,66 +40,79 @@ f32 = np.float32
 
 
 def check_adaptable(model: FrictionModel) -> FrictionModel:
-    """``model`` if its output parameters can be adapted online: a symmetric ELM or grey-box
-    model; else ``ModelError``."""
-    if model.negative is not None:
-        raise ModelError("online adaptation covers symmetric models; this one is asymmetric")
-    if not isinstance(model.aim, (ElmNetwork, StribeckCurve)):
-        raise ModelError(f"online adaptation covers ELM and grey-box models; this model's AIM is "
-                         f"{type(model.aim).__name__}")
+    """``model`` if its output parameters can be adapted online: every curve (one, or one per
+    direction) an ELM or a grey-box [F1]; else ``ModelError``."""
+    for curve in model.directions:
+        if not isinstance(curve.aim, (ElmNetwork, StribeckCurve)):
+            raise ModelError(f"online adaptation covers ELM and grey-box models; this model's AIM is "
+                             f"{type(curve.aim).__name__}")
     return model
+
+
+def _curve_parameters(curve) -> np.ndarray:
+    net = curve.aim
+    if isinstance(net, StribeckCurve):
+        return np.concatenate([net.amplitudes, [net.offset, curve.viscous]])
+    return np.concatenate([net.output_weights, [curve.viscous]])
 
 
 def trained_parameters(model: FrictionModel) -> np.ndarray:
     """theta of the trained model (see the module doc), float64."""
-    net = check_adaptable(model).aim
-    if isinstance(net, StribeckCurve):
-        return np.concatenate([net.amplitudes, [net.offset, model.viscous]])
-    return np.concatenate([net.output_weights, [model.viscous]])
+    return np.concatenate([_curve_parameters(c) for c in check_adaptable(model).directions])
 
 
 def parameter_names(model: FrictionModel) -> Tuple[str, ...]:
-    """The name of each entry of theta: beta_k or a_k (k from 0), c, B."""
-    net = check_adaptable(model).aim
-    if isinstance(net, StribeckCurve):
-        return tuple(f"a_{k}" for k in range(net.n_sources)) + ("c", "B")
-    return tuple(f"beta_{k}" for k in range(net.n_hidden)) + ("B",)
+    """The name of each entry of theta: beta_k or a_k (k from 0), c, B; with a "+" or "-"
+    after each of an asymmetric model's (its direction)."""
+    curves = check_adaptable(model).directions
+    names = []
+    for curve, mark in zip(curves, ("", "") if len(curves) == 1 else ("+", "-")):
+        net = curve.aim
+        own = (tuple(f"a_{k}" for k in range(net.n_sources)) + ("c", "B")
+               if isinstance(net, StribeckCurve) else
+               tuple(f"beta_{k}" for k in range(net.n_hidden)) + ("B",))
+        names += [n + mark for n in own]
+    return tuple(names)
 
 
-def with_parameters(model: FrictionModel, theta) -> FrictionModel:
-    """``model`` with its output parameters set to ``theta`` (hidden layer, Stribeck
-    velocities, slope and scaling kept): the read-back of an adapted model."""
-    net = check_adaptable(model).aim
-    theta = np.asarray(theta, dtype=float)
-    if theta.shape != trained_parameters(model).shape or not np.all(np.isfinite(theta)):
-        raise ModelError(f"expected {trained_parameters(model).size} finite parameters, "
-                         f"got {theta.size}")
+def _with_curve_parameters(curve, theta: np.ndarray):
+    net = curve.aim
     if isinstance(net, StribeckCurve):
         aim = replace(net, amplitudes=theta[:-2], offset=float(theta[-2]))
     else:
         aim = replace(net, output_weights=theta[:-1])
-    return replace(model, aim=aim, viscous=float(theta[-1]), recorded_hash=None)
+    return aim, float(theta[-1])
 
 
-class Regressor:
-    """phi(v) and f0(v) of the module doc for one model, in float64 or as the float32 twin of
-    the generated C (``activation_impl`` "libm" or "fast" as given to ``emit``)."""
+def with_parameters(model: FrictionModel, theta) -> FrictionModel:
+    """``model`` with its output parameters set to ``theta`` (hidden layers, Stribeck
+    velocities, slopes and scalings kept): the read-back of an adapted model."""
+    check_adaptable(model)
+    theta = np.asarray(theta, dtype=float)
+    if theta.shape != trained_parameters(model).shape or not np.all(np.isfinite(theta)):
+        raise ModelError(f"expected {trained_parameters(model).size} finite parameters, "
+                         f"got {theta.size}")
+    n_positive = _curve_parameters(model.positive).size
+    aim, viscous = _with_curve_parameters(model.positive, theta[:n_positive])
+    negative = model.negative
+    if negative is not None:
+        neg_aim, neg_viscous = _with_curve_parameters(negative, theta[n_positive:])
+        negative = replace(negative, aim=neg_aim, viscous=neg_viscous)
+    return replace(model, aim=aim, viscous=viscous, negative=negative, recorded_hash=None)
 
-    def __init__(self, model: FrictionModel, dtype: str = "float64", activation_impl: str = "libm"):
-        net = check_adaptable(model).aim
-        if dtype not in ("float64", "float32"):
-            raise ValueError(f"dtype must be 'float64' or 'float32', got {dtype!r}")
-        if activation_impl not in ("libm", "fast"):
-            raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
+
+class _CurveRegressor:
+    """phi and f0 of one curve (a ``Direction``) at a velocity, in the regressor's precision."""
+
+    def __init__(self, curve, f, activation_impl: str):
+        net = self.net = curve.aim
         if activation_impl == "fast" and isinstance(net, ElmNetwork) and net.activation != "sigmoid":
             raise ModelError(f"--activation-impl fast covers the sigmoid only, this model uses "
                              f"{net.activation!r}")
-        self.model, self.net, self.dtype, self.activation_impl = model, net, dtype, activation_impl
-        self.theta0 = trained_parameters(model)
-        self.n = self.theta0.size
-        f = self._f = float if dtype == "float64" else f32
-        self._k_in, self._v_sat = f(model.scaling.k_in), f(model.v_sat)
-        self._inv_k_out = f(1.0 / model.scaling.k_out)
+        self._f = f
+        self.n = _curve_parameters(curve).size
+        self._k_in, self._v_sat = f(curve.scaling.k_in), f(curve.v_sat)
+        self._inv_k_out = f(1.0 / curve.scaling.k_out)
         if isinstance(net, StribeckCurve):
             self._slope = f(net.slope)
             self._inv_xs = stribeck_table(net) if f is f32 else 1.0 / net.stribeck
@@ -109,10 +126,8 @@ class Regressor:
             else:
                 self._act = ACTIVATIONS[net.activation]
 
-    def __call__(self, v) -> Tuple[object, np.ndarray]:
-        """(f0, phi) at the finite velocity v (m/s), in the regressor's precision."""
+    def __call__(self, v):
         f = self._f
-        v = f(v)
         speed = -v if v < 0 else v
         x = self._k_in * (speed if speed < self._v_sat else self._v_sat)
         sign = f(1.0) if v > 0 else (f(-1.0) if v < 0 else f(0.0))
@@ -124,3 +139,35 @@ class Regressor:
                 return scale * (self._slope * x), phi.astype(g.dtype)
             h = self._act(self._w * x + self._b)
             return f(0.0), np.concatenate([scale * h, [v]]).astype(h.dtype)
+
+
+class Regressor:
+    """phi(v) and f0(v) of the module doc for one model, in float64 or as the float32 twin of
+    the generated C (``activation_impl`` "libm" or "fast" as given to ``emit``)."""
+
+    def __init__(self, model: FrictionModel, dtype: str = "float64", activation_impl: str = "libm"):
+        check_adaptable(model)
+        if dtype not in ("float64", "float32"):
+            raise ValueError(f"dtype must be 'float64' or 'float32', got {dtype!r}")
+        if activation_impl not in ("libm", "fast"):
+            raise ValueError(f"activation_impl must be 'libm' or 'fast', got {activation_impl!r}")
+        self.model, self.dtype, self.activation_impl = model, dtype, activation_impl
+        self.theta0 = trained_parameters(model)
+        self.n = self.theta0.size
+        self._f = float if dtype == "float64" else f32
+        self._curves = [_CurveRegressor(c, self._f, activation_impl) for c in model.directions]
+
+    def __call__(self, v) -> Tuple[object, np.ndarray]:
+        """(f0, phi) at the finite velocity v (m/s), in the regressor's precision."""
+        v = self._f(v)
+        if len(self._curves) == 1:
+            return self._curves[0](v)
+        positive, negative = self._curves
+        phi = np.zeros(self.n, dtype=np.float32 if self._f is f32 else np.float64)
+        if v > 0:
+            f0, phi[:positive.n] = positive(v)
+        elif v < 0:
+            f0, phi[positive.n:] = negative(v)
+        else:
+            f0 = self._f(0.0)
+        return f0, phi
