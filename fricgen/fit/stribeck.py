@@ -193,8 +193,8 @@ def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
             break
         Hf, gf = H[np.ix_(free, free)], gradient[free]
         curvature = float(np.max(np.diag(Hf)))
-        if not curvature > 0:                             # theta moves nothing: stationary
-            break
+        if not (curvature > 0 and np.all(np.isfinite(Hf)) and np.all(np.isfinite(gf))):
+            break                             # theta moves nothing (stationary), or overflowed
         damping = 1e-3 * curvature if damping is None else max(damping, 1e-12 * curvature)
         while True:
             step = np.zeros_like(theta)
@@ -206,13 +206,14 @@ def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
             taken = trial - theta
             predicted = -(gradient @ taken) - 0.5 * taken @ H @ taken
             if trial_cost < cost and predicted > 0:
-                rho = min((cost - trial_cost) / predicted, 2.0)      # >= 1: damping / 3
-                damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+                rho = (cost - trial_cost) / predicted
+                damping *= max(1.0 / 3.0, 1.0 - (2.0 * min(rho, 2.0) - 1.0) ** 3) \
+                    if np.isfinite(rho) else 1.0 / 3.0
                 growth = 2.0
                 break
             damping *= growth
             growth *= 2.0
-            if damping > 1e12 * curvature:
+            if not damping <= 1e12 * curvature:              # (or not finite)
                 return theta, cost
         done = cost - trial_cost <= STOP_GAIN * cost or \
             np.linalg.norm(taken) <= STOP_STEP * (STOP_STEP + np.linalg.norm(theta))
