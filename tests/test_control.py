@@ -268,7 +268,52 @@ def test_cli_simulate_with_a_model_compares_it_and_draws_plots(capsys, tmp_path,
         "simulate_exact.png", "simulate_model.png", "simulate_none.png"]
 
 
+def _reference(path, t, x):
+    np.savetxt(path, np.column_stack([t, x]), delimiter=",", header="t,x", comments="")
+    return str(path)
+
+
+def test_cli_simulate_follows_the_users_reference_with_the_users_gains(capsys, tmp_path):
+    t = np.arange(0.0, 1.2001, 0.01)                       # a 50 mm move and back, from x = 0.3 m
+    ref = _reference(tmp_path / "ref.csv", t, 0.3 + 0.025 * (1.0 - np.cos(2 * np.pi * t / 1.2)))
+    figures = {}
+    for k1 in ("80", "20"):
+        assert main(["simulate", "--json", "--reference", ref, "--k1", k1]) == 0
+        report = json.loads(capsys.readouterr().out)
+        assert report["duration"] == pytest.approx(1.2) and report["k1"] == float(k1)
+        assert f"reference {ref} (1.2 s)" in report["plant"]
+        figures[k1] = report["variants"]["exact"]
+    # the reference is followed (positions relative to its first), a softer k1 follows it worse
+    assert figures["80"]["finite"] and figures["80"]["rms_e1"] < 5e-4 < 0.05
+    assert figures["20"]["rms_e1"] > 1.5 * figures["80"]["rms_e1"]
+
+
+def test_a_tabulated_reference_starts_and_ends_at_rest():
+    from fricgen.sim.trajectory import TabulatedTrajectory
+    t = np.linspace(2.0, 3.0, 11)
+    ref = TabulatedTrajectory(t, 1.0 + (t - 2.0) ** 2)
+    x, v, a = ref(np.array([-1.0, 0.0, 0.5, 1.0, 5.0]))
+    assert x[0] == x[1] == 0.0 and x[-1] == x[-2] == pytest.approx(1.0)
+    assert v[0] == v[1] == v[-1] == v[-2] == 0.0 and a[-1] == 0.0 and x[2] == pytest.approx(0.25, abs=0.02)
+
+
+@pytest.mark.parametrize("rows, message", [
+    ("t,x\n0,0\n1,1\n0.5,2\n2,3\n", "the reference's t must increase, it steps from 1 to 0.5 s"),
+    ("t,x\n0,0\n1,1\n", "4 or more rows"),
+    ("t,y\n0,0\n1,1\n2,2\n3,3\n", "x"),
+])
+def test_cli_simulate_refuses_a_bad_reference_in_one_line(capsys, tmp_path, rows, message):
+    path = tmp_path / "ref.csv"
+    path.write_text(rows)
+    assert main(["simulate", "--reference", str(path)]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1 and message in lines[0]
+
+
 @pytest.mark.parametrize("argv, message", [
+    (["--k1", "0"], "--k1: must be a finite number > 0"),
+    (["--k2", "0.5"], "--k2: must be a finite number > 0.5"),
     (["--ts", "0"], "--ts: must be a finite number >= 1e-06"),
     (["--ts=-1e-3"], "--ts: must be a finite number >= 1e-06"),
     (["--ts", "5e-324"], "--ts: must be a finite number >= 1e-06"),

@@ -8,18 +8,23 @@ are none, exact and that model.
 The plant is the built-in 2 kg axis, unless the model's axis record (``training.axis``) gives a
 mass, or ``--mass`` does: then the plant is that axis, with the model as its friction and the
 record's offset as a constant force, and the variants are none and the model (exact
-compensation is the model's). A model with a speed range keeps the reference within it.
+compensation is the model's). A model with a speed range keeps the reference within it;
+``--reference`` replaces the reference by the user's move (a CSV of t and x), ``--k1`` and
+``--k2`` set the controller's gains of [C3] and [C11].
 """
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 from ..control.backstepping import AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
 from ..control.loop import (DEFAULT_DURATION, builtin_plant, compensations, model_plant,
                             peak_force, simulate)
-from ..errors import UsageError
+from ..data.table import read_table_csv
+from ..errors import DataError, UsageError
+from ..sim.trajectory import TabulatedTrajectory
 from ..model import FrictionModel
 from .._io import check_files, check_folder
 from .._plot import png, pyplot
@@ -37,8 +42,16 @@ def register(p) -> None:
     p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of [C14]")
     p.add_argument("--ts", type=number(1e-6, 0.1, unit="s"), default=1e-3,
                    help="sampling time, s (default 1e-3)")
-    p.add_argument("--duration", type=number(0, 3600, low_open=True, unit="s"), default=DEFAULT_DURATION,
-                   help=f"simulated time, s (default {DEFAULT_DURATION:g})")
+    p.add_argument("--duration", type=number(0, 3600, low_open=True, unit="s"),
+                   help=f"simulated time, s (default {DEFAULT_DURATION:g}, or the --reference's span)")
+    p.add_argument("--reference", metavar="CSV",
+                   help="the move to follow: a CSV with columns t (s) and x (m, or rad for a "
+                   "rotary model), positions taken relative to the first (the axis starts at rest "
+                   "there); x_d is the cubic spline through them, at rest at both ends")
+    p.add_argument("--k1", type=number(0, 1e6, low_open=True, unit="1/s"), default=80.0,
+                   help="position gain of [C3], 1/s (default 80)")
+    p.add_argument("--k2", type=number(0.5, 1e6, low_open=True, unit="A s/m"), default=40.0,
+                   help="velocity-error gain of [C11], > 1/2 [C16] (default 40)")
     p.add_argument("--friction-input", choices=FRICTION_INPUT.keys, default="v",
                    help="evaluate the friction model at the measured v (paper) or at v_d")
     p.add_argument("--backend", choices=("python", "c"), default="python",
@@ -55,6 +68,9 @@ MAX_SAMPLES = 200_000
 def run(args) -> int:
     if args.plot:
         check_folder(args.plot, [args.model], option="--plot")
+    reference = read_reference(args.reference) if args.reference else None
+    if args.duration is None:
+        args.duration = reference.duration if reference is not None else DEFAULT_DURATION
     if args.duration > MAX_SAMPLES * args.ts:
         raise UsageError(f"--duration {args.duration:g} s at --ts {args.ts:g} s is "
                          f"{args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} are simulated")
@@ -68,9 +84,12 @@ def run(args) -> int:
         say(f"fricgen: note: the simulation leaves out {args.model}'s pre-sliding (its plant and "
             "compensation are the static curve; benchmarks/slow_speeds.py runs the bristles in the loop)")
     plant = choose_plant(model, args.mass)
+    if reference is not None:
+        plant = replace(plant, trajectory=reference, text=plant.text.rsplit("; reference", 1)[0]
+                        + f"; reference {args.reference} ({reference.duration:.4g} s)")
     axis = plant.axis
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,
-                                    phi_n=plant.phi_n, i_max=plant.i_max)
+                                    phi_n=plant.phi_n, i_max=plant.i_max, k1=args.k1, k2=args.k2)
     try:
         settings.validate()
     except ValueError as exc:
@@ -91,6 +110,7 @@ def run(args) -> int:
     runs = dict(zip(ctrls, simulate(axis, list(ctrls.values()), plant.trajectory,
                                     duration=args.duration)))
     report = {"plant": plant.text, "law": args.law, "ts": args.ts, "duration": args.duration,
+              "k1": args.k1, "k2": args.k2,
               "backend": args.backend, "friction_input": args.friction_input,
               "variants": {name: run.metrics() for name, run in runs.items()}}
     if args.backend == "c":
@@ -103,6 +123,15 @@ def run(args) -> int:
         write_targets(targets, pngs)
         say(f"wrote {', '.join(sorted(pngs)) or 'no plots'} to {args.plot}")
     return 0
+
+
+def read_reference(path: str) -> TabulatedTrajectory:
+    """``--reference``: the move of a CSV with columns t and x; ``DataError`` naming the file."""
+    columns = read_table_csv(path, ("t", "x"))
+    try:
+        return TabulatedTrajectory(columns["t"], columns["x"])
+    except ValueError as exc:
+        raise DataError(f"{path}: {exc}") from None
 
 
 def choose_plant(model, mass=None):
@@ -128,7 +157,8 @@ def choose_plant(model, mass=None):
 def table(report: dict) -> str:
     """The variant table: rms and max tracking error, rms current, final adaptive parameters."""
     lines = [report["plant"],
-             f"law ({report['law']}), Ts = {report['ts']:g} s, {report['duration']:g} s simulated, "
+             f"law ({report['law']}), k1 = {report['k1']:g} 1/s, k2 = {report['k2']:g} A s/m, "
+             f"Ts = {report['ts']:g} s, {report['duration']:g} s simulated, "
              f"{report['backend']} controller, friction model at {report['friction_input']}",
              f"{'variant':8s} {'rms_e1 mm':>10s} {'max_e1 mm':>10s} {'rms_i A':>8s} {'max_i A':>8s} "
              f"{'m_o_hat A s^2/m':>15s} {'k_hat':>7s}  (k_hat: no unit)"]

@@ -66,6 +66,34 @@ def reversing(v_low: float = 0.02, v_high: float = 0.2, period: float = 0.5,
     return SineSumTrajectory((mean, 0.5 * swing, 0.5 * swing), (w, w + wo, w - wo))
 
 
+class TabulatedTrajectory:
+    """A reference given as positions x at times t (a user's move): x_d(t) the cubic spline
+    through them with zero velocity at both ends, shifted to start at rest from x_d(0) = 0 at
+    t = 0 (the simulated axis starts there), and held at its last position after the table."""
+
+    def __init__(self, t, x):
+        t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
+        if t.ndim != 1 or t.size != x.size or t.size < 4:
+            raise ValueError(f"a reference needs one t and one x of 4 or more rows, got {t.size} "
+                             f"and {x.size}")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x))):
+            raise ValueError("the reference's t and x must be finite")
+        if not np.all(np.diff(t) > 0):
+            k = int(np.argmax(np.diff(t) <= 0))
+            raise ValueError(f"the reference's t must increase, it steps from {t[k]:.6g} to "
+                             f"{t[k + 1]:.6g} s at rows {k + 1} and {k + 2}")
+        from scipy.interpolate import CubicSpline
+        self.duration = float(t[-1] - t[0])
+        self._spline = CubicSpline(t - t[0], x - x[0], bc_type="clamped")
+
+    def __call__(self, t) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(x_d, x_d', x_d'') at times t (any shape)."""
+        t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
+        after = np.asarray(t) >= self.duration
+        spline = self._spline
+        return (spline(t), np.where(after, 0.0, spline(t, 1)), np.where(after, 0.0, spline(t, 2)))
+
+
 def sampled(trajectory, times: Sequence[float]) -> np.ndarray:
     """The trajectory at ``times`` as an array of shape (len(times), 3): x_d, x_d', x_d''."""
     return np.stack(trajectory(np.asarray(times, dtype=float)), axis=-1)
