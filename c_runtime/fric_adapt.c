@@ -437,8 +437,8 @@ static void fric_adapt_state_head(unsigned char *head, unsigned int n, const cha
     head[1] = (unsigned char)'R';
     head[2] = (unsigned char)'A';
     head[3] = (unsigned char)'S';
-    head[4] = (unsigned char)((unsigned int)FRIC_ADAPT_VERSION & 0xFFu);
-    head[5] = (unsigned char)(((unsigned int)FRIC_ADAPT_VERSION >> 8) & 0xFFu);
+    head[4] = (unsigned char)((unsigned int)FRIC_ADAPT_STATE_FORMAT & 0xFFu);
+    head[5] = (unsigned char)(((unsigned int)FRIC_ADAPT_STATE_FORMAT >> 8) & 0xFFu);
     head[6] = (unsigned char)(n & 0xFFu);
     head[7] = (unsigned char)((n >> 8) & 0xFFu);
     for (k = 0u; k < FRIC_ADAPT_HASH_MAX; ++k) {

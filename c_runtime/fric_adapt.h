@@ -41,7 +41,11 @@
 extern "C" {
 #endif
 
-#define FRIC_ADAPT_VERSION 3
+/* The runtime's interface: 4 since the rule field is an int32_t (the saved state's format,
+ * FRIC_ADAPT_STATE_FORMAT, is another number). */
+#define FRIC_ADAPT_VERSION 4
+/* The format of a saved state (fric_adapt_save): what a blob holds, not the structs' layout. */
+#define FRIC_ADAPT_STATE_FORMAT 3
 /* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
 #define FRIC_ADAPT_MAX_PARAMS 16u
 
@@ -55,7 +59,7 @@ typedef enum {
     FRIC_ADAPT_ERR_RANGE = -6      /* a saved state with a value not finite or out of its box */
 } fric_adapt_status_t;
 
-/* The bytes of a saved state of n parameters (fric_adapt_save): "FRAS", FRIC_ADAPT_VERSION and n
+/* The bytes of a saved state of n parameters (fric_adapt_save): "FRAS", FRIC_ADAPT_STATE_FORMAT and n
  * (16 bits each, little-endian), the model hash (16 bytes, NUL-padded), theta (n) and P (n x n)
  * as float bits (32 bits each, little-endian), then the CRC-32 (IEEE 802.3) of all before it. */
 #define FRIC_ADAPT_STATE_SIZE(n) (28u + (4u * (n)) + (4u * (n) * (n)))
@@ -85,7 +89,7 @@ typedef float (*fric_adapt_regressor_fn)(float v, float *phi);
 
 typedef struct {
     unsigned int n;                          /* parameters, 1 .. FRIC_ADAPT_MAX_PARAMS */
-    fric_adapt_rule_t rule;
+    int32_t rule;                            /* a fric_adapt_rule_t (int32_t: fric_ctrl.h) */
     float theta0[FRIC_ADAPT_MAX_PARAMS];     /* trained values */
     float lo[FRIC_ADAPT_MAX_PARAMS];         /* box, lo <= theta0 <= hi */
     float hi[FRIC_ADAPT_MAX_PARAMS];

@@ -47,18 +47,19 @@
 #ifndef FRIC_CTRL_H
 #define FRIC_CTRL_H
 
+#include <stdint.h>
 #include "fric_version.h" /* FRIC_RUNTIME_VERSION_MAJOR, _MINOR, _PATCH */
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define FRIC_CTRL_VERSION 3
+#define FRIC_CTRL_VERSION 4
 
 /* fricgen.control.c_abi mirrors the enums, flags and structs below (fricgen's tests check that
- * both agree). The enums' size is the compiler's choice: int on most hosts, the smallest that
- * fits under arm-none-eabi-gcc (-fshort-enums is the AAPCS default there), so build the runtime
- * and its callers with the same compiler settings. */
+ * both agree). A struct field that holds an enumerator is an int32_t: an enum's size is the
+ * compiler's choice (int on most hosts, the smallest that fits under arm-none-eabi-gcc, whose
+ * AAPCS default is -fshort-enums), and the structs keep one layout whatever it is. */
 
 /* Return codes of fric_ctrl_init. */
 typedef enum {
@@ -106,9 +107,9 @@ typedef struct {
     float m_o_max;
     float k_min;        /* interval of k_hat, k_min < k_max */
     float k_max;
-    fric_ctrl_law_t law;                  /* FRIC_CTRL_LAW_A, _B or _C */
-    fric_ctrl_friction_at_t friction_at;  /* FRIC_CTRL_FRICTION_AT_V or _AT_VD
-                                             (fric_ctrl_step_fn only) */
+    int32_t law;          /* a fric_ctrl_law_t: FRIC_CTRL_LAW_A, _B or _C */
+    int32_t friction_at;  /* a fric_ctrl_friction_at_t: FRIC_CTRL_FRICTION_AT_V or _AT_VD
+                             (fric_ctrl_step_fn only) */
 } fric_ctrl_params_t;
 
 typedef struct {

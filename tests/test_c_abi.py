@@ -20,15 +20,16 @@ SETTINGS = AdaptiveBackstepping(law="a", friction_input="vd", gamma=[[2.0, 0.5],
                                 a0=(0.2, 0.9))
 
 
-def run_c(tmp_path, main_body: str, prelude: str = "") -> str:
-    """Compile a program that includes fric_ctrl.h with the strict flags, run it, return stdout."""
+def run_c(tmp_path, main_body: str, prelude: str = "", flags=()) -> str:
+    """Compile a program that includes fric_ctrl.h with the strict flags (and ``flags``), run
+    it, return stdout."""
     for name, text in controller_files().items():
         (tmp_path / name).write_text(text)
     src = tmp_path / "probe.c"
     src.write_text(f'#include <stddef.h>\n#include <stdio.h>\n#include "fric_ctrl.h"\n{prelude}\n'
                    f"int main(void)\n{{\n{main_body}    return 0;\n}}\n")
     exe = tmp_path / "probe"
-    build = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, str(src), "-o", str(exe)],
+    build = subprocess.run([CC, *CFLAGS, *STRICT_WARNINGS, *flags, str(src), "-o", str(exe)],
                            capture_output=True, text=True)
     assert build.returncode == 0, build.stderr
     return subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
@@ -73,6 +74,20 @@ def test_header_values_field_types_and_field_order_agree_with_the_table(tmp_path
             assert offset == end, f"{ctype}.{f.name}"
             end += size
         assert int(out[ctype]) == end, ctype
+
+
+def test_the_structs_keep_their_layout_under_short_enums(tmp_path):
+    """arm-none-eabi-gcc makes enums as small as they fit (-fshort-enums): the structs' fields that
+    hold an enumerator are int32_t, so a runtime and a caller built with either setting agree."""
+    prints = "".join(f'    printf("{ctype} %lu %lu\\n", (unsigned long)sizeof({ctype}), '
+                     f"(unsigned long)offsetof({ctype}, {field}));\n"
+                     for ctype, field in (("fric_ctrl_params_t", "friction_at"),
+                                          ("fric_ctrl_t", "flags")))
+    layouts = [run_c(tmp_path, prints, flags=flags) for flags in ((), ("-fshort-enums",))]
+    assert layouts[0] == layouts[1] and layouts[0].count("\n") == 2
+    short = run_c(tmp_path, '    printf("%lu\\n", (unsigned long)sizeof(fric_ctrl_law_t));\n',
+                  flags=("-fshort-enums",))
+    assert short.strip() == "1"                            # the flag does shrink the enum itself
 
 
 def test_firmware_initializer_and_cffi_parameters_are_the_same_struct(tmp_path):

@@ -19,7 +19,9 @@ from ..c_literal import c_float
 from .gamma import gamma_matrix
 
 #: FRIC_CTRL_VERSION of the header.
-VERSION = 3
+VERSION = 4
+#: The C type of a struct field that holds an enumerator (one layout whatever the enum size).
+ENUM_FIELD = "int32_t"
 
 
 @dataclass(frozen=True)
@@ -143,8 +145,8 @@ PARAMS = (
     Field("m_o_max", "float", lambda s: s.a_max[0]),
     Field("k_min", "float", lambda s: s.a_min[1]),
     Field("k_max", "float", lambda s: s.a_max[1]),
-    Field("law", LAW.ctype, lambda s: LAW.member(s.law)),
-    Field("friction_at", FRICTION_INPUT.ctype, lambda s: FRICTION_INPUT.member(s.friction_input)),
+    Field("law", ENUM_FIELD, lambda s: LAW.member(s.law)),
+    Field("friction_at", ENUM_FIELD, lambda s: FRICTION_INPUT.member(s.friction_input)),
 )
 #: fric_ctrl_t, field by field.
 STATE = (
