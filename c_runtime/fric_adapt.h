@@ -119,59 +119,108 @@ typedef struct {
     fric_adapt_flags_t flags;                /* what the last update returned */
 } fric_adapt_t;
 
-/* Check p and reset a (fric_adapt_reset). FRIC_ADAPT_OK_INIT, _ERR_NULL or _ERR_PARAM (a untouched). */
+/**
+ * @brief Check p and reset a (fric_adapt_reset).
+ * @param[out] a the adaptation, untouched unless FRIC_ADAPT_OK_INIT is returned.
+ * @param[in] p its parameters (NAME_adapt_default_params fills them), copied into a.
+ * @return FRIC_ADAPT_OK_INIT, FRIC_ADAPT_ERR_NULL or FRIC_ADAPT_ERR_PARAM (a field out of the
+ *         range its comment in fric_adapt_params_t gives, or not finite).
+ * Reentrant on distinct structs; no errno; call before the control ISR starts.
+ */
 fric_adapt_status_t fric_adapt_init(fric_adapt_t *a, const fric_adapt_params_t *p);
 
-/* theta = theta0, P = p0 diag(scale^2), error and flags 0, held (no RLS update before the
- * first controller step). A NULL a is ignored. */
+/**
+ * @brief theta = theta0, P = p0 diag(scale^2), error and flags 0, held (no RLS update before
+ *        the first controller step).
+ * @param[in,out] a the adaptation; NULL is ignored.
+ */
 void fric_adapt_reset(fric_adapt_t *a);
 
-/* The adapted force F(v), N: f0 + sum_k theta0_k phi_k + sat_band(sum_k (theta_k - theta0_k)
- * phi_k), k ascending; 0 at a non-finite v or for a NULL argument. */
+/**
+ * @brief The adapted force F(v), N: f0 + sum_k theta0_k phi_k + sat_band(sum_k (theta_k -
+ *        theta0_k) phi_k), k ascending: within +-band of the trained model at every v.
+ * @param[in] a the adaptation; @param[in] reg the model's regressor (NAME_regressor);
+ * @param[in] v velocity, m/s (rad/s).
+ * @return the force, N (Nm); 0 at a non-finite v or for a NULL argument.
+ */
 float fric_adapt_force(const fric_adapt_t *a, fric_adapt_regressor_fn reg, float v);
 
-/* One RLS update on the friction force (N) observed at velocity v (m/s). */
+/**
+ * @brief One RLS update on the friction force observed at velocity v.
+ * @param[in,out] a the adaptation (rule FRIC_ADAPT_RULE_RLS).
+ * @param[in] reg the regressor; @param[in] v velocity, m/s; @param[in] force observed, N.
+ * @param[in] hold non-zero: no update (the controller saturated or faulted).
+ * @return FRIC_ADAPT_OK or an OR of the FRIC_ADAPT_* flags (also in a->flags). Any input moves
+ *         theta by a bounded step and keeps it in [lo, hi]. Reentrant on distinct structs.
+ */
 fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
                                   float force, int hold);
 
-/* One Lyapunov update with the controller's velocity error e2 (m/s) at velocity v. */
+/**
+ * @brief One Lyapunov update with the controller's velocity error e2 at velocity v.
+ * @param[in,out] a the adaptation (rule FRIC_ADAPT_RULE_LYAPUNOV).
+ * @param[in] reg the regressor; @param[in] v velocity, m/s; @param[in] e2 v_d - v, m/s.
+ * @param[in] hold non-zero: no update.
+ * @return as fric_adapt_rls.
+ */
 fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn reg, float v,
                                        float e2, int hold);
 
-/* One sample of the controller c compensating with the adapted model: F at v or v_d
- * (c->p.friction_at), fric_ctrl_step, then the RLS update on the friction observed over the
- * last sample (held unless this step and the last were fault-free and unsaturated) or the
- * Lyapunov update with its e2 (held unless this step was fault-free and unsaturated).
- * Returns fric_ctrl_step's flags (a->flags holds the update's). */
+/**
+ * @brief One sample of the controller c compensating with the adapted model.
+ *
+ * F at v or v_d (c->p.friction_at), fric_ctrl_step, then the RLS update on the friction
+ * observed over the last sample (held unless this step and the last were fault-free and
+ * unsaturated) or the Lyapunov update with its e2 (held unless this step was fault-free and
+ * unsaturated); records c's k_hat in a->k_hat (for fric_adapt_export).
+ * @param[in,out] a the adaptation; @param[in,out] c the controller; @param[in] reg the regressor.
+ * @param[in] x, v, xd, xd_dot, xd_ddot as fric_ctrl_step's; @param[out] current the command, A.
+ * @return fric_ctrl_step's flags (a->flags holds the update's). Call from one context (the
+ *         control ISR); on a Cortex-M4F the ISR saves the FPU context (lazy stacking).
+ */
 fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_adapt_regressor_fn reg,
                                        float x, float v, float xd, float xd_dot, float xd_ddot,
                                        float *current);
 
-/* Save what a has learned (theta and P) into buf for non-volatile memory: returns
- * FRIC_ADAPT_STATE_SIZE(a->p.n) bytes written, or 0 (nothing written) for a NULL argument, a
- * model_hash (NAME_ADAPT_MODEL_HASH) longer than FRIC_ADAPT_HASH_MAX or a buf too small. No float
- * arithmetic, no libc. */
+/**
+ * @brief Save what a has learned (theta and P) into buf, for non-volatile memory.
+ * @param[in] a the adaptation (a copy taken with the control ISR masked).
+ * @param[in] model_hash NAME_ADAPT_MODEL_HASH, at most FRIC_ADAPT_HASH_MAX characters.
+ * @param[out] buf at least FRIC_ADAPT_STATE_SIZE(a->p.n) bytes; @param[in] size its size.
+ * @return the bytes written, FRIC_ADAPT_STATE_SIZE(a->p.n), or 0 (nothing written) for a NULL
+ *         argument, a longer hash or a buf too small. No float arithmetic, no libc.
+ */
 unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsigned char *buf,
                              unsigned int size);
 
-/* Restore a state fric_adapt_save wrote, at boot after fric_adapt_init: FRIC_ADAPT_OK_INIT, or
- * (a untouched) _ERR_NULL, _ERR_SIZE, _ERR_FOREIGN (another format, version, number of parameters
- * or model), _ERR_CHECKSUM, _ERR_RANGE (theta outside [lo, hi] or a value not finite). The next
- * controller step does no RLS update (no last sample to observe). */
+/**
+ * @brief Restore a state fric_adapt_save wrote, at boot after fric_adapt_init.
+ * @param[in,out] a the adaptation; @param[in] model_hash NAME_ADAPT_MODEL_HASH;
+ * @param[in] buf, size the saved bytes.
+ * @return FRIC_ADAPT_OK_INIT, or (a untouched) FRIC_ADAPT_ERR_NULL, _ERR_PARAM, _ERR_SIZE,
+ *         _ERR_FOREIGN (another format, number of parameters or model), _ERR_CHECKSUM,
+ *         _ERR_RANGE (theta outside [lo, hi] or a value not finite). The next controller step
+ *         does no RLS update (no last sample to observe).
+ */
 fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
                                        const unsigned char *buf, unsigned int size);
 
-/* The adapted friction as text, for fricgen to read back (`fricgen readback`): four lines,
+/**
+ * @brief The adapted friction as text, for `fricgen readback`.
+ *
+ * Four lines, each ending in '\n', NUL-terminated:
  *     fricgen-adapt-dump 2
  *     model <model_hash>                      (NAME_ADAPT_MODEL_HASH)
  *     theta <8 hex digits> ... <8 hex digits> (the float bits of theta[0 .. n-1])
  *     scale <8 hex digits>                    (the float bits of k_hat)
- * each ending in '\n', NUL-terminated, into buf (size bytes). The loop applies k_hat F(v): k_hat
- * scales the compensation and trades against theta (their product is what the data determine),
- * so the dump carries both and readback's model is the friction the loop applies. Returns the
- * characters written without the NUL, or 0 (buf then holds "" if size > 0) for a NULL argument or
- * a buf too small: 50 + length of the hash + 9 n bytes suffice. No libc formatting, no float
- * arithmetic. */
+ * The loop applies k_hat F(v): k_hat scales the compensation and trades against theta (their
+ * product is what the data determine), so the dump carries both and readback's model is the
+ * friction the loop applies.
+ * @param[in] a the adaptation; @param[in] model_hash NAME_ADAPT_MODEL_HASH;
+ * @param[out] buf the text; @param[in] size its size: 50 + the hash's length + 9 n suffice.
+ * @return the characters written without the NUL, or 0 (buf then holds "" if size > 0) for a
+ *         NULL argument or a buf too small. No libc formatting, no float arithmetic.
+ */
 unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, char *buf,
                                unsigned int size);
 

@@ -122,25 +122,52 @@ typedef struct {
     fric_ctrl_flags_t flags;  /* what the last step returned */
 } fric_ctrl_t;
 
-/* fricgen's defaults for a 2 kg linear motor axis with phi ~ 20 N/A at ts = 1 ms:
- * k1 = 80, k2 = 40, Gamma = diag(1, 20), delta = 0.005, phi_n = 20, i_max = 10,
- * A0 = [0.1, 1], law c, friction at v; the estimates within a factor 10 of A0:
- * m_o_hat in [0.01, 1] kg A/N, k_hat in [0, 10] (0: no compensation). A NULL p is ignored. */
+/**
+ * @brief fricgen's defaults for a 2 kg linear motor axis with phi ~ 20 N/A at ts = 1 ms.
+ *
+ * k1 = 80, k2 = 40, Gamma = diag(1, 20), delta = 0.005, phi_n = 20, i_max = 10, A0 = [0.1, 1],
+ * law c, friction at v; the estimates within a factor 10 of A0: m_o_hat in [0.01, 1] kg A/N,
+ * k_hat in [0, 10] (0: no compensation). Set ts, phi_n and i_max to your loop's.
+ * @param[out] p the parameters to fill; NULL is ignored.
+ * Reentrant; no errno; call before the control ISR starts.
+ */
 void fric_ctrl_default_params(fric_ctrl_params_t *p);
 
-/* Check the parameters and reset the controller (A = A0, errors, current and flags 0).
- * Returns FRIC_CTRL_OK, FRIC_CTRL_ERR_NULL or FRIC_CTRL_ERR_PARAM (c is then untouched). */
+/**
+ * @brief Check the parameters and reset the controller: A = A0, errors, current and flags 0.
+ * @param[out] c the controller, untouched unless FRIC_CTRL_OK is returned.
+ * @param[in] p the parameters, copied into c (ranges: fric_ctrl_params_t's comments).
+ * @return FRIC_CTRL_OK, FRIC_CTRL_ERR_NULL (c or p NULL) or FRIC_CTRL_ERR_PARAM (a parameter
+ *         out of range or not finite).
+ * Reentrant on distinct structs; no errno; call before the ISR starts or with it masked.
+ */
 fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p);
 
-/* One sample: measured position x and velocity v, reference xd, xd', xd'', and the friction
- * compensation force friction (N; 0 for none). Writes the current command (A) to *current,
- * updates the adaptive parameters, and returns the flags (see the contract above). */
+/**
+ * @brief One sample of the adaptive backstepping controller, [C3]-[C14].
+ * @param[in,out] c the controller (fric_ctrl_init first).
+ * @param[in] x measured position, m (rad for a rotary axis; every unit below likewise).
+ * @param[in] v measured velocity, m/s.
+ * @param[in] xd, xd_dot, xd_ddot the reference and its first two derivatives, m, m/s, m/s^2.
+ * @param[in] friction the friction compensation force, N (0 for none).
+ * @param[out] current the current command, A, within +-i_max; 0 A on an input fault.
+ * @return FRIC_CTRL_STEP_OK or an OR of FRIC_CTRL_FAULT_NULL (c or current NULL: nothing
+ *         written), FRIC_CTRL_INPUT_FAULT (an input not finite or a NaN demand: 0 A, no
+ *         update), FRIC_CTRL_SATURATED (the demand beyond +-i_max: +-i_max, no update),
+ *         FRIC_CTRL_PROJECTED (an estimate held at an end of its interval).
+ * Any finite or non-finite input keeps the current within +-i_max and the estimates within
+ * their intervals. Reentrant on distinct structs; no errno; call from one context (the ISR).
+ */
 fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
                                  float xd_ddot, float friction, float *current);
 
-/* As fric_ctrl_step, the force taken from friction(v) or friction(v_d) (p.friction_at);
- * friction may be NULL (no compensation). The model is not called at a non-finite velocity
- * (the force is then 0). */
+/**
+ * @brief As fric_ctrl_step, the force taken from the model: friction(v), or friction(v_d)
+ *        with p.friction_at FRIC_CTRL_FRICTION_AT_VD (v_d = xd' + k1 (xd - x), [C3]).
+ * @param[in] friction the model (NAME_force), or NULL for no compensation; it is not called
+ *            at a non-finite velocity (the force is then 0).
+ * Other parameters, return value and contract: fric_ctrl_step's.
+ */
 fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
                                     float xd_ddot, fric_ctrl_friction_fn friction,
                                     float *current);
