@@ -418,6 +418,16 @@ static float fric_adapt_bits_float(uint32_t u)
     return pun.f;
 }
 
+fric_ctrl_flags_t fric_adapt_ctrl_step_sample(fric_adapt_t *a, fric_ctrl_t *c,
+                                              fric_adapt_regressor_fn reg,
+                                              const fric_ctrl_sample_t *s, float *current)
+{
+    if (s == NULL) {
+        return FRIC_CTRL_FAULT_NULL;
+    }
+    return fric_adapt_ctrl_step(a, c, reg, s->x, s->v, s->xd, s->xd_dot, s->xd_ddot, current);
+}
+
 /* The length of model_hash if at most FRIC_ADAPT_HASH_MAX, else FRIC_ADAPT_HASH_MAX + 1. */
 static unsigned int fric_adapt_hash_length(const char *model_hash)
 {

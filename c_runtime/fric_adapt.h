@@ -183,6 +183,15 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
                                        float *current);
 
 /**
+ * @brief fric_adapt_ctrl_step with the sample's five values in one struct.
+ * @param[in] s the measurements and reference; NULL: FRIC_CTRL_FAULT_NULL, nothing written.
+ * Other parameters, return value and contract: fric_adapt_ctrl_step's (bit for bit the same).
+ */
+fric_ctrl_flags_t fric_adapt_ctrl_step_sample(fric_adapt_t *a, fric_ctrl_t *c,
+                                              fric_adapt_regressor_fn reg,
+                                              const fric_ctrl_sample_t *s, float *current);
+
+/**
  * @brief Save what a has learned (theta and P) into buf, for non-volatile memory.
  * @param[in] a the adaptation (a copy taken with the control ISR masked).
  * @param[in] model_hash NAME_ADAPT_MODEL_HASH, at most FRIC_ADAPT_HASH_MAX characters.

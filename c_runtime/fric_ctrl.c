@@ -215,3 +215,12 @@ fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, 
     }
     return fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
 }
+
+fric_ctrl_flags_t fric_ctrl_step_sample(fric_ctrl_t *c, const fric_ctrl_sample_t *s,
+                                        fric_ctrl_friction_fn friction, float *current)
+{
+    if (s == NULL) {
+        return FRIC_CTRL_FAULT_NULL;
+    }
+    return fric_ctrl_step_fn(c, s->x, s->v, s->xd, s->xd_dot, s->xd_ddot, friction, current);
+}

@@ -122,6 +122,15 @@ typedef struct {
     fric_ctrl_flags_t flags;  /* what the last step returned */
 } fric_ctrl_t;
 
+/* One sample's measurements and reference, for the _sample steps (units as fric_ctrl_step's). */
+typedef struct {
+    float x;        /* measured position, m (rad) */
+    float v;        /* measured velocity, m/s */
+    float xd;       /* reference position, m */
+    float xd_dot;   /* its first derivative, m/s */
+    float xd_ddot;  /* its second derivative, m/s^2 */
+} fric_ctrl_sample_t;
+
 /**
  * @brief fricgen's defaults for a 2 kg linear motor axis with phi ~ 20 N/A at ts = 1 ms.
  *
@@ -171,6 +180,14 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
 fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
                                     float xd_ddot, fric_ctrl_friction_fn friction,
                                     float *current);
+
+/**
+ * @brief fric_ctrl_step_fn with the sample's five values in one struct.
+ * @param[in] s the measurements and reference; NULL: FRIC_CTRL_FAULT_NULL, nothing written.
+ * Other parameters, return value and contract: fric_ctrl_step_fn's (bit for bit the same).
+ */
+fric_ctrl_flags_t fric_ctrl_step_sample(fric_ctrl_t *c, const fric_ctrl_sample_t *s,
+                                        fric_ctrl_friction_fn friction, float *current);
 
 #ifdef __cplusplus
 }

@@ -190,6 +190,36 @@ def _c_adapter(module, twin):
     return a
 
 
+def test_the_adapted_sample_step_is_the_positional_step_bit_for_bit(default_model):
+    module = build_adapted(default_model)
+    ffi, lib = module.ffi, module.lib
+    reg = ffi.addressof(lib, "fm_regressor")
+    twin = FrictionAdapter(default_model, "rls", dtype="float32")
+    from fricgen.control.backstepping import AdaptiveBackstepping
+    from fricgen.control.c_controller import CController
+    ctrl = CController(module, AdaptiveBackstepping(law="c"), "fm_force")
+    states = []
+    for _ in range(2):
+        c = ffi.new("fric_ctrl_t *")
+        assert lib.fric_ctrl_init(c, ctrl.params()) == 0
+        states.append((_c_adapter(module, twin), c))
+    (a1, c1), (a2, c2) = states
+    current, sample = ffi.new("float[2]"), ffi.new("fric_ctrl_sample_t *")
+    t = np.arange(400) * 1e-3
+    for k, tk in enumerate(t):
+        row = [0.009 * np.sin(3 * tk), 0.027 * np.cos(3 * tk), 0.01 * np.sin(3 * tk), 0.03 * np.cos(3 * tk),
+               -0.09 * np.sin(3 * tk)]
+        if k == 200:
+            row[1] = np.inf                                       # one input fault
+        sample.x, sample.v, sample.xd, sample.xd_dot, sample.xd_ddot = (float(r) for r in row)
+        flags = lib.fric_adapt_ctrl_step(a1, c1, reg, *(float(r) for r in row), current)
+        assert lib.fric_adapt_ctrl_step_sample(a2, c2, reg, sample, current + 1) == flags
+        assert bytes(ffi.buffer(current, 4)) == bytes(ffi.buffer(current + 1, 4))
+    assert bytes(ffi.buffer(a1)) == bytes(ffi.buffer(a2)) and bytes(ffi.buffer(c1)) == bytes(ffi.buffer(c2))
+    assert list(a1.theta)[:a1.p.n] != list(twin.reset().theta_)   # it adapted
+    assert lib.fric_adapt_ctrl_step_sample(a2, c2, reg, ffi.NULL, current) == 1    # FAULT_NULL
+
+
 @pytest.mark.parametrize("rule", ["rls", "lyapunov"])
 def test_c_clamps_an_outlier_and_keeps_the_force_in_its_band_as_the_twin(default_model, rule):
     """A finite outlier (1e20) moves theta one clamped step, bit-equal to the twin; with theta at

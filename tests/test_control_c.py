@@ -131,6 +131,34 @@ def test_c_step_with_the_force_as_argument_equals_the_function_pointer(ctrl_modu
     assert np.array_equal(ptr.x, arg.x) and np.array_equal(ptr.i, arg.i)
 
 
+def test_the_sample_step_is_the_positional_step_bit_for_bit(ctrl_module, default_model):
+    """fric_ctrl_step_sample takes the five values in a fric_ctrl_sample_t: the same currents,
+    flags and states as fric_ctrl_step_fn over random samples (faults and saturation included);
+    a NULL sample writes nothing."""
+    ffi, lib = ctrl_module.ffi, ctrl_module.lib
+    settings = AdaptiveBackstepping(law="c", friction_input="vd").validate()
+    a, b = (CController(ctrl_module, settings, "fm_force") for _ in range(2))
+    for c in (a, b):
+        c.reset()
+    force = ffi.addressof(lib, "fm_force")
+    rng = np.random.default_rng(5)
+    current = ffi.new("float[2]")
+    sample = ffi.new("fric_ctrl_sample_t *")
+    for row in rng.normal(0.0, [0.01, 0.2, 0.01, 0.2, 5.0], (300, 5)):
+        row[rng.integers(5)] *= 1e4 if rng.random() < 0.1 else 1.0      # saturating demands
+        if rng.random() < 0.05:
+            row[rng.integers(5)] = np.nan
+        sample.x, sample.v, sample.xd, sample.xd_dot, sample.xd_ddot = (float(r) for r in row)
+        flags = lib.fric_ctrl_step_fn(a._c, *(float(r) for r in row), force, current)
+        assert lib.fric_ctrl_step_sample(b._c, sample, force, current + 1) == flags
+        assert bytes(ffi.buffer(current, 4)) == bytes(ffi.buffer(current + 1, 4))
+        assert bytes(ffi.buffer(a._c)) == bytes(ffi.buffer(b._c))
+    before = bytes(ffi.buffer(b._c))
+    current[1] = 7.0
+    assert lib.fric_ctrl_step_sample(b._c, ffi.NULL, force, current + 1) == 1     # FAULT_NULL
+    assert bytes(ffi.buffer(b._c)) == before and current[1] == 7.0
+
+
 def test_cli_simulate_c_backend_runs_the_emitted_model_in_c(capsys):
     assert main(["simulate", "--backend", "c", "--json", "--duration", "0.3"]) == 0
     report = json.loads(capsys.readouterr().out)

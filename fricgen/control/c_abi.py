@@ -158,7 +158,9 @@ STATE = (
     Field("i", "float"),
     Field("flags", FLAGS.ctype),
 )
-STRUCTS = {"fric_ctrl_params_t": PARAMS, "fric_ctrl_t": STATE}
+#: fric_ctrl_sample_t (the _sample steps' measurements and reference), field by field.
+SAMPLE = tuple(Field(name, "float") for name in ("x", "v", "xd", "xd_dot", "xd_ddot"))
+STRUCTS = {"fric_ctrl_params_t": PARAMS, "fric_ctrl_t": STATE, "fric_ctrl_sample_t": SAMPLE}
 
 def function_declarations() -> str:
     """The prototypes of fric_ctrl.h's functions, read from the header itself (comments and

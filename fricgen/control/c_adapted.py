@@ -62,6 +62,8 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
           "fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, "
           "fric_adapt_regressor_fn reg, float x, float v, float xd, float xd_dot, float xd_ddot, "
           "float *current);\n"
+          "fric_ctrl_flags_t fric_adapt_ctrl_step_sample(fric_adapt_t *a, fric_ctrl_t *c, "
+          "fric_adapt_regressor_fn reg, const fric_ctrl_sample_t *s, float *current);\n"
           "unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, "
           "char *buf, unsigned int size);\n"
           "unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, "

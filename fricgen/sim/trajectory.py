@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Sequence, Tuple
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,6 @@ class TabulatedTrajectory:
             k = int(np.argmax(np.diff(t) <= 0))
             raise ValueError(f"the reference's t must increase, it steps from {t[k]:.6g} to "
                              f"{t[k + 1]:.6g} s at rows {k + 1} and {k + 2}")
-        from scipy.interpolate import CubicSpline
         self.duration = float(t[-1] - t[0])
         self._spline = CubicSpline(t - t[0], x - x[0], bc_type="clamped")
 
