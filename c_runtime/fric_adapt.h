@@ -41,7 +41,7 @@
 extern "C" {
 #endif
 
-/* The runtime's interface: 4 since the rule field is an int32_t (the saved state's format,
+/* The runtime's interface: 4 since the rule is an int32_t (the saved state's format,
  * FRIC_ADAPT_STATE_FORMAT, is another number). */
 #define FRIC_ADAPT_VERSION 4
 /* The format of a saved state (fric_adapt_save): what a blob holds, not the structs' layout. */
@@ -66,10 +66,10 @@ typedef enum {
 /* The longest model hash a saved state holds. */
 #define FRIC_ADAPT_HASH_MAX 16u
 
-typedef enum {
-    FRIC_ADAPT_RULE_RLS = 0,
-    FRIC_ADAPT_RULE_LYAPUNOV = 1
-} fric_adapt_rule_t;
+/* The update rule (int32_t with typed constants, not an enum: fric_ctrl.h says why). */
+typedef int32_t fric_adapt_rule_t;
+#define FRIC_ADAPT_RULE_RLS ((fric_adapt_rule_t)0)
+#define FRIC_ADAPT_RULE_LYAPUNOV ((fric_adapt_rule_t)1)
 
 /* What an update returns: 0 or an OR of these. */
 typedef unsigned int fric_adapt_flags_t;
@@ -89,7 +89,7 @@ typedef float (*fric_adapt_regressor_fn)(float v, float *phi);
 
 typedef struct {
     unsigned int n;                          /* parameters, 1 .. FRIC_ADAPT_MAX_PARAMS */
-    int32_t rule;                            /* a fric_adapt_rule_t (int32_t: fric_ctrl.h) */
+    fric_adapt_rule_t rule;                  /* FRIC_ADAPT_RULE_RLS or _LYAPUNOV */
     float theta0[FRIC_ADAPT_MAX_PARAMS];     /* trained values */
     float lo[FRIC_ADAPT_MAX_PARAMS];         /* box, lo <= theta0 <= hi */
     float hi[FRIC_ADAPT_MAX_PARAMS];

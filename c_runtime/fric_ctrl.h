@@ -57,9 +57,10 @@ extern "C" {
 #define FRIC_CTRL_VERSION 4
 
 /* fricgen.control.c_abi mirrors the enums, flags and structs below (fricgen's tests check that
- * both agree). A struct field that holds an enumerator is an int32_t: an enum's size is the
- * compiler's choice (int on most hosts, the smallest that fits under arm-none-eabi-gcc, whose
- * AAPCS default is -fshort-enums), and the structs keep one layout whatever it is. */
+ * both agree). The choices a struct holds (law, friction_at) are int32_t with typed constants,
+ * not enums: an enum's size is the compiler's (int on most hosts, the smallest that fits under
+ * arm-none-eabi-gcc, whose AAPCS default is -fshort-enums), and the structs keep one layout
+ * whatever it is. */
 
 /* Return codes of fric_ctrl_init. */
 typedef enum {
@@ -69,18 +70,16 @@ typedef enum {
 } fric_ctrl_status_t;
 
 /* Adaptation laws a, b, c of [C14]. */
-typedef enum {
-    FRIC_CTRL_LAW_A = 0,
-    FRIC_CTRL_LAW_B = 1,
-    FRIC_CTRL_LAW_C = 2
-} fric_ctrl_law_t;
+typedef int32_t fric_ctrl_law_t;
+#define FRIC_CTRL_LAW_A ((fric_ctrl_law_t)0)
+#define FRIC_CTRL_LAW_B ((fric_ctrl_law_t)1)
+#define FRIC_CTRL_LAW_C ((fric_ctrl_law_t)2)
 
 /* Where fric_ctrl_step_fn evaluates the friction model: the measured velocity v (the paper),
  * or the virtual control v_d = xd' + k1 e1 (keeps compensating while the axis sticks). */
-typedef enum {
-    FRIC_CTRL_FRICTION_AT_V = 0,
-    FRIC_CTRL_FRICTION_AT_VD = 1
-} fric_ctrl_friction_at_t;
+typedef int32_t fric_ctrl_friction_at_t;
+#define FRIC_CTRL_FRICTION_AT_V ((fric_ctrl_friction_at_t)0)
+#define FRIC_CTRL_FRICTION_AT_VD ((fric_ctrl_friction_at_t)1)
 
 /* What a step returns: 0 (FRIC_CTRL_STEP_OK) or an OR of the flags below. */
 typedef unsigned int fric_ctrl_flags_t;
@@ -107,9 +106,9 @@ typedef struct {
     float m_o_max;
     float k_min;        /* interval of k_hat, k_min < k_max */
     float k_max;
-    int32_t law;          /* a fric_ctrl_law_t: FRIC_CTRL_LAW_A, _B or _C */
-    int32_t friction_at;  /* a fric_ctrl_friction_at_t: FRIC_CTRL_FRICTION_AT_V or _AT_VD
-                             (fric_ctrl_step_fn only) */
+    fric_ctrl_law_t law;                  /* FRIC_CTRL_LAW_A, _B or _C */
+    fric_ctrl_friction_at_t friction_at;  /* FRIC_CTRL_FRICTION_AT_V or _AT_VD
+                                             (fric_ctrl_step_fn only) */
 } fric_ctrl_params_t;
 
 typedef struct {

@@ -35,11 +35,13 @@ def run_c(tmp_path, main_body: str, prelude: str = "", flags=()) -> str:
     return subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
 
 
-def test_header_declares_the_tables_enums_with_their_enumerators_in_order():
+def test_header_declares_the_tables_enums_and_choices_with_their_members_in_order():
     header = controller_files()["fric_ctrl.h"]
-    declared = [(ctype, re.findall(r"^\s*(FRIC_CTRL_\w+)", body, re.M))
-                for body, ctype in re.findall(r"typedef enum \{(.*?)\} (\w+);", header, re.S)]
-    assert declared == [(e.ctype, [m.name for m in e.members]) for e in ENUMS]
+    enums = [(ctype, re.findall(r"^\s*(FRIC_CTRL_\w+)", body, re.M))
+             for body, ctype in re.findall(r"typedef enum \{(.*?)\} (\w+);", header, re.S)]
+    choices = [(ctype, re.findall(rf"^#define (FRIC_CTRL_\w+) \(\({ctype}\)\d+\)$", header, re.M))
+               for ctype in re.findall(r"^typedef int32_t (\w+);", header, re.M)]
+    assert enums + choices == [(e.ctype, [m.name for m in e.members]) for e in ENUMS]
 
 
 def test_header_values_field_types_and_field_order_agree_with_the_table(tmp_path):
@@ -85,9 +87,9 @@ def test_the_structs_keep_their_layout_under_short_enums(tmp_path):
                                           ("fric_ctrl_t", "flags")))
     layouts = [run_c(tmp_path, prints, flags=flags) for flags in ((), ("-fshort-enums",))]
     assert layouts[0] == layouts[1] and layouts[0].count("\n") == 2
-    short = run_c(tmp_path, '    printf("%lu\\n", (unsigned long)sizeof(fric_ctrl_law_t));\n',
+    short = run_c(tmp_path, '    printf("%lu\\n", (unsigned long)sizeof(fric_ctrl_status_t));\n',
                   flags=("-fshort-enums",))
-    assert short.strip() == "1"                            # the flag does shrink the enum itself
+    assert short.strip() == "1"                   # the flag does shrink an enum (the status codes)
 
 
 def test_firmware_initializer_and_cffi_parameters_are_the_same_struct(tmp_path):

@@ -65,13 +65,13 @@ from ..model import FrictionModel
 from ..networks import StribeckCurve
 from .backstepping import AdaptiveBackstepping
 from .c_abi import FLAGS as CTRL_FLAGS
-from .c_abi import CFlags, Enumerator, _enum
+from .c_abi import CFlags, Enumerator, choice
 from .regressor import Regressor, check_adaptable, with_parameters
 
 #: fric_adapt_rule_t.
-RULE = _enum("fric_adapt_rule_t",
-             ("FRIC_ADAPT_RULE_RLS", 0, "rls"),
-             ("FRIC_ADAPT_RULE_LYAPUNOV", 1, "lyapunov"))
+RULE = choice("fric_adapt_rule_t",
+              ("FRIC_ADAPT_RULE_RLS", 0, "rls"),
+              ("FRIC_ADAPT_RULE_LYAPUNOV", 1, "lyapunov"))
 #: What an update returns (and fric_adapt_t.flags holds): an OR of these.
 FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
     ("FRIC_ADAPT_OK", 0, "ok"),

@@ -20,8 +20,6 @@ from .gamma import gamma_matrix
 
 #: FRIC_CTRL_VERSION of the header.
 VERSION = 4
-#: The C type of a struct field that holds an enumerator (one layout whatever the enum size).
-ENUM_FIELD = "int32_t"
 
 
 @dataclass(frozen=True)
@@ -78,8 +76,22 @@ class CFlags(CEnum):
         return tuple(m.key for m in self.members if m.value & value) or (self.key_of(0),)
 
 
+@dataclass(frozen=True)
+class CChoice(CEnum):
+    """A choice a struct holds: ``typedef int32_t ctype;`` and one typed constant each
+    (``#define NAME ((ctype)value)`` in the header), one layout whatever the enum size."""
+
+    def cdef(self) -> str:
+        return f"typedef int32_t {self.ctype};\n" + "".join(
+            f"#define {m.name} {m.value}\n" for m in self.members)
+
+
 def _enum(ctype: str, *members: Tuple[str, int, str]) -> CEnum:
     return CEnum(ctype, tuple(Enumerator(*m) for m in members))
+
+
+def choice(ctype: str, *members: Tuple[str, int, str]) -> CChoice:
+    return CChoice(ctype, tuple(Enumerator(*m) for m in members))
 
 
 #: What fric_ctrl_init returns.
@@ -88,12 +100,12 @@ STATUS = _enum("fric_ctrl_status_t",
                ("FRIC_CTRL_ERR_NULL", -1, "NULL pointer"),
                ("FRIC_CTRL_ERR_PARAM", -2, "parameter out of range"))
 #: The adaptation laws of [C14], keyed by ``AdaptiveBackstepping.law``.
-LAW = _enum("fric_ctrl_law_t",
+LAW = choice("fric_ctrl_law_t",
             ("FRIC_CTRL_LAW_A", 0, "a"),
             ("FRIC_CTRL_LAW_B", 1, "b"),
             ("FRIC_CTRL_LAW_C", 2, "c"))
 #: Where the friction model is evaluated, keyed by ``AdaptiveBackstepping.friction_input``.
-FRICTION_INPUT = _enum("fric_ctrl_friction_at_t",
+FRICTION_INPUT = choice("fric_ctrl_friction_at_t",
                        ("FRIC_CTRL_FRICTION_AT_V", 0, "v"),
                        ("FRIC_CTRL_FRICTION_AT_VD", 1, "vd"))
 ENUMS = (STATUS, LAW, FRICTION_INPUT)
@@ -145,8 +157,8 @@ PARAMS = (
     Field("m_o_max", "float", lambda s: s.a_max[0]),
     Field("k_min", "float", lambda s: s.a_min[1]),
     Field("k_max", "float", lambda s: s.a_max[1]),
-    Field("law", ENUM_FIELD, lambda s: LAW.member(s.law)),
-    Field("friction_at", ENUM_FIELD, lambda s: FRICTION_INPUT.member(s.friction_input)),
+    Field("law", LAW.ctype, lambda s: LAW.member(s.law)),
+    Field("friction_at", FRICTION_INPUT.ctype, lambda s: FRICTION_INPUT.member(s.friction_input)),
 )
 #: fric_ctrl_t, field by field.
 STATE = (
