@@ -64,11 +64,10 @@ def main():
         body = found.identification.body
         errs = (error(found, offsets[0]), error(fricgen.train(runs[0], **quiet), offsets[0]),
                 error(fricgen.train(clock, **quiet), offsets[0]))
-        sigmas = [abs(f - (o - offsets[0])) / se for f, o, se in
-                  zip(body.run_offsets or (), offsets[1:], body.run_offsets_se or ())]
+        sigmas = [abs(f - (offsets[r] - offsets[0])) / se for r, f, se in body.run_offsets or ()]
         rows.append((*errs, max(sigmas) if sigmas else np.inf))
-        detail = ", ".join(f"{o - offsets[0]:+.3f} {f:+.3f} +- {se:.3f}" for f, o, se in
-                           zip(body.run_offsets or (), offsets[1:], body.run_offsets_se or ()))
+        detail = ", ".join(f"{offsets[r] - offsets[0]:+.3f} {f:+.3f} +- {se:.3f}"
+                           for r, f, se in body.run_offsets or ())
         print(f"{seed:5d} {errs[0]:7.4f} {errs[1]:8.4f} {errs[2]:9.4f}  {detail or 'none identified'}")
     rows = np.array(rows)
     med = np.median(rows[:, :3], axis=0)

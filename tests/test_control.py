@@ -288,6 +288,16 @@ def test_cli_simulate_follows_the_users_reference_with_the_users_gains(capsys, t
     assert figures["20"]["rms_e1"] > 1.5 * figures["80"]["rms_e1"]
 
 
+def test_cli_simulate_names_a_current_that_sits_at_its_limit(capsys, tmp_path):
+    t = np.arange(0.0, 0.3001, 0.01)
+    ref = _reference(tmp_path / "ref.csv", t, 0.01 * np.sin(2 * np.pi * t / 0.3))
+    assert main(["simulate", "--reference", ref, "--k1", "1e5", "--k2", "1e5"]) == 0
+    err = capsys.readouterr().err
+    assert "with exact the current sits at its limit of +-10 A in 100% of the samples" in err
+    assert main(["simulate", "--reference", ref]) == 0
+    assert "sits at its limit" not in capsys.readouterr().err
+
+
 def test_a_tabulated_reference_starts_and_ends_at_rest():
     from fricgen.sim.trajectory import TabulatedTrajectory
     t = np.linspace(2.0, 3.0, 11)
@@ -301,6 +311,7 @@ def test_a_tabulated_reference_starts_and_ends_at_rest():
     ("t,x\n0,0\n1,1\n0.5,2\n2,3\n", "the reference's t must increase, it steps from 1 to 0.5 s"),
     ("t,x\n0,0\n1,1\n", "4 or more rows"),
     ("t,y\n0,0\n1,1\n2,2\n3,3\n", "x"),
+    ("t,x\n0,0\n1,0\n1.01,0.05\n2,0.05\n", "overshoots them by"),      # a step in four points
 ])
 def test_cli_simulate_refuses_a_bad_reference_in_one_line(capsys, tmp_path, rows, message):
     path = tmp_path / "ref.csv"

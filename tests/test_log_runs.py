@@ -55,9 +55,12 @@ def test_restarts_and_pauses_start_runs_swapped_rows_do_not():
     assert list(run_starts(np.concatenate([t, t, t + 50.0]), 30)) == [100, 200]
     swapped = t.copy()
     swapped[[40, 41]] = swapped[[41, 40]]
-    assert run_starts(swapped, 30).size == 0               # back, but not to a run's start
-    assert run_starts(np.concatenate([t, t[:10]]), 30).size == 0    # a "run" of 10 rows
+    assert run_starts(swapped, 30).size == 0           # back, but not to a run's first half
+    assert list(run_starts(np.concatenate([t, t[3:] - 0.03]), 30)) == [100]   # back to t = 0
     assert run_starts(t, 30).size == 0
+    with pytest.raises(fricgen.DataError, match=r"run 2 of 2 \(data rows 101 to 110, where t "
+                       r"restarts or pauses\) has 10 rows, need at least 30"):
+        run_starts(np.concatenate([t, t[:10]]), 30)
 
 
 def test_each_runs_constant_force_is_identified_and_taken_out():
@@ -66,11 +69,12 @@ def test_each_runs_constant_force_is_identified_and_taken_out():
     report = fricgen.train(joined(runs), **QUIET)
     body = report.identification.body
     truth = np.subtract(OFFSETS[1:], OFFSETS[0])
-    assert np.all(np.abs(np.subtract(body.run_offsets, truth)) < 5 * np.array(body.run_offsets_se))
-    assert body.run_offsets == pytest.approx(truth, abs=0.03)
+    runs_, found, se = (np.array(c) for c in zip(*body.run_offsets))
+    assert body.run_reference == 0 and list(runs_) == [1, 2]
+    assert np.all(np.abs(found - truth) < 5 * se) and found == pytest.approx(truth, abs=0.03)
     assert body.mass == pytest.approx(MASS, rel=0.03)
     assert report.identification.n_runs == 3
-    assert "in 3 runs" in str(report) and "each run less the first's: run 2 +0.8" in str(report)
+    assert "in 3 runs" in str(report) and "each run less run 1's: run 2 +0.8" in str(report)
     # the same rows on one clock: one run whose offset jumps, which no constant explains
     continuous = {**joined(runs), "t": np.arange(sum(r["t"].size for r in runs)) * TS}
     one_clock = fricgen.train(continuous, **QUIET)
@@ -82,7 +86,22 @@ def test_runs_that_move_one_way_share_one_constant_force():
     rng = np.random.default_rng(12)
     report = fricgen.train(joined([run(rng, 0.0, both_ways=False) for _ in range(3)]), **QUIET)
     assert report.identification.body.run_offsets is None
-    assert "one constant force for all runs: a run that moves one way only" in str(report)
+    assert "one constant force for all runs: fewer than two runs move both ways" in str(report)
+
+
+def test_a_run_one_way_or_short_leaves_the_others_their_offsets():
+    """Two swinging runs, one that moves one way, and a short one: the swinging runs keep their
+    offsets (the others are taken as the first's), and the short run does not shrink the
+    windows of the rest (the mass stays right)."""
+    rng = np.random.default_rng(14)
+    runs = [run(rng, 0.0), run(rng, 0.0, both_ways=False), run(rng, 0.7),
+            run(rng, 0.0, seconds=0.1)]
+    report = fricgen.train(joined(runs), **QUIET)
+    body = report.identification.body
+    assert [r for r, _, _ in body.run_offsets] == [2] and body.run_reference == 0
+    assert body.run_offsets[0][1] == pytest.approx(0.7, abs=0.03)
+    assert body.mass == pytest.approx(MASS, rel=0.03) and report.identification.window > 7
+    assert "runs 2, 4 (one way only, or left out) taken as run 1's" in str(report)
 
 
 def _write(path, columns):

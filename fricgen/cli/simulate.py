@@ -17,6 +17,8 @@ from __future__ import annotations
 import json
 from dataclasses import replace
 
+import numpy as np
+
 from ..control.backstepping import AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
@@ -109,6 +111,7 @@ def run(args) -> int:
             f"motor's {thrust:.4g} N: the current saturates")
     runs = dict(zip(ctrls, simulate(axis, list(ctrls.values()), plant.trajectory,
                                     duration=args.duration)))
+    warn_saturation(runs, settings.i_max)
     report = {"plant": plant.text, "law": args.law, "ts": args.ts, "duration": args.duration,
               "k1": args.k1, "k2": args.k2,
               "backend": args.backend, "friction_input": args.friction_input,
@@ -123,6 +126,21 @@ def run(args) -> int:
         write_targets(targets, pngs)
         say(f"wrote {', '.join(sorted(pngs)) or 'no plots'} to {args.plot}")
     return 0
+
+
+#: A run whose current sits at its limit in more than this share of the samples is named.
+SATURATED_SHARE = 0.2
+
+
+def warn_saturation(runs: dict, i_max: float) -> None:
+    """One warning line per variant whose current sits at +-i_max in more than SATURATED_SHARE
+    of the samples: the loop then follows no law of [C11], whatever the gains say."""
+    for name, run in runs.items():
+        share = float(np.mean(np.abs(run.i) >= (1.0 - 1e-6) * i_max))
+        if share > SATURATED_SHARE:
+            say(f"fricgen: warning: with {name} the current sits at its limit of +-{i_max:g} A in "
+                f"{share:.0%} of the samples: the gains (--k1, --k2) or the reference ask more than "
+                "the motor gives")
 
 
 def read_reference(path: str) -> TabulatedTrajectory:

@@ -60,17 +60,24 @@ class RigidBody:
     #: and their standard errors; None where not asked for
     gravity: Optional[Tuple[float, float]] = None
     gravity_se: Optional[Tuple[float, float]] = None
-    #: A log concatenated from runs: each later run's constant force less the first run's
-    #: (a sensor zeroed again, another pose), with standard errors; None for one run, or where
-    #: the runs do not determine them (``runs_determined``)
-    run_offsets: Optional[Tuple[float, ...]] = None
-    run_offsets_se: Optional[Tuple[float, ...]] = None
+    #: A log concatenated from runs: of the runs that move both ways (``determined_runs``),
+    #: each one's constant force less the first such run's (a sensor zeroed again, another
+    #: pose), as (run, offset, standard error) from 0; the other runs are taken to share the
+    #: first's. None for one run, or fewer than two runs that move both ways
+    run_offsets: Optional[Tuple[Tuple[int, float, float], ...]] = None
+    #: ... and that first run (the reference), where there are run offsets
+    run_reference: Optional[int] = None
 
     def run_force(self, runs: Optional[np.ndarray]) -> np.ndarray:
-        """The constant force of each row's run less the first run's (0 without run offsets)."""
-        if self.run_offsets is None or runs is None:
-            return np.zeros(() if runs is None else np.shape(runs))
-        return np.concatenate([[0.0], self.run_offsets])[np.asarray(runs, dtype=int)]
+        """The constant force of each row's run less the reference run's (0 without run
+        offsets, and for the runs without one of their own)."""
+        if runs is None:
+            return np.zeros(())
+        runs = np.asarray(runs, dtype=int)
+        force = np.zeros(runs.shape)
+        for run, offset, _ in self.run_offsets or ():
+            force[runs == run] = offset
+        return force
 
     def gravity_force(self, x: Optional[np.ndarray]) -> np.ndarray:
         """G_s sin x + G_c cos x at the positions ``x`` (0 without gravity)."""
@@ -99,18 +106,21 @@ def gravity_basis(x: np.ndarray) -> np.ndarray:
     return np.column_stack([np.sin(x), np.cos(x)])
 
 
-def runs_determined(v: np.ndarray, runs: Optional[np.ndarray]) -> bool:
-    """Whether a constant force per run can be told from the friction: every one of two or more
-    runs moves both ways (a run in one direction only holds its offset and its friction level
-    as one sum)."""
-    if runs is None or np.ptp(runs) == 0:
-        return False
-    return all(np.any(v[runs == r] > 0) and np.any(v[runs == r] < 0) for r in np.unique(runs))
+def determined_runs(v: np.ndarray, runs: Optional[np.ndarray]) -> np.ndarray:
+    """The runs whose constant force can be told from the friction: those that move both ways
+    (a run in one direction only holds its offset and its friction level as one sum); none
+    unless there are two or more of them."""
+    if runs is None:
+        return np.zeros(0, dtype=int)
+    both = np.array([r for r in np.unique(runs) if np.any(v[runs == r] > 0) and np.any(v[runs == r] < 0)],
+                    dtype=int)
+    return both if both.size >= 2 else np.zeros(0, dtype=int)
 
 
-def run_basis(runs: np.ndarray) -> np.ndarray:
-    """Indicator columns of the runs after the first: their constant forces less the first's."""
-    return np.column_stack([runs == r for r in np.unique(runs)[1:]]).astype(float)
+def run_basis(runs: np.ndarray, determined: np.ndarray) -> np.ndarray:
+    """Indicator columns of the ``determined`` runs after the first: their constant forces
+    less the first's (the other runs share the first's)."""
+    return np.column_stack([runs == r for r in determined[1:]]).astype(float)
 
 
 def operating_basis(v: np.ndarray, load: Optional[np.ndarray] = None,
@@ -171,10 +181,11 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
     rows where it moves (``extra`` as ``identify_mass``); with the positions ``x``, a gravity
     force G_s sin x + G_c cos x beside them (``gravity_basis``); with the run of each row
     (``runs``, a log concatenated from runs), each later run's constant force less the first's,
-    where the runs determine them (``runs_determined``)."""
-    gravity = gravity_se = run_offsets = run_offsets_se = None
+    where the runs determine them (``determined_runs``)."""
+    gravity = gravity_se = run_offsets = None
+    determined = determined_runs(v, runs)
     known = ([] if x is None else [gravity_basis(x)]) + \
-        ([run_basis(runs)] if runs_determined(v, runs) else [])
+        ([run_basis(runs, determined)] if determined.size else [])
     if known:
         extra = _with(np.column_stack(known), extra)
     mass_se = estimate = None
@@ -193,9 +204,8 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
         if x is not None:
             gravity, gravity_se = (float(coef[at]), float(coef[at + 1])), (float(se[at]), float(se[at + 1]))
             at += 2
-        if len(known) > 1 or x is None:
-            count = known[-1].shape[1]
-            run_offsets = tuple(float(c) for c in coef[at:at + count])
-            run_offsets_se = tuple(float(e) for e in se[at:at + count])
+        if determined.size:
+            run_offsets = tuple((int(r), float(c), float(e)) for r, c, e in
+                                zip(determined[1:], coef[at:], se[at:]))
     return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se,
-                     run_offsets, run_offsets_se)
+                     run_offsets, int(determined[0]) if determined.size else None)

@@ -25,7 +25,7 @@ from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
 from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, gravity_basis, identify_rigid_body,
-                   operating_basis, run_basis, runs_determined)
+                   operating_basis, determined_runs, run_basis)
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
 from .sweep import MIN_ROWS, Sweep
@@ -217,8 +217,10 @@ class Identification:
     body: RigidBody         # mass and constant force, identified or given
     #: (K, its standard error) of a current log: the error None when K was given
     force_constant: Optional[Tuple[float, Optional[float]]] = None
-    #: The offset is a load beside the friction (``as_load``), not held in asymmetric curves
-    load: bool = False
+    #: The offset is a load beside the friction (``as_load``), not held in asymmetric curves:
+    #: "" (it is not), "push" (held there it would make one push the axis) or "textbook" (the
+    #: per-direction textbook law leaves it out, as every textbook law does)
+    load: str = ""
     #: The log's jittering time stamps were resampled onto a uniform grid
     resampled: bool = False
     #: The window (samples) at which the mass and offset were identified, where it is not
@@ -281,23 +283,28 @@ class Identification:
                          f"{g_c:.5g} +- {se_c:.2g} {units.force} (amplitude {np.hypot(g_s, g_c):.4g} "
                          f"{units.force}), taken out of the friction samples; compensate it apart")
         if b.run_offsets is not None:
-            each = ", ".join(f"run {k + 2} {o:+.4g} +- {e:.2g}"
-                             for k, (o, e) in enumerate(zip(b.run_offsets, b.run_offsets_se)))
-            lines.append(f"runs      constant force of each run less the first's: {each} "
-                         f"{units.force}, taken out of the friction samples")
+            each = ", ".join(f"run {r + 1} {o:+.4g} +- {e:.2g}" for r, o, e in b.run_offsets)
+            own = {b.run_reference, *(r for r, _, _ in b.run_offsets)}
+            rest = [str(r + 1) for r in range(self.n_runs) if r not in own]
+            lines.append(f"runs      constant force of each run less run {b.run_reference + 1}'s: "
+                         f"{each} {units.force}, taken out of the friction samples"
+                         + (f"; run{'s' * (len(rest) > 1)} {', '.join(rest)} (one way only, or "
+                            f"left out) taken as run {b.run_reference + 1}'s" if rest else ""))
         elif self.n_runs > 1:
-            lines.append("runs      one constant force for all runs: a run that moves one way "
-                         "only holds its own offset and its friction level as one sum")
+            lines.append("runs      one constant force for all runs: fewer than two runs move both "
+                         "ways, and a run that moves one way only holds its own offset and its "
+                         "friction level as one sum")
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
             lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} N/A identified from the "
                          "mass given (the current determines M/K)")
         return lines
 
-    def as_load(self) -> "Identification":
+    def as_load(self, why: str = "push") -> "Identification":
         """This identification with the offset o a load (gravity, a cable's pull) beside the
-        friction: where curves that held it would push the axis (``fricgen.train``)."""
-        return replace(self, load=True)
+        friction: where curves that held it would push the axis (``why`` "push"), or where the
+        per-direction textbook law was kept ("textbook"; ``fricgen.train``)."""
+        return replace(self, load=why)
 
     @property
     def offset_in_friction(self) -> float:
@@ -318,6 +325,10 @@ class Identification:
             return ("offset    not determined: the log moves one way only, where a constant force "
                     "is one with the friction")
         o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} {units.force}"
+        if self.load == "textbook":
+            return (f"{o}: a constant force beside the friction (the even part of the force, "
+                    "which the textbook law's curves leave out, per direction as symmetric; "
+                    "compensate it apart: eval adds it)")
         if self.load:
             return (f"{o}: a load beside the friction (held in the two curves, it would make one "
                     "of them push the axis; compensate it apart)")
@@ -358,9 +369,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     G_s sin x + G_c cos x of the position (a robot joint's link weight, x in rad) identified
     beside the mass and taken out of the friction samples; it needs ``x``. ``runs``: the run of
     each row of a log concatenated from runs (``motionlog.resampled_runs``): no window spans two
-    runs, and where every run moves both ways each later run's constant force less the first's
-    is identified beside the mass (``RigidBody.run_offsets``) and taken out of the friction
-    samples."""
+    runs (the windows bounded by a typical run's length: a run shorter than a window is left
+    out), and of the runs that move both ways each one's constant force less the first such
+    run's is identified beside the mass (``RigidBody.run_offsets``) and taken out of the
+    friction samples."""
     conditions = dict(conditions or {})
     columns = {"t": t, "force": force, "v": v, "x": x, **conditions}
     for name, values in columns.items():
@@ -389,7 +401,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     angle = x if gravity else None
     use = np.ones(t.size, dtype=bool) if use is None else np.asarray(use, dtype=bool)
     use = use & ~junction                  # whole windows of use never span two runs
-    span = t.size if runs is None else int(np.min(np.bincount(runs)))   # the shortest run's rows
+    span = t.size if runs is None else int(np.median(np.bincount(runs)))  # a typical run's rows
     body = None
     rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
     if mass is None and (window is None or body_window is not None):
@@ -489,7 +501,8 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     basis = np.column_stack([a_s, friction_basis(v_s, odd=False)]
                             + ([] if extra is None else [extra])
                             + ([] if x_s is None else [gravity_basis(x_s)])
-                            + ([run_basis(runs)] if runs_determined(v_s, runs) else []))
+                            + ([run_basis(runs, determined_runs(v_s, runs))]
+                               if determined_runs(v_s, runs).size else []))
     coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0

@@ -74,11 +74,10 @@ def resampled_uniformly(columns: Dict[str, np.ndarray]) -> Tuple[Dict[str, np.nd
 
 def run_starts(t: np.ndarray, min_rows: int) -> np.ndarray:
     """The rows where a new run begins in a log concatenated from runs: t restarts (steps back
-    to the start of the run before, or earlier: a run timed from 0 again) or pauses (a step
-    beyond JITTER_RESAMPLED median steps, a logger stopped between runs). Empty when there is
-    one run, or when t steps back by less (swapped rows) or a run would hold fewer than
-    ``min_rows`` rows (shuffled or hand-edited time stamps): ``resampled_uniformly`` names
-    those."""
+    into the first half of the run before, or earlier: a run timed from 0 again) or pauses (a
+    step beyond JITTER_RESAMPLED median steps, a logger stopped between runs). Empty when there
+    is one run, or when t steps back by less (swapped rows), which ``resampled_uniformly``
+    names; ``DataError`` for a run of fewer than ``min_rows`` rows."""
     dt = np.diff(t)
     ahead = dt[dt > 0]
     none = np.zeros(0, dtype=int)
@@ -86,11 +85,15 @@ def run_starts(t: np.ndarray, min_rows: int) -> np.ndarray:
         return none
     starts = np.flatnonzero((dt < 0) | (dt > JITTER_RESAMPLED * float(np.median(ahead)))) + 1
     bounds = np.concatenate([[0], starts, [t.size]])
-    if np.any(np.diff(bounds) < min_rows):
-        return none
     for before, start in zip(bounds[:-2], starts):
-        if t[start] < t[start - 1] and t[start] > t[before]:
+        if t[before] + 0.5 * (t[start - 1] - t[before]) < t[start] < t[start - 1]:
             return none                                 # back, but not to a run's start
+    rows = np.diff(bounds)
+    if starts.size and rows.min() < min_rows:
+        k = int(np.argmin(rows))
+        raise DataError(f"run {k + 1} of {rows.size} (data rows {bounds[k] + 1} to {bounds[k + 1]}, "
+                        f"where t restarts or pauses) has {rows[k]} rows, need at least {min_rows}: "
+                        "leave it out of the file")
     return starts
 
 

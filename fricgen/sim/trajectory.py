@@ -67,6 +67,11 @@ def reversing(v_low: float = 0.02, v_high: float = 0.2, period: float = 0.5,
     return SineSumTrajectory((mean, 0.5 * swing, 0.5 * swing), (w, w + wo, w - wo))
 
 
+#: A tabulated reference whose spline leaves the table's range by more than this share of the
+#: move is refused (a few points of a step: the spline swings far beyond them).
+OVERSHOOT = 0.05
+
+
 class TabulatedTrajectory:
     """A reference given as positions x at times t (a user's move): x_d(t) the cubic spline
     through them with zero velocity at both ends, shifted to start at rest from x_d(0) = 0 at
@@ -85,6 +90,13 @@ class TabulatedTrajectory:
                              f"{t[k + 1]:.6g} s at rows {k + 1} and {k + 2}")
         self.duration = float(t[-1] - t[0])
         self._spline = CubicSpline(t - t[0], x - x[0], bc_type="clamped")
+        dense = self._spline(np.linspace(0.0, self.duration, 20 * t.size))
+        span = float(np.ptp(x)) or 1.0
+        beyond = max(float(dense.max()) - float(np.max(x - x[0])), float(np.min(x - x[0])) - float(dense.min()))
+        if beyond > OVERSHOOT * span:
+            raise ValueError(f"the spline through the reference's {t.size} points overshoots them by "
+                             f"{beyond:.3g} ({beyond / span:.0%} of the move): give the move as a "
+                             "log gives it, sampled finely enough to follow its ramps")
 
     def __call__(self, t) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x_d, x_d', x_d'') at times t (any shape)."""

@@ -141,7 +141,7 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
                         asymmetric=asymmetric, **log)
     if choice.fit.chosen_by == "textbook" and choice.fit.asymmetric and ident is not None \
             and ident.offset_in_friction:
-        ident = ident.as_load()             # the textbook curves leave the offset out
+        ident = ident.as_load("textbook")   # the textbook curves leave the offset out
     return choice.fit, ident, choice
 
 
