@@ -146,15 +146,24 @@ def prefix_loo_residuals(D: np.ndarray, t: np.ndarray) -> np.ndarray:
     One thin QR D = Q R serves every prefix: the hat matrix of D[:, :m] is Q_m Q_m^T when its
     singular values (those of R[:m, :m]) are above the pseudo-inverse's cutoff, so the fitted
     values and the leverages are running sums over the columns of Q. A prefix whose singular
-    values are not is solved by its own SVD."""
+    values are not is solved by its own SVD. R[:m, :m]^T R[:m, :m] is a leading block of R^T R,
+    so as m grows its smallest singular value falls and its largest rises (interlacing): the
+    prefixes that fail the cutoff are all those from the first that does, found by bisection."""
     Q, R = np.linalg.qr(D)
     fitted = np.cumsum(Q * (Q.T @ t), axis=1)
     leverage = np.cumsum(Q * Q, axis=1)
     res = (t[:, None] - fitted) / np.maximum(1.0 - leverage, 1e-12)
-    for m in range(1, D.shape[1] + 1):
+
+    def fails(m: int) -> bool:
         s = np.linalg.svd(R[:m, :m], compute_uv=False)
-        if not s.min() > pinv_cutoff(s, (D.shape[0], m)):
-            res[:, m - 1] = loo_residuals(SVD.of(D[:, :m]), t, np.inf)
+        return not s.min() > pinv_cutoff(s, (D.shape[0], m))
+
+    lo, hi = 1, D.shape[1] + 1                  # the first failing prefix lies in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if fails(mid) else (mid + 1, hi)
+    for m in range(lo, D.shape[1] + 1):
+        res[:, m - 1] = loo_residuals(SVD.of(D[:, :m]), t, np.inf)
     return res
 
 
