@@ -289,6 +289,10 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     if ((a == NULL) || (c == NULL) || (reg == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
     }
+    if (a->held == FRIC_ADAPT_RESUMED) {      /* restored: the controller resumes the saved k_hat */
+        c->k_hat = (a->k_hat < c->p.k_min) ? c->p.k_min
+                                            : ((a->k_hat > c->p.k_max) ? c->p.k_max : a->k_hat);
+    }
     u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD) ? (xd_dot + (c->p.k1 * (xd - x))) : v;
     force = fric_adapt_force(a, reg, u);
     flags = fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
@@ -438,8 +442,9 @@ static unsigned int fric_adapt_hash_length(const char *model_hash)
     return k;
 }
 
-/* The 24 bytes before theta: format, version, n and the NUL-padded hash. */
-static void fric_adapt_state_head(unsigned char *head, unsigned int n, const char *model_hash)
+/* The 24 bytes before theta: "FRAS", the format, n and the NUL-padded hash. */
+static void fric_adapt_state_head(unsigned char *head, unsigned int format, unsigned int n,
+                                  const char *model_hash)
 {
     const unsigned int length = fric_adapt_hash_length(model_hash);
     unsigned int k;
@@ -447,8 +452,8 @@ static void fric_adapt_state_head(unsigned char *head, unsigned int n, const cha
     head[1] = (unsigned char)'R';
     head[2] = (unsigned char)'A';
     head[3] = (unsigned char)'S';
-    head[4] = (unsigned char)((unsigned int)FRIC_ADAPT_STATE_FORMAT & 0xFFu);
-    head[5] = (unsigned char)(((unsigned int)FRIC_ADAPT_STATE_FORMAT >> 8) & 0xFFu);
+    head[4] = (unsigned char)(format & 0xFFu);
+    head[5] = (unsigned char)((format >> 8) & 0xFFu);
     head[6] = (unsigned char)(n & 0xFFu);
     head[7] = (unsigned char)((n >> 8) & 0xFFu);
     for (k = 0u; k < FRIC_ADAPT_HASH_MAX; ++k) {
@@ -475,7 +480,7 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
     if (size < total) {
         return 0u;
     }
-    fric_adapt_state_head(buf, n, model_hash);
+    fric_adapt_state_head(buf, FRIC_ADAPT_STATE_FORMAT, n, model_hash);
     at = &buf[24];
     for (k = 0u; k < n; ++k) {
         fric_adapt_put_u32(at, fric_adapt_float_bits(a->theta[k]));
@@ -485,6 +490,8 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
         fric_adapt_put_u32(at, fric_adapt_float_bits(a->P[k]));
         at = &at[4];
     }
+    fric_adapt_put_u32(at, fric_adapt_float_bits(a->k_hat));
+    at = &at[4];
     fric_adapt_put_u32(at, fric_adapt_crc32(buf, total - 4u));
     return total;
 }
@@ -494,9 +501,11 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
 {
     unsigned char head[24];
     float theta[FRIC_ADAPT_MAX_PARAMS];
+    float k_hat = 0.0f;
     const unsigned char *covariance;
     unsigned int n;
     unsigned int total;
+    unsigned int format;
     unsigned int k;
     const unsigned char *at;
     if ((a == NULL) || (model_hash == NULL) || (buf == NULL)) {
@@ -508,10 +517,15 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         return FRIC_ADAPT_ERR_PARAM;
     }
     total = FRIC_ADAPT_STATE_SIZE(n);
+    format = FRIC_ADAPT_STATE_FORMAT;
+    if (size == (total - 4u)) {                      /* format 3: saved without k_hat */
+        total = total - 4u;
+        format = 3u;
+    }
     if (size != total) {
         return FRIC_ADAPT_ERR_SIZE;
     }
-    fric_adapt_state_head(head, n, model_hash);
+    fric_adapt_state_head(head, format, n, model_hash);
     for (k = 0u; k < 24u; ++k) {
         if (head[k] != buf[k]) {
             return FRIC_ADAPT_ERR_FOREIGN;
@@ -535,6 +549,12 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         }
         at = &at[4];
     }
+    if (format == FRIC_ADAPT_STATE_FORMAT) {
+        k_hat = fric_adapt_bits_float(fric_adapt_get_u32(at));
+        if (!isfinite(k_hat) || !(k_hat > 0.0f)) {
+            return FRIC_ADAPT_ERR_RANGE;
+        }
+    }
     for (k = 0u; k < n; ++k) {
         a->theta[k] = theta[k];
     }
@@ -542,6 +562,11 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         a->P[k] = fric_adapt_bits_float(fric_adapt_get_u32(covariance));
         covariance = &covariance[4];
     }
-    a->held = 1;
+    if (format == FRIC_ADAPT_STATE_FORMAT) {
+        a->k_hat = k_hat;
+        a->held = FRIC_ADAPT_RESUMED;                /* the next step gives c the saved k_hat */
+    } else {
+        a->held = 1;
+    }
     return FRIC_ADAPT_OK_INIT;
 }

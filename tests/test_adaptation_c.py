@@ -190,6 +190,54 @@ def _c_adapter(module, twin):
     return a
 
 
+def test_a_restored_state_gives_the_controller_its_k_hat_back(default_model):
+    """The saved state holds the controller's k_hat: after a restore the next controller step
+    starts from it (not k_hat0), so the compensation k_hat F does not jump at boot; a state of
+    format 3 (no k_hat) still restores, k_hat0 then staying."""
+    import struct
+    import zlib
+    from fricgen.control.backstepping import AdaptiveBackstepping
+    from fricgen.control.c_controller import CController
+    module = build_adapted(default_model)
+    ffi, lib = module.ffi, module.lib
+    reg = ffi.addressof(lib, "fm_regressor")
+    twin = FrictionAdapter(default_model, "lyapunov", dtype="float32")
+    params = CController(module, AdaptiveBackstepping(law="c"), "fm_force").params()
+
+    def fresh():
+        a, c = _c_adapter(module, twin), ffi.new("fric_ctrl_t *")
+        assert lib.fric_ctrl_init(c, params) == 0
+        return a, c
+
+    a, c = fresh()
+    current = ffi.new("float *")
+    for tk in np.arange(2000) * 1e-3:                       # the built-in reversing move
+        xd, vd = 0.01 * np.sin(4 * tk), 0.04 * np.cos(4 * tk)
+        lib.fric_adapt_ctrl_step(a, c, reg, xd * 0.98, vd * 0.97, xd, vd, -0.16 * np.sin(4 * tk), current)
+    saved_k = float(c.k_hat)
+    assert abs(saved_k - 1.0) > 1e-3                        # k_hat has moved
+    n = a.p.n
+    size = 32 + 4 * n + 4 * n * n
+    buf = ffi.new("unsigned char[]", size)
+    assert lib.fric_adapt_save(a, default_model.model_hash.encode(), buf, size) == size
+    blob = bytes(ffi.buffer(buf, size))
+    assert _state(blob)[5] == np.float32(saved_k)
+    b, d = fresh()
+    assert lib.fric_adapt_restore(b, default_model.model_hash.encode(), blob, size) == 0
+    assert float(d.k_hat) == 1.0                             # k_hat0 until the next step
+    lib.fric_adapt_ctrl_step(b, d, reg, 0.0, 0.0, 0.0, 0.0, 0.0, current)
+    assert abs(float(d.k_hat) - saved_k) < 1e-4              # resumed (one step's change aside)
+    # format 3: the same without k_hat
+    old = bytearray(blob[:size - 8] + blob[size - 4:])
+    old[4:6] = struct.pack("<H", 3)
+    old[-4:] = struct.pack("<I", zlib.crc32(bytes(old[:-4])))
+    e, f = fresh()
+    assert lib.fric_adapt_restore(e, default_model.model_hash.encode(), bytes(old), len(old)) == 0
+    lib.fric_adapt_ctrl_step(e, f, reg, 0.0, 0.0, 0.0, 0.0, 0.0, current)
+    assert abs(float(f.k_hat) - 1.0) < 1e-4
+    assert bytes(ffi.buffer(e.theta, 4 * n)) == bytes(ffi.buffer(b.theta, 4 * n))
+
+
 def test_the_adapted_sample_step_is_the_positional_step_bit_for_bit(default_model):
     module = build_adapted(default_model)
     ffi, lib = module.ffi, module.lib
@@ -291,15 +339,16 @@ def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_
 
 
 def _state(blob):
-    """(version, n, hash, theta, P) of a saved state, read from the layout of fric_adapt.h with
-    the CRC-32 checked by zlib."""
+    """(format, n, hash, theta, P, k_hat) of a saved state, read from the layout of fric_adapt.h
+    with the CRC-32 checked by zlib."""
     import struct
     import zlib
     blob = bytes(blob)
     assert blob[:4] == b"FRAS" and zlib.crc32(blob[:-4]) == struct.unpack("<I", blob[-4:])[0]
     version, n = struct.unpack("<HH", blob[4:8])
     values = np.frombuffer(blob[24:-4], dtype="<f4")
-    return version, n, blob[8:24].rstrip(b"\0").decode(), values[:n], values[n:].reshape(n, n)
+    return (version, n, blob[8:24].rstrip(b"\0").decode(), values[:n],
+            values[n:n + n * n].reshape(n, n), values[n + n * n])
 
 
 @pytest.mark.parametrize("rule", ["rls", "lyapunov"])
@@ -313,13 +362,13 @@ def test_a_saved_state_restores_bit_for_bit_and_a_foreign_one_is_refused(default
     for v in np.linspace(-0.1, 0.1, 40):
         update(a, reg, float(v), 1e-3 if rule == "lyapunov" else 1.1 * float(default_model.force(v)), 0)
     n, model_hash = a.p.n, default_model.model_hash.encode()
-    size = 28 + 4 * n + 4 * n * n
+    size = 32 + 4 * n + 4 * n * n
     buf = ffi.new("unsigned char[]", size + 8)
     assert lib.fric_adapt_save(a, model_hash, buf, size - 1) == 0           # too small
     assert lib.fric_adapt_save(a, model_hash, buf, size + 8) == size
     blob = bytes(ffi.buffer(buf, size))
-    version, count, saved_hash, theta, P = _state(blob)
-    assert (count, saved_hash) == (n, default_model.model_hash)
+    version, count, saved_hash, theta, P, k_hat = _state(blob)
+    assert (version, count, saved_hash, k_hat) == (4, n, default_model.model_hash, 1.0)
     np.testing.assert_array_equal(theta, np.float32(list(a.theta)[:n]))
     np.testing.assert_array_equal(P.ravel(), np.float32(list(a.P)[:n * n]))
     assert not np.array_equal(theta, np.float32(list(b.theta)[:n]))         # it adapted
