@@ -9,8 +9,8 @@ minus the truth (averaged over the count), over the truth's RMS. Also: a linear 
 pitches each way, the period found from the data), the same at a quarter of the drive's rate (a log decimated without
 filtering), a log of normal operation instead of the calibration (two turns out and back along
 a cosine, up to pi rad/s), the share of axes without cogging that get no map, and the emitted table's
-size and error bounds; with ``--cost``, the instructions of one NAME_cogging and
-NAME_cogging_q15 call on Cortex-M0+ and M4F (QEMU, as benchmarks/instructions_per_call.py).
+size and error bounds; with ``--cost``, the instructions of one NAME_cogging, NAME_cogging_q15 and
+NAME_cogging_q31 call on Cortex-M0+ and M4F (QEMU, as benchmarks/instructions_per_call.py).
 
     python benchmarks/anticogging_map.py [--first 1000] [--seeds 20] [--null-seeds 40] [--cost]
 
@@ -104,7 +104,8 @@ def instruction_counts() -> dict:
     law = fit_law(np.array([0.5, 1.0, 2.0]), np.array([0.02, 0.021, 0.022]))
     model = replace(FrictionModel.from_directions(law.direction(), name="fm", training={"units": "rotary"}),
                     cogging_map=m)
-    wrapper = "static int32_t fw_cog_q15(int32_t p) { return (int32_t)fm_cogging_q15((uint32_t)p); }"
+    wrapper = ("static int32_t fw_cog_q15(int32_t p) { return (int32_t)fm_cogging_q15((uint32_t)p); }\n"
+               "static int32_t fw_cog_q31(int32_t p) { return fm_cogging_q31((uint32_t)p); }")
     xs = [0.0, 0.3, 3.1, 6.2, -1.0, 100.0, -200.0, 12.6]
     phases = [0, 1, 1 << 20, 1 << 31, (1 << 31) - 1, 123456789, -1, -(1 << 20)]
     out = {}
@@ -112,10 +113,12 @@ def instruction_counts() -> dict:
         src = Path(tmp) / "src"
         codegen.emit(model, src, "fm", force=True)
         for target in ("cortex-m0plus", "cortex-m4f"):
-            counts = {"fm_cogging (float)": [], "fm_cogging_q15": []}
+            counts = {"fm_cogging (float)": [], "fm_cogging_q15": [], "fm_cogging_q31": []}
             for k, (x, p) in enumerate(zip(xs, phases)):
                 for fn, cfg in (("fm_cogging (float)", fw.config_float("fm.h", "fm_cogging", [x], 1)),
                                 ("fm_cogging_q15", fw.config_int("fm.h", "fw_cog_q15", "int32_t", [p], 1,
+                                                                 extra=wrapper)),
+                                ("fm_cogging_q31", fw.config_int("fm.h", "fw_cog_q31", "int32_t", [p], 1,
                                                                  extra=wrapper))):
                     elf = fw.build_firmware(src, cfg, target, Path(tmp) / f"{target}_{fn[:14]}_{k}")
                     counts[fn].append(sum(fw.count_instructions(elf, target).values()))

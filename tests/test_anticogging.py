@@ -13,7 +13,7 @@ from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.cli import main
 from fricgen.codegen.cbuild import build
-from fricgen.codegen.cogging_table import CoggingTable, q15_twin
+from fricgen.codegen.cogging_table import CoggingTable, q15_twin, q31_twin
 from fricgen.effects import CoggingMap
 from fricgen.fit.cogging import identify_cogging
 from fricgen.errors import ModelError
@@ -108,7 +108,8 @@ def test_a_hand_edited_cogging_object_is_refused(model, edit, message):
 
 # ----------------------------------------------------------------------------- C
 
-CDEF = """float axis_c_cogging(float x); int16_t axis_c_cogging_q15(uint32_t phase);"""
+CDEF = """float axis_c_cogging(float x); int16_t axis_c_cogging_q15(uint32_t phase);
+int32_t axis_c_cogging_q31(uint32_t phase);"""
 
 
 @pytest.fixture(scope="module")
@@ -157,6 +158,32 @@ def test_q15_matches_its_twin_and_its_bound_at_every_count(model, lib, bits):
     force = got * (table.q15_scale / 32768.0)
     exact = model.cogging(counts.astype(float) * TWO_PI / 2 ** bits)
     assert np.max(np.abs(force - exact)) <= table.q15_bound
+
+
+@needs_cc
+@pytest.mark.parametrize("bits", [12, 14])
+def test_q31_matches_its_twin_and_its_bound_at_every_count(model, lib, bits):
+    c = lib[1]
+    table = CoggingTable.of(model.cogging_map)
+    counts = np.arange(2 ** bits, dtype=np.uint64)
+    phase = (counts << np.uint64(32 - bits)).astype(np.uint32)
+    phase[1::2] += np.uint32(12345)                  # between counts too: the fraction's low bits
+    got = np.array([c.axis_c_cogging_q31(int(p)) for p in phase], dtype=np.int32)
+    np.testing.assert_array_equal(got, q31_twin(table.q31, phase))
+    force = got * (table.q31_scale / 2.0 ** 31)
+    exact = model.cogging(phase.astype(float) * TWO_PI / 2.0 ** 32)
+    assert np.max(np.abs(force - exact)) <= table.q31_bound
+    # q31 keeps what q15 rounds away: its bound is the interpolation's, q15's adds its LSB
+    assert table.q31_bound < table.q15_bound
+
+
+def test_q31_twin_at_the_extreme_phases_stays_in_range_and_hits_the_table(model):
+    table = CoggingTable.of(model.cogging_map)
+    phase = np.array([0, 1, 2 ** 31, 2 ** 32 - 1], dtype=np.uint32)
+    out = q31_twin(table.q31, phase)
+    assert np.all(np.abs(out.astype(np.int64)) <= 2 ** 31 - 1)
+    knots = (np.arange(table.points, dtype=np.uint64) << np.uint64(32 - table.points.bit_length() + 1))
+    np.testing.assert_array_equal(q31_twin(table.q31, knots.astype(np.uint32)), table.q31)
 
 
 def test_q15_twin_at_the_extreme_phases_stays_in_range(model):

@@ -242,8 +242,8 @@ def register(p) -> None:
     cogging = p.add_argument_group("cogging (a slow move over the travel, e.g. 2 revolutions each way)")
     cogging.add_argument("--cogging", action="store_true",
                          help="also identify the cogging map (the position force: cogging, unbalance) "
-                         "and the position-dependent friction; emit writes NAME_cogging(x) and "
-                         "NAME_cogging_q15(phase)")
+                         "and the position-dependent friction; emit writes NAME_cogging(x), "
+                         "NAME_cogging_q15(phase) and NAME_cogging_q31(phase)")
     cogging.add_argument("--pitch", type=positive_float,
                          help="the map's period: a pole pitch or screw lead, m (default: one "
                          "revolution, 2 pi rad, on a rotary axis; on a linear axis the wavelength of "

@@ -1,9 +1,10 @@
 """The cogging map as the firmware evaluates it: a table of N points of one period (N a power of
 two, the fewest whose linear interpolation stays within TABLE_TOLERANCE of the map's RMS),
-in float (``NAME_cogging(x)``) and in q15 (``NAME_cogging_q15(phase)``, the phase a uint32 with
-2^32 per period: an encoder count times 2^(32 - bits) for a power-of-two encoder). Each comes
-with the largest error against the fitted series, measured here over the whole period, and the
-q15 integer arithmetic mirrored in numpy (``q15_twin``) so that tests compare the C bit for bit.
+in float (``NAME_cogging(x)``), in q15 (``NAME_cogging_q15(phase)``) and in q31
+(``NAME_cogging_q31(phase)``), the phase a uint32 with 2^32 per period (an encoder count times
+2^(32 - bits) for a power-of-two encoder). Each comes with the largest error against the fitted
+series, measured here over the whole period, and the integer arithmetic mirrored in numpy
+(``q15_twin``, ``q31_twin``) so that tests compare the C bit for bit.
 """
 from __future__ import annotations
 
@@ -19,6 +20,8 @@ from ..effects.cogging_map import ERROR_GRID, CoggingMap
 TABLE_TOLERANCE = 0.01
 #: q15's largest magnitude.
 Q15_MAX = 32767
+#: q31's largest magnitude.
+Q31_MAX = 2 ** 31 - 1
 
 
 @dataclass(frozen=True)
@@ -32,6 +35,9 @@ class CoggingTable:
     q15: np.ndarray           # int16, N
     q15_scale: float          # the force of q15 32768
     q15_bound: float
+    q31: np.ndarray           # int32, N
+    q31_scale: float          # the force of q31 2^31
+    q31_bound: float
 
     @classmethod
     def of(cls, cogging: CoggingMap) -> "CoggingTable":
@@ -41,17 +47,22 @@ class CoggingTable:
         peak = float(np.max(np.abs(exact)))
         scale = peak * 32768.0 / Q15_MAX if peak > 0 else 1.0
         q15 = np.clip(np.round(exact / scale * 32768.0), -Q15_MAX, Q15_MAX).astype(np.int16)
+        scale31 = peak * 2.0 ** 31 / Q31_MAX if peak > 0 else 1.0
+        q31 = np.clip(np.round(exact / scale31 * 2.0 ** 31), -Q31_MAX, Q31_MAX).astype(np.int32)
         # float: the interpolation's error plus float32 rounding of table, position and product
         float_bound = interpolation + 4 * float(np.finfo(np.float32).eps) * peak
         # q15: evaluated at ERROR_GRID phases per interval (the integer arithmetic exactly) plus
         # what lies between them: the series' slope times a grid step, and one LSB
         phases = (np.arange(points * ERROR_GRID, dtype=np.uint64) << np.uint64(32)) // np.uint64(points * ERROR_GRID)
-        got = q15_twin(q15, phases.astype(np.uint32)) * (scale / 32768.0)
         want = cogging.force(phases.astype(float) / 2.0 ** 32 * cogging.period)
         slope = float(np.sum(cogging.amplitude * cogging.wavenumber * np.asarray(cogging.harmonics)))
-        step = cogging.period / (points * ERROR_GRID)
-        q15_bound = float(np.max(np.abs(got - want))) + slope * step + scale / 32768.0
-        return cls(cogging, points, values, float_bound, q15, scale, q15_bound)
+        between = slope * cogging.period / (points * ERROR_GRID)
+        got = q15_twin(q15, phases.astype(np.uint32)) * (scale / 32768.0)
+        q15_bound = float(np.max(np.abs(got - want))) + between + scale / 32768.0
+        got = q31_twin(q31, phases.astype(np.uint32)) * (scale31 / 2.0 ** 31)
+        q31_bound = float(np.max(np.abs(got - want))) + between + scale31 / 2.0 ** 31
+        return cls(cogging, points, values, float_bound, q15, scale, q15_bound, q31, scale31,
+                   q31_bound)
 
     @property
     def shift(self) -> int:
@@ -69,6 +80,10 @@ class CoggingTable:
             "values": [c_float(v) for v in self.values],
             "q15": [str(int(q)) for q in self.q15], "q15_scale": c_float(self.q15_scale),
             "float_bound": c_float(self.float_bound), "q15_bound": c_float(self.q15_bound),
+            "q31": [str(int(q)) for q in self.q31], "frac_mask": f"0x{(1 << self.shift) - 1:X}u",
+            "unit_shift": str(1 << self.shift), "half": str(1 << (self.shift - 1)),
+            "offset_shifted": str(1 << (62 - self.shift)),
+            "q31_scale": c_float(self.q31_scale), "q31_bound": c_float(self.q31_bound),
             "harmonics": ", ".join(str(h) for h in m.harmonics), "rms": f"{m.rms:.4g}"}
 
 
@@ -88,3 +103,17 @@ def q15_twin(table: np.ndarray, phase: np.ndarray) -> np.ndarray:
     hi = table.astype(np.int64)[(k + 1) & (points - 1)]
     y = lo * 32768 + (hi - lo) * frac + 16384 + 1073741824
     return ((y.astype(np.uint64) >> np.uint64(15)).astype(np.int64) - 32768).astype(np.int16)
+
+
+def q31_twin(table: np.ndarray, phase: np.ndarray) -> np.ndarray:
+    """``NAME_cogging_q31`` in numpy: the same integer operations on the same int32 table (the
+    interpolation in 64 bits, rounded, the offset 2^62 keeping the shift on a positive value)."""
+    points = table.size
+    shift = phase_shift(points)
+    phase = np.asarray(phase, dtype=np.uint64)
+    k = (phase >> np.uint64(shift)).astype(np.int64)
+    frac = (phase & np.uint64((1 << shift) - 1)).astype(np.int64)
+    lo = table.astype(np.int64)[k]
+    hi = table.astype(np.int64)[(k + 1) & (points - 1)]
+    y = (lo << shift) + (hi - lo) * frac + (1 << (shift - 1)) + (1 << 62)
+    return ((y.astype(np.uint64) >> np.uint64(shift)).astype(np.int64) - (1 << (62 - shift))).astype(np.int32)

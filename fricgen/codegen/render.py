@@ -375,7 +375,8 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
                              "(emit it with --dtype float)")
         if model.cogging_map is not None:
             raise ModelError(f"--dtype {dtype} does not emit the cogging map; --dtype float "
-                             "emits it in float and in q15 (NAME_cogging, NAME_cogging_q15)")
+                             "emits it in float, q15 and q31 (NAME_cogging, NAME_cogging_q15, "
+                             "NAME_cogging_q31)")
         if model.presliding is not None or model.velocity_band is not None:
             raise ModelError(f"--dtype {dtype} does not emit pre-sliding nor the compensation band; "
                              "--dtype float does (NAME_step, NAME_compensation)")
