@@ -57,16 +57,21 @@ void fric_adapt_reset(fric_adapt_t *a)
     if (a == NULL) {
         return;
     }
-    for (k = 0; k < a->p.n; ++k) {
-        a->theta[k] = a->p.theta0[k];
-        a->scale2[k] = a->p.scale[k] * a->p.scale[k];
+    for (k = 0; k < FRIC_ADAPT_MAX_PARAMS; ++k) {   /* beyond n: 0 */
+        a->theta[k] = (k < a->p.n) ? a->p.theta0[k] : 0.0f;
+        a->scale2[k] = (k < a->p.n) ? (a->p.scale[k] * a->p.scale[k]) : 0.0f;
+    }
+    for (k = 0; k < (FRIC_ADAPT_MAX_PARAMS * FRIC_ADAPT_MAX_PARAMS); ++k) {
+        a->P[k] = 0.0f;
     }
     fric_adapt_reset_covariance(a);
     a->error = 0.0f;
     a->v_prev = 0.0f;
     a->i_prev = 0.0f;
     a->k_hat = 1.0f;
+    a->m_o_hat = 0.0f;
     a->held = 1;
+    a->recorded = 0;
     a->flags = FRIC_ADAPT_OK;
 }
 
@@ -289,9 +294,12 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     if ((a == NULL) || (c == NULL) || (reg == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
     }
-    if (a->held == FRIC_ADAPT_RESUMED) {      /* restored: the controller resumes the saved k_hat */
+    if (a->held == FRIC_ADAPT_RESUMED) {   /* restored: the controller resumes k_hat, m_o_hat */
         c->k_hat = (a->k_hat < c->p.k_min) ? c->p.k_min
                                             : ((a->k_hat > c->p.k_max) ? c->p.k_max : a->k_hat);
+        c->m_o_hat = (a->m_o_hat < c->p.m_o_min) ? c->p.m_o_min
+                                                  : ((a->m_o_hat > c->p.m_o_max) ? c->p.m_o_max
+                                                                                 : a->m_o_hat);
     }
     u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD) ? (xd_dot + (c->p.k1 * (xd - x))) : v;
     force = fric_adapt_force(a, reg, u);
@@ -312,6 +320,8 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     a->v_prev = v;
     a->i_prev = *current;
     a->k_hat = c->k_hat;
+    a->m_o_hat = c->m_o_hat;
+    a->recorded = 1;
     a->held = held;
     return flags;
 }
@@ -490,7 +500,11 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
         fric_adapt_put_u32(at, fric_adapt_float_bits(a->P[k]));
         at = &at[4];
     }
+    fric_adapt_put_u32(at, (a->recorded != 0) ? 1u : 0u);
+    at = &at[4];
     fric_adapt_put_u32(at, fric_adapt_float_bits(a->k_hat));
+    at = &at[4];
+    fric_adapt_put_u32(at, fric_adapt_float_bits(a->m_o_hat));
     at = &at[4];
     fric_adapt_put_u32(at, fric_adapt_crc32(buf, total - 4u));
     return total;
@@ -502,6 +516,8 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
     unsigned char head[24];
     float theta[FRIC_ADAPT_MAX_PARAMS];
     float k_hat = 0.0f;
+    float m_o_hat = 0.0f;
+    uint32_t recorded = 0u;
     const unsigned char *covariance;
     unsigned int n;
     unsigned int total;
@@ -518,8 +534,8 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
     }
     total = FRIC_ADAPT_STATE_SIZE(n);
     format = FRIC_ADAPT_STATE_FORMAT;
-    if (size == (total - 4u)) {                      /* format 3: saved without k_hat */
-        total = total - 4u;
+    if (size == (total - 12u)) {                     /* format 3: saved without k_hat */
+        total = total - 12u;
         format = 3u;
     }
     if (size != total) {
@@ -550,8 +566,10 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         at = &at[4];
     }
     if (format == FRIC_ADAPT_STATE_FORMAT) {
-        k_hat = fric_adapt_bits_float(fric_adapt_get_u32(at));
-        if (!isfinite(k_hat) || !(k_hat > 0.0f)) {
+        recorded = fric_adapt_get_u32(at);
+        k_hat = fric_adapt_bits_float(fric_adapt_get_u32(&at[4]));
+        m_o_hat = fric_adapt_bits_float(fric_adapt_get_u32(&at[8]));
+        if ((recorded > 1u) || !isfinite(k_hat) || !isfinite(m_o_hat)) {
             return FRIC_ADAPT_ERR_RANGE;
         }
     }
@@ -562,9 +580,11 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         a->P[k] = fric_adapt_bits_float(fric_adapt_get_u32(covariance));
         covariance = &covariance[4];
     }
-    if (format == FRIC_ADAPT_STATE_FORMAT) {
+    if (recorded == 1u) {
         a->k_hat = k_hat;
-        a->held = FRIC_ADAPT_RESUMED;                /* the next step gives c the saved k_hat */
+        a->m_o_hat = m_o_hat;
+        a->recorded = 1;
+        a->held = FRIC_ADAPT_RESUMED;                /* the next step gives c k_hat, m_o_hat */
     } else {
         a->held = 1;
     }

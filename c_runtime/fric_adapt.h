@@ -45,7 +45,7 @@ extern "C" {
  * FRIC_ADAPT_STATE_FORMAT, is another number). */
 #define FRIC_ADAPT_VERSION 4
 /* The format of a saved state (fric_adapt_save): what a blob holds, not the structs' layout.
- * 4 holds the controller's k_hat; fric_adapt_restore reads 3 (without it) too. */
+ * 4 holds the controller's k_hat and m_o_hat; fric_adapt_restore reads 3 (without them) too. */
 #define FRIC_ADAPT_STATE_FORMAT 4u
 /* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
 #define FRIC_ADAPT_MAX_PARAMS 16u
@@ -61,12 +61,13 @@ typedef enum {
 } fric_adapt_status_t;
 
 /* The bytes of a saved state of n parameters (fric_adapt_save): "FRAS", FRIC_ADAPT_STATE_FORMAT and n
- * (16 bits each, little-endian), the model hash (16 bytes, NUL-padded), theta (n), P (n x n) and
- * the controller's k_hat as float bits (32 bits each, little-endian), then the CRC-32 (IEEE
+ * (16 bits each, little-endian), the model hash (16 bytes, NUL-padded), theta (n) and P (n x n)
+ * as float bits (32 bits each, little-endian), whether a controller step recorded the next two
+ * (0 or 1, 32 bits), the controller's k_hat and m_o_hat (float bits), then the CRC-32 (IEEE
  * 802.3) of all before it. */
-#define FRIC_ADAPT_STATE_SIZE(n) (32u + (4u * (n)) + (4u * (n) * (n)))
-/* fric_adapt_t.held after a restore of a state with k_hat: the next fric_adapt_ctrl_step gives
- * the controller that k_hat (within [k_min, k_max]) before its step. */
+#define FRIC_ADAPT_STATE_SIZE(n) (40u + (4u * (n)) + (4u * (n) * (n)))
+/* fric_adapt_t.held after a restore of a state with k_hat and m_o_hat: the next
+ * fric_adapt_ctrl_step gives the controller those (each within its interval) before its step. */
 #define FRIC_ADAPT_RESUMED 2
 /* The longest model hash a saved state holds. */
 #define FRIC_ADAPT_HASH_MAX 16u
@@ -120,8 +121,10 @@ typedef struct {
     float v_prev;                            /* fric_adapt_ctrl_step's last v and current */
     float i_prev;
     float k_hat;                             /* the controller's k_hat at the last step (1 before) */
+    float m_o_hat;                           /* ... and its m_o_hat (0 before) */
     int held;                                /* the last controller step saturated or faulted
                                                 (FRIC_ADAPT_RESUMED: a state was restored) */
+    int recorded;                            /* 1 once a controller step recorded k_hat, m_o_hat */
     fric_adapt_flags_t flags;                /* what the last update returned */
 } fric_adapt_t;
 
@@ -198,8 +201,8 @@ fric_ctrl_flags_t fric_adapt_ctrl_step_sample(fric_adapt_t *a, fric_ctrl_t *c,
                                               const fric_ctrl_sample_t *s, float *current);
 
 /**
- * @brief Save what a has learned (theta, P and the controller's k_hat at the last step) into
- *        buf, for non-volatile memory.
+ * @brief Save what a has learned (theta, P, and the controller's k_hat and m_o_hat at the last
+ *        step, where a step recorded them) into buf, for non-volatile memory.
  * @param[in] a the adaptation (a copy taken with the control ISR masked).
  * @param[in] model_hash NAME_ADAPT_MODEL_HASH, at most FRIC_ADAPT_HASH_MAX characters.
  * @param[out] buf at least FRIC_ADAPT_STATE_SIZE(a->p.n) bytes; @param[in] size its size.
@@ -213,11 +216,13 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
  * @brief Restore a state fric_adapt_save wrote, at boot after fric_adapt_init.
  * @param[in,out] a the adaptation; @param[in] model_hash NAME_ADAPT_MODEL_HASH;
  * @param[in] buf, size the saved bytes.
- * @return FRIC_ADAPT_OK_INIT, or (a untouched) FRIC_ADAPT_ERR_NULL, _ERR_PARAM, _ERR_SIZE,
- *         _ERR_FOREIGN (another format, number of parameters or model), _ERR_CHECKSUM,
- *         _ERR_RANGE (theta outside [lo, hi], a value not finite or a k_hat not > 0). The next
- *         controller step (fric_adapt_ctrl_step) gives the controller the saved k_hat (a state of
- *         format 3 has none: k_hat0 stays) and does no RLS update (no last sample to observe).
+ * @return FRIC_ADAPT_OK_INIT, or (a untouched) FRIC_ADAPT_ERR_NULL, _ERR_PARAM, _ERR_SIZE
+ *         (not the size of this adaptation's state: another number of parameters, or cut
+ *         short), _ERR_FOREIGN (another format or model), _ERR_CHECKSUM, _ERR_RANGE (theta
+ *         outside [lo, hi], a value not finite). The next controller step
+ *         (fric_adapt_ctrl_step) gives the controller the saved k_hat and m_o_hat, each within
+ *         its interval (a state saved before any controller step, or of format 3, has none: the
+ *         controller's initial values stay), and does no RLS update (no last sample).
  */
 fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
                                        const unsigned char *buf, unsigned int size);

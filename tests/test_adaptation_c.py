@@ -191,9 +191,9 @@ def _c_adapter(module, twin):
 
 
 def test_a_restored_state_gives_the_controller_its_k_hat_back(default_model):
-    """The saved state holds the controller's k_hat: after a restore the next controller step
-    starts from it (not k_hat0), so the compensation k_hat F does not jump at boot; a state of
-    format 3 (no k_hat) still restores, k_hat0 then staying."""
+    """The saved state holds the controller's k_hat and m_o_hat: after a restore the next
+    controller step starts from them (not k_hat0, m_o_hat0), so the current does not jump at
+    boot; a state saved before any controller step, or of format 3, resumes nothing."""
     import struct
     import zlib
     from fricgen.control.backstepping import AdaptiveBackstepping
@@ -214,21 +214,25 @@ def test_a_restored_state_gives_the_controller_its_k_hat_back(default_model):
     for tk in np.arange(2000) * 1e-3:                       # the built-in reversing move
         xd, vd = 0.01 * np.sin(4 * tk), 0.04 * np.cos(4 * tk)
         lib.fric_adapt_ctrl_step(a, c, reg, xd * 0.98, vd * 0.97, xd, vd, -0.16 * np.sin(4 * tk), current)
-    saved_k = float(c.k_hat)
-    assert abs(saved_k - 1.0) > 1e-3                        # k_hat has moved
+    saved_k, saved_m = float(c.k_hat), float(c.m_o_hat)
+    assert abs(saved_k - 1.0) > 1e-3 and abs(saved_m - 0.1) > 1e-4   # both have moved
     n = a.p.n
-    size = 32 + 4 * n + 4 * n * n
+    size = 40 + 4 * n + 4 * n * n
     buf = ffi.new("unsigned char[]", size)
-    assert lib.fric_adapt_save(a, default_model.model_hash.encode(), buf, size) == size
-    blob = bytes(ffi.buffer(buf, size))
-    assert _state(blob)[5] == np.float32(saved_k)
+    hash_ = default_model.model_hash.encode()
     b, d = fresh()
-    assert lib.fric_adapt_restore(b, default_model.model_hash.encode(), blob, size) == 0
+    assert lib.fric_adapt_save(b, hash_, buf, size) == size              # before any step
+    assert _state(bytes(ffi.buffer(buf, size)))[5] == 0                  # nothing recorded
+    assert lib.fric_adapt_save(a, hash_, buf, size) == size
+    blob = bytes(ffi.buffer(buf, size))
+    assert _state(blob)[5:] == (1, np.float32(saved_k), np.float32(saved_m))
+    assert lib.fric_adapt_restore(b, hash_, blob, size) == 0
     assert float(d.k_hat) == 1.0                             # k_hat0 until the next step
     lib.fric_adapt_ctrl_step(b, d, reg, 0.0, 0.0, 0.0, 0.0, 0.0, current)
     assert abs(float(d.k_hat) - saved_k) < 1e-4              # resumed (one step's change aside)
-    # format 3: the same without k_hat
-    old = bytearray(blob[:size - 8] + blob[size - 4:])
+    assert abs(float(d.m_o_hat) - saved_m) < 1e-4
+    # format 3: the same without them
+    old = bytearray(blob[:size - 16] + blob[size - 4:])
     old[4:6] = struct.pack("<H", 3)
     old[-4:] = struct.pack("<I", zlib.crc32(bytes(old[:-4])))
     e, f = fresh()
@@ -339,16 +343,18 @@ def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_
 
 
 def _state(blob):
-    """(format, n, hash, theta, P, k_hat) of a saved state, read from the layout of fric_adapt.h
-    with the CRC-32 checked by zlib."""
+    """(format, n, hash, theta, P, recorded, k_hat, m_o_hat) of a saved state, read from the
+    layout of fric_adapt.h with the CRC-32 checked by zlib."""
     import struct
     import zlib
     blob = bytes(blob)
     assert blob[:4] == b"FRAS" and zlib.crc32(blob[:-4]) == struct.unpack("<I", blob[-4:])[0]
     version, n = struct.unpack("<HH", blob[4:8])
-    values = np.frombuffer(blob[24:-4], dtype="<f4")
+    values = np.frombuffer(blob[24:-16], dtype="<f4")
+    recorded, = struct.unpack("<I", blob[-16:-12])
+    k_hat, m_o_hat = np.frombuffer(blob[-12:-4], dtype="<f4")
     return (version, n, blob[8:24].rstrip(b"\0").decode(), values[:n],
-            values[n:n + n * n].reshape(n, n), values[n + n * n])
+            values[n:].reshape(n, n), recorded, k_hat, m_o_hat)
 
 
 @pytest.mark.parametrize("rule", ["rls", "lyapunov"])
@@ -362,13 +368,13 @@ def test_a_saved_state_restores_bit_for_bit_and_a_foreign_one_is_refused(default
     for v in np.linspace(-0.1, 0.1, 40):
         update(a, reg, float(v), 1e-3 if rule == "lyapunov" else 1.1 * float(default_model.force(v)), 0)
     n, model_hash = a.p.n, default_model.model_hash.encode()
-    size = 32 + 4 * n + 4 * n * n
+    size = 40 + 4 * n + 4 * n * n
     buf = ffi.new("unsigned char[]", size + 8)
     assert lib.fric_adapt_save(a, model_hash, buf, size - 1) == 0           # too small
     assert lib.fric_adapt_save(a, model_hash, buf, size + 8) == size
     blob = bytes(ffi.buffer(buf, size))
-    version, count, saved_hash, theta, P, k_hat = _state(blob)
-    assert (version, count, saved_hash, k_hat) == (4, n, default_model.model_hash, 1.0)
+    version, count, saved_hash, theta, P, recorded, k_hat, _ = _state(blob)
+    assert (version, count, saved_hash, recorded) == (4, n, default_model.model_hash, 0)
     np.testing.assert_array_equal(theta, np.float32(list(a.theta)[:n]))
     np.testing.assert_array_equal(P.ravel(), np.float32(list(a.P)[:n * n]))
     assert not np.array_equal(theta, np.float32(list(b.theta)[:n]))         # it adapted
