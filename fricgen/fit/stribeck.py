@@ -175,6 +175,18 @@ def all_subsets(grid: int, n_sources: int) -> list:
     return list(itertools.combinations(start_grid(grid), int(n_sources)))
 
 
+def _damped_step(H: np.ndarray, gradient: np.ndarray, damping: float) -> np.ndarray:
+    """-(H + damping I)^-1 gradient, the Levenberg-Marquardt step: solved directly (H + damping I
+    is positive definite for damping > 0), by least squares where rounding makes it singular."""
+    if gradient.size == 1:
+        return -gradient / (H[0, 0] + damping)
+    damped = H + damping * np.eye(gradient.size)
+    try:
+        return np.linalg.solve(damped, -gradient)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(damped, -gradient, rcond=None)[0]
+
+
 def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
                           max_iterations: int = 200):
     """Levenberg-Marquardt (Nielsen's damping) on ``residual`` within lo <= theta <= hi (a
@@ -198,8 +210,7 @@ def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
         damping = 1e-3 * curvature if damping is None else max(damping, 1e-12 * curvature)
         while True:
             step = np.zeros_like(theta)
-            step[free] = np.linalg.lstsq(Hf + damping * np.eye(gf.size), -gf, rcond=None)[0] \
-                if gf.size > 1 else -gf / (Hf[0, 0] + damping)
+            step[free] = _damped_step(Hf, gf, damping)
             trial = np.clip(theta + step, lo, hi)
             r_trial = residual(trial)
             trial_cost = 0.5 * float(r_trial @ r_trial)
