@@ -498,11 +498,11 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     extra = operating_basis(v_s, *(at_rows.get(k) for k in CONDITIONS))
     x_s = None if angle is None else smooth(angle, window)[at]
     runs = None if runs is None else runs[at]
+    determined = determined_runs(v_s, runs)
     basis = np.column_stack([a_s, friction_basis(v_s, odd=False)]
                             + ([] if extra is None else [extra])
                             + ([] if x_s is None else [gravity_basis(x_s)])
-                            + ([run_basis(runs, determined_runs(v_s, runs))]
-                               if determined_runs(v_s, runs).size else []))
+                            + ([run_basis(runs, determined)] if determined.size else []))
     coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
