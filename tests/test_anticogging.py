@@ -148,31 +148,23 @@ def test_float_cogging_gives_zero_for_an_unusable_position(lib, value):
 
 @needs_cc
 @pytest.mark.parametrize("bits", [12, 14])
-def test_q15_matches_its_twin_and_its_bound_at_every_count(model, lib, bits):
-    c = lib[1]
+@pytest.mark.parametrize("q", [15, 31])
+def test_the_fixed_point_map_matches_its_twin_and_its_bound_at_every_count(model, lib, bits, q):
+    """q15 and q31 at every count of the encoder (q31 also between counts: its fraction's low
+    bits), bit for bit their numpy twins, within their stated bounds."""
     table = CoggingTable.of(model.cogging_map)
+    function, twin, values, dtype = {15: ("axis_c_cogging_q15", q15_twin, table.q15, np.int16),
+                                     31: ("axis_c_cogging_q31", q31_twin, table.q31, np.int32)}[q]
     counts = np.arange(2 ** bits, dtype=np.uint64)
     phase = (counts << np.uint64(32 - bits)).astype(np.uint32)
-    got = np.array([c.axis_c_cogging_q15(int(p)) for p in phase], dtype=np.int16)
-    np.testing.assert_array_equal(got, q15_twin(table.q15, phase))
-    force = got * (table.q15_scale / 32768.0)
-    exact = model.cogging(counts.astype(float) * TWO_PI / 2 ** bits)
-    assert np.max(np.abs(force - exact)) <= table.q15_bound
-
-
-@needs_cc
-@pytest.mark.parametrize("bits", [12, 14])
-def test_q31_matches_its_twin_and_its_bound_at_every_count(model, lib, bits):
-    c = lib[1]
-    table = CoggingTable.of(model.cogging_map)
-    counts = np.arange(2 ** bits, dtype=np.uint64)
-    phase = (counts << np.uint64(32 - bits)).astype(np.uint32)
-    phase[1::2] += np.uint32(12345)                  # between counts too: the fraction's low bits
-    got = np.array([c.axis_c_cogging_q31(int(p)) for p in phase], dtype=np.int32)
-    np.testing.assert_array_equal(got, q31_twin(table.q31, phase))
-    force = got * (table.q31_scale / 2.0 ** 31)
+    if q == 31:
+        phase[1::2] += np.uint32(12345)
+    got = np.array([getattr(lib[1], function)(int(p)) for p in phase], dtype=dtype)
+    np.testing.assert_array_equal(got, twin(values, phase))
+    scale, bound = (table.q15_scale, table.q15_bound) if q == 15 else (table.q31_scale, table.q31_bound)
+    force = got * (scale / 2.0 ** q)
     exact = model.cogging(phase.astype(float) * TWO_PI / 2.0 ** 32)
-    assert np.max(np.abs(force - exact)) <= table.q31_bound
+    assert np.max(np.abs(force - exact)) <= bound
     # q31 keeps what q15 rounds away: its bound is the interpolation's, q15's adds its LSB
     assert table.q31_bound < table.q15_bound
 
