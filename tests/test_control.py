@@ -309,7 +309,8 @@ def test_a_tabulated_reference_starts_and_ends_at_rest():
 
 @pytest.mark.parametrize("rows, message", [
     ("t,x\n0,0\n1,1\n0.5,2\n2,3\n", "the reference's t must increase, it steps from 1 to 0.5 s"),
-    ("t,x\n0,0\n1,1\n", "4 or more rows"),
+    ("t,x\n0,0\n1,1\n", "a reference needs 4 or more rows of t and x, got 2"),
+    ("t,x\n0,0\n1,1\n2,nan\n3,3\n", "data row 3 holds t = 2, x = nan"),
     ("t,y\n0,0\n1,1\n2,2\n3,3\n", "x"),
     ("t,x\n0,0\n1,0\n1.01,0.05\n2,0.05\n", "overshoots them by"),      # a step in four points
 ])

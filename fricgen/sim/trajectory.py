@@ -79,11 +79,15 @@ class TabulatedTrajectory:
 
     def __init__(self, t, x):
         t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
-        if t.ndim != 1 or t.size != x.size or t.size < 4:
-            raise ValueError(f"a reference needs one t and one x of 4 or more rows, got {t.size} "
-                             f"and {x.size}")
-        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x))):
-            raise ValueError("the reference's t and x must be finite")
+        if t.ndim != 1 or t.size != x.size:
+            raise ValueError(f"a reference needs as many t as x, got {t.size} and {x.size}")
+        if t.size < 4:
+            raise ValueError(f"a reference needs 4 or more rows of t and x, got {t.size}")
+        bad = ~(np.isfinite(t) & np.isfinite(x))
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise ValueError(f"the reference's t and x must be finite, data row {k + 1} holds "
+                             f"t = {t[k]:g}, x = {x[k]:g}")
         if not np.all(np.diff(t) > 0):
             k = int(np.argmax(np.diff(t) <= 0))
             raise ValueError(f"the reference's t must increase, it steps from {t[k]:.6g} to "
