@@ -6,9 +6,10 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from fricgen import _progress
 from fricgen.data import inverse_dynamics as idm
-from fricgen.data.inverse_dynamics import (FFT_WINDOW, MAX_WINDOW_FRACTION, MIN_WINDOW, POLYORDER,
-                                           WINDOW_RATIO, candidate_windows, choose_window,
-                                           identify_friction, smooth)
+from fricgen.data import smoothing
+from fricgen.data.inverse_dynamics import identify_friction
+from fricgen.data.smoothing import (FFT_WINDOW, MAX_WINDOW_FRACTION, MIN_WINDOW, POLYORDER,
+                                    WINDOW_RATIO, candidate_windows, choose_window, smooth)
 from fricgen.friction import preset
 
 #: Rounding of an FFT convolution against the direct sum, relative to the signal's scale: about
@@ -66,10 +67,10 @@ def test_the_window_chosen_is_the_direct_filters_choice(force_noise):
     rows = np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > idm.MOVING_SIGMAS * noise
     expected, scores = _direct_choice(force, rows, 4.0, noise, 1e-3)
     assert choose_window(force, rows, 4.0, noise, 1e-3) == expected
-    fast = [idm.gcv_score(force, w, rows) + (4.0 * noise * idm.derivative_noise(w, 1e-3)) ** 2
+    fast = [smoothing.gcv_score(force, w, rows) + (4.0 * noise * smoothing.derivative_noise(w, 1e-3)) ** 2
             for w in candidate_windows(rows.size)]
     np.testing.assert_allclose(fast, scores, rtol=EQUAL)
-    beyond = np.flatnonzero(scores > idm.STOP_FACTOR * np.minimum.accumulate(scores))
+    beyond = np.flatnonzero(scores > smoothing.STOP_FACTOR * np.minimum.accumulate(scores))
     if beyond.size:                                         # where the search stops: safely
         assert scores[beyond[0]:].min() > scores[:beyond[0]].min()
     if force_noise == 8.0:

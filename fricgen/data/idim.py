@@ -123,6 +123,17 @@ def run_basis(runs: np.ndarray, determined: np.ndarray) -> np.ndarray:
     return np.column_stack([runs == r for r in determined[1:]]).astype(float)
 
 
+def known_columns(v: np.ndarray, x: Optional[np.ndarray] = None,
+                  runs: Optional[np.ndarray] = None) -> Tuple[list, np.ndarray]:
+    """The columns of the forces of known shape fitted beside the mass and the friction: a
+    gravity force of the positions ``x`` (``gravity_basis``) and the constant forces of the runs
+    that determine them (``run_basis``); and those runs (``determined_runs``)."""
+    determined = determined_runs(v, runs)
+    columns = ([] if x is None else [gravity_basis(x)]) + \
+        ([run_basis(runs, determined)] if determined.size else [])
+    return columns, determined
+
+
 def operating_basis(v: np.ndarray, load: Optional[np.ndarray] = None,
                     temperature: Optional[np.ndarray] = None) -> Optional[np.ndarray]:
     """Columns spanning a friction that changes with the operating point, beside
@@ -183,9 +194,7 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
     (``runs``, a log concatenated from runs), each later run's constant force less the first's,
     where the runs determine them (``determined_runs``)."""
     gravity = gravity_se = run_offsets = None
-    determined = determined_runs(v, runs)
-    known = ([] if x is None else [gravity_basis(x)]) + \
-        ([run_basis(runs, determined)] if determined.size else [])
+    known, determined = known_columns(v, x, runs)
     if known:
         extra = _with(np.column_stack(known), extra)
     mass_se = estimate = None

@@ -2,47 +2,34 @@
 
 The log holds time ``t`` (s, uniformly sampled), velocity ``v`` (m/s) or position ``x`` (m), and
 the drive force ``force`` (N) or the motor current ``i`` (A) times the force constant. Velocity
-and force are smoothed by one zero-phase Savitzky-Golay filter (cubic, centred window), which
-also gives dv/dt, so F = f - m a holds between the smoothed signals. The window is chosen from
-the data (``choose_window``: generalized cross-validation of the force plus the derivative's
-noise); the mass at a window of its own (``explaining_window``), where dv/dt is not so noisy
+and force are smoothed by one zero-phase Savitzky-Golay filter (cubic, centred window,
+``data.smoothing``), which also gives dv/dt, so F = f - m a holds between the smoothed signals.
+The window is chosen from the data (``smoothing.choose_window``: generalized cross-validation of
+the force plus the derivative's noise); the mass at a window of its own (``explaining_window``), where dv/dt is not so noisy
 that the mass is pulled towards 0. Rows where the axis really moves are kept: |v| above the velocity noise and one
 direction of motion over the whole window (no reversal or sticking smeared in).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
 from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
-from numpy.polynomial import Polynomial
-from scipy.ndimage import maximum_filter1d, minimum_filter1d
-from scipy.signal import oaconvolve, savgol_coeffs, savgol_filter
+from scipy.ndimage import minimum_filter1d
+from scipy.signal import savgol_filter
 
-from .._progress import Progress
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, gravity_basis, identify_rigid_body,
-                   operating_basis, determined_runs, run_basis)
+from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, identify_rigid_body, known_columns,
+                   operating_basis)
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
+from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
+                        smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
-#: Degree of the Savitzky-Golay polynomial (cubic: its derivative equals the quadratic's).
-POLYORDER = 3
-#: Smallest window (samples) and the ratio of consecutive windows tried.
-MIN_WINDOW, WINDOW_RATIO = 7, 1.25
-#: The largest window, as a fraction of the log.
-MAX_WINDOW_FRACTION = 0.05
-#: The search stops at a window whose score exceeds the best so far by this factor: beyond the
-#: optimum the smoothing's bias only grows, and the largest windows of a long log cost the most.
-STOP_FACTOR = 2.0
-#: Windows (samples) from which ``smooth`` convolves by FFT: the direct sum costs O(window)
-#: per sample, the FFT O(log window).
-FFT_WINDOW = 64
 #: The axis moves where |v| exceeds this many standard deviations of the velocity noise.
 MOVING_SIGMAS = 5.0
 #: ... and this fraction of the largest speed (noise-free logs).
@@ -113,95 +100,6 @@ def velocity_noise(v: np.ndarray) -> float:
     """The standard deviation of white noise on v, from its second differences (variance
     6 sigma^2; a smooth signal barely contributes at the sampling rate)."""
     return robust_sd(np.diff(v, 2)) / np.sqrt(6.0)
-
-
-@lru_cache(maxsize=256)
-def _coeffs(window: int, deriv: int = 0, delta: float = 1.0) -> np.ndarray:
-    """``savgol_coeffs`` of the cubic (read-only, computed once per window: O(window) each)."""
-    c = savgol_coeffs(window, POLYORDER, deriv=deriv, delta=delta)
-    c.flags.writeable = False
-    return c
-
-
-def _centre_weight(window: int) -> float:
-    """The weight of the centre sample in the smoothed value: the variance ratio of the filter."""
-    return float(_coeffs(window)[window // 2])
-
-
-def smooth(signal: np.ndarray, window: int, deriv: int = 0, delta: float = 1.0) -> np.ndarray:
-    """``savgol_filter(signal, window, POLYORDER, deriv, delta)`` (mode 'interp'): the cubic
-    Savitzky-Golay smoothing (``deriv`` 1: its derivative) of ``signal``. From ``FFT_WINDOW``
-    samples on, the interior is convolved by overlap-add FFT (``scipy.signal.oaconvolve``,
-    O(n log window) instead of O(n window)) and the ``window // 2`` samples at each end are the
-    cubic fitted to the first and last ``window`` samples, as ``savgol_filter`` does: equal to
-    it within rounding (about 1e-12 relative)."""
-    if window < FFT_WINDOW:
-        return savgol_filter(signal, window, POLYORDER, deriv=deriv, delta=delta)
-    half = window // 2
-    out = np.empty(signal.size)
-    out[half:-half] = oaconvolve(signal, _coeffs(window, deriv, delta), mode="valid")
-    k = np.arange(window, dtype=float)
-    for ends, at in ((slice(None, window), slice(None, half)), (slice(-window, None), slice(-half, None))):
-        cubic = Polynomial.fit(k, signal[ends], POLYORDER).deriv(deriv)
-        out[at] = cubic(k[at]) / delta ** deriv
-    return out
-
-
-def steady_rows(v: np.ndarray, moving: np.ndarray, window: int) -> np.ndarray:
-    """The ``moving`` rows whose whole centred window moves in one direction (no reversal and no
-    row at rest within it); the half windows at the log's ends are left out."""
-    direction = np.sign(v) * moving
-    steady = (minimum_filter1d(direction, window) == maximum_filter1d(direction, window)) & moving
-    steady[:window // 2] = steady[-(window // 2):] = False
-    return steady
-
-
-def gcv_score(signal: np.ndarray, window: int, rows: np.ndarray) -> float:
-    """Generalized cross-validation of smoothing ``signal`` with ``window`` over ``rows``:
-    mean (signal - smooth(signal))^2 / (1 - h0)^2, h0 the centre weight. It estimates the error
-    of predicting a sample from its neighbours, noise and bias together."""
-    residual = (signal - smooth(signal, window))[rows]
-    return float(np.mean(residual ** 2)) / (1.0 - _centre_weight(window)) ** 2
-
-
-def derivative_noise(window: int, sample_time: float) -> float:
-    """The standard deviation of the Savitzky-Golay derivative of unit white noise."""
-    return float(np.linalg.norm(_coeffs(window, 1, sample_time)))
-
-
-def candidate_windows(n_rows: int) -> List[int]:
-    """The odd windows ``choose_window`` scores for a log of ``n_rows``: from MIN_WINDOW up to
-    MAX_WINDOW_FRACTION of the log, each about WINDOW_RATIO times the last."""
-    largest = max(MIN_WINDOW, int(MAX_WINDOW_FRACTION * n_rows))
-    windows, w = [], float(MIN_WINDOW)
-    while int(w) | 1 <= largest:
-        if not windows or int(w) | 1 != windows[-1]:
-            windows.append(int(w) | 1)
-        w *= WINDOW_RATIO
-    return windows
-
-
-def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
-                  sample_time: float, progress: Optional[Callable[[str], None]] = None,
-                  span: Optional[int] = None) -> int:
-    """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
-    the generalized cross-validation score of smoothing the force (its noise, and the bias where
-    the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
-    velocity noise leaves in the derivative; from the smallest window up, until one scores
-    STOP_FACTOR times the best. ``progress`` (a callable taking one line) hears
-    how far the search is when it takes long (``fricgen._progress.Progress``). ``span``: the
-    rows of the shortest run of a log concatenated from runs (default: all rows), which bounds
-    the windows (``candidate_windows``)."""
-    windows = candidate_windows(rows.size if span is None else span)
-    report = Progress(progress)
-    scores = []
-    for window in windows:
-        scores.append(gcv_score(force, window, rows)
-                      + (mass * v_noise * derivative_noise(window, sample_time)) ** 2)
-        report(f"smoothing window: scored {len(scores)} of {len(windows)} windows, up to {window} samples")
-        if scores[-1] > STOP_FACTOR * min(scores):
-            break
-    return windows[int(np.argmin(scores))]
 
 
 @dataclass(frozen=True)
@@ -382,7 +280,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         raise DataError(f"log has {t.size} samples, need at least {MIN_LOG_ROWS}")
     if mass is not None and not (np.isfinite(mass) and mass > 0):
         raise DataError(f"mass must be > 0, got {mass}")
-    ts = uniform_time(t)[1] if runs is None else float(t[1] - t[0])
+    ts = uniform_time(t)[1]
     given = v is not None
     junction = np.zeros(t.size, dtype=bool)
     if runs is not None:
@@ -422,7 +320,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     if angle is not None:
         friction = friction - body.gravity_force(smooth(angle, window))
     steady = steady_rows(v_s, moving, window)
-    kept = float(steady.sum()) * _centre_weight(window)
+    kept = float(steady.sum()) * centre_weight(window)
     if steady.sum() < MIN_ROWS or kept < MIN_INDEPENDENT:
         raise DataError(f"the axis moves steadily in only {int(steady.sum())} rows (about "
                         f"{kept:.0f} independent samples; no reversal within {window} samples), "
@@ -468,7 +366,7 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
     checked, ``_check_inertia``; None where not ``identify``): (v, dv/dt, force, the moving
     rows, the conditions, the independent samples, the body)."""
     v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
-    independent = moving.sum() * _centre_weight(window)
+    independent = moving.sum() * centre_weight(window)
     at_rows = {name: smooth(values, window) for name, values in conditions.items()}
     if "load" in at_rows:
         check_load(f_s[moving], at_rows["load"][moving], a_s[moving], v_s[moving], independent)
@@ -498,11 +396,9 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     extra = operating_basis(v_s, *(at_rows.get(k) for k in CONDITIONS))
     x_s = None if angle is None else smooth(angle, window)[at]
     runs = None if runs is None else runs[at]
-    determined = determined_runs(v_s, runs)
     basis = np.column_stack([a_s, friction_basis(v_s, odd=False)]
                             + ([] if extra is None else [extra])
-                            + ([] if x_s is None else [gravity_basis(x_s)])
-                            + ([run_basis(runs, determined)] if determined.size else []))
+                            + known_columns(v_s, x_s, runs)[0])
     coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
@@ -520,7 +416,7 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
     v_s = smooth(v, window)
     a_s = smooth(v, window, deriv=1, delta=ts)
     f_s = smooth(force, window)
-    smoothed_noise = noise * np.sqrt(_centre_weight(window))   # the noise left in v_s
+    smoothed_noise = noise * np.sqrt(centre_weight(window))   # the noise left in v_s
     threshold = max(MOVING_SIGMAS * smoothed_noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
     whole = minimum_filter1d(use.astype(np.int8), window).astype(bool)    # whole windows of use
     moving = (np.abs(v_s) > threshold) & whole

@@ -34,8 +34,9 @@ import numpy as np
 from scipy.ndimage import median_filter, uniform_filter1d
 
 from .._blas import blas_threads, wanted_threads
-from ..data.inverse_dynamics import MIN_WINDOW, position_quantum, smooth, steady_rows
+from ..data.inverse_dynamics import position_quantum
 from ..data.motionlog import uniform_time
+from ..data.smoothing import MIN_WINDOW, smooth, steady_rows
 from ..effects.fitting import FIT_FOLDS, block_grams, lstsq, nested_cross_validation, refine
 from ..errors import DataError
 from ..effects.cogging_map import MAX_TERMS, CoggingMap

@@ -30,7 +30,8 @@ from typing import Optional
 
 import numpy as np
 
-from ..data.inverse_dynamics import position_quantum, smooth
+from ..data.inverse_dynamics import position_quantum
+from ..data.smoothing import smooth
 from ..effects.fitting import FIT_FOLDS, block_grams, one_standard_error_choice
 from ..effects.presliding import LEAST_LEVEL, Bristles, bristle_states
 from ..errors import DataError

@@ -55,7 +55,8 @@ AVERAGING_GRID = 201
 #: is as good as exact: of those, the one with the fewest sources is taken.
 MATCH_TOLERANCE = 0.1
 #: ``bounded_least_squares`` stops at a step that lowers the cost by less than this fraction
-#: ... or moves theta by less than this (relative), as scipy's least_squares does by default.
+#: ... or moves theta by less than this (relative): scipy's least_squares tests its defaults of
+#: 1e-8 the same way; these are looser, far below what moves the AICc or the curve.
 STOP_GAIN = 1e-6
 STOP_STEP = 1e-6
 

@@ -93,10 +93,11 @@ class TabulatedTrajectory:
             raise ValueError(f"the reference's t must increase, it steps from {t[k]:.6g} to "
                              f"{t[k + 1]:.6g} s at rows {k + 1} and {k + 2}")
         self.duration = float(t[-1] - t[0])
-        self._spline = CubicSpline(t - t[0], x - x[0], bc_type="clamped")
+        moved = x - x[0]
+        self._spline = CubicSpline(t - t[0], moved, bc_type="clamped")
         dense = self._spline(np.linspace(0.0, self.duration, 20 * t.size))
         span = float(np.ptp(x)) or 1.0
-        beyond = max(float(dense.max()) - float(np.max(x - x[0])), float(np.min(x - x[0])) - float(dense.min()))
+        beyond = max(float(dense.max() - moved.max()), float(moved.min() - dense.min()))
         if beyond > OVERSHOOT * span:
             raise ValueError(f"the spline through the reference's {t.size} points overshoots them by "
                              f"{beyond:.3g} ({beyond / span:.0%} of the move): give the move as a "
@@ -105,7 +106,7 @@ class TabulatedTrajectory:
     def __call__(self, t) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x_d, x_d', x_d'') at times t (any shape)."""
         t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
-        after = np.asarray(t) >= self.duration
+        after = t >= self.duration
         spline = self._spline
         return (spline(t), np.where(after, 0.0, spline(t, 1)), np.where(after, 0.0, spline(t, 2)))
 
