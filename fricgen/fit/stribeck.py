@@ -213,8 +213,11 @@ def bounded_least_squares(residual, jacobian, theta, lo: float, hi: float,
             step = np.zeros_like(theta)
             step[free] = _damped_step(Hf, gf, damping)
             trial = np.clip(theta + step, lo, hi)
-            r_trial = residual(trial)
-            trial_cost = 0.5 * float(r_trial @ r_trial)
+            if np.all(np.isfinite(trial)):
+                r_trial = residual(trial)
+                trial_cost = 0.5 * float(r_trial @ r_trial)
+            else:                             # the solve overflowed: damp harder
+                trial_cost = np.inf
             taken = trial - theta
             predicted = -(gradient @ taken) - 0.5 * taken @ H @ taken
             if trial_cost < cost and predicted > 0:
