@@ -511,6 +511,8 @@ class StaticStepper:
     def step(self, v: float) -> float:
         return float(self._force(v))
 
+    __call__ = step
+
 
 def _training_axis(training: dict) -> Optional[Axis]:
     """The axis record of a training record, validated against the bounds of its units (rotary

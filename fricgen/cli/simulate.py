@@ -82,9 +82,6 @@ def run(args) -> int:
     if model is not None and model.cogging_map is not None:
         say(f"fricgen: note: the simulation leaves out {args.model}'s cogging map (its plant has "
             "friction only)")
-    if model is not None and model.presliding is not None:
-        say(f"fricgen: note: the simulation leaves out {args.model}'s pre-sliding (its plant and "
-            "compensation are the static curve; benchmarks/slow_speeds.py runs the bristles in the loop)")
     plant = choose_plant(model, args.mass)
     if reference is not None:
         plant = replace(plant, trajectory=reference, text=plant.text.rsplit("; reference", 1)[0]
@@ -96,7 +93,7 @@ def run(args) -> int:
         settings.validate()
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    variants = compensations(axis, model)
+    variants = compensations(axis, model, ts=args.ts)
     if args.plot:
         targets = check_files(args.plot, [plot_name(v) for v in variants], [args.model], option="--plot")
     if args.backend == "c":

@@ -205,6 +205,8 @@ class AdaptiveBackstepping:
         self.a_ = [f(a) for a in self.a0]
         self.e1_ = self.e2_ = self.i_ = f(0.0)
         self.flags_ = 0
+        if hasattr(self.compensation, "reset"):    # a stepper (``FrictionModel.stepper``)
+            self.compensation.reset()
         return self
 
     def friction_force(self, v) -> float:

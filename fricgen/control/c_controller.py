@@ -23,7 +23,7 @@ from .c_abi import CDEF, STATUS, param_values
 
 
 def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=None,
-                     force: bool = False):
+                     force: bool = False, sample_time: Optional[float] = None):
     """Emit each model under its C name (the key) and the controller runtime into ``folder``, compile
     them all with cffi, and return the module (``module.lib.NAME_force``,
     ``module.lib.fric_ctrl_step``, ``module.ffi``).
@@ -39,6 +39,9 @@ def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=N
         Where to emit (default: a temporary folder, removed after the build).
     force : bool
         Overwrite files fricgen did not write.
+    sample_time : float, optional
+        The controller's sample time, s: NAME_step's of a model with bristles (its NAME_force,
+        the steady-state curve, is what the controller calls).
 
     Returns
     -------
@@ -61,7 +64,8 @@ def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=N
         check_overwrite([folder / fname for fname in runtime], force)
         headers, cdefs = [], []
         for name, model in (models or {}).items():
-            emit(model, folder, name, force=force)
+            emit(model, folder, name, force=force,
+                 sample_time=sample_time if model.presliding is not None else None)
             headers.append(f"{name}.h")
             cdefs.append(model_cdef(name))
         write_all_atomic(folder, runtime)
@@ -196,7 +200,7 @@ def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveB
 
     models = {name: comp for name, comp in compensation.items()
               if isinstance(comp, FrictionModel) and isinstance(comp.aim, (ElmNetwork, StribeckCurve))}
-    module = build_controller(models, folder)
+    module = build_controller(models, folder, sample_time=settings.ts)
     return {name: CController(module, settings.clone(compensation=comp),
                               f"{name}_force" if name in models else None)
             for name, comp in compensation.items()}

@@ -17,6 +17,7 @@ from ..friction import preset
 from ..metrics import rmse
 from ..model import FrictionModel
 from ..sim.axis import AxisState, MotorAxis
+from ..sim.bristle_axis import BristleAxis
 from ..sim.effect_law import EffectLaw
 from ..sim.trajectory import reversing, sampled
 from .backstepping import AdaptiveBackstepping
@@ -105,11 +106,16 @@ def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
         phi, phi_n, whose = force_constant, force_constant, "the model's axis"
     i_max = 10.0 * DEFAULT_FORCE_CONSTANT * scale / phi
     axis = default_axis(model, mass=mass, force_constant=phi, load=offset, i_max=i_max)
+    friction = "the model"
+    if model.presliding is not None:
+        axis = BristleAxis(axis.law, model.presliding, model.stribeck, model.viscous_force)
+        friction = (f"the model with its bristles (LuGre, sigma0 {model.presliding.stiffness:.4g}, "
+                    f"sigma1 {model.presliding.damping:.4g})")
     trajectory, speeds = reference_within(speed_max)
     offset_text = f", offset {offset:.4g} N as a constant force" if offset else ""
     return Plant(axis, phi_n, trajectory,
                  f"plant: the model's axis, {mass_text or f'm = {mass:.4g} kg'}{offset_text}, "
-                 f"friction = the model; motor {phi:.4g} N/A ({whose}), {i_max:.4g} A; "
+                 f"friction = {friction}; motor {phi:.4g} N/A ({whose}), {i_max:.4g} A; "
                  f"{speeds}", i_max)
 
 
@@ -286,7 +292,7 @@ def simulate(axis: MotorAxis, controllers: Sequence, trajectory=None,
                 break
             state = AxisState(np.where(alive, state.x, 0.0), np.where(alive, state.v, 0.0), state.t,
                               np.where(alive, state.s, 0.0))
-            state = axis.rk4(state, np.where(alive, i, 0.0), ts, substeps)
+            state = axis.advance(state, np.where(alive, i, 0.0), ts, substeps)
     return [ClosedLoop(t=t, xd=ref[:, 0], **{key: a[:, j] for key, a in out.items()})
             for j in range(m)]
 
@@ -313,10 +319,12 @@ def fuzzy_model(name: str = "fuzzy_model", bench=None) -> FrictionModel:
 
 
 def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
-                  with_fuzzy: bool = True) -> Dict[str, Optional[object]]:
+                  with_fuzzy: bool = True, ts: Optional[float] = None) -> Dict[str, Optional[object]]:
     """The compensation variants to compare: "none", "exact" (the axis' true friction, unless that is
     ``model``), and ``model`` as "model"; without a model, fricgen's default model of the paper
-    benchmark as "elm" and the fuzzy baseline as "fuzzy".
+    benchmark as "elm" and the fuzzy baseline as "fuzzy". A model with bristles compensates
+    through its stepper at ``ts`` as "model" (a stateful callable, reset with its controller)
+    and with its steady-state curve alone as "steady".
 
     Parameters
     ----------
@@ -326,6 +334,8 @@ def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
         The model to compare.
     with_fuzzy : bool
         Add the fuzzy baseline (without ``model`` only).
+    ts : float, optional
+        The controllers' sample time, s: needed for a model with bristles.
 
     Returns
     -------
@@ -348,8 +358,14 @@ def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
         variants["elm"] = default_model(bench=bench)
         if with_fuzzy:
             variants["fuzzy"] = fuzzy_model(bench=bench)
-    else:
+    elif getattr(model, "presliding", None) is None:       # a curve, or a model without state
         variants["model"] = model
+    else:
+        if ts is None:
+            raise ValueError("a model with bristles compensates sample by sample: give ts, the "
+                             "controllers' sample time")
+        variants["steady"] = model
+        variants["model"] = model.stepper(ts)
     return variants
 
 

@@ -172,3 +172,5 @@ class BristleStepper:
         dz = dt * decay_ratio(a * dt) * (v - a * self.z)
         self.z += dz
         return s0 * self.z + float(self.bristles.damping_at(v)) * dz / dt + float(self._viscous(v))
+
+    __call__ = step                  # a compensation of ``AdaptiveBackstepping``: one call a sample

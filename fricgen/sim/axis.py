@@ -169,6 +169,10 @@ class MotorAxis:
             t = t + h
         return AxisState(x, v, t, s)
 
+    def advance(self, state: AxisState, i, dt: float, substeps: int = 10) -> AxisState:
+        """The controlled axis' step over ``dt`` (``control.loop.simulate``): ``rk4``."""
+        return self.rk4(state, i, dt, substeps)
+
     def karnopp(self, state: AxisState, i, dt: float, substeps: int = 1) -> AxisState:
         """``substeps`` explicit stick-slip steps over ``dt`` (Karnopp).
 
