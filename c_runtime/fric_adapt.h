@@ -193,8 +193,11 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
 
 /**
  * @brief fric_adapt_ctrl_step with the sample's five values in one struct.
+ * @param[in,out] a the adaptation; @param[in,out] c the controller; @param[in] reg the regressor.
  * @param[in] s the measurements and reference; NULL: FRIC_CTRL_FAULT_NULL, nothing written.
- * Other parameters, return value and contract: fric_adapt_ctrl_step's (bit for bit the same).
+ * @param[out] current the current command, A.
+ * @return fric_adapt_ctrl_step's flags; bit for bit fric_adapt_ctrl_step with s's five values,
+ *         and its contract.
  */
 fric_ctrl_flags_t fric_adapt_ctrl_step_sample(fric_adapt_t *a, fric_ctrl_t *c,
                                               fric_adapt_regressor_fn reg,

@@ -172,9 +172,12 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
 /**
  * @brief As fric_ctrl_step, the force taken from the model: friction(v), or friction(v_d)
  *        with p.friction_at FRIC_CTRL_FRICTION_AT_VD (v_d = xd' + k1 (xd - x), [C3]).
+ * @param[in,out] c the controller (fric_ctrl_init first).
+ * @param[in] x, v, xd, xd_dot, xd_ddot as fric_ctrl_step's (m, m/s, m, m/s, m/s^2).
  * @param[in] friction the model (NAME_force), or NULL for no compensation; it is not called
  *            at a non-finite velocity (the force is then 0).
- * Other parameters, return value and contract: fric_ctrl_step's.
+ * @param[out] current the current command, A, within +-i_max.
+ * @return fric_ctrl_step's flags. Contract (bounds, reentrancy, context): fric_ctrl_step's.
  */
 fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
                                     float xd_ddot, fric_ctrl_friction_fn friction,
@@ -182,8 +185,12 @@ fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, 
 
 /**
  * @brief fric_ctrl_step_fn with the sample's five values in one struct.
+ * @param[in,out] c the controller (fric_ctrl_init first).
  * @param[in] s the measurements and reference; NULL: FRIC_CTRL_FAULT_NULL, nothing written.
- * Other parameters, return value and contract: fric_ctrl_step_fn's (bit for bit the same).
+ * @param[in] friction the model (NAME_force), or NULL for no compensation.
+ * @param[out] current the current command, A, within +-i_max.
+ * @return fric_ctrl_step_fn's flags; bit for bit fric_ctrl_step_fn with s's five values, and
+ *         its contract.
  */
 fric_ctrl_flags_t fric_ctrl_step_sample(fric_ctrl_t *c, const fric_ctrl_sample_t *s,
                                         fric_ctrl_friction_fn friction, float *current);

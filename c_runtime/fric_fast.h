@@ -21,23 +21,41 @@ extern "C" {
  * (the pre-multiplied tables below). */
 #define FRIC_FAST_X_MAX 1.0009765625f
 
-/* The fast sigmoid of [F8]: 1 / (1 + 2^t), t = -z log2(e), 2^t from exponent arithmetic and
- * a degree-4 polynomial; no libm call. For every float z:
- * |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 8.7e-7 (the bound derived in
- * fricgen.fast_sigmoid, enforced by tests/test_fast_sigmoid.py). z is clamped to [-86, 86]
- * (so -inf -> 4.5e-38, +inf -> 1); NaN returns NaN. */
+/**
+ * @brief The fast sigmoid of [F8]: 1 / (1 + 2^t), t = -z log2(e), 2^t from exponent arithmetic
+ *        and a degree-4 polynomial; no libm call.
+ *
+ * For every float z: |fric_sigmoid_fast_f32(z) - 1/(1+exp(-z))| <= 8.7e-7 (the bound derived in
+ * fricgen.fast_sigmoid, enforced by tests/test_fast_sigmoid.py).
+ * @param[in] z any float, clamped to [-86, 86] (so -inf -> 4.5e-38, +inf -> 1).
+ * @return the sigmoid of z, within 8.7e-7; NaN returns NaN.
+ */
 float fric_sigmoid_fast_f32(float z);
 
-/* sum_k beta[k] / (1 + 2^t_k), t_k = w[k] * x + b[k], k = 0, 1, ..., x clamped as above. The
- * tables are pre-multiplied: w[k] = -log2(e) w_k, b[k] = -log2(e) b_k for the network's w_k, b_k
- * (emit rounds each product once to float), so t_k = -log2(e) z_k and each term is within
- * 8.5e-7 |beta[k]| of beta[k] / (1 + 2^t_k) for the float t_k formed. Each float operation is
- * rounded in this order; fricgen.fast_sigmoid mirrors it exactly. */
+/**
+ * @brief The ELM sigmoid kernel without libm: sum_k beta[k] / (1 + 2^t_k), t_k = w[k] * x + b[k],
+ *        k = 0, 1, ...
+ *
+ * The tables are pre-multiplied: w[k] = -log2(e) w_k, b[k] = -log2(e) b_k for the network's
+ * w_k, b_k (emit rounds each product once to float), so t_k = -log2(e) z_k. Each float operation
+ * is rounded in this order; fricgen.fast_sigmoid mirrors it exactly.
+ * @param[in] w, b the pre-multiplied input weights and biases, -log2(e) w_k and -log2(e) b_k,
+ *            n each.
+ * @param[in] beta the output weights, n.
+ * @param[in] n the number of hidden neurons.
+ * @param[in] x the network input, clamped to [0, FRIC_FAST_X_MAX] (NaN -> 0).
+ * @return the sum; each term is within 8.5e-7 |beta[k]| of beta[k] / (1 + 2^t_k) for the float
+ *         t_k formed.
+ */
 float fric_elm_sigmoid_fast_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 
-/* exp(-a) = 2^t, t = a * fl(-log2(e)), for the Stribeck shapes of [F2] (`fricgen emit` of a
- * grey-box model): a is clamped to [-86, 86] (|t| <= 125), NaN returns NaN. The relative error
- * is that of the polynomial plus the rounding of t (fricgen.fast_sigmoid.exp_neg_error_bound). */
+/**
+ * @brief exp(-a) = 2^t, t = a * fl(-log2(e)), without libm, for the Stribeck shapes of [F2]
+ *        (`fricgen emit` of a grey-box model).
+ * @param[in] a the argument, clamped to [-86, 86] (|t| <= 125).
+ * @return exp(-a) of the clamped a, its relative error that of the polynomial plus the rounding
+ *         of t (fricgen.fast_sigmoid.exp_neg_error_bound); NaN returns NaN.
+ */
 float fric_exp_neg_fast_f32(float a);
 
 #ifdef __cplusplus

@@ -24,8 +24,13 @@ extern "C" {
  * exp(87) = 6.1e37 < FLT_MAX), so no call sets errno (glibc sets ERANGE on both). */
 #define FRIC_EXP_ARG_MAX 87.0f
 
-/* exp(-a) through libm's expf, a clamped to [-FRIC_EXP_ARG_MAX, FRIC_EXP_ARG_MAX]; NaN returns
- * NaN. The one definition: the sigmoid and rbf kernels inline it, fric_exp_neg_f32 calls it. */
+/**
+ * @brief exp(-a) through libm's expf, a clamped to [-FRIC_EXP_ARG_MAX, FRIC_EXP_ARG_MAX].
+ *
+ * The one definition: the sigmoid and rbf kernels inline it, fric_exp_neg_f32 calls it.
+ * @param[in] a the argument, clamped to [-FRIC_EXP_ARG_MAX, FRIC_EXP_ARG_MAX].
+ * @return exp(-a) of the clamped a; NaN returns NaN.
+ */
 static inline float fric_exp_neg_inline_f32(float a)
 {
     const float c = (a > FRIC_EXP_ARG_MAX) ? FRIC_EXP_ARG_MAX
@@ -33,15 +38,57 @@ static inline float fric_exp_neg_inline_f32(float a)
     return expf(-c);
 }
 
-/* exp(-a) as above (fric_exp_neg.c), for the Stribeck shapes of [F2] in the generated code. */
+/**
+ * @brief exp(-a) as fric_exp_neg_inline_f32 (fric_exp_neg.c), for the Stribeck shapes of [F2]
+ *        in the generated code.
+ * @param[in] a the argument, clamped to [-FRIC_EXP_ARG_MAX, FRIC_EXP_ARG_MAX].
+ * @return exp(-a) of the clamped a; NaN returns NaN.
+ */
 float fric_exp_neg_f32(float a);
 
-/* sum_k beta[k] * act(w[k] * x + b[k]) for k = 0 .. n-1, accumulated in order k = 0, 1, ...
- * Each product and sum is rounded to float; the Python twin mirrors this order exactly.
- * Each is defined in its own source, fric_elm_<act>.c, through FRIC_ELM_KERNEL. */
+/* The four kernels below: sum_k beta[k] * act(w[k] * x + b[k]) for k = 0 .. n-1, accumulated in
+ * order k = 0, 1, ... Each product and sum is rounded to float; the Python twin mirrors this
+ * order exactly. Each is defined in its own source, fric_elm_<act>.c, through FRIC_ELM_KERNEL. */
+
+/**
+ * @brief The sigmoid kernel, [F7]-[F8]: sum_k beta[k] / (1 + exp(-z_k)), z_k = w[k] * x + b[k],
+ *        k = 0 .. n-1 in order (fric_elm_sigmoid.c); the exponential's argument clamped
+ *        (z < -87 gives 1.6e-38).
+ * @param[in] w, b, beta the input weights, biases and output weights, n each.
+ * @param[in] n the number of hidden neurons.
+ * @param[in] x the network input.
+ * @return the sum, each product and sum rounded to float in this order.
+ */
 float fric_elm_sigmoid_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+
+/**
+ * @brief The sine kernel, [F7]: sum_k beta[k] * sin(z_k), z_k = w[k] * x + b[k], k = 0 .. n-1
+ *        in order, through libm's sinf (fric_elm_sine.c).
+ * @param[in] w, b, beta the input weights, biases and output weights, n each.
+ * @param[in] n the number of hidden neurons.
+ * @param[in] x the network input.
+ * @return the sum, each product and sum rounded to float in this order.
+ */
 float fric_elm_sine_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+
+/**
+ * @brief The Gaussian RBF kernel, [F7]: sum_k beta[k] * exp(-z_k^2), z_k = w[k] * x + b[k],
+ *        k = 0 .. n-1 in order, through libm's expf (fric_elm_rbf.c).
+ * @param[in] w, b, beta the input weights, biases and output weights, n each.
+ * @param[in] n the number of hidden neurons.
+ * @param[in] x the network input.
+ * @return the sum, each product and sum rounded to float in this order.
+ */
 float fric_elm_rbf_f32(const float *w, const float *b, const float *beta, size_t n, float x);
+
+/**
+ * @brief The multiquadric kernel, [F7]: sum_k beta[k] * sqrt(1 + z_k^2), z_k = w[k] * x + b[k],
+ *        k = 0 .. n-1 in order, through libm's sqrtf (fric_elm_multiquadric.c).
+ * @param[in] w, b, beta the input weights, biases and output weights, n each.
+ * @param[in] n the number of hidden neurons.
+ * @param[in] x the network input.
+ * @return the sum, each product and sum rounded to float in this order.
+ */
 float fric_elm_multiquadric_f32(const float *w, const float *b, const float *beta, size_t n, float x);
 
 /* The definition of a kernel NAME with the activation ACT, an expression of z. */

@@ -13,14 +13,19 @@
 extern "C" {
 #endif
 
-/* sqrt(x) rounded to the nearest float: the same bits as an IEEE sqrtf (correctly rounded, as
- * IEEE 754 requires of sqrtf and as glibc's, newlib's and the Cortex-M4F's vsqrt are) for every
- * float x, so the Python twins' np.sqrt(float32) stays their twin; the error is at most half an
- * ulp of the result, and 0 against sqrtf. Integers only: the mantissa's root digit by digit
- * (24 steps on a 48-bit integer), rounded by its remainder (a root of a float never lies halfway
- * between two floats). +-0 -> +-0, +inf -> +inf, NaN -> NaN, x < 0 -> NaN; subnormal x is exact too.
- * tests/test_control_c.py compares it with sqrtf on every float of [1, 4) (the bits of every other
- * binade pair only shift), on every subnormal and at the ends. */
+/**
+ * @brief sqrt(x) rounded to the nearest float, without libm.
+ *
+ * The same bits as an IEEE sqrtf (correctly rounded, as IEEE 754 requires of sqrtf and as
+ * glibc's, newlib's and the Cortex-M4F's vsqrt are) for every float x, so the Python twins'
+ * np.sqrt(float32) stays their twin; the error is at most half an ulp of the result, and 0
+ * against sqrtf. Integers only: the mantissa's root digit by digit (24 steps on a 48-bit
+ * integer), rounded by its remainder (a root of a float never lies halfway between two floats).
+ * tests/test_control_c.py compares it with sqrtf on every float of [1, 4) (the bits of every
+ * other binade pair only shift), on every subnormal and at the ends.
+ * @param[in] x any float; subnormal x is exact too.
+ * @return sqrt(x) correctly rounded; +-0 -> +-0, +inf -> +inf, NaN -> NaN, x < 0 -> NaN.
+ */
 float fric_sqrt_f32(float x);
 
 #ifdef __cplusplus
