@@ -13,7 +13,12 @@ unchanged. The fleet runs on a real Dask LocalCluster. Printed:
 - throughput (logs per minute, cluster start-up excluded) with 1 and 2 worker processes on the
   same logs, and their ratio; peak resident memory of each worker (ru_maxrss).
 
+With ``--cogging SHARE`` every axis also has a cogging (a position ripple at its pole pitch; the
+logs hold no position), and on SHARE of the axes that do not drift it alone changes between the
+logs: printed, the false flags among those.
+
     python benchmarks/fleet.py [--axes 1000] [--duration 60] [--throughput-logs 24]
+                               [--cogging 0.05] [--skip-throughput]
 """
 from __future__ import annotations
 
@@ -38,25 +43,40 @@ from fricgen.fleet import Entry, run_fleet  # noqa: E402
 from fricgen.fleet.drift import drift_table, latest  # noqa: E402
 
 DRIFT_RANGE = (0.03, 0.30)      # the drifted axes' growth of Coulomb and static friction
+#: With ``--cogging``: every axis's cogging (N, at the pole pitch, m), and the growth of the
+#: cogging-changed axes' amplitude between the logs (a magnet shifted or weakened), with a new phase.
+COGGING_RANGE, PITCH_RANGE, COGGING_GROWTH = (0.3, 1.5), (0.016, 0.064), (1.5, 3.0)
 
 
-def make_fleet(folder: Path, axes: int, duration: float, share: float, seed: int):
-    """The logs and manifest entries; the drift factor of each axis (0 for unchanged)."""
+def make_fleet(folder: Path, axes: int, duration: float, share: float, seed: int,
+               cogging_share: float = 0.0):
+    """The logs and manifest entries; the drift factor of each axis (0 for unchanged), and the
+    axes whose cogging alone changes (``cogging_share`` of those that do not drift; every axis
+    has a cogging when it is > 0)."""
     rng = np.random.default_rng(seed)
     drifted = set(rng.choice(axes, size=max(1, round(share * axes)), replace=False).tolist())
+    others = [a for a in range(axes) if a not in drifted]
+    cogged = set(rng.choice(others, size=round(cogging_share * axes), replace=False).tolist()) \
+        if cogging_share > 0 else set()
     drift, entries = {}, []
     for a in range(axes):
         axis = fleet_axis(seed * 100000 + a)
+        if cogging_share > 0:
+            axis.update(cogging=float(rng.uniform(*COGGING_RANGE)), pitch=float(rng.uniform(*PITCH_RANGE)))
         drift[f"ax{a:04d}"] = float(rng.uniform(*DRIFT_RANGE)) if a in drifted else 0.0
         for n, stamp in enumerate(("2024-01-01T00:00", "2024-02-01T00:00")):
             now = dict(axis)
             if n == 1:
                 now["coulomb"] *= 1 + drift[f"ax{a:04d}"]
                 now["static"] *= 1 + drift[f"ax{a:04d}"]
+                if a in cogged:
+                    now["cogging"] *= float(rng.uniform(*COGGING_GROWTH))
+                    now["phase"] = float(rng.uniform(0, 2 * np.pi))
             path = folder / f"ax{a:04d}_{n}.csv"
             write_fleet_log(path, fleet_log(now, seed * 100000 + 2 * a + n, duration))
             entries.append(Entry(f"ax{a:04d}", str(path), stamp))
-    return entries, drift, {f"ax{a:04d}": fleet_axis(seed * 100000 + a) for a in range(axes)}
+    return (entries, drift, {f"ax{a:04d}": fleet_axis(seed * 100000 + a) for a in range(axes)},
+            {f"ax{a:04d}" for a in cogged})
 
 
 def timed_run(entries, out: Path, workers: int):
@@ -89,25 +109,30 @@ def main() -> None:
     p.add_argument("--throughput-logs", type=int, default=24,
                    help="logs timed with 1 and with 2 workers (the same logs)")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--cogging", type=float, default=0.0,
+                   help="give every axis a cogging, and change it alone on this share of the axes")
+    p.add_argument("--skip-throughput", action="store_true", help="the detection run only")
     p.add_argument("--folder", help="where the logs and OUT go (default: a temporary folder)")
     args = p.parse_args()
     folder = Path(args.folder or tempfile.mkdtemp(prefix="fleet-bench-"))
     folder.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    entries, drift, truth = make_fleet(folder, args.axes, args.duration, args.drifted, args.seed)
+    entries, drift, truth, cogged = make_fleet(folder, args.axes, args.duration, args.drifted, args.seed,
+                                              args.cogging)
     print(f"{args.axes} axes, {len(entries)} logs of {args.duration:g} s in {folder} "
           f"({time.perf_counter() - t0:.0f} s to write)", flush=True)
 
     # throughput: the same logs on 1 and on 2 workers, each into a fresh OUT
     subset = entries[:args.throughput_logs]
     rates = {}
-    for workers in (1, 2):
+    for workers in (() if args.skip_throughput else (1, 2)):
         seconds, run, peaks = timed_run(subset, folder / f"out_throughput_{workers}", workers)
         rates[workers] = 60 * run.computed / seconds
         print(f"throughput {workers} worker(s): {run.computed} logs in {seconds:.1f} s = "
               f"{rates[workers]:.2f} logs/min; peak RSS per worker "
               + ", ".join(f"{m:.0f} MB" for m in peaks), flush=True)
-    print(f"ratio 2 / 1 workers: {rates[2] / rates[1]:.2f}", flush=True)
+    if rates:
+        print(f"ratio 2 / 1 workers: {rates[2] / rates[1]:.2f}", flush=True)
 
     # detection: every log on 2 workers (the throughput run's results are not reused)
     seconds, run, peaks = timed_run(entries, folder / "out", 2)
@@ -134,6 +159,10 @@ def main() -> None:
         print(f"    {a}: growth {drift[a]:.1%}, {ratio[a]:.0f} SE, flagged {rows[a]['flagged']} "
               f"({rows[a]['drifted'] or '-'})")
     print(f"unchanged axes: {len(steady)}; falsely flagged {len(false)} = {len(false) / len(steady):.2%}")
+    if cogged:
+        flagged = [a for a in cogged if rows[a]["flagged"]]
+        print(f"  of them with a changed cogging alone: {len(cogged)}; falsely flagged {len(flagged)} = "
+              f"{len(flagged) / len(cogged):.2%}" + "".join(f"\n    {a}: {rows[a]['drifted']}" for a in flagged))
     by = {}
     for a in false:
         for name in rows[a]["drifted"].split():

@@ -76,13 +76,24 @@ def fleet_friction(axis: dict, v):
     return np.sign(v) * (axis["coulomb"] + drop) + axis["viscous"] * v + axis["drag"] * v * np.abs(v)
 
 
+def fleet_cogging(axis: dict, x):
+    """The axis's cogging force (N) at the position x (m): ``cogging`` N of the fundamental of
+    the pole pitch ``pitch`` (m) and a quarter of that at its second harmonic, 0 without one."""
+    if not axis.get("cogging"):
+        return np.zeros_like(np.asarray(x, dtype=float))
+    phase = 2 * np.pi * np.asarray(x, dtype=float) / axis["pitch"]
+    return axis["cogging"] * (np.sin(phase + axis.get("phase", 0.0)) + 0.25 * np.sin(2 * phase))
+
+
 def fleet_log(axis: dict, seed: int, duration: float = 60.0) -> dict:
     """Columns (t, v, force) of one log of ``axis``: force = m a + friction + offset ([C1]
-    with a constant load), the velocity and the force each with white sensor noise."""
+    with a constant load) + its cogging at the position (``fleet_cogging``; the log holds no
+    position), the velocity and the force each with white sensor noise."""
     t = np.arange(int(FLEET_RATE * duration)) / FLEET_RATE
     v, a = fleet_velocity(t)
     rng = np.random.default_rng([seed, 2])
-    force = axis["mass"] * a + fleet_friction(axis, v) + axis["offset"]
+    x = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]))]) / FLEET_RATE
+    force = axis["mass"] * a + fleet_friction(axis, v) + axis["offset"] + fleet_cogging(axis, x)
     return {"t": t, "v": v + FLEET_V_NOISE * rng.standard_normal(t.size),
             "force": force + FLEET_F_NOISE * rng.standard_normal(t.size)}
 
