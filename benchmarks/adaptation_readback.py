@@ -11,6 +11,7 @@ those units, and theta's F alone (what a dump without the scale gave) against it
 in those units: relative RMS error over 0.02-0.2 m/s and the error at 0.05 m/s, with k_hat.
 
     python benchmarks/adaptation_readback.py [--duration 1800] [--every 300] [--rule lyapunov]
+                                             [--leak L]
 """
 from __future__ import annotations
 
@@ -46,11 +47,13 @@ def main(argv=None) -> int:
     ap.add_argument("--duration", type=float, default=1800.0)
     ap.add_argument("--every", type=float, default=300.0)
     ap.add_argument("--rule", choices=("lyapunov", "rls"), default="lyapunov")
+    ap.add_argument("--leak", type=float, help="the leakage per sample (default: the rule's)")
     args = ap.parse_args(argv)
     model = default_model("fm")
     friction = preset("paper3")
     truth = lambda v: friction.stribeck(v) * np.sign(v) + friction.viscous * v  # noqa: E731
-    twin = adapted(model, args.rule, dtype="float32")
+    twin = adapted(model, args.rule, dtype="float32",
+                   **({} if args.leak is None else {"leak": args.leak}))
     units = twin.controller.phi_n / default_axis().law.force_constant      # phi_N / phi
     firmware = lambda v: units * truth(v)                                  # noqa: E731
     ctrl = CAdaptedController(build_adapted(model, "fm"), twin)
