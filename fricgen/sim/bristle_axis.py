@@ -69,9 +69,9 @@ class BristleAxis(MotorAxis):
     (True, True)
     """
 
-    bristles: Bristles = None
-    level: Callable = None
-    viscous: Callable = None
+    bristles: Bristles
+    level: Callable
+    viscous: Callable
 
     def substeps(self, dt: float) -> int:
         """The steps one sample of ``dt`` seconds is cut into (PHASE_STEP of the contact's
