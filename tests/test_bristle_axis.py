@@ -63,7 +63,7 @@ def test_the_integration_converges_to_a_fine_reference_at_second_order():
     truth = reference_positions(n, ts)
     errors = [np.abs(positions(axis(), n, ts, sub) - truth).max() / np.abs(truth).max()
               for sub in (10, 40)]
-    assert errors[0] < 3e-3
+    assert errors[0] < 5e-3
     assert errors[1] < errors[0] / 8            # four times finer: ~16x for second order
 
 
