@@ -121,3 +121,21 @@ def test_simulate_runs_the_bristles_in_the_plant_and_the_compensation(lugre, cap
     figures = report["variants"]
     assert set(figures) == {"none", "steady", "model"}
     assert figures["model"]["rms_e1"] < figures["steady"]["rms_e1"] < figures["none"]["rms_e1"]
+
+
+def test_a_stepper_needs_the_controller_reset_and_its_sample_time(lugre):
+    model, _ = lugre
+    ctrl = fricgen.AdaptiveBackstepping(compensation=model.stepper(1e-3), ts=1e-3)
+    with pytest.raises(RuntimeError, match="call reset"):
+        ctrl.step(0.0, 0.0, 1e-3, 0.0, 0.0)
+    assert ctrl.reset().step(0.0, 0.0, 1e-3, 0.0, 0.0) > 0
+    with pytest.raises(ValueError, match="dt = 0.0001 s"):
+        fricgen.AdaptiveBackstepping(compensation=model.stepper(1e-4), ts=1e-3).reset()
+
+
+def test_simulate_says_when_the_bristles_are_too_stiff_to_resolve(lugre, tmp_path, capsys):
+    model, _ = lugre
+    stiff = tmp_path / "stiff.json"
+    dataclasses.replace(model, presliding=Bristles(1e12, 2000.0, 0.01)).save(stiff)
+    assert main(["simulate", "--model", str(stiff), "--mass", "2", "--duration", "0.02"]) == 0
+    assert "not resolved" in capsys.readouterr().err

@@ -26,6 +26,7 @@ from ..control.loop import (DEFAULT_DURATION, builtin_plant, compensations, mode
                             peak_force, simulate)
 from ..data.table import read_table_csv
 from ..errors import DataError, UsageError
+from ..sim.bristle_axis import MAX_SUBSTEPS, BristleAxis
 from ..sim.trajectory import TabulatedTrajectory
 from ..model import FrictionModel
 from .._io import check_files, check_folder
@@ -87,6 +88,10 @@ def run(args) -> int:
         plant = replace(plant, trajectory=reference, text=plant.text.rsplit("; reference", 1)[0]
                         + f"; reference {args.reference} ({reference.duration:.4g} s)")
     axis = plant.axis
+    if isinstance(axis, BristleAxis) and axis.substeps(args.ts) >= MAX_SUBSTEPS:
+        say(f"fricgen: note: the bristles' stiffness ({axis.bristles.stiffness:.3g}) on this mass needs "
+            f"more than {MAX_SUBSTEPS} integration steps a sample at --ts {args.ts:g} s; the plant takes "
+            f"{MAX_SUBSTEPS} (stable, but the contact's oscillation is not resolved, and the run is slow)")
     settings = AdaptiveBackstepping(law=args.law, ts=args.ts, friction_input=args.friction_input,
                                     phi_n=plant.phi_n, i_max=plant.i_max, k1=args.k1, k2=args.k2)
     try:

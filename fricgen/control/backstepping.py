@@ -183,6 +183,10 @@ class AdaptiveBackstepping:
         if self.compensation is not None and not callable(self.compensation):
             raise ValueError(f"compensation must be None or a callable F(v), "
                              f"got {type(self.compensation).__name__}")
+        dt = getattr(self.compensation, "dt", None)           # a stepper's sample time
+        if dt is not None and not math.isclose(float(dt), float(self.ts), rel_tol=1e-9):
+            raise ValueError(f"the compensation steps at dt = {dt:g} s, the controller samples at "
+                             f"ts = {self.ts:g} s: make the stepper at the controller's ts")
         if self.friction_input not in FRICTION_INPUT.keys:
             raise ValueError(f"friction_input must be one of {list(FRICTION_INPUT.keys)}, "
                              f"got {self.friction_input!r}")
@@ -215,8 +219,17 @@ class AdaptiveBackstepping:
             return self._f(0.0)
         return self._f(np.asarray(self.compensation(v)).reshape(()))
 
+    #: The controller's float type, set by ``reset``; None before it.
+    _f = None
+
+    def _check_reset(self) -> None:
+        if self._f is None:
+            raise RuntimeError("AdaptiveBackstepping: call reset() before the first step (it checks "
+                               "the parameters and sets the estimates to a0)")
+
     def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
         """One sample: measured x, v and the reference; returns the current i, updates A_hat."""
+        self._check_reset()
         return self.step_with_force(x, v, xd, xd_dot, xd_ddot,
                                     self.compensation_force(x, v, xd, xd_dot))
 
@@ -237,6 +250,7 @@ class AdaptiveBackstepping:
     def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
         """``step`` with the compensation force F_Fm(v) given (the C ``fric_ctrl_step``):
         returns the current, ``flags_`` says what happened (see the module doc)."""
+        self._check_reset()
         f = self._f
         x, v, xd, xd_dot, xd_ddot, friction = (f(a) for a in (x, v, xd, xd_dot, xd_ddot, friction))
         if not all(math.isfinite(a) for a in (x, v, xd, xd_dot, xd_ddot, friction)):
