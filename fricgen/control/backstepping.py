@@ -219,17 +219,14 @@ class AdaptiveBackstepping:
             return self._f(0.0)
         return self._f(np.asarray(self.compensation(v)).reshape(()))
 
-    #: The controller's float type, set by ``reset``; None before it.
-    _f = None
-
-    def _check_reset(self) -> None:
-        if self._f is None:
-            raise RuntimeError("AdaptiveBackstepping: call reset() before the first step (it checks "
-                               "the parameters and sets the estimates to a0)")
+    @staticmethod
+    def _f(value):
+        """The controller's float type, which ``reset`` sets; before it, every step stops here."""
+        raise RuntimeError("AdaptiveBackstepping: call reset() before the first step (it checks "
+                           "the parameters and sets the estimates to a0)")
 
     def step(self, x, v, xd, xd_dot, xd_ddot) -> float:
         """One sample: measured x, v and the reference; returns the current i, updates A_hat."""
-        self._check_reset()
         return self.step_with_force(x, v, xd, xd_dot, xd_ddot,
                                     self.compensation_force(x, v, xd, xd_dot))
 
@@ -250,7 +247,6 @@ class AdaptiveBackstepping:
     def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
         """``step`` with the compensation force F_Fm(v) given (the C ``fric_ctrl_step``):
         returns the current, ``flags_`` says what happened (see the module doc)."""
-        self._check_reset()
         f = self._f
         x, v, xd, xd_dot, xd_ddot, friction = (f(a) for a in (x, v, xd, xd_dot, xd_ddot, friction))
         if not all(math.isfinite(a) for a in (x, v, xd, xd_dot, xd_ddot, friction)):

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
@@ -73,6 +74,11 @@ class BristleAxis(MotorAxis):
     level: Callable
     viscous: Callable
 
+    @cached_property
+    def least_level(self) -> float:
+        """The least g the bristle update divides by (``effects.presliding.least_level``)."""
+        return least_level(lambda u: float(self.level(np.asarray(u))))
+
     def substeps(self, dt: float) -> int:
         """The steps one sample of ``dt`` seconds is cut into (PHASE_STEP of the contact's
         natural oscillation each, at most MAX_SUBSTEPS)."""
@@ -86,8 +92,7 @@ class BristleAxis(MotorAxis):
         thrust = law.thrust(self._current(i))
         n = max(int(substeps), self.substeps(dt))
         h = dt / n
-        least = least_level(lambda u: float(self.level(np.asarray(u))))
-        m = law.mass
+        least, m = self.least_level, law.mass
         x, v, t, z = state.x, state.v, state.t, state.s
         for _ in range(n):               # frozen at the step's start: the external force
             external = law.external_force(x, v, t)
