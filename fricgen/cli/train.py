@@ -18,7 +18,7 @@ from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..model import DEFAULT_MODEL_NAME
 from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
-from ..training.with_cogging import train_with_cogging
+from ..training.with_cogging import less_position_force, train_with_cogging
 from ..training.with_dynamic import train_dynamic
 from ..units import units_of
 from .._io import check_destination
@@ -113,9 +113,10 @@ def run(args) -> int:
         return _run(args)
 
 
-def fit(args, progress=say, warn=say):
+def fit(args, progress=say, warn=say, position_force: bool = False):
     """The fit the arguments describe (``fricgen.train`` on the columns they read; with
-    ``--cogging``, ``train_with_cogging``)."""
+    ``--cogging``, ``train_with_cogging``). ``position_force``: a motion log's default fit is
+    made again without the position force the log holds (``less_position_force``)."""
     name = check_model_name(args.name, "--name")
     rotary = is_rotary(args)
     if args.pitch is not None and not args.cogging:
@@ -144,7 +145,8 @@ def fit(args, progress=say, warn=say):
             return train_dynamic(columns, rotary=rotary, force_constant=args.force_constant,
                                  train_friction=fit_friction)
         if not args.cogging:
-            return fit_friction(columns)
+            report = fit_friction(columns)
+            return less_position_force(columns, report, fit_friction) if position_force else report
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
                                   force_constant=args.force_constant,
                                   train_friction=lambda data: fit_friction(data, force_constant=None),
@@ -152,10 +154,11 @@ def fit(args, progress=say, warn=say):
 
 
 def train_argv(argv) -> FitReport:
-    """``fit`` of ``fricgen train``'s arguments ``argv``, silent (a fleet's worker task)."""
+    """``fit`` of ``fricgen train``'s arguments ``argv``, silent, without the log's position
+    force (a fleet's worker task: a change of the cogging is not a change of the friction)."""
     parser = ArgumentParser(prog="fricgen train")
     register(parser)
-    return fit(parser.parse_args(argv), progress=None, warn=lambda line: None)
+    return fit(parser.parse_args(argv), progress=None, warn=lambda line: None, position_force=True)
 
 
 def _run(args) -> int:

@@ -375,8 +375,9 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     sign = np.sign(v)
     speed = float(np.median(np.abs(v[rows])))
     quantum = position_quantum(x)
-    if period is None:
-        period = _fundamental(x[rows], f[rows], _nuisance(v[rows]), speed, ts, quantum)
+    if period is None:      # in the force less a given inertia's m a (a log of normal operation accelerates)
+        less = f - inertia * a_smooth if inertia is not None else f
+        period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum)
     # the viscous columns take the speed averaged over one period's travel: the velocity ripple
     # that the cogging itself causes would otherwise take part of it
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")

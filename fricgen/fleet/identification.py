@@ -1,6 +1,8 @@
 """One log of the fleet identified (a worker's task): trained with ``fricgen train``'s own code
 (``cli.train.fit``): the grey-box [F1] (``--method stribeck``), one curve per direction
-(``--asymmetric``), with the export options given; its hash is recorded. The friction
+(``--asymmetric``), with the export options given, on the log less the position force it
+holds (``training.with_cogging.less_position_force``: a cogging that changed is not friction
+that changed); its hash is recorded. The friction
 parameters come from the fleet's monitoring law (``law.fit_law``), one fixed law per direction
 fitted to the same rows, so that every log of an axis is described in the same terms: the
 Coulomb level F_c, the static peak F_s (F at v -> 0), the Stribeck velocity v_s and B, each
@@ -81,7 +83,8 @@ def friction_parameters(trained) -> Dict[str, float]:
 
 def identify(entry: Entry, options: Sequence[str], key: str, train: Callable) -> dict:
     """The result of one log (a worker's task): the entry, the model's hash, the mass, the
-    friction parameters; or ``status`` failed and the one-line ``error`` of a log that cannot
+    cogging the log holds (its map's RMS and period: 0 and NaN for none; ``train`` takes it out
+    before the friction is fitted), the friction parameters; or ``status`` failed and the one-line ``error`` of a log that cannot
     be trained (``stored`` False for an unexpected error, tried again on a rerun).
 
     Parameters
@@ -112,8 +115,11 @@ def identify(entry: Entry, options: Sequence[str], key: str, train: Callable) ->
     start = time.perf_counter()
     try:
         trained = train(train_arguments(entry, options))
+        cogging = trained.model.cogging_map
         record.update(status="ok", error="", model_hash=trained.model.model_hash,
                       mass_identified=trained.identification.body.mass if trained.identification else math.nan,
+                      cogging_rms=cogging.rms if cogging is not None else 0.0,
+                      cogging_period=cogging.period if cogging is not None else math.nan,
                       **friction_parameters(trained))
     except (FricgenError, OSError) as exc:
         where = f"{exc.filename}: " if isinstance(exc, OSError) and exc.filename else ""

@@ -14,7 +14,7 @@ from ..errors import DataError
 from .manifest import Entry
 
 #: The version of a stored result's fields: a result of another version is computed again.
-RESULT_VERSION = 2
+RESULT_VERSION = 3
 
 
 def result_key(entry: Entry, options: Sequence[str]) -> str:

@@ -1,7 +1,8 @@
 """``fricgen train LOG --cogging``: the cogging map of a slow move (``fit.cogging``) and a
 friction model of the same log with the map's force taken out: the default fit where the log
 holds the speeds it needs, else (a calibration at one speed each way) Coulomb + viscous per
-direction from the map's own fit."""
+direction from the map's own fit. ``less_position_force``: the same for a log of normal
+operation already trained (a fleet's), its map found in what the friction model leaves."""
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -108,3 +109,40 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         lines += describe(fit.friction, "position-dependent friction (times sgn(v); reported, "
                           "not emitted)", units)
     return CoggingReport(model=model, text=text + "\n" + "\n".join(lines), warnings=tuple(warnings))
+
+
+def log_position(columns: Mapping[str, np.ndarray]) -> np.ndarray:
+    """The position of a log: ``x``, or the velocity ``v`` integrated over ``t`` (trapezoids)."""
+    if "x" in columns:
+        return np.asarray(columns["x"], dtype=float)
+    t, v = (np.asarray(columns[k], dtype=float) for k in ("t", "v"))
+    return np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+
+
+def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
+                        train_friction: Callable[[Mapping[str, np.ndarray]], FitReport]) -> FitReport:
+    """``report`` (the default fit of a motion log) trained again on the log less the position
+    force it holds: the cogging map (``fit.cogging``) of the force less the model's friction and
+    the identified mass's m a, its force taken out, and the map kept in the model. A log whose
+    residual holds no map, or that cannot show one (too little travel or motion), gives
+    ``report`` as it is. Without it, the cogging's ripple at slow passes that cover a fraction
+    of its period reads as friction, and a change of the cogging as a change of the friction."""
+    ident = report.identification
+    if ident is None or "t" not in columns:
+        return report
+    constant = ident.force_constant[0] if ident.force_constant else None
+    force = log_force(columns, constant) if "force" in columns or constant is not None else None
+    if force is None:
+        return report
+    t, x = np.asarray(columns["t"], dtype=float), log_position(columns)
+    v = np.asarray(columns["v"], dtype=float) if "v" in columns else np.gradient(x, t)
+    try:
+        fit = identify_cogging(t, x, force - report.model.force_with_offset(v), inertia=ident.body.mass)
+    except DataError:
+        return report
+    if fit.map is None:
+        return report
+    cleaned = {k: c for k, c in columns.items() if k != "i"}
+    cleaned["force"] = force - fit.map.force(x)
+    again = train_friction(cleaned)
+    return replace(again, model=replace(again.model, cogging_map=fit.map))

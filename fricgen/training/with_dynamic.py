@@ -82,7 +82,7 @@ def train_dynamic(columns: Mapping[str, np.ndarray], *, rotary: bool, force_cons
                          f"{units.viscous} at rest, {fades}")
         else:
             lines.append(f"pre-sliding: damping sigma1 not determined by this log ({fit.damping:.3g} "
-                         f"+- {fit.damping_se:.2g}): left at 0")
+                         f"+- {fit.damping_se:.2g}: {fit.damping_reason}): left at 0")
         model = replace(model, presliding=b)
     model = replace(model, training={**model.training, "presliding": record})
     return DynamicReport(model=model, text=report.text + "\n" + "\n".join(lines),
