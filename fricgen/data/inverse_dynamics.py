@@ -258,8 +258,9 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     ``v`` or, without it, ``x`` (v = dx/dt by central differences) gives the motion. ``window``
     (odd samples) overrides ``choose_window``, which reports to ``progress``, and ``body_window``
     ``explaining_window`` (the mass's; at ``window`` where only that is given). ``use`` (a mask of rows) confines everything
-    identified to those rows, less half a window at each edge, so that a held-out block of time
-    leaks nothing into it.
+    identified to those rows, so that a held-out block of time leaks no force into it: the
+    friction samples less half a window at each edge (their force is smoothed), the mass's
+    rows not (their force is not; the velocity is smoothed across the edge).
 
     ``conditions``: the log's ``load`` (the external force the drive supplies beside the
     friction, f = m a + L + F + o; ``check_load``) and ``temperature`` columns, smoothed as v and
@@ -304,8 +305,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
-        whole = minimum_filter1d(use.astype(np.int8), candidate_windows(span)[-1],
-                                 mode="constant").astype(bool)        # nor the log's ends
+        # the mass's rows: dv/dt smoothed within one run, away from the log's ends, at rows of
+        # use (the raw force is not smoothed there: a mask of rows such as train --dynamic's
+        # settled ones need not hold whole windows, or only long cruises without ramps are left)
+        whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
+                                 mode="constant").astype(bool) & use
         if body_window is None:             # the body where dv/dt explains the force best
             body_window = explaining_window(v, raw, rows & whole, ts, span)
         if body_window is not None:

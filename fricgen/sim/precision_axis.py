@@ -453,6 +453,20 @@ def identification_reference(axis: PrecisionAxis, presliding: bool = True):
     return _join(pieces)
 
 
+def reference_of_moves(axis: PrecisionAxis, factors: Sequence[float], cruise: float, ramp: float,
+                       dwell: float = 0.3):
+    """The references (x, v, a) of rest-to-rest moves each way at ``factors`` x vs, each
+    cruising ``cruise`` s between raised-cosine ramps of ``ramp`` s and followed by ``dwell`` s
+    at rest: a log of long moves without small reversals."""
+    dt, pieces, x0 = axis.dt, [_rest(0.0, 0.2, axis.dt)], 0.0
+    for speed in np.asarray(factors, dtype=float) * axis.stribeck:
+        for sign in (1.0, -1.0):
+            dist = sign * speed * cruise
+            pieces += [_move(x0, dist, speed, dt, ramp), _rest(x0 + dist, dwell, dt)]
+            x0 += dist
+    return _join(pieces)
+
+
 def identification_log(axis: PrecisionAxis, seed: int, presliding: bool = True) -> Dict[str, np.ndarray]:
     """A closed-loop experiment without compensation, logged at the control rate: ``t`` (s),
     ``x`` (the drive's reading of the encoder, (count + 1/2) resolution, m), ``force`` (the measured drive force held over
