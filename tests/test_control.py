@@ -296,6 +296,17 @@ def test_cli_simulate_names_a_current_that_sits_at_its_limit(capsys, tmp_path):
     assert "with exact the current sits at its limit of +-10 A in 100% of the samples" in err
     assert main(["simulate", "--reference", ref]) == 0
     assert "sits at its limit" not in capsys.readouterr().err
+    # a sample too long for the gains: the warning names it beside them
+    assert main(["simulate", "--reference", ref, "--ts", "0.02"]) == 0
+    assert "or the sample time --ts 0.02 s is too long for the gains" in capsys.readouterr().err
+
+
+def test_cli_simulate_tells_its_progress(capsys, monkeypatch):
+    from fricgen import _progress
+    monkeypatch.setattr(_progress, "PROGRESS_SECONDS", 0.0)
+    assert main(["simulate", "--duration", "0.05"]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if line.startswith("simulate: ")]
+    assert lines and lines[-1].startswith("simulate: 0.049 of 0.05 s of 4 variants")
 
 
 def test_a_tabulated_reference_starts_and_ends_at_rest():

@@ -19,13 +19,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..control.backstepping import AdaptiveBackstepping
+from ..control.backstepping import DEFAULT_TS, AdaptiveBackstepping
 from ..control.c_abi import FRICTION_INPUT, LAW
 from ..control.c_controller import c_controllers
 from ..control.loop import (DEFAULT_DURATION, builtin_plant, compensations, model_plant,
                             peak_force, simulate)
 from ..data.table import read_table_csv
 from ..errors import DataError, UsageError
+from .._progress import Progress
 from ..sim.bristle_axis import MAX_SUBSTEPS, BristleAxis
 from ..sim.trajectory import TabulatedTrajectory
 from ..model import FrictionModel
@@ -43,7 +44,7 @@ def register(p) -> None:
                    help="simulate the model's axis with this mass, kg (default: the mass of the "
                    "model's axis record, if any; else the built-in 2 kg axis)")
     p.add_argument("--law", choices=LAW.keys, default="c", help="adaptation law of [C14]")
-    p.add_argument("--ts", type=number(1e-6, 0.1, unit="s"), default=1e-3,
+    p.add_argument("--ts", type=number(1e-6, 0.1, unit="s"), default=DEFAULT_TS,
                    help="sampling time, s (default 1e-3)")
     p.add_argument("--duration", type=number(0, 3600, low_open=True, unit="s"),
                    help=f"simulated time, s (default {DEFAULT_DURATION:g}, or the --reference's span)")
@@ -111,9 +112,11 @@ def run(args) -> int:
     if needed > thrust:
         say(f"fricgen: warning: the reference needs up to {needed:.4g} N, more than the simulated "
             f"motor's {thrust:.4g} N: the current saturates")
-    runs = dict(zip(ctrls, simulate(axis, list(ctrls.values()), plant.trajectory,
-                                    duration=args.duration)))
-    warn_saturation(runs, settings.i_max)
+    progress = Progress(say)
+    runs = dict(zip(ctrls, simulate(axis, list(ctrls.values()), plant.trajectory, duration=args.duration,
+                                    on_sample=lambda t: progress(f"simulate: {t:.4g} of {args.duration:g} s "
+                                                                 f"of {len(ctrls)} variants"))))
+    warn_saturation(runs, settings.i_max, args.ts)
     report = {"plant": plant.text, "law": args.law, "ts": args.ts, "duration": args.duration,
               "k1": args.k1, "k2": args.k2,
               "backend": args.backend, "friction_input": args.friction_input,
@@ -134,15 +137,18 @@ def run(args) -> int:
 SATURATED_SHARE = 0.2
 
 
-def warn_saturation(runs: dict, i_max: float) -> None:
+def warn_saturation(runs: dict, i_max: float, ts: float = DEFAULT_TS) -> None:
     """One warning line per variant whose current sits at +-i_max in more than SATURATED_SHARE
-    of the samples: the loop then follows no law of [C11], whatever the gains say."""
+    of the samples: the loop then follows no law of [C11], whatever the gains say. Beyond the
+    default sample time the line names it too: a sample too long for the gains makes the
+    discrete loop unstable, and its current swings between the limits."""
+    slow = f", or the sample time --ts {ts:g} s is too long for the gains" if ts > DEFAULT_TS else ""
     for name, run in runs.items():
         share = float(np.mean(np.abs(run.i) >= (1.0 - 1e-6) * i_max))
         if share > SATURATED_SHARE:
             say(f"fricgen: warning: with {name} the current sits at its limit of +-{i_max:g} A in "
                 f"{share:.0%} of the samples: the gains (--k1, --k2) or the reference ask more than "
-                "the motor gives")
+                f"the motor gives{slow}")
 
 
 def read_reference(path: str) -> TabulatedTrajectory:

@@ -66,6 +66,9 @@ def _project(a, updated, lo, hi):
     return updated, False
 
 
+#: The controller's sample time (s) unless told: the paper's 1 kHz.
+DEFAULT_TS = 1e-3
+
 class AdaptiveBackstepping:
     r"""The adaptive backstepping position controller of section 6 ([C3]-[C14]), sampled at ``ts``.
 
@@ -132,7 +135,7 @@ class AdaptiveBackstepping:
     """
 
     def __init__(self, compensation: Optional[Callable] = None, law: str = "c", k1: float = 80.0,
-                 k2: float = 40.0, gamma=(1.0, 20.0), delta: float = 0.005, ts: float = 1e-3,
+                 k2: float = 40.0, gamma=(1.0, 20.0), delta: float = 0.005, ts: float = DEFAULT_TS,
                  phi_n: float = 20.0, i_max: float = 10.0, a0: Tuple[float, float] = (0.1, 1.0),
                  dtype: str = "float64", friction_input: str = "v",
                  a_min: Tuple[float, float] = (0.01, 0.0), a_max: Tuple[float, float] = (1.0, 10.0)):
