@@ -301,7 +301,7 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
                                                   : ((a->m_o_hat > c->p.m_o_max) ? c->p.m_o_max
                                                                                  : a->m_o_hat);
     }
-    u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD) ? (xd_dot + (c->p.k1 * (xd - x))) : v;
+    u = fric_ctrl_friction_velocity(c, x, v, xd, xd_dot);
     force = fric_adapt_force(a, reg, u);
     flags = fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
     if ((flags & (FRIC_CTRL_SATURATED | FRIC_CTRL_INPUT_FAULT)) != 0u) {

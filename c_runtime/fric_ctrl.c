@@ -71,7 +71,8 @@ static int fric_ctrl_params_ok(const fric_ctrl_params_t *p)
     if ((p->law != FRIC_CTRL_LAW_A) && (p->law != FRIC_CTRL_LAW_B) && (p->law != FRIC_CTRL_LAW_C)) {
         return 0;
     }
-    return (p->friction_at == FRIC_CTRL_FRICTION_AT_V) || (p->friction_at == FRIC_CTRL_FRICTION_AT_VD);
+    return (p->friction_at == FRIC_CTRL_FRICTION_AT_V) || (p->friction_at == FRIC_CTRL_FRICTION_AT_VD)
+           || (p->friction_at == FRIC_CTRL_FRICTION_AT_REF);
 }
 
 fric_ctrl_status_t fric_ctrl_init(fric_ctrl_t *c, const fric_ctrl_params_t *p)
@@ -198,6 +199,19 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
     return flags;
 }
 
+float fric_ctrl_friction_velocity(const fric_ctrl_t *c, float x, float v, float xd, float xd_dot)
+{
+    float u = v;
+    if (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD) {
+        u = xd_dot + (c->p.k1 * (xd - x));
+    } else if (c->p.friction_at == FRIC_CTRL_FRICTION_AT_REF) {
+        u = xd_dot;
+    } else {
+        /* the measured v */
+    }
+    return u;
+}
+
 fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, float xd_dot,
                                     float xd_ddot, fric_ctrl_friction_fn friction,
                                     float *current)
@@ -207,8 +221,7 @@ fric_ctrl_flags_t fric_ctrl_step_fn(fric_ctrl_t *c, float x, float v, float xd, 
         return FRIC_CTRL_FAULT_NULL;
     }
     if (friction != NULL) {
-        const float u = (c->p.friction_at == FRIC_CTRL_FRICTION_AT_VD)
-                            ? (xd_dot + (c->p.k1 * (xd - x))) : v;
+        const float u = fric_ctrl_friction_velocity(c, x, v, xd, xd_dot);
         if (isfinite(u) != 0) {
             force = friction(u);
         }

@@ -76,10 +76,12 @@ typedef int32_t fric_ctrl_law_t;
 #define FRIC_CTRL_LAW_C ((fric_ctrl_law_t)2)
 
 /* Where fric_ctrl_step_fn evaluates the friction model: the measured velocity v (the paper),
- * or the virtual control v_d = xd' + k1 e1 (keeps compensating while the axis sticks). */
+ * the virtual control v_d = xd' + k1 e1 (keeps compensating while the axis sticks), or the
+ * reference velocity xd' (free of the sensor's noise: a stateful model does not hunt at rest). */
 typedef int32_t fric_ctrl_friction_at_t;
 #define FRIC_CTRL_FRICTION_AT_V ((fric_ctrl_friction_at_t)0)
 #define FRIC_CTRL_FRICTION_AT_VD ((fric_ctrl_friction_at_t)1)
+#define FRIC_CTRL_FRICTION_AT_REF ((fric_ctrl_friction_at_t)2)
 
 /* What a step returns: 0 (FRIC_CTRL_STEP_OK) or an OR of the flags below. */
 typedef unsigned int fric_ctrl_flags_t;
@@ -107,7 +109,7 @@ typedef struct {
     float k_min;        /* interval of k_hat, k_min < k_max */
     float k_max;
     fric_ctrl_law_t law;                  /* FRIC_CTRL_LAW_A, _B or _C */
-    fric_ctrl_friction_at_t friction_at;  /* FRIC_CTRL_FRICTION_AT_V or _AT_VD
+    fric_ctrl_friction_at_t friction_at;  /* FRIC_CTRL_FRICTION_AT_V, _AT_VD or _AT_REF
                                              (fric_ctrl_step_fn only) */
 } fric_ctrl_params_t;
 
@@ -170,8 +172,18 @@ fric_ctrl_flags_t fric_ctrl_step(fric_ctrl_t *c, float x, float v, float xd, flo
                                  float xd_ddot, float friction, float *current);
 
 /**
- * @brief As fric_ctrl_step, the force taken from the model: friction(v), or friction(v_d)
- *        with p.friction_at FRIC_CTRL_FRICTION_AT_VD (v_d = xd' + k1 (xd - x), [C3]).
+ * @brief Where the friction model is evaluated (p.friction_at): v, v_d = xd' + k1 (xd - x)
+ *        ([C3]) or xd'.
+ * @param[in] c the controller (fric_ctrl_init first; not NULL).
+ * @param[in] x, v, xd, xd_dot as fric_ctrl_step's (m, m/s, m, m/s).
+ * @return the velocity, m/s (not finite where its inputs are not).
+ * Contract (bounds, reentrancy, context): fric_ctrl_step's.
+ */
+float fric_ctrl_friction_velocity(const fric_ctrl_t *c, float x, float v, float xd, float xd_dot);
+
+/**
+ * @brief As fric_ctrl_step, the force taken from the model at fric_ctrl_friction_velocity:
+ *        friction(v), friction(v_d) or friction(xd').
  * @param[in,out] c the controller (fric_ctrl_init first).
  * @param[in] x, v, xd, xd_dot, xd_ddot as fric_ctrl_step's (m, m/s, m, m/s, m/s^2).
  * @param[in] friction the model (NAME_force), or NULL for no compensation; it is not called

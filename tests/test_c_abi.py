@@ -106,5 +106,5 @@ def test_firmware_initializer_and_cffi_parameters_are_the_same_struct(tmp_path):
 def test_cffi_declares_every_function_the_header_prototypes():
     from fricgen.control.c_abi import function_declarations
     names = re.findall(r"(fric_ctrl_\w+)\(", function_declarations())
-    assert names == ["fric_ctrl_default_params", "fric_ctrl_init", "fric_ctrl_step", "fric_ctrl_step_fn",
-                     "fric_ctrl_step_sample"]
+    assert names == ["fric_ctrl_default_params", "fric_ctrl_init", "fric_ctrl_step",
+                     "fric_ctrl_friction_velocity", "fric_ctrl_step_fn", "fric_ctrl_step_sample"]

@@ -62,7 +62,7 @@ def test_c_default_parameters_are_the_python_defaults(ctrl_module):
 
 @pytest.mark.parametrize("field, value", [
     ("k1", 0.0), ("k2", 0.5), ("ts", 0.0), ("ts", float("nan")), ("delta", -1.0),
-    ("phi_n", 0.0), ("i_max", float("inf")), ("law", 3), ("friction_at", 2), ("k_hat0", float("nan")),
+    ("phi_n", 0.0), ("i_max", float("inf")), ("law", 3), ("friction_at", 3), ("k_hat0", float("nan")),
 ])
 def test_c_init_rejects_each_bad_parameter(ctrl_module, field, value):
     ffi, lib = ctrl_module.ffi, ctrl_module.lib
@@ -84,7 +84,8 @@ def test_c_init_rejects_gamma_that_is_not_symmetric_positive_definite(ctrl_modul
     assert lib.fric_ctrl_init(ffi.NULL, p) == -1
 
 
-@pytest.mark.parametrize("law, friction_input", [("a", "v"), ("b", "v"), ("c", "v"), ("c", "vd")])
+@pytest.mark.parametrize("law, friction_input", [("a", "v"), ("b", "v"), ("c", "v"), ("c", "vd"),
+                                                 ("c", "reference")])
 def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, default_model,
                                                                  law, friction_input):
     axis = default_axis()
@@ -104,6 +105,18 @@ def test_closed_loop_c_equals_float32_twin_and_float64_controller(ctrl_module, d
     c_m, py_m = c_run.metrics(), py_run.metrics()
     assert c_m["rms_e1"] == pytest.approx(py_m["rms_e1"], rel=1e-5)
     assert c_m["k_hat"] == pytest.approx(py_m["k_hat"], rel=1e-4)
+
+
+@pytest.mark.parametrize("friction_input", ["v", "vd", "reference"])
+def test_the_friction_velocity_is_v_vd_or_the_reference_in_c_and_python(ctrl_module, friction_input):
+    settings = AdaptiveBackstepping(friction_input=friction_input, dtype="float32").reset()
+    c = CController(ctrl_module, settings)
+    c.reset()
+    x, v, xd, xd_dot = 0.01, 0.2, 0.012, 0.15
+    expected = {"v": v, "vd": xd_dot + settings.k1 * (xd - x), "reference": xd_dot}[friction_input]
+    got = ctrl_module.lib.fric_ctrl_friction_velocity(c._c, x, v, xd, xd_dot)
+    assert got == pytest.approx(expected, rel=1e-6)
+    assert got == settings.friction_velocity(*(np.float32(a) for a in (x, v, xd, xd_dot)))
 
 
 @pytest.mark.parametrize("law", ["a", "b", "c"])

@@ -57,7 +57,8 @@ def register(p) -> None:
     p.add_argument("--k2", type=number(0.5, 1e6, low_open=True, unit="A s/m"), default=40.0,
                    help="velocity-error gain of [C11], > 1/2 [C16] (default 40)")
     p.add_argument("--friction-input", choices=FRICTION_INPUT.keys, default="v",
-                   help="evaluate the friction model at the measured v (paper) or at v_d")
+                   help="evaluate the friction model at the measured v (paper), at v_d = xd' + "
+                   "k1 e1, or at the reference velocity xd' (default v)")
     p.add_argument("--backend", choices=("python", "c"), default="python",
                    help="run the Python controller or the emitted C one (through cffi)")
     add_json(p, "print the figures as JSON")

@@ -101,9 +101,10 @@ class AdaptiveBackstepping:
         Initial [m_o_hat, k_hat] (m_o in kg A/N, k dimensionless).
     dtype : {"float64", "float32"}
         "float32" is the twin of the C controller.
-    friction_input : {"v", "vd"}
-        Evaluate F_Fm at the measured velocity [C10] or at v_d [C3], which keeps
-        compensating while the axis sticks at a reversal.
+    friction_input : {"v", "vd", "reference"}
+        Evaluate F_Fm at the measured velocity [C10], at v_d [C3], which keeps
+        compensating while the axis sticks at a reversal, or at the reference velocity x_d',
+        free of the sensor's noise (a dynamic model's stepper does not hunt at rest).
     a_min, a_max : tuple of float
         The intervals [m_o_min, k_min], [m_o_max, k_max] the estimates are projected onto
         (default: m_o_hat in [0.01, 1], k_hat in [0, 10]); a_min < a_max, a0 within.
@@ -241,11 +242,12 @@ class AdaptiveBackstepping:
         return self.friction_force(u) if math.isfinite(u) else self._f(0.0)
 
     def friction_velocity(self, x, v, xd, xd_dot):
-        """Where F_Fm is evaluated: the measured v [C10], or v_d = x_d' + k1 (x_d - x) with
-        ``friction_input="vd"`` (compensation that keeps acting while the axis sticks)."""
+        """Where F_Fm is evaluated: the measured v [C10], v_d = x_d' + k1 (x_d - x) with
+        ``friction_input="vd"`` (compensation that keeps acting while the axis sticks), or x_d'
+        with ``"reference"``."""
         if self.friction_input == "vd":
             return xd_dot + self._k1 * (xd - x)
-        return v
+        return xd_dot if self.friction_input == "reference" else v
 
     def step_with_force(self, x, v, xd, xd_dot, xd_ddot, friction) -> float:
         """``step`` with the compensation force F_Fm(v) given (the C ``fric_ctrl_step``):

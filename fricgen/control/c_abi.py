@@ -107,7 +107,8 @@ LAW = choice("fric_ctrl_law_t",
 #: Where the friction model is evaluated, keyed by ``AdaptiveBackstepping.friction_input``.
 FRICTION_INPUT = choice("fric_ctrl_friction_at_t",
                        ("FRIC_CTRL_FRICTION_AT_V", 0, "v"),
-                       ("FRIC_CTRL_FRICTION_AT_VD", 1, "vd"))
+                       ("FRIC_CTRL_FRICTION_AT_VD", 1, "vd"),
+                       ("FRIC_CTRL_FRICTION_AT_REF", 2, "reference"))
 ENUMS = (STATUS, LAW, FRICTION_INPUT)
 #: What fric_ctrl_step and fric_ctrl_step_fn return (and fric_ctrl_t.flags holds): an OR of these.
 FLAGS = CFlags("fric_ctrl_flags_t", tuple(Enumerator(*m) for m in (
