@@ -91,6 +91,11 @@ def test_the_offset_of_the_model_s_axis_is_not_named_again(files, tmp_path, caps
     assert all(e["effect"] != "constant_load" for e in json.loads(captured.out)["effects"])
     written = json.loads((tmp_path / "out" / "model.json").read_text())
     assert written["effects"][0] == {"effect": "constant_load", "parameters": {"load": 5.0}}
+    # the emitted header says where the offset is, so that the firmware adds it once
+    for source, said in ((folder / "model.json", False), (tmp_path / "out" / "model.json", True)):
+        assert main(["emit", str(source), "--name", "axis", "-o", str(tmp_path / "c"), "--force"]) == 0
+        header = (tmp_path / "c" / "axis.h").read_text()
+        assert ("force_xv holds it already" in header) is said
 
 
 def test_synth_log_writes_a_readable_log(tmp_path):

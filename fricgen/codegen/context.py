@@ -12,6 +12,7 @@ from .._io import resource_dir
 from ..c_literal import c_float
 from ..c_names import check_model_name
 from ..effects import TableEffect, model_effects
+from ..effects.carried import offset_left_out
 from ..model import FrictionModel
 from ..units import units_of
 
@@ -97,11 +98,12 @@ def identity_context(model: FrictionModel, name: str) -> dict:
 def axis_context(model: FrictionModel) -> dict:
     """NAME.h's record of the axis training identified (``training.axis``): macro suffix, C
     literal and what it is, for each field known; [] for a sweep's model. ``axis_units``: the
-    unit names of its kind (``units.units_of``)."""
+    unit names of its kind (``units.units_of``). ``offset_in_xv``: a ``constant_load`` effect
+    carries the offset (``offset_left_out``), and NAME_force_xv holds it."""
     axis = model.axis
     units = units_of(model.training.get("units") == "rotary")
     if axis is None:
-        return {"axis": [], "axis_units": units}
+        return {"axis": [], "axis_units": units, "offset_in_xv": False}
     fields = [("OFFSET", axis.offset, f"{units.force}, the constant force"),
               ("OFFSET_SE", axis.offset_se, f"{units.force}, its standard error"),
               ("MASS", axis.mass,
@@ -113,7 +115,8 @@ def axis_context(model: FrictionModel) -> dict:
     known = [(macro, c_float(value), what) for macro, value, what in fields if value is not None]
     if axis.offset is None:
         known.insert(0, ("OFFSET", c_float(0.0), f"{units.force}, none identified"))
-    return {"axis": known, "axis_units": units}
+    return {"axis": known, "axis_units": units,
+            "offset_in_xv": axis.offset is not None and offset_left_out(model) is None}
 
 
 def effects_context(model: FrictionModel, name: str) -> dict:
