@@ -93,6 +93,17 @@ def with_axis_offset(model: FrictionModel):
         f"offset from the model's axis: o = {offset:.4g} N, held as a constant_load"]
 
 
+def asymmetry_notes(model: FrictionModel, d) -> list:
+    """A line where a symmetric model's diagnosis names a constant_load: while the axis moves,
+    that force is also a friction level that differs by direction, which the log cannot tell
+    apart from it."""
+    if model.symmetric and any(s.effect == "constant_load" for s in d.effects_):
+        return ["while the axis moves, a constant_load is the same force as a friction whose level "
+                "is higher one way by twice the load: the log does not tell them apart (train "
+                "--asymmetric holds the latter in its curves)"]
+    return []
+
+
 def nominal_axis(model: FrictionModel, mass, force_constant):
     """The nominal mass and force constant: the options, else the model's axis record; and
     one line per value taken from the record. ``UsageError`` when neither gives one."""
@@ -149,7 +160,7 @@ def _run(args) -> int:
     targets = check_targets(args, files, inputs, folder_of=[args.model])  # before any result is printed
     check_overwrite(targets.values(), args.force, written=written_by_diagnose)
     say_data_warnings(args)
-    for note in range_notes(model_effects(model), log):
+    for note in range_notes(model_effects(model), log) + asymmetry_notes(model, d):
         say("fricgen: note: " + note)
     if operating is not None:
         named, gap, undetermined = named_lines(operating, d.units_.force)
