@@ -19,6 +19,7 @@ import numpy as np
 
 from .._validate import integer, positive
 from ..data.outliers import inner_points
+from ..direction import _CHECK_SPEEDS, PUSHES_AT_MOST
 from ..data.training_set import SAT_FACTOR
 from ..friction import SHAPES
 from ..metrics import rmse
@@ -111,6 +112,15 @@ class SourcesFit:
         return _amplitude_sum(np.append(0.0, self.curve.amplitudes)) <= AMPLITUDE_MAX
 
     @property
+    def opposes_motion(self) -> bool:
+        """Whether the curve opposes the motion on [0, 1] as the loader's check asks
+        (``Direction.check``: nowhere below -PUSHES_AT_MOST of its largest magnitude). A source
+        below the slowest speed measured, its amplitude undetermined, can take the level at rest
+        below 0 (-19.7 N on a fleet log), and the model would be refused after training."""
+        level = self.curve(_CHECK_SPEEDS)
+        return bool(np.min(level) >= -PUSHES_AT_MOST * np.max(np.abs(level)))
+
+    @property
     def aic(self) -> float:
         """Akaike's criterion with the small-sample correction (AICc), n log(RSS / n) + 2 p +
         2 p (p + 1) / (n - p - 1), for the p = 2 S + 1 parameters: what chooses S and g."""
@@ -141,9 +151,17 @@ class SourcesFit:
 
     def undetermined_sources(self) -> np.ndarray:
         """The indices k of the sources whose a_k or xs_k the data do not determine (an
-        infinite standard error)."""
+        infinite standard error), and of two sources whose Stribeck velocities coincide within
+        a standard error of either (log xs): the data do not tell them apart, and their
+        amplitudes can grow without bound in opposite directions (15.4 and -15.5 N, each
+        +- 1.4e5, on a fleet log)."""
         se = self.standard_errors()
-        return np.flatnonzero(~(np.isfinite(se["amplitudes"]) & np.isfinite(se["stribeck"])))
+        bad = ~(np.isfinite(se["amplitudes"]) & np.isfinite(se["stribeck"]))
+        theta, log_se = self.theta, se["stribeck"] / self.curve.stribeck
+        for i, j in itertools.combinations(np.flatnonzero(~bad), 2):
+            if abs(theta[i] - theta[j]) < max(log_se[i], log_se[j]):
+                bad[[i, j]] = True
+        return np.flatnonzero(bad)
 
 
 def as_fit(curve: StribeckCurve, x, t, n_starts: int = 0) -> SourcesFit:
@@ -483,7 +501,11 @@ class StribeckRegressor(Estimator):
             raise ValueError("the data determine no source of [F1]: every Stribeck velocity "
                              "fitted lies where no sample constrains it")
         self._penalty = {b: 2.0 * i for i, b in enumerate(bounds)}
-        self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items() if f.admissible}
+        # the fits that oppose the motion, where there are any (data that are no friction curve
+        # may have none: the default's other candidates then take them)
+        opposing = {k for k, f in fits.items() if f.admissible and f.opposes_motion}
+        self.candidates_ = {k: f.aic + self._penalty[k[2]] for k, f in fits.items()
+                            if f.admissible and (k in opposing or not opposing)}
         if not self.candidates_:
             raise ValueError(f"no fit of [F1] keeps sum |a_k| <= {AMPLITUDE_MAX:g}")
         self.fits_ = fits
