@@ -50,6 +50,16 @@ def test_the_map_taken_out_is_the_axis_cogging(pair):
         assert abs(m.rms / (amplitude * math.sqrt((1 + 0.25 ** 2) / 2)) - 1) < 0.1
 
 
+def test_a_current_log_with_its_force_constant_gets_the_same_map(axis, pair, tmp_path):
+    log = fleet_log(axis, 1)
+    path = tmp_path / "current.csv"
+    np.savetxt(path, np.column_stack([log["t"], log["v"], log["force"] / 20.0]), delimiter=",",
+               header="t,v,i", comments="", fmt="%.9g")
+    report = train_argv([str(path), *TRAIN_FIT, "--force-constant", "20", "-o", "unused.json"])
+    assert report.model.cogging_map is not None
+    assert report.model.cogging_map.rms == pytest.approx(pair[0].model.cogging_map.rms, rel=1e-3)
+
+
 def test_a_log_without_cogging_is_trained_as_before(tmp_path):
     report = trained(tmp_path, fleet_axis(11), 1, "plain")
     assert report.model.cogging_map is None

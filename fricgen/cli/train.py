@@ -146,7 +146,8 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
                                  train_friction=fit_friction)
         if not args.cogging:
             report = fit_friction(columns)
-            return less_position_force(columns, report, fit_friction) if position_force else report
+            return (less_position_force(columns, report, lambda data: fit_friction(data, force_constant=None))
+                    if position_force else report)
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
                                   force_constant=args.force_constant,
                                   train_friction=lambda data: fit_friction(data, force_constant=None),

@@ -124,8 +124,9 @@ def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
     """``report`` (the default fit of a motion log) trained again on the log less the position
     force it holds: the cogging map (``fit.cogging``) of the force less the model's friction and
     the identified mass's m a, its force taken out, and the map kept in the model. A log whose
-    residual holds no map, or that cannot show one (too little travel or motion), gives
-    ``report`` as it is. Without it, the cogging's ripple at slow passes that cover a fraction
+    residual holds no map, or that cannot show one (too little travel or motion), or whose
+    training again fails, gives ``report`` as it is. ``train_friction`` fits columns whose
+    drive force is ``force`` (no current). Without it, the cogging's ripple at slow passes that cover a fraction
     of its period reads as friction, and a change of the cogging as a change of the friction."""
     ident = report.identification
     if ident is None or "t" not in columns:
@@ -144,5 +145,8 @@ def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
         return report
     cleaned = {k: c for k, c in columns.items() if k != "i"}
     cleaned["force"] = force - fit.map.force(x)
-    again = train_friction(cleaned)
+    try:
+        again = train_friction(cleaned)
+    except (DataError, ModelError):
+        return report
     return replace(again, model=replace(again.model, cogging_map=fit.map))
