@@ -27,9 +27,32 @@ PUSHES_AT_MOST = 0.05
 #: The largest friction force of a real axis, N (``_validate.PHYSICAL``).
 PHYSICAL_FORCE_MAX = PHYSICAL["force"][1]
 #: Speeds, in units of v_sat, at which a curve's force is checked (``Direction.check``).
-_CHECK_SPEEDS = np.linspace(0.0, 1.0, 129)
+CHECK_SPEEDS = np.linspace(0.0, 1.0, 129)
 #: How far K_in v_sat may be from 1 ([F9]: K_in = 1/v_sat, written and read back in float64).
 K_IN_TOLERANCE = 1e-9
+
+
+def opposes_motion(force) -> bool:
+    """Whether a curve's force on the speeds ``CHECK_SPEEDS`` opposes the motion: nowhere below
+    -PUSHES_AT_MOST of its largest magnitude (``Direction.check``).
+
+    Parameters
+    ----------
+    force : array_like
+        The force (or the normalized level) of one direction at |v| = CHECK_SPEEDS x v_sat.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> opposes_motion([2.0, 1.5, 1.0]), opposes_motion([-0.2, 1.0, 2.0])
+    (True, False)
+    """
+    force = np.asarray(force, dtype=float)
+    return bool(np.min(force) >= -PUSHES_AT_MOST * np.max(np.abs(force)))
+
 
 @dataclass(frozen=True)
 class Scaling:
@@ -118,15 +141,15 @@ class Direction:
             float32_scale(f"aim.stribeck[{k}]", xs, "(normalized)", "not a model for the float32 C",
                           ModelError)
         with np.errstate(over="ignore", invalid="ignore"):
-            force = self.magnitude(self.v_sat * _CHECK_SPEEDS)
+            force = self.magnitude(self.v_sat * CHECK_SPEEDS)
         worst = float(np.max(np.abs(force)))
         if not worst <= FLOAT32_SCALE[1]:
             raise ModelError(f"the force reaches {worst:.3g} N within [0, v_sat]; the float32 C "
                              f"needs it below {FLOAT32_SCALE[1]:g}")
         lowest = int(np.argmin(force))
-        if force[lowest] < -PUSHES_AT_MOST * worst:
+        if not opposes_motion(force):
             raise ModelError(f"the friction is {force[lowest]:.3g} N at |v| = "
-                             f"{self.v_sat * _CHECK_SPEEDS[lowest]:.3g} m/s: it pushes the axis "
+                             f"{self.v_sat * CHECK_SPEEDS[lowest]:.3g} m/s: it pushes the axis "
                              "instead of opposing the motion (an edited offset, slope or weight?)")
         if self.viscous < 0:
             reversal = -self.stribeck(self.v_sat) / self.viscous
@@ -142,7 +165,7 @@ class Direction:
         else ``ModelError`` naming the field (a decimal point lost by a hand edit, other units)."""
         problem = physical_problem("v_sat", "v_sat", self.v_sat)
         if not problem:
-            worst = float(np.max(np.abs(self.magnitude(self.v_sat * _CHECK_SPEEDS))))
+            worst = float(np.max(np.abs(self.magnitude(self.v_sat * CHECK_SPEEDS))))
             problem = physical_problem("force", "the largest force on [0, v_sat]", worst)
             if problem and self.viscous * self.v_sat > PHYSICAL_FORCE_MAX:
                 problem = f"viscous = {self.viscous:.6g} N s/m: {problem}"

@@ -69,6 +69,7 @@ def _project(a, updated, lo, hi):
 #: The controller's sample time (s) unless told: the paper's 1 kHz.
 DEFAULT_TS = 1e-3
 
+
 class AdaptiveBackstepping:
     r"""The adaptive backstepping position controller of section 6 ([C3]-[C14]), sampled at ``ts``.
 

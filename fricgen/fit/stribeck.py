@@ -19,8 +19,8 @@ import numpy as np
 
 from .._validate import integer, positive
 from ..data.outliers import inner_points
-from ..direction import _CHECK_SPEEDS, PUSHES_AT_MOST
 from ..data.training_set import SAT_FACTOR
+from ..direction import CHECK_SPEEDS, opposes_motion
 from ..friction import SHAPES
 from ..metrics import rmse
 from ..networks.stribeck import StribeckCurve
@@ -114,11 +114,10 @@ class SourcesFit:
     @property
     def opposes_motion(self) -> bool:
         """Whether the curve opposes the motion on [0, 1] as the loader's check asks
-        (``Direction.check``: nowhere below -PUSHES_AT_MOST of its largest magnitude). A source
-        below the slowest speed measured, its amplitude undetermined, can take the level at rest
-        below 0 (-19.7 N on a fleet log), and the model would be refused after training."""
-        level = self.curve(_CHECK_SPEEDS)
-        return bool(np.min(level) >= -PUSHES_AT_MOST * np.max(np.abs(level)))
+        (``direction.opposes_motion``). A source below the slowest speed measured, its amplitude
+        undetermined, can take the level at rest below 0 (-19.7 N on a fleet log), and the model
+        would be refused after training."""
+        return opposes_motion(self.curve(CHECK_SPEEDS))
 
     @property
     def aic(self) -> float:

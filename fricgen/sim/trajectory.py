@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Sequence, Tuple
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline
 
 
@@ -202,7 +203,7 @@ def drawn_reference(kind, rng, t, v_peak, a_max, travel):
     a = ds * u + s * du
     scale = min(v_peak / max(np.max(np.abs(v)), 1e-12), a_max / max(np.max(np.abs(a)), 1e-12))
     v, a = v * scale, a * scale
-    x = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    x = cumulative_trapezoid(v, t, initial=0.0)
     if kind == "ramps":
         x = x - np.mean(x)                 # any offset: the axis starts at x_d(0) anyway
         x = x - x[0]

@@ -9,6 +9,7 @@ from dataclasses import dataclass, replace
 from typing import Callable, Mapping, Optional, Tuple
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from ..effects.cogging_map import CoggingMap
 from ..fit.cogging import CoggingFit, identify_cogging
@@ -115,8 +116,8 @@ def log_position(columns: Mapping[str, np.ndarray]) -> np.ndarray:
     """The position of a log: ``x``, or the velocity ``v`` integrated over ``t`` (trapezoids)."""
     if "x" in columns:
         return np.asarray(columns["x"], dtype=float)
-    t, v = (np.asarray(columns[k], dtype=float) for k in ("t", "v"))
-    return np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    return cumulative_trapezoid(np.asarray(columns["v"], dtype=float),
+                                np.asarray(columns["t"], dtype=float), initial=0.0)
 
 
 def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
@@ -126,15 +127,16 @@ def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
     the identified mass's m a, its force taken out, and the map kept in the model. A log whose
     residual holds no map, or that cannot show one (too little travel or motion), or whose
     training again fails, gives ``report`` as it is. ``train_friction`` fits columns whose
-    drive force is ``force`` (no current). Without it, the cogging's ripple at slow passes that cover a fraction
-    of its period reads as friction, and a change of the cogging as a change of the friction."""
+    drive force is ``force`` (no current). Without it, the cogging's ripple at slow passes that
+    cover a fraction of its period reads as friction, and a change of the cogging as a change
+    of the friction."""
     ident = report.identification
     if ident is None or "t" not in columns:
         return report
     constant = ident.force_constant[0] if ident.force_constant else None
-    force = log_force(columns, constant) if "force" in columns or constant is not None else None
-    if force is None:
+    if "force" not in columns and constant is None:
         return report
+    force = log_force(columns, constant)
     t, x = np.asarray(columns["t"], dtype=float), log_position(columns)
     v = np.asarray(columns["v"], dtype=float) if "v" in columns else np.gradient(x, t)
     try:
