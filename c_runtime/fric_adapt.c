@@ -72,6 +72,7 @@ void fric_adapt_reset(fric_adapt_t *a)
     a->m_o_hat = 0.0f;
     a->held = 1;
     a->recorded = 0;
+    a->settle = 0.0f;
     a->flags = FRIC_ADAPT_OK;
 }
 
@@ -289,7 +290,11 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     fric_ctrl_flags_t flags;
     float u;
     float force;
+    float m_o_hat;
+    float k_hat;
     int held;
+    int resting;
+    int settling;
 
     if ((a == NULL) || (c == NULL) || (reg == NULL) || (current == NULL)) {
         return FRIC_CTRL_FAULT_NULL;
@@ -301,6 +306,16 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
                                                   : ((a->m_o_hat > c->p.m_o_max) ? c->p.m_o_max
                                                                                  : a->m_o_hat);
     }
+    /* at rest (or a non-finite v), and settling for FRIC_ADAPT_SETTLE / k1 s after it */
+    resting = (fabsf(v) >= a->p.v_dead) ? 0 : 1;
+    if (resting != 0) {
+        a->settle = FRIC_ADAPT_SETTLE / c->p.k1;
+    } else if (a->settle > 0.0f) {
+        a->settle = a->settle - c->p.ts;
+    }
+    settling = ((resting == 0) && (a->settle > 0.0f)) ? 1 : 0;
+    m_o_hat = c->m_o_hat;
+    k_hat = c->k_hat;
     u = fric_ctrl_friction_velocity(c, x, v, xd, xd_dot);
     force = fric_adapt_force(a, reg, u);
     flags = fric_ctrl_step(c, x, v, xd, xd_dot, xd_ddot, force, current);
@@ -309,13 +324,19 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     } else {
         held = 0;
     }
+    if ((resting != 0) || (settling != 0)) {     /* the stick's error: A as it was */
+        c->m_o_hat = m_o_hat;
+        c->k_hat = k_hat;
+        flags = flags & ~FRIC_CTRL_PROJECTED;
+        c->flags = flags;
+    }
     if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
         const float accel = (v - a->v_prev) / c->p.ts;
         const float observed = c->p.phi_n * (a->i_prev - (c->m_o_hat * accel));
         const float v_mid = 0.5f * (v + a->v_prev);
         (void)fric_adapt_rls(a, reg, v_mid, observed, ((a->held != 0) || (held != 0)) ? 1 : 0);
     } else {
-        (void)fric_adapt_lyapunov(a, reg, v, c->e2, held);
+        (void)fric_adapt_lyapunov(a, reg, v, c->e2, ((held != 0) || (settling != 0)) ? 1 : 0);
     }
     a->v_prev = v;
     a->i_prev = *current;

@@ -18,7 +18,7 @@ from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES, emit
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
 from fricgen.codegen.render import render
-from fricgen.control.adaptation import FLAGS, MAX_PARAMS, FrictionAdapter, adapted
+from fricgen.control.adaptation import FLAGS, MAX_PARAMS, SETTLE, FrictionAdapter, adapted
 from fricgen.control.c_abi import FLAGS as CTRL_FLAGS
 from fricgen.control.c_adapted import CAdaptedController, build_adapted, c_params, render_adapt
 from fricgen.control.loop import default_axis, simulate
@@ -154,6 +154,32 @@ def test_c_adapted_loop_is_bit_equal_to_the_twin(default_model, grey_model, impl
     np.testing.assert_array_equal(py.i, cc.i)
     np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
     assert not np.array_equal(np.asarray(twin.adapter.theta_), twin.adapter._theta0)  # it adapted
+
+
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_the_estimates_hold_at_rest_and_while_the_axis_catches_up(default_model, rule):
+    """m_o_hat and k_hat (and Lyapunov's theta) do not adapt on the velocity error of a stick,
+    |v| < v_dead, nor for SETTLE / k1 after it (37 samples at k1 = 80, Ts = 1 ms): the C and
+    its twin, step for step."""
+    module = build_adapted(default_model)
+    twin = adapted(default_model, rule, dtype="float32").reset()
+    c = CAdaptedController(module, adapted(default_model, rule, dtype="float32")).reset()
+    a0, theta0 = twin.adaptive_parameters, np.asarray(twin.adapter.theta_).copy()
+    held = int(SETTLE / twin.controller.k1 / twin.controller.ts)
+    behind = (0.0, 1e-3, 0.05, 1.0)                 # x, xd, xd', xd'': 1 mm behind, e2 0.08 m/s
+    for v in [0.0] * 5 + [0.05] * held:             # stuck, then moving again, still behind
+        x, xd, xd_dot, xd_ddot = behind
+        assert twin.step(x, v, xd, xd_dot, xd_ddot) == c.step(x, v, xd, xd_dot, xd_ddot)
+        assert twin.adaptive_parameters == c.adaptive_parameters == a0
+        assert twin.controller.flags_ == 0
+    if rule == "lyapunov":
+        np.testing.assert_array_equal(twin.adapter.theta_, theta0)
+        np.testing.assert_array_equal(np.float32(c.theta_), theta0)
+        assert twin.adapter.flags_ == FLAGS.value("held")
+    twin.step(0.0, 0.05, *behind[1:])
+    c.step(0.0, 0.05, *behind[1:])
+    assert twin.adaptive_parameters == c.adaptive_parameters != a0    # then it adapts
+    assert twin.adaptive_parameters[1] > a0[1]
 
 
 @pytest.mark.slow

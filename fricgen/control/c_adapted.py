@@ -50,7 +50,7 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
         + f"typedef struct {{\n    fric_adapt_params_t p;\n    float theta[{MAX_PARAMS}];\n"
           f"    float P[{MAX_PARAMS * MAX_PARAMS}];\n    float scale2[{MAX_PARAMS}];\n"
           "    float error;\n    float v_prev;\n    float i_prev;\n    float k_hat;\n"
-          "    float m_o_hat;\n    int held;\n    int recorded;\n"
+          "    float m_o_hat;\n    int held;\n    int recorded;\n    float settle;\n"
           "    fric_adapt_flags_t flags;\n} fric_adapt_t;\n"
         + "fric_adapt_status_t fric_adapt_init(fric_adapt_t *a, const fric_adapt_params_t *p);\n"
           "void fric_adapt_reset(fric_adapt_t *a);\n"
