@@ -15,7 +15,7 @@ static int fric_adapt_params_ok(const fric_adapt_params_t *p)
     unsigned int k;
     const float scalars[] = {p->forgetting, p->p0, p->trace_max, p->gain, p->leak, p->v_dead,
                              p->e_dead, p->e_max, p->band, p->v_max};
-    if ((p->n < 1u) || (p->n > FRIC_ADAPT_MAX_PARAMS)) {
+    if ((p->n < 1u) || (p->n > FRIC_ADAPT_MAX_PARAMS) || (p->n_leak > p->n)) {
         return 0;
     }
     if ((p->rule != FRIC_ADAPT_RULE_RLS) && (p->rule != FRIC_ADAPT_RULE_LYAPUNOV)) {
@@ -131,14 +131,15 @@ static fric_adapt_flags_t fric_adapt_done(fric_adapt_t *a, fric_adapt_flags_t fl
     return flags;
 }
 
-/* leakage toward theta0, then projection onto [lo, hi] (NaN keeps theta) */
+/* leakage toward theta0 (of the first n_leak), then projection onto [lo, hi] (NaN keeps theta) */
 static fric_adapt_flags_t fric_adapt_finish(fric_adapt_t *a, const float *updated,
                                             fric_adapt_flags_t flags)
 {
     unsigned int k;
     fric_adapt_flags_t out = flags;
     for (k = 0; k < a->p.n; ++k) {
-        const float u = updated[k] - (a->p.leak * (updated[k] - a->p.theta0[k]));
+        const float u = (k < a->p.n_leak) ? (updated[k] - (a->p.leak * (updated[k] - a->p.theta0[k])))
+                                          : updated[k];
         if (isnan(u) != 0) {
             out |= FRIC_ADAPT_PROJECTED;
         } else if (u < a->p.lo[k]) {

@@ -16,8 +16,8 @@
  * |v| < v_dead or |error| < e_dead (FRIC_ADAPT_DEAD_ZONE); the error clamped to +-e_max
  * (FRIC_ADAPT_CLAMPED: one update moves theta a bounded step, whatever finite input it gets);
  * RLS: sum_k P_kk / scale_k^2 is held at most trace_max (FRIC_ADAPT_TRACE_CLAMPED); leakage
- * theta -= leak (theta - theta0); each theta_k projected onto [lo_k, hi_k] (FRIC_ADAPT_PROJECTED;
- * a NaN update keeps theta_k). The force applied, fric_adapt_force, is the trained model's plus
+ * theta_k -= leak (theta_k - theta0_k) for k < n_leak; each theta_k projected onto [lo_k, hi_k]
+ * (FRIC_ADAPT_PROJECTED; a NaN update keeps theta_k). The force applied, fric_adapt_force, is the trained model's plus
  * the adapted correction sum_k (theta_k - theta0_k) phi_k saturated at +-band (N): within the
  * band around the trained model at every velocity, whatever the parameters.
  *
@@ -41,14 +41,15 @@
 extern "C" {
 #endif
 
-/* The runtime's interface: 4 since the rule is an int32_t, 5 since fric_adapt_t holds settle
- * (the saved state's format, FRIC_ADAPT_STATE_FORMAT, is another number). */
+/* The runtime's interface: 4 since the rule is an int32_t, 5 since fric_adapt_t holds settle,
+ * fric_adapt_params_t n_leak and FRIC_ADAPT_MAX_PARAMS is 18 (the saved state's format,
+ * FRIC_ADAPT_STATE_FORMAT, is another number). */
 #define FRIC_ADAPT_VERSION 5
 /* The format of a saved state (fric_adapt_save): what a blob holds, not the structs' layout.
  * 4 holds the controller's k_hat and m_o_hat; fric_adapt_restore reads 3 (without them) too. */
 #define FRIC_ADAPT_STATE_FORMAT 4u
 /* The most parameters a fric_adapt_t holds (fricgen.control.adaptation.MAX_PARAMS). */
-#define FRIC_ADAPT_MAX_PARAMS 16u
+#define FRIC_ADAPT_MAX_PARAMS 18u
 
 typedef enum {
     FRIC_ADAPT_OK_INIT = 0,
@@ -102,6 +103,8 @@ typedef float (*fric_adapt_regressor_fn)(float v, float *phi);
 typedef struct {
     unsigned int n;                          /* parameters, 1 .. FRIC_ADAPT_MAX_PARAMS */
     fric_adapt_rule_t rule;                  /* FRIC_ADAPT_RULE_RLS or _LYAPUNOV */
+    unsigned int n_leak;                     /* the leakage acts on theta[0 .. n_leak - 1], <= n;
+                                                the rest (the axis's offset) does not leak */
     float theta0[FRIC_ADAPT_MAX_PARAMS];     /* trained values */
     float lo[FRIC_ADAPT_MAX_PARAMS];         /* box, lo <= theta0 <= hi */
     float hi[FRIC_ADAPT_MAX_PARAMS];

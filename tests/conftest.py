@@ -38,6 +38,22 @@ def default_model(bench):
     return fit_model(bench)
 
 
+def with_axis(model, offset, speed_max=0.3):
+    """``model`` with the axis record ``fricgen train`` writes (speeds 1 mm/s to ``speed_max``),
+    holding the constant force ``offset`` (N): its adaptation adapts the offset too."""
+    from dataclasses import replace
+
+    from fricgen.axis import Axis
+    axis = Axis(speed_min=1e-3, speed_max=speed_max, offset=offset).to_dict()
+    return replace(model, training={**model.training, "axis": axis})
+
+
+@pytest.fixture(scope="session")
+def offset_model(default_model):
+    """The default model with a recorded axis whose offset is 1.5 N."""
+    return with_axis(default_model, 1.5)
+
+
 @pytest.fixture(scope="session")
 def model10(bench):
     """A 10-neuron enlarged ELM with C by leave-one-out: the firmware and fixed-point model."""

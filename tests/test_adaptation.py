@@ -5,7 +5,8 @@ import pytest
 
 from fricgen.control.adaptation import (FLAGS, LEAK_TIME, MAX_PARAMS, RATE_TIME, FrictionAdapter,
                                         adapted, parameter_scale)
-from fricgen.control.regressor import Regressor, parameter_names, trained_parameters, with_parameters
+from fricgen.control.regressor import (Regressor, adapts_offset, parameter_names, trained_parameters,
+                                      with_parameters)
 from fricgen.errors import ModelError
 from fricgen.fit import StribeckRegressor
 from fricgen.model import FrictionModel
@@ -18,16 +19,16 @@ def grey_model(bench):
     return FrictionModel.fit(bench.dataset, StribeckRegressor(), name="gb")
 
 
-@pytest.fixture(scope="module", params=["elm", "grey"])
-def model(request, default_model, grey_model):
-    return default_model if request.param == "elm" else grey_model
+@pytest.fixture(scope="module", params=["elm", "grey", "elm+offset"])
+def model(request, default_model, grey_model, offset_model):
+    return {"elm": default_model, "grey": grey_model, "elm+offset": offset_model}[request.param]
 
 
 def test_regressor_at_the_trained_parameters_is_the_model(model):
     reg = Regressor(model)
     forces = [f0 + phi @ reg.theta0 for f0, phi in map(reg, V)]
     # float64 sums in another order than [F3]: a few ULP of forces below 100 N
-    np.testing.assert_allclose(forces, model.force(V), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(forces, model.force_with_offset(V), rtol=0, atol=1e-12)
     assert len(parameter_names(model)) == reg.n
 
 
@@ -35,14 +36,15 @@ def test_float32_regressor_is_within_float_rounding_of_the_model(model):
     reg = Regressor(model, "float32")
     forces = [float(f0 + sum(np.float32(t) * p for t, p in zip(reg.theta0, phi))) for f0, phi in map(reg, V)]
     # float32 rounding of n ~ 10 terms of ~50 N: 1e-4 N
-    np.testing.assert_allclose(forces, model.force(V), rtol=0, atol=1e-4)
+    np.testing.assert_allclose(forces, model.force_with_offset(V), rtol=0, atol=1e-4)
 
 
 def test_with_parameters_round_trips_and_changes_the_force(model):
     theta = trained_parameters(model)
     assert with_parameters(model, theta).model_hash == model.model_hash
     changed = with_parameters(model, theta * 1.1)
-    assert changed.force(0.1) == pytest.approx(model.force(0.1) * 1.1, rel=1e-9)
+    assert changed.force_with_offset(0.1) == pytest.approx(model.force_with_offset(0.1) * 1.1, rel=1e-9)
+    assert changed.axis_offset == pytest.approx(1.1 * model.axis_offset, rel=1e-12)   # training.axis
 
 
 @pytest.fixture(scope="module")
@@ -83,11 +85,11 @@ def test_rls_learns_a_scaled_friction(model):
     a = _adapter(model, rule="rls")
     rng = np.random.default_rng(0)
     for v in rng.uniform(-0.2, 0.2, 4000):
-        a.rls(v, 1.2 * model.force(v))
+        a.rls(v, 1.2 * model.force_with_offset(v))
     test = np.linspace(-0.2, 0.2, 41)
     test = test[np.abs(test) > 0.01]
-    err_adapted = max(abs(a.force(v) - 1.2 * model.force(v)) for v in test)
-    err_fixed = max(abs(model.force(v) - 1.2 * model.force(v)) for v in test)
+    err_adapted = max(abs(a.force(v) - 1.2 * model.force_with_offset(v)) for v in test)
+    err_fixed = max(abs(model.force_with_offset(v) - 1.2 * model.force_with_offset(v)) for v in test)
     assert err_adapted < 0.1 * err_fixed
 
 
@@ -103,9 +105,9 @@ def test_projection_keeps_parameters_in_the_box(model):
 def test_dead_zone_in_velocity_and_in_error(model):
     a = _adapter(model, v_dead=0.005, e_dead=0.5)
     assert a.rls(0.004, 100.0) == FLAGS.value("dead zone")          # sticking speed
-    assert a.rls(0.05, float(model.force(0.05)) + 0.4) == FLAGS.value("dead zone")  # small error
+    assert a.rls(0.05, float(model.force_with_offset(0.05)) + 0.4) == FLAGS.value("dead zone")  # small error
     np.testing.assert_array_equal(a.theta_, a._theta0)
-    assert a.rls(0.05, float(model.force(0.05)) + 5.0) & FLAGS.value("dead zone") == 0
+    assert a.rls(0.05, float(model.force_with_offset(0.05)) + 5.0) & FLAGS.value("dead zone") == 0
     assert not np.array_equal(a.theta_, a._theta0)
     b = _adapter(model, rule="lyapunov", v_dead=0.005, e_dead=1e-4)
     assert b.lyapunov(0.05, 5e-5) == FLAGS.value("dead zone")
@@ -130,7 +132,7 @@ def test_covariance_stays_bounded_without_excitation(model):
     """One velocity only (poor excitation) with fast forgetting: P would grow as lambda^-k in the
     unexcited directions; the trace clamp holds it. At rest (dead zone) P does not change."""
     a = _adapter(model, forgetting=0.99, p0=1e-3, trace_max=0.05)
-    flags = [a.rls(0.1, float(model.force(0.1)) + 1.0) for _ in range(3000)]
+    flags = [a.rls(0.1, float(model.force_with_offset(0.1)) + 1.0) for _ in range(3000)]
     assert any(f & FLAGS.value("trace clamped") for f in flags)
     assert flags[-1] & FLAGS.value("trace clamped")            # scaled down to the bound, not below
     assert np.sum(np.diag(a.P_) / a._scale2) == pytest.approx(0.05, rel=1e-9)
@@ -144,17 +146,19 @@ def test_covariance_stays_bounded_without_excitation(model):
 def test_leakage_pulls_toward_the_trained_values(model):
     a = _adapter(model, leak=0.01)
     a.theta_ = a._theta0 + 0.05 * (a._hi - a._theta0)
-    before = np.abs(a.theta_ - a._theta0).sum()
+    before = np.abs(a.theta_ - a._theta0)
     v = 0.1
     a.rls(v, a.force(v))                            # no prediction error: only the leakage acts
-    after = np.abs(a.theta_ - a._theta0).sum()
-    assert after == pytest.approx(0.99 * before, rel=1e-6)
+    after = np.abs(a.theta_ - a._theta0)
+    n_leak = len(after) - adapts_offset(model)      # the axis's offset does not leak
+    assert after[:n_leak].sum() == pytest.approx(0.99 * before[:n_leak].sum(), rel=1e-6)
+    np.testing.assert_allclose(after[n_leak:], before[n_leak:], rtol=1e-12)
 
 
 def test_reset_returns_to_the_trained_values(model):
     a = _adapter(model)
     for v in (0.05, -0.1, 0.2):
-        a.rls(v, 2 * model.force(v))
+        a.rls(v, 2 * model.force_with_offset(v))
     assert not np.array_equal(a.theta_, a._theta0)
     a.restart()
     np.testing.assert_array_equal(a.theta_, a._theta0)
@@ -179,7 +183,9 @@ def test_the_fit_report_states_what_an_update_costs_and_where_adaptation_stops()
     assert adapt_instructions(10) <= 2000 < adapt_instructions(10, "rls")   # the target at M = 10
     line = adapt_cost(10)
     assert f"about {adapt_instructions(10):.0f} instructions per update" in line and "RLS" in line
-    assert f"--max-neurons {MAX_PARAMS - 1}" in adapt_cost(MAX_PARAMS) and "about" not in adapt_cost(MAX_PARAMS)
+    assert "about" in adapt_cost(MAX_PARAMS - 2)                # M units, B and the axis's offset
+    assert f"--max-neurons {MAX_PARAMS - 2}" in adapt_cost(MAX_PARAMS - 1)
+    assert "about" not in adapt_cost(MAX_PARAMS - 1)
 
 
 def _expected_update(a, rule, v, e):
@@ -194,7 +200,8 @@ def _expected_update(a, rule, v, e):
     else:
         P = a.p0 * np.diag(scale2)
         updated = theta0 + P @ phi / (a.forgetting_factor() + phi @ P @ phi) * step
-    return updated - a.leakage() * (updated - theta0)
+    leaks = np.where(np.arange(theta0.size) < theta0.size - adapts_offset(a.model), a.leakage(), 0.0)
+    return updated - leaks * (updated - theta0)
 
 
 @pytest.mark.parametrize("rule", ["rls", "lyapunov"])
@@ -206,20 +213,24 @@ def test_one_update_is_the_law_with_its_clamp_and_leakage(model, rule, size):
     if rule == "lyapunov":
         flags = a.lyapunov(v, e)
     else:
-        flags = a.rls(v, float(model.force(v)) + e)
+        flags = a.rls(v, float(model.force_with_offset(v)) + e)
     np.testing.assert_allclose(a.theta_, _expected_update(a, rule, v, e), rtol=1e-9, atol=1e-12)
     assert bool(flags & FLAGS.value("clamped")) == (size == "outlier")
 
 
 def test_defaults_leak_for_lyapunov_and_clamp_one_step_to_the_rate(model):
     """Lyapunov's default leakage is Ts / LEAK_TIME and its e_max moves the force by at most
-    band Ts / RATE_TIME per update, however large e2; RLS leaks nothing by default."""
+    band Ts / RATE_TIME per update through the friction's parameters, however large e2, and at
+    most as much again through the axis's offset; RLS leaks nothing by default."""
     a = _adapter(model)
     assert a.leakage() == pytest.approx(a.ts / LEAK_TIME) and _adapter(model, rule="rls").leakage() == 0
     a.lyapunov(0.03, 1e20)
+    budget = a.force_band() * a.ts / RATE_TIME
+    offset = a.theta_[-1] - a._theta0[-1] if adapts_offset(model) else 0.0
+    assert abs(offset) <= budget * (1 + 1e-9)
     v = np.linspace(-2 * model.v_sat, 2 * model.v_sat, 401)
-    moved = np.abs([a.force(u) - model.force(u) for u in v])
-    assert 0 < moved.max() <= a.force_band() * a.ts / RATE_TIME * (1 + 1e-9)
+    moved = np.abs([a.force(u) - model.force_with_offset(u) - offset for u in v])
+    assert 0 < moved.max() <= budget * (1 + 1e-9)
 
 
 def test_the_adapted_force_stays_in_its_band_whatever_the_parameters(model):
@@ -230,7 +241,7 @@ def test_the_adapted_force_stays_in_its_band_whatever_the_parameters(model):
         a.theta_ = corner.copy()
         unsaturated = np.array([phi @ (corner - a._theta0) for _, phi in map(reg, v)])
         assert np.max(np.abs(unsaturated)) > 2.0                 # the box alone lets it out
-        gap = np.abs([a.force(u) - model.force(u) for u in v])
+        gap = np.abs([a.force(u) - model.force_with_offset(u) for u in v])
         assert gap.max() <= 2.0 + 1e-9
 
 

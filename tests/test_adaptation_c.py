@@ -14,6 +14,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from conftest import with_axis
 from fricgen.cli import main
 from fricgen.codegen import CONTROLLER_FILES, RUNTIME_FILES, emit
 from fricgen.codegen.cbuild import CFLAGS, STRICT_WARNINGS
@@ -109,12 +110,13 @@ def test_adapt_is_refused_for_fixed_point_models(default_model, tmp_path, capsys
 
 
 def test_an_asymmetric_model_adapts_in_c_as_its_twin(default_model, grey_model):
-    """An ELM curve for v > 0, a grey-box one for v < 0: the C regressor fills each direction's
-    parameters (the other's 0) and the adapted loop is bit-equal to the float32 twin."""
+    """An ELM curve for v > 0, a grey-box one for v < 0 and the axis's offset: the C regressor
+    fills each direction's parameters (the other's 0) and the offset's, and the adapted loop is
+    bit-equal to the float32 twin."""
     from fricgen.direction import Direction
     negative = Direction(grey_model.aim, grey_model.scaling, 1.2 * grey_model.viscous,
                          0.8 * grey_model.v_sat)
-    model = FrictionModel.from_directions(default_model.positive, negative, name="asym")
+    model = with_axis(FrictionModel.from_directions(default_model.positive, negative, name="asym"), -0.8)
     twin, c, (py, cc) = _parity(model, "fast", "lyapunov", 1.5)
     assert py.finite and cc.finite
     np.testing.assert_array_equal(py.x, cc.x)
@@ -130,6 +132,7 @@ def test_an_asymmetric_model_adapts_in_c_as_its_twin(default_model, grey_model):
     v = np.array([-0.2, -0.01, 0.01, 0.2])
     np.testing.assert_allclose(back.force(v), k_hat * twin.adapter.adapted_model.force(v), rtol=1e-6)
     assert back.negative is not None
+    assert back.axis_offset == pytest.approx(k_hat * float(c.theta_[-1]), rel=1e-6)
 
 
 def test_header_capacity_is_the_python_one():
@@ -154,6 +157,24 @@ def test_c_adapted_loop_is_bit_equal_to_the_twin(default_model, grey_model, impl
     np.testing.assert_array_equal(py.i, cc.i)
     np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
     assert not np.array_equal(np.asarray(twin.adapter.theta_), twin.adapter._theta0)  # it adapted
+
+
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_the_offset_adapts_toward_the_plants_load_in_c_as_its_twin(offset_model, rule):
+    """The model's axis holds an offset of 1.5 N, the plant's load is 4 N: the C and its twin
+    step for step, the offset (theta's last, which does not leak) rises toward the load, and
+    the emitted header says the leakage spares it."""
+    module = build_adapted(offset_model)
+    twin = adapted(offset_model, rule, dtype="float32")
+    c = CAdaptedController(module, adapted(offset_model, rule, dtype="float32"))
+    py, cc = simulate(default_axis(load=4.0), [twin, c], duration=3.0)
+    assert py.finite and cc.finite
+    np.testing.assert_array_equal(py.i, cc.i)
+    np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
+    assert 1.7 < float(c.theta_[-1]) < 4.0 * 20.0 / 18.0 * 1.05     # in phi_N / phi units
+    n = len(twin.adapter.theta_)
+    header = render_adapt(offset_model, "om")["om_adapt.h"]
+    assert f"#define OM_ADAPT_N_LEAK {n - 1}" in header and f"#define OM_ADAPT_N_PARAMS {n}" in header
 
 
 @pytest.mark.parametrize("rule", ["rls", "lyapunov"])
@@ -200,7 +221,7 @@ def test_c_init_rejects_bad_parameters(default_model):
     assert lib.fric_adapt_init(a, p) == 0
     for field, bad in (("forgetting", 0.0), ("forgetting", 1.5), ("p0", -1.0), ("leak", 1.0), ("n", 0),
                        ("n", MAX_PARAMS + 1), ("v_dead", float("nan")), ("rule", 2),
-                       ("e_max", 0.0), ("band", -1.0), ("v_max", float("inf"))):
+                       ("e_max", 0.0), ("band", -1.0), ("v_max", float("inf")), ("n_leak", p.n + 1)):
         q = ffi.new("fric_adapt_params_t *", p[0])
         setattr(q, field, bad)
         assert lib.fric_adapt_init(a, q) == -2, field

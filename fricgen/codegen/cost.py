@@ -26,8 +26,8 @@ HOST_NS: Tuple[float, float] = (-5.7, 9.65)
 
 
 #: The most output parameters online adaptation holds (FRIC_ADAPT_MAX_PARAMS of fric_adapt.h):
-#: an ELM of at most 15 units.
-ADAPT_MAX_PARAMS = 16
+#: an ELM of at most 16 units, B and the axis's offset.
+ADAPT_MAX_PARAMS = 18
 
 #: Instructions of one online-adaptation update (``emit --adapt``: ``fric_adapt_ctrl_step`` less
 #: the fixed model's controller step) on Cortex-M4F for an ELM of M sigmoid units, a + b M + c M^2,

@@ -30,13 +30,17 @@ Safety, for both rules, in this order each sample:
   5. the rule's input is clamped to +-``e_max`` (``clamped``): whatever finite value a glitch
      delivers, one update moves theta a bounded step. Default: ``RLS_ERROR_FRACTION`` of the
      band (N) for RLS; for Lyapunov the e2 at which one update moves the force by at most
-     band Ts / ``RATE_TIME`` (adaptation follows slow change: drift, wear, temperature);
+     band Ts / ``RATE_TIME`` through the friction's parameters (adaptation follows slow change:
+     drift, wear, temperature), and as much again through the axis's offset;
   6. RLS only: the covariance is bounded, trace(P) <= ``trace_max`` (P is scaled down when the
      forgetting would take it beyond: no wind-up of P with poor excitation); and no update at
      all in the dead zone, so P does not grow at rest;
   7. leakage toward the trained values: theta -= ``leak`` (theta - theta0) every update.
      Default: Lyapunov Ts / ``LEAK_TIME`` (what a glitch left decays); RLS 0, its forgetting
-     lets later samples overwrite it (a leakage above 1 - lambda would outweigh the data);
+     lets later samples overwrite it (a leakage above 1 - lambda would outweigh the data).
+     Not the axis's offset: its phi is 1 at every speed, so every moving sample corrects what
+     a glitch left, and a leakage would cap how far it follows a changed load (at the rate
+     limit of 5., to band LEAK_TIME / RATE_TIME);
   8. projection onto the box [lo, hi] around theta0 (``box``: half-width relative to the
      parameters' scale); an update that is NaN keeps the old value.
 And the force the loop applies is bounded in what it means: the adapted correction
@@ -66,7 +70,7 @@ from ..networks import StribeckCurve
 from .backstepping import AdaptiveBackstepping
 from .c_abi import FLAGS as CTRL_FLAGS
 from .c_abi import CFlags, Enumerator, choice
-from .regressor import Regressor, check_adaptable, with_parameters
+from .regressor import Regressor, adapts_offset, check_adaptable, with_parameters
 
 #: fric_adapt_rule_t.
 RULE = choice("fric_adapt_rule_t",
@@ -105,11 +109,21 @@ SETTLE = 3.0
 _PEAK_GRID = np.linspace(0.0, 1.0, 4001)
 
 
+def peak_force(model: FrictionModel) -> float:
+    """The trained model's peak |F| over |v| <= v_sat (each way, the larger v_sat of an
+    asymmetric model's), N."""
+    v_sat = max(float(c.v_sat) for c in model.directions)
+    speeds = np.linspace(0.0, v_sat, _PEAK_GRID.size)
+    return float(np.max(np.abs(model.force(np.concatenate([speeds, -speeds])))))
+
+
 def parameter_scale(model: FrictionModel) -> np.ndarray:
     """The scale each parameter's box and Lyapunov gain are relative to: max |beta| (ELM) or
     max |a_k|, |c| [F1] for the curve's weights, and for B |B| or (1 / K_out) / v_sat when B
     is 0 (the viscous slope that adds the curve's force scale at v_sat); each direction's of an
-    asymmetric model from its own curve."""
+    asymmetric model from its own curve; the offset's (``regressor.adapts_offset``), N, is
+    sqrt(``friction_reach``) over |v| <= v_sat: its phi is 1, so the Lyapunov update moves it
+    as far as it moves the friction at most, each within its own budget (``input_limit``)."""
     scales = []
     for curve in check_adaptable(model).directions:
         net = curve.aim
@@ -118,7 +132,27 @@ def parameter_scale(model: FrictionModel) -> np.ndarray:
         w_scale = float(np.max(np.abs(weights))) or 1.0
         b_scale = abs(curve.viscous) or 1.0 / (curve.scaling.k_out * curve.v_sat)
         scales.append(np.concatenate([np.full(weights.size, w_scale), [b_scale]]))
+    if adapts_offset(model):
+        peaks = regressor_peaks(model, max(float(c.v_sat) for c in model.directions))
+        scales.append([math.sqrt(friction_reach(np.concatenate(scales), peaks, True))])
     return np.concatenate(scales)
+
+
+def regressor_peaks(model: FrictionModel, v_top: float) -> np.ndarray:
+    """max |phi_k(v)| over |v| <= v_top (float64, on a grid of 4001 speeds and v_sat each way:
+    an asymmetric model's features differ between the directions)."""
+    reg = Regressor(model)
+    v_sat = max(float(c.v_sat) for c in model.directions)
+    speeds = np.append(_PEAK_GRID * v_top, min(v_sat, v_top))
+    signs = (1.0,) if model.symmetric else (1.0, -1.0)
+    return np.max(np.abs([reg(s * v)[1] for v in speeds for s in signs]), axis=0)
+
+
+def friction_reach(scale, peaks, offset: bool) -> float:
+    """sum_k (scale_k max |phi_k|)^2 over the friction's parameters (all but the offset, last,
+    with ``offset``): how far one Lyapunov update per unit of gain and e2 moves the force."""
+    n = len(peaks) - offset
+    return float(np.sum((np.asarray(scale)[:n] * np.asarray(peaks)[:n]) ** 2))
 
 
 def _positive(name, value, allow_zero=False):
@@ -229,7 +263,8 @@ class FrictionAdapter:
             raise ValueError(f"leak must be in [0, 1), got {self.leak}")
         n = len(Regressor(self.model).theta0)
         if n > MAX_PARAMS:
-            units = MAX_PARAMS - 1 if self.model.symmetric else MAX_PARAMS // 2 - 1
+            own = MAX_PARAMS - adapts_offset(self.model)          # B per curve, one offset
+            units = own - 1 if self.model.symmetric else own // 2 - 1
             raise ModelError(f"the model has {n} output parameters; online adaptation holds at most "
                              f"{MAX_PARAMS} (FRIC_ADAPT_MAX_PARAMS): an ELM of at most {units} "
                              f"neurons{'' if self.model.symmetric else ' per direction'} (train "
@@ -247,21 +282,15 @@ class FrictionAdapter:
         return float(self.v_max) if self.v_max is not None else V_MAX_FACTOR * self._v_sat()
 
     def feature_peaks(self) -> np.ndarray:
-        """max |phi_k(v)| over |v| <= v_max (float64, on a grid of 4001 speeds and v_sat each
-        way: an asymmetric model's features differ between the directions)."""
-        reg = Regressor(self.model)
-        v_max = self.speed_limit()
-        speeds = np.append(_PEAK_GRID * v_max, min(self._v_sat(), v_max))
-        signs = (1.0,) if self.model.symmetric else (1.0, -1.0)
-        return np.max(np.abs([reg(s * v)[1] for v in speeds for s in signs]), axis=0)
+        """max |phi_k(v)| over |v| <= v_max (``regressor_peaks``)."""
+        return regressor_peaks(self.model, self.speed_limit())
 
     def force_band(self) -> float:
         """The band, N: the declared one or ``BAND_FRACTION`` of the trained model's peak |F|
         over |v| <= v_sat (each way)."""
         if self.band is not None:
             return float(self.band)
-        speeds = np.linspace(0.0, self._v_sat(), _PEAK_GRID.size)
-        return BAND_FRACTION * float(np.max(np.abs(self.model.force(np.concatenate([speeds, -speeds])))))
+        return BAND_FRACTION * peak_force(self.model)
 
     def bounds(self) -> Tuple[np.ndarray, np.ndarray]:
         """The projection box [lo, hi] (float64)."""
@@ -277,14 +306,16 @@ class FrictionAdapter:
     def input_limit(self) -> float:
         """e_max: the declared one, or RLS_ERROR_FRACTION of the band (N) for RLS, or for
         Lyapunov the |e2| (m/s) at which one update moves the force by at most band Ts /
-        RATE_TIME anywhere:
-        |dF| <= gain e_max sum_k scale_k^2 max |phi_k|^2."""
+        RATE_TIME anywhere through the friction's parameters, and at most as much again through
+        the axis's offset (``parameter_scale``):
+        |dF| <= gain e_max sum_k scale_k^2 max |phi_k|^2 (k: the friction's, ``friction_reach``)."""
         if self.e_max is not None:
             return float(self.e_max)
         band = self.force_band()
         if self.rule == "rls":
             return RLS_ERROR_FRACTION * band
-        reach = self.gain() * float(np.sum((parameter_scale(self.model) * self.feature_peaks()) ** 2))
+        reach = self.gain() * friction_reach(parameter_scale(self.model), self.feature_peaks(),
+                                             adapts_offset(self.model))
         return band * float(self.ts) / RATE_TIME / reach
 
     def forgetting_factor(self) -> float:
@@ -315,6 +346,9 @@ class FrictionAdapter:
                            self.e_dead, self.gain(), self.input_limit(), self.force_band(),
                            self.speed_limit()))
         self._kind = kind
+        self._leaks = np.full(self._theta0.size, self._leak, dtype=kind)
+        if adapts_offset(self.model):
+            self._leaks[-1] = 0.0                           # n_leak = n - 1: the offset
         return self.restart()
 
     def restart(self) -> "FrictionAdapter":
@@ -423,7 +457,7 @@ class FrictionAdapter:
 
     def _finish(self, updated, flags, err) -> int:
         """Leakage toward theta0, then projection onto [lo, hi] (NaN keeps the old value)."""
-        updated = updated - self._leak * (updated - self._theta0)
+        updated = updated - self._leaks * (updated - self._theta0)
         with np.errstate(invalid="ignore"):
             nan = np.isnan(updated)
             below, above = updated < self._lo, updated > self._hi

@@ -21,7 +21,7 @@ from ..networks import StribeckCurve
 from .adaptation import FLAGS, MAX_PARAMS, RULE, AdaptedController, FrictionAdapter, parameter_scale
 from .c_abi import CDEF as CTRL_CDEF
 from .c_controller import CController
-from .regressor import Regressor, parameter_names, trained_parameters
+from .regressor import Regressor, adapts_offset, parameter_names, trained_parameters
 
 #: The adaptation runtime copied beside the controller runtime.
 ADAPT_FILES = ("fric_adapt.h", "fric_adapt.c")
@@ -43,7 +43,7 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
           "FRIC_ADAPT_ERR_PARAM = -2, FRIC_ADAPT_ERR_SIZE = -3, FRIC_ADAPT_ERR_FOREIGN = -4, "
           "FRIC_ADAPT_ERR_CHECKSUM = -5, FRIC_ADAPT_ERR_RANGE = -6 } fric_adapt_status_t;\n"
         + "typedef float (*fric_adapt_regressor_fn)(float v, float *phi);\n"
-        + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n"
+        + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n    unsigned int n_leak;\n"
         + "".join(f"    float {a}[{MAX_PARAMS}];\n" for a in ("theta0", "lo", "hi", "scale"))
         + "".join(f"    float {s};\n" for s in SCALAR_FIELDS)
         + "} fric_adapt_params_t;\n"
@@ -78,7 +78,8 @@ def adapt_params(adapter) -> dict:
     adapter.validate()
     lo, hi = adapter.bounds()
     theta0 = trained_parameters(adapter.model)
-    values = {"n": theta0.size, "rule": RULE.member(adapter.rule), "theta0": list(theta0),
+    values = {"n": theta0.size, "rule": RULE.member(adapter.rule),
+              "n_leak": theta0.size - adapts_offset(adapter.model), "theta0": list(theta0),
               "lo": list(lo), "hi": list(hi), "scale": list(parameter_scale(adapter.model))}
     values.update({"forgetting": adapter.forgetting_factor(), "p0": adapter.p0,
                    "trace_max": adapter.trace_max, "gain": adapter.gain(),
@@ -117,7 +118,7 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
         for c, suffix, what in zip(curves, ("_pos", "_neg"), ("v > 0", "v < 0")):
             c.update(suffix=suffix, what=f"the curve for {what}")
     ctx = {**identity_context(model, name), "GUARD": f"FRICGEN_{name.upper()}_ADAPT_H",
-           "names": parameter_names(model), "n": params["n"],
+           "names": parameter_names(model), "n": params["n"], "offset": adapts_offset(model),
            "band": f"{adapter.force_band():.4g}", "box": f"{adapter.box:g}",
            "rule": adapter.rule, "rule_enum": params["rule"].name, "curves": curves,
            "describe": curves[0]["describe"] if len(curves) == 1 else

@@ -9,7 +9,8 @@ The dump (``fric_adapt.h``) is four lines::
     scale <8 hex digits: the float32 bits of the controller's k_hat>
 
 theta is the model's output parameters (``fricgen.control.regressor``: beta_k and B of an ELM,
-a_k, c and B of the grey-box [F1]); the hidden layer, the Stribeck velocities, the slope and
+a_k, c and B of the grey-box [F1], then the axis's offset where the model records its axis);
+the hidden layer, the Stribeck velocities, the slope and
 the scaling are the model's own. The loop applies k_hat F(v) [C9]: k_hat scales the
 compensation, so it and theta trade against each other (only their product is determined), and
 the model read back is k_hat F, the friction the loop applies. A dump of version 1 (three
@@ -94,18 +95,23 @@ def model_from_dump(model: FrictionModel, text: str) -> FrictionModel:
                          f"({', '.join(parameter_names(model))})")
     adapted = scaled(with_parameters(model, theta.astype(float)), scale)
     # the training's errors describe the trained parameters, not these: the record says whence
-    training = {k: v for k, v in model.training.items() if k != "metrics"}
+    training = {k: v for k, v in adapted.training.items() if k != "metrics"}
     return replace(adapted, training={**training, "adapted_from": model.model_hash})
 
 
 def scaled(model: FrictionModel, k: float) -> FrictionModel:
     """``model`` whose force is k F(v) (k > 0): [F3]'s K_out divided by k, B times k (each
-    direction's of an asymmetric model)."""
+    direction's of an asymmetric model), and the axis's offset times k (the loop applies k_hat
+    times it too)."""
     if k == 1.0:
         return model
     negative = model.negative
     if negative is not None:
         negative = replace(negative, scaling=replace(negative.scaling, k_out=negative.scaling.k_out / k),
                            viscous=negative.viscous * k)
+    training = model.training
+    if model.axis is not None and model.axis.offset is not None:
+        training = {**training, "axis": {**training["axis"], "offset": model.axis.offset * k}}
     return replace(model, scaling=replace(model.scaling, k_out=model.scaling.k_out / k),
-                   viscous=model.viscous * k, negative=negative)
+                   viscous=model.viscous * k, negative=negative, training=training,
+                   recorded_hash=None, recorded_axis_hash=None)

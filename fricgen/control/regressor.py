@@ -13,9 +13,16 @@ and in B. So F(v) = f0(v) + theta^T phi(v) with
 
 where s = sgn(v) / K_out, and f0 = s d x for [F1] (its slope d stays fixed; 0 for an ELM).
 
+A model that records its axis (``training.axis``, every model ``fricgen train`` writes) adds
+the axis's constant force, its ``offset`` ([C1] with a constant force, ``FrictionModel.
+axis_offset``), as a last parameter with phi = 1 at every velocity, rest included: gravity on
+an inclined axis or a cable's pull that changes in service is adapted with the friction, and
+the loop applies it (theta = [.., B, offset]).
+
 An asymmetric model is two such curves, one per direction of motion (each with its own AIM,
 scaling, B and v_sat, [F3]): theta = [theta+, theta-] and phi(v) = [phi+(v), 0] for v > 0,
-[0, phi-(v)] for v < 0, 0 at rest, so each direction adapts its own parameters.
+[0, phi-(v)] for v < 0, 0 at rest, so each direction adapts its own parameters (the offset,
+one for both directions, last).
 
 In float32 (``dtype="float32"``) the regressor is the exact twin of the ``NAME_regressor``
 that ``fricgen emit --adapt`` generates (``fricgen.codegen.adapt``): the same float operations
@@ -56,14 +63,20 @@ def _curve_parameters(curve) -> np.ndarray:
     return np.concatenate([net.output_weights, [curve.viscous]])
 
 
+def adapts_offset(model: FrictionModel) -> bool:
+    """Whether theta ends with the axis's offset: the model records its axis."""
+    return model.axis is not None
+
+
 def trained_parameters(model: FrictionModel) -> np.ndarray:
     """theta of the trained model (see the module doc), float64."""
-    return np.concatenate([_curve_parameters(c) for c in check_adaptable(model).directions])
+    curves = [_curve_parameters(c) for c in check_adaptable(model).directions]
+    return np.concatenate(curves + ([[model.axis_offset]] if adapts_offset(model) else []))
 
 
 def parameter_names(model: FrictionModel) -> Tuple[str, ...]:
     """The name of each entry of theta: beta_k or a_k (k from 0), c, B; with a "+" or "-"
-    after each of an asymmetric model's (its direction)."""
+    after each of an asymmetric model's (its direction); then ``offset`` (``adapts_offset``)."""
     curves = check_adaptable(model).directions
     names = []
     for curve, mark in zip(curves, ("", "") if len(curves) == 1 else ("+", "-")):
@@ -72,7 +85,7 @@ def parameter_names(model: FrictionModel) -> Tuple[str, ...]:
                if isinstance(net, StribeckCurve) else
                tuple(f"beta_{k}" for k in range(net.n_hidden)) + ("B",))
         names += [n + mark for n in own]
-    return tuple(names)
+    return tuple(names) + (("offset",) if adapts_offset(model) else ())
 
 
 def _with_curve_parameters(curve, theta: np.ndarray):
@@ -86,7 +99,8 @@ def _with_curve_parameters(curve, theta: np.ndarray):
 
 def with_parameters(model: FrictionModel, theta) -> FrictionModel:
     """``model`` with its output parameters set to ``theta`` (hidden layers, Stribeck
-    velocities, slopes and scalings kept): the read-back of an adapted model."""
+    velocities, slopes and scalings kept; the offset into ``training.axis``, its standard
+    error dropped): the read-back of an adapted model."""
     check_adaptable(model)
     theta = np.asarray(theta, dtype=float)
     if theta.shape != trained_parameters(model).shape or not np.all(np.isfinite(theta)):
@@ -96,9 +110,15 @@ def with_parameters(model: FrictionModel, theta) -> FrictionModel:
     aim, viscous = _with_curve_parameters(model.positive, theta[:n_positive])
     negative = model.negative
     if negative is not None:
-        neg_aim, neg_viscous = _with_curve_parameters(negative, theta[n_positive:])
+        n_negative = _curve_parameters(negative).size
+        neg_aim, neg_viscous = _with_curve_parameters(negative, theta[n_positive:n_positive + n_negative])
         negative = replace(negative, aim=neg_aim, viscous=neg_viscous)
-    return replace(model, aim=aim, viscous=viscous, negative=negative, recorded_hash=None)
+    training = model.training
+    if adapts_offset(model):
+        axis = {**training["axis"], "offset": float(theta[-1]), "offset_se": None}
+        training = {**training, "axis": axis}
+    return replace(model, aim=aim, viscous=viscous, negative=negative, training=training,
+                   recorded_hash=None, recorded_axis_hash=None)
 
 
 class _CurveRegressor:
@@ -156,18 +176,21 @@ class Regressor:
         self.n = self.theta0.size
         self._f = float if dtype == "float64" else f32
         self._curves = [_CurveRegressor(c, self._f, activation_impl) for c in model.directions]
+        self._offset = adapts_offset(model)
 
     def __call__(self, v) -> Tuple[object, np.ndarray]:
         """(f0, phi) at the finite velocity v (m/s), in the regressor's precision."""
         v = self._f(v)
-        if len(self._curves) == 1:
-            return self._curves[0](v)
-        positive, negative = self._curves
         phi = np.zeros(self.n, dtype=np.float32 if self._f is f32 else np.float64)
-        if v > 0:
+        positive = self._curves[0]
+        if len(self._curves) == 1:
+            f0, phi[:positive.n] = positive(v)
+        elif v > 0:
             f0, phi[:positive.n] = positive(v)
         elif v < 0:
-            f0, phi[positive.n:] = negative(v)
+            f0, phi[positive.n:positive.n + self._curves[1].n] = self._curves[1](v)
         else:
             f0 = self._f(0.0)
+        if self._offset:
+            phi[-1] = 1.0
         return f0, phi

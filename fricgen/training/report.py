@@ -180,9 +180,9 @@ def call_cost(n_hidden: int, activation: str) -> str:
 
 def adapt_cost(n_hidden: int) -> str:
     """The report's line on the cost of ``emit --adapt`` per update (``fricgen.codegen.cost``)."""
-    if n_hidden + 1 > MAX_PARAMS:
-        return (f"adapt     emit --adapt holds at most {MAX_PARAMS - 1} neurons "
-                f"(--max-neurons {MAX_PARAMS - 1})")
+    if n_hidden + 2 > MAX_PARAMS:                     # B and the axis's offset
+        return (f"adapt     emit --adapt holds at most {MAX_PARAMS - 2} neurons "
+                f"(--max-neurons {MAX_PARAMS - 2})")
     return (f"adapt     emit --adapt: about {adapt_instructions(n_hidden):.0f} instructions per "
             f"update on Cortex-M4F (Lyapunov; RLS {adapt_instructions(n_hidden, 'rls'):.0f}), "
             "beside the controller step")
