@@ -109,11 +109,14 @@ SETTLE = 3.0
 _PEAK_GRID = np.linspace(0.0, 1.0, 4001)
 
 
+def _v_sat(model: FrictionModel) -> float:
+    """The model's v_sat (the larger of an asymmetric model's two), m/s."""
+    return max(float(c.v_sat) for c in model.directions)
+
+
 def peak_force(model: FrictionModel) -> float:
-    """The trained model's peak |F| over |v| <= v_sat (each way, the larger v_sat of an
-    asymmetric model's), N."""
-    v_sat = max(float(c.v_sat) for c in model.directions)
-    speeds = np.linspace(0.0, v_sat, _PEAK_GRID.size)
+    """The trained model's peak |F| over |v| <= v_sat (each way, ``_v_sat``), N."""
+    speeds = np.linspace(0.0, _v_sat(model), _PEAK_GRID.size)
     return float(np.max(np.abs(model.force(np.concatenate([speeds, -speeds])))))
 
 
@@ -133,7 +136,7 @@ def parameter_scale(model: FrictionModel) -> np.ndarray:
         b_scale = abs(curve.viscous) or 1.0 / (curve.scaling.k_out * curve.v_sat)
         scales.append(np.concatenate([np.full(weights.size, w_scale), [b_scale]]))
     if adapts_offset(model):
-        peaks = regressor_peaks(model, max(float(c.v_sat) for c in model.directions))
+        peaks = regressor_peaks(model, _v_sat(model))
         scales.append([math.sqrt(friction_reach(np.concatenate(scales), peaks, True))])
     return np.concatenate(scales)
 
@@ -142,8 +145,7 @@ def regressor_peaks(model: FrictionModel, v_top: float) -> np.ndarray:
     """max |phi_k(v)| over |v| <= v_top (float64, on a grid of 4001 speeds and v_sat each way:
     an asymmetric model's features differ between the directions)."""
     reg = Regressor(model)
-    v_sat = max(float(c.v_sat) for c in model.directions)
-    speeds = np.append(_PEAK_GRID * v_top, min(v_sat, v_top))
+    speeds = np.append(_PEAK_GRID * v_top, min(_v_sat(model), v_top))
     signs = (1.0,) if model.symmetric else (1.0, -1.0)
     return np.max(np.abs([reg(s * v)[1] for v in speeds for s in signs]), axis=0)
 
@@ -273,13 +275,9 @@ class FrictionAdapter:
             raise ValueError(f"trace_max must be >= p0 n = {float(self.p0) * n:g}, got {self.trace_max}")
         return self
 
-    def _v_sat(self) -> float:
-        """The model's v_sat (the larger of an asymmetric model's two), m/s."""
-        return max(float(c.v_sat) for c in self.model.directions)
-
     def speed_limit(self) -> float:
         """v_max, m/s: the declared one or ``V_MAX_FACTOR`` v_sat."""
-        return float(self.v_max) if self.v_max is not None else V_MAX_FACTOR * self._v_sat()
+        return float(self.v_max) if self.v_max is not None else V_MAX_FACTOR * _v_sat(self.model)
 
     def feature_peaks(self) -> np.ndarray:
         """max |phi_k(v)| over |v| <= v_max (``regressor_peaks``)."""
@@ -346,9 +344,7 @@ class FrictionAdapter:
                            self.e_dead, self.gain(), self.input_limit(), self.force_band(),
                            self.speed_limit()))
         self._kind = kind
-        self._leaks = np.full(self._theta0.size, self._leak, dtype=kind)
-        if adapts_offset(self.model):
-            self._leaks[-1] = 0.0                           # n_leak = n - 1: the offset
+        self._leaking = np.arange(self._theta0.size) < self._theta0.size - adapts_offset(self.model)
         return self.restart()
 
     def restart(self) -> "FrictionAdapter":
@@ -457,7 +453,7 @@ class FrictionAdapter:
 
     def _finish(self, updated, flags, err) -> int:
         """Leakage toward theta0, then projection onto [lo, hi] (NaN keeps the old value)."""
-        updated = updated - self._leaks * (updated - self._theta0)
+        updated = np.where(self._leaking, updated - self._leak * (updated - self._theta0), updated)
         with np.errstate(invalid="ignore"):
             nan = np.isnan(updated)
             below, above = updated < self._lo, updated > self._hi
