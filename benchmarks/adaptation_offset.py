@@ -26,7 +26,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from adaptation import Clock  # noqa: E402
 from fricgen._plot import pyplot  # noqa: E402
 from fricgen.control.adaptation import adapted  # noqa: E402
 from fricgen.control.backstepping import AdaptiveBackstepping  # noqa: E402
@@ -71,11 +73,6 @@ class OffsetEffect:
     def force(self, sig):
         t = np.asarray(sig.t, dtype=float)
         return np.vectorize(self.offset)(t) + 0.0 * np.asarray(sig.x, dtype=float)
-
-
-class Clock:
-    """The time of the current sample, set by ``simulate(on_sample=...)``."""
-    t = 0.0
 
 
 def with_axis(model, offset: float):

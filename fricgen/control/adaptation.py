@@ -70,7 +70,7 @@ from ..networks import StribeckCurve
 from .backstepping import AdaptiveBackstepping
 from .c_abi import FLAGS as CTRL_FLAGS
 from .c_abi import CFlags, Enumerator, choice
-from .regressor import Regressor, adapts_offset, check_adaptable, with_parameters
+from .regressor import Regressor, adapts_offset, check_adaptable, trained_parameters, with_parameters
 
 #: fric_adapt_rule_t.
 RULE = choice("fric_adapt_rule_t",
@@ -316,6 +316,11 @@ class FrictionAdapter:
                                              adapts_offset(self.model))
         return band * float(self.ts) / RATE_TIME / reach
 
+    def n_leak(self) -> int:
+        """How many parameters the leakage acts on, the first: all but the axis's offset (the
+        C ``fric_adapt_params_t.n_leak``)."""
+        return trained_parameters(self.model).size - adapts_offset(self.model)
+
     def forgetting_factor(self) -> float:
         """lambda: the declared one or 1 - Ts / FORGET_TIME."""
         if self.forgetting is not None:
@@ -344,7 +349,7 @@ class FrictionAdapter:
                            self.e_dead, self.gain(), self.input_limit(), self.force_band(),
                            self.speed_limit()))
         self._kind = kind
-        self._leaking = np.arange(self._theta0.size) < self._theta0.size - adapts_offset(self.model)
+        self._leaking = np.arange(self._theta0.size) < self.n_leak()
         return self.restart()
 
     def restart(self) -> "FrictionAdapter":

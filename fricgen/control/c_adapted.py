@@ -79,7 +79,7 @@ def adapt_params(adapter) -> dict:
     lo, hi = adapter.bounds()
     theta0 = trained_parameters(adapter.model)
     values = {"n": theta0.size, "rule": RULE.member(adapter.rule),
-              "n_leak": theta0.size - adapts_offset(adapter.model), "theta0": list(theta0),
+              "n_leak": adapter.n_leak(), "theta0": list(theta0),
               "lo": list(lo), "hi": list(hi), "scale": list(parameter_scale(adapter.model))}
     values.update({"forgetting": adapter.forgetting_factor(), "p0": adapter.p0,
                    "trace_max": adapter.trace_max, "gain": adapter.gain(),
@@ -118,7 +118,8 @@ def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm")
         for c, suffix, what in zip(curves, ("_pos", "_neg"), ("v > 0", "v < 0")):
             c.update(suffix=suffix, what=f"the curve for {what}")
     ctx = {**identity_context(model, name), "GUARD": f"FRICGEN_{name.upper()}_ADAPT_H",
-           "names": parameter_names(model), "n": params["n"], "offset": adapts_offset(model),
+           "names": parameter_names(model), "n": params["n"], "n_leak": params["n_leak"],
+           "offset": adapts_offset(model),
            "band": f"{adapter.force_band():.4g}", "box": f"{adapter.box:g}",
            "rule": adapter.rule, "rule_enum": params["rule"].name, "curves": curves,
            "describe": curves[0]["describe"] if len(curves) == 1 else

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import DataError, ModelError
 from ..model import FrictionModel
-from .regressor import parameter_names, trained_parameters, with_parameters
+from .regressor import parameter_names, trained_parameters, with_offset, with_parameters
 
 #: The first line of a dump, with its format version; and that of the version before (no scale).
 MAGIC = "fricgen-adapt-dump 2"
@@ -109,9 +109,7 @@ def scaled(model: FrictionModel, k: float) -> FrictionModel:
     if negative is not None:
         negative = replace(negative, scaling=replace(negative.scaling, k_out=negative.scaling.k_out / k),
                            viscous=negative.viscous * k)
-    training = model.training
     if model.axis is not None and model.axis.offset is not None:
-        training = {**training, "axis": {**training["axis"], "offset": model.axis.offset * k}}
+        model = with_offset(model, model.axis.offset * k)
     return replace(model, scaling=replace(model.scaling, k_out=model.scaling.k_out / k),
-                   viscous=model.viscous * k, negative=negative, training=training,
-                   recorded_hash=None, recorded_axis_hash=None)
+                   viscous=model.viscous * k, negative=negative, recorded_hash=None)

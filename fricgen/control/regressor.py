@@ -113,12 +113,16 @@ def with_parameters(model: FrictionModel, theta) -> FrictionModel:
         n_negative = _curve_parameters(negative).size
         neg_aim, neg_viscous = _with_curve_parameters(negative, theta[n_positive:n_positive + n_negative])
         negative = replace(negative, aim=neg_aim, viscous=neg_viscous)
-    training = model.training
-    if adapts_offset(model):
-        axis = {**training["axis"], "offset": float(theta[-1]), "offset_se": None}
-        training = {**training, "axis": axis}
-    return replace(model, aim=aim, viscous=viscous, negative=negative, training=training,
-                   recorded_hash=None, recorded_axis_hash=None)
+    adapted = replace(model, aim=aim, viscous=viscous, negative=negative, recorded_hash=None)
+    return with_offset(adapted, float(theta[-1])) if adapts_offset(model) else adapted
+
+
+def with_offset(model: FrictionModel, offset: float) -> FrictionModel:
+    """``model`` whose ``training.axis`` (it must have one) holds ``offset`` (N), an adapted
+    value: its standard error dropped, the recorded hashes with it."""
+    axis = {**model.training["axis"], "offset": offset, "offset_se": None}
+    return replace(model, training={**model.training, "axis": axis}, recorded_hash=None,
+                   recorded_axis_hash=None)
 
 
 class _CurveRegressor:
@@ -183,9 +187,7 @@ class Regressor:
         v = self._f(v)
         phi = np.zeros(self.n, dtype=np.float32 if self._f is f32 else np.float64)
         positive = self._curves[0]
-        if len(self._curves) == 1:
-            f0, phi[:positive.n] = positive(v)
-        elif v > 0:
+        if len(self._curves) == 1 or v > 0:
             f0, phi[:positive.n] = positive(v)
         elif v < 0:
             f0, phi[positive.n:positive.n + self._curves[1].n] = self._curves[1](v)
