@@ -10,7 +10,7 @@ state drove a 5-neuron model's current up to the limit, where adaptation holds),
 benchmarks/firmware_cost.py). Side by side: ``fric_ctrl_step_fn`` with the fixed model, the
 same controller step without adaptation; their difference is what adaptation costs. The
 target: at most 2000 instructions per update at M = 10. ``--sizes`` measures ELMs of other sizes
-as well (M <= 15: the C holds 16 parameters) and prints, per implementation and rule, the curve
+as well (M <= 16: the C holds 18 parameters, M weights, B and an offset) and prints, per implementation and rule, the curve
 a + b M (Lyapunov) or a + b M + c M^2 (RLS, whose covariance update is quadratic) through them:
 what ``fricgen.codegen.cost.ADAPT_INSTRUCTIONS`` holds for the fit report.
 

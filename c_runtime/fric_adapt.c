@@ -308,13 +308,17 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
                                                                                  : a->m_o_hat);
     }
     /* at rest (or a non-finite v), and settling for FRIC_ADAPT_SETTLE / k1 s after it */
-    resting = (fabsf(v) >= a->p.v_dead) ? 0 : 1;
-    if (resting != 0) {
+    resting = 1;
+    settling = 0;
+    if (fabsf(v) >= a->p.v_dead) {
+        resting = 0;
+        if (a->settle > 0.0f) {
+            a->settle = a->settle - c->p.ts;
+            settling = (a->settle > 0.0f) ? 1 : settling;
+        }
+    } else {
         a->settle = FRIC_ADAPT_SETTLE / c->p.k1;
-    } else if (a->settle > 0.0f) {
-        a->settle = a->settle - c->p.ts;
     }
-    settling = ((resting == 0) && (a->settle > 0.0f)) ? 1 : 0;
     m_o_hat = c->m_o_hat;
     k_hat = c->k_hat;
     u = fric_ctrl_friction_velocity(c, x, v, xd, xd_dot);

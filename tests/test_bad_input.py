@@ -108,7 +108,7 @@ def work(cli_inputs, tmp_path_factory):
 def _dump_files(d):
     """Adaptation dumps (fric_adapt_export's text) of model.json gone wrong, and a good one."""
     from fricgen.control.readback import dump_text
-    from fricgen.control.regressor import trained_parameters
+    from fricgen.control.regressor import parameter_names, trained_parameters
     m = FrictionModel.load(d / "model.json")
     theta = trained_parameters(m)
     good = dump_text(m.model_hash, theta)
@@ -117,7 +117,9 @@ def _dump_files(d):
     (d / "dump_short.txt").write_text(dump_text(m.model_hash, theta[:-1]))
     (d / "dump_not_hex.txt").write_text(good.replace("theta ", "theta 3e0zcc24 "))
     (d / "dump_nan.txt").write_text(dump_text(m.model_hash, np.append(theta[:-1], np.nan)))
-    (d / "dump_negative_b.txt").write_text(dump_text(m.model_hash, np.append(theta[:-1], -theta[-1])))
+    negative_b = theta.copy()
+    negative_b[parameter_names(m).index("B")] *= -1.0
+    (d / "dump_negative_b.txt").write_text(dump_text(m.model_hash, negative_b))
 
 
 def _edited_columns(d, log, name, **edits):
@@ -253,7 +255,7 @@ TRIAL_ROWS = [
     ("a tab-separated sweep with decimal commas, all at one speed", ["train", "tab_comma.csv", "-o", OUT],
      "the points are all at one speed: a friction law needs two speeds or more"),
     ("emit --adapt, a 20-neuron ELM", ["emit", "elm20.json", "-o", OUT, "--adapt"],
-     "the model has 21 output parameters; online adaptation holds at most 16 (FRIC_ADAPT_MAX_PARAMS)"),
+     "the model has 21 output parameters; online adaptation holds at most 18 (FRIC_ADAPT_MAX_PARAMS)"),
     ("a sweep with its own column names", ["train", "velocity_force.csv", "-o", OUT],
      "missing t and v or x (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
