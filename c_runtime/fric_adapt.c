@@ -15,7 +15,8 @@ static int fric_adapt_params_ok(const fric_adapt_params_t *p)
     unsigned int k;
     const float scalars[] = {p->forgetting, p->p0, p->trace_max, p->gain, p->leak, p->v_dead,
                              p->e_dead, p->e_max, p->band, p->v_max};
-    if ((p->n < 1u) || (p->n > FRIC_ADAPT_MAX_PARAMS) || (p->n_leak > p->n)) {
+    if ((p->n < 1u) || (p->n > FRIC_ADAPT_MAX_PARAMS) || (p->n_leak > p->n)
+        || (p->hold_at_rest > 1u)) {
         return 0;
     }
     if ((p->rule != FRIC_ADAPT_RULE_RLS) && (p->rule != FRIC_ADAPT_RULE_LYAPUNOV)) {
@@ -318,6 +319,10 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
         }
     } else {
         a->settle = FRIC_ADAPT_SETTLE / c->p.k1;
+    }
+    if (a->p.hold_at_rest == 0u) {           /* the estimates adapt through every stick */
+        resting = 0;
+        settling = 0;
     }
     m_o_hat = c->m_o_hat;
     k_hat = c->k_hat;

@@ -42,9 +42,9 @@ extern "C" {
 #endif
 
 /* The runtime's interface: 4 since the rule is an int32_t, 5 since fric_adapt_t holds settle,
- * fric_adapt_params_t n_leak and FRIC_ADAPT_MAX_PARAMS is 18 (the saved state's format,
- * FRIC_ADAPT_STATE_FORMAT, is another number). */
-#define FRIC_ADAPT_VERSION 5
+ * fric_adapt_params_t n_leak and FRIC_ADAPT_MAX_PARAMS is 18, 6 since fric_adapt_params_t holds
+ * hold_at_rest (the saved state's format, FRIC_ADAPT_STATE_FORMAT, is another number). */
+#define FRIC_ADAPT_VERSION 6
 /* The format of a saved state (fric_adapt_save): what a blob holds, not the structs' layout.
  * 4 holds the controller's k_hat and m_o_hat; fric_adapt_restore reads 3 (without them) too. */
 #define FRIC_ADAPT_STATE_FORMAT 4u
@@ -105,6 +105,9 @@ typedef struct {
     fric_adapt_rule_t rule;                  /* FRIC_ADAPT_RULE_RLS or _LYAPUNOV */
     unsigned int n_leak;                     /* the leakage acts on theta[0 .. n_leak - 1], <= n;
                                                 the rest (the axis's offset) does not leak */
+    unsigned int hold_at_rest;               /* 1 (the default): fric_adapt_ctrl_step holds the
+                                                e2-driven estimates while the axis sticks and
+                                                settles; 0: they adapt through every stick */
     float theta0[FRIC_ADAPT_MAX_PARAMS];     /* trained values */
     float lo[FRIC_ADAPT_MAX_PARAMS];         /* box, lo <= theta0 <= hi */
     float hi[FRIC_ADAPT_MAX_PARAMS];

@@ -203,6 +203,28 @@ def test_the_estimates_hold_at_rest_and_while_the_axis_catches_up(default_model,
     assert twin.adaptive_parameters[1] > a0[1]
 
 
+@pytest.mark.parametrize("rule", ["rls", "lyapunov"])
+def test_without_the_hold_the_estimates_adapt_through_the_stick(default_model, rule):
+    """hold_at_rest=False (fric_adapt_params_t.hold_at_rest = 0): the same stick and catch-up
+    move m_o_hat and k_hat from the first step on, and Lyapunov's theta once the axis moves,
+    in the C as in its twin, step for step."""
+    module = build_adapted(default_model)
+    twin = adapted(default_model, rule, dtype="float32", hold_at_rest=False).reset()
+    c = CAdaptedController(module, adapted(default_model, rule, dtype="float32",
+                                           hold_at_rest=False)).reset()
+    a0, theta0 = twin.adaptive_parameters, np.asarray(twin.adapter.theta_).copy()
+    behind = (0.0, 1e-3, 0.05, 1.0)
+    for v in [0.0] * 5 + [0.05] * 5:
+        assert twin.step(v=v, x=behind[0], xd=behind[1], xd_dot=behind[2], xd_ddot=behind[3]) \
+            == c.step(behind[0], v, *behind[1:])
+        assert twin.adaptive_parameters == c.adaptive_parameters != a0
+        np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
+    if rule == "lyapunov":
+        assert not np.array_equal(np.asarray(twin.adapter.theta_), theta0)
+    with pytest.raises(ValueError, match="hold_at_rest must be True or False"):
+        adapted(default_model, rule, hold_at_rest=0).adapter.validate()
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("rule", ["rls", "lyapunov"])
 def test_c_adapted_loop_is_bit_equal_over_60_s(default_model, rule):
@@ -221,7 +243,8 @@ def test_c_init_rejects_bad_parameters(default_model):
     assert lib.fric_adapt_init(a, p) == 0
     for field, bad in (("forgetting", 0.0), ("forgetting", 1.5), ("p0", -1.0), ("leak", 1.0), ("n", 0),
                        ("n", MAX_PARAMS + 1), ("v_dead", float("nan")), ("rule", 2),
-                       ("e_max", 0.0), ("band", -1.0), ("v_max", float("inf")), ("n_leak", p.n + 1)):
+                       ("e_max", 0.0), ("band", -1.0), ("v_max", float("inf")), ("n_leak", p.n + 1),
+                       ("hold_at_rest", 2)):
         q = ffi.new("fric_adapt_params_t *", p[0])
         setattr(q, field, bad)
         assert lib.fric_adapt_init(a, q) == -2, field

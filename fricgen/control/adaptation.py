@@ -197,6 +197,11 @@ class FrictionAdapter:
         Dead zone in velocity, m/s.
     e_dead : float
         Dead zone in the error: N (RLS) or m/s of e2 (Lyapunov).
+    hold_at_rest : bool
+        ``AdaptedController`` holds the controller's estimates and Lyapunov's theta while the
+        axis sticks and settles (True, the default: what ``readback`` exports stays the
+        friction); False adapts them through every stick, as before ``FRIC_ADAPT_VERSION`` 5
+        (tighter tracking where the controller's m_o_hat inflates, benchmarks/adaptation.py).
     ts, phi_n : float
         Sampling time (s) and nominal force constant (N/A) of the controller.
     dtype : {"float64", "float32"}; activation_impl : {"libm", "fast"}
@@ -217,7 +222,7 @@ class FrictionAdapter:
                  gamma: float = 2.0, box: float = 0.5, band: Optional[float] = None,
                  v_max: Optional[float] = None, e_max: Optional[float] = None,
                  leak: Optional[float] = None, v_dead: float = 0.005, e_dead: float = 0.0,
-                 ts: float = 1e-3, phi_n: float = 20.0, dtype: str = "float64",
+                 hold_at_rest: bool = True, ts: float = 1e-3, phi_n: float = 20.0, dtype: str = "float64",
                  activation_impl: str = "libm"):
         self.model = model
         self.rule = rule
@@ -232,13 +237,15 @@ class FrictionAdapter:
         self.leak = leak
         self.v_dead = v_dead
         self.e_dead = e_dead
+        self.hold_at_rest = hold_at_rest
         self.ts = ts
         self.phi_n = phi_n
         self.dtype = dtype
         self.activation_impl = activation_impl
 
     _PARAMS = ("model", "rule", "forgetting", "p0", "trace_max", "gamma", "box", "band", "v_max",
-               "e_max", "leak", "v_dead", "e_dead", "ts", "phi_n", "dtype", "activation_impl")
+               "e_max", "leak", "v_dead", "e_dead", "hold_at_rest", "ts", "phi_n", "dtype",
+               "activation_impl")
 
     def get_params(self) -> dict:
         return {k: getattr(self, k) for k in self._PARAMS}
@@ -261,6 +268,8 @@ class FrictionAdapter:
                 _positive(name, getattr(self, name))
         for name in ("v_dead", "e_dead"):
             _positive(name, getattr(self, name), allow_zero=True)
+        if not isinstance(self.hold_at_rest, (bool, np.bool_)):
+            raise ValueError(f"hold_at_rest must be True or False, got {self.hold_at_rest!r}")
         if self.leak is not None and not (0.0 <= float(self.leak) < 1.0):
             raise ValueError(f"leak must be in [0, 1), got {self.leak}")
         n = len(Regressor(self.model).theta0)
@@ -493,8 +502,8 @@ class AdaptedController:
        unsaturated.
 
     The updates driven by e2, the controller's m_o_hat and k_hat [C14] and Lyapunov's theta,
-    are held while the axis is in the dead zone |v| < v_dead and for ``SETTLE`` / k1 seconds
-    after it leaves it (the controller keeps the estimates it had before the step, without
+    are held (``FrictionAdapter.hold_at_rest``, the default) while the axis is in the dead zone
+    |v| < v_dead and for ``SETTLE`` / k1 seconds after it leaves it (the controller keeps the estimates it had before the step, without
     ``projected``): while the axis sticks at a reversal the reference runs on, and the velocity
     error of the stick and of the catch-up after it is no model's. Adapted on, it raised m_o_hat
     to 2.5 m_o and k_hat F 4.4 % above the friction on the built-in axis
@@ -532,6 +541,8 @@ class AdaptedController:
         elif self._settle > 0:
             self._settle = self._settle - c._ts
         settling = not resting and self._settle > 0
+        if not a.hold_at_rest:                              # the estimates adapt through sticks
+            resting = settling = False
         estimates = list(c.a_)
         u = c.friction_velocity(x, v, xd, xd_dot)
         force = a.force(u)

@@ -44,6 +44,7 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
           "FRIC_ADAPT_ERR_CHECKSUM = -5, FRIC_ADAPT_ERR_RANGE = -6 } fric_adapt_status_t;\n"
         + "typedef float (*fric_adapt_regressor_fn)(float v, float *phi);\n"
         + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n    unsigned int n_leak;\n"
+          + "    unsigned int hold_at_rest;\n"
         + "".join(f"    float {a}[{MAX_PARAMS}];\n" for a in ("theta0", "lo", "hi", "scale"))
         + "".join(f"    float {s};\n" for s in SCALAR_FIELDS)
         + "} fric_adapt_params_t;\n"
@@ -79,7 +80,8 @@ def adapt_params(adapter) -> dict:
     lo, hi = adapter.bounds()
     theta0 = trained_parameters(adapter.model)
     values = {"n": theta0.size, "rule": RULE.member(adapter.rule),
-              "n_leak": adapter.n_leak(), "theta0": list(theta0),
+              "n_leak": adapter.n_leak(), "hold_at_rest": int(adapter.hold_at_rest),
+              "theta0": list(theta0),
               "lo": list(lo), "hi": list(hi), "scale": list(parameter_scale(adapter.model))}
     values.update({"forgetting": adapter.forgetting_factor(), "p0": adapter.p0,
                    "trace_max": adapter.trace_max, "gain": adapter.gain(),
