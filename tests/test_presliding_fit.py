@@ -53,6 +53,26 @@ def test_the_bristles_of_a_precision_stage_are_found(axis, static, log):
     assert fit.rms_dynamic < 0.5 * fit.rms_static
 
 
+@pytest.mark.parametrize("presliding", [True, False])
+def test_static_train_says_when_speeding_up_and_braking_give_two_masses(axis, log, presliding):
+    """The bristles' build-up after each start reads as less friction while the axis speeds up:
+    the static train's mass comes out low, and the masses of the two phases apart say so in
+    one warning line (with the truth within them); on the same motion without pre-sliding the
+    two agree and nothing is said."""
+    data = log if presliding else static_friction_log(axis, SEED)
+    lines = []
+    body = train({k: data[k] for k in ("t", "x", "force")}, warn=lines.append).identification.body
+    said = [line for line in lines if "speeding up gives" in line]
+    assert body.phases_disagree() == presliding and len(said) == int(presliding)
+    if presliding:
+        (up, _), (braking, _) = body.phase_masses
+        assert up < body.mass < axis.mass < 1.05 * braking
+        assert said[0].startswith("fricgen: warning: data: the identified mass: ")
+        assert f"{up:.4g} +- " in said[0] and f"braking {braking:.4g} +- " in said[0]
+    else:
+        assert abs(body.mass / axis.mass - 1) < 0.01
+
+
 def test_a_log_without_presliding_leaves_the_bristles_out(axis, static):
     log = static_friction_log(axis, SEED)
     fit = identify_presliding(log["t"], log["x"], log["force"], static, mass=axis.mass, window=31)

@@ -28,6 +28,13 @@ STRIBECK_TERMS = 3
 BASIS_COLUMNS = 2 * (2 + STRIBECK_TERMS)
 #: The identified mass must stand this many standard errors above 0.
 MASS_SIGMAS = 3.0
+#: Independent samples (rows kept times the filter's variance ratio) per fitted parameter.
+SAMPLES_PER_PARAMETER = 10
+#: The masses identified apart where the axis speeds up and where it brakes disagree when they
+#: differ by more than PHASE_SIGMAS standard errors of the difference and PHASE_SHARE of the
+#: larger (``RigidBody.phases_disagree``).
+PHASE_SIGMAS = 3.0
+PHASE_SHARE = 0.1
 
 
 def friction_basis(v: np.ndarray, odd: bool) -> np.ndarray:
@@ -67,6 +74,28 @@ class RigidBody:
     run_offsets: Optional[Tuple[Tuple[int, float, float], ...]] = None
     #: ... and that first run (the reference), where there are run offsets
     run_reference: Optional[int] = None
+    #: The mass (and its standard error) identified on the rows where the axis speeds up and on
+    #: those where it brakes (``phase_masses``); None where given or not determined
+    phase_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
+
+    def phases_disagree(self) -> bool:
+        """Whether speeding up and braking give masses apart beyond their noise (PHASE_SIGMAS,
+        PHASE_SHARE): the force differs between the two at the same speed, friction with
+        memory (the bristles' build-up after each start, a frictional lag) that a static
+        curve leaves out, and the mass of both together is off by about the difference."""
+        if self.phase_masses is None:
+            return False
+        (m1, s1), (m2, s2) = self.phase_masses
+        gap = abs(m1 - m2)
+        return gap > PHASE_SIGMAS * float(np.hypot(s1, s2)) and gap > PHASE_SHARE * max(m1, m2)
+
+    def phase_note(self, unit: str) -> str:
+        """What ``phases_disagree`` found, in one sentence (``unit``: the mass's)."""
+        (m1, s1), (m2, s2) = self.phase_masses
+        return (f"speeding up gives {m1:.4g} +- {s1:.2g} {unit} and braking {m2:.4g} +- {s2:.2g} "
+                f"{unit}: the force differs between the two at the same speed (friction with "
+                "memory: pre-sliding after each start, a frictional lag), so the mass is uncertain "
+                "by about the difference; train --dynamic models pre-sliding")
 
     def run_force(self, runs: Optional[np.ndarray]) -> np.ndarray:
         """The constant force of each row's run less the reference run's (0 without run
@@ -175,6 +204,25 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
     return max(mass, 0.0), mass_se, mass
 
 
+def phase_masses(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
+                 extra: Optional[np.ndarray] = None, accel_noise: float = 0.0):
+    """The mass and its standard error as ``identify_mass`` fits it, on the rows where the
+    axis speeds up (a v > 0) and, apart, on those where it brakes (a v < 0): a static friction
+    curve gives the two one mass (``RigidBody.phases_disagree``). Only rows where |a| exceeds
+    PHASE_SIGMAS times ``accel_noise`` (the SD of dv/dt's noise) count: a phase chosen by the
+    noise of a would bias the mass of each (an encoder's counts). None where either phase has
+    fewer independent samples than SAMPLES_PER_PARAMETER per column."""
+    basis = _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
+    clear = np.abs(a) > PHASE_SIGMAS * accel_noise
+    out = []
+    for phase in (clear & (a * v > 0), clear & (a * v < 0)):
+        if independent * phase.mean() < SAMPLES_PER_PARAMETER * basis.shape[1]:
+            return None
+        coef, se = least_squares_errors(basis[phase], force[phase], independent * phase.mean())
+        out.append((float(coef[0]), float(se[0])))
+    return tuple(out)
+
+
 def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float,
                     independent: float, extra: Optional[np.ndarray] = None):
     """o and its standard error from f - m a = o + F(v), F odd (``friction_basis``; ``extra``
@@ -187,12 +235,14 @@ def identify_offset(a: np.ndarray, v: np.ndarray, force: np.ndarray, mass: float
 def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
                         mass: Optional[float] = None, extra: Optional[np.ndarray] = None,
                         x: Optional[np.ndarray] = None,
-                        runs: Optional[np.ndarray] = None) -> RigidBody:
+                        runs: Optional[np.ndarray] = None,
+                        accel_noise: Optional[float] = None) -> RigidBody:
     """The mass (unless given) and the offset of the axis from smoothed dv/dt, v and force at
     rows where it moves (``extra`` as ``identify_mass``); with the positions ``x``, a gravity
     force G_s sin x + G_c cos x beside them (``gravity_basis``); with the run of each row
     (``runs``, a log concatenated from runs), each later run's constant force less the first's,
-    where the runs determine them (``determined_runs``)."""
+    where the runs determine them (``determined_runs``). With ``accel_noise`` (the SD of the
+    noise of dv/dt), the mass of each phase as well (``phase_masses``)."""
     gravity = gravity_se = run_offsets = None
     known, determined = known_columns(v, x, runs)
     if known:
@@ -216,5 +266,8 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
         if determined.size:
             run_offsets = tuple((int(r), float(c), float(e)) for r, c, e in
                                 zip(determined[1:], coef[at:], se[at:]))
+    phases = None
+    if accel_noise is not None and mass_se is not None and mass > MASS_SIGMAS * mass_se:
+        phases = phase_masses(a, v, force, independent, extra, accel_noise)
     return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se,
-                     run_offsets, int(determined[0]) if determined.size else None)
+                     run_offsets, int(determined[0]) if determined.size else None, phases)

@@ -21,12 +21,12 @@ from scipy.signal import savgol_filter
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import LINEAR
-from .idim import (BASIS_COLUMNS, RigidBody, friction_basis, identify_rigid_body, known_columns,
-                   operating_basis)
+from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
+                   identify_rigid_body, known_columns, operating_basis)
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
 from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
-                        smooth, steady_rows)
+                        derivative_noise, smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -36,8 +36,6 @@ MOVING_SIGMAS = 5.0
 MOVING_FRACTION = 1e-3
 #: Fewest rows of a log: the smoothing and the noise estimate need a few windows.
 MIN_LOG_ROWS = 4 * MIN_WINDOW
-#: Independent samples (rows kept times the filter's variance ratio) per fitted parameter.
-SAMPLES_PER_PARAMETER = 10
 #: Fewest independent samples a log must give: those of the four parameters of the smallest
 #: friction law (Coulomb, viscous, a Stribeck drop and its velocity).
 MIN_INDEPENDENT = 4 * SAMPLES_PER_PARAMETER
@@ -175,6 +173,8 @@ class Identification:
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
         lines = [f"mass      {mass}"]
+        if b.phases_disagree():
+            lines.append(f"          {b.phase_note(units.mass)}")
         if b.gravity is not None:
             (g_s, g_c), (se_s, se_c) = b.gravity, b.gravity_se
             lines.append(f"gravity   G_s sin x + G_c cos x: G_s = {g_s:.5g} +- {se_s:.2g}, G_c = "
@@ -313,7 +313,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         if body_window is None:             # the body where dv/dt explains the force best
             body_window = explaining_window(v, raw, rows & whole, ts, span)
         if body_window is not None:
-            body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs)
+            body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs, noise)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
         window = choose_window(force, rows, guess, noise, ts, progress, span)
@@ -389,11 +389,12 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
 
 def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.ndarray,
              conditions: Dict[str, np.ndarray], angle: Optional[np.ndarray] = None,
-             runs: Optional[np.ndarray] = None) -> RigidBody:
+             runs: Optional[np.ndarray] = None, noise: Optional[float] = None) -> RigidBody:
     """The rigid body (``data.idim``) from the raw ``force`` (the load taken out) at ``rows``,
     with v, dv/dt and the operating point smoothed by ``window`` (``explaining_window``). The
     residual is the raw force's, so the rows count as independent but for its correlation from
-    one row to the next (n (1 - r) / (1 + r), r its lag-one autocorrelation)."""
+    one row to the next (n (1 - r) / (1 + r), r its lag-one autocorrelation). ``noise``: the
+    velocity's, which sets that of dv/dt for the phases' masses (``RigidBody.phase_masses``)."""
     at = np.flatnonzero(rows)
     v_s, a_s = smooth(v, window)[at], smooth(v, window, deriv=1, delta=ts)[at]
     at_rows = {k: smooth(c, window)[at] for k, c in conditions.items()}
@@ -407,8 +408,9 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
     lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / at.size)
+    accel_noise = None if noise is None else noise * derivative_noise(window, ts)
     return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra,
-                               x_s, runs)
+                               x_s, runs, accel_noise)
 
 
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
