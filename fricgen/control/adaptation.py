@@ -503,11 +503,11 @@ class AdaptedController:
 
     The updates driven by e2, the controller's m_o_hat and k_hat [C14] and Lyapunov's theta,
     are held (``FrictionAdapter.hold_at_rest``, the default) while the axis is in the dead zone
-    |v| < v_dead and for ``SETTLE`` / k1 seconds after it leaves it (the controller keeps the estimates it had before the step, without
-    ``projected``): while the axis sticks at a reversal the reference runs on, and the velocity
-    error of the stick and of the catch-up after it is no model's. Adapted on, it raised m_o_hat
-    to 2.5 m_o and k_hat F 4.4 % above the friction on the built-in axis
-    (benchmarks/adaptation_readback.py).
+    |v| < v_dead and for ``SETTLE`` / k1 seconds after it leaves it (the controller keeps the
+    estimates it had before the step, without ``projected``): while the axis sticks at a
+    reversal the reference runs on, and the velocity error of the stick and of the catch-up
+    after it is no model's. Adapted on, it raised m_o_hat to 2.5 m_o and k_hat F 4.4 % above
+    the friction on the built-in axis (benchmarks/adaptation_readback.py).
 
     ``controller`` and ``adapter`` are reset with this; their ``dtype`` must agree (float32:
     the twin of the C).
