@@ -17,9 +17,10 @@
  * (FRIC_ADAPT_CLAMPED: one update moves theta a bounded step, whatever finite input it gets);
  * RLS: sum_k P_kk / scale_k^2 is held at most trace_max (FRIC_ADAPT_TRACE_CLAMPED); leakage
  * theta_k -= leak (theta_k - theta0_k) for k < n_leak; each theta_k projected onto [lo_k, hi_k]
- * (FRIC_ADAPT_PROJECTED; a NaN update keeps theta_k). The force applied, fric_adapt_force, is the trained model's plus
- * the adapted correction sum_k (theta_k - theta0_k) phi_k saturated at +-band (N): within the
- * band around the trained model at every velocity, whatever the parameters.
+ * (FRIC_ADAPT_PROJECTED; a NaN update keeps theta_k). The force applied, fric_adapt_force, is
+ * the trained model's plus the adapted correction sum_k (theta_k - theta0_k) phi_k saturated at
+ * +-band (N): within the band around the trained model at every velocity, whatever the
+ * parameters.
  *
  * Usage, every ts (after fric_ctrl_init(&c, ...) and NAME_adapt_default_params(&p),
  * fric_adapt_init(&a, &p)):

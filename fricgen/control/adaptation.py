@@ -222,8 +222,8 @@ class FrictionAdapter:
                  gamma: float = 2.0, box: float = 0.5, band: Optional[float] = None,
                  v_max: Optional[float] = None, e_max: Optional[float] = None,
                  leak: Optional[float] = None, v_dead: float = 0.005, e_dead: float = 0.0,
-                 hold_at_rest: bool = True, ts: float = 1e-3, phi_n: float = 20.0, dtype: str = "float64",
-                 activation_impl: str = "libm"):
+                 hold_at_rest: bool = True, ts: float = 1e-3, phi_n: float = 20.0,
+                 dtype: str = "float64", activation_impl: str = "libm"):
         self.model = model
         self.rule = rule
         self.forgetting = forgetting

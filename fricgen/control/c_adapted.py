@@ -43,8 +43,8 @@ CDEF = (RULE.cdef() + FLAGS.cdef()
           "FRIC_ADAPT_ERR_PARAM = -2, FRIC_ADAPT_ERR_SIZE = -3, FRIC_ADAPT_ERR_FOREIGN = -4, "
           "FRIC_ADAPT_ERR_CHECKSUM = -5, FRIC_ADAPT_ERR_RANGE = -6 } fric_adapt_status_t;\n"
         + "typedef float (*fric_adapt_regressor_fn)(float v, float *phi);\n"
-        + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n    unsigned int n_leak;\n"
-          + "    unsigned int hold_at_rest;\n"
+        + "typedef struct {\n    unsigned int n;\n    fric_adapt_rule_t rule;\n"
+          "    unsigned int n_leak;\n    unsigned int hold_at_rest;\n"
         + "".join(f"    float {a}[{MAX_PARAMS}];\n" for a in ("theta0", "lo", "hi", "scale"))
         + "".join(f"    float {s};\n" for s in SCALAR_FIELDS)
         + "} fric_adapt_params_t;\n"

@@ -182,6 +182,12 @@ def _with(basis: np.ndarray, extra: Optional[np.ndarray]) -> np.ndarray:
     return basis if extra is None else np.column_stack([basis, extra])
 
 
+def mass_basis(a: np.ndarray, v: np.ndarray, extra: Optional[np.ndarray] = None) -> np.ndarray:
+    """The columns f = m a + F(v) + o is fitted on: dv/dt, then ``friction_basis`` per
+    direction (which also absorbs o), then ``extra``."""
+    return _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
+
+
 def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
                   extra: Optional[np.ndarray] = None):
     """m, its standard error and the raw estimate from f = m a + F(v) + o over moving rows (F
@@ -193,7 +199,7 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
     inertia (a rigid-body model removed from the force, overestimated): m is 0, and the
     estimate is taken out of the friction samples (``RigidBody.inertia``). ``extra``:
     columns of a friction that changes with the operating point (``operating_basis``)."""
-    basis = _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
+    basis = mass_basis(a, v, extra)
     coef, se = least_squares_errors(basis, force, independent)
     mass, mass_se = float(coef[0]), float(se[0])
     friction = basis[:, 1:] @ coef[1:]
@@ -212,7 +218,7 @@ def phase_masses(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: f
     PHASE_SIGMAS times ``accel_noise`` (the SD of dv/dt's noise) count: a phase chosen by the
     noise of a would bias the mass of each (an encoder's counts). None where either phase has
     fewer independent samples than SAMPLES_PER_PARAMETER per column."""
-    basis = _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
+    basis = mass_basis(a, v, extra)
     clear = np.abs(a) > PHASE_SIGMAS * accel_noise
     out = []
     for phase in (clear & (a * v > 0), clear & (a * v < 0)):
