@@ -67,6 +67,31 @@ def test_a_stribeck_term_is_kept_only_where_the_points_ask_for_it():
     assert sum("Stribeck" not in n for n in plain) >= 7 and all("per direction" in n for n in plain)
 
 
+def test_five_points_a_side_of_a_curving_law_keep_the_stribeck_term():
+    # a squared-rational drop and a quadratic drag, outside the family: scored on extrapolating
+    # folds (a line through two points carried to the fastest) it lost to Coulomb + viscous
+    speed = np.geomspace(0.002, 0.5, 5)
+
+    def magnitude(c, s, vs, b):
+        return c + (s - c) / (1 + (speed / vs) ** 2) + b * speed + 8 * speed ** 2
+    names = []
+    for seed in range(1000, 1010):
+        rng = np.random.default_rng(seed)
+        f = np.concatenate([magnitude(2.0, 3.0, 0.02, 6.0), -magnitude(1.6, 2.2, 0.03, 5.0)])
+        names.append(choose_law(fricgen.Sweep(np.concatenate([speed, -speed]),
+                                              f + 0.05 * rng.standard_normal(10))).name)
+    assert names.count("Coulomb + viscous + Stribeck, per direction") >= 8, names
+
+
+def test_a_small_sweep_never_holds_out_its_slowest_or_fastest_point():
+    from fricgen.fit.law_choice import folds_for
+    v = np.array([0.002, 0.03, 0.5, 0.1, -0.002, -0.5, -0.03, -0.2])
+    folds = folds_for(v, 0, 0)
+    assert np.all(folds[[0, 2, 4, 5]] == -1)
+    assert sorted(folds[[1, 3, 6, 7]]) == [0, 1, 2, 3]
+    assert np.array_equal(folds_for(np.array([0.1, 0.5, -0.1, -0.5]), 0, 0), np.arange(4))
+
+
 def test_the_floor_holds_on_data_it_did_not_make():
     # a law of another form (tanh Coulomb, quadratic viscous): the default is never clearly
     # worse than per-direction Coulomb + viscous on held-out speeds

@@ -4,8 +4,13 @@ Candidates, simplest first: Coulomb + viscous (one curve, then one per direction
 viscous + one Stribeck term (likewise; ``fit.textbook``), then fricgen's multi-source fit (the
 grey-box [F1] or the automatic ELM, its symmetry chosen as ``fit.directions`` does) where the
 data hold enough points for it. Each is refitted without each fold of one cross-validation and
-scored in newtons on the held-out points (leave-one-out on a sweep of up to LOO_POINTS points,
-else CV_FOLDS folds; a log's in contiguous blocks of time, ``row_folds``). The simplest
+scored in newtons on the held-out points (CV_FOLDS folds; a log's in contiguous blocks of time,
+``row_folds``). A sweep of up to LOO_POINTS points is judged leaving out one point at a time,
+each within the speeds its fit saw: the slowest and the fastest point of each direction are
+always fitted, for a line through two points carried a decade beyond them scores the
+extrapolation, not the law. There the Stribeck laws keep the shape and v_s of their fit on
+all points and refit their levels: a fold with as many points as parameters fits v_s exactly
+through them, and its held-out error measures that instability instead. The simplest
 candidate whose mean held-out squared error is within one standard error of the paired fold
 differences of the best one's is kept (the one-standard-error rule), so that no richer model is
 kept for a gain within the noise and the default is never clearly worse than the textbook fit.
@@ -75,14 +80,19 @@ class TextbookLaw:
         law = "Coulomb + viscous + Stribeck" if self.stribeck else "Coulomb + viscous"
         return f"{law}, {'per direction' if self.asymmetric else 'symmetric'}"
 
-    def fits(self, sweep: Sweep, weight: np.ndarray) -> Tuple[LawFit, ...]:
-        """The law's curves fitted to ``sweep`` (``ValueError`` where a curve has too few points)."""
-        return tuple(fit_law(speed, magnitude, w, self.stribeck)
-                     for speed, magnitude, w in curve_points(sweep, weight, self.asymmetric))
+    def fits(self, sweep: Sweep, weight: np.ndarray,
+             pinned: Optional[Tuple[LawFit, ...]] = None) -> Tuple[LawFit, ...]:
+        """The law's curves fitted to ``sweep`` (``ValueError`` where a curve has too few points);
+        ``pinned``: earlier fits of the curves whose Stribeck shape and v_s are kept."""
+        points = curve_points(sweep, weight, self.asymmetric)
+        keep = [None] * len(points) if pinned is None else [(law.shape, law.v_s) for law in pinned]
+        return tuple(fit_law(speed, magnitude, w, self.stribeck, k)
+                     for (speed, magnitude, w), k in zip(points, keep))
 
-    def predictor(self, sweep: Sweep, weight: np.ndarray, offset: float = 0.0) -> Callable:
+    def predictor(self, sweep: Sweep, weight: np.ndarray, offset: float = 0.0,
+                  pinned: Optional[Tuple[LawFit, ...]] = None) -> Callable:
         """The signed force of the law fitted to ``sweep`` less ``offset``, plus ``offset``."""
-        laws = self.fits(Sweep(sweep.v, sweep.f - offset), weight)
+        laws = self.fits(Sweep(sweep.v, sweep.f - offset), weight, pinned)
         return lambda v: _signed(v, laws[0].magnitude, laws[-1].magnitude if self.asymmetric
                                  else None) + offset
 
@@ -189,12 +199,23 @@ def shows_structure(sweep: Sweep, weight: Optional[np.ndarray] = None) -> bool:
     return False
 
 
-def folds_for(n: int, seed, blocks: int) -> np.ndarray:
-    """The fold of each of ``n`` moving rows: a log's contiguous blocks, one point each on a small
-    sweep, else ``row_folds``' random partition (``cross_validate``'s own)."""
-    if not blocks and n <= LOO_POINTS:
-        return np.arange(n)
-    return row_folds(n, CV_FOLDS, seed, blocks)
+def folds_for(v: np.ndarray, seed, blocks: int) -> np.ndarray:
+    """The fold of each moving row of velocity ``v``: a log's contiguous blocks, else
+    ``row_folds``' random partition (``cross_validate``'s own); on a small sweep one point
+    each, the slowest and the fastest point of each direction in none (-1: always fitted),
+    unless that leaves fewer than two points to hold out."""
+    if blocks or v.size > LOO_POINTS:
+        return row_folds(v.size, CV_FOLDS, seed, blocks)
+    inside = np.ones(v.size, dtype=bool)
+    for sign in (1, -1):
+        speed = np.where(np.sign(v) == sign, np.abs(v), np.nan)
+        if not np.all(np.isnan(speed)):
+            inside &= (speed != np.nanmin(speed)) & (speed != np.nanmax(speed))
+    if inside.sum() < 2:
+        return np.arange(v.size)
+    folds = np.full(v.size, -1)
+    folds[inside] = np.arange(int(inside.sum()))
+    return folds
 
 
 def _fold_mse(predict_fold: Callable, sweep: Sweep, weight: np.ndarray, folds: np.ndarray):
@@ -245,11 +266,12 @@ class LawChoice:
     left_out: Tuple[str, ...]
     folds: int
     kept: Optional[Sweep] = None
+    one_out: bool = False
 
     def line(self, unit: str = "N") -> str:
         """The report's line: the law kept and each candidate's held-out error (in ``unit``)."""
         errors = ", ".join(f"{n} {e:.4g}" for n, e in self.cv_rmse)
-        kind = "leave-one-out" if self.folds > CV_FOLDS else f"{self.folds}-fold"
+        kind = "leave-one-out" if self.one_out else f"{self.folds}-fold"
         text = f"law       {self.name}, by {kind} held-out RMS ({unit}): {errors}"
         return text + "".join(f"\nleft out  {why}" for why in self.left_out)
 
@@ -276,7 +298,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     outliers = textbook_outliers(sweep) if not blocks else np.zeros(len(sweep), dtype=bool)
     sweep, weight = Sweep(sweep.v[~outliers], sweep.f[~outliers]), weight[~outliers]
     level = Sweep(sweep.v, sweep.f - offset)
-    folds = folds_for(len(sweep), seed, blocks)
+    folds = folds_for(sweep.v, seed, blocks)
+    one_out = not blocks and len(sweep) <= LOO_POINTS
     candidates: List[tuple] = []
     left_out = [rich_reason] if rich is None and rich_reason else []
     if outliers.any():
@@ -299,8 +322,10 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{law.name}: fewer than {need} points" +
                             (" in a direction" if law.asymmetric else ""))
             continue
-        mse = _fold_mse(lambda train, w, law=law: law.predictor(train, w, offset), sweep, weight,
-                        folds)
+        pinned = law.fits(level, weight) if one_out and law.stribeck else None
+        mse = _fold_mse(lambda train, w, law=law, pinned=pinned: law.predictor(train, w, offset,
+                                                                                pinned),
+                        sweep, weight, folds)
         if mse is None:
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
             continue
@@ -328,7 +353,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                      [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])
     name, _, make = candidates[chosen]
     return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in scored),
-                     tuple(left_out), int(folds.max()) + 1, sweep)
+                     tuple(left_out), int(folds.max()) + 1, sweep, one_out)
 
 
 def _choose(mse: List[np.ndarray], anchor: List[int]) -> int:

@@ -18,7 +18,7 @@ the coordinates of [F9] with v_sat the fastest speed of the data, and B = F_v ca
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, Optional
+from typing import Dict, Optional, Tuple
 
 import numpy as np
 from scipy.optimize import lsq_linear, minimize_scalar
@@ -135,8 +135,11 @@ def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float)
     return {k: float(s) if np.isfinite(s) else float("inf") for k, s in zip(names, se)}
 
 
-def fit_law(speed, force, weight=None, stribeck: bool = False) -> LawFit:
+def fit_law(speed, force, weight=None, stribeck: bool = False,
+            pinned: Optional[Tuple[str, float]] = None) -> LawFit:
     """The textbook curve fitted to (|v|, F) points (``weight``: relative weights, default 1).
+    ``pinned``: the Stribeck term's (shape, v_s) kept from an earlier fit, only F_c, F_s and
+    F_v refitted.
 
     ``ValueError`` with fewer points than parameters (``PARAMETERS``)."""
     speed = np.abs(np.asarray(speed, dtype=float))
@@ -155,7 +158,11 @@ def fit_law(speed, force, weight=None, stribeck: bool = False) -> LawFit:
     slowest = float(speed[speed > 0].min()) if np.any(speed > 0) else fastest
     grid = np.geomspace(slowest, max(VS_FASTEST * fastest, 1.01 * slowest), VS_GRID)
     best = None
-    for shape in STRIBECK_SHAPES:
+    if pinned is not None:
+        shape, vs = pinned
+        coef, rss = _solve(_design(speed, vs, shape), force, root_w)
+        best = (rss, shape, vs, coef)
+    for shape in STRIBECK_SHAPES if pinned is None else ():
         scores = [_solve(_design(speed, vs, shape), force, root_w)[1] for vs in grid]
         k = int(np.argmin(scores))
         lo, hi = np.log(grid[max(k - 1, 0)]), np.log(grid[min(k + 1, grid.size - 1)])
