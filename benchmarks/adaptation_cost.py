@@ -2,7 +2,8 @@
 and Cortex-M0+ (soft float).
 
 For a 10-neuron sigmoid ELM and a grey-box model with S = 3 gauss sources, fitted to the
-paper's benchmark, each with ``--activation-impl`` libm and fast, the firmware of
+paper's benchmark, each recording its axis as every model ``fricgen train`` writes does (theta
+ends with the axis's offset), each with ``--activation-impl`` libm and fast, the firmware of
 examples/firmware/ runs ``fric_adapt_ctrl_step`` (the RLS or Lyapunov update, the adapted
 force and the controller step of section 6) N_BENCH times at a speed where the update is
 active (no dead zone, no saturation: with the default Lyapunov gain the repeated update at one
@@ -27,6 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from adaptation_offset import with_axis  # noqa: E402
 from fricgen import codegen
 from fricgen.control.c_adapted import render_adapt
 from fricgen.data import synthesize_benchmark
@@ -68,11 +72,15 @@ FIXED = "(void)fric_ctrl_step_fn(&c, 0.0f, v, 1e-4f, v, 0.0f, fm_force, &i);"
 
 
 def models(sizes=(10,)):
+    """The ELMs of ``sizes`` and a 3-source grey-box model, each with the axis record that
+    every model ``fricgen train`` writes holds, so that theta ends with the axis's offset."""
     bench = synthesize_benchmark(preset("paper3"), seed=0)
     elms = {f"ELM M = {m}": FrictionModel.fit(bench.dataset, ELMRegressor(
                 n_hidden=m, scheme=EnlargedScheme(w_max=30.0), solver="loo", random_state=0), name="fm")
             for m in sizes}
-    return {**elms, "grey-box S = 3": FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3), name="fm")}
+    fitted = {**elms, "grey-box S = 3": FrictionModel.fit(bench.dataset, OracleRegressor("gauss", 3),
+                                                          name="fm")}
+    return {label: with_axis(model, 1.0) for label, model in fitted.items()}
 
 
 def per_call(model, impl: str, rule: str, call: str, tmp: Path, target: str) -> float:

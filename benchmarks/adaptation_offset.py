@@ -4,8 +4,8 @@ the closed loop of section 6, all in the C runtime through cffi.
 The model is fricgen's default (paper3 benchmark, seed 0) with a recorded axis whose offset is
 ``--trained`` N, as ``fricgen train`` identifies one. The plant's constant force starts there,
 ramps to ``--ramp-to`` N over the first ``--ramp`` s (a payload taken on an inclined axis), and
-steps to ``--step-to`` N at ``--step-at`` s (the payload let go). Compared: the fixed model, which
-compensates no offset (``NAME_force``); the adapted models, whose last parameter is the offset
+steps to ``--step-to`` N at ``--step-at`` s (the payload let go). Compared: the fixed model with
+its trained offset (``NAME_force_with_offset``); the adapted models, whose last parameter is the offset
 (Lyapunov and RLS, the defaults); the adapted model without the offset term (the model without
 its axis record); and exact compensation, the true friction and constant force at each instant.
 
@@ -98,7 +98,8 @@ def run(args):
         v = np.asarray(v, dtype=float)
         return friction(v) + offset(clock.t)
 
-    ctrls = {"fixed": CController(module, settings.clone(compensation=model), "fm_force"),
+    ctrls = {"fixed": CController(module, settings.clone(compensation=model.force_with_offset),
+                                  "fm_force_with_offset"),
              "lyapunov": CAdaptedController(module, adapted(model, "lyapunov", dtype="float32")),
              "rls": CAdaptedController(module, adapted(model, "rls", dtype="float32")),
              "lyapunov, no offset term": CAdaptedController(

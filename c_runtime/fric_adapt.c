@@ -5,6 +5,7 @@
  * Copyright (c) 2026 the fricgen authors */
 #include "fric_float.h"   /* first: no -ffast-math, no contraction (as fric_ctrl.c) */
 #include "fric_adapt.h"
+#include "fric_bytes.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -239,9 +240,11 @@ fric_adapt_flags_t fric_adapt_rls(fric_adapt_t *a, fric_adapt_regressor_fn reg, 
         g[i] = p_phi[i] / denom;
         updated[i] = a->theta[i] + (g[i] * step);
     }
-    for (i = 0; i < n; ++i) {
-        for (k = 0; k < n; ++k) {
-            a->P[(i * n) + k] = (a->P[(i * n) + k] - (g[i] * p_phi[k])) / lam;
+    for (i = 0; i < n; ++i) {                    /* the upper triangle, mirrored: P stays */
+        for (k = i; k < n; ++k) {                /* symmetric in float, whatever the rounding */
+            const float pik = (a->P[(i * n) + k] - (g[i] * p_phi[k])) / lam;
+            a->P[(i * n) + k] = pik;
+            a->P[(k * n) + i] = pik;
         }
     }
     trace = 0.0f;
@@ -357,17 +360,6 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     return flags;
 }
 
-/* The bits of a float (the dump's and the saved state's words). */
-static uint32_t fric_adapt_float_bits(float f)
-{
-    union {
-        float f;
-        uint32_t u;
-    } pun;
-    pun.f = f;
-    return pun.u;
-}
-
 /* Appends text to buf at *len if it fits below size - 1 (room for the NUL); 0 if not. */
 static int fric_adapt_put(char *buf, unsigned int size, unsigned int *len, const char *text)
 {
@@ -403,7 +395,7 @@ unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, ch
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, model_hash) : 0;
     ok = (ok != 0) ? fric_adapt_put(buf, size, &len, "\ntheta") : 0;
     for (k = 0u; (ok != 0) && (k <= n); ++k) {
-        const uint32_t bits = fric_adapt_float_bits((k < n) ? a->theta[k] : a->k_hat);
+        const uint32_t bits = fric_float_bits((k < n) ? a->theta[k] : a->k_hat);
         unsigned int d;
         word[0] = ' ';
         for (d = 0u; d < 8u; ++d) {
@@ -425,43 +417,6 @@ unsigned int fric_adapt_export(const fric_adapt_t *a, const char *model_hash, ch
 
 
 /* ---------------------------------------------------------------- saved state */
-
-static uint32_t fric_adapt_crc32(const unsigned char *bytes, unsigned int count)
-{
-    uint32_t crc = 0xFFFFFFFFu;
-    unsigned int k;
-    unsigned int bit;
-    for (k = 0u; k < count; ++k) {
-        crc ^= (uint32_t)bytes[k];
-        for (bit = 0u; bit < 8u; ++bit) {
-            crc = ((crc & 1u) != 0u) ? ((crc >> 1) ^ 0xEDB88320u) : (crc >> 1);
-        }
-    }
-    return crc ^ 0xFFFFFFFFu;
-}
-
-static void fric_adapt_put_u32(unsigned char *at, uint32_t value)
-{
-    at[0] = (unsigned char)(value & 0xFFu);
-    at[1] = (unsigned char)((value >> 8) & 0xFFu);
-    at[2] = (unsigned char)((value >> 16) & 0xFFu);
-    at[3] = (unsigned char)((value >> 24) & 0xFFu);
-}
-
-static uint32_t fric_adapt_get_u32(const unsigned char *at)
-{
-    return (uint32_t)at[0] | ((uint32_t)at[1] << 8) | ((uint32_t)at[2] << 16) | ((uint32_t)at[3] << 24);
-}
-
-static float fric_adapt_bits_float(uint32_t u)
-{
-    union {
-        float f;
-        uint32_t u;
-    } pun;
-    pun.u = u;
-    return pun.f;
-}
 
 fric_ctrl_flags_t fric_adapt_ctrl_step_sample(fric_adapt_t *a, fric_ctrl_t *c,
                                               fric_adapt_regressor_fn reg,
@@ -524,20 +479,20 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
     fric_adapt_state_head(buf, FRIC_ADAPT_STATE_FORMAT, n, model_hash);
     at = &buf[24];
     for (k = 0u; k < n; ++k) {
-        fric_adapt_put_u32(at, fric_adapt_float_bits(a->theta[k]));
+        fric_put_u32(at, fric_float_bits(a->theta[k]));
         at = &at[4];
     }
     for (k = 0u; k < (n * n); ++k) {
-        fric_adapt_put_u32(at, fric_adapt_float_bits(a->P[k]));
+        fric_put_u32(at, fric_float_bits(a->P[k]));
         at = &at[4];
     }
-    fric_adapt_put_u32(at, (a->recorded != 0) ? 1u : 0u);
+    fric_put_u32(at, (a->recorded != 0) ? 1u : 0u);
     at = &at[4];
-    fric_adapt_put_u32(at, fric_adapt_float_bits(a->k_hat));
+    fric_put_u32(at, fric_float_bits(a->k_hat));
     at = &at[4];
-    fric_adapt_put_u32(at, fric_adapt_float_bits(a->m_o_hat));
+    fric_put_u32(at, fric_float_bits(a->m_o_hat));
     at = &at[4];
-    fric_adapt_put_u32(at, fric_adapt_crc32(buf, total - 4u));
+    fric_put_u32(at, fric_crc32(buf, total - 4u));
     return total;
 }
 
@@ -578,12 +533,12 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
             return FRIC_ADAPT_ERR_FOREIGN;
         }
     }
-    if (fric_adapt_crc32(buf, total - 4u) != fric_adapt_get_u32(&buf[total - 4u])) {
+    if (fric_crc32(buf, total - 4u) != fric_get_u32(&buf[total - 4u])) {
         return FRIC_ADAPT_ERR_CHECKSUM;
     }
     at = &buf[24];
     for (k = 0u; k < n; ++k) {
-        theta[k] = fric_adapt_bits_float(fric_adapt_get_u32(at));
+        theta[k] = fric_bits_float(fric_get_u32(at));
         if (!isfinite(theta[k]) || !(theta[k] >= a->p.lo[k]) || !(theta[k] <= a->p.hi[k])) {
             return FRIC_ADAPT_ERR_RANGE;
         }
@@ -591,15 +546,15 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
     }
     covariance = at;
     for (k = 0u; k < (n * n); ++k) {                 /* checked first: a untouched if not */
-        if (!isfinite(fric_adapt_bits_float(fric_adapt_get_u32(at)))) {
+        if (!isfinite(fric_bits_float(fric_get_u32(at)))) {
             return FRIC_ADAPT_ERR_RANGE;
         }
         at = &at[4];
     }
     if (format == FRIC_ADAPT_STATE_FORMAT) {
-        recorded = fric_adapt_get_u32(at);
-        k_hat = fric_adapt_bits_float(fric_adapt_get_u32(&at[4]));
-        m_o_hat = fric_adapt_bits_float(fric_adapt_get_u32(&at[8]));
+        recorded = fric_get_u32(at);
+        k_hat = fric_bits_float(fric_get_u32(&at[4]));
+        m_o_hat = fric_bits_float(fric_get_u32(&at[8]));
         if ((recorded > 1u) || !isfinite(k_hat) || !isfinite(m_o_hat)) {
             return FRIC_ADAPT_ERR_RANGE;
         }
@@ -608,7 +563,7 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
         a->theta[k] = theta[k];
     }
     for (k = 0u; k < (n * n); ++k) {
-        a->P[k] = fric_adapt_bits_float(fric_adapt_get_u32(covariance));
+        a->P[k] = fric_bits_float(fric_get_u32(covariance));
         covariance = &covariance[4];
     }
     if (recorded == 1u) {

@@ -8,7 +8,8 @@
  * scales of the trained model). Two rules update theta (fricgen.control.adaptation):
  *   RLS with forgetting on the friction observed by inverse dynamics at the nominal force
  *   constant (not k_hat, which scales the compensation too: the two would run away together),
- *       y = phi_n (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2;
+ *       y = phi_n (i_prev - m_o_hat (v - v_prev) / ts)  at  (v + v_prev) / 2,
+ *   P's update computed on its upper triangle and mirrored, so that P stays symmetric in float;
  *   Lyapunov ([C14] extended to theta): theta += gain scale^2 e2 phi(v).
  * Safety, in this order: a non-finite input changes nothing (FRIC_ADAPT_INPUT_FAULT); hold != 0
  * (the controller saturated or faulted) changes nothing (FRIC_ADAPT_HELD); |v| > v_max changes

@@ -294,7 +294,7 @@ class FrictionModel:
 
     def force_with_offset(self, v) -> np.ndarray:
         """``force(v) + axis_offset``: the drive force at constant velocity v (``fricgen eval``'s
-        default, the C ``NAME_FORCE_WITH_OFFSET``)."""
+        default, the C ``NAME_force_with_offset``)."""
         return self.force(v) + self.axis_offset
 
     def _force_fields(self) -> dict:

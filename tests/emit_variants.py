@@ -1,15 +1,16 @@
 """Every kind of C folder ``fricgen emit`` writes, for the static checks of tests/test_static_c.py:
 an ELM and a grey-box [F1] model in each implementation (float with libm or the fast sigmoid,
 q15 and q31), an asymmetric model, a model with effects, two models in one folder, a model with
-pre-sliding and a compensation band (libm, and fast asymmetric), the controller, the adaptation
-runtime (--adapt), and the whole runtime c_runtime/ with every kernel."""
+pre-sliding and a compensation band (libm, and fast asymmetric), a model with a cogging map (its
+RAM map and blob), the controller, the adaptation runtime (--adapt), and the whole runtime
+c_runtime/ with every kernel."""
 import shutil
 from dataclasses import replace
 
 from fricgen import codegen
 from fricgen._io import resource_dir
 from fricgen.control.c_adapted import render_adapt
-from fricgen.effects import with_effects
+from fricgen.effects import CoggingMap, with_effects
 from fricgen.effects.presliding import Bristles
 from fricgen.firmware.flag_matrix import table1_greybox
 from fricgen.model import FrictionModel
@@ -32,6 +33,9 @@ def emit_every_variant(root, bench, model10, axis2_model):
     grey_rat = table1_greybox(bench, "rational", name="gr")
     asym = FrictionModel.from_directions(model10.positive, grey.positive, name="fa")
     slow = replace(grey, presliding=Bristles(1e5, 300.0, 2e-3), velocity_band=1e-3)    # --dynamic
+    cogging = replace(model10, cogging_map=CoggingMap(
+        period=0.032, harmonics=(1, 2, 6), sine=(0.3, 0.1, 0.05), cosine=(0.1, 0.0, 0.02),
+        sine_se=(0.01,) * 3, cosine_se=(0.01,) * 3))                                  # --cogging
     jobs = {
         "elm_libm": lambda d: codegen.emit(model10, d, "fm", activation_impl="libm"),
         "elm_fast": lambda d: codegen.emit(model10, d, "fm", activation_impl="fast"),
@@ -59,6 +63,8 @@ def emit_every_variant(root, bench, model10, axis2_model):
         "slow_speeds": lambda d: [codegen.emit(slow, d, "sl", activation_impl="libm", sample_time=1e-4),
                                   codegen.emit(replace(slow, negative=grey_exp.positive), d, "sf",
                                                activation_impl="fast", sample_time=1e-4)],
+        "cogging": lambda d: [codegen.emit(cogging, d, "cg", activation_impl="libm"),
+                              codegen.emit(cogging, d, "cf", activation_impl="fast")],
         "runtime": lambda d: shutil.copytree(resource_dir("c_runtime"), d),
     }
     folders = {}

@@ -61,8 +61,8 @@ def test_emit_without_adapt_is_unchanged_and_adapt_only_adds(default_model, tmp_
     plain_files = {p.name: p.read_bytes() for p in plain.glob("*.[ch]")}
     assert set(plain_files) == {"fm.h", "fm.c", *RUNTIME_FILES}
     added = {p.name for p in adapt.glob("*.[ch]")} - set(plain_files)
-    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c",
-                     *CONTROLLER_FILES} - set(plain_files)
+    assert added == {"fm_adapt.h", "fm_adapt.c", "fric_adapt.h", "fric_adapt.c", "fric_bytes.h",
+                     "fric_bytes.c", *CONTROLLER_FILES} - set(plain_files)
     for fname, data in plain_files.items():      # fm.h differs in the options it records
         if fname != "fm.h":
             assert (adapt / fname).read_bytes() == data, fname

@@ -12,7 +12,7 @@ import pytest
 from conftest import assert_builds_strictly
 from fricgen import codegen
 from fricgen.cli import main
-from fricgen.codegen.cbuild import build
+from fricgen.codegen.cbuild import build, build_module
 from fricgen.codegen.cogging_table import CoggingTable, q15_twin, q31_twin
 from fricgen.effects import CoggingMap
 from fricgen.fit.cogging import identify_cogging
@@ -188,6 +188,99 @@ def test_q15_twin_at_the_extreme_phases_stays_in_range(model):
 @needs_cc
 def test_emitted_cogging_builds_strictly(lib):
     assert_builds_strictly(lib[0], "axis_c.c", CC)
+
+
+@pytest.fixture(scope="module")
+def maplib(model, tmp_path_factory):
+    """The emitted model with its RAM map's API (the cffi declarations of NAME.h's)."""
+    folder = tmp_path_factory.mktemp("cogging_map_c")
+    for fname, text in codegen.render(model).items():
+        (folder / fname).write_text(text)
+    points = CoggingTable.of(model.cogging_map).points
+    cdef = CDEF + f"""
+typedef struct {{ float table[{points}]; }} axis_c_cogging_map_t;
+void axis_c_cogging_map_init(axis_c_cogging_map_t *map);
+float axis_c_cogging_map_at(const axis_c_cogging_map_t *map, float x);
+uint32_t axis_c_cogging_map_save(const axis_c_cogging_map_t *map, const char *model_hash,
+                                 unsigned char *buf, uint32_t size);
+int32_t axis_c_cogging_map_restore(axis_c_cogging_map_t *map, const char *model_hash,
+                                   const unsigned char *buf, uint32_t size);"""
+    return build_module(folder, "axis_c.h", cdef, build_dir=folder / "build")
+
+
+def _restore(maplib, blob, model_hash):
+    ffi, c = maplib.ffi, maplib.lib
+    m = ffi.new("axis_c_cogging_map_t *")
+    code = c.axis_c_cogging_map_restore(m, ffi.NULL if model_hash is None else model_hash.encode(),
+                                        blob, len(blob))
+    return code, m
+
+
+def _with_crc(body):
+    import struct
+    import zlib
+    return body + struct.pack("<I", zlib.crc32(body))
+
+
+@needs_cc
+def test_the_map_saved_by_c_is_the_blob_python_writes_and_restores_to_the_same_forces(model, maplib):
+    ffi, c = maplib.ffi, maplib.lib
+    table = CoggingTable.of(model.cogging_map)
+    m = ffi.new("axis_c_cogging_map_t *")
+    c.axis_c_cogging_map_init(m)
+    buf = ffi.new("unsigned char[]", 32 + 4 * table.points)
+    assert c.axis_c_cogging_map_save(m, model.model_hash.encode(), buf, len(buf)) == len(buf)
+    assert c.axis_c_cogging_map_save(m, model.model_hash.encode(), buf, len(buf) - 1) == 0
+    blob = table.blob(model.model_hash)
+    assert bytes(ffi.buffer(buf)) == blob
+    code, back = _restore(maplib, blob, model.model_hash)
+    assert code == 0
+    x = np.linspace(-20.0, 20.0, 4001)
+    assert [c.axis_c_cogging_map_at(back, float(u)) for u in x] == [c.axis_c_cogging(float(u)) for u in x]
+    assert c.axis_c_cogging_map_at(ffi.NULL, 1.0) == 0.0
+
+
+@needs_cc
+def test_one_units_map_restores_without_a_hash_and_a_bad_blob_is_refused_untouched(model, maplib):
+    """Another unit's map (its own model, the same table size and period) restores where no
+    hash is asked for, and is then what the firmware computes; a blob of the wrong size, another
+    period, a hash that is not the one asked for, a flipped bit or a NaN is refused and the map
+    keeps what it held."""
+    ffi, c = maplib.ffi, maplib.lib
+    unit = replace(model, cogging_map=replace(model.cogging_map, sine=tuple(0.8 * np.asarray(model.cogging_map.sine)),
+                                              cosine=tuple(1.3 * np.asarray(model.cogging_map.cosine))))
+    table = CoggingTable.of(unit.cogging_map)
+    assert table.points == CoggingTable.of(model.cogging_map).points
+    blob = table.blob(unit.model_hash)
+    code, m = _restore(maplib, blob, None)
+    assert code == 0
+    x = np.linspace(-7.0, 7.0, 501)
+    got = np.array([c.axis_c_cogging_map_at(m, float(u)) for u in x])
+    assert np.max(np.abs(got - unit.cogging(x))) <= table.float_bound * 1.01
+    assert _restore(maplib, blob, model.model_hash)[0] == -4          # not the model asked for
+    body = bytearray(blob[:-4])
+    body[8:12] = np.float32(1.0).tobytes()                            # another period
+    bad = {"size": (blob[:-1], -3), "period": (_with_crc(bytes(body)), -4),
+           "bit": (blob[:40] + bytes([blob[40] ^ 1]) + blob[41:], -5),
+           "nan": (_with_crc(blob[:28] + np.float32("nan").tobytes() + blob[32:-4]), -6)}
+    for what, (data, expected) in bad.items():
+        before = [m.table[k] for k in range(table.points)]
+        assert c.axis_c_cogging_map_restore(m, ffi.NULL, data, len(data)) == expected, what
+        assert [m.table[k] for k in range(table.points)] == before, what
+
+
+def test_emit_writes_the_map_blob_or_refuses_in_one_line(model, tmp_path, capsys):
+    path = model.save(tmp_path / "m.json")
+    blob = tmp_path / "unit.bin"
+    assert main(["emit", str(path), "-o", str(tmp_path / "c"), "--cogging-blob", str(blob)]) == 0
+    assert blob.read_bytes() == CoggingTable.of(model.cogging_map).blob(model.model_hash)
+    plain = replace(model, cogging_map=None).save(tmp_path / "plain.json")
+    out = tmp_path / "c2"
+    capsys.readouterr()
+    assert main(["emit", str(plain), "-o", str(out), "--cogging-blob", str(tmp_path / "u2.bin")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "holds no cogging map" in err[0]
+    assert not out.exists() and not (tmp_path / "u2.bin").exists()
 
 
 def test_fixed_point_emit_refuses_a_model_with_a_map(model):

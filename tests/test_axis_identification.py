@@ -286,7 +286,7 @@ def test_run_ups_of_the_independent_simulator_succeed_over_noise_draws(tmp_path,
 
 def test_the_offset_is_in_eval_the_c_and_the_python_model_alike(offset_log, tmp_path, capsys, monkeypatch):
     """The identified offset round-trips: eval adds it (``--no-offset`` leaves it out), the
-    emitted header records it as NAME_AXIS_OFFSET and NAME_FORCE_WITH_OFFSET adds it in C; all
+    emitted header records it as NAME_AXIS_OFFSET and NAME_force_with_offset adds it in C; all
     within 1e-5 of max |F| of the Python model's force_with_offset."""
     import io
     import shutil
@@ -310,11 +310,9 @@ def test_the_offset_is_in_eval_the_c_and_the_python_model_alike(offset_log, tmp_
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * scale)
     folder = tmp_path / "c"
     emit(model, folder, "ax")
-    (folder / "with_offset.c").write_text(
-        '#include "ax.h"\nfloat ax_force_with_offset(float v) { return AX_FORCE_WITH_OFFSET(v); }\n'
-        "float ax_offset(void) { return AX_AXIS_OFFSET; }\n")
-    (folder / "with_offset.h").write_text("float ax_force_with_offset(float v);\nfloat ax_offset(void);\n")
-    lib = build_module(folder, ["ax.h", "with_offset.h"], model_cdef("ax") + "float ax_force_with_offset(float v);\n"
+    (folder / "offset.c").write_text('#include "ax.h"\nfloat ax_offset(void) { return AX_AXIS_OFFSET; }\n')
+    (folder / "offset.h").write_text("float ax_offset(void);\n")
+    lib = build_module(folder, ["ax.h", "offset.h"], model_cdef("ax") + "float ax_force_with_offset(float v);\n"
                        "float ax_offset(void);\n", build_dir=tmp_path / "build").lib
     assert lib.ax_offset() == pytest.approx(model.axis_offset, rel=1e-6)
     c = np.array([lib.ax_force_with_offset(float(u)) for u in v])

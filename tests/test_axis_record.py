@@ -149,6 +149,25 @@ def test_simulate_says_which_plant_it_runs(model10, tmp_path, capsys, record, ar
     assert all(v["finite"] for v in report["variants"].values())
 
 
+def test_simulate_compensates_the_axis_offset_with_the_friction_in_python_and_c(model10, tmp_path):
+    import shutil
+    from fricgen.control import AdaptiveBackstepping
+    from fricgen.control.c_controller import c_controllers
+    from fricgen.control.loop import compensations
+    if shutil.which("cc") is None and shutil.which("gcc") is None:
+        pytest.skip("no C compiler")
+    model = with_axis(model10, RECORD)
+    variants = compensations(choose_plant(model).axis, model)
+    v = np.linspace(-0.12, 0.12, 25)
+    np.testing.assert_allclose(variants["model"](v), model.force(v) + RECORD["offset"], rtol=0, atol=1e-12)
+    ctrl = c_controllers(variants, AdaptiveBackstepping(), folder=tmp_path / "c")["model"]
+    assert ctrl.c_friction == "model_force_with_offset"
+    c = np.array([ctrl.module.lib.model_force_with_offset(float(u)) for u in v])
+    assert np.max(np.abs(c - variants["model"](v))) <= 1e-5 * np.max(np.abs(model.force(v)))
+    plain = with_axis(model10, {**RECORD, "offset": None, "offset_se": None})   # none identified
+    assert compensations(choose_plant(plain).axis, plain)["model"] is plain
+
+
 def test_simulate_keeps_the_builtin_speeds_for_a_model_trained_faster(model10):
     fast = {**SWEEP, "speed_max": 1.0}
     plant = choose_plant(with_axis(model10, fast))

@@ -89,8 +89,9 @@ def misra(tmp_path_factory):
 
 def test_the_variants_cover_every_implementation_and_runtime_source(variants):
     sources = {p.name for folder in variants.values() for p in folder.glob("*.c")}
-    assert {"fric_fast.c", "fric_ctrl.c", "fric_adapt.c", "fric_sqrt.c", "fric_exp_neg.c",
-            "fric_elm_sigmoid.c", "fric_elm_sine.c", "fm_adapt.c", "tx.c", "sl.c", "sf.c"} <= sources
+    assert {"fric_fast.c", "fric_ctrl.c", "fric_adapt.c", "fric_bytes.c", "fric_sqrt.c", "fric_exp_neg.c",
+            "fric_elm_sigmoid.c", "fric_elm_sine.c", "fm_adapt.c", "tx.c", "sl.c", "sf.c", "cg.c",
+            "cf.c"} <= sources
     heads = " ".join((folder / f"{n}.h").read_text() for folder in variants.values()
                      for n in ("fm", "gb", "gx", "fa", "fx") if (folder / f"{n}.h").exists())
     for option in ("dtype=float activation_impl=libm", "dtype=float activation_impl=fast", "dtype=q15",

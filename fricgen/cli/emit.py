@@ -2,11 +2,12 @@
 with the folder's build files (CMake, Zephyr, PlatformIO: fricgen.codegen.package)."""
 from __future__ import annotations
 
-from .._io import check_folder
+from .._io import check_destination, check_folder, write_files
 from .._validate import PHYSICAL
 from ..c_names import check_model_name
 from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_overwrite,
                        package_files, render)
+from ..codegen.cogging_table import CoggingTable
 from ..codegen.package import remove_stale
 from ..codegen.fixedpoint import covered_speed, input_range
 from ..control.c_adapted import render_adapt
@@ -15,7 +16,7 @@ from ..errors import UsageError
 from ..model import FrictionModel
 from ..units import units_of
 from .inputs import load_model
-from .common import FORCE_C, add_output, check_targets, number, say, write_targets
+from .common import FORCE_C, add_output, check_targets, number, say
 
 
 #: A sample time of NAME_step this many times faster or slower than the training log's is named.
@@ -43,6 +44,9 @@ def register(p) -> None:
                    help="also write online adaptation of the model's output parameters: "
                    "NAME_adapt.{h,c}, fric_adapt.{h,c} and the controller (float, ELM "
                    "or grey-box models)")
+    p.add_argument("--cogging-blob", metavar="FILE",
+                   help="also write the model's cogging map as the blob NAME_cogging_map_restore "
+                   "reads: the bytes of one unit's map for its non-volatile memory")
     p.set_defaults(run=run)
 
 
@@ -65,6 +69,15 @@ def offset_note(model) -> str:
     return "" if offset is None else (
         f"fricgen: note: the axis's offset o = {offset:.4g} {unit} (training.axis.offset) is not in "
         "this C, whose friction leaves it out: compensate it apart")
+
+
+def cogging_blob(args, model: FrictionModel) -> dict:
+    """``--cogging-blob``'s destination, checked, and the bytes of the model's map."""
+    if model.cogging_map is None:
+        raise UsageError(f"--cogging-blob: {args.model} holds no cogging map (train --cogging "
+                         "identifies one)")
+    path = check_destination(args.cogging_blob, [args.model], args.force, option="--cogging-blob")
+    return {path: CoggingTable.of(model.cogging_map).blob(model.model_hash)}
 
 
 def run(args) -> int:
@@ -92,7 +105,8 @@ def run(args) -> int:
     files.update(package_files(args.output, files, name))     # CMake, Zephyr, PlatformIO
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)
-    write_targets(targets, files)
+    blob = {} if args.cogging_blob is None else cogging_blob(args, model)
+    write_files({**{targets[n]: text for n, text in files.items()}, **blob})
     removed = remove_stale(args.output, name, files)
     if removed:
         say(f"removed {', '.join(removed)}: the adaptation of the model emitted before under "
@@ -102,5 +116,6 @@ def run(args) -> int:
     note = offset_note(model)
     if note:
         say(note)
-    say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})")
+    say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})"
+        + "".join(f"; the cogging map's blob to {path}" for path in blob))
     return 0

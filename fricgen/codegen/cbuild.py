@@ -16,9 +16,11 @@ STRICT_WARNINGS = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfl
                    "-Wconversion", "-Wshadow", "-Wfloat-equal", "-Werror"]
 
 
-def model_cdef(name: str) -> str:
-    """The cffi declarations of an emitted model's API."""
-    return f"float {name}_force(float v);\nfloat {name}_aim(float x);\n"
+def model_cdef(name: str, with_offset: bool = False) -> str:
+    """The cffi declarations of an emitted model's API (``with_offset``: a model that records
+    its axis, with ``NAME_force_with_offset``)."""
+    offset = f"float {name}_force_with_offset(float v);\n" if with_offset else ""
+    return f"float {name}_force(float v);\nfloat {name}_aim(float x);\n{offset}"
 
 
 def build(folder: Union[str, Path], header: str, cdef: str, sources: Optional[Iterable[Path]] = None,

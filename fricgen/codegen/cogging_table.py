@@ -4,11 +4,14 @@ in float (``NAME_cogging(x)``), in q15 (``NAME_cogging_q15(phase)``) and in q31
 (``NAME_cogging_q31(phase)``), the phase a uint32 with 2^32 per period (an encoder count times
 2^(32 - bits) for a power-of-two encoder). Each comes with the largest error against the fitted
 series, measured here over the whole period, and the integer arithmetic mirrored in numpy
-(``q15_twin``, ``q31_twin``) so that tests compare the C bit for bit.
+(``q15_twin``, ``q31_twin``) so that tests compare the C bit for bit. ``blob`` gives the
+bytes ``NAME_cogging_map_save`` writes, for one unit's non-volatile memory.
 """
 from __future__ import annotations
 
 import math
+import struct
+import zlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +21,9 @@ from ..effects.cogging_map import ERROR_GRID, CoggingMap
 
 #: The table's interpolation error allowed, as a fraction of the map's RMS.
 TABLE_TOLERANCE = 0.01
+#: The format of a saved map (NAME_COGGING_MAP_FORMAT), and the hash characters it holds.
+MAP_FORMAT = 1
+MAP_HASH_CHARS = 16
 #: q15's largest magnitude.
 Q15_MAX = 32767
 #: q31's largest magnitude.
@@ -85,6 +91,19 @@ class CoggingTable:
             "offset_shifted": str(1 << (62 - self.shift)),
             "q31_scale": c_float(self.q31_scale), "q31_bound": c_float(self.q31_bound),
             "harmonics": ", ".join(str(h) for h in m.harmonics), "rms": f"{m.rms:.4g}"}
+
+
+    def blob(self, model_hash: str) -> bytes:
+        """The bytes of ``NAME_cogging_map_save`` for this table (NAME.h describes them):
+        "FRCM", format and points, the period's float32 bits, ``model_hash`` NUL-padded to
+        MAP_HASH_CHARS, the table's float32 values, and their CRC-32; little-endian."""
+        code = model_hash.encode("ascii")
+        if len(code) > MAP_HASH_CHARS:
+            raise ValueError(f"a map's blob holds a hash of at most {MAP_HASH_CHARS} characters, "
+                             f"got {len(code)}")
+        body = (b"FRCM" + struct.pack("<HHf", MAP_FORMAT, self.points, np.float32(self.map.period))
+                + code.ljust(MAP_HASH_CHARS, b"\0") + self.values.astype("<f4").tobytes())
+        return body + struct.pack("<I", zlib.crc32(body))
 
 
 def phase_shift(points: int) -> int:

@@ -40,6 +40,9 @@ KERNEL_SOURCES = {"sigmoid": ("fric_elm_sigmoid.c",), "sine": ("fric_elm_sine.c"
 RUNTIME_FILES = RUNTIME_HEADERS + KERNEL_SOURCES["sigmoid"]
 #: The runtime of ``--activation-impl fast`` in place of the libm one, see fric_fast.h: no libm.
 FAST_RUNTIME_FILES = (FLOAT_HEADER, VERSION_HEADER, "fric_fast.h", "fric_fast.c")
+#: The bytes of a saved blob (CRC-32, little-endian words), see fric_bytes.h: the cogging map's
+#: and the adaptation's.
+BYTES_FILES = ("fric_bytes.h", "fric_bytes.c")
 #: The float controller runtime (section 6) copied beside every float model, see fric_ctrl.h;
 #: its square root is fric_sqrt.c's (no libm, the bits of sqrtf).
 CONTROLLER_FILES = (FLOAT_HEADER, VERSION_HEADER, "fric_sqrt.h", "fric_sqrt.c", "fric_ctrl.h",
@@ -48,7 +51,8 @@ CONTROLLER_FILES = (FLOAT_HEADER, VERSION_HEADER, "fric_sqrt.h", "fric_sqrt.c", 
 
 def runtime_files(model: FrictionModel, activation_impl: str = "libm") -> Tuple[str, ...]:
     """The runtime files the float C of ``model`` calls: FAST_RUNTIME_FILES, or RUNTIME_HEADERS
-    and the kernel sources of its curves' activations or shapes (KERNEL_SOURCES).
+    and the kernel sources of its curves' activations or shapes (KERNEL_SOURCES); BYTES_FILES
+    beside them for a model with a cogging map (NAME_cogging_map_save and _restore).
 
     Parameters
     ----------
@@ -71,11 +75,12 @@ def runtime_files(model: FrictionModel, activation_impl: str = "libm") -> Tuple[
     >>> "fric_elm_sigmoid.c" in runtime_files(model), "fric_elm_sine.c" in runtime_files(model)
     (True, False)
     """
+    blob = BYTES_FILES if model.cogging_map is not None else ()
     if activation_impl == "fast":
-        return FAST_RUNTIME_FILES
+        return FAST_RUNTIME_FILES + blob
     sources = [f for curve in model.directions for f in KERNEL_SOURCES[
         curve.aim.shape if isinstance(curve.aim, StribeckCurve) else curve.aim.activation]]
-    return RUNTIME_HEADERS + tuple(dict.fromkeys(sources))
+    return RUNTIME_HEADERS + tuple(dict.fromkeys(sources)) + blob
 
 
 #: The shape g(u) of [F2] at u = x / xs in the emitted grey-box C, by implementation.
@@ -398,6 +403,8 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
     for part in ("presliding", "inputs"):
         if ctx[part] is not None and ctx[part]["header"] not in ctx["includes"]:
             ctx["includes"].append(ctx[part]["header"])
+    if ctx["cogging"] is not None:                  # the map's blob (NAME_cogging_map_save)
+        ctx["includes"] += ['"fric_bytes.h"', "<stddef.h>"]
     ctx["emit_options"] = emit_options(dtype=dtype, activation_impl=activation_impl,
                                        with_controller=with_controller, adapt=adapt,
                                        **({} if ctx["presliding"] is None else

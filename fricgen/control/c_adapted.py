@@ -14,7 +14,7 @@ from .._io import write_all_atomic
 from ..c_literal import c_array, c_float
 from ..codegen.cbuild import build_module, model_cdef
 from ..codegen.context import identity_context, runtime_text, template_environment
-from ..codegen.render import STRIBECK_C_SHAPES, controller_files, render
+from ..codegen.render import BYTES_FILES, STRIBECK_C_SHAPES, controller_files, render
 from ..codegen.twin import stribeck_table
 from ..model import FrictionModel
 from ..networks import StribeckCurve
@@ -24,7 +24,7 @@ from .c_controller import CController
 from .regressor import Regressor, adapts_offset, parameter_names, trained_parameters
 
 #: The adaptation runtime copied beside the controller runtime.
-ADAPT_FILES = ("fric_adapt.h", "fric_adapt.c")
+ADAPT_FILES = ("fric_adapt.h", "fric_adapt.c", *BYTES_FILES)
 #: One hidden unit's output h(z) of [F8] in the generated regressor, by implementation: the
 #: model's own kernels (exp's argument clamped: no errno, ``fric_kernel.h``).
 ACTIVATION_C = {"libm": {"sigmoid": "1.0f / (1.0f + fric_exp_neg_inline_f32(z))", "sine": "sinf(z)",
@@ -110,8 +110,9 @@ def c_params(module, adapter):
 
 def render_adapt(model: FrictionModel, name: str, activation_impl: str = "libm") -> Dict[str, str]:
     """NAME_adapt.h, NAME_adapt.c (for ``FrictionAdapter(model)``'s defaults), the runtime
-    fric_adapt.{h,c} and the controller's fric_ctrl.{h,c}, by file name: what ``emit --adapt``
-    adds to ``codegen.render``'s files. ``ModelError`` for a model that cannot adapt."""
+    fric_adapt.{h,c} and fric_bytes.{h,c} (its saved state's bytes), and the controller's
+    fric_ctrl.{h,c}, by file name: what ``emit --adapt`` adds to ``codegen.render``'s files.
+    ``ModelError`` for a model that cannot adapt."""
     Regressor(model, "float32", activation_impl)                 # refuses what cannot adapt
     adapter = FrictionAdapter(model, activation_impl=activation_impl)
     params = adapt_params(adapter)
@@ -174,7 +175,8 @@ def build_adapted(model: FrictionModel, name: str = "fm", activation_impl: str =
         write_all_atomic(folder, {**render(model, name, activation_impl),
                                   **render_adapt(model, name, activation_impl)})
         return build_module(folder, [f"{name}.h", "fric_ctrl.h", "fric_adapt.h", f"{name}_adapt.h"],
-                            model_cdef(name) + CTRL_CDEF + CDEF + adapt_cdef(name),
+                            model_cdef(name, model.axis is not None) + CTRL_CDEF + CDEF
+                            + adapt_cdef(name),
                             build_dir=folder / "build")
     finally:
         if tmp:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Dict, Optional
+from typing import Dict, Optional, Tuple
 
 from .._io import write_all_atomic
 from ..codegen import emit
@@ -67,7 +67,7 @@ def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=N
             emit(model, folder, name, force=force,
                  sample_time=sample_time if model.presliding is not None else None)
             headers.append(f"{name}.h")
-            cdefs.append(model_cdef(name))
+            cdefs.append(model_cdef(name, model.axis is not None))
         write_all_atomic(folder, runtime)
         return build_module(folder, headers + ["fric_ctrl.h"], "".join(cdefs) + CDEF,
                             build_dir=folder / "build")
@@ -198,9 +198,23 @@ def c_controllers(compensation: Dict[str, Optional[object]], settings: AdaptiveB
     refused
     """
 
-    models = {name: comp for name, comp in compensation.items()
-              if isinstance(comp, FrictionModel) and isinstance(comp.aim, (ElmNetwork, StribeckCurve))}
+    emitted = {name: c_function(comp) for name, comp in compensation.items()}
+    models = {name: e[0] for name, e in emitted.items() if e is not None}
     module = build_controller(models, folder, sample_time=settings.ts)
     return {name: CController(module, settings.clone(compensation=comp),
-                              f"{name}_force" if name in models else None)
+                              f"{name}_{emitted[name][1]}" if name in models else None)
             for name, comp in compensation.items()}
+
+
+def c_function(compensation) -> Optional[Tuple[FrictionModel, str]]:
+    """The model a compensation computes in C and the suffix of its function: a model (ELM or
+    [F1]) itself, "force", or its bound ``force_with_offset``, "force_with_offset"; None for
+    anything else."""
+    model = getattr(compensation, "__self__", compensation)
+    if not (isinstance(model, FrictionModel) and isinstance(model.aim, (ElmNetwork, StribeckCurve))):
+        return None
+    if compensation is model:
+        return model, "force"
+    if getattr(compensation, "__func__", None) is FrictionModel.force_with_offset:
+        return model, "force_with_offset"
+    return None

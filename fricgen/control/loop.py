@@ -321,7 +321,8 @@ def fuzzy_model(name: str = "fuzzy_model", bench=None) -> FrictionModel:
 def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
                   with_fuzzy: bool = True, ts: Optional[float] = None) -> Dict[str, Optional[object]]:
     """The compensation variants to compare: "none", "exact" (the axis' true friction, unless that is
-    ``model``), and ``model`` as "model"; without a model, fricgen's default model of the paper
+    ``model``), and ``model`` as "model" (its ``force_with_offset`` where it records an axis
+    offset: the constant force is compensated with the friction); without a model, fricgen's default model of the paper
     benchmark as "elm" and the fuzzy baseline as "fuzzy". A model with bristles compensates
     through its stepper at ``ts`` as "model" (a stateful callable, reset with its controller)
     and with its steady-state curve alone as "steady".
@@ -359,7 +360,8 @@ def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
         if with_fuzzy:
             variants["fuzzy"] = fuzzy_model(bench=bench)
     elif getattr(model, "presliding", None) is None:       # a curve, or a model without state
-        variants["model"] = model
+        offset = isinstance(model, FrictionModel) and model.axis_offset != 0.0
+        variants["model"] = model.force_with_offset if offset else model
     else:
         if ts is None:
             raise ValueError("a model with bristles compensates sample by sample: give ts, the "
