@@ -50,13 +50,13 @@ class Axis:
     offset: Optional[float] = None
     offset_se: Optional[float] = None
 
-    @property
-    def mass_text(self) -> str:
-        """``m = 95.1 kg (identified from the data)`` or ``(given by --mass)``; '' without mass."""
+    def mass_text(self, unit: str = "kg") -> str:
+        """``m = 95.1 kg (identified from the data)`` or ``(given by --mass)``, the mass in
+        ``unit`` (kg m^2 on a rotary axis); '' without mass."""
         if self.mass is None:
             return ""
         how = "identified from the data" if self.mass_from == "data" else "given to train by --mass"
-        return f"m = {self.mass:.4g} kg ({how})"
+        return f"m = {self.mass:.4g} {unit} ({how})"
 
     def to_dict(self) -> dict:
         d = asdict(self)

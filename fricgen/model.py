@@ -33,6 +33,7 @@ from .effects.load_temperature import LoadTemperature
 from .effects.presliding import Bristles, BristleStepper
 from .effects import validate_effects
 from .errors import ModelError
+from .units import Units, units_of
 
 FORMAT = "fricgen-model"
 #: The newest format version this fricgen reads and writes (models with inputs beside v).
@@ -282,6 +283,12 @@ class FrictionModel:
         v = np.asarray(v, dtype=float)
         negative = self.viscous if self.negative is None else self.negative.viscous
         return np.where(v < 0, negative, self.viscous) * v
+
+    @property
+    def units(self) -> Units:
+        """The unit names of the axis it was trained on: m, m/s, N, kg, or on a rotary one
+        (``training.units``) rad, rad/s, Nm, kg m^2."""
+        return units_of(self.training.get("units") == "rotary")
 
     @property
     def axis_offset(self) -> float:

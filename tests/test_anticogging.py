@@ -309,6 +309,7 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
     assert axis.map_error(model.cogging_map) < 0.10
+    assert model.axis.force_constant == pytest.approx(axis.kt)     # the friction saw a force
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -168,6 +168,15 @@ def test_simulate_compensates_the_axis_offset_with_the_friction_in_python_and_c(
     assert compensations(choose_plant(plain).axis, plain)["model"] is plain
 
 
+def test_simulate_speaks_the_rotary_units_of_a_joints_model(model10, tmp_path, capsys):
+    joint = dataclasses.replace(model10, training={**model10.training, "units": "rotary", "axis": RECORD})
+    assert main(["simulate", "--model", str(joint.save(tmp_path / "j.json")), "--duration", "0.1"]) == 0
+    out = capsys.readouterr().out
+    assert "m = 95.1 kg m^2 (identified from the data), offset -3.16 Nm as a constant force" in out
+    assert "motor 1 Nm/A" in out and " rad/s" in out and "rms_e1 mrad" in out and "A s/rad" in out
+    assert " m/s" not in out and " mm " not in out and "kg (" not in out
+
+
 def test_simulate_keeps_the_builtin_speeds_for_a_model_trained_faster(model10):
     fast = {**SWEEP, "speed_max": 1.0}
     plant = choose_plant(with_axis(model10, fast))
@@ -271,15 +280,14 @@ def test_emit_says_which_speeds_fixed_point_covers(model10, tmp_path, capsys, re
     assert 2.0 ** (31 - fx.FixedSpec.of(model, "q31", v_max).f_v) == v_range
 
 
-def test_emit_says_the_axis_offset_is_not_in_the_c_unless_an_effect_carries_it(model10, tmp_path,
-                                                                               capsys):
+def test_emit_says_where_the_axis_offset_is_unless_an_effect_carries_it(model10, tmp_path, capsys):
     model = with_axis(model10, RECORD)
     assert main(["emit", str(model.save(tmp_path / "m.json")), "-o", str(tmp_path / "c")]) == 0
-    assert "the axis's offset o = -3.16 N (training.axis.offset) is not in this C" in \
-        capsys.readouterr().err
+    assert ("the axis's offset o = -3.16 N (training.axis.offset) is not in fm_force, the friction "
+            "alone; fm_force_with_offset adds it") in capsys.readouterr().err
     carried = with_effects(model, [ConstantLoad(load=-3.16)])
     assert main(["emit", str(carried.save(tmp_path / "e.json")), "-o", str(tmp_path / "e")]) == 0
-    assert "is not in this C" not in capsys.readouterr().err
+    assert "is not in fm_force" not in capsys.readouterr().err
 
 
 def test_v_max_with_float_is_refused(model10, tmp_path, capsys):

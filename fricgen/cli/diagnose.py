@@ -114,7 +114,7 @@ def nominal_axis(model: FrictionModel, mass, force_constant):
             raise UsageError("--mass is required: the model's axis record gives no mass "
                              f"({'it has none' if axis is None else 'it was trained on a sweep'})")
         mass = axis.mass
-        notes.append(f"mass from the model's axis: {axis.mass_text}")
+        notes.append(f"mass from the model's axis: {axis.mass_text(model.units.mass)}")
     if force_constant is None:
         if axis is None or axis.force_constant is None:
             raise UsageError("--force-constant is required: the model's axis record gives none")

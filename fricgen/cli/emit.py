@@ -14,7 +14,6 @@ from ..control.c_adapted import render_adapt
 from ..effects import offset_left_out
 from ..errors import UsageError
 from ..model import FrictionModel
-from ..units import units_of
 from .inputs import load_model
 from .common import FORCE_C, add_output, check_targets, number, say
 
@@ -61,14 +60,15 @@ def input_range_note(model: FrictionModel, dtype: str, v_max) -> str:
     return f"fricgen: the {dtype} C takes |v| < {v_range:g} m/s, covering {cover:.4g} m/s ({source})"
 
 
-def offset_note(model) -> str:
+def offset_note(model, name: str) -> str:
     """One line when the model's axis records an offset that its curves leave out (a symmetric
-    model's constant force, or a load) and no constant_load effect carries it: the C lacks it."""
+    model's constant force, or a load) and no constant_load effect carries it: NAME_force is
+    the friction alone, NAME_force_with_offset adds it."""
     offset = offset_left_out(model)
-    unit = units_of(model.training.get("units") == "rotary").force
+    unit = model.units.force
     return "" if offset is None else (
         f"fricgen: note: the axis's offset o = {offset:.4g} {unit} (training.axis.offset) is not in "
-        "this C, whose friction leaves it out: compensate it apart")
+        f"{name}_force, the friction alone; {name}_force_with_offset adds it")
 
 
 def cogging_blob(args, model: FrictionModel) -> dict:
@@ -113,7 +113,7 @@ def run(args) -> int:
             f"the name {name}")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
-    note = offset_note(model)
+    note = offset_note(model, name)
     if note:
         say(note)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})"

@@ -118,7 +118,8 @@ def run(args) -> int:
                                     on_sample=lambda t: progress(f"simulate: {t:.4g} of {args.duration:g} s "
                                                                  f"of {len(ctrls)} variants"))))
     warn_saturation(runs, settings.i_max, args.ts)
-    report = {"plant": plant.text, "law": args.law, "ts": args.ts, "duration": args.duration,
+    report = {"plant": plant.text, "units": "linear" if model is None else model.units.kind,
+              "law": args.law, "ts": args.ts, "duration": args.duration,
               "k1": args.k1, "k2": args.k2,
               "backend": args.backend, "friction_input": args.friction_input,
               "variants": {name: run.metrics() for name, run in runs.items()}}
@@ -173,28 +174,32 @@ def choose_plant(model, mass=None):
     offset = (record.offset or 0.0) if record is not None else 0.0
     phi = record.force_constant if record is not None else None
     if mass is not None:
-        return model_plant(model, mass, offset, speed_max, f"m = {mass:.4g} kg (--mass)", phi)
+        return model_plant(model, mass, offset, speed_max,
+                           f"m = {mass:.4g} {model.units.mass} (--mass)", phi)
     if record is not None and record.mass is not None:
-        return model_plant(model, record.mass, offset, speed_max, record.mass_text, phi)
+        return model_plant(model, record.mass, offset, speed_max,
+                           record.mass_text(model.units.mass), phi)
     why = ("the model carries no axis" if record is None else
            "the model's axis has no mass (trained on a sweep); --mass simulates that axis")
     return builtin_plant(why, speed_max)
 
 
 def table(report: dict) -> str:
-    """The variant table: rms and max tracking error, rms current, final adaptive parameters."""
+    """The variant table: rms and max tracking error, rms current, final adaptive parameters
+    (in mm and per m, or on a rotary axis, ``report["units"]``, in mrad and per rad)."""
+    milli, per = ("mrad", "rad") if report.get("units") == "rotary" else ("mm", "m")
     lines = [report["plant"],
-             f"law ({report['law']}), k1 = {report['k1']:g} 1/s, k2 = {report['k2']:g} A s/m, "
+             f"law ({report['law']}), k1 = {report['k1']:g} 1/s, k2 = {report['k2']:g} A s/{per}, "
              f"Ts = {report['ts']:g} s, {report['duration']:g} s simulated, "
              f"{report['backend']} controller, friction model at {report['friction_input']}",
-             f"{'variant':8s} {'rms_e1 mm':>10s} {'max_e1 mm':>10s} {'rms_i A':>8s} {'max_i A':>8s} "
-             f"{'m_o_hat A s^2/m':>15s} {'k_hat':>7s}  (k_hat: no unit)"]
+             f"{'variant':8s} {f'rms_e1 {milli}':>11s} {f'max_e1 {milli}':>11s} {'rms_i A':>8s} "
+             f"{'max_i A':>8s} {f'm_o_hat A s^2/{per}':>17s} {'k_hat':>7s}  (k_hat: no unit)"]
     for name, m in report["variants"].items():
         note = "" if m["finite"] else "  (unstable: diverged)"
         if m.get("friction_in") == "python":
             note += "  (friction computed in Python)"
-        lines.append(f"{name:8s} {1e3 * m['rms_e1']:10.4f} {1e3 * m['max_e1']:10.4f} "
-                     f"{m['rms_i']:8.3f} {m['max_i']:8.3f} {m['m_o_hat']:15.4f} {m['k_hat']:7.4f}{note}")
+        lines.append(f"{name:8s} {1e3 * m['rms_e1']:11.4f} {1e3 * m['max_e1']:11.4f} "
+                     f"{m['rms_i']:8.3f} {m['max_i']:8.3f} {m['m_o_hat']:17.4f} {m['k_hat']:7.4f}{note}")
     return "\n".join(lines)
 
 

@@ -20,7 +20,6 @@ from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
 from ..training.with_cogging import less_position_force, train_with_cogging
 from ..training.with_dynamic import train_dynamic
-from ..units import units_of
 from .._io import check_destination
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
@@ -170,7 +169,7 @@ def _run(args) -> int:
     out(report.text)
     band = report.model.velocity_band
     if band is not None and report.model.inputs is None:     # a model with inputs emits no band
-        speed = units_of(report.model.training.get("units") == "rotary").speed
+        speed = report.model.units.speed
         out(f"zero      NAME_compensation is 0 up to |v| = {band:.3g} {speed}, the force from twice it "
             f"({report.model.training.get('velocity_band_from', 'model.json')})")
     for warning in report.warnings:

@@ -14,7 +14,6 @@ from ..effects.presliding import least_level
 from ..errors import ModelError, UsageError
 from .cogging_table import CoggingTable
 from ..model import FrictionModel
-from ..units import units_of
 from ..networks import ElmNetwork, StribeckCurve
 from .context import (GENERATED_MARKER, PACKAGE_MARKER, PACKAGE_NAMES, RUNTIME_MARKER,
                       VERSION_HEADER, axis_context, effects_context, emit_options, identity_context,
@@ -181,7 +180,7 @@ def inputs_context(model: FrictionModel, activation_impl: str) -> Optional[dict]
     inputs = model.inputs
     if inputs is None:
         return None
-    units = units_of(model.training.get("units") == "rotary")
+    units = model.units
     exp_fn, header = PRESLIDING_EXP[activation_impl]
     load = temperature = None
     if inputs.load is not None:

@@ -111,11 +111,13 @@ def model_plant(model: FrictionModel, mass: float, offset: float = 0.0,
         axis = BristleAxis(axis.law, model.presliding, model.stribeck, model.viscous_force)
         friction = (f"the model with its bristles (LuGre, sigma0 {model.presliding.stiffness:.4g}, "
                     f"sigma1 {model.presliding.damping:.4g})")
-    trajectory, speeds = reference_within(speed_max)
-    offset_text = f", offset {offset:.4g} N as a constant force" if offset else ""
+    units = model.units
+    trajectory, speeds = reference_within(speed_max, units.speed)
+    offset_text = (f", offset {offset:.4g} {units.force} as a constant force (the model variant "
+                   "compensates it with the friction)") if offset else ""
     return Plant(axis, phi_n, trajectory,
-                 f"plant: the model's axis, {mass_text or f'm = {mass:.4g} kg'}{offset_text}, "
-                 f"friction = {friction}; motor {phi:.4g} N/A ({whose}), {i_max:.4g} A; "
+                 f"plant: the model's axis, {mass_text or f'm = {mass:.4g} {units.mass}'}{offset_text}, "
+                 f"friction = {friction}; motor {phi:.4g} {units.force}/A ({whose}), {i_max:.4g} A; "
                  f"{speeds}", i_max)
 
 
@@ -126,17 +128,17 @@ def builtin_plant(why: str, speed_max: Optional[float] = None) -> Plant:
                  f"plant: built-in {DEFAULT_MASS:g} kg axis (Table 1 friction); {why}; {speeds}")
 
 
-def reference_within(speed_max: Optional[float] = None):
-    """``reversing()`` with its peak speeds scaled down to at most ``speed_max`` (m/s; None: the
-    defaults, 0.02 to 0.2 m/s), and a text that gives them."""
+def reference_within(speed_max: Optional[float] = None, unit: str = "m/s"):
+    """``reversing()`` with its peak speeds scaled down to at most ``speed_max`` (m/s, or rad/s
+    on a rotary axis: ``unit``; None: the defaults, 0.02 to 0.2), and a text that gives them."""
     low, high = DEFAULT_SPEEDS
     if speed_max is not None and speed_max < high:
         low, high = low * speed_max / high, speed_max
-        where = f" (within the model's training speeds, up to {speed_max:.4g} m/s)"
+        where = f" (within the model's training speeds, up to {speed_max:.4g} {unit})"
     else:
         where = "" if speed_max is None else \
-            f" (the model was trained up to {speed_max:.4g} m/s)"
-    return reversing(low, high), f"reference peak speeds {low:.3g} to {high:.3g} m/s{where}"
+            f" (the model was trained up to {speed_max:.4g} {unit})"
+    return reversing(low, high), f"reference peak speeds {low:.3g} to {high:.3g} {unit}{where}"
 
 
 def peak_force(plant: Plant, duration: float, ts: float) -> float:
@@ -321,8 +323,9 @@ def fuzzy_model(name: str = "fuzzy_model", bench=None) -> FrictionModel:
 def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
                   with_fuzzy: bool = True, ts: Optional[float] = None) -> Dict[str, Optional[object]]:
     """The compensation variants to compare: "none", "exact" (the axis' true friction, unless that is
-    ``model``), and ``model`` as "model" (its ``force_with_offset`` where it records an axis
-    offset: the constant force is compensated with the friction); without a model, fricgen's default model of the paper
+    ``model``), and ``model`` as "model" (its ``force_with_offset`` where the axis carries the
+    model's offset, ``carries_offset``: the constant force is compensated with the friction);
+    without a model, fricgen's default model of the paper
     benchmark as "elm" and the fuzzy baseline as "fuzzy". A model with bristles compensates
     through its stepper at ``ts`` as "model" (a stateful callable, reset with its controller)
     and with its steady-state curve alone as "steady".
@@ -360,8 +363,7 @@ def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
         if with_fuzzy:
             variants["fuzzy"] = fuzzy_model(bench=bench)
     elif getattr(model, "presliding", None) is None:       # a curve, or a model without state
-        offset = isinstance(model, FrictionModel) and model.axis_offset != 0.0
-        variants["model"] = model.force_with_offset if offset else model
+        variants["model"] = model.force_with_offset if carries_offset(axis, model) else model
     else:
         if ts is None:
             raise ValueError("a model with bristles compensates sample by sample: give ts, the "
@@ -369,6 +371,13 @@ def compensations(axis: MotorAxis, model: Optional[FrictionModel] = None,
         variants["steady"] = model
         variants["model"] = model.stepper(ts)
     return variants
+
+
+def carries_offset(axis: MotorAxis, model) -> bool:
+    """Whether ``axis`` holds ``model``'s axis offset as its constant load (``model_plant``'s)."""
+    offset = model.axis_offset if isinstance(model, FrictionModel) else 0.0
+    return offset != 0.0 and any(isinstance(e, ConstantLoad) and e.load == offset
+                                 for e in getattr(axis.law, "effects", ()))
 
 
 def compare(compensation: Dict[str, Optional[object]], axis: Optional[MotorAxis] = None,

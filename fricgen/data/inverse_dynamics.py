@@ -48,6 +48,8 @@ INERTIA_OFF = 10.0
 #: a bound on its cost for long logs, well above the independent samples a mass needs.
 EXPLAINING_ROWS = 50_000
 
+#: Where a constant force beside the friction is compensated: the report's words.
+COMPENSATED = "eval and the C's NAME_force_with_offset add it"
 #: The columns of a log's operating point beside the motion and the force.
 CONDITIONS = ("load", "temperature")
 
@@ -226,15 +228,15 @@ class Identification:
         if self.load == "textbook":
             return (f"{o}: a constant force beside the friction (the even part of the force, "
                     "which the textbook law's curves leave out, per direction as symmetric; "
-                    "compensate it apart: eval adds it)")
+                    f"{COMPENSATED})")
         if self.load:
             return (f"{o}: a load beside the friction (held in the two curves, it would make one "
-                    "of them push the axis; compensate it apart)")
+                    f"of them push the axis; {COMPENSATED})")
         if asymmetric:
             return (f"{o}: the even part of the force, held in the two curves (a constant force "
                     "and a friction that differs between the directions are not told apart)")
         return (f"{o}: a constant force beside the friction (the even part of the force, which "
-                "the symmetric model leaves out; compensate it apart)")
+                f"the symmetric model leaves out; {COMPENSATED})")
 
     @property
     def parameter_budget(self) -> int:

@@ -23,7 +23,6 @@ from ..metrics import rmse
 from ..model import FrictionModel
 from .decision import held_out_p_value
 from .gap import HeldOutGap
-from ..units import units_of
 from .localize import localize, where
 from .refine import output_error_fit
 from .residual import ResidualProblem
@@ -372,7 +371,7 @@ class Diagnoser:
         """Select the effects ``model`` misses on ``log``, an axis of nominal ``mass`` (kg) and
         ``force_constant`` (N/A); returns self with the attributes above set."""
         names = self._validate()
-        self.units_ = units_of(model.training.get("units") == "rotary")
+        self.units_ = model.units
         p, base = self._prepare(log, model, mass, force_constant)
         ts = log.sample_time
         self._v_sim = self.v_sim_before_

@@ -46,6 +46,9 @@ RICH_MARGIN = 0.05
 STRUCTURE_Z = 2.0
 #: ... on a curve of at least this many points (fewer give the test no power).
 STRUCTURE_POINTS = 10
+#: Fewest paired held-out folds on which one candidate can beat another: the standard error of
+#: fewer differences is itself a guess (a sweep of 3 points a side holds out its 2 middle ones).
+MIN_PAIRED = 3
 #: The textbook floor: kept unless another candidate beats it clearly (the law of the
 #: engineer's spreadsheet; symmetric Coulomb + viscous where the data move one way).
 ANCHOR = "Coulomb + viscous, per direction"
@@ -182,14 +185,24 @@ def runs_z(residual: np.ndarray) -> float:
     return (runs - mean) / np.sqrt(variance) if variance > 0 else 0.0
 
 
+def _curves(sweep: Sweep, weight: np.ndarray):
+    """The curves ``shows_structure`` tests: per direction where the sweep has both."""
+    two_way = bool(np.any(sweep.v > 0) and np.any(sweep.v < 0))
+    return curve_points(sweep, weight, asymmetric=two_way)
+
+
+def testable(sweep: Sweep) -> bool:
+    """Whether ``shows_structure`` can test a curve of ``sweep`` (one of STRUCTURE_POINTS)."""
+    return any(speed.size >= STRUCTURE_POINTS for speed, _, _ in _curves(sweep, np.ones(len(sweep))))
+
+
 def shows_structure(sweep: Sweep, weight: Optional[np.ndarray] = None) -> bool:
     """Whether the richest textbook law the points allow (per direction where the sweep has
     both) leaves residuals with structure along the speed: fewer sign runs than chance by
     STRUCTURE_Z standard deviations (``runs_z``) on a curve of at least STRUCTURE_POINTS points.
     Where it does not, no richer curve has anything to find."""
     weight = np.ones(len(sweep)) if weight is None else weight
-    two_way = bool(np.any(sweep.v > 0) and np.any(sweep.v < 0))
-    for speed, magnitude, w in curve_points(sweep, weight, asymmetric=two_way):
+    for speed, magnitude, w in _curves(sweep, weight):
         if speed.size < STRUCTURE_POINTS:
             continue
         order = np.argsort(speed, kind="stable")
@@ -359,11 +372,11 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
 def _choose(mse: List[np.ndarray], anchor: List[int]) -> int:
     """The candidate kept (indices into ``mse``, simplest first): the anchor (the textbook
     floor) unless others beat it by more than SE_RULE standard errors of their paired fold
-    differences; then, among those, the simplest within SE_RULE standard errors of the best."""
+    differences, on MIN_PAIRED folds or more; then, among those, the simplest within SE_RULE
+    standard errors of the best."""
     def beats(a, b):                       # a's mean error below b's by more than the noise
         d = mse[b] - mse[a]
-        se = d.std(ddof=1) / np.sqrt(d.size) if d.size > 1 else 0.0
-        return d.mean() > SE_RULE * se
+        return d.size >= MIN_PAIRED and d.mean() > SE_RULE * d.std(ddof=1) / np.sqrt(d.size)
     floor = anchor[0]
     better = [k for k in range(len(mse)) if k == floor or beats(k, floor)]
     best = min(better, key=lambda k: mse[k].mean())

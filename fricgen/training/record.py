@@ -91,7 +91,8 @@ def _(estimator: StribeckRegressor) -> dict:
 
 @validation_error.register
 def _(estimator: TextbookRegressor) -> tuple:
-    return "held-out", estimator.cv_rmse_
+    """The law's held-out error, over both directions' points (its ``law`` line's)."""
+    return "the law's held-out", estimator.cv_rmse_
 
 
 @chosen_record.register

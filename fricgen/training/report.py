@@ -23,7 +23,7 @@ from ..fit.directions import CV_FOLDS, DirectionsFit
 from ..fit.law_choice import LawChoice
 from ..fit.load_temperature import DependenceFit
 from ..fit.textbook import TextbookRegressor
-from ..units import LINEAR, units_of
+from ..units import LINEAR
 from ..fit.stribeck import XS_MAX
 from ..model import FrictionModel
 from .with_inputs import dependence_lines
@@ -90,7 +90,7 @@ class FitReport:
     def text(self) -> str:
         """The report ``fricgen train`` prints: data, symmetry, each curve's model and errors."""
         ident, fitted = self.identification, self.fit
-        units = units_of(self.training.get("units") == "rotary")
+        units = self.model.units
         reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric, units)]
         if self.law is not None:
             reports.append(self.law.line(units.force))

@@ -20,7 +20,8 @@ from ..data.sweep import Sweep, sweep_from_columns
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import LawChoice, choose_law, point_weights, shows_structure
+from ..fit.law_choice import (STRUCTURE_POINTS, choose_law, point_weights, shows_structure,
+                              testable)
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, stribeck_warning
@@ -31,9 +32,10 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
                  warn: Callable[[str], None], rotary: bool = False) -> None:
     """The fitted curves and the identified mass within the physical bounds of a real axis
     (``Direction.check_physical``, ``_validate.PHYSICAL``): refused, or with ``accept_unusual``
-    one warning line each; a v_sat beyond ``USUAL_MAX`` is one warning line, unless the data's
-    fastest speed ``fastest`` was (``data.plausibility``). A mass that speeding up and braking
-    give apart (``RigidBody.phases_disagree``) is one warning line."""
+    one warning line each; a v_sat beyond ``USUAL_MAX`` and beyond the data's fastest speed
+    ``fastest`` is one warning line (one within the data's speeds is as usual as they are, which
+    ``data.plausibility`` judged: a textbook law's v_sat is the fastest speed). A mass that
+    speeding up and braking give apart (``RigidBody.phases_disagree``) is one warning line."""
     problems = []
     for curve in model.directions:
         try:
@@ -42,7 +44,8 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
             problems.append(f"the fitted model's {str(exc).split(' (a digit')[0]}")
     said = fastest > usual_max("speed")            # the data's speed was warned about already
     for curve in model.directions:
-        note = "" if any(problems) or said else unusual("v_sat", "the fitted model's v_sat", curve.v_sat)
+        judged = any(problems) or said or curve.v_sat <= fastest
+        note = "" if judged else unusual("v_sat", "the fitted model's v_sat", curve.v_sat)
         if note:
             warn(f"fricgen: warning: {source}: {note}")
             break
@@ -126,7 +129,9 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
     weight = point_weights(sweep, *spread)
     if ident is None and not shows_structure(sweep, weight):
         reason = ("multi-source fit: not tried, the textbook law's residuals run along the speed "
-                  "as chance does (no curve left for it to find)")
+                  "as chance does (no curve left for it to find)" if testable(sweep) else
+                  f"multi-source fit: not tried, no curve has the {STRUCTURE_POINTS} points "
+                  "a test of the textbook law's residuals needs")
     else:
         try:
             rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,

@@ -44,11 +44,17 @@ def _law(coulomb: float, viscous: float, fastest: float) -> LawFit:
                   {"coulomb": 0.0, "viscous": 0.0}, fastest, 0.0)
 
 
-def _per_direction(fit: CoggingFit, fastest: float, name: str, units) -> FrictionModel:
+def _per_direction(fit: CoggingFit, speed: np.ndarray, name: str, units) -> FrictionModel:
+    """Coulomb + viscous per direction from the move (its speeds ``speed``), with the axis record
+    of its speed range (``recording_force_constant`` adds the force constant)."""
     cp, bp, cn, bn = fit.coulomb_viscous
+    fastest = float(np.percentile(speed, 99))
+    axis = {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
+            "offset": None, "offset_se": None, "speed_min": float(np.percentile(speed, 1)),
+            "speed_max": fastest}
     return FrictionModel.from_directions(_law(cp, bp, fastest).direction(),
                                          _law(-cn, bn, fastest).direction(), name=name,
-                                         training={"units": units.kind,
+                                         training={"units": units.kind, "axis": axis,
                                                    "method": "coulomb_viscous_per_direction"})
 
 
@@ -84,11 +90,12 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         model, text, warnings = report.model, report.text, list(report.warnings)
     except (DataError, ModelError, ValueError):
         speed = np.abs(np.gradient(columns["x"], columns["t"]))
-        model = _per_direction(fit, float(np.percentile(speed, 99)), name, units)
+        model = _per_direction(fit, speed[speed > 0], name, units)
         text = ("friction: Coulomb + viscous per direction from the move (a calibration at one "
                 "speed each way holds too few speeds for the default fit)")
         warnings = []
-    model = replace(model, cogging_map=fit.map, cogging_friction=fit.friction)
+    model = replace(recording_force_constant(model, columns, force_constant), cogging_map=fit.map,
+                    cogging_friction=fit.friction)
     j = {"given": "given", "identified": "identified from the two directions' ripple",
          "undetermined": "not determined by this log (taken as 0: the map holds the inertia's "
                          "ripple; move slower or give --mass)"}[fit.inertia_source]
@@ -151,4 +158,16 @@ def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
         again = train_friction(cleaned)
     except (DataError, ModelError):
         return report
-    return replace(again, model=replace(again.model, cogging_map=fit.map))
+    model = recording_force_constant(again.model, columns, constant)
+    return replace(again, model=replace(model, cogging_map=fit.map))
+
+
+def recording_force_constant(model: FrictionModel, columns: Mapping[str, np.ndarray],
+                             force_constant: Optional[float]) -> FrictionModel:
+    """``model`` whose axis record holds the force constant that made the log's current a force
+    (the friction was trained on that force, which no longer says it); as it is otherwise."""
+    axis = model.training.get("axis")
+    if axis is None or force_constant is None or "i" not in columns or axis["force_constant"]:
+        return model
+    return replace(model, training={**model.training,
+                                    "axis": {**axis, "force_constant": float(force_constant)}})
