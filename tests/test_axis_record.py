@@ -175,6 +175,9 @@ def test_simulate_speaks_the_rotary_units_of_a_joints_model(model10, tmp_path, c
     assert "m = 95.1 kg m^2 (identified from the data), offset -3.16 Nm as a constant force" in out
     assert "motor 1 Nm/A" in out and " rad/s" in out and "rms_e1 mrad" in out and "A s/rad" in out
     assert " m/s" not in out and " mm " not in out and "kg (" not in out
+    assert main(["emit", str(tmp_path / "j.json"), "-o", str(tmp_path / "c")]) == 0
+    header = (tmp_path / "c" / "fm.h").read_text()
+    assert "Friction force in Nm at velocity v (rad/s)" in header and "newtons" not in header
 
 
 def test_simulate_keeps_the_builtin_speeds_for_a_model_trained_faster(model10):
