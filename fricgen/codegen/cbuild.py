@@ -16,9 +16,10 @@ STRICT_WARNINGS = ["-Wall", "-Wextra", "-Wpedantic", "-Wdouble-promotion", "-Wfl
                    "-Wconversion", "-Wshadow", "-Wfloat-equal", "-Werror"]
 
 
-def model_cdef(name: str, with_offset: bool = False) -> str:
-    """The cffi declarations of an emitted model's API (``with_offset``: a model that records
-    its axis, with ``NAME_force_with_offset``)."""
+def model_cdef(name: str, model=None) -> str:
+    """The cffi declarations of an emitted model's API: with ``NAME_force_with_offset`` for a
+    ``model`` that records its axis (NAME.h declares it then)."""
+    with_offset = getattr(model, "axis", None) is not None
     offset = f"float {name}_force_with_offset(float v);\n" if with_offset else ""
     return f"float {name}_force(float v);\nfloat {name}_aim(float x);\n{offset}"
 

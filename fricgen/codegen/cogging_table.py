@@ -92,7 +92,6 @@ class CoggingTable:
             "q31_scale": c_float(self.q31_scale), "q31_bound": c_float(self.q31_bound),
             "harmonics": ", ".join(str(h) for h in m.harmonics), "rms": f"{m.rms:.4g}"}
 
-
     def blob(self, model_hash: str) -> bytes:
         """The bytes of ``NAME_cogging_map_save`` for this table (NAME.h describes them):
         "FRCM", format and points, the period's float32 bits, ``model_hash`` NUL-padded to

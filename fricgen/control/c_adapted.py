@@ -175,8 +175,7 @@ def build_adapted(model: FrictionModel, name: str = "fm", activation_impl: str =
         write_all_atomic(folder, {**render(model, name, activation_impl),
                                   **render_adapt(model, name, activation_impl)})
         return build_module(folder, [f"{name}.h", "fric_ctrl.h", "fric_adapt.h", f"{name}_adapt.h"],
-                            model_cdef(name, model.axis is not None) + CTRL_CDEF + CDEF
-                            + adapt_cdef(name),
+                            model_cdef(name, model) + CTRL_CDEF + CDEF + adapt_cdef(name),
                             build_dir=folder / "build")
     finally:
         if tmp:

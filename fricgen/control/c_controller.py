@@ -67,7 +67,7 @@ def build_controller(models: Optional[Dict[str, FrictionModel]] = None, folder=N
             emit(model, folder, name, force=force,
                  sample_time=sample_time if model.presliding is not None else None)
             headers.append(f"{name}.h")
-            cdefs.append(model_cdef(name, model.axis is not None))
+            cdefs.append(model_cdef(name, model))
         write_all_atomic(folder, runtime)
         return build_module(folder, headers + ["fric_ctrl.h"], "".join(cdefs) + CDEF,
                             build_dir=folder / "build")

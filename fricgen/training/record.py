@@ -149,14 +149,18 @@ def curve_record(fit) -> dict:
     return {**entry, "metrics": curve_errors(fit.dataset, fit.estimator)}
 
 
+def speed_record(slowest: float, fastest: float) -> dict:
+    """model.json's ``training.axis`` of data that identify no axis: the speed range alone."""
+    return {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
+            "offset": None, "offset_se": None, "speed_min": slowest, "speed_max": fastest}
+
+
 def axis_record(sweep: Sweep, ident: Optional[Identification], asymmetric: bool) -> dict:
     """model.json's ``training.axis``: the mass, force constant and constant force that training
     identified or was given (null for a sweep; the offset null where the asymmetric model's
     curves hold it, not a load taken out of them), and the speed range of the data."""
     speed = np.abs(sweep.v[sweep.v != 0])
-    record = {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
-              "offset": None, "offset_se": None,
-              "speed_min": float(speed.min()), "speed_max": float(speed.max())}
+    record = speed_record(float(speed.min()), float(speed.max()))
     if ident is not None:
         body = ident.body
         if body.mass > 0:               # an inertia identified as 0 (pass --mass) records none

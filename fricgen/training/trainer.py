@@ -29,7 +29,7 @@ from .with_inputs import dependence_record, fit_inputs
 
 
 def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool, fastest: float,
-                 warn: Callable[[str], None], rotary: bool = False) -> None:
+                 warn: Callable[[str], None]) -> None:
     """The fitted curves and the identified mass within the physical bounds of a real axis
     (``Direction.check_physical``, ``_validate.PHYSICAL``): refused, or with ``accept_unusual``
     one warning line each; a v_sat beyond ``USUAL_MAX`` and beyond the data's fastest speed
@@ -50,9 +50,9 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
             warn(f"fricgen: warning: {source}: {note}")
             break
     if ident is not None and ident.body.phases_disagree():
-        word = "inertia" if rotary else "mass"
+        word = "inertia" if model.units.kind == "rotary" else "mass"
         warn(f"fricgen: warning: {source}: the identified {word}: "
-             f"{ident.body.phase_note(units_of(rotary).mass)}")
+             f"{ident.body.phase_note(model.units.mass)}")
     if ident is not None and ident.body.mass_identified and ident.body.mass_determined:
         problems.append(physical_problem("mass", "the identified mass", ident.body.mass))
     for problem in filter(None, problems):
@@ -346,7 +346,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
             curve.check()
     except ModelError as exc:
         raise DataError(f"{source}: the fitted model is no friction model: {exc}") from None
-    check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn, rotary)
-    notes = (stribeck_warning(ident, fitted.fits, units_of(rotary)),) if ident is not None else ()
+    check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
+    notes = (stribeck_warning(ident, fitted.fits, model.units),) if ident is not None else ()
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
                      warnings=tuple(n for n in notes if n), law=choice, inputs=dependence)

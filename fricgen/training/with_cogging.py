@@ -17,6 +17,7 @@ from ..errors import DataError, ModelError, UsageError
 from ..fit.textbook import LawFit
 from ..model import FrictionModel
 from ..units import units_of
+from .record import speed_record
 from .report import FitReport
 
 
@@ -49,9 +50,7 @@ def _per_direction(fit: CoggingFit, speed: np.ndarray, name: str, units) -> Fric
     of its speed range (``recording_force_constant`` adds the force constant)."""
     cp, bp, cn, bn = fit.coulomb_viscous
     fastest = float(np.percentile(speed, 99))
-    axis = {"mass": None, "mass_se": None, "mass_from": None, "force_constant": None,
-            "offset": None, "offset_se": None, "speed_min": float(np.percentile(speed, 1)),
-            "speed_max": fastest}
+    axis = speed_record(float(np.percentile(speed, 1)), fastest)
     return FrictionModel.from_directions(_law(cp, bp, fastest).direction(),
                                          _law(-cn, bn, fastest).direction(), name=name,
                                          training={"units": units.kind, "axis": axis,
