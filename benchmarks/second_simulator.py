@@ -14,7 +14,9 @@ hidden effects are defined here, with other assumptions than the scenarios' gene
 - Sensors: position quantized to 1 um, velocity by the backward difference of the quantized
   position (half a sample late), current with white noise; 1 kHz.
 - The user's model: ``fricgen``'s default fitted to a steady-state speed sweep of the nominal
-  plant (sigma2 v + g(v), with noise), vs_max chosen from the data.
+  plant (sigma2 v + g(v), with noise), vs_max chosen from the data; with ``--user-model
+  bristles``, that model with the plant's LuGre bristles (sigma0, sigma1), as a model trained
+  with pre-sliding carries them, so that diagnose runs them in its residual and simulations.
 - Hidden effects (``EFFECTS`` below), each at a size of its own, as physical forces: a
   constant load, cogging with two harmonics, friction varying with position, an asymmetric
   Coulomb level, friction falling as the axis warms, an extra Stribeck source, a Stribeck
@@ -28,7 +30,7 @@ hidden effect and for null logs: the named sets, exact names on visible logs, th
 after and the truth's, and diagnose's gap over the truth's.
 
     python benchmarks/second_simulator.py [--seeds 3] [--first-seed 1000] [--jobs 2]
-        [--friction lugre|static] [--kinds KIND ...]
+        [--friction lugre|static] [--user-model static|bristles] [--kinds KIND ...]
 """
 import os
 
@@ -36,12 +38,14 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse
+import dataclasses
 import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
 from fricgen.data import MotionLog, Sweep, prepare
+from fricgen.effects.presliding import Bristles
 from fricgen.diagnose.diagnoser import Diagnoser, diagnose
 from fricgen.fit import DefaultRegressor
 from fricgen.model import FrictionModel
@@ -76,11 +80,15 @@ def steady_friction(axis, v):
     return np.sign(v) * stribeck(axis, v) + axis["sigma2"] * v
 
 
-def user_model(axis, rng, v_max):
-    """fricgen's default on a noisy steady-state sweep of the nominal plant to 1.5 v_max."""
+def user_model(axis, rng, v_max, bristles=False):
+    """fricgen's default on a noisy steady-state sweep of the nominal plant to 1.5 v_max; with
+    ``bristles``, carrying the plant's LuGre bristles."""
     v = rng.uniform(0.0005, 1.5 * v_max, 400)
     f = steady_friction(axis, v) + rng.normal(0.0, 0.01 * axis["fc"], v.size)
-    return FrictionModel.fit(prepare(Sweep(v, f)), DefaultRegressor())
+    model = FrictionModel.fit(prepare(Sweep(v, f)), DefaultRegressor())
+    if bristles:
+        model = dataclasses.replace(model, presliding=Bristles(axis["sigma0"], axis["sigma1"]))
+    return model
 
 
 class Hidden:
@@ -194,14 +202,14 @@ def simulate(axis, hidden, rng, duration=DURATION, rate=RATE, friction_law="lugr
 
 def run(case):
     """Simulate, diagnose and score one log: a dict of figures."""
-    kind, seed, friction_law = case
+    kind, seed, friction_law, bristles = case
     rng = np.random.default_rng(seed)
     axis = draw_axis(rng)
     travel = 2 * 0.075
     hidden = Hidden(kind, axis, rng, travel, DURATION)
     start = time.time()
     log, hidden_force = simulate(axis, hidden, rng, friction_law=friction_law)
-    model = user_model(axis, rng, float(np.max(np.abs(log.v))))
+    model = user_model(axis, rng, float(np.max(np.abs(log.v))), bristles)
     d = diagnose(log, model, axis["m"], axis["kt"])
     truth = MotionLog(log.t, log.x, log.v, log.i - hidden_force / axis["kt"])
     gap_truth = Diagnoser().held_out_gap(truth, model, hidden.m, axis["kt"])
@@ -217,8 +225,10 @@ def main():
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--kinds", nargs="+", default=list(EFFECTS), choices=list(EFFECTS))
     parser.add_argument("--friction", choices=("lugre", "static"), default="lugre")
+    parser.add_argument("--user-model", choices=("static", "bristles"), default="static")
     args = parser.parse_args()
-    cases = [(kind, args.first_seed + 100 * j + s, args.friction) for j, kind in enumerate(EFFECTS)
+    cases = [(kind, args.first_seed + 100 * j + s, args.friction, args.user_model == "bristles")
+             for j, kind in enumerate(EFFECTS)
              if kind in args.kinds for s in range(args.seeds)]
     min_gain = Diagnoser().min_gain
     with ProcessPoolExecutor(args.jobs) as pool:

@@ -30,7 +30,7 @@ from .c_names import check_c_identifier
 from .direction import Direction, Scaling, _negative_from_dict  # noqa: F401  (Scaling: fricgen.model's API)
 from .effects.cogging_map import CoggingMap
 from .effects.load_temperature import LoadTemperature
-from .effects.presliding import Bristles, BristleStepper
+from .effects.presliding import Bristles, BristleStepper, bristle_force
 from .effects import validate_effects
 from .errors import ModelError
 from .units import Units, units_of
@@ -277,6 +277,27 @@ class FrictionModel:
             return StaticStepper(self.force)
         return BristleStepper(lambda v: float(self.stribeck(v)), lambda v: float(self.viscous_force(v)),
                               self.presliding, dt)
+
+    def force_along(self, v, dt: float) -> np.ndarray:
+        """The friction along a sampled velocity history ``v`` (each held over its sample of
+        ``dt`` s), as ``stepper(dt)`` gives it sample by sample from a relaxed contact: the
+        static ``force`` without ``presliding``.
+
+        Examples
+        --------
+        >>> import dataclasses, fricgen
+        >>> from fricgen.effects.presliding import Bristles
+        >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
+        >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
+        >>> lugre = dataclasses.replace(model, presliding=Bristles(stiffness=1e6, damping=0.0))
+        >>> friction = lugre.stepper(1e-4)
+        >>> steps = [friction.step(0.01) for _ in range(1000)]
+        >>> bool(abs(lugre.force_along([0.01] * 1000, 1e-4) - steps).max() < 1e-9)
+        True
+        """
+        if self.presliding is None:
+            return self.force(v)
+        return bristle_force(self.stribeck, self.viscous_force, self.presliding, v, dt)[0]
 
     def viscous_force(self, v) -> np.ndarray:
         """B v with each direction's own B: ``force(v)`` less its velocity-weakening part."""

@@ -13,7 +13,7 @@ from ..data.table import header_cells
 from ..diagnose.decision import p_text
 from ..diagnose.diagnoser import MAX_EFFECTS, Diagnoser, candidates_with
 from ..diagnose.report import format_value, refinement_note, render_files, service_hint, written_by_diagnose
-from ..effects import ConstantLoad, model_effects, offset_left_out, range_notes, with_effects
+from ..effects import ConstantLoad, FrictionalLag, model_effects, offset_left_out, range_notes, with_effects
 from ..errors import UsageError
 from ..model import FrictionModel
 from ..diagnose.operating_point import missing_dependence, named_lines, without_load
@@ -137,9 +137,9 @@ def _run(args) -> int:
                          "would name the cogging again as position_ripple; diagnose the model trained "
                          "without --cogging")
     if model.presliding is not None:
-        raise UsageError(f"{args.model} holds pre-sliding (train --dynamic), which diagnose does not "
-                         "model yet: it would name the bristles again as a lag or an extra source; "
-                         "diagnose the model trained without --dynamic")
+        if any(e.name == FrictionalLag.name for e in model_effects(model)):
+            raise UsageError(f"{args.model} holds both bristles (pre-sliding) and a frictional lag: "
+                             "two friction memories, which diagnose does not combine")
     columns = read_data(args, args.log, lambda c: MIN_SAMPLES, drop_text=True)
     columns, force_constant, drive_notes = drive_columns(columns, args.force_constant)
     mass, force_constant, notes = nominal_axis(model, args.mass, force_constant)
@@ -148,6 +148,11 @@ def _run(args) -> int:
     columns = without_load(columns, force_constant)
     model, offset_notes = with_axis_offset(model)
     notes = drive_notes + notes + offset_notes
+    if model.presliding is not None:
+        notes.append(f"the model's bristles (LuGre, sigma0 {model.presliding.stiffness:.4g}, sigma1 "
+                     f"{model.presliding.damping:.4g}) are in the residual and the held-out "
+                     f"simulations, driven by the log's velocity; {FrictionalLag.name} is not "
+                     "considered (the bristles are the friction's memory)")
     source = source_name(args.log, args.merge)
     log = log_from_columns(columns, source, None if args.merge or args.columns else
                            header_cells(args.log, args.skip))

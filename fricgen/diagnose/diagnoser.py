@@ -17,7 +17,8 @@ import numpy as np
 
 from .._validate import positive
 from ..data import MotionLog
-from ..effects import EFFECTS, TABLES, Effect, model_effects, with_effects
+from ..effects import EFFECTS, TABLES, Effect, FrictionalLag, model_effects, with_effects
+from ..effects.presliding import bristles_of
 from ..errors import DataError
 from ..metrics import rmse
 from ..model import FrictionModel
@@ -349,6 +350,9 @@ class Diagnoser:
         # the model's own effects as they apply to this log: a carried mass or force constant
         # is the axis' own, a drift starts with the log
         base = [e.for_log(mass, force_constant, float(log.t[0])) for e in model_effects(model)]
+        if bristles_of(model) is not None and any(e.name == FrictionalLag.name for e in base):
+            raise ValueError("the model holds both bristles (pre-sliding) and a frictional lag: "
+                             "two friction memories, which no simulation here combines")
         p = ResidualProblem(log, model, mass, force_constant, w, self.holdout, base, self.pitch)
         self.problem_ = p
         self.horizon_samples_ = max(1, int(round(self.horizon / ts)))
@@ -371,6 +375,8 @@ class Diagnoser:
         """Select the effects ``model`` misses on ``log``, an axis of nominal ``mass`` (kg) and
         ``force_constant`` (N/A); returns self with the attributes above set."""
         names = self._validate()
+        if bristles_of(model) is not None:      # the bristles are the friction's memory
+            names = [n for n in names if n != FrictionalLag.name]
         self.units_ = model.units
         p, base = self._prepare(log, model, mass, force_constant)
         ts = log.sample_time

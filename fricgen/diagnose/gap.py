@@ -15,7 +15,9 @@ import numpy as np
 from ..effects import Effect, Signals
 from ..effects.timing import shifted
 from ..metrics import rmse
+from ..effects.presliding import bristles_of
 from ..sim.axis import AxisState, MotorAxis
+from ..sim.bristle_axis import BristleAxis
 from ..sim.effect_law import EffectLaw
 from .residual import ResidualProblem
 
@@ -28,15 +30,22 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], starts: np.n
     """Velocity of simulations restarted from the (smoothed) measured state at each of
     ``starts`` (samples at least ``horizon`` apart) for ``horizon`` samples, driven by the
     measured current (smoothed; NaN elsewhere): the axis of [C1] under the model's friction
-    and ``effects``, in Karnopp steps. A sensor delay tau (``EffectLaw.input_delay``) drives it
+    and ``effects``, in Karnopp steps, or, for a model with bristles, on its LuGre contact
+    (``sim.bristle_axis``) from the deflection the measured motion left there. A sensor delay tau (``EffectLaw.input_delay``) drives it
     with the current read tau earlier, interpolated."""
     sig = problem.signals
     n = sig.t.size
     law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)
     s0 = None
-    if law.lag_tau > 0:
-        s0 = Signals(sig.model, v=problem.v_smooth, sample_time=problem.sample_time).lagged_speed(law.lag_tau)[starts]
-    axis = MotorAxis(law)
+    bristles = bristles_of(sig.model)
+    if bristles is not None:                # the deflection the log left at each restart
+        axis = BristleAxis(law, bristles, sig.model.stribeck, sig.model.viscous_force)
+        s0 = problem.deflection()[starts]
+        advance = axis.advance
+    else:
+        if law.lag_tau > 0:
+            s0 = Signals(sig.model, v=problem.v_smooth, sample_time=problem.sample_time).lagged_speed(law.lag_tau)[starts]
+        advance = MotorAxis(law).karnopp
     state = AxisState.of(problem.x_smooth[starts], problem.v_smooth[starts], sig.t[starts], s0)
     current = problem.i_smooth
     if law.input_delay:
@@ -44,7 +53,7 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], starts: np.n
     out = np.full(n, np.nan)
     for j in range(horizon):
         k = np.minimum(starts + j, n - 1)
-        state = axis.karnopp(state, current[k], problem.sample_time, substeps)
+        state = advance(state, current[k], problem.sample_time, substeps)
         k1 = starts + j + 1
         ok = k1 < n
         out[k1[ok]] = state.v[ok]

@@ -5,6 +5,8 @@ constant phi,
 
     r = phi i - m dv/dt - F(v) - sum(effects already in the model),
 
+F(v) the model's friction along the log (with its bristles' state where it has pre-sliding),
+
 is smoothed (Savitzky-Golay, polynomial order 2) and sampled on decimated rows where the axis
 moves (|v| above the noise and the window clear of reversals and sticking, where friction is
 undetermined). The last ``holdout`` fraction of the log is never used for fitting.
@@ -21,6 +23,7 @@ from scipy.signal import savgol_coeffs, savgol_filter
 from ..data import MotionLog
 from ..data.motionlog import check_varies
 from ..effects import PLAUSIBLE_FACTOR, Effect, Signals
+from ..effects.presliding import bristle_force, bristles_of
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..model import FrictionModel
@@ -50,7 +53,8 @@ class ResidualProblem:
         ts = log.sample_time
         self.sample_time = ts
         self.signals = Signals(model, t=log.t, x=log.x, v=log.v, a=np.gradient(log.v, ts), i=log.i,
-                               sample_time=ts, tabulate=True)
+                               sample_time=ts, tabulate=True,
+                               friction=model.force_along(log.v, ts) if bristles_of(model) else None)
         self.effects = list(effects)
         n = len(log)
         self.window = window
@@ -126,6 +130,16 @@ class ResidualProblem:
             raise DataError(f"phi i holds {b:.3g} x the model's friction where the axis moves, beyond "
                             f"the factor {PART_OFF:g}: check the force constant and the mass (both "
                             "off by the same factor?) and that the model is this axis'")
+
+    def deflection(self) -> np.ndarray:
+        """For a model with bristles: their deflection z at the start of each sample, driven by
+        the measured velocity from a relaxed contact as the residual's friction is (cached)."""
+        if "deflection" not in self._cache:
+            model = self.signals.model
+            _, z = bristle_force(model.stribeck, model.viscous_force, bristles_of(model),
+                                 self.signals.v, self.sample_time)
+            self._cache["deflection"] = np.concatenate([[0.0], z[:-1]])
+        return self._cache["deflection"]
 
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
         """A shallow copy whose residual ``target`` (at the rows) is ``target``."""

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
@@ -130,6 +130,26 @@ def bristle_states(v: np.ndarray, level: np.ndarray, stiffness: float, dt: float
         keep[step:] = keep[step:] * keep[:-step]
         step *= 2
     return keep * z0 + add
+
+
+def bristles_of(curve) -> Optional[Bristles]:
+    """The bristles of a friction curve: a ``FrictionModel``'s ``presliding``, None for a
+    curve without (or any other curve)."""
+    return getattr(curve, "presliding", None)
+
+
+def bristle_force(level: Callable, viscous: Callable, bristles: Bristles, v: np.ndarray,
+                  dt: float) -> Tuple[np.ndarray, np.ndarray]:
+    """The friction along a sampled velocity history, each v held over its sample of ``dt``,
+    from the contact relaxed: ``BristleStepper.step`` over ``v`` without the loop (the states by
+    ``bristle_states``). Returns the force per sample and the deflection z after each sample;
+    ``level`` and ``viscous`` vectorized, a non-finite v counts as 0."""
+    v = np.asarray(v, dtype=float)
+    v = np.where(np.isfinite(v), v, 0.0)
+    g = np.maximum(level(v), least_level(lambda u: float(level(np.asarray(u)))))
+    z = bristle_states(v, g, bristles.stiffness, dt)
+    dz = np.diff(np.concatenate([[0.0], z]))
+    return bristles.stiffness * z + bristles.damping_at(v) * dz / dt + viscous(v), z
 
 
 class BristleStepper:

@@ -54,6 +54,9 @@ class Signals:
         The uniform sampling interval (s), for ``lagged_speed``.
     tabulate : bool
         Interpolate the velocity-weakening part from a table (a ``FrictionModel`` only).
+    friction : ndarray, optional
+        The friction at each sample where it is not F(v): a model with memory (bristles)
+        driven along the log (``FrictionModel.force_along``).
 
     Examples
     --------
@@ -66,10 +69,10 @@ class Signals:
     """
 
     def __init__(self, model: FrictionCurve, t=None, x=None, v=None, a=None, i=None, s=None,
-                 sample_time: Optional[float] = None, tabulate: bool = False):
+                 sample_time: Optional[float] = None, tabulate: bool = False, friction=None):
         self.model, self.t, self.x, self.v, self.a, self.i, self.s = model, t, x, v, a, i, s
         self.sample_time = sample_time
-        self._friction = None
+        self._friction = friction
         self._stribeck_speed = None
         negative = getattr(model, "negative", None)
         #: the curve of v >= 0 (the model's own, at speeds u >= 0), then that of v < 0 if any
@@ -81,7 +84,7 @@ class Signals:
 
     @property
     def friction(self) -> np.ndarray:
-        """F(v) of [F3] (or [F1])."""
+        """F(v) of [F3] (or [F1]), or the friction given."""
         if self._friction is None:
             self._friction = self.model(self.v)
         return self._friction

@@ -1,8 +1,11 @@
 """The motor axis of [C1] with the bristles of a model that has pre-sliding (LuGre,
 ``effects.presliding``):
 
-    x' = v,   m v' = phi i - F - F_ext(x, v, t),   F = sigma0 z + sigma1(v) z' + B v,
+    x' = v,   m v' = phi i - F - F_ext(x, v, t) - F_e(v, t),   F = sigma0 z + sigma1(v) z' + B v,
     z' = v - sigma0 |v| z / g(v),
+
+F_e the law's effects that change the friction (``EffectLaw.sliding_effects``: an asymmetry, an
+extra source, a drift), added to the contact's; a frictional lag, a memory of its own, is refused.
 
 with the deflection z kept in the friction memory s of ``AxisState``. There is no stick-slip
 switch: at rest the bristles hold the axis like a spring until the applied force exceeds the
@@ -74,6 +77,11 @@ class BristleAxis(MotorAxis):
     level: Callable
     viscous: Callable
 
+    def __post_init__(self):
+        if np.any(np.asarray(self.law.lag_tau) > 0):
+            raise ValueError("a frictional lag is a friction memory of its own: the bristles are "
+                             "this axis's")
+
     @cached_property
     def least_level(self) -> float:
         """The least g the bristle update divides by (``effects.presliding.least_level``)."""
@@ -99,7 +107,7 @@ class BristleAxis(MotorAxis):
             v_new = v
             for _pass in range(2):                  # frozen at v, then at the mean velocity
                 u = 0.5 * (v + v_new)
-                push = thrust - external - self.viscous(u)
+                push = thrust - external - self.viscous(u) - law.sliding_effects(u, t)
                 y = h * b.stiffness * np.abs(u) / np.maximum(self.level(u), least)
                 keep, gain = np.exp(-y), 0.5 * h * decay_ratio(y)   # z' = keep z + gain (v + v')
                 s1 = b.damping_at(u)

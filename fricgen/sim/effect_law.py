@@ -149,6 +149,15 @@ class EffectLaw:
             f = f + e.force(sig)
         return f
 
+    def sliding_effects(self, v, t) -> np.ndarray:
+        """The forces of the effects that change friction without a memory of their own
+        (asymmetry, extra source, drift): ``sliding_friction`` less F(v), for a contact whose
+        own friction is integrated apart (``sim.bristle_axis``)."""
+        if not self._sliding:
+            return np.zeros_like(np.asarray(v, dtype=float))
+        sig = Signals(self.friction, t=t, v=v)
+        return sum((e.force(sig) for e in self._sliding), np.zeros_like(np.asarray(v, dtype=float)))
+
     def external_force(self, x, v, t) -> np.ndarray:
         """The effects that act at rest too (ripple, load)."""
         total = np.zeros_like(x)
