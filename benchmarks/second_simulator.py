@@ -23,6 +23,10 @@ hidden effects are defined here, with other assumptions than the scenarios' gene
   curve that lags the velocity, a tight spot over 2 % of the travel, a mass and a force
   constant other than the nominal ones.
 
+With ``--presliding``, diagnose also considers the contact's pre-sliding (``diagnose
+--presliding``); on LuGre logs it is then a true name beside the hidden effect's (the plant has
+it), and the truth's model carries the plant's bristles.
+
 The truth of a log is the user's model with the hidden effects' exact force taken out of the
 current and the true mass (as ``diagnose_confusion.py`` scores it); an effect is visible when
 the truth shrinks the held-out gap by at least the guard's ``min_gain``. Prints, for every
@@ -30,7 +34,7 @@ hidden effect and for null logs: the named sets, exact names on visible logs, th
 after and the truth's, and diagnose's gap over the truth's.
 
     python benchmarks/second_simulator.py [--seeds 3] [--first-seed 1000] [--jobs 2]
-        [--friction lugre|static] [--user-model static|bristles] [--kinds KIND ...]
+        [--friction lugre|static] [--user-model static|bristles] [--presliding] [--kinds KIND ...]
 """
 import os
 
@@ -46,7 +50,7 @@ import numpy as np
 
 from fricgen.data import MotionLog, Sweep, prepare
 from fricgen.effects.presliding import Bristles
-from fricgen.diagnose.diagnoser import Diagnoser, diagnose
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with, diagnose
 from fricgen.fit import DefaultRegressor
 from fricgen.model import FrictionModel
 
@@ -202,7 +206,7 @@ def simulate(axis, hidden, rng, duration=DURATION, rate=RATE, friction_law="lugr
 
 def run(case):
     """Simulate, diagnose and score one log: a dict of figures."""
-    kind, seed, friction_law, bristles = case
+    kind, seed, friction_law, bristles, presliding = case
     rng = np.random.default_rng(seed)
     axis = draw_axis(rng)
     travel = 2 * 0.075
@@ -210,10 +214,17 @@ def run(case):
     start = time.time()
     log, hidden_force = simulate(axis, hidden, rng, friction_law=friction_law)
     model = user_model(axis, rng, float(np.max(np.abs(log.v))), bristles)
-    d = diagnose(log, model, axis["m"], axis["kt"])
+    d = diagnose(log, model, axis["m"], axis["kt"],
+                 candidates=candidates_with("presliding") if presliding else None)
     truth = MotionLog(log.t, log.x, log.v, log.i - hidden_force / axis["kt"])
-    gap_truth = Diagnoser().held_out_gap(truth, model, hidden.m, axis["kt"])
+    true_model = model
+    if presliding and friction_law == "lugre":       # the plant's contact is part of the truth
+        true_model = dataclasses.replace(model, presliding=Bristles(axis["sigma0"], axis["sigma1"]))
+    gap_truth = Diagnoser().held_out_gap(truth, true_model, hidden.m, axis["kt"])
+    found = d.model_.presliding if model.presliding is None else None
     return {"kind": kind, "seed": seed, "effects": [s.effect for s in d.effects_],
+            "stiffness": None if found is None else found.stiffness / axis["sigma0"],
+            "damping": None if found is None else found.damping / axis["sigma1"],
             "gap_before": d.gap_before_, "gap_after": d.gap_after_, "gap_truth": gap_truth,
             "seconds": time.time() - start}
 
@@ -226,8 +237,10 @@ def main():
     parser.add_argument("--kinds", nargs="+", default=list(EFFECTS), choices=list(EFFECTS))
     parser.add_argument("--friction", choices=("lugre", "static"), default="lugre")
     parser.add_argument("--user-model", choices=("static", "bristles"), default="static")
+    parser.add_argument("--presliding", action="store_true")
     args = parser.parse_args()
-    cases = [(kind, args.first_seed + 100 * j + s, args.friction, args.user_model == "bristles")
+    cases = [(kind, args.first_seed + 100 * j + s, args.friction, args.user_model == "bristles",
+              args.presliding)
              for j, kind in enumerate(EFFECTS)
              if kind in args.kinds for s in range(args.seeds)]
     min_gain = Diagnoser().min_gain
@@ -236,14 +249,17 @@ def main():
     print(f"{'hidden':18s} {'seed':>5s} {'named':40s} {'visible':>7s} {'exact':>5s} "
           f"{'before':>7s} {'after':>7s} {'truth':>7s} {'after/truth':>11s}")
     totals = {"visible": 0, "exact": 0, "within": 0, "hidden": 0, "null": 0, "false": 0}
+    # the plant's own pre-sliding is a true name on its LuGre logs, beside the hidden effect's
+    plant = ("presliding",) if args.presliding and args.friction == "lugre" else ()
     for r in records:
         want = EFFECTS[r["kind"]]
+        named = [e for e in r["effects"] if e not in plant]
         visible = bool(want) and r["gap_truth"] <= (1 - min_gain) * r["gap_before"]
-        exact = len(r["effects"]) == len(want[:1]) and all(e in want for e in r["effects"])
+        exact = len(named) == len(want[:1]) and all(e in want for e in named)
         ratio = r["gap_after"] / r["gap_truth"]
         if not want:
             totals["null"] += 1
-            totals["false"] += bool(r["effects"])
+            totals["false"] += bool(named)
         else:
             totals["hidden"] += 1
             totals["within"] += ratio <= 1.1
@@ -251,9 +267,16 @@ def main():
             totals["exact"] += visible and exact
         print(f"{r['kind']:18s} {r['seed']:5d} {','.join(r['effects']) or '-':40s} "
               f"{'yes' if visible else 'no':>7s} {'yes' if exact else 'no':>5s} "
-              f"{r['gap_before']:7.3f} {r['gap_after']:7.3f} {r['gap_truth']:7.3f} {ratio:11.2f}",
-              flush=True)
-    print(f"\nnull logs: {totals['false']}/{totals['null']} with a named effect")
+              f"{r['gap_before']:7.3f} {r['gap_after']:7.3f} {r['gap_truth']:7.3f} {ratio:11.2f}"
+              + ("" if r["stiffness"] is None else
+                 f"  sigma0 {r['stiffness']:.3f}, sigma1 {r['damping']:.3f} x the plant's"), flush=True)
+    print(f"\nnull logs: {totals['false']}/{totals['null']} with a named effect"
+          + (" (pre-sliding, the plant's, not counted)" if plant else ""))
+    if plant:
+        ratios = [r["stiffness"] for r in records if r["stiffness"] is not None]
+        print(f"pre-sliding named on {len(ratios)}/{len(records)} logs; sigma0 / the plant's: median "
+              f"{np.median(ratios) if ratios else float('nan'):.3f}, within 20 % on "
+              f"{sum(abs(x - 1) <= 0.2 for x in ratios)}/{len(ratios)}")
     print(f"hidden: named exactly on {totals['exact']}/{totals['visible']} visible logs; "
           f"gap within 1.1 x the truth's on {totals['within']}/{totals['hidden']}")
     print(f"median seconds per log: {np.median([r['seconds'] for r in records]):.1f}")

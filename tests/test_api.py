@@ -20,7 +20,7 @@ DOCTESTED = ["fricgen", "fricgen.fleet.manifest", "fricgen.fleet.identification"
              "fricgen.fit.conditioning", "fricgen.fit.oracle", "fricgen.networks",
              "fricgen.networks.elm", "fricgen.networks.anfis", "fricgen.networks.stribeck",
              "fricgen.effects.base", "fricgen.effects.carried", "fricgen.effects.mechanical", "fricgen.effects.position_series", "fricgen.effects.friction_changes", "fricgen.effects.signals", "fricgen.effects.tables",
-             "fricgen.effects.timing", "fricgen.effects.actuator", "fricgen.effects.cogging_map", "fricgen.fit.cogging",
+             "fricgen.effects.timing", "fricgen.effects.actuator", "fricgen.effects.contact", "fricgen.effects.cogging_map", "fricgen.fit.cogging",
              "fricgen.codegen.render", "fricgen.codegen.package", "fricgen.control.loop", "fricgen.control.backstepping",
              "fricgen.control.c_controller", "fricgen.diagnose.diagnoser", "fricgen.diagnose.report",
              "fricgen.sim.axis", "fricgen.sim.logsynth", "fricgen.sim.scenarios",

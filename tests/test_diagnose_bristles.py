@@ -9,7 +9,7 @@ import pytest
 
 import fricgen
 from fricgen.cli import main
-from fricgen.diagnose.diagnoser import Diagnoser
+from fricgen.diagnose.diagnoser import Diagnoser, candidates_with
 from fricgen.data import MotionLog
 from fricgen.effects import ConstantLoad, FrictionalLag, with_effects
 from fricgen.effects.presliding import Bristles
@@ -99,3 +99,32 @@ def test_diagnose_runs_a_model_with_bristles_and_says_so(models, logs, tmp_path,
     err = capsys.readouterr().err
     assert code == 2 and "two friction memories" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "d2").exists()
+
+
+def test_a_static_model_names_the_contacts_presliding_when_asked(models, logs):
+    static = models[0]
+    d = Diagnoser(candidates=candidates_with("presliding")).fit(logs[0], static, MASS, PHI)
+    assert [s.effect for s in d.effects_] == ["presliding"], [(s.effect, s.reason) for s in d.steps_]
+    assert d.model_.presliding.stiffness == pytest.approx(BRISTLES.stiffness, rel=0.1)
+    assert d.model_.effects == ()                   # carried as the model's bristles
+    assert d.gap_after_ < 0.5 * d.gap_before_
+    # not a default candidate: asked for only
+    assert all(s.effect != "presliding" for s in Diagnoser().fit(logs[0], static, MASS, PHI).steps_)
+
+
+def test_diagnose_presliding_writes_bristles_that_emit_turns_into_a_step(models, logs, tmp_path, capsys):
+    models[0].save(tmp_path / "static.json")
+    log = logs[0]
+    np.savetxt(tmp_path / "log.csv", np.column_stack([log.t, log.x, log.v, log.i]), delimiter=",",
+               header="t,x,v,i", comments="")
+    code = main(["diagnose", str(tmp_path / "log.csv"), "--model", str(tmp_path / "static.json"),
+                 "--mass", str(MASS), "--force-constant", str(PHI), "--presliding",
+                 "-o", str(tmp_path / "diag")])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "presliding" in out.out
+    found = fricgen.FrictionModel.load(tmp_path / "diag" / "model.json")
+    assert found.presliding.stiffness == pytest.approx(BRISTLES.stiffness, rel=0.1)
+    assert main(["emit", str(tmp_path / "diag" / "model.json"), "-o", str(tmp_path / "c"),
+                 "--name", "axis", "--sample-time", "0.001"]) == 0, capsys.readouterr().err
+    assert "axis_step(" in (tmp_path / "c" / "axis.h").read_text()

@@ -40,7 +40,8 @@ def test_every_effect_round_trips_through_model_json(augmented, tmp_path):
     loaded = FrictionModel.load(path)
     assert loaded.effects == augmented.effects
     assert loaded.model_hash == augmented.model_hash
-    assert {d["effect"] for d in loaded.effects} == set(EFFECTS) - {"force_constant_mismatch"}
+    # every effect but the contact's, which a model carries as its bristles (presliding)
+    assert {d["effect"] for d in loaded.effects} == set(EFFECTS) - {"force_constant_mismatch", "presliding"}
 
 
 def test_effects_change_the_model_hash(default_model, augmented):
@@ -50,6 +51,8 @@ def test_effects_change_the_model_hash(default_model, augmented):
 def _bad_effects():
     ripple = {"effect": "position_ripple", "parameters": {"amplitude": 1.0, "period": 0.01, "phase": 0.0}}
     yield "unknown effect", [{"effect": "gremlins", "parameters": {}}], "unknown effect"
+    yield "pre-sliding as an effect", [{"effect": "presliding", "parameters": {"stiffness": 1e5, "damping": 0.0}}], \
+        "carried as the model's 'presliding'"
     yield "not an object", ["position_ripple"], "must be an object"
     yield "missing parameter", [{"effect": "constant_load", "parameters": {}}], "missing field 'load'"
     bad = copy.deepcopy(ripple); bad["parameters"]["period"] = -0.01

@@ -47,6 +47,10 @@ def register(p) -> None:
                    help="also consider a force constant that falls as the current grows "
                    "(actuator_saturation; off by default: close to a force-constant or mass "
                    "error, it takes their place among the sets a step tries)")
+    p.add_argument("--presliding", action="store_true",
+                   help="also consider the contact's pre-sliding, LuGre bristles on the model's "
+                   "curve (presliding: named, it becomes the model's bristles, emitted as NAME_step; "
+                   "off by default: for a log with reversals of an axis suspected of it)")
     add_output(p, "folder for model.json, report.md and plots",
                force_also=", and over files in it that diagnose did not write")
     add_export_options(p)
@@ -59,7 +63,8 @@ def register(p) -> None:
 def asked_for(args):
     """The effects off by default that the flags ask for (``ASKED_FOR``)."""
     return [name for name, flag in (("sensor_delay", args.sensor_delay),
-                                    ("actuator_saturation", args.saturation)) if flag]
+                                    ("actuator_saturation", args.saturation),
+                                    ("presliding", args.presliding)) if flag]
 
 
 def drive_columns(columns: dict, force_constant):

@@ -30,17 +30,18 @@ def resimulate(problem: ResidualProblem, effects: Sequence[Effect], starts: np.n
     """Velocity of simulations restarted from the (smoothed) measured state at each of
     ``starts`` (samples at least ``horizon`` apart) for ``horizon`` samples, driven by the
     measured current (smoothed; NaN elsewhere): the axis of [C1] under the model's friction
-    and ``effects``, in Karnopp steps, or, for a model with bristles, on its LuGre contact
-    (``sim.bristle_axis``) from the deflection the measured motion left there. A sensor delay tau (``EffectLaw.input_delay``) drives it
+    and ``effects``, in Karnopp steps, or, for a model with bristles or a named pre-sliding,
+    on that LuGre contact (``sim.bristle_axis``) from the deflection the measured motion left
+    there. A sensor delay tau (``EffectLaw.input_delay``) drives it
     with the current read tau earlier, interpolated."""
     sig = problem.signals
     n = sig.t.size
     law = EffectLaw(sig.model, effects, mass=problem.mass, force_constant=problem.force_constant)
     s0 = None
-    bristles = bristles_of(sig.model)
+    bristles = next((e.bristles for e in effects if e.via_contact), bristles_of(sig.model))
     if bristles is not None:                # the deflection the log left at each restart
         axis = BristleAxis(law, bristles, sig.model.stribeck, sig.model.viscous_force)
-        s0 = problem.deflection()[starts]
+        s0 = problem.deflection(bristles.stiffness)[starts]
         advance = axis.advance
     else:
         if law.lag_tau > 0:

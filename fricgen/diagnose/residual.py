@@ -23,7 +23,7 @@ from scipy.signal import savgol_coeffs, savgol_filter
 from ..data import MotionLog
 from ..data.motionlog import check_varies
 from ..effects import PLAUSIBLE_FACTOR, Effect, Signals
-from ..effects.presliding import bristle_force, bristles_of
+from ..effects.presliding import Bristles, bristle_force, bristles_of
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..model import FrictionModel
@@ -131,15 +131,17 @@ class ResidualProblem:
                             f"the factor {PART_OFF:g}: check the force constant and the mass (both "
                             "off by the same factor?) and that the model is this axis'")
 
-    def deflection(self) -> np.ndarray:
-        """For a model with bristles: their deflection z at the start of each sample, driven by
-        the measured velocity from a relaxed contact as the residual's friction is (cached)."""
-        if "deflection" not in self._cache:
+    def deflection(self, stiffness: float) -> np.ndarray:
+        """The deflection z of bristles of ``stiffness`` on the model's curve at the start of
+        each sample, driven by the measured velocity from a relaxed contact as the residual's
+        friction is (cached)."""
+        key = ("deflection", stiffness)
+        if key not in self._cache:
             model = self.signals.model
-            _, z = bristle_force(model.stribeck, model.viscous_force, bristles_of(model),
+            _, z = bristle_force(model.stribeck, model.viscous_force, Bristles(stiffness, 0.0),
                                  self.signals.v, self.sample_time)
-            self._cache["deflection"] = np.concatenate([[0.0], z[:-1]])
-        return self._cache["deflection"]
+            self._cache[key] = np.concatenate([[0.0], z[:-1]])
+        return self._cache[key]
 
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
         """A shallow copy whose residual ``target`` (at the rows) is ``target``."""

@@ -9,7 +9,7 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 
-from ..effects import EFFECTS, Effect
+from ..effects import EFFECTS, MEMORIES, Effect
 from .residual import ResidualProblem
 from .steps import Candidate
 
@@ -113,7 +113,8 @@ def extensions(p: ResidualProblem, beam, names, used) -> List[Tuple[float, List[
         have = {e.name for e in path}
         for name in names:
             key = frozenset(have | {name})
-            if name in used or name in have or key in seen:
+            if name in used or name in have or key in seen or (
+                    name in MEMORIES and (have | used) & MEMORIES):     # one friction memory
                 continue
             seen.add(key)
             joint = joint_fit(p, path, EFFECTS[name])

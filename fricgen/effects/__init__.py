@@ -9,7 +9,8 @@ from .cogging_map import CoggingMap
 from .carried import (effect_from_dict, force_xv, model_effects, offset_left_out, validate_effects,
                       with_effects)
 from .friction_changes import DirectionAsymmetry, ExtraFrictionSource, FrictionalLag, ThermalDrift
-from .library import EFFECTS, VOCABULARY
+from .contact import Presliding
+from .library import EFFECTS, MEMORIES, VOCABULARY
 from .mechanical import ConstantLoad, ForceConstantMismatch, InertiaMismatch
 from .position_series import PositionFriction, PositionRipple, PositionSeries
 from .signals import FrictionCurve, Signals
@@ -21,4 +22,4 @@ __all__ = ["EFFECTS", "PLAUSIBLE_FACTOR", "VOCABULARY", "Effect", "ActuatorSatur
            "ConstantLoad", "InertiaMismatch", "ForceConstantMismatch", "ExtraFrictionSource",
            "FrictionalLag", "ThermalDrift", "SensorDelay", "FrictionCurve", "Signals", "effect_from_dict",
            "force_xv", "model_effects", "offset_left_out", "validate_effects", "with_effects", "TABLES",
-           "TableEffect", "range_notes", "CoggingMap"]
+           "TableEffect", "range_notes", "CoggingMap", "MEMORIES", "Presliding"]

@@ -77,6 +77,9 @@ class Effect:
     via_timing: ClassVar[bool] = False
     #: A function of the current (the actuator's): simulated as a loss of the motor's force.
     via_current: ClassVar[bool] = False
+    #: The contact's own friction with a state (pre-sliding): simulated as the axis's contact
+    #: (``sim.bristle_axis``), no force of the sample alone.
+    via_contact: ClassVar[bool] = False
     #: Time constants whose 0 means none (a linear drift): the output-error refinement fits
     #: their inverse, so that 0 is a value like any other (``diagnose.refine``).
     time_constants: ClassVar[Tuple[str, ...]] = ()

@@ -13,9 +13,10 @@ from .library import EFFECTS
 from .mechanical import ConstantLoad
 from .signals import Signals
 
-#: Every kind model.json's ``effects`` may hold: the named effects and the tables without a
-#: physical name (``fricgen.effects.tables`` adds those when the package is imported).
-KNOWN: Dict[str, Type[Effect]] = dict(EFFECTS)
+#: Every kind model.json's ``effects`` may hold: the named effects but the contact's (a
+#: pre-sliding is the model's ``presliding``) and the tables without a physical name
+#: (``fricgen.effects.tables`` adds those when the package is imported).
+KNOWN: Dict[str, Type[Effect]] = {name: cls for name, cls in EFFECTS.items() if not cls.via_contact}
 
 
 def effect_from_dict(d: Any) -> Effect:
@@ -40,6 +41,9 @@ def effect_from_dict(d: Any) -> Effect:
     if not isinstance(d, dict):
         raise ModelError(f"effects: each effect must be an object, got {type(d).__name__}")
     name = d.get("effect")
+    if isinstance(name, str) and name in EFFECTS and EFFECTS[name].via_contact:
+        raise ModelError(f"effects: {name} is carried as the model's 'presliding' (its bristles), "
+                         "not among its effects")
     if not isinstance(name, str) or name not in KNOWN:
         raise ModelError(f"effects: unknown effect {name!r}; known: {', '.join(KNOWN)}"[:200])
     unknown = sorted(set(d) - {"effect", "parameters"})
@@ -135,7 +139,8 @@ def force_xv(model, v, x) -> np.ndarray:
 
 
 def with_effects(model, effects: Sequence[Effect]):
-    """A copy of ``model`` whose effects list is extended by ``effects``.
+    """A copy of ``model`` whose effects list is extended by ``effects``; a pre-sliding
+    (``contact.Presliding``) becomes the model's ``presliding``, its bristles.
 
     Parameters
     ----------
@@ -158,7 +163,10 @@ def with_effects(model, effects: Sequence[Effect]):
     >>> len(with_effects(model, [ConstantLoad(load=5.0)]).effects), len(model.effects)
     (1, 0)
     """
-    return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects))
+    contact = [e for e in effects if e.via_contact]
+    model = replace(model, presliding=contact[-1].bristles) if contact else model
+    return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects
+                                                                if not e.via_contact))
 
 
 def offset_left_out(model) -> Optional[float]:

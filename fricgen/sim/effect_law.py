@@ -6,8 +6,9 @@
 split as ``MotorAxis`` needs it: effects that act at rest (ripple, load) form the external
 force, those simulated through the dynamics shift m and phi, those of the actuator (a
 saturation) take from the motor's force phi i (``thrust``), those of the log's timing (a
-sensor delay) are no force (``input_delay``: whoever drives the law shifts its current), and
-the others add to the sliding friction. One law serves the truth axes of synthesized logs, the re-simulations of the
+sensor delay) are no force (``input_delay``: whoever drives the law shifts its current), the
+contact's pre-sliding is the axis's own (``sim.bristle_axis``), and the others add to the
+sliding friction. One law serves the truth axes of synthesized logs, the re-simulations of the
 diagnosis and the controlled axis; ``EffectLaw.batch`` gives each axis of a batch its own
 effects.
 """
@@ -45,6 +46,10 @@ class _OnAxes:
     @property
     def via_current(self) -> bool:
         return self.effect.via_current
+
+    @property
+    def via_contact(self) -> bool:
+        return self.effect.via_contact
 
     @property
     def mass_delta(self):
@@ -116,7 +121,8 @@ class EffectLaw:
         self._at_rest = [e for e in self.effects if e.acts_at_rest]
         self._actuator = [e for e in self.effects if e.via_current]
         self._sliding = [e for e in self.effects
-                         if not (e.acts_at_rest or e.via_dynamics or e.via_timing or e.via_current)]
+                         if not (e.acts_at_rest or e.via_dynamics or e.via_timing or e.via_current
+                                 or e.via_contact)]
 
     @classmethod
     def batch(cls, friction: FrictionCurve, effects_per_axis: Sequence[Sequence[Effect]],
