@@ -91,6 +91,8 @@ def test_diagnose_runs_a_model_with_bristles_and_says_so(models, logs, tmp_path,
     assert code == 0, out.err
     assert "bristles (LuGre, sigma0 2e+05" in out.out + out.err
     assert "constant_load" in out.out
+    report = (tmp_path / "diag" / "report.md").read_text()
+    assert "this effect appended to `effects`" in report and "Nothing explains" not in report
     # a model carrying a frictional lag beside its bristles: two memories, refused in one line
     both = with_effects(lugre, [FrictionalLag(tau=0.01)])
     both.save(tmp_path / "both.json")
@@ -123,6 +125,8 @@ def test_diagnose_presliding_writes_bristles_that_emit_turns_into_a_step(models,
     out = capsys.readouterr()
     assert code == 0, out.err
     assert "presliding" in out.out
+    report = (tmp_path / "diag" / "report.md").read_text()
+    assert "`presliding` as its bristles" in report and "Nothing explains" not in report
     found = fricgen.FrictionModel.load(tmp_path / "diag" / "model.json")
     assert found.presliding.stiffness == pytest.approx(BRISTLES.stiffness, rel=0.1)
     assert main(["emit", str(tmp_path / "diag" / "model.json"), "-o", str(tmp_path / "c"),

@@ -157,7 +157,9 @@ def _run(args) -> int:
         notes.append(f"the model's bristles (LuGre, sigma0 {model.presliding.stiffness:.4g}, sigma1 "
                      f"{model.presliding.damping:.4g}) are in the residual and the held-out "
                      f"simulations, driven by the log's velocity; {FrictionalLag.name} is not "
-                     "considered (the bristles are the friction's memory)")
+                     "considered (the bristles are the friction's memory)"
+                     + ("; --presliding asks for nothing more: the model has its bristles"
+                        if args.presliding else ""))
     source = source_name(args.log, args.merge)
     log = log_from_columns(columns, source, None if args.merge or args.columns else
                            header_cells(args.log, args.skip))

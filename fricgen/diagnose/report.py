@@ -55,6 +55,18 @@ def refinement_note(d: Diagnoser) -> str:
 DRIFTS = ("thermal_drift",)
 
 
+def augmented_sentence(d) -> str:
+    """What ``model.json`` holds after the effects named: appended to ``effects``, but a
+    pre-sliding, which becomes the model's bristles."""
+    contact = [s.effect for s in d.effects_ if getattr(s.fitted, "via_contact", False)]
+    others = len(d.effects_) - len(contact)
+    parts = (["these effects appended to `effects`" if others > 1 else
+              "this effect appended to `effects`"] if others else []) + \
+        ([f"`{contact[0]}` as its bristles, the model's `presliding`, which `emit --sample-time "
+          "TS` writes as `NAME_step`"] if contact else [])
+    return f"`model.json` is the augmented model: {'; '.join(parts)}."
+
+
 def service_hint(d: Diagnoser) -> str:
     """What addresses a drift the diagnosis named, in one sentence; "" when it named none."""
     drifts = [s for s in d.effects_ if s.effect in DRIFTS]
@@ -154,13 +166,13 @@ def report_markdown(d: Diagnoser, log_name: str, plots) -> str:
         lines += [f"| {key} | {format_value(v)} |" for key, v in s.fitted.parameters().items()]
         lines.append("")
     if d.effects_:
-        lines += ["The augmented model (these effects appended to `effects`) is `model.json`.", ""]
-    hint = service_hint(d)
-    if hint:
-        lines += ["## In service", "", hint[0].upper() + hint[1:] + ".", ""]
+        lines += [augmented_sentence(d), ""]
     else:
         lines += ["Nothing explains the residual beyond noise; `model.json` is the input model "
                   "unchanged.", ""]
+    hint = service_hint(d)
+    if hint:
+        lines += ["## In service", "", hint[0].upper() + hint[1:] + ".", ""]
     lines += ["## Gap on the held-out part", "",
               f"Metric: {d.gap_metric_}.", "",
               "| | before | after |", "|---|---|---|",
