@@ -272,6 +272,8 @@ class FrictionModel:
         >>> forces = [friction.step(0.01) for _ in range(1000)]
         >>> round(forces[0] / forces[-1], 3), bool(abs(forces[-1] - model.force(0.01)) < 1e-9)
         (0.054, True)
+        >>> bool(abs(lugre.force_along([0.01] * 1000, 1e-4) - forces).max() < 1e-9)   # at once
+        True
         """
         if self.presliding is None:
             return StaticStepper(self.force)
@@ -281,19 +283,7 @@ class FrictionModel:
     def force_along(self, v, dt: float) -> np.ndarray:
         """The friction along a sampled velocity history ``v`` (each held over its sample of
         ``dt`` s), as ``stepper(dt)`` gives it sample by sample from a relaxed contact: the
-        static ``force`` without ``presliding``.
-
-        Examples
-        --------
-        >>> import dataclasses, fricgen
-        >>> from fricgen.effects.presliding import Bristles
-        >>> sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
-        >>> model = fricgen.train(sweep, vs_max=0.02, estimator=fricgen.StribeckRegressor()).model
-        >>> lugre = dataclasses.replace(model, presliding=Bristles(stiffness=1e6, damping=0.0))
-        >>> friction = lugre.stepper(1e-4)
-        >>> steps = [friction.step(0.01) for _ in range(1000)]
-        >>> bool(abs(lugre.force_along([0.01] * 1000, 1e-4) - steps).max() < 1e-9)
-        True
+        static ``force`` without ``presliding`` (``stepper``'s example compares the two).
         """
         if self.presliding is None:
             return self.force(v)
