@@ -130,10 +130,11 @@ def test_summary_has_the_documented_keys(results):
     # every named effect but those asked for is a candidate; the truth axes hide each but the
     # sensor delay and the saturation (the scenario generator's oov:sensor_delay and
     # oov:actuator_saturation, tests/test_sensor_delay.py, tests/test_actuator_saturation.py)
+    # and the pre-sliding (static plants; tests/test_diagnose_bristles.py)
     from fricgen.diagnose.diagnoser import ASKED_FOR
-    assert ASKED_FOR == ("sensor_delay", "actuator_saturation")
+    assert ASKED_FOR == ("sensor_delay", "actuator_saturation", "presliding")
     assert {c["effect"] for c in s["candidates"]} | {"none"} == set(EFFECTS) - set(ASKED_FOR) | {"none"}
-    assert set(EFFECTS) | {"none"} == set(HIDDEN_EFFECTS) | {"sensor_delay", "actuator_saturation"}
+    assert set(EFFECTS) | {"none"} == set(HIDDEN_EFFECTS) | {"sensor_delay", "actuator_saturation", "presliding"}
     first = s["effects"][0]
     assert first["effect"] == s["effect"] and first["parameters"] == s["parameters"]
     assert first["p_value"] == s["p_value"] < s["alpha"] and 0.5 < first["share"] <= 1.0

@@ -13,7 +13,7 @@ from fricgen.effects import EFFECTS
 from fricgen.friction import SHAPES
 from fricgen.model import FrictionModel
 from fricgen.sim.closed_loop import CONTROLLERS
-from fricgen.sim.hidden_effects import HIDDEN_AS_OOV, NAMED, OUT_OF_VOCABULARY, local_drag_profile
+from fricgen.sim.hidden_effects import HIDDEN_AS_OOV, NAMED, NOT_HIDDEN, OUT_OF_VOCABULARY, local_drag_profile
 from fricgen.sim.plant_friction import StretchedStribeck
 from fricgen.sim.scenarios import DURATION_RANGE, RATE_RANGE, Scenario, draw_settings, make_scenario
 from fricgen.sim.trajectory import TRAJECTORIES
@@ -33,7 +33,8 @@ def null_fixed():
 
 
 def test_named_effects_are_the_vocabulary():
-    assert set(NAMED) | set(HIDDEN_AS_OOV) == set(EFFECTS)
+    assert set(NAMED) | set(HIDDEN_AS_OOV) | set(NOT_HIDDEN) == set(EFFECTS)
+    assert NOT_HIDDEN == ("presliding",)          # the plants' friction is a static curve
     assert set(OUT_OF_VOCABULARY) & set(EFFECTS) == set(HIDDEN_AS_OOV) == {"sensor_delay", "actuator_saturation"}
 
 
