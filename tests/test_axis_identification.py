@@ -308,6 +308,15 @@ def test_the_offset_is_in_eval_the_c_and_the_python_model_alike(offset_log, tmp_
         assert main(["eval", str(out), *options]) == 0
         got = np.array([float(line) for line in capsys.readouterr().out.split()])
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * scale)
+    # a speed beyond those trained on (mm/s piped as m/s): one warning, the forces still given
+    fast = 1000.0 * model.axis.speed_max
+    monkeypatch.setattr("sys.stdin", io.StringIO(f"0.05\n{fast!r}\n"))
+    assert main(["eval", str(out)]) == 0
+    printed = capsys.readouterr()
+    assert len(printed.out.split()) == 2
+    assert [line for line in printed.err.splitlines() if "warning" in line] == [
+        f"fricgen: warning: |v| = {fast:.6g} m/s is beyond the speeds the model was trained on (up to "
+        f"{model.axis.speed_max:.4g} m/s): it extrapolates there (are the velocities in m/s?)"]
     folder = tmp_path / "c"
     emit(model, folder, "ax")
     (folder / "offset.c").write_text('#include "ax.h"\nfloat ax_offset(void) { return AX_AXIS_OFFSET; }\n')

@@ -154,6 +154,8 @@ def _trial_files(d, log):
     (d / "broken_link").symlink_to(d / "nothing_here")
     (d / "loop_link").symlink_to(d / "loop_link")
     (d / "empty.csv").write_text("")
+    (d / "header_only.csv").write_text("v,f\n")
+    (d / "header_only_log.csv").write_text("t,x,v,i\n\n")
     (d / "blank.csv").write_text("\n\n")
     sweep = (d / "sweep.csv").read_text().split("\n", 1)[1]
     (d / "velocity_force.csv").write_text("velocity,force\n" + sweep)
@@ -250,6 +252,11 @@ TRIAL_ROWS = [
     ("--scale of a quantity neither file has", ["train", *DRIVE, *MERGE, "--scale", "i=2", "-o", OUT],
      "--scale: i is a column of neither WORK/drive.csv (t, v) nor WORK/load.csv (t, force)"),
     ("train, an empty file", ["train", "empty.csv", "-o", OUT], "WORK/empty.csv: empty file"),
+    ("train, a header and no rows", ["train", "header_only.csv", "-o", OUT],
+     "WORK/header_only.csv: a header and no data rows"),
+    ("diagnose, a header and a blank line", ["diagnose", "header_only_log.csv", "--model", "model.json",
+                                             *DIAG, "-o", OUT],
+     "WORK/header_only_log.csv: a header and no data rows"),
     ("train, a file of blank lines", ["train", "blank.csv", "-o", OUT],
      "WORK/blank.csv: the header line is blank; the first line must name the columns"),
     ("a tab-separated sweep with decimal commas, all at one speed", ["train", "tab_comma.csv", "-o", OUT],

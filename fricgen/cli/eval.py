@@ -81,8 +81,17 @@ def run(args) -> int:
     inputs = () if model.inputs is None else model.inputs.names
     names = ["velocity", *inputs] + (["position"] if args.position else [])
     rows = _rows(stdin, names)
+    trained = None if model.axis is None else model.axis.speed_max
+    beyond = 0
     while chunk := list(itertools.islice(rows, CHUNK)):
         chunk = np.array(chunk)
+        fastest = float(np.max(np.abs(chunk[:, 0])))
+        if trained is not None and fastest > trained and not beyond:
+            speed = model.units.speed
+            say(f"fricgen: warning: |v| = {fastest:.6g} {speed} is beyond the speeds the model was "
+                f"trained on (up to {trained:.4g} {speed}): it extrapolates there (are the "
+                f"velocities in {speed}?)")
+            beyond = 1
         f = model.force(chunk[:, 0], **{n: chunk[:, 1 + k] for k, n in enumerate(inputs)}) + offset
         if args.position:
             f = f + model.cogging(chunk[:, -1])

@@ -216,8 +216,8 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
             table = np.loadtxt(fh, delimiter=sep, ndmin=2, dtype=float, comments=None)
         except ValueError:
             return None
-    if table.size and table.shape[1] != len(header):
-        return None
+    if not table.size or table.shape[1] != len(header):
+        return None                 # no rows, or ragged: the careful reader says which
     table = table.reshape(-1, len(header))
     return {h: table[:, k].copy() for k, h in enumerate(header) if keep_extra or h in required}
 
@@ -284,6 +284,8 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
             text.update(bad)
             values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
     table = np.frombuffer(values, dtype=float).reshape(-1, len(wanted))
+    if not table.shape[0]:
+        raise DataError(f"{path}: a header and no data rows")
     return {header[k]: table[:, j].copy() for j, k in enumerate(wanted) if k not in text}
 
 
