@@ -68,14 +68,19 @@ def usual_max(quantity: str) -> float:
 ACCEPT_UNUSUAL = "--accept-unusual"
 
 
+#: The relative rounding a value may carry past a bound of PHYSICAL and still be at it (a speed
+#: of 2 m/s computed as 2.0000000000000004 is the 2 m/s bound, not above it).
+BOUND_ROUNDING = 1e-9
+
+
 def physical_problem(quantity: str, what: str, value: float) -> str:
     """'' if ``value`` (a magnitude) lies within PHYSICAL[quantity], else the clause saying it does
     not: "WHAT is 199 m/s, beyond the 20 m/s of any real axis"."""
     low, high, unit = _tables()[0][quantity]
     value = abs(float(value))
-    if value > high:
+    if value > high * (1.0 + BOUND_ROUNDING):
         return f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of any real axis"
-    if value < low:
+    if value < low * (1.0 - BOUND_ROUNDING):
         return f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of any real axis"
     return ""
 

@@ -49,6 +49,12 @@ MAX_JSON_BYTES = 16 << 20
 DEFAULT_MODEL_NAME = "friction_model"
 
 
+#: ``recorded_hash`` of a model.json that names the fricgen which wrote it yet holds no
+#: ``model_hash``: removed by hand (or written before the field existed), so an edit of its
+#: force fields cannot be told.
+HASH_REMOVED = "(removed)"
+
+
 @dataclass(frozen=True)
 class FrictionModel:
     """A friction model, [F3]: F(v) = AIM(K_in min(|v|, v_sat)) / K_out sgn(v) + B v.
@@ -130,7 +136,8 @@ class FrictionModel:
     velocity_band: Optional[float] = None
     inputs: Optional[LoadTemperature] = None
     #: The ``model_hash`` model.json recorded (None for a model not read from one, or read from
-    #: a file written before the field existed).
+    #: a file written before the field existed; ``HASH_REMOVED`` where a file that names the
+    #: fricgen which wrote it holds none).
     recorded_hash: Optional[str] = field(default=None, compare=False, repr=False)
     #: The ``axis_hash`` model.json recorded (None likewise, or for a model without an axis).
     recorded_axis_hash: Optional[str] = field(default=None, compare=False, repr=False)
@@ -387,6 +394,9 @@ class FrictionModel:
 
     def hash_warning(self, path) -> str:
         """The one-line warning for a model.json edited after training ('' if it was not)."""
+        if self.recorded_hash == HASH_REMOVED:
+            return (f"fricgen: warning: {path}: holds no model_hash (removed by hand, or written "
+                    "before fricgen recorded it): an edit of its force fields cannot be told")
         edits = "; ".join(f"{name} {recorded} recorded, its content gives {now}"
                           for name, recorded, now in self._edits())
         return f"fricgen: warning: {path}: edited after training ({edits})" if edits else ""
@@ -470,6 +480,8 @@ class FrictionModel:
         for key, value in recorded.items():
             if value is not None and not isinstance(value, str):
                 raise ModelError(f"{key} must be a string, got {type(value).__name__}")
+        if recorded["model_hash"] is None and "fricgen_version" in d:
+            recorded["model_hash"] = HASH_REMOVED     # every fricgen that names itself writes it
         cogging = _cogging_from_dict(d.get("cogging"))
         presliding = None if d.get("presliding") is None else Bristles.from_dict(d["presliding"])
         band = None if d.get("velocity_band") is None else json_number(d, "velocity_band", "model", positive=True)

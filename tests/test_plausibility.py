@@ -37,6 +37,16 @@ def test_model_json_records_its_hash_and_a_hand_edit_gets_one_warning(work):
     assert "\n" not in warning
     # the edited model is still evaluated as written: a warning, not a refusal
     assert edited.force(0.1) == pytest.approx(loaded.force(0.1) + 0.1 * 0.1 * model["viscous"] / 1.1)
+    # the hash removed with the edit: the edit cannot be told, and that is said
+    del model["model_hash"]
+    (work / "unhashed.json").write_text(json.dumps(model))
+    unhashed = FrictionModel.load(work / "unhashed.json")
+    assert unhashed.edited_after_training
+    assert "holds no model_hash" in _one_line(unhashed.hash_warning(work / "unhashed.json") + "\n")
+    # a file that does not name the fricgen which wrote it is not one fricgen wrote: no claim
+    del model["fricgen_version"]
+    (work / "foreign.json").write_text(json.dumps(model))
+    assert FrictionModel.load(work / "foreign.json").hash_warning(work / "foreign.json") == ""
 
 
 def test_eval_of_an_edited_model_warns_once_on_stderr(work):
@@ -219,3 +229,12 @@ def test_a_log_timed_in_ms_read_as_s_is_named():
     assert heard == []
     check_rate(1000 * t, "log.csv", heard.append)
     assert len(heard) == 1 and "sampled at 1 Hz" in heard[0] and "--scale t=0.001" in heard[0]
+
+
+def test_a_value_at_a_physical_bound_but_for_rounding_is_within_it():
+    """A sweep whose fastest speed is 2 m/s gives a textbook law v_sat = 2.0000000000000004:
+    at the 2 m/s bound, not "2 m/s, above the 2 m/s"; a real excess is still refused."""
+    from fricgen._validate import physical_problem
+    assert physical_problem("v_sat", "v_sat", 2.0000000000000004) == ""
+    assert physical_problem("v_sat", "v_sat", 2.01) == "v_sat is 2.01 m/s, above the 2 m/s of any real axis"
+    assert physical_problem("v_sat", "v_sat", 1e-7 * (1 - 1e-12)) == ""
