@@ -238,3 +238,15 @@ def test_a_value_at_a_physical_bound_but_for_rounding_is_within_it():
     assert physical_problem("v_sat", "v_sat", 2.0000000000000004) == ""
     assert physical_problem("v_sat", "v_sat", 2.01) == "v_sat is 2.01 m/s, above the 2 m/s of any real axis"
     assert physical_problem("v_sat", "v_sat", 1e-7 * (1 - 1e-12)) == ""
+
+
+def test_a_sweep_joined_twice_gets_one_warning(tmp_path, capsys):
+    v = np.concatenate([np.geomspace(0.002, 0.5, 12), -np.geomspace(0.002, 0.5, 12)])
+    f = np.sign(v) * (2.0 + 8.0 * np.abs(v)) + 0.01 * np.random.default_rng(1000).standard_normal(v.size)
+    rows = "".join(f"{a!r},{b!r}\n" for a, b in zip(v.tolist(), f.tolist()))
+    (tmp_path / "once.csv").write_text("v,f\n" + rows)
+    (tmp_path / "twice.csv").write_text("v,f\n" + rows + rows)
+    for name, warned in (("once.csv", False), ("twice.csv", True)):
+        assert main(["train", str(tmp_path / name), "-o", str(tmp_path / (name + ".json"))]) == 0
+        err = capsys.readouterr().err
+        assert ("24 of 48 rows repeat an earlier row exactly" in err) is warned, err

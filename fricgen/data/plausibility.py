@@ -40,6 +40,9 @@ TOP_SHARE = 0.01
 #: A motion log sampled slower than this (Hz) is beyond any drive's or DAQ's log: time in ms
 #: read as s lands there (and gives an inertia a thousand times the axis's, at 1 kHz).
 USUAL_MIN_RATE = 10.0
+#: The share of a sweep's rows that may repeat an earlier row exactly before one warning line:
+#: points written with few digits repeat now and then, a file joined twice repeats them all.
+REPEATED_SHARE = 0.1
 #: Rows the shape and shift checks look at (evenly thinned beyond).
 CHECK_ROWS = 100_000
 #: A merge shift is off when the force fits the motion at another shift this much better
@@ -257,9 +260,22 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
         return                      # the readers name the row
     if not is_log and {"v", "f"} <= set(columns):
         check_sweep_shape(columns["v"], columns["f"], source, accept_unusual, warn)
+        check_repeats(columns["v"], columns["f"], source, warn)
     check_bounds(columns, source, accept_unusual, warn)
     if is_log and "t" in columns:
         check_rate(columns["t"], source, warn)
+
+
+def check_repeats(v: np.ndarray, f: np.ndarray, source: str, warn: Callable[[str], None] = print) -> None:
+    """One warning line when REPEATED_SHARE or more of a sweep's rows repeat an earlier row
+    exactly (v and f): a file joined twice counts each point twice, in the fit, its standard
+    errors and its held-out error (a copy in the training folds predicts its twin)."""
+    pairs = np.column_stack([v, f])
+    repeats = pairs.shape[0] - np.unique(pairs, axis=0).shape[0]
+    if repeats and repeats >= REPEATED_SHARE * pairs.shape[0]:
+        warn(f"fricgen: warning: {source}: {repeats} of {pairs.shape[0]} rows repeat an earlier row "
+             "exactly (v and f): a file joined twice? Each copy counts again in the fit, its "
+             "standard errors and its held-out error")
 
 
 def check_rate(t: np.ndarray, source: str, warn: Callable[[str], None] = print) -> None:
