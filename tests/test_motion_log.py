@@ -195,3 +195,16 @@ def test_a_log_of_position_still_gets_one_curve_per_direction(tmp_path, capsys):
 
 def test_csv_text_writes_no_negative_zero():
     assert table_csv_text({"v": np.array([-0.0, -1.0, 0.0])}) == "v\n0.0\n-1.0\n0.0\n"
+
+
+def test_x_and_v_swapped_are_named_as_swapped():
+    from fricgen.data.motionlog import check_units
+    ts = 1e-3
+    t = np.arange(4000) * ts
+    x = 0.05 * np.sin(2 * np.pi * 0.7 * t) + 0.01 * np.sin(2 * np.pi * 2.3 * t)
+    v = np.gradient(x, ts)
+    check_units(x, v, ts)                                   # as logged: no complaint
+    with pytest.raises(DataError, match="are the x and v columns swapped"):
+        check_units(v, x, ts)
+    with pytest.raises(DataError, match=r"is t in ms, x in mm"):
+        check_units(1000 * x, v, ts)                        # x in mm: not a swap

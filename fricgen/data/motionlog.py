@@ -207,6 +207,11 @@ def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
         if not abs(follow) >= UNRELATED_BELOW:
             raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "
                             "axis move beyond the sensor noise? are x and v of one axis?)")
+        dvdt = np.gradient(v, ts)
+        swapped = float(np.dot(dvdt, x) / np.dot(x, x)) if np.dot(x, x) > 0 else 0.0
+        if low <= swapped <= high:
+            raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v, but dv/dt is "
+                            f"{swapped:.3g} times x: are the x and v columns swapped?")
         if -high <= ratio <= -low:
             raise DataError(f"x and v have opposite signs: dx/dt is {ratio:.3g} times v (is x or "
                             "v inverted?)")
