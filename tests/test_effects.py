@@ -139,3 +139,15 @@ def test_models_without_effects_emit_no_force_xv(default_model):
 ])
 def test_mismatch_is_how_far_a_value_is_from_its_nominal_one(effect, expected):
     assert effect.mismatch() == pytest.approx(expected)
+
+
+def test_an_extra_source_that_dwarfs_the_models_friction_is_no_friction_source(default_model):
+    """A Stribeck term of a huge level below the speeds a log resolves (fitted to a few rows)
+    would make NAME_force_xv push with meganewtons near rest: refused beside the model."""
+    speeds = np.geomspace(1e-6, 0.3, 256)
+    level = float(np.max(np.abs(default_model.force(np.concatenate([speeds, -speeds])))))
+    plausible = ExtraFrictionSource(fc=0.5, fs=2.0, vs=0.01, B=1.0)
+    spike = ExtraFrictionSource(fc=-1.1, fs=-2.2e8, vs=7e-4, B=-1.1)
+    assert plausible.implausible_beside(default_model, speeds) == ""
+    why = spike.implausible_beside(default_model, speeds)
+    assert why.startswith("its force reaches 2.2e+08 N") and f"({level:.3g} N)" in why

@@ -134,3 +134,21 @@ def test_the_cli_says_what_the_refinement_changed(phi_log, tmp_path, capsys):
     printed = capsys.readouterr().out
     assert f"refined    the parameters above were fitted again to simulations of the fit part (its gap {summary['fit_gap_before']:.4g}" in printed
     assert "The parameters above were fitted again to simulations of the fit part" in (tmp_path / "b" / "report.md").read_text()
+
+
+def test_refined_values_that_grow_the_held_out_gap_are_not_kept(phi_log, monkeypatch):
+    """A refinement that lowers the fit part's gap at the held-out part's expense (there, by
+    a force constant made far worse) leaves the selection's values in the model, and says so."""
+    from fricgen.diagnose import diagnoser
+    from fricgen.diagnose.report import refinement_note
+    log, model, spec, _ = phi_log
+    worse = lambda p, base, chosen, *args: ([replace(e, force_constant=0.5 * e.force_constant)
+                                            for e in chosen], 1.0, 0.5)
+    monkeypatch.setattr(diagnoser, "output_error_fit", worse)
+    d = Diagnoser(candidates=["force_constant_mismatch"], tables=False).fit(log, model, spec.mass,
+                                                                            spec.force_constant)
+    assert [s.effect for s in d.effects_] == ["force_constant_mismatch"]
+    assert not d.refinement_kept and d.gap_refined_ > 1.1 * d.gap_selected_
+    assert d.gap_after_ == d.gap_selected_ and d.effects_[0].fitted == d.selected_[0]
+    assert d.model_.effects[0]["parameters"]["force_constant"] == d.selected_[0].force_constant
+    assert "which are kept" in refinement_note(d)

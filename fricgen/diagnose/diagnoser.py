@@ -151,7 +151,9 @@ class Diagnoser:
         ``gap_selected_``: the gap after with the values selection fitted (``selected_``: those
         effects), before the refinement;
         ``fit_gap_before_``/``fit_gap_after_``: the fit part's gap before and after it (equal
-        when it kept the values; NaN when it did not run: ``refine`` False or nothing added).
+        when it kept the values; NaN when it did not run: ``refine`` False or nothing added);
+        ``gap_refined_``: the held-out gap with the refined values (NaN when they did not
+        change), kept only if it grew by at most ``min_gain`` (``refinement_kept``).
     where_, where_after_ : str
         Where the residual lives before and after (``localization_``, ``localization_after_``:
         the per-axis shares).
@@ -240,7 +242,7 @@ class Diagnoser:
         if p_value >= self.alpha:
             step.reason = f"not significant on the held-out part (p = {p_value:.2g} >= {self.alpha:g})"
             return step
-        why = next((w for w in (e.refused(p.sample_time) for e in joint) if w), "")
+        why = self._refused(p, joint)[1]
         if why:
             step.reason = why if len(joint) == 1 else f"in the set {', '.join(e.name for e in joint)}: {why}"
             return step
@@ -256,9 +258,12 @@ class Diagnoser:
             if not all(e.via_timing for e in newcomers):
                 gain = UNDERSTATED_GAIN
         if len(newcomers) > 1:          # each effect a set names must matter on its own
-            own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in newcomers}
-            small = min(own, key=own.get)
-            if own[small] < self.min_size:
+            # (but the contact's pre-sliding: its force is at the reversals, where the moving
+            # rows do not look; the gap judges it)
+            own = {e.name: rmse(p.predict(e, test), 0.0) / friction for e in newcomers
+                   if not e.via_contact}
+            small = min(own, key=own.get, default=None)
+            if small is not None and own[small] < self.min_size:
                 step.reason = (f"{small} is too small to matter in the set ({own[small]:.1%} of "
                                f"the friction force, below {self.min_size:.0%})")
                 return step
@@ -433,11 +438,18 @@ class Diagnoser:
         chosen = [final[s.effect] for s in self.effects_]       # in the order they were added
         self.gap_selected_, self.selected_ = gap_now, list(chosen)
         self.fit_gap_before_ = self.fit_gap_after_ = math.nan
+        self.gap_refined_, self.refinement_refused_ = math.nan, ""
         if chosen and self.refine:
-            chosen, self.fit_gap_before_, self.fit_gap_after_ = output_error_fit(
+            refined, self.fit_gap_before_, self.fit_gap_after_ = output_error_fit(
                 p, base, chosen, self.horizon_samples_, self.substeps)
             if self.fit_gap_after_ < self.fit_gap_before_:       # values changed: gap again
-                gap_now, self._v_sim = self._held_out(base + chosen)
+                name, why = self._refused(p, refined)
+                self.refinement_refused_ = f"{name}: {why}" if why else ""
+                self.gap_refined_, v_refined = self._held_out(base + refined)
+                # kept unless the held-out gap grows by more than an effect must shrink it
+                # (the fit part's simulations fitted at the held-out part's expense)
+                if self.refinement_kept:
+                    chosen, gap_now, self._v_sim = refined, self.gap_refined_, v_refined
         for s, e in zip(self.effects_, chosen):
             s.fitted = e
         self.added_ = chosen
@@ -460,6 +472,24 @@ class Diagnoser:
         self.force_gap_after_ = rmse(final.target[test], 0.0)
         self.residual_after_ = p.raw_residual(base + chosen)
         return self
+
+    @property
+    def refinement_kept(self) -> bool:
+        """Whether the refinement's values replaced the selection's: they changed, are what
+        their names say (``refinement_refused_`` empty), and the held-out gap with them is at
+        most (1 + ``min_gain``) times the selection's."""
+        return not self.refinement_refused_ and bool(
+            self.gap_refined_ <= (1.0 + self.min_gain) * self.gap_selected_)
+
+    @staticmethod
+    def _refused(p, effects) -> Tuple[str, str]:
+        """The first of ``effects`` whose fitted values cannot be named on ``p``'s log
+        (``Effect.refused``, ``Effect.implausible_beside`` at the log's speeds) and why; ("", "")
+        if they all can."""
+        speeds = p.log_speeds()
+        reasons = ((e.name, e.refused(p.sample_time) or e.implausible_beside(p.signals.model, speeds))
+                   for e in effects)
+        return next((r for r in reasons if r[1]), ("", ""))
 
     def _chain_gaps(self) -> None:
         """Each added step's gap before is the gap after the effects added before it (effects

@@ -46,9 +46,17 @@ def refinement_note(d: Diagnoser) -> str:
     """What the output-error refinement changed, in one phrase; "" when it changed nothing."""
     if not d.fit_gap_after_ < d.fit_gap_before_:
         return ""
-    return (f"the parameters above were fitted again to simulations of the fit part (its gap "
-            f"{d.fit_gap_before_:.4g} -> {d.fit_gap_after_:.4g} {d.units_.speed}); the held-out gap "
-            f"with the values the selection fitted was {d.gap_selected_:.4g} {d.units_.speed}")
+    refit = (f"fitted again to simulations of the fit part (its gap {d.fit_gap_before_:.4g} -> "
+             f"{d.fit_gap_after_:.4g} {d.units_.speed})")
+    if d.refinement_refused_:
+        return (f"the parameters were {refit}, but then {d.refinement_refused_}; the values the "
+                "selection fitted are kept")
+    if not d.refinement_kept:
+        return (f"the parameters were {refit}, but the held-out gap grew to {d.gap_refined_:.4g} "
+                f"{d.units_.speed} against {d.gap_selected_:.4g} with the values the selection "
+                "fitted, which are kept")
+    return (f"the parameters above were {refit}; the held-out gap with the values the selection "
+            f"fitted was {d.gap_selected_:.4g} {d.units_.speed}")
 
 
 #: Effects that change with time in service: a fixed model cannot follow them.

@@ -143,6 +143,13 @@ class ResidualProblem:
             self._cache[key] = np.concatenate([[0.0], z[:-1]])
         return self._cache[key]
 
+    def log_speeds(self, points: int = 256) -> np.ndarray:
+        """Speeds up to the log's fastest (smoothed) |v|, log-spaced from a thousandth of its
+        noise floor ``v_min`` (the firmware compensates below the floor too, at every
+        reversal): where an effect's force must stay physical."""
+        top = max(float(np.max(np.abs(self.v_smooth))), 2.0 * self.v_min)
+        return np.geomspace(1e-3 * self.v_min, top, points)
+
     def with_target(self, target: np.ndarray) -> "ResidualProblem":
         """A shallow copy whose residual ``target`` (at the rows) is ``target``."""
         other = copy.copy(self)

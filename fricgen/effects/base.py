@@ -133,6 +133,11 @@ class Effect:
                 return why
         return ""
 
+    def implausible_beside(self, curve, speeds: np.ndarray) -> str:
+        """Why the fitted values cannot be what the name says beside the friction ``curve`` at
+        ``speeds`` (m/s, the log's): '' by default."""
+        return ""
+
     def unresolved(self, sample_time: float) -> str:
         """Why a log sampled every ``sample_time`` cannot tell the fitted values from none
         ('' if it can)."""

@@ -11,8 +11,9 @@ import numpy as np
 
 from ..c_literal import c_float
 from ..friction import SHAPES
-from .base import Effect
+from .base import PLAUSIBLE_FACTOR, Effect
 from .fitting import grid_then_refine, lstsq
+from .signals import Signals
 
 
 def _sign(v):
@@ -137,6 +138,18 @@ class ExtraFrictionSource(Effect):
         v = np.asarray(sig.v)
         g = SHAPES[self.shape](v, self.vs)
         return _sign(v) * (self.fc + (self.fs - self.fc) * g) + self.B * v
+
+    def implausible_beside(self, curve, speeds):
+        """A source whose force at the log's speeds exceeds PLAUSIBLE_FACTOR times the model's
+        largest friction there is no friction source: a Stribeck term of a huge level below
+        the speeds the log resolves, fitted to a few rows."""
+        v = np.concatenate([speeds, -speeds])
+        level = float(np.max(np.abs(curve(v))))
+        peak = float(np.max(np.abs(self.force(Signals(curve, v=v)))))
+        if peak > PLAUSIBLE_FACTOR * level:
+            return (f"its force reaches {peak:.3g} N at the log's speeds, beyond {PLAUSIBLE_FACTOR:g} "
+                    f"times the model's friction there ({level:.3g} N)")
+        return ""
 
     @staticmethod
     def basis(v, vs, shape="gauss"):
