@@ -78,7 +78,7 @@ def test_a_force_log_without_v_is_diagnosed_as_its_current_log(files, tmp_path, 
 def test_the_offset_of_the_model_s_axis_is_not_named_again(files, tmp_path, capsys):
     """The log hides a 5 N load; a model whose axis record holds that offset (a symmetric
     curve leaves it out) carries it into the diagnosis as a constant_load, and the load is not
-    named again."""
+    named again; a model that holds less names the change."""
     folder, _ = files
     model = json.loads((folder / "model.json").read_text())
     speeds = {"speed_min": 0.001, "speed_max": 0.2}
@@ -97,6 +97,20 @@ def test_the_offset_of_the_model_s_axis_is_not_named_again(files, tmp_path, caps
         assert main(["emit", str(source), "--name", "axis", "-o", str(tmp_path / "c"), "--force"]) == 0
         header = (tmp_path / "c" / "axis.h").read_text()
         assert ("force_xv holds it already" in header) is said
+    # the load changed since training (3 N held of the log's 5 N): the change is named, and
+    # model.json holds one load, their sum
+    model["training"]["axis"]["offset"] = 3.0
+    (tmp_path / "m3.json").write_text(json.dumps(model))
+    assert main(["diagnose", str(folder / "log.csv"), "--model", str(tmp_path / "m3.json"),
+                 "--out", str(tmp_path / "out3"), "--json"]) == 0
+    captured = capsys.readouterr()
+    named = json.loads(captured.out)["effects"]
+    assert [e["effect"] for e in named] == ["constant_load"]
+    assert named[0]["parameters"]["load"] == pytest.approx(2.0, rel=0.05)
+    loads = [e for e in json.loads((tmp_path / "out3" / "model.json").read_text())["effects"]
+             if e["effect"] == "constant_load"]
+    assert len(loads) == 1 and loads[0]["parameters"]["load"] == pytest.approx(5.0, rel=0.02)
+    assert "the change of the load the model held (3 N): model.json holds their sum" in captured.err
 
 
 def test_synth_log_writes_a_readable_log(tmp_path):

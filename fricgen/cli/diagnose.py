@@ -95,18 +95,28 @@ def with_axis_offset(model: FrictionModel):
     if offset is None:
         return model, []
     return with_effects(model, [ConstantLoad(load=offset)]), [
-        f"offset from the model's axis: o = {offset:.4g} N, held as a constant_load"]
+        f"offset from the model's axis: o = {offset:.4g} {model.units.force}, held as a "
+        "constant_load (a change of it is named as one)"]
 
 
 def asymmetry_notes(model: FrictionModel, d) -> list:
-    """A line where a symmetric model's diagnosis names a constant_load: while the axis moves,
-    that force is also a friction level that differs by direction, which the log cannot tell
-    apart from it."""
-    if model.symmetric and any(s.effect == "constant_load" for s in d.effects_):
-        return ["while the axis moves, a constant_load is the same force as a friction whose level "
-                "is higher one way by twice the load: the log does not tell them apart (train "
-                "--asymmetric holds the latter in its curves)"]
-    return []
+    """Lines where the diagnosis names a constant_load: beside a load the model held, that it is
+    the change of it (model.json holds their sum); for a symmetric model, that while the axis
+    moves the load is also a friction level that differs by direction, which the log cannot
+    tell apart from it."""
+    notes = []
+    held = [e.load for e in model_effects(model) if e.name == ConstantLoad.name]
+    named = [s for s in d.effects_ if s.effect == ConstantLoad.name]
+    if held and named:
+        total = [e.load for e in model_effects(d.model_) if e.name == ConstantLoad.name]
+        notes.append(f"the constant_load named is the change of the load the model held ("
+                     f"{sum(held):.4g} {d.units_.force}): model.json holds their sum, "
+                     f"{sum(total):.4g} {d.units_.force}")
+    if model.symmetric and named:
+        notes.append("while the axis moves, a constant_load is the same force as a friction whose "
+                     "level is higher one way by twice the load: the log does not tell them apart "
+                     "(train --asymmetric holds the latter in its curves)")
+    return notes
 
 
 def nominal_axis(model: FrictionModel, mass, force_constant):
