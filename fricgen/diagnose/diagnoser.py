@@ -155,7 +155,8 @@ class Diagnoser:
         ``fit_gap_before_``/``fit_gap_after_``: the fit part's gap before and after it (equal
         when it kept the values; NaN when it did not run: ``refine`` False or nothing added);
         ``gap_refined_``: the held-out gap with the refined values (NaN when they did not
-        change), kept only if it grew by at most ``min_gain`` (``refinement_kept``).
+        change); they are kept only if it grew by at most ``min_gain`` and they are what their
+        names say (``refinement_refused_``: why not, else ''; ``refinement_kept``).
     where_, where_after_ : str
         Where the residual lives before and after (``localization_``, ``localization_after_``:
         the per-axis shares).

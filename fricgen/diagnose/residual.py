@@ -23,7 +23,7 @@ from scipy.signal import savgol_coeffs, savgol_filter
 from ..data import MotionLog
 from ..data.motionlog import check_varies
 from ..effects import PLAUSIBLE_FACTOR, Effect, Signals
-from ..effects.presliding import Bristles, bristle_force, bristles_of
+from ..effects.presliding import bristle_deflection, bristles_of
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..model import FrictionModel
@@ -137,9 +137,9 @@ class ResidualProblem:
         friction is (cached)."""
         key = ("deflection", stiffness)
         if key not in self._cache:
-            model = self.signals.model
-            _, z = bristle_force(model.stribeck, model.viscous_force, Bristles(stiffness, 0.0),
-                                 self.signals.v, self.sample_time)
+            v = self.signals.v
+            z = bristle_deflection(self.signals.model.stribeck, stiffness,
+                                   np.where(np.isfinite(v), v, 0.0), self.sample_time)
             self._cache[key] = np.concatenate([[0.0], z[:-1]])
         return self._cache[key]
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from .base import Effect
 from .fitting import grid_then_refine
-from .presliding import Bristles, bristle_force, bristle_states, least_level
+from .presliding import Bristles, bristle_deflection, bristle_force
 
 #: The pre-sliding distances tried (g(0) / sigma0), from this many position quanta of the log...
 LEAST_DISTANCE_QUANTA = 0.5
@@ -113,9 +113,8 @@ def _static_level(model) -> float:
 
 
 def _states(sig, stiffness):
-    model, v = sig.model, np.where(np.isfinite(sig.v), sig.v, 0.0)
-    level = np.maximum(model.stribeck(v), least_level(lambda u: float(model.stribeck(np.asarray(u)))))
-    return bristle_states(v, level, stiffness, sig.sample_time)
+    return bristle_deflection(sig.model.stribeck, stiffness, np.where(np.isfinite(sig.v), sig.v, 0.0),
+                              sig.sample_time)
 
 
 def _deflection_rate(sig, stiffness):
