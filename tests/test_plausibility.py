@@ -250,3 +250,13 @@ def test_a_sweep_joined_twice_gets_one_warning(tmp_path, capsys):
         assert main(["train", str(tmp_path / name), "-o", str(tmp_path / (name + ".json"))]) == 0
         err = capsys.readouterr().err
         assert ("24 of 48 rows repeat an earlier row exactly" in err) is warned, err
+
+
+def test_a_position_in_whole_counts_is_named_as_encoder_counts():
+    """x of whole numbers too fast for metres: the hint names encoder counts and the size of one
+    count, not a unit (4096 counts per 5 mm is no power of 1000)."""
+    t = np.arange(2000) / 1000.0
+    counts = np.round(4096 / 0.005 * 0.002 * np.sin(2 * np.pi * t))     # 2 mm, 1.2 um a count
+    with pytest.raises(DataError, match=r"x holds whole numbers: encoder counts\? --scale x=M "
+                                        r"converts them, M the metres \(or radians\) of one count"):
+        check_bounds({"t": t, "x": counts, "force": np.ones_like(t)}, "log.csv")

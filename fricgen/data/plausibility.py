@@ -62,19 +62,37 @@ def _refuse_or_warn(message: str, accept_unusual: bool, warn: Callable[[str], No
     warn(f"fricgen: warning: {message}; used as it is ({ACCEPT_UNUSUAL})")
 
 
+def _unit_factor(quantity: str, value: float) -> Optional[float]:
+    """The smallest power of 1000 that brings ``value`` into PHYSICAL[quantity], or None."""
+    low, high, _ = PHYSICAL[quantity]
+    step = 1e-3 if value > high else 1e3
+    return next((step ** k for k in range(1, 5) if low <= value * step ** k <= high), None)
+
+
 def _unit_hint(column: str, quantity: str, value: float) -> str:
     """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
     ``value`` into PHYSICAL[quantity], or ''."""
-    low, high, unit = PHYSICAL[quantity]
-    unit = "m" if column == "x" else unit           # a speed from the position: x's unit
-    step = 1e-3 if value > high else 1e3
-    for k in range(1, 5):
-        factor = step ** k
-        if low <= value * factor <= high:
-            prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
-            named = f"is {column} in {prefix}{unit}? " if prefix else ""
-            return f"; {named}--scale {column}={factor:g} converts it"
-    return ""
+    factor = _unit_factor(quantity, value)
+    if factor is None:
+        return ""
+    unit = "m" if column == "x" else PHYSICAL[quantity][2]     # a speed from the position: x's unit
+    prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
+    named = f"is {column} in {prefix}{unit}? " if prefix else ""
+    return f"; {named}--scale {column}={factor:g} converts it"
+
+
+def _counts_hint(quantity: str, value: float) -> str:
+    """The hint for a position of whole numbers too fast for metres: the encoder's counts, whose
+    size no power of 1000 need give."""
+    factor = _unit_factor(quantity, value)
+    within = "" if factor is None else f"; {factor:g} would bring the speed within bounds"
+    return ("; x holds whole numbers: encoder counts? --scale x=M converts them, M the metres (or "
+            f"radians) of one count{within}")
+
+
+def _whole_numbers(values: np.ndarray) -> bool:
+    """Whether every value is a whole number (and not all 0): a position in encoder counts."""
+    return bool(np.any(values) and np.all(values == np.round(values)))
 
 
 def _top(values: np.ndarray) -> float:
@@ -105,8 +123,9 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
             continue                # no motion or no force: the readers name that
         problem = physical_problem(quantity, what, value)
         if problem:
-            _refuse_or_warn(f"{source}: {problem}{_unit_hint(column, quantity, value)}",
-                            accept_unusual, warn)
+            hint = (_counts_hint(quantity, value) if column == "x" and _whole_numbers(columns["x"])
+                    else _unit_hint(column, quantity, value))
+            _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
         elif quantity in USUAL_MAX and unusual(quantity, what, value, column):
             warn(f"fricgen: warning: {source}: {unusual(quantity, what, value, column)}")
         elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
