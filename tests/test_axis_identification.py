@@ -317,6 +317,14 @@ def test_the_offset_is_in_eval_the_c_and_the_python_model_alike(offset_log, tmp_
     assert [line for line in printed.err.splitlines() if "warning" in line] == [
         f"fricgen: warning: |v| = {fast:.6g} m/s is beyond the speeds the model was trained on (up to "
         f"{model.axis.speed_max:.4g} m/s): it extrapolates there (are the velocities in m/s?)"]
+    # a bad first line is one error line, without the offset's note; no input is said
+    monkeypatch.setattr("sys.stdin", io.StringIO("abc\n"))
+    assert main(["eval", str(out)]) == 2
+    assert capsys.readouterr().err == "fricgen: error: stdin line 1: not a number: 'abc'\n"
+    monkeypatch.setattr("sys.stdin", io.StringIO("\n"))
+    assert main(["eval", str(out)]) == 0
+    printed = capsys.readouterr()
+    assert printed.out == "" and printed.err == "fricgen: note: stdin held no velocity: nothing evaluated\n"
     folder = tmp_path / "c"
     emit(model, folder, "ax")
     (folder / "offset.c").write_text('#include "ax.h"\nfloat ax_offset(void) { return AX_AXIS_OFFSET; }\n')

@@ -64,26 +64,32 @@ def run(args) -> int:
     stdin = getattr(sys.stdin, "buffer", sys.stdin)
     if stdin is None or stdin.closed:
         raise UsageError("stdin: closed; pipe velocities into fricgen eval, one per line")
+    notes = []                      # said once the first block of input has been read
     if model.effects:
         names = ", ".join(e.get("effect", "?") for e in model.effects)
-        say(f"fricgen: note: eval gives F(v) of [F3] alone; the model's effects ({names}) "
-            "need x, t or i and are not applied")
+        notes.append(f"eval gives F(v) of [F3] alone; the model's effects ({names}) need x, t or i "
+                     "and are not applied")
     if model.presliding is not None:
-        say("fricgen: note: the model has pre-sliding, a state: eval gives its static curve (the "
-            "force of steady sliding at each v); model.stepper and NAME_step give the dynamics")
+        notes.append("the model has pre-sliding, a state: eval gives its static curve (the force "
+                     "of steady sliding at each v); model.stepper and NAME_step give the dynamics")
     offset = 0.0
     if model.axis_offset and not args.no_offset:
-        say(f"fricgen: note: the forces include the axis's offset {model.axis_offset:.6g} "
-            "(identified in training); --no-offset for F(v) alone")
+        notes.append(f"the forces include the axis's offset {model.axis_offset:.6g} (identified "
+                     "in training); --no-offset for F(v) alone")
         offset = model.axis_offset
     if args.position and model.cogging_map is None:
-        say("fricgen: note: the model has no cogging map; --position adds nothing")
+        notes.append("the model has no cogging map; --position adds nothing")
     inputs = () if model.inputs is None else model.inputs.names
     names = ["velocity", *inputs] + (["position"] if args.position else [])
     rows = _rows(stdin, names)
     trained = None if model.axis is None else model.axis.speed_max
     beyond = 0
+    read = 0
     while chunk := list(itertools.islice(rows, CHUNK)):
+        if not read:                # a bad first line is its one error line, without the notes
+            for note in notes:
+                say("fricgen: note: " + note)
+        read += len(chunk)
         chunk = np.array(chunk)
         fastest = float(np.max(np.abs(chunk[:, 0])))
         if trained is not None and fastest > trained and not beyond:
@@ -96,4 +102,6 @@ def run(args) -> int:
         if args.position:
             f = f + model.cogging(chunk[:, -1])
         out("\n".join(repr(v) for v in f.tolist()))
+    if not read:
+        say("fricgen: note: stdin held no velocity: nothing evaluated")
     return 0
