@@ -324,6 +324,8 @@ def test_a_tabulated_reference_starts_and_ends_at_rest():
     ("t,x\n0,0\n1,1\n2,nan\n3,3\n", "data row 3 holds t = 2, x = nan"),
     ("t,y\n0,0\n1,1\n2,2\n3,3\n", "x"),
     ("t,x\n0,0\n1,0\n1.01,0.05\n2,0.05\n", "overshoots them by"),      # a step in four points
+    ("t,x\n0,0\n1000,0.01\n2000,0.02\n3000,0.02\n",                     # t in ms
+     "lasts 3000 s (is its t in ms?), which at --ts 0.001 s is 3e+06 samples"),
 ])
 def test_cli_simulate_refuses_a_bad_reference_in_one_line(capsys, tmp_path, rows, message):
     path = tmp_path / "ref.csv"

@@ -74,11 +74,15 @@ def run(args) -> int:
     if args.plot:
         check_folder(args.plot, [args.model], option="--plot")
     reference = read_reference(args.reference) if args.reference else None
+    from_reference = args.duration is None and reference is not None
     if args.duration is None:
         args.duration = reference.duration if reference is not None else DEFAULT_DURATION
     if args.duration > MAX_SAMPLES * args.ts:
-        raise UsageError(f"--duration {args.duration:g} s at --ts {args.ts:g} s is "
-                         f"{args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} are simulated")
+        lasting = (f"the reference {args.reference} lasts {args.duration:g} s (is its t in ms?), "
+                   f"which at --ts {args.ts:g} s" if from_reference else
+                   f"--duration {args.duration:g} s at --ts {args.ts:g} s")
+        raise UsageError(f"{lasting} is {args.duration / args.ts:.3g} samples; at most {MAX_SAMPLES} "
+                         "are simulated")
     if args.duration < 10 * args.ts:
         raise UsageError(f"--duration must cover at least 10 samples of --ts, got {args.duration:g} s")
     model = load_model(args.model, "simulate") if args.model else None
