@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import replace
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -390,7 +389,7 @@ class Diagnoser:
         ts = log.sample_time
         self._v_sim = self.v_sim_before_
         # the model's bristles are its friction's memory, as a named pre-sliding would be; a
-        # load the model holds may have changed: a load named adds to it (``with_load_change``)
+        # load the model holds may have changed: a load named adds to it (``with_effects``)
         used = {e.name for e in base if e.name != ConstantLoad.name} | (
             {Presliding.name} if bristles_of(model) is not None else set())
         chosen: List[Effect] = []
@@ -460,7 +459,7 @@ class Diagnoser:
         self.added_ = chosen
         self.effect_ = self.effects_[0].effect if self.effects_ else "none"
         self.p_value_ = self.steps_[0].p_value if self.steps_ else 1.0
-        self.model_ = with_load_change(model, chosen)
+        self.model_ = with_effects(model, chosen)
         self.localization_ = localize(p)
         self.where_ = where(self.localization_)
         final = p.after(chosen)
@@ -534,20 +533,6 @@ class Diagnoser:
                 "min_gain": self.min_gain,
                 "candidates": [{"effect": c.effect, "cv_rms": math.sqrt(c.mse)}
                                for c in (self.steps_[0].candidates if self.steps_ else [])]}
-
-
-def with_load_change(model: FrictionModel, effects: Sequence[Effect]) -> FrictionModel:
-    """``with_effects(model, effects)``, but a ``constant_load`` named beside one the model
-    holds (its axis's offset, or an earlier diagnosis'): the change of that load, so the model
-    holds one load, their sum."""
-    held = [e for e in model_effects(model) if e.name == ConstantLoad.name]
-    change = [e for e in effects if e.name == ConstantLoad.name]
-    if not (held and change):
-        return with_effects(model, effects)
-    others = [d for d in model.effects if d.get("effect") != ConstantLoad.name]
-    load = ConstantLoad(load=sum(e.load for e in held + change))
-    return with_effects(replace(model, effects=tuple(others)),
-                        [load] + [e for e in effects if e.name != ConstantLoad.name])
 
 
 def diagnose(log: MotionLog, model: FrictionModel, mass: float, force_constant: float, **kwargs) -> Diagnoser:

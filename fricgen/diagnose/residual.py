@@ -23,7 +23,8 @@ from scipy.signal import savgol_coeffs, savgol_filter
 from ..data import MotionLog
 from ..data.motionlog import check_varies
 from ..effects import PLAUSIBLE_FACTOR, Effect, Signals
-from ..effects.presliding import bristle_deflection, bristles_of
+from ..effects.contact import deflection
+from ..effects.presliding import bristles_of
 from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..model import FrictionModel
@@ -137,9 +138,7 @@ class ResidualProblem:
         friction is (cached)."""
         key = ("deflection", stiffness)
         if key not in self._cache:
-            v = self.signals.v
-            z = bristle_deflection(self.signals.model.stribeck, stiffness,
-                                   np.where(np.isfinite(v), v, 0.0), self.sample_time)
+            z = deflection(self.signals, stiffness)
             self._cache[key] = np.concatenate([[0.0], z[:-1]])
         return self._cache[key]
 

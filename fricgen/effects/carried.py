@@ -140,7 +140,9 @@ def force_xv(model, v, x) -> np.ndarray:
 
 def with_effects(model, effects: Sequence[Effect]):
     """A copy of ``model`` whose effects list is extended by ``effects``; a pre-sliding
-    (``contact.Presliding``) becomes the model's ``presliding``, its bristles.
+    (``contact.Presliding``) becomes the model's ``presliding``, its bristles, and a
+    ``constant_load`` beside one the model holds is the change of that load: the model holds
+    one load, their sum.
 
     Parameters
     ----------
@@ -165,8 +167,15 @@ def with_effects(model, effects: Sequence[Effect]):
     """
     contact = [e for e in effects if e.via_contact]
     model = replace(model, presliding=contact[-1].bristles) if contact else model
-    return replace(model, effects=tuple(model.effects) + tuple(e.to_dict() for e in effects
-                                                                if not e.via_contact))
+    added = [e for e in effects if not e.via_contact]
+    held = list(model.effects)
+    at = next((k for k, d in enumerate(held) if d.get("effect") == ConstantLoad.name), None)
+    change = [e for e in added if e.name == ConstantLoad.name]
+    if at is not None and change:
+        load = effect_from_dict(held[at]).load
+        held[at] = ConstantLoad(load=sum((e.load for e in change), load)).to_dict()
+        added = [e for e in added if e.name != ConstantLoad.name]
+    return replace(model, effects=tuple(held) + tuple(e.to_dict() for e in added))
 
 
 def offset_left_out(model) -> Optional[float]:

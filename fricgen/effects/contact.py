@@ -76,7 +76,7 @@ class Presliding(Effect):
         return lugre - model(sig.v)
 
     def linear(self, sig):
-        rate = _deflection_rate(sig, self.stiffness)
+        _, rate = _spring_and_rate(sig, self.stiffness)
         return rate[:, None], np.array([self.damping])
 
     def with_coefficients(self, coef):
@@ -96,8 +96,7 @@ class Presliding(Effect):
         hi = max(LARGEST_DISTANCE_TRAVEL * travel, 4.0 * lo)
 
         def solve(stiffness):
-            spring = problem.at_rows(_spring_part(sig, stiffness), rows)
-            rate = problem.at_rows(_deflection_rate(sig, stiffness), rows)
+            spring, rate = (problem.at_rows(part, rows) for part in _spring_and_rate(sig, stiffness))
             left = r - spring
             damping = max(float(rate @ left) / float(rate @ rate), 0.0) if rate @ rate > 0 else 0.0
             return damping, float(np.sum((left - damping * rate) ** 2))
@@ -112,18 +111,15 @@ def _static_level(model) -> float:
     return max(float(model.stribeck(0.0)), float(model.stribeck(-1e-300)), 1e-300)
 
 
-def _states(sig, stiffness):
-    return bristle_deflection(sig.model.stribeck, stiffness, np.where(np.isfinite(sig.v), sig.v, 0.0),
-                              sig.sample_time)
+def deflection(sig, stiffness: float) -> np.ndarray:
+    """z after each sample of bristles of ``stiffness`` on the curve of ``sig.model``, driven by
+    ``sig.v`` from a relaxed contact (``presliding.bristle_deflection``)."""
+    return bristle_deflection(sig.model.stribeck, stiffness, sig.v, sig.sample_time)
 
 
-def _deflection_rate(sig, stiffness):
-    """dz/dt over each sample (the damping's regressor)."""
-    z = _states(sig, stiffness)
-    return np.diff(np.concatenate([[0.0], z])) / sig.sample_time
-
-
-def _spring_part(sig, stiffness):
-    """sigma0 z + B v - F(v): the effect's force without the damping."""
-    model = sig.model
-    return stiffness * _states(sig, stiffness) + _viscous(model)(sig.v) - model(sig.v)
+def _spring_and_rate(sig, stiffness):
+    """sigma0 z + B v - F(v), the effect's force without the damping, and dz/dt over each
+    sample, the damping's regressor: of one deflection."""
+    model, z = sig.model, deflection(sig, stiffness)
+    spring = stiffness * z + _viscous(model)(sig.v) - model(sig.v)
+    return spring, np.diff(np.concatenate([[0.0], z])) / sig.sample_time

@@ -153,9 +153,11 @@ def bristle_force(level: Callable, viscous: Callable, bristles: Bristles, v: np.
 
 def bristle_deflection(level: Callable, stiffness: float, v: np.ndarray, dt: float) -> np.ndarray:
     """The deflection z after each sample of bristles of ``stiffness`` on the curve's ``level``
-    (vectorized g(v), kept above ``least_level``), driven by ``v`` (finite) held over ``dt``
-    from a relaxed contact (``bristle_states``); z depends on the stiffness alone, not on the
-    damping."""
+    (vectorized g(v), kept above ``least_level``), driven by ``v`` held over ``dt`` (a
+    non-finite v counts as 0) from a relaxed contact (``bristle_states``); z depends on the
+    stiffness alone, not on the damping."""
+    v = np.asarray(v, dtype=float)
+    v = np.where(np.isfinite(v), v, 0.0)
     g = np.maximum(level(v), least_level(lambda u: float(level(np.asarray(u)))))
     return bristle_states(v, g, stiffness, dt)
 

@@ -150,19 +150,20 @@ class EffectLaw:
     def sliding_friction(self, v, t, s) -> np.ndarray:
         """F(v) plus the effects that change friction (asymmetry, extra source, lag, drift)."""
         sig = Signals(self.friction, t=t, v=v, s=s)
-        f = sig.friction
-        for e in self._sliding:
-            f = f + e.force(sig)
-        return f
+        return self._plus_sliding(sig.friction, sig)
 
     def sliding_effects(self, v, t) -> np.ndarray:
         """The forces of the effects that change friction without a memory of their own
         (asymmetry, extra source, drift): ``sliding_friction`` less F(v), for a contact whose
         own friction is integrated apart (``sim.bristle_axis``)."""
-        if not self._sliding:
-            return np.zeros_like(np.asarray(v, dtype=float))
-        sig = Signals(self.friction, t=t, v=v)
-        return sum((e.force(sig) for e in self._sliding), np.zeros_like(np.asarray(v, dtype=float)))
+        zero = np.zeros_like(np.asarray(v, dtype=float))
+        return self._plus_sliding(zero, Signals(self.friction, t=t, v=v)) if self._sliding else zero
+
+    def _plus_sliding(self, f, sig) -> np.ndarray:
+        """``f`` plus each effect that changes friction, at ``sig``, in turn."""
+        for e in self._sliding:
+            f = f + e.force(sig)
+        return f
 
     def external_force(self, x, v, t) -> np.ndarray:
         """The effects that act at rest too (ripple, load)."""
