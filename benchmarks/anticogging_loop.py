@@ -18,12 +18,18 @@ with 12- and 14-bit encoders and a linear motor (12 bits per pole pitch). Per ax
    the map's error at 0.39 (share 0.63), 0.1 rad/s at 0.04 and its ripple at 2 rad/s 16 %
    above 0.05 rad/s's; on the axes of small L a slower creep than 7.5 / L gains nothing.
 3. The loop with four compensations added to the current command at the measured theta: none,
-   fricgen's map / kt, the integrator map (by bin), the exact position torque / kt (not quite
-   the best: the torque ripple scales the current that cancels the cogging, and fricgen's map,
-   measured in current, holds that).
+   fricgen's map / kt, the integrator map (by bin), the exact position torque / kt averaged
+   over each count (``ServoAxis.cogging_per_count``: the best a table of the counts can hold;
+   not quite the best compensation, for the torque ripple scales the current that cancels the
+   cogging, and fricgen's map, measured in current, holds that).
 
    a. Velocity ripple: position ramps at 0.5, 1 and 2 rad/s, one turn forward and one back,
-      each after 0.5 s of settling; the RMS of the true omega minus the ramp's speed.
+      each after 0.5 s of settling; the RMS of the true omega minus the ramp's speed, and the
+      RMS of its part at the position torque's orders (the unbalance's 1 and the cogging's
+      multiples of L; least squares on their cos and sin of the true theta, per direction).
+      The first holds the encoder's floor: the count edges through the PLL's velocity estimate
+      drive a ripple that no map removes. The second is the ripple the position torque drives,
+      which a map is for.
    b. Position error at rest: steps to 20 targets (each within 0.1 rad of the last), held
       0.6 s; |theta - target| averaged over the hold after 0.2 s, in encoder counts; the mean
       and the largest over the targets.
@@ -31,9 +37,9 @@ with 12- and 14-bit encoders and a linear motor (12 bits per pole pitch). Per ax
 Printed per case: medians over seeds, then per seed the map's relative error (RMS over theta
 of map - truth over the RMS of the truth minus its mean; the integrator map's over its bins,
 against the truth averaged over each bin), the ripple ratios at each speed, and the share of
-seeds meeting each target. Speeds are rad/s of theta (the pole pair's phase for the linear
-motor). ripple(none) / ripple(exact) is printed as the ceiling of the first ratio: no map
-reduces the ripple that the encoder's counts cause.
+seeds meeting each target, for each measure of the ripple. Speeds are rad/s of theta (the pole
+pair's phase for the linear motor). ripple(none) / ripple(exact) is printed as the ceiling of
+the first ratio: no map reduces the ripple that the encoder's counts cause.
 
     python benchmarks/anticogging_loop.py [--seeds 10] [--quick]
 
@@ -135,7 +141,7 @@ def feedforwards(axis, cogging_map, integrator) -> dict:
     """Each compensation as a function of the measured theta (A), None for none."""
     counts = axis.counts
     theta = np.arange(counts) * TWO_PI / counts
-    lookup = {"exact": count_lookup(axis.cogging_torque(theta) / axis.kt, counts),
+    lookup = {"exact": count_lookup(axis.cogging_per_count() / axis.kt, counts),
               "integrator": count_lookup(integrator[np.arange(counts) * map_bins(counts) // counts],
                                          counts),
               "none": None, "fricgen": None}
@@ -145,14 +151,33 @@ def feedforwards(axis, cogging_map, integrator) -> dict:
     return lookup
 
 
-def ripple(axis, feedforward, speed: float) -> float:
-    """The RMS of the true omega - speed over one turn forward and one back, each after SETTLE."""
+def orders(axis) -> list:
+    """The orders per turn of the position torque a map compensates: the unbalance's (1) and the
+    cogging's multiples of L."""
+    return sorted({1, *((j + 1) * axis.period_count for j in range(len(axis.cogging)))})
+
+
+def order_part(error: np.ndarray, theta: np.ndarray, ks: list) -> np.ndarray:
+    """The part of ``error`` at the orders ``ks`` of theta (least squares on their cos and sin):
+    the ripple the position torque drives, without the encoder's count-by-count noise."""
+    basis = np.column_stack([f(k * theta) for k in ks for f in (np.cos, np.sin)])
+    coef, *_ = np.linalg.lstsq(basis, error, rcond=None)
+    return basis @ coef
+
+
+def ripple(axis, feedforward, speed: float) -> tuple:
+    """Over one turn forward and one back, each after SETTLE: the RMS of the true omega - speed,
+    and the RMS of its part at the position torque's orders (``order_part``, per direction)."""
     settle, turn = int(SETTLE * axis.rate), int(TWO_PI / speed * axis.rate)
     t = np.arange(settle + turn) / axis.rate
     theta = np.concatenate([speed * t, speed * (t[-1] - t)])
     omega = np.concatenate([np.full(t.size, speed), np.full(t.size, -speed)])
-    error = run(Drive(axis, feedforward), theta, omega, every=1)["omega"] - omega
-    return float(np.sqrt(np.mean(np.r_[error[settle:t.size], error[t.size + settle:]] ** 2)))
+    log = run(Drive(axis, feedforward), theta, omega, every=1)
+    error = log["omega"] - omega
+    passes = (slice(settle, t.size), slice(t.size + settle, None))
+    total = np.concatenate([error[p] for p in passes])
+    synchronous = np.concatenate([order_part(error[p], log["theta"][p], orders(axis)) for p in passes])
+    return float(np.sqrt(np.mean(total ** 2))), float(np.sqrt(np.mean(synchronous ** 2)))
 
 
 def hold_error(axis, feedforward, targets: np.ndarray) -> np.ndarray:
@@ -199,41 +224,49 @@ def one(job) -> dict:
             "seconds": time.perf_counter() - start}
 
 
-def ratios(r: dict, speed: float) -> tuple:
+#: The two measures of ``ripple``: the whole ripple, and its part at the position torque's orders.
+MEASURES = ("ripple", "ripple at the cogging's orders")
+
+
+def ratios(r: dict, speed: float, measure: int = 0) -> tuple:
     """none / fricgen, fricgen / exact, fricgen / integrator, none / exact at ``speed``."""
-    rip = {c: r["ripple"][c, speed] for c in COMPENSATIONS}
+    rip = {c: r["ripple"][c, speed][measure] for c in COMPENSATIONS}
     return (rip["none"] / rip["fricgen"], rip["fricgen"] / rip["exact"],
             rip["fricgen"] / rip["integrator"], rip["none"] / rip["exact"])
 
 
 def report(case: str, rows: list) -> None:
-    """The case's table of medians, the per-seed ratios and the share meeting each target."""
+    """The case's table of medians, the per-seed ratios and the share meeting each target, for
+    each measure of the ripple."""
     print(f"\n{case}: medians over {len(rows)} seeds")
-    print(f"  {'':34s}" + "".join(f"{c:>11s}" for c in COMPENSATIONS))
-    for s in SPEEDS:
-        cells = [np.median([r["ripple"][c, s] for r in rows]) for c in COMPENSATIONS]
-        print(f"  {f'ripple at {s:g} rad/s (rad/s RMS)':34s}" + "".join(f"{v:11.4f}" for v in cells))
+    print(f"  {'':42s}" + "".join(f"{c:>11s}" for c in COMPENSATIONS))
+    for m, measure in enumerate(MEASURES):
+        for s in SPEEDS:
+            cells = [np.median([r["ripple"][c, s][m] for r in rows]) for c in COMPENSATIONS]
+            label = f"{'ripple' if m == 0 else 'at the orders'} at {s:g} rad/s (rad/s RMS)"
+            print(f"  {label:42s}" + "".join(f"{v:11.4f}" for v in cells))
     for label, stat in (("mean", np.mean), ("max", np.max)):
         cells = [np.median([stat(r["hold"][c]) for r in rows]) for c in COMPENSATIONS]
-        print(f"  {f'error at rest, {label} (counts)':34s}" + "".join(f"{v:11.3f}" for v in cells))
+        print(f"  {f'error at rest, {label} (counts)':42s}" + "".join(f"{v:11.3f}" for v in cells))
     speeds = " ".join(f"{s:g}" for s in SPEEDS)
-    print(f"  per seed (ratios at {speeds} rad/s; ceiling = none / exact):")
-    print(f"  {'seed':>5s} {'L':>4s} {'map err':>8s} {'intgr err':>9s}  {'none/fricgen':>18s}  "
-          f"{'fricgen/exact':>18s}  {'fricgen/intgr':>18s}  {'ceiling':>18s}  harmonics")
-    for r in sorted(rows, key=lambda r: r["seed"]):
-        cols = list(zip(*(ratios(r, s) for s in SPEEDS)))
-        print(f"  {r['seed']:5d} {r['periods']:4d} {r['map error']:8.3f} {r['integrator error']:9.3f}  "
-              + "  ".join(" ".join(f"{v:5.2f}" for v in col).rjust(18) for col in cols)
-              + f"  {','.join(map(str, r['harmonics'])) or 'no map'}")
-    for label, k, met in (("none/fricgen >= 4", 0, lambda v: v >= BETTER_THAN_NONE),
-                          ("fricgen/exact <= 1.2", 1, lambda v: v <= NEAR_EXACT),
-                          ("fricgen/integrator <= 1.0", 2, lambda v: v <= BETTER_THAN_INTEGRATOR),
-                          ("(ceiling none/exact >= 4)", 3, lambda v: v >= BETTER_THAN_NONE)):
-        shares = [sum(met(ratios(r, s)[k]) for r in rows) for s in SPEEDS]
-        every = sum(all(met(ratios(r, s)[k]) for s in SPEEDS) for r in rows)
-        print(f"  {label:26s} met at " + ", ".join(f"{s:g} rad/s {n}/{len(rows)}"
-                                                    for s, n in zip(SPEEDS, shares))
-              + f"; at every speed {every}/{len(rows)}")
+    for m, measure in enumerate(MEASURES):
+        print(f"  {measure}, per seed (ratios at {speeds} rad/s; ceiling = none / exact):")
+        print(f"  {'seed':>5s} {'L':>4s} {'map err':>8s} {'intgr err':>9s}  {'none/fricgen':>18s}  "
+              f"{'fricgen/exact':>18s}  {'fricgen/intgr':>18s}  {'ceiling':>18s}  harmonics")
+        for r in sorted(rows, key=lambda r: r["seed"]):
+            cols = list(zip(*(ratios(r, s, m) for s in SPEEDS)))
+            print(f"  {r['seed']:5d} {r['periods']:4d} {r['map error']:8.3f} {r['integrator error']:9.3f}  "
+                  + "  ".join(" ".join(f"{v:5.2f}" for v in col).rjust(18) for col in cols)
+                  + f"  {','.join(map(str, r['harmonics'])) or 'no map'}")
+        for label, k, met in (("none/fricgen >= 4", 0, lambda v: v >= BETTER_THAN_NONE),
+                              ("fricgen/exact <= 1.2", 1, lambda v: v <= NEAR_EXACT),
+                              ("fricgen/integrator <= 1.0", 2, lambda v: v <= BETTER_THAN_INTEGRATOR),
+                              ("(ceiling none/exact >= 4)", 3, lambda v: v >= BETTER_THAN_NONE)):
+            shares = [sum(met(ratios(r, s, m)[k]) for r in rows) for s in SPEEDS]
+            every = sum(all(met(ratios(r, s, m)[k]) for s in SPEEDS) for r in rows)
+            print(f"  {label:26s} met at " + ", ".join(f"{s:g} rad/s {n}/{len(rows)}"
+                                                        for s, n in zip(SPEEDS, shares))
+                  + f"; at every speed {every}/{len(rows)}")
 
 
 def main(argv=None) -> int:

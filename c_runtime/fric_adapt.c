@@ -357,7 +357,7 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
     a->m_o_hat = c->m_o_hat;
     a->recorded = 1;
     a->held = held;
-    return flags;
+    return flags | a->flags;
 }
 
 /* Appends text to buf at *len if it fits below size - 1 (room for the NUL); 0 if not. */

@@ -45,8 +45,9 @@ extern "C" {
 
 /* The runtime's interface: 4 since the rule is an int32_t, 5 since fric_adapt_t holds settle,
  * fric_adapt_params_t n_leak and FRIC_ADAPT_MAX_PARAMS is 18, 6 since fric_adapt_params_t holds
- * hold_at_rest (the saved state's format, FRIC_ADAPT_STATE_FORMAT, is another number). */
-#define FRIC_ADAPT_VERSION 6
+ * hold_at_rest, 7 since the flags are one family with fric_ctrl.h's and fric_adapt_ctrl_step
+ * returns both (the saved state's format, FRIC_ADAPT_STATE_FORMAT, is another number). */
+#define FRIC_ADAPT_VERSION 7
 /* The format of a saved state (fric_adapt_save): what a blob holds, not the structs' layout.
  * 4 holds the controller's k_hat and m_o_hat; fric_adapt_restore reads 3 (without them) too. */
 #define FRIC_ADAPT_STATE_FORMAT 4u
@@ -86,18 +87,23 @@ typedef int32_t fric_adapt_rule_t;
 #define FRIC_ADAPT_RULE_RLS ((fric_adapt_rule_t)0)
 #define FRIC_ADAPT_RULE_LYAPUNOV ((fric_adapt_rule_t)1)
 
-/* What an update returns: 0 or an OR of these. */
+/* What an update returns: 0 or an OR of these. One family with fric_ctrl.h's FRIC_CTRL_* flags:
+ * a bit means one thing in every flags word (FRIC_CTRL_SATURATED's 4 is no update's), so that
+ * fric_adapt_ctrl_step returns the OR of the two, one word to test. */
 typedef unsigned int fric_adapt_flags_t;
 #define FRIC_ADAPT_OK 0u
-#define FRIC_ADAPT_FAULT_NULL 1u      /* a NULL pointer: nothing written */
-#define FRIC_ADAPT_INPUT_FAULT 2u     /* an input not finite: no update */
-#define FRIC_ADAPT_HELD 4u            /* hold was set: no update */
-#define FRIC_ADAPT_DEAD_ZONE 8u       /* |v| < v_dead or |error| < e_dead: no update */
-#define FRIC_ADAPT_PROJECTED 16u      /* a parameter was held at an end of its interval */
-#define FRIC_ADAPT_TRACE_CLAMPED 32u  /* P was scaled down to the trace bound */
-#define FRIC_ADAPT_CLAMPED 64u        /* the error was clamped to +-e_max */
-#define FRIC_ADAPT_COVARIANCE_RESET 128u  /* RLS: P lost definiteness and was reset */
-#define FRIC_ADAPT_OUT_OF_RANGE 256u  /* |v| > v_max: no update */
+#define FRIC_ADAPT_FAULT_NULL 1u      /* a NULL pointer: nothing written (FRIC_CTRL_FAULT_NULL) */
+#define FRIC_ADAPT_INPUT_FAULT 2u     /* an input not finite: no update (FRIC_CTRL_INPUT_FAULT) */
+#define FRIC_ADAPT_PROJECTED 8u       /* a parameter was held at an end of its interval
+                                         (FRIC_CTRL_PROJECTED) */
+#define FRIC_ADAPT_HELD 16u           /* hold was set: no update */
+#define FRIC_ADAPT_DEAD_ZONE 32u      /* |v| < v_dead or |error| < e_dead: no update */
+#define FRIC_ADAPT_TRACE_CLAMPED 64u  /* P was scaled down to the trace bound */
+#define FRIC_ADAPT_CLAMPED 128u       /* the error was clamped to +-e_max */
+#define FRIC_ADAPT_COVARIANCE_RESET 256u  /* RLS: P lost definiteness and was reset */
+#define FRIC_ADAPT_OUT_OF_RANGE 512u  /* |v| > v_max: no update */
+/* Of the family, 1 and 2 say an input was refused; the others report what a step or an update
+ * did with valid inputs (a nonzero word is no fault by itself). */
 
 /* The regressor: writes phi[0 .. n-1] at the finite velocity v (m/s), returns f0(v) (N). */
 typedef float (*fric_adapt_regressor_fn)(float v, float *phi);
@@ -203,7 +209,8 @@ fric_adapt_flags_t fric_adapt_lyapunov(fric_adapt_t *a, fric_adapt_regressor_fn 
  * the dead zone): the velocity error of a stick and of the catch-up after it is no model's.
  * @param[in,out] a the adaptation; @param[in,out] c the controller; @param[in] reg the regressor.
  * @param[in] x, v, xd, xd_dot, xd_ddot as fric_ctrl_step's; @param[out] current the command, A.
- * @return fric_ctrl_step's flags (a->flags holds the update's). Call from one context (the
+ * @return fric_ctrl_step's flags OR the update's (one family: FRIC_CTRL_SATURATED with
+ *         FRIC_ADAPT_HELD, say; a->flags holds the update's alone). Call from one context (the
  *         control ISR); on a Cortex-M4F the ISR saves the FPU context (lazy stacking).
  * Cost beyond fric_ctrl_step_fn with the fixed model, for an ELM of M sigmoid units whose
  * theta ends with the axis's offset (benchmarks/adaptation_cost.py under QEMU,

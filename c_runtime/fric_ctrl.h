@@ -83,7 +83,10 @@ typedef int32_t fric_ctrl_friction_at_t;
 #define FRIC_CTRL_FRICTION_AT_VD ((fric_ctrl_friction_at_t)1)
 #define FRIC_CTRL_FRICTION_AT_REF ((fric_ctrl_friction_at_t)2)
 
-/* What a step returns: 0 (FRIC_CTRL_STEP_OK) or an OR of the flags below. */
+/* What a step returns: 0 (FRIC_CTRL_STEP_OK) or an OR of the flags below. One family with
+ * fric_adapt.h's FRIC_ADAPT_* flags: a bit means one thing in every flags word of the runtime
+ * (1, 2 and 8 are both headers'; fric_adapt_ctrl_step returns the OR of its controller's flags
+ * and its update's). */
 typedef unsigned int fric_ctrl_flags_t;
 #define FRIC_CTRL_STEP_OK 0u
 #define FRIC_CTRL_FAULT_NULL 1u   /* c or current is NULL: nothing written */

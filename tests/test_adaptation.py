@@ -5,6 +5,7 @@ import pytest
 
 from fricgen.control.adaptation import (FLAGS, LEAK_TIME, MAX_PARAMS, RATE_TIME, FrictionAdapter,
                                         adapted, parameter_scale)
+from fricgen.control.c_abi import FLAGS as CTRL_FLAGS
 from fricgen.control.regressor import (Regressor, adapts_offset, parameter_names, trained_parameters,
                                       with_parameters)
 from fricgen.errors import ModelError
@@ -23,6 +24,19 @@ def grey_model(bench):
 def model(request, default_model, grey_model, offset_model):
     return {"elm": default_model, "grey": grey_model, "elm+offset": offset_model}[request.param]
 
+
+
+def test_the_controllers_and_the_adaptations_flags_are_one_family():
+    """A bit means one thing in both flags words (fric_adapt_ctrl_step returns their OR): the
+    values both define have one meaning, and every flag is one bit of its own."""
+    ctrl = {m.value: m.key for m in CTRL_FLAGS.members if m.value}
+    adapt = {m.value: m.key for m in FLAGS.members if m.value}
+    assert {v: ctrl[v] for v in ctrl.keys() & adapt.keys()} == {v: adapt[v] for v in ctrl.keys() & adapt.keys()}
+    assert ctrl.keys() & adapt.keys() == {1, 2, 8}
+    values = sorted(ctrl.keys() | adapt.keys())
+    assert all(v & (v - 1) == 0 for v in values) and len(set(values)) == len(values)
+    keys = {**ctrl, **adapt}
+    assert len(set(keys.values())) == len(keys)           # no meaning under two bits
 
 def test_regressor_at_the_trained_parameters_is_the_model(model):
     reg = Regressor(model)

@@ -80,18 +80,20 @@ from .regressor import Regressor, adapts_offset, check_adaptable, trained_parame
 RULE = choice("fric_adapt_rule_t",
               ("FRIC_ADAPT_RULE_RLS", 0, "rls"),
               ("FRIC_ADAPT_RULE_LYAPUNOV", 1, "lyapunov"))
-#: What an update returns (and fric_adapt_t.flags holds): an OR of these.
+#: What an update returns (and fric_adapt_t.flags holds): an OR of these. One family with the
+#: controller's ``c_abi.FLAGS``: a bit means one thing in both, so that ``AdaptedController``
+#: (and fric_adapt_ctrl_step) reports their OR.
 FLAGS = CFlags("fric_adapt_flags_t", tuple(Enumerator(*m) for m in (
     ("FRIC_ADAPT_OK", 0, "ok"),
     ("FRIC_ADAPT_FAULT_NULL", 1, "NULL pointer"),
     ("FRIC_ADAPT_INPUT_FAULT", 2, "input fault"),
-    ("FRIC_ADAPT_HELD", 4, "held"),
-    ("FRIC_ADAPT_DEAD_ZONE", 8, "dead zone"),
-    ("FRIC_ADAPT_PROJECTED", 16, "projected"),
-    ("FRIC_ADAPT_TRACE_CLAMPED", 32, "trace clamped"),
-    ("FRIC_ADAPT_CLAMPED", 64, "clamped"),
-    ("FRIC_ADAPT_COVARIANCE_RESET", 128, "covariance reset"),
-    ("FRIC_ADAPT_OUT_OF_RANGE", 256, "out of range"))))
+    ("FRIC_ADAPT_PROJECTED", 8, "projected"),
+    ("FRIC_ADAPT_HELD", 16, "held"),
+    ("FRIC_ADAPT_DEAD_ZONE", 32, "dead zone"),
+    ("FRIC_ADAPT_TRACE_CLAMPED", 64, "trace clamped"),
+    ("FRIC_ADAPT_CLAMPED", 128, "clamped"),
+    ("FRIC_ADAPT_COVARIANCE_RESET", 256, "covariance reset"),
+    ("FRIC_ADAPT_OUT_OF_RANGE", 512, "out of range"))))
 
 
 #: The default band, as a fraction of the trained model's peak |F| over |v| <= v_sat.
@@ -567,6 +569,11 @@ class AdaptedController:
             a.lyapunov(v, c.e2_, hold=not ok or settling)
         self._v_prev, self._i_prev, self._held = v, i, not ok
         return i
+
+    @property
+    def flags_(self) -> int:
+        """The last step's flags: the controller's OR the update's (fric_adapt_ctrl_step's)."""
+        return int(self.controller.flags_) | int(self.adapter.flags_)
 
     @property
     def adaptive_parameters(self) -> Tuple[float, float]:
