@@ -260,3 +260,33 @@ def test_a_position_in_whole_counts_is_named_as_encoder_counts():
     with pytest.raises(DataError, match=r"x holds whole numbers: encoder counts\? --scale x=M "
                                         r"converts them, M the metres \(or radians\) of one count"):
         check_bounds({"t": t, "x": counts, "force": np.ones_like(t)}, "log.csv")
+
+
+def _one_column_log(rng):
+    """A log of an axis written here (2 kg, Coulomb 10 N smoothed over 2 mm/s, viscous 20 N s/m,
+    reversals), 1 kHz: t, its position, velocity and force."""
+    t = np.arange(0, 12, 1e-3)
+    x = 0.1 * np.sin(2 * np.pi * 0.5 * t) + 0.05 * np.sin(2 * np.pi * 0.23 * t)
+    v = np.gradient(x, t)
+    f = 2 * np.gradient(v, t) + 10 * np.tanh(v / 0.002) + 20 * v + 0.3 * rng.standard_normal(t.size)
+    return t, x, v, f
+
+
+@pytest.mark.parametrize("named, swapped", [("x", False), ("x", True), ("v", False), ("v", True)])
+def test_a_velocity_in_the_x_column_or_a_position_in_v_is_named(tmp_path, capsys, named, swapped):
+    """A log of x alone whose column holds the velocity (or of v alone holding the position)
+    trained on with the mass -6 kg, or was refused for the force's sign: it is now one line
+    that names the column, exit 2, nothing written; the right column trains."""
+    t, x, v, f = _one_column_log(np.random.default_rng(11))
+    motion = {("x", False): x, ("x", True): v, ("v", False): v, ("v", True): x}[named, swapped]
+    (tmp_path / "log.csv").write_text(f"t,{named},force\n" + "".join(
+        f"{a!r},{b!r},{c!r}\n" for a, b, c in zip(t.tolist(), motion.tolist(), f.tolist())))
+    code = main(["train", str(tmp_path / "log.csv"), "-o", str(tmp_path / "m.json")])
+    out, err = capsys.readouterr()
+    if not swapped:
+        assert code == 0 and (tmp_path / "m.json").exists()
+        assert "mass      2" in out and "--gravity" not in out + err    # no weight in this log
+        return
+    held, column = ("velocity", "v") if named == "x" else ("position", "x")
+    assert code == 2 and not (tmp_path / "m.json").exists()
+    assert f"{named} holds a {held}" in _one_line(err) and f"is it the {column} column?" in err

@@ -23,8 +23,8 @@ from ..metrics import least_squares_errors
 from ..units import LINEAR
 from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
                    identify_rigid_body, known_columns, operating_basis)
-from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
-                        uniform_time)
+from .motionlog import (check_finite, check_motion_column, check_moves, check_units, check_varies,
+                        resampled_runs, uniform_time, weight_residuals)
 from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
                         derivative_noise, smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
@@ -129,6 +129,9 @@ class Identification:
     conditions: Dict[str, np.ndarray] = field(default_factory=dict)
     #: The runs the log was concatenated from (``motionlog.resampled_runs``)
     n_runs: int = 1
+    #: Without ``gravity``: the textbook law's RMS residual without and with a weight of the
+    #: position where it explains much of the force (``motionlog.weight_residuals``), else None
+    weight: Optional[Tuple[float, float]] = None
 
     @property
     def n_kept(self) -> int:
@@ -177,6 +180,12 @@ class Identification:
         lines = [f"mass      {mass}"]
         if b.phases_disagree():
             lines.append(f"          {b.phase_note(units.mass)}")
+        if self.weight is not None:
+            without, with_weight = self.weight
+            lines.append(f"gravity   not identified, yet a weight G_s sin x + G_c cos x of the position "
+                         f"leaves {with_weight:.3g} {units.force} RMS of the force unexplained where "
+                         f"the law without it leaves {without:.3g}: a link's weight in the friction "
+                         "samples? --gravity identifies it apart")
         if b.gravity is not None:
             (g_s, g_c), (se_s, se_c) = b.gravity, b.gravity_se
             lines.append(f"gravity   G_s sin x + G_c cos x: G_s = {g_s:.5g} +- {se_s:.2g}, G_c = "
@@ -293,6 +302,9 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     check_moves(v, x)
     if given and x is not None:
         check_units(x, v, ts)
+    elif runs is None:                                  # one column of motion: the right one?
+        check_motion_column("v" if given else "x", v if given else x, force, ts)
+    weight = weight_residuals(x, force, ts) if x is not None and not gravity and runs is None else None
     noise = velocity_noise(v)
     if not given:                           # encoder counts: the central difference's rounding
         noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))
@@ -336,7 +348,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                           window=int(window), sample_time=ts, velocity_noise=noise,
                           independent=kept, body=body, body_window=body_window,
                           conditions={k: c[steady] for k, c in at_rows.items()},
-                          n_runs=1 if runs is None else int(runs[-1]) + 1)
+                          n_runs=1 if runs is None else int(runs[-1]) + 1, weight=weight)
 
 
 #: The force must follow the load column with a slope within this factor of 1 (f = m a + L + F):
