@@ -290,3 +290,14 @@ def test_a_velocity_in_the_x_column_or_a_position_in_v_is_named(tmp_path, capsys
     held, column = ("velocity", "v") if named == "x" else ("position", "x")
     assert code == 2 and not (tmp_path / "m.json").exists()
     assert f"{named} holds a {held}" in _one_line(err) and f"is it the {column} column?" in err
+
+
+def test_a_log_whose_v_and_force_are_swapped_is_refused(tmp_path, capsys):
+    """t, v, force with v and the force swapped trained on (a new user's trial): one line that
+    names the swap, exit 2, nothing written."""
+    t, _, v, f = _one_column_log(np.random.default_rng(12))
+    (tmp_path / "log.csv").write_text("t,v,force\n" + "".join(
+        f"{a!r},{b!r},{c!r}\n" for a, b, c in zip(t.tolist(), f.tolist(), v.tolist())))
+    assert main(["train", str(tmp_path / "log.csv"), "-o", str(tmp_path / "m.json")]) == 2
+    assert "are the v and force (or current) columns swapped?" in _one_line(capsys.readouterr().err)
+    assert not (tmp_path / "m.json").exists()

@@ -23,8 +23,8 @@ from ..metrics import least_squares_errors
 from ..units import LINEAR
 from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
                    identify_rigid_body, known_columns, operating_basis)
-from .motionlog import (check_finite, check_motion_column, check_moves, check_units, check_varies,
-                        resampled_runs, uniform_time, weight_residuals)
+from .motionlog import (check_finite, check_force_column, check_motion_column, check_moves,
+                        check_units, check_varies, resampled_runs, uniform_time, weight_residuals)
 from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
                         derivative_noise, smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
@@ -304,6 +304,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         check_units(x, v, ts)
     elif runs is None:                                  # one column of motion: the right one?
         check_motion_column("v" if given else "x", v if given else x, force, ts)
+    if given and runs is None:
+        check_force_column(v, force, ts)
     weight = weight_residuals(x, force, ts) if x is not None and not gravity and runs is None else None
     noise = velocity_noise(v)
     if not given:                           # encoder counts: the central difference's rounding

@@ -34,6 +34,10 @@ UNRELATED_BELOW = 0.3
 #: column one derivative up (down) leaves the textbook law of the force (``_residual``) at most
 #: this share of the residual it leaves read as named.
 OTHER_QUANTITY_SHARE = 0.5
+#: A log's v and force are refused as swapped where the share of v's variance that the textbook
+#: law of the force read the other way round leaves unexplained is at most this fraction of the
+#: share it leaves of the force's.
+SWAPPED_SHARE = 0.25
 #: A log with x and without ``--gravity`` is told of a weight G_s sin x + G_c cos x when that
 #: term leaves at most this share of the textbook law's residual.
 WEIGHT_SHARE = 0.7
@@ -269,6 +273,24 @@ def check_motion_column(name: str, values: np.ndarray, force: np.ndarray, ts: fl
         raise DataError(f"{name} holds a {held}, not a {other_name}: friction and inertia explain "
                         f"the force with {name} as {other_column} (RMS residual {other:.3g}, against "
                         f"{named:.3g} with {name} as the {other_name}): is it the {other_column} column?")
+
+
+def check_force_column(v: np.ndarray, force: np.ndarray, ts: float) -> None:
+    """``DataError`` where a log's v and force are swapped: the force's textbook law
+    (``_residual``) read the other way round, the force as the velocity and v as the force,
+    leaves at most SWAPPED_SHARE of the share of the variance it leaves read as named. (A
+    viscous law reads alike both ways and passes; the real rigs of ../shared/data leave 0.68
+    or more.)"""
+    named, other = _derivatives(v, force, ts), _derivatives(force, v, ts)
+    if named is None:
+        return
+    share = [_residual(f, d1, d0) ** 2 / max(float(np.var(f)), 1e-300)
+             for d0, d1, _, f in (named, other)]
+    if share[1] <= SWAPPED_SHARE * share[0]:
+        raise DataError(f"v and the force look swapped: friction and inertia explain v from the "
+                        f"force ({100 * share[1]:.2g} % of its variance left) far better than the "
+                        f"force from v ({100 * share[0]:.2g} % left): are the v and force (or "
+                        "current) columns swapped?")
 
 
 def weight_residuals(x: np.ndarray, force: np.ndarray, ts: float) -> Optional[Tuple[float, float]]:
