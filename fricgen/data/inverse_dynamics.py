@@ -23,8 +23,9 @@ from ..metrics import least_squares_errors
 from ..units import LINEAR
 from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
                    identify_rigid_body, known_columns, operating_basis)
-from .motionlog import (check_finite, check_force_column, check_motion_column, check_moves,
-                        check_units, check_varies, resampled_runs, uniform_time, weight_residuals)
+from .log_columns import check_force_column, check_motion_column, weight_residuals
+from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
+                        uniform_time)
 from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
                         derivative_noise, smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
@@ -130,7 +131,7 @@ class Identification:
     #: The runs the log was concatenated from (``motionlog.resampled_runs``)
     n_runs: int = 1
     #: Without ``gravity``: the textbook law's RMS residual without and with a weight of the
-    #: position where it explains much of the force (``motionlog.weight_residuals``), else None
+    #: position where it explains much of the force (``log_columns.weight_residuals``), else None
     weight: Optional[Tuple[float, float]] = None
 
     @property

@@ -1,0 +1,102 @@
+"""What the columns of a motion log hold, told from how its force follows them: the textbook
+law of the force (inertia, Coulomb + viscous per direction, a constant; [C1]) fitted with each
+column read as named and read otherwise. A position column that holds the velocity, a velocity
+that holds the position, a velocity swapped with the force are refused in one line
+(``check_motion_column``, ``check_force_column``); a weight of the position that the force
+holds is told (``weight_residuals``, for ``train --gravity``).
+"""
+from __future__ import annotations
+
+from typing import Optional, Tuple
+
+import numpy as np
+
+from ..errors import DataError
+from .smoothing import smooth
+
+#: A log of x alone (or v alone) is refused as holding the other quantity when reading its
+#: column one derivative up (down) leaves the textbook law of the force (``_residual``) at most
+#: this share of the residual it leaves read as named.
+OTHER_QUANTITY_SHARE = 0.5
+#: A log's v and force are refused as swapped where the share of v's variance that the textbook
+#: law of the force read the other way round leaves unexplained is at most this fraction of the
+#: share it leaves of the force's.
+SWAPPED_SHARE = 0.25
+#: A log with x and without ``--gravity`` is told of a weight G_s sin x + G_c cos x when that
+#: term leaves at most this share of the textbook law's residual.
+WEIGHT_SHARE = 0.7
+
+
+def _residual(force: np.ndarray, a: np.ndarray, v: np.ndarray, *extra: np.ndarray) -> float:
+    """The RMS residual of the textbook law of a log's force: m a, Coulomb + viscous per
+    direction of v, a constant, and ``extra`` columns, by least squares."""
+    up, down = v > 0, v < 0
+    columns = np.column_stack([a, up, up * v, -1.0 * down, down * v, np.ones_like(v), *extra])
+    theta, *_ = np.linalg.lstsq(columns, force, rcond=None)
+    return float(np.sqrt(np.mean((force - columns @ theta) ** 2)))
+
+
+def _derivatives(values: np.ndarray, force: np.ndarray, ts: float):
+    """The column, its first and second derivatives (cubic Savitzky-Golay over about a 200th of
+    the log, 7 to 101 samples) and the force, a window from each end; None for a short log."""
+    window = min(max(7, 2 * (values.size // 400) + 1), 101)
+    if values.size < 4 * window:
+        return None
+    inner = slice(window, values.size - window)
+    return [smooth(values, window, k, ts)[inner] for k in range(3)] + [force[inner]]
+
+
+def check_motion_column(name: str, values: np.ndarray, force: np.ndarray, ts: float) -> None:
+    """A log with a position ``x`` and no v, or a velocity ``v`` and no x: ``DataError`` when
+    the column reads as the other quantity, that is when the force's textbook law (inertia,
+    Coulomb + viscous per direction, a constant, and the column itself, its sine and cosine: a
+    spring's or a link's weight, or a curve of v beyond the law) leaves at most
+    OTHER_QUANTITY_SHARE of the residual with the column one derivative up (an x that holds the
+    velocity) or down (a v that holds the position). Friction follows the sign of the velocity:
+    read one derivative off, it follows none of the signals the law is given."""
+    signals = _derivatives(values, force, ts)
+    if signals is None:
+        return
+    d0, d1, d2, f = signals
+    own = (d0, np.sin(d0), np.cos(d0))        # read as x, a spring's or a link's weight; as
+    if name == "x":                           # v, a curve beyond Coulomb + viscous
+        named, other = _residual(f, d2, d1, *own), _residual(f, d1, d0, *own)
+        held, other_name, other_column = "velocity", "position", "v"
+    else:
+        named, other = _residual(f, d1, d0, *own), _residual(f, d2, d1, *own)
+        held, other_name, other_column = "position", "velocity", "x"
+    if other <= OTHER_QUANTITY_SHARE * named:
+        raise DataError(f"{name} holds a {held}, not a {other_name}: friction and inertia explain "
+                        f"the force with {name} as {other_column} (RMS residual {other:.3g}, against "
+                        f"{named:.3g} with {name} as the {other_name}): is it the {other_column} column?")
+
+
+def check_force_column(v: np.ndarray, force: np.ndarray, ts: float) -> None:
+    """``DataError`` where a log's v and force are swapped: the force's textbook law
+    (``_residual``) read the other way round, the force as the velocity and v as the force,
+    leaves at most SWAPPED_SHARE of the share of the variance it leaves read as named. (A
+    viscous law reads alike both ways and passes; the real rigs of ../shared/data leave 0.68
+    or more.)"""
+    named, other = _derivatives(v, force, ts), _derivatives(force, v, ts)
+    if named is None:
+        return
+    share = [_residual(f, d1, d0) ** 2 / max(float(np.var(f)), 1e-300)
+             for d0, d1, _, f in (named, other)]
+    if share[1] <= SWAPPED_SHARE * share[0]:
+        raise DataError(f"v and the force look swapped: friction and inertia explain v from the "
+                        f"force ({100 * share[1]:.2g} % of its variance left) far better than the "
+                        f"force from v ({100 * share[0]:.2g} % left): are the v and force (or "
+                        "current) columns swapped?")
+
+
+def weight_residuals(x: np.ndarray, force: np.ndarray, ts: float) -> Optional[Tuple[float, float]]:
+    """The RMS residual of the force's textbook law (``_residual``) without and with a weight
+    G_s sin x + G_c cos x of the position (``train --gravity``'s), where the weight leaves at
+    most WEIGHT_SHARE of it: the log holds a link's weight that the friction samples would
+    take in. None where it does not (or for a short log)."""
+    signals = _derivatives(x, force, ts)
+    if signals is None:
+        return None
+    d0, d1, d2, f = signals
+    without, with_weight = _residual(f, d2, d1), _residual(f, d2, d1, np.sin(d0), np.cos(d0))
+    return (without, with_weight) if with_weight <= WEIGHT_SHARE * without else None
