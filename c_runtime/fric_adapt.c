@@ -343,11 +343,15 @@ fric_ctrl_flags_t fric_adapt_ctrl_step(fric_adapt_t *a, fric_ctrl_t *c, fric_ada
         flags = flags & ~FRIC_CTRL_PROJECTED;
         c->flags = flags;
     }
-    if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
+    if ((a->p.rule == FRIC_ADAPT_RULE_RLS) && ((a->held != 0) || (held != 0))) {
+        /* held: the observation spans this step's or the last one's fault or saturation (a
+         * glitch's v_prev), so it is not formed; this step's own inputs are still checked */
+        (void)fric_adapt_rls(a, reg, v, 0.0f, 1);
+    } else if (a->p.rule == FRIC_ADAPT_RULE_RLS) {
         const float accel = (v - a->v_prev) / c->p.ts;
         const float observed = c->p.phi_n * (a->i_prev - (c->m_o_hat * accel));
         const float v_mid = 0.5f * (v + a->v_prev);
-        (void)fric_adapt_rls(a, reg, v_mid, observed, ((a->held != 0) || (held != 0)) ? 1 : 0);
+        (void)fric_adapt_rls(a, reg, v_mid, observed, 0);
     } else {
         (void)fric_adapt_lyapunov(a, reg, v, c->e2, ((held != 0) || (settling != 0)) ? 1 : 0);
     }

@@ -59,7 +59,7 @@ typedef enum {
     FRIC_ADAPT_ERR_NULL = -1,
     FRIC_ADAPT_ERR_PARAM = -2,
     FRIC_ADAPT_ERR_SIZE = -3,      /* a saved state of another size than this adaptation's */
-    FRIC_ADAPT_ERR_FOREIGN = -4,   /* a saved state of another format, version, size or model */
+    FRIC_ADAPT_ERR_FOREIGN = -4,   /* a saved state of another format, version or model */
     FRIC_ADAPT_ERR_CHECKSUM = -5,  /* a saved state whose CRC-32 does not match */
     FRIC_ADAPT_ERR_RANGE = -6      /* a saved state with a value not finite or out of its box */
 } fric_adapt_status_t;

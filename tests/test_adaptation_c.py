@@ -383,6 +383,24 @@ def test_rls_is_held_when_this_step_saturates(default_model):
         np.testing.assert_array_equal(after, before)
 
 
+def test_the_sample_after_a_glitch_is_held_not_an_input_fault(default_model):
+    """RLS observes the friction over the last sample: after a NaN (or a huge finite) v, the
+    next, clean, sample's update is held, never flagged an input fault (the flag of a refused
+    input), in C and in the twin (a firmware engineer's trial)."""
+    module = build_adapted(default_model)
+    twin = adapted(default_model, "rls", dtype="float32")
+    c = CAdaptedController(module, adapted(default_model, "rls", dtype="float32"))
+    for glitch in (float("nan"), 3e38):
+        for ctrl in (twin.reset(), c.reset()):
+            for k in range(50):
+                ctrl.step(0.01 * k * 1e-3, 0.01, 0.01 * k * 1e-3, 0.01, 0.0)
+            ctrl.step(0.0005, glitch, 0.0005, 0.01, 0.0)
+            ctrl.step(0.0005, 0.01, 0.0005, 0.01, 0.0)
+            assert ctrl.flags_ & FLAGS.value("input fault") == 0
+            assert ctrl.flags_ & FLAGS.value("held")
+        assert c.flags_ == twin.flags_ and c.step(0.0, 0.01, 0.0, 0.01, 0.0) == twin.step(0.0, 0.01, 0.0, 0.01, 0.0)
+
+
 def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_model):
     """NAME_adapt_default_params(p, rule, ts): at the reference 1 ms each rule's Python defaults
     bit for bit;

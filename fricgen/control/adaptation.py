@@ -394,9 +394,10 @@ class FrictionAdapter:
             return self._f(0.0)
         trained, phi = self._reg(v)
         delta = self._f(0.0)
-        for k in range(phi.size):
-            trained = trained + self._theta0[k] * phi[k]
-            delta = delta + (self.theta_[k] - self._theta0[k]) * phi[k]
+        with np.errstate(over="ignore", invalid="ignore"):      # a huge finite v, as in C
+            for k in range(phi.size):
+                trained = trained + self._theta0[k] * phi[k]
+                delta = delta + (self.theta_[k] - self._theta0[k]) * phi[k]
         band = self._band
         return trained + (band if delta > band else (-band if delta < -band else delta))
 
@@ -558,13 +559,15 @@ class AdaptedController:
         if resting or settling:                             # the stick's error: A as it was
             c.a_ = estimates
             c.flags_ &= ~CTRL_FLAGS.value("projected")
-        if a.rule == "rls":
+        if a.rule == "rls" and (self._held or not ok):   # the observation spans a glitch
+            a.rls(v, f(0.0), hold=True)
+        elif a.rule == "rls":
             m_o_hat = c.a_[0]
             with np.errstate(all="ignore"):
                 accel = (v - self._v_prev) / c._ts
                 observed = c._phi_n * (self._i_prev - m_o_hat * accel)
                 v_mid = f(0.5) * (v + self._v_prev)
-            a.rls(v_mid, observed, hold=self._held or not ok)
+            a.rls(v_mid, observed, hold=False)
         else:
             a.lyapunov(v, c.e2_, hold=not ok or settling)
         self._v_prev, self._i_prev, self._held = v, i, not ok

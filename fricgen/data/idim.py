@@ -37,6 +37,16 @@ PHASE_SIGMAS = 3.0
 PHASE_SHARE = 0.1
 
 
+def _apart(pair) -> bool:
+    """Whether the two (mass, standard error) of ``pair`` differ by more than PHASE_SIGMAS
+    standard errors of the difference and PHASE_SHARE of the larger (False for None)."""
+    if pair is None:
+        return False
+    (m1, s1), (m2, s2) = pair
+    gap = abs(m1 - m2)
+    return gap > PHASE_SIGMAS * float(np.hypot(s1, s2)) and gap > PHASE_SHARE * max(m1, m2)
+
+
 def friction_basis(v: np.ndarray, odd: bool) -> np.ndarray:
     """Columns spanning a friction law of v: [1, |v|, exp(-|v| / v_k)] per direction (``odd``
     False), or those of one odd law, times sgn v (``odd`` True). The v_k are log-spaced between
@@ -77,17 +87,19 @@ class RigidBody:
     #: The mass (and its standard error) identified on the rows where the axis speeds up and on
     #: those where it brakes (``phase_masses``); None where given or not determined
     phase_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
+    #: ... and with the rows that do neither clearly in both (``phase_masses(pinned=True)``)
+    pinned_phase_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
 
     def phases_disagree(self) -> bool:
         """Whether speeding up and braking give masses apart beyond their noise (PHASE_SIGMAS,
-        PHASE_SHARE): the force differs between the two at the same speed, friction with
-        memory (the bristles' build-up after each start, a frictional lag) that a static
-        curve leaves out, and the mass of both together is off by about the difference."""
-        if self.phase_masses is None:
-            return False
-        (m1, s1), (m2, s2) = self.phase_masses
-        gap = abs(m1 - m2)
-        return gap > PHASE_SIGMAS * float(np.hypot(s1, s2)) and gap > PHASE_SHARE * max(m1, m2)
+        PHASE_SHARE), fitted on each phase's rows alone and with the rows that do neither
+        (``phase_masses``): the force differs between the two at the same speed, friction
+        with memory (the bristles' build-up after each start, a frictional lag) that a static
+        curve leaves out, and the mass of both together is off by about the difference. Each
+        fit alone misleads on a motion of its own: a trapezoidal move's phase rows hold
+        a = A sgn v, which the first cannot tell from Coulomb friction, and a sweep's short
+        speed steps leave the second the friction curve's misfit at the steps."""
+        return all(_apart(pair) for pair in (self.phase_masses, self.pinned_phase_masses))
 
     def phase_note(self, unit: str) -> str:
         """What ``phases_disagree`` found, in one sentence (``unit``: the mass's)."""
@@ -211,20 +223,23 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
 
 
 def phase_masses(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
-                 extra: Optional[np.ndarray] = None, accel_noise: float = 0.0):
+                 extra: Optional[np.ndarray] = None, accel_noise: float = 0.0,
+                 pinned: bool = False):
     """The mass and its standard error as ``identify_mass`` fits it, on the rows where the
     axis speeds up (a v > 0) and, apart, on those where it brakes (a v < 0): a static friction
     curve gives the two one mass (``RigidBody.phases_disagree``). Only rows where |a| exceeds
-    PHASE_SIGMAS times ``accel_noise`` (the SD of dv/dt's noise) count: a phase chosen by the
-    noise of a would bias the mass of each (an encoder's counts). None where either phase has
-    fewer independent samples than SAMPLES_PER_PARAMETER per column."""
+    PHASE_SIGMAS times ``accel_noise`` (the SD of dv/dt's noise) count as a phase's: a phase
+    chosen by the noise of a would bias the mass of each (an encoder's counts). ``pinned``:
+    the rows of smaller |a| count in both phases, pinning the friction. None where either
+    phase has fewer independent samples than SAMPLES_PER_PARAMETER per column."""
     basis = mass_basis(a, v, extra)
     clear = np.abs(a) > PHASE_SIGMAS * accel_noise
     out = []
     for phase in (clear & (a * v > 0), clear & (a * v < 0)):
         if independent * phase.mean() < SAMPLES_PER_PARAMETER * basis.shape[1]:
             return None
-        coef, se = least_squares_errors(basis[phase], force[phase], independent * phase.mean())
+        rows = phase | ~clear if pinned else phase
+        coef, se = least_squares_errors(basis[rows], force[rows], independent * rows.mean())
         out.append((float(coef[0]), float(se[0])))
     return tuple(out)
 
@@ -272,8 +287,9 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
         if determined.size:
             run_offsets = tuple((int(r), float(c), float(e)) for r, c, e in
                                 zip(determined[1:], coef[at:], se[at:]))
-    phases = None
+    phases = pinned = None
     if accel_noise is not None and mass_se is not None and mass > MASS_SIGMAS * mass_se:
-        phases = phase_masses(a, v, force, independent, extra, accel_noise)
+        phases, pinned = (phase_masses(a, v, force, independent, extra, accel_noise, pin)
+                          for pin in (False, True))
     return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se,
-                     run_offsets, int(determined[0]) if determined.size else None, phases)
+                     run_offsets, int(determined[0]) if determined.size else None, phases, pinned)
