@@ -172,3 +172,19 @@ def test_a_robot_logs_grey_box_report_speaks_rad_and_nm(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "v_s = " in out and "Nm s/rad" in out and "1/(rad/s)" in out, out
     assert not re.search(r"\bm/s\b|\d N\b|\(N\)|N s/m", out), out
+
+
+def test_the_report_says_why_a_law_of_higher_held_out_error_is_kept():
+    """3 points a side hold out 2 (the slowest and fastest are always fitted): the per-direction
+    floor is kept though another law's held-out error is lower, and the report says so instead
+    of reading as a choice of the worst (a new user's trial)."""
+    speed = np.geomspace(0.004, 0.4, 3)
+    v = np.concatenate([speed, -speed])
+    f = np.concatenate([8 + 4 * np.exp(-speed / 0.02) + 30 * speed,
+                        -(6.5 + 3 * np.exp(-speed / 0.015) + 40 * speed)])
+    report = fricgen.train({"v": v, "f": f + np.random.default_rng(5).normal(0, 0.15, 6)},
+                           warn=lambda line: None)
+    errors = dict(report.law.cv_rmse)
+    assert report.law.name == "Coulomb + viscous, per direction"
+    assert min(errors.values()) < errors[report.law.name]
+    assert "the floor: 2 held-out points cannot show" in str(report) and "(3 needed)" in str(report)

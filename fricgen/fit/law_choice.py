@@ -280,12 +280,16 @@ class LawChoice:
     folds: int
     kept: Optional[Sweep] = None
     one_out: bool = False
+    #: Why the law kept is not the one of the least held-out error ("" where it is)
+    why: str = ""
 
     def line(self, unit: str = "N") -> str:
-        """The report's line: the law kept and each candidate's held-out error (in ``unit``)."""
+        """The report's line: the law kept and each candidate's held-out error (in ``unit``),
+        why it is kept where another's error is lower, and the candidates left out."""
         errors = ", ".join(f"{n} {e:.4g}" for n, e in self.cv_rmse)
         kind = "leave-one-out" if self.one_out else f"{self.folds}-fold"
         text = f"law       {self.name}, by {kind} held-out RMS ({unit}): {errors}"
+        text += f"\nkept      {self.why}" if self.why else ""
         return text + "".join(f"\nleft out  {why}" for why in self.left_out)
 
 
@@ -366,7 +370,23 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                      [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])
     name, _, make = candidates[chosen]
     return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in scored),
-                     tuple(left_out), int(folds.max()) + 1, sweep, one_out)
+                     tuple(left_out), int(folds.max()) + 1, sweep, one_out,
+                     _why_kept([(n, m) for n, m, _ in candidates], chosen))
+
+
+def _why_kept(candidates: List[Tuple[str, np.ndarray]], chosen: int) -> str:
+    """Why ``_choose`` kept ``chosen`` where another candidate's mean held-out error is lower:
+    too few held-out folds to tell (fewer than MIN_PAIRED), or a lower error within the noise
+    of the paired fold differences; "" where the kept one's is the lowest."""
+    lowest = min(range(len(candidates)), key=lambda k: candidates[k][1].mean())
+    if lowest == chosen:
+        return ""
+    other, folds = candidates[lowest][0], candidates[lowest][1].size
+    if folds < MIN_PAIRED:
+        return (f"{candidates[chosen][0]}, the floor: {folds} held-out point{'s' * (folds != 1)} "
+                f"cannot show {other} better ({MIN_PAIRED} needed)")
+    return (f"{candidates[chosen][0]}: {other}'s lower held-out error is within "
+            f"{SE_RULE:g} standard error of their paired fold differences")
 
 
 def _choose(mse: List[np.ndarray], anchor: List[int]) -> int:
