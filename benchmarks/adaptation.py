@@ -63,7 +63,7 @@ class DriftEffect:
     """The drift as a sliding-friction effect of the plant (``sim.effect_law``): it reads the
     time of the simulation's signals."""
 
-    acts_at_rest = via_dynamics = via_timing = via_current = False
+    acts_at_rest = via_dynamics = via_timing = via_current = via_contact = False
     mass_delta = force_constant_delta = lag_tau = input_delay = 0.0
     name = "drift"
 

@@ -63,7 +63,7 @@ class OffsetEffect:
     """The offset as an external force of the plant (``sim.effect_law``): it acts at rest too."""
 
     acts_at_rest = True
-    via_dynamics = via_timing = via_current = False
+    via_dynamics = via_timing = via_current = via_contact = False
     mass_delta = force_constant_delta = lag_tau = input_delay = 0.0
     name = "offset"
 
