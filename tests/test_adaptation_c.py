@@ -89,10 +89,35 @@ def test_a_re_emit_without_adapt_leaves_no_adaptation_of_the_old_model(default_m
     assert not (folder / "fm_adapt.c").exists() and not (folder / "fm_adapt.h").exists()
     for build in ("CMakeLists.txt", "library.json"):
         assert "fm_adapt" not in (folder / build).read_text(), build
+    # ... and so are the adaptation's runtime files, which no model left uses: the folder holds
+    # what an emit of the grey model into an empty folder writes (a firmware engineer's trial)
+    fresh = tmp_path / "fresh"
+    assert main(["emit", str(grey), "-o", str(fresh), "--name", "fm"]) == 0
+    assert sorted(p.name for p in folder.rglob("*")) == sorted(p.name for p in fresh.rglob("*"))
+    assert not (folder / "fric_adapt.c").exists()
     # a file of the same name that fricgen did not write is left alone
     (folder / "fm_adapt.c").write_text("/* mine */\n")
     assert main(["emit", str(grey), "-o", str(folder), "--name", "fm"]) == 0
     assert (folder / "fm_adapt.c").read_text() == "/* mine */\n"
+
+
+def test_a_runtime_file_another_model_of_the_folder_uses_stays(default_model, grey_model, tmp_path):
+    """Two models in one folder, one adapted: emitting the other again removes nothing the
+    adapted one uses, and the folder compiles."""
+    folder = tmp_path / "c"
+    grey = tmp_path / "grey.json"
+    grey_model.save(grey)
+    assert main(["emit", str(_saved(default_model, tmp_path)), "-o", str(folder), "--adapt",
+                 "--name", "fa"]) == 0
+    before = sorted(p.name for p in folder.iterdir())
+    assert main(["emit", str(grey), "-o", str(folder), "--name", "fb"]) == 0
+    after = sorted(p.name for p in folder.iterdir())
+    assert set(before) <= set(after) and {"fric_adapt.c", "fric_ctrl.c", "fb.c"} <= set(after)
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if cc:
+        sources = [str(p) for p in folder.glob("*.c")]
+        subprocess.run([cc, "-c", "-std=c99", "-O1", "-I", str(folder), *sources],
+                       cwd=tmp_path, check=True)
 
 
 def _saved(model, tmp_path):

@@ -2,6 +2,7 @@
 commands that read data share one reader; Ctrl-C is one line. (The refusals are rows of
 tests/test_bad_input.py; these are the cases that answer.)"""
 import json
+import re
 import signal
 
 import numpy as np
@@ -301,3 +302,17 @@ def test_a_log_whose_v_and_force_are_swapped_is_refused(tmp_path, capsys):
     assert main(["train", str(tmp_path / "log.csv"), "-o", str(tmp_path / "m.json")]) == 2
     assert "are the v and force (or current) columns swapped?" in _one_line(capsys.readouterr().err)
     assert not (tmp_path / "m.json").exists()
+
+
+@pytest.mark.parametrize("in_degrees, hint", [("v", "is v in deg/s and x in rad? --scale v=0.0174533"),
+                                              ("x", "is x in degrees and v in rad/s? --scale x=0.0174533")])
+def test_a_joint_log_half_in_degrees_names_degrees(in_degrees, hint):
+    """dx/dt 57.3 (or 1/57.3) times v is a column in degrees beside one in radians: the refusal
+    names degrees and the --scale that converts them (a new user's trial)."""
+    from fricgen.data.motionlog import check_units
+    t = np.arange(2000) / 500.0
+    q = 0.8 * np.sin(2 * np.pi * 0.3 * t)
+    dq = np.gradient(q, t)
+    x, v = (q, np.degrees(dq)) if in_degrees == "v" else (np.degrees(q), dq)
+    with pytest.raises(DataError, match=re.escape(hint)):
+        check_units(x, v, 1 / 500.0)

@@ -99,6 +99,17 @@ def test_the_variants_cover_every_implementation_and_runtime_source(variants):
         assert option in heads
 
 
+def test_every_file_of_every_variant_is_reached_from_a_model(variants):
+    """What ``codegen.package.reached_files`` reaches from a folder's models is every C file an
+    emit wrote there, so a later emit into the folder removes no runtime file a model uses (it
+    removes those no model reaches: a re-emit without --adapt)."""
+    from fricgen.codegen.package import reached_files
+    for variant, folder in variants.items():
+        texts = {p.name: p.read_text() for p in folder.glob("*.[ch]")}
+        if variant != "runtime":                       # the whole runtime, no model
+            assert reached_files(texts) == set(texts), variant
+
+
 @pytest.mark.parametrize("cc", ["gcc", "clang"])
 def test_every_variant_compiles_without_a_warning_under_the_strict_flags(variants, cc):
     """-Wfloat-equal included: the C compares no float with == or != (NaN tests use isnan)."""

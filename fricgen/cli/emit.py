@@ -109,8 +109,8 @@ def run(args) -> int:
     write_files({**{targets[n]: text for n, text in files.items()}, **blob})
     removed = remove_stale(args.output, name, files)
     if removed:
-        say(f"removed {', '.join(removed)}: the adaptation of the model emitted before under "
-            f"the name {name}")
+        say(f"removed {', '.join(removed)}: written for the model emitted before under the name "
+            f"{name}, and used by no model in the folder now")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
     note = offset_note(model, name)

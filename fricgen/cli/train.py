@@ -172,6 +172,12 @@ def _run(args) -> int:
         speed = report.model.units.speed
         out(f"zero      NAME_compensation is 0 up to |v| = {band:.3g} {speed}, the force from twice it "
             f"({report.model.training.get('velocity_band_from', 'model.json')})")
+        fastest = (report.model.training.get("axis") or {}).get("speed_max")
+        if fastest is not None and band >= fastest:
+            say(f"fricgen: warning: NAME_compensation is 0 up to |v| = {band:.3g} {speed}, at or "
+                f"above the log's fastest speed {fastest:.3g} {speed}: it compensates nothing at "
+                "the speeds trained (the log's velocity resolution is coarser than its motion: a "
+                "faster sample rate, a finer encoder, or a faster move)")
     for warning in report.warnings:
         say(f"fricgen: {warning}")
     write_file(args, report.model.checked_json(), inputs)    # never one that load refuses

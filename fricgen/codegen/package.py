@@ -24,6 +24,10 @@ STRICT_FLOAT_FLAGS = ("-ffp-contract=off", "-fno-fast-math")
 LIBM_CALL = re.compile(r"\b(?:exp|exp2|expm1|log|log1p|log2|pow|sqrt|cbrt|hypot|sin|cos|tan|"
                        r"asin|acos|atan|atan2|sinh|cosh|tanh|erf|floor|ceil|round|fmod)f?\s*\(")
 _COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
+#: A quoted #include, and a runtime function's definition or declaration at a line's start
+#: (or one a defining macro names first: ``FRIC_ELM_KERNEL(fric_elm_sigmoid_f32, ...)``).
+_INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+_RUNTIME_FUNCTION = re.compile(r"^(?:[A-Za-z_][\w \t*]*?\b|[A-Z_]+\(\s*)(fric_\w+)\s*[(,]", re.M)
 
 
 def library_name(folder: Union[str, Path]) -> str:
@@ -39,13 +43,44 @@ def uses_libm(texts: Iterable[str]) -> bool:
     return any(LIBM_CALL.search(_COMMENT.sub(" ", text)) for text in texts)
 
 
+def reached_files(texts: Dict[str, str]) -> set:
+    """The files of a folder's C ``texts`` (by name) that its models' files reach, as the
+    compiler and linker would: every file not of the runtime (``fric_*``) is a model's, and the
+    controller where a model's emit options ask for it (the loop calls it); a file reaches what
+    it #includes, a header its own .c, and a file that calls a runtime function
+    (a declaration is no call) the runtime .c that defines it."""
+    runtime = {f for f in texts if f.startswith("fric_")}
+    defines = {f: set(_RUNTIME_FUNCTION.findall(_COMMENT.sub(" ", texts[f])))
+               for f in runtime if f.endswith(".c")}
+    reached, todo = set(), [f for f in texts if f not in runtime]
+    if "fric_ctrl.h" in texts and any("with_controller=1" in texts[f] for f in todo):
+        todo.append("fric_ctrl.h")      # asked for (emit --with-controller): the loop calls it
+    while todo:
+        f = todo.pop()
+        if f in reached:
+            continue
+        reached.add(f)
+        code = _COMMENT.sub(" ", texts[f])
+        todo += [g for g in _INCLUDE.findall(code) if g in texts]
+        todo += [f[:-2] + ".c"] if f.endswith(".h") and f[:-2] + ".c" in texts else []
+        called = set(re.findall(r"\b(fric_\w+)\s*\(", code)) - set(_RUNTIME_FUNCTION.findall(code))
+        todo += [c for c, names in defines.items() if names & called]
+    return reached
+
+
 def stale_files(folder: Union[str, Path], name: str, files: Dict[str, str]) -> List[Path]:
-    """The files fricgen wrote into ``folder`` for the model ``name`` before (its adaptation,
-    NAME_adapt.c and .h) that this emit, ``files``, no longer writes: removed with it, so that
-    the folder never builds an adaptation of a model it no longer holds."""
+    """The files fricgen wrote into ``folder`` before that this emit, ``files``, no longer
+    writes and no model left there needs: the model ``name``'s adaptation (NAME_adapt.c and .h)
+    and the runtime files that no model's files reach any more (``reached_files``: a model
+    emitted again without ``--adapt`` leaves no adaptation runtime behind). Removed with it, so
+    that the folder builds nothing a model it holds does not use."""
     folder = Path(folder)
-    return [folder / f for f in (f"{name}_adapt.c", f"{name}_adapt.h")
-            if f not in files and (folder / f).is_file() and written_by_fricgen(folder / f)]
+    adapt = [folder / f for f in (f"{name}_adapt.c", f"{name}_adapt.h")
+             if f not in files and (folder / f).is_file() and written_by_fricgen(folder / f)]
+    texts = _folder_texts(folder, files, adapt)
+    reached = reached_files(texts)
+    return adapt + [folder / f for f in sorted(texts)
+                    if f.startswith("fric_") and f not in files and f not in reached]
 
 
 def remove_stale(folder: Union[str, Path], name: str, files: Dict[str, str]) -> List[str]:

@@ -215,8 +215,11 @@ def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
         if -high <= ratio <= -low:
             raise DataError(f"x and v have opposite signs: dx/dt is {ratio:.3g} times v (is x or "
                             "v inverted?)")
-        raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is t in ms, x in "
-                        "mm, or v in other units?)")
+        degrees = {np.degrees(1.0): f"x in degrees and v in rad/s? --scale x={np.radians(1.0):.6g}",
+                   np.radians(1.0): f"v in deg/s and x in rad? --scale v={np.radians(1.0):.6g}"}
+        guess = next((hint for factor, hint in degrees.items() if abs(ratio / factor - 1) < 0.05),
+                     "t in ms, x in mm, or v in other units?")
+        raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is {guess})")
 
 
 @dataclass(frozen=True)

@@ -104,7 +104,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic}; {fit.rows} rows in motion")
     if fit.unexplained_wavelength is not None:
-        warnings.append(f"fricgen: warning: the log holds a position-periodic force of wavelength "
+        warnings.append(f"warning: the log holds a position-periodic force of wavelength "
                         f"{fit.unexplained_wavelength:.6g} {units.position} that no harmonic of the "
                         f"period {fit.period:.6g} holds: a wrong --pitch, a period longer than the one "
                         "found, or a ripple aliased by a log slower than the drive's loop?")
