@@ -309,6 +309,24 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
     assert axis.map_error(model.cogging_map) < 0.10
+    assert "compensates nothing" not in captured.err and "fricgen: fricgen:" not in captured.err
+
+
+def test_a_calibration_logged_too_coarsely_for_its_speed_says_the_compensation_is_zero(
+        axis, tmp_path, capsys):
+    """Logged at 2 kHz, a 12-bit encoder resolves 3 rad/s a count: NAME_compensation's zero
+    band covers the whole 1.5 rad/s calibration, and one warning says that it compensates
+    nothing at the speeds trained (a new user's trial)."""
+    t, x, f = calibration(axis)
+    path = tmp_path / "cal.csv"
+    np.savetxt(path, np.column_stack([t, x, f / axis.kt])[::4], delimiter=",", header="t,x,i",
+               comments="", fmt="%.9g")
+    assert main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+                 "-o", str(tmp_path / "m.json")]) == 0
+    model = FrictionModel.load(tmp_path / "m.json")
+    assert model.velocity_band >= model.training["axis"]["speed_max"]
+    err = capsys.readouterr().err
+    assert err.count("compensates nothing at the speeds trained") == 1 and "fricgen: fricgen:" not in err
     assert model.axis.force_constant == pytest.approx(axis.kt)     # the friction saw a force
 
 
