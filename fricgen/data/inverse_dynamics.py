@@ -181,7 +181,7 @@ class Identification:
         lines = [f"mass      {mass}"]
         if b.phases_disagree():
             lines.append(f"          {b.phase_note(units.mass)}")
-        if self.weight is not None:
+        if self.weight is not None and units.position == "rad":    # --gravity is a joint's
             without, with_weight = self.weight
             lines.append(f"gravity   not identified, yet a weight G_s sin x + G_c cos x of the position "
                          f"leaves {with_weight:.3g} {units.force} RMS of the force unexplained where "

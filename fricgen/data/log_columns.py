@@ -75,8 +75,8 @@ def check_force_column(v: np.ndarray, force: np.ndarray, ts: float) -> None:
     """``DataError`` where a log's v and force are swapped: the force's textbook law
     (``_residual``) read the other way round, the force as the velocity and v as the force,
     leaves at most SWAPPED_SHARE of the share of the variance it leaves read as named. (A
-    viscous law reads alike both ways and passes; the real rigs of ../shared/data leave 0.68
-    or more.)"""
+    viscous law reads alike both ways and passes; the robot joints of benchmarks/real_data.py
+    leave 0.68 or more.)"""
     named, other = _derivatives(v, force, ts), _derivatives(force, v, ts)
     if named is None:
         return
