@@ -107,7 +107,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         warnings.append(f"warning: the log holds a position-periodic force of wavelength "
                         f"{fit.unexplained_wavelength:.6g} {units.position} that no harmonic of the "
                         f"period {fit.period:.6g} holds: a wrong --pitch, a period longer than the one "
-                        "found, or a ripple aliased by a log slower than the drive's loop?")
+                        f"found, x in other units than {units.position} (degrees?), or a ripple aliased "
+                        "by a log slower than the drive's loop?")
     if fit.map is None:
         lines.append("cogging: none found (no harmonic above the noise): no map is emitted")
     else:
