@@ -23,7 +23,7 @@ from ..metrics import least_squares_errors
 from ..units import LINEAR
 from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
                    identify_rigid_body, known_columns, operating_basis)
-from .log_columns import check_force_column, check_motion_column, weight_residuals
+from .log_columns import check_log_columns
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
 from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
@@ -131,7 +131,7 @@ class Identification:
     #: The runs the log was concatenated from (``motionlog.resampled_runs``)
     n_runs: int = 1
     #: Without ``gravity``: the textbook law's RMS residual without and with a weight of the
-    #: position where it explains much of the force (``log_columns.weight_residuals``), else None
+    #: position where it explains much of the force (``log_columns.check_log_columns``), else None
     weight: Optional[Tuple[float, float]] = None
 
     @property
@@ -303,11 +303,9 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     check_moves(v, x)
     if given and x is not None:
         check_units(x, v, ts)
-    elif runs is None:                                  # one column of motion: the right one?
-        check_motion_column("v" if given else "x", v if given else x, force, ts)
-    if given and runs is None:
-        check_force_column(v, force, ts)
-    weight = weight_residuals(x, force, ts) if x is not None and not gravity and runs is None else None
+    weight = None
+    if runs is None:                # what the columns hold (x jumps between runs: one run only)
+        weight = check_log_columns(force, ts, v if given else None, x, weight=not gravity)
     noise = velocity_noise(v)
     if not given:                           # encoder counts: the central difference's rounding
         noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))

@@ -3,7 +3,8 @@ law of the force (inertia, Coulomb + viscous per direction, a constant; [C1]) fi
 column read as named and read otherwise. A position column that holds the velocity, a velocity
 that holds the position, a velocity swapped with the force are refused in one line
 (``check_motion_column``, ``check_force_column``); a weight of the position that the force
-holds is told (``weight_residuals``, for ``train --gravity``).
+holds is told (``weight_residuals``, for ``train --gravity``). ``check_log_columns`` runs them,
+each column smoothed once.
 """
 from __future__ import annotations
 
@@ -46,17 +47,15 @@ def _derivatives(values: np.ndarray, force: np.ndarray, ts: float):
     return [smooth(values, window, k, ts)[inner] for k in range(3)] + [force[inner]]
 
 
-def check_motion_column(name: str, values: np.ndarray, force: np.ndarray, ts: float) -> None:
+def check_motion_column(name: str, signals) -> None:
     """A log with a position ``x`` and no v, or a velocity ``v`` and no x: ``DataError`` when
     the column reads as the other quantity, that is when the force's textbook law (inertia,
     Coulomb + viscous per direction, a constant, and the column itself, its sine and cosine: a
     spring's or a link's weight, or a curve of v beyond the law) leaves at most
     OTHER_QUANTITY_SHARE of the residual with the column one derivative up (an x that holds the
     velocity) or down (a v that holds the position). Friction follows the sign of the velocity:
-    read one derivative off, it follows none of the signals the law is given."""
-    signals = _derivatives(values, force, ts)
-    if signals is None:
-        return
+    read one derivative off, it follows none of the signals the law is given. ``signals``: the
+    column's ``_derivatives``."""
     d0, d1, d2, f = signals
     own = (d0, np.sin(d0), np.cos(d0))        # read as x, a spring's or a link's weight; as
     if name == "x":                           # v, a curve beyond Coulomb + viscous
@@ -71,15 +70,13 @@ def check_motion_column(name: str, values: np.ndarray, force: np.ndarray, ts: fl
                         f"{named:.3g} with {name} as the {other_name}): is it the {other_column} column?")
 
 
-def check_force_column(v: np.ndarray, force: np.ndarray, ts: float) -> None:
+def check_force_column(named, other) -> None:
     """``DataError`` where a log's v and force are swapped: the force's textbook law
     (``_residual``) read the other way round, the force as the velocity and v as the force,
     leaves at most SWAPPED_SHARE of the share of the variance it leaves read as named. (A
     viscous law reads alike both ways and passes; the robot joints of benchmarks/real_data.py
-    leave 0.68 or more.)"""
-    named, other = _derivatives(v, force, ts), _derivatives(force, v, ts)
-    if named is None:
-        return
+    leave 0.68 or more.) ``named``, ``other``: the ``_derivatives`` of v beside the force and
+    of the force beside v."""
     share = [_residual(f, d1, d0) ** 2 / max(float(np.var(f)), 1e-300)
              for d0, d1, _, f in (named, other)]
     if share[1] <= SWAPPED_SHARE * share[0]:
@@ -89,14 +86,29 @@ def check_force_column(v: np.ndarray, force: np.ndarray, ts: float) -> None:
                         "current) columns swapped?")
 
 
-def weight_residuals(x: np.ndarray, force: np.ndarray, ts: float) -> Optional[Tuple[float, float]]:
+def weight_residuals(signals) -> Optional[Tuple[float, float]]:
     """The RMS residual of the force's textbook law (``_residual``) without and with a weight
     G_s sin x + G_c cos x of the position (``train --gravity``'s), where the weight leaves at
     most WEIGHT_SHARE of it: the log holds a link's weight that the friction samples would
-    take in. None where it does not (or for a short log)."""
-    signals = _derivatives(x, force, ts)
-    if signals is None:
-        return None
+    take in; None where it does not. ``signals``: the position's ``_derivatives``."""
     d0, d1, d2, f = signals
     without, with_weight = _residual(f, d2, d1), _residual(f, d2, d1, np.sin(d0), np.cos(d0))
     return (without, with_weight) if with_weight <= WEIGHT_SHARE * without else None
+
+
+def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = None,
+                      x: Optional[np.ndarray] = None,
+                      weight: bool = True) -> Optional[Tuple[float, float]]:
+    """Every check of what a log's columns hold, each column smoothed once: a position or a
+    velocity alone read as the other (``check_motion_column``), v swapped with the force
+    (``check_force_column``); and, with ``weight``, the position's ``weight_residuals`` (None
+    without x, or where the weight explains little). A short log is not checked."""
+    of_v = None if v is None else _derivatives(v, force, ts)
+    of_x = None if x is None or (v is not None and not weight) else _derivatives(x, force, ts)
+    if of_v is None and of_x is None:
+        return None                                     # too short to tell
+    if v is None or x is None:
+        check_motion_column("v" if x is None else "x", of_v if x is None else of_x)
+    if v is not None:
+        check_force_column(of_v, _derivatives(force, v, ts))
+    return weight_residuals(of_x) if weight and of_x is not None else None
