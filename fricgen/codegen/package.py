@@ -74,13 +74,19 @@ def stale_files(folder: Union[str, Path], name: str, files: Dict[str, str]) -> L
     and the runtime files that no model's files reach any more (``reached_files``: a model
     emitted again without ``--adapt`` leaves no adaptation runtime behind). Removed with it, so
     that the folder builds nothing a model it holds does not use."""
+    return _stale_and_texts(folder, name, files)[0]
+
+
+def _stale_and_texts(folder: Union[str, Path], name: str, files: Dict[str, str]):
+    """``stale_files`` and the C texts of the folder without them (``_folder_texts``), read
+    once."""
     folder = Path(folder)
     adapt = [folder / f for f in (f"{name}_adapt.c", f"{name}_adapt.h")
              if f not in files and (folder / f).is_file() and written_by_fricgen(folder / f)]
     texts = _folder_texts(folder, files, adapt)
     reached = reached_files(texts)
-    return adapt + [folder / f for f in sorted(texts)
-                    if f.startswith("fric_") and f not in files and f not in reached]
+    unused = [f for f in sorted(texts) if f.startswith("fric_") and f not in files and f not in reached]
+    return adapt + [folder / f for f in unused], {f: t for f, t in texts.items() if f not in unused}
 
 
 def remove_stale(folder: Union[str, Path], name: str, files: Dict[str, str]) -> List[str]:
@@ -135,8 +141,7 @@ def package_files(folder: Union[str, Path], files: Dict[str, str], name: str) ->
     (['CMakeLists.txt', 'Kconfig', 'library.json', 'zephyr/module.yml'], True)
     """
     folder = Path(folder)
-    stale = stale_files(folder, name, files)
-    texts = _folder_texts(folder, files, stale)
+    stale, texts = _stale_and_texts(folder, name, files)
     names = (set(generated_models(folder)) - {path.stem for path in stale}) | {name}
     models = sorted(m for m in names if not (m.endswith("_adapt") and m[:-len("_adapt")] in names))
     lib = library_name(folder)
