@@ -4,13 +4,14 @@ the controller on glitched inputs give the twins' bits under every compiler x -s
 machine (gcc, clang, arm-none-eabi-gcc under QEMU when installed), with no fused multiply-add."""
 import shutil
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from fricgen import codegen
 from fricgen._io import resource_dir
-from fricgen.codegen.package import STRICT_FLOAT_FLAGS
+from fricgen.codegen.cbuild import STRICT_WARNINGS
 from fricgen.control.backstepping import AdaptiveBackstepping
 from fricgen.control.faults import Glitched, random_glitches
 from fricgen.control.loop import default_axis, simulate
@@ -42,6 +43,23 @@ def test_the_include_check_sees_a_source_without_the_header(tmp_path):
     (tmp_path / "none.c").write_text('#include "b.h"\n#include <math.h>\n')
     (tmp_path / "b.h").write_text('#include "none.c"\n')      # a cycle ends
     assert fm.includes_float_semantics(tmp_path) == {"none.c": False, "via.c": True}
+
+
+ARM_NEWLIB = Path("/usr/lib/arm-none-eabi/include")
+
+
+@pytest.mark.skipif(shutil.which("clang") is None or not ARM_NEWLIB.is_dir(),
+                    reason="no clang or no newlib headers")
+def test_clang_builds_the_runtime_for_the_cortex_m4f_without_a_warning(tmp_path):
+    """The x86-only float pragmas stay away from Arm, where clang ignores them with a warning
+    (an error under -Werror)."""
+    folder = runtime_folder(tmp_path)
+    sources = sorted(p.name for p in folder.glob("*.c"))
+    proc = subprocess.run(["clang", "--target=thumbv7em-none-eabihf", "-mcpu=cortex-m4",
+                           "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard", "-std=c99", "-O2", "-isystem",
+                           str(ARM_NEWLIB), *STRICT_WARNINGS, "-c", *sources],
+                          cwd=folder, capture_output=True, text=True)
+    assert proc.returncode == 0 and "fric_adapt.c" in sources, proc.stderr[:2000]
 
 
 @pytest.mark.parametrize("flag", ["-ffast-math", "-ffinite-math-only"])
@@ -88,9 +106,8 @@ def test_a_flag_that_relaxes_ieee_arithmetic_gives_the_twins_bits_or_a_compile_e
     """-funsafe-math-optimizations, -fassociative-math, -freciprocal-math and -ffp-contract=fast
     under gcc and clang (-std=gnu99 -O2, FMA available): every build of the runtime with both
     models and the controller either refuses to compile, naming the flag, or equals the twins'
-    bits with no fused multiply-add. Clang's -ffp-contract=fast alone overrides its pragmas
-    (it contracts regardless): there the build files fricgen writes add -ffp-contract=off after
-    the project's flags (``package.STRICT_FLOAT_FLAGS``), and the build with both gives the bits."""
+    bits with no fused multiply-add. Clang's -ffp-contract=fast overrides its contract pragma;
+    on x86 the constrained operations of ``STDC FENV_ACCESS ON`` hold against it."""
     models = {"fm": model10, "gb": fm.table1_greybox(bench)}
     for name, model in models.items():
         codegen.emit(model, tmp_path / "src", name, activation_impl="fast", with_controller=True)
@@ -98,9 +115,7 @@ def test_a_flag_that_relaxes_ieee_arithmetic_gives_the_twins_bits_or_a_compile_e
     rows = np.zeros((1, 6), dtype=np.float32)
     settings = AdaptiveBackstepping()
     twin = fm.twin_lines(models, "fast", v, rows, settings)
-    sets = [fm.FlagSet(c, "gnu99", "-O2", extra + (" " + " ".join(STRICT_FLOAT_FLAGS)
-                                                   if (c, extra) == ("clang", "-ffp-contract=fast")
-                                                   else "")) for c in fm.HOST_COMPILERS if shutil.which(c)]
+    sets = [fm.FlagSet(c, "gnu99", "-O2", extra) for c in fm.HOST_COMPILERS if shutil.which(c)]
     assert sets
     for k, flags in enumerate(sets):
         try:
