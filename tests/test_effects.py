@@ -150,4 +150,4 @@ def test_an_extra_source_that_dwarfs_the_models_friction_is_no_friction_source(d
     spike = ExtraFrictionSource(fc=-1.1, fs=-2.2e8, vs=7e-4, B=-1.1)
     assert plausible.implausible_beside(default_model, speeds) == ""
     why = spike.implausible_beside(default_model, speeds)
-    assert why.startswith("its force reaches 2.2e+08 N") and f"({level:.3g} N)" in why
+    assert why.startswith("its force reaches 2.2e+08 at") and f"({level:.3g}; both in the log" in why

@@ -147,8 +147,9 @@ class ExtraFrictionSource(Effect):
         level = float(np.max(np.abs(curve(v))))
         peak = float(np.max(np.abs(self.force(Signals(curve, v=v)))))
         if peak > PLAUSIBLE_FACTOR * level:
-            return (f"its force reaches {peak:.3g} N at the log's speeds, beyond {PLAUSIBLE_FACTOR:g} "
-                    f"times the model's friction there ({level:.3g} N)")
+            return (f"its force reaches {peak:.3g} at the log's speeds, beyond "
+                    f"{PLAUSIBLE_FACTOR:g} times the model's largest friction there ({level:.3g}; "
+                    "both in the log's force units)")
         return ""
 
     @staticmethod
