@@ -452,6 +452,16 @@ def test_default_params_scale_the_per_sample_gains_with_the_sample_time(default_
     for bad in (0.0, -1e-3, float("nan"), float("inf")):
         assert lib.fm_adapt_default_params(fast, lyapunov, bad) == -2
     assert lib.fm_adapt_default_params(fast, 7, 1e-3) == -2
+    # a ts so long that the leakage per sample reaches 1 (or lambda 0), which init would refuse
+    before = bytes(ffi.buffer(fast))
+    for enum in (lyapunov, rls):
+        assert lib.fm_adapt_default_params(fast, enum, 1e3) == -2
+    assert bytes(ffi.buffer(fast)) == before
+    state = ffi.new("fric_adapt_t *")
+    for enum in (lyapunov, rls):                # every ts it accepts, init accepts
+        for ts in (1e-5, 1e-2, 1.0):
+            assert lib.fm_adapt_default_params(fast, enum, ts) == 0
+            assert lib.fric_adapt_init(state, fast) == 0, (enum, ts)
     assert lib.fm_adapt_default_params(ffi.NULL, lyapunov, 1e-3) == -1
 
 

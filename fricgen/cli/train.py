@@ -268,7 +268,7 @@ def register(p) -> None:
     p.add_argument("--rotary", action="store_true",
                    help="a rotary axis (a joint, a shaft): v in rad/s, force in Nm, inertia in kg m^2 "
                    "in every report and record (default: a linear axis, unless the header names a "
-                   "joint's columns q, dq, qd, tau or effort)")
+                   "joint's columns q, dq, qd, tau, effort or torque)")
     p.add_argument("--name", default=DEFAULT_MODEL_NAME,
                    help=f"model name, a C identifier not beginning with fric_ (default {DEFAULT_MODEL_NAME})")
     p.set_defaults(run=run)

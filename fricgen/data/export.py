@@ -29,12 +29,13 @@ QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A", 
 
 #: Column names of robot and drive logs, read as fricgen's quantities where the file has no
 #: column of fricgen's own name for it and ``--columns`` maps none: a joint's position q,
-#: velocity dq (qd), torque tau (effort), motor current. They name a rotary axis
-#: (``names_rotary_axis``).
-ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "current": "i",
-           "temp": "temperature"}
+#: velocity dq (qd), torque tau (effort, torque), motor current, and the plain English names.
+#: The joint's names name a rotary axis (``names_rotary_axis``).
+ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "torque": "force",
+           "current": "i", "temp": "temperature", "time": "t", "position": "x", "velocity": "v",
+           "speed": "v"}
 #: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
-ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort")
+ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort", "torque")
 
 #: Two files whose time spans differ by this factor or more are not timed in one unit.
 SPAN_RATIO = 100.0
@@ -200,7 +201,8 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
 
 
 def names_rotary_axis(cells) -> bool:
-    """Whether a header's names are a robot joint's (q, dq, qd, tau, effort: ``ROTARY_NAMES``)."""
+    """Whether a header's names are a robot joint's (q, dq, qd, tau, effort, torque:
+    ``ROTARY_NAMES``)."""
     return any(c.strip().lower() in ROTARY_NAMES for c in cells)
 
 

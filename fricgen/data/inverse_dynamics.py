@@ -301,11 +301,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     if not given:                                       # run by run: x jumps between runs
         v = np.concatenate([np.gradient(part, ts) for part in np.split(x, np.flatnonzero(junction))])
     check_moves(v, x)
-    if given and x is not None:
-        check_units(x, v, ts)
     weight = None
     if runs is None:                # what the columns hold (x jumps between runs: one run only)
         weight = check_log_columns(force, ts, v if given else None, x, weight=not gravity)
+    if given and x is not None:     # after the columns' check: a swapped v also disagrees with x
+        check_units(x, v, ts)
     noise = velocity_noise(v)
     if not given:                           # encoder counts: the central difference's rounding
         noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))
@@ -326,7 +326,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool) & use
         if body_window is None:             # the body where dv/dt explains the force best
-            body_window = explaining_window(v, raw, rows & whole, ts, span)
+            body_window = explaining_window(v, raw, rows & whole, ts, span, angle, runs)
         if body_window is not None:
             body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs, noise)
     if window is None:
@@ -447,10 +447,14 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: f
 
 
 def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
-                      sample_time: float, span: Optional[int] = None) -> Optional[int]:
+                      sample_time: float, span: Optional[int] = None,
+                      angle: Optional[np.ndarray] = None,
+                      runs: Optional[np.ndarray] = None) -> Optional[int]:
     """The window at which the mass is identified: the candidate whose smoothed v and dv/dt
     explain the raw force best over ``rows`` (least residual of f = m dv/dt + F(v) + o by least
-    squares, F by ``friction_basis`` per direction). The raw force's noise is the same at every
+    squares, F by ``friction_basis`` per direction, with the forces of known shape that the body
+    holds: the weight of ``angle`` and the runs' offsets, ``known_columns``; a link's weight left
+    out would be explained by whatever window correlates with it). The raw force's noise is the same at every
     window, so the least residual marks the smoothing that leaves dv/dt least noisy without
     smearing the motion: a short window's noisy derivative pulls m towards 0 (errors in the
     variables), and the short window ``choose_window`` gives a small mass would keep it there.
@@ -462,8 +466,10 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
     at = at[::max(1, at.size // EXPLAINING_ROWS)]
     scores = []
     for window in candidate_windows(rows.size if span is None else span):
-        a = smooth(v, window, deriv=1, delta=sample_time)[at]
-        basis = np.column_stack([a, friction_basis(smooth(v, window)[at], odd=False)])
+        a, v_s = smooth(v, window, deriv=1, delta=sample_time)[at], smooth(v, window)[at]
+        known = known_columns(v_s, None if angle is None else smooth(angle, window)[at],
+                              None if runs is None else runs[at])[0]
+        basis = np.column_stack([a, friction_basis(v_s, odd=False)] + known)
         coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
         scores.append((float(np.sum((force[at] - basis @ coef) ** 2)), window))
     return min(scores)[1]

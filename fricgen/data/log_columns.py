@@ -37,10 +37,15 @@ def _residual(force: np.ndarray, a: np.ndarray, v: np.ndarray, *extra: np.ndarra
     return float(np.sqrt(np.mean((force - columns @ theta) ** 2)))
 
 
+def _window(n: int) -> int:
+    """The checks' smoothing window for a log of ``n`` rows: about a 200th of it, 7 to 101."""
+    return min(max(7, 2 * (n // 400) + 1), 101)
+
+
 def _derivatives(values: np.ndarray, force: np.ndarray, ts: float):
-    """The column, its first and second derivatives (cubic Savitzky-Golay over about a 200th of
-    the log, 7 to 101 samples) and the force, a window from each end; None for a short log."""
-    window = min(max(7, 2 * (values.size // 400) + 1), 101)
+    """The column, its first and second derivatives (cubic Savitzky-Golay, ``_window``) and the
+    force, a window from each end; None for a short log."""
+    window = _window(values.size)
     if values.size < 4 * window:
         return None
     inner = slice(window, values.size - window)
@@ -70,14 +75,15 @@ def check_motion_column(name: str, signals) -> None:
                         f"{named:.3g} with {name} as the {other_name}): is it the {other_column} column?")
 
 
-def check_force_column(named, other) -> None:
+def check_force_column(named, other, weight: Tuple[np.ndarray, ...] = ()) -> None:
     """``DataError`` where a log's v and force are swapped: the force's textbook law
     (``_residual``) read the other way round, the force as the velocity and v as the force,
     leaves at most SWAPPED_SHARE of the share of the variance it leaves read as named. (A
     viscous law reads alike both ways and passes; the robot joints of benchmarks/real_data.py
     leave 0.68 or more.) ``named``, ``other``: the ``_derivatives`` of v beside the force and
-    of the force beside v."""
-    share = [_residual(f, d1, d0) ** 2 / max(float(np.var(f)), 1e-300)
+    of the force beside v; ``weight``: columns of the position both readings take (sin x and
+    cos x: a link's weight would otherwise leave the force unexplained, read as named)."""
+    share = [_residual(f, d1, d0, *weight) ** 2 / max(float(np.var(f)), 1e-300)
              for d0, d1, _, f in (named, other)]
     if share[1] <= SWAPPED_SHARE * share[0]:
         raise DataError(f"v and the force look swapped: friction and inertia explain v from the "
@@ -110,5 +116,7 @@ def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = No
     if v is None or x is None:
         check_motion_column("v" if x is None else "x", of_v if x is None else of_x)
     if v is not None:
-        check_force_column(of_v, _derivatives(force, v, ts))
+        inner = slice(_window(v.size), v.size - _window(v.size))
+        weight_columns = () if x is None else (np.sin(x[inner]), np.cos(x[inner]))
+        check_force_column(of_v, _derivatives(force, v, ts), weight_columns)
     return weight_residuals(of_x) if weight and of_x is not None else None

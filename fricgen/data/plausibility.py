@@ -140,6 +140,19 @@ def _scatter(a: np.ndarray, b: np.ndarray) -> float:
     return spread / level if level > 0 else math.inf
 
 
+def _pushes_at_rest(speed: np.ndarray, force: np.ndarray) -> bool:
+    """Whether the least-squares line of the force (in the direction of motion) on the speed
+    crosses 0 at a positive speed, two standard errors clear (both directions folded): friction has
+    a Coulomb level at v = 0; a speed column read as the force (swapped) has none."""
+    basis = np.column_stack([np.ones_like(speed), speed])
+    if speed.size < 3 or np.ptp(speed) == 0:
+        return False
+    coef, *_ = np.linalg.lstsq(basis, force, rcond=None)
+    resid = force - basis @ coef
+    cov = np.linalg.pinv(basis.T @ basis) * float(resid @ resid) / max(speed.size - 2, 1)
+    return bool(coef[0] + 2.0 * math.sqrt(max(cov[0, 0], 0.0)) < 0.0)
+
+
 def check_sweep_shape(v: np.ndarray, f: np.ndarray, source: str, accept_unusual: bool = False,
                       warn: Callable[[str], None] = print) -> None:
     """A sweep (v, f) whose force follows the speed as friction does: refused (or, with
@@ -148,10 +161,17 @@ def check_sweep_shape(v: np.ndarray, f: np.ndarray, source: str, accept_unusual:
     keep = _thin(v.size)
     moving = v[keep] != 0
     speed, force = np.abs(v[keep][moving]), (np.sign(v[keep]) * f[keep])[moving]
-    if speed.size < 20:
+    if speed.size < 2:
         return                      # the sweep reader names too few rows
-    f_on_v, v_on_f = _scatter(speed, force), _scatter(force, speed)
     slowest = float(speed.min()) / float(speed.max())
+    if speed.size < 20:             # too few for running medians: the Coulomb level's sign
+        if SLOWEST_SHARE < slowest < 1 and _pushes_at_rest(speed, force):
+            _refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of "
+                            "its fastest) and the force's line through the points reaches 0 before "
+                            "v does (no Coulomb level): are the columns v and f swapped?",
+                            accept_unusual, warn)
+        return
+    f_on_v, v_on_f = _scatter(speed, force), _scatter(force, speed)
     if SLOWEST_SHARE < slowest < 1 and v_on_f < SWAP_RATIO * f_on_v:
         _refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of its "
                         f"fastest) and v follows f more closely than f follows v: are the columns v "

@@ -272,7 +272,7 @@ class MatrixRow:
 
 def _host_build(folder: Path, fs: FlagSet, out: Path) -> MatrixRow:
     out.mkdir(parents=True, exist_ok=True)
-    flags = fs.lang_flags + host_fma_flags() + STRICT_WARNINGS + [f"-I{folder}"]
+    flags = host_fma_flags() + STRICT_WARNINGS + fs.lang_flags + [f"-I{folder}"]   # extra last
     runtime = []
     for src in sorted(folder.glob("*.c")):
         obj = out / (src.stem + ".o")
