@@ -264,7 +264,7 @@ TRIAL_ROWS = [
     ("emit --adapt, a 20-neuron ELM", ["emit", "elm20.json", "-o", OUT, "--adapt"],
      "the model has 21 output parameters; online adaptation holds at most 18 (FRIC_ADAPT_MAX_PARAMS)"),
     ("a sweep with its own column names", ["train", "velocity_force.csv", "-o", OUT],
-     "missing t and v or x (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
+     "missing t (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],
