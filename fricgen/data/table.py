@@ -35,8 +35,8 @@ def header_hint(cells: Sequence[str]) -> str:
         united = _WITH_UNIT.fullmatch(cell)
         if united:
             return (f"; write the names without units ({cell.strip()!r} as "
-                    f"{united.group(1).lower()!r}, or map it: --columns v={cell.strip()!r}) "
-                    "and the values in SI units (s, m, m/s, A, N; rad, rad/s and Nm for a joint)")
+                    f"{united.group(1).lower()!r}) and the values in SI units (s, m, m/s, A, N; "
+                    "rad, rad/s and Nm for a joint)")
     return ""
 
 
