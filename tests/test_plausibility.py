@@ -321,7 +321,6 @@ def test_a_joint_log_half_in_degrees_names_degrees(in_degrees, hint):
 def test_a_small_sweep_with_v_and_f_swapped_is_refused_and_a_real_one_is_not():
     """Under 20 rows no running median: a 'force' whose line on the 'speed' reaches 0 before
     v = 0 (no Coulomb level), on speeds that never near 0, is the columns swapped."""
-    from fricgen.data.plausibility import check_sweep_shape
     speed = np.array([0.01, 0.03, 0.1, 0.3, 1.0, 2.0])
     force = 1.2 + 0.5 * np.exp(-speed / 0.05) + 0.6 * speed
     v, f = np.concatenate([speed, -speed]), np.concatenate([force, -force])

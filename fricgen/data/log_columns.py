@@ -42,13 +42,17 @@ def _window(n: int) -> int:
     return min(max(7, 2 * (n // 400) + 1), 101)
 
 
+def _inner(n: int) -> slice:
+    """The rows the checks use: all but a ``_window`` at each end."""
+    return slice(_window(n), n - _window(n))
+
+
 def _derivatives(values: np.ndarray, force: np.ndarray, ts: float):
     """The column, its first and second derivatives (cubic Savitzky-Golay, ``_window``) and the
-    force, a window from each end; None for a short log."""
-    window = _window(values.size)
+    force at the ``_inner`` rows; None for a short log."""
+    window, inner = _window(values.size), _inner(values.size)
     if values.size < 4 * window:
         return None
-    inner = slice(window, values.size - window)
     return [smooth(values, window, k, ts)[inner] for k in range(3)] + [force[inner]]
 
 
@@ -116,7 +120,7 @@ def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = No
     if v is None or x is None:
         check_motion_column("v" if x is None else "x", of_v if x is None else of_x)
     if v is not None:
-        inner = slice(_window(v.size), v.size - _window(v.size))
+        inner = _inner(v.size)
         weight_columns = () if x is None else (np.sin(x[inner]), np.cos(x[inner]))
         check_force_column(of_v, _derivatives(force, v, ts), weight_columns)
     return weight_residuals(of_x) if weight and of_x is not None else None
