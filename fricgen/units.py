@@ -13,8 +13,8 @@ class Units:
     Examples
     --------
     >>> from fricgen.units import units_of
-    >>> units_of(True).viscous, units_of(False).mass
-    ('Nm s/rad', 'kg')
+    >>> units_of(True).viscous, units_of(False).mass, units_of(True).effort
+    ('Nm s/rad', 'kg', 'torque')
     """
 
     kind: str
@@ -23,10 +23,11 @@ class Units:
     force: str
     viscous: str
     mass: str
+    effort: str = "force"
 
 
 LINEAR = Units("linear", "m", "m/s", "N", "N s/m", "kg")
-ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2")
+ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2", "torque")
 
 
 def units_of(rotary: bool) -> Units:

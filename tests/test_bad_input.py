@@ -158,7 +158,7 @@ def _trial_files(d, log):
     (d / "header_only_log.csv").write_text("t,x,v,i\n\n")
     (d / "blank.csv").write_text("\n\n")
     sweep = (d / "sweep.csv").read_text().split("\n", 1)[1]
-    (d / "velocity_force.csv").write_text("velocity,force\n" + sweep)
+    (d / "velocity_friction.csv").write_text("velocity,friction\n" + sweep)
     from fricgen.data import prepare, read_sweep_csv
     from fricgen.fit.elm import ELMRegressor
     data = prepare(read_sweep_csv(d / "sweep.csv"), vs_max=0.02)
@@ -263,8 +263,8 @@ TRIAL_ROWS = [
      "the points are all at one speed: a friction law needs two speeds or more"),
     ("emit --adapt, a 20-neuron ELM", ["emit", "elm20.json", "-o", OUT, "--adapt"],
      "the model has 21 output parameters; online adaptation holds at most 18 (FRIC_ADAPT_MAX_PARAMS)"),
-    ("a sweep with its own column names", ["train", "velocity_force.csv", "-o", OUT],
-     "missing t (header is velocity,force); a sweep? --columns v=COLUMN,f=COLUMN names its columns"),
+    ("a sweep with its own column names", ["train", "velocity_friction.csv", "-o", OUT],
+     "missing column 'f' (header is velocity,friction)"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],

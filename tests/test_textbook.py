@@ -137,11 +137,31 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "rad/s" in out and "kg m^2" in out and "m/s;" not in out
     offset = next(line for line in out.splitlines() if line.startswith("offset"))
-    assert " Nm" in offset and not re.search(r"\d N\b|\(N\)", out), out
+    assert " Nm" in offset and "constant torque" in offset and "constant force" not in offset
+    assert not re.search(r"\d N\b|\(N\)", out), out
     assert "resampled from jittering time stamps" in out
     record = json.loads((tmp_path / "m.json").read_text())["training"]
     assert record["units"] == "rotary"
     assert abs(record["axis"]["mass"] - 0.3) < 3 * record["axis"]["mass_se"] + 0.03
+    assert main(["emit", str(tmp_path / "m.json"), "-o", str(tmp_path / "c")]) == 0
+    header = (tmp_path / "c" / "friction_model.h").read_text()
+    assert "The compensating torque near zero speed, in Nm" in header
+    assert "Nm, the constant torque" in header
+    assert not re.search(r"newtons|\bN \(Nm\)|\bm/s\b", header)
+
+
+def test_a_sweep_of_speed_and_torque_columns_trains_in_rad_and_nm(tmp_path, capsys):
+    """Named as a drive engineer's spreadsheet names them: speed and torque, no time column."""
+    path = tmp_path / "sweep.csv"
+    speeds = [0.05, 0.2, 0.5, -0.05, -0.2, -0.5]
+    path.write_text("speed,torque\n" + "".join(f"{v},{(2.0 + 2.2 * abs(v)) * np.sign(v)}\n"
+                                               for v in speeds))
+    assert main(["train", str(path), "-o", str(tmp_path / "m.json")]) == 0
+    out = capsys.readouterr().out
+    assert "F_c = 2 " in out and "Nm" in out and "rad/s" in out
+    model = FrictionModel.load(tmp_path / "m.json")
+    assert model.training["units"] == "rotary"
+    np.testing.assert_allclose(model.force([0.3, -0.3]), [2.66, -2.66], atol=1e-6)
 
 
 @pytest.mark.parametrize("column, value", [("F_std", "0"), ("F_std", "-1"), ("n", "nan")])

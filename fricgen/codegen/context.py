@@ -103,7 +103,7 @@ def axis_context(model: FrictionModel) -> dict:
     units = model.units
     if axis is None:
         return {"axis": [], "axis_units": units, "offset_in_xv": False}
-    fields = [("OFFSET", axis.offset, f"{units.force}, the constant force"),
+    fields = [("OFFSET", axis.offset, f"{units.force}, the constant {units.effort}"),
               ("OFFSET_SE", axis.offset_se, f"{units.force}, its standard error"),
               ("MASS", axis.mass,
                f"{units.mass}, {'identified' if axis.mass_from == 'data' else 'given to train'}"),

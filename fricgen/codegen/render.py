@@ -193,7 +193,7 @@ def inputs_context(model: FrictionModel, activation_impl: str) -> Optional[dict]
                        "high": c_float(t.span[1])}
     return {"load": load, "temperature": temperature, "exp_fn": exp_fn, "header": header,
             "force_unit": units.force, "speed_unit": units.speed,
-            "load_word": "torque" if units.kind == "rotary" else "force"}
+            "load_word": units.effort}
 
 
 def band_context(model: FrictionModel) -> Optional[dict]:

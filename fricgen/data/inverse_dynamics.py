@@ -232,21 +232,21 @@ class Identification:
         """The constant force o: beside a symmetric model, held in an asymmetric one, or beside
         it as a load (``as_load``)."""
         if self.body.offset is None:
-            return ("offset    not determined: the log moves one way only, where a constant force "
-                    "is one with the friction")
+            return ("offset    not determined: the log moves one way only, where a constant "
+                    f"{units.effort} is one with the friction")
         o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} {units.force}"
         if self.load == "textbook":
-            return (f"{o}: a constant force beside the friction (the even part of the force, "
-                    "which the textbook law's curves leave out, per direction as symmetric; "
+            return (f"{o}: a constant {units.effort} beside the friction (the even part of the "
+                    f"{units.effort}, which the textbook law's curves leave out, per direction as symmetric; "
                     f"{COMPENSATED})")
         if self.load:
             return (f"{o}: a load beside the friction (held in the two curves, it would make one "
                     f"of them push the axis; {COMPENSATED})")
         if asymmetric:
-            return (f"{o}: the even part of the force, held in the two curves (a constant force "
-                    "and a friction that differs between the directions are not told apart)")
-        return (f"{o}: a constant force beside the friction (the even part of the force, which "
-                f"the symmetric model leaves out; {COMPENSATED})")
+            return (f"{o}: the even part of the {units.effort}, held in the two curves (a constant "
+                    f"{units.effort} and a friction that differs between the directions are not told apart)")
+        return (f"{o}: a constant {units.effort} beside the friction (the even part of the "
+                f"{units.effort}, which the symmetric model leaves out; {COMPENSATED})")
 
     @property
     def parameter_budget(self) -> int:
