@@ -21,11 +21,12 @@ FLOAT32_MAX = float(np.finfo(np.float32).max)
 #: The physical range of a real servo axis, from a micro stage to a heavy gantry, in SI units
 #: (``fricgen.data.plausibility`` checks data against it, ``FrictionModel`` a model.json):
 #: the fastest speed of the data, m/s (1 um/s scans to 20 m/s linear motors and belt drives);
-#: v_sat = 3 vs_max, m/s (Stribeck velocities of 0.1 um/s to 0.7 m/s); the largest friction
+#: v_sat, m/s, bounded as the speed (a textbook law's v_sat is the fastest speed of its data, a
+#: grey-box's 3 vs_max, from Stribeck velocities of 0.03 um/s up); the largest friction
 #: force, N (10 uN in a flexure stage to 100 kN in a heavy gantry); the moving mass, kg (1 g to
 #: 100 t); the largest motor current of a log, A (1 uA in a voice coil to 10 kA in the largest
 #: drives).
-PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 2.0, "m/s"),
+PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 20.0, "m/s"),
             "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg"), "current": (1e-6, 1e4, "A")}
 #: Within PHYSICAL, beyond what most axes do (a warning line, no refusal): the fastest speed
 #: above 5 m/s, v_sat above 0.3 m/s (Stribeck velocities above 0.1 m/s): speeds in m/min or
@@ -35,10 +36,10 @@ USUAL_MAX = {"speed": 5.0, "v_sat": 0.3, "current": 500.0}
 #: ... and a largest friction force below 0.1 N: forces in kN read as N land there.
 USUAL_MIN = {"force": 0.1}
 #: The same of a rotary axis (a robot joint, a motor shaft), in rad/s, Nm and kg m^2: speeds of
-#: 1 urad/s to 1000 rad/s (a motor shaft at 9500 rpm), v_sat to 300 rad/s, friction torques of
+#: 1 urad/s to 1000 rad/s (a motor shaft at 9500 rpm), v_sat likewise, friction torques of
 #: 10 uNm to 100 kNm, inertias of 1e-8 kg m^2 (a small rotor) to 1e5 kg m^2; most joints and
 #: shafts turn below 300 rad/s, with v_sat below 30 rad/s.
-PHYSICAL_ROTARY = {"speed": (1e-6, 1000.0, "rad/s"), "v_sat": (1e-7, 300.0, "rad/s"),
+PHYSICAL_ROTARY = {"speed": (1e-6, 1000.0, "rad/s"), "v_sat": (1e-7, 1000.0, "rad/s"),
                    "force": (1e-5, 1e5, "Nm"), "mass": (1e-8, 1e5, "kg m^2"),
                    "current": PHYSICAL["current"]}
 USUAL_MAX_ROTARY = {"speed": 300.0, "v_sat": 30.0, "current": 500.0}
@@ -103,7 +104,8 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
     elif column == "x":
         units = "mm (--scale x=0.001)"
     else:
-        units = f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001)"
+        units = (f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001), or the axis a "
+                 "joint or shaft in rad/s (--rotary)")
     return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in "
             f"{units}?")
 

@@ -162,7 +162,10 @@ SLOW_TESTS = {"test_emulated_asymmetric_fast_model_is_bit_equal_to_python_twin",
 
 def pytest_collection_modifyitems(config, items):
     for item in items:
-        if item.module.__name__.rpartition(".")[2] in SLOW_MODULES or item.originalname in SLOW_TESTS:
+        module = getattr(item, "module", None)             # a doctest item has none
+        if module is None:
+            continue
+        if module.__name__.rpartition(".")[2] in SLOW_MODULES or item.originalname in SLOW_TESTS:
             item.add_marker(pytest.mark.slow)
 
 

@@ -313,7 +313,8 @@ PLAUSIBILITY_ROWS = [
     ("a CSV with quoted thousands separators", ["train", "thousands_quoted.csv", "-o", OUT],
      "are its numbers written with ',' between thousands (1,740.65)?"),
     ("a slow sweep in mm/s", ["train", "sweep_slow_mm.csv", "-o", OUT],
-     "above the 5 m/s of most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?)"),
+     "above the 5 m/s of most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001), "
+     "or the axis a joint or shaft in rad/s (--rotary)? (--accept-unusual"),
     ("--merge-scale without --merge", ["train", *DRIVE, "--merge-scale", "t=0.001", "-o", OUT],
      "need --merge FILE"),
     ("--merge-scale of a quantity the merge file lacks", ["train", *DRIVE, *MERGE, "--merge-scale", "v=2",

@@ -233,11 +233,11 @@ def test_a_log_timed_in_ms_read_as_s_is_named():
 
 
 def test_a_value_at_a_physical_bound_but_for_rounding_is_within_it():
-    """A sweep whose fastest speed is 2 m/s gives a textbook law v_sat = 2.0000000000000004:
-    at the 2 m/s bound, not "2 m/s, above the 2 m/s"; a real excess is still refused."""
+    """A sweep whose fastest speed is 20 m/s gives a textbook law v_sat = 20.000000000000004:
+    at the 20 m/s bound, not "20 m/s, above the 20 m/s"; a real excess is still refused."""
     from fricgen._validate import physical_problem
-    assert physical_problem("v_sat", "v_sat", 2.0000000000000004) == ""
-    assert physical_problem("v_sat", "v_sat", 2.01) == "v_sat is 2.01 m/s, above the 2 m/s of any real axis"
+    assert physical_problem("v_sat", "v_sat", 20.000000000000004) == ""
+    assert physical_problem("v_sat", "v_sat", 20.1) == "v_sat is 20.1 m/s, above the 20 m/s of any real axis"
     assert physical_problem("v_sat", "v_sat", 1e-7 * (1 - 1e-12)) == ""
 
 

@@ -148,6 +148,26 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys):
     assert "The compensating torque near zero speed, in Nm" in header
     assert "Nm, the constant torque" in header
     assert not re.search(r"newtons|\bN \(Nm\)|\bm/s\b", header)
+    source = (tmp_path / "c" / "friction_model.c").read_text()
+    assert "Nm per unit AIM" in source and "B, Nm s/rad" in source
+    assert not re.search(r"newtons|N s/m|\bm/s\b", source)
+
+
+def test_a_header_that_writes_a_rotary_unit_names_a_joint(tmp_path, capsys):
+    """rpm and Nm in the header, mapped with --columns and scaled to rad/s: a joint's model, in
+    rad/s and Nm (a new user's trial: it was read as a linear axis of 8 m/s)."""
+    from fricgen.data.export import names_rotary_axis
+    assert names_rotary_axis(["speed [deg/s]", "torque [Nm]"]) and names_rotary_axis(["v (rad/s)"])
+    assert not names_rotary_axis(["v [m/s]", "f [N]"]) and not names_rotary_axis(["temp [degC]", "Nmax"])
+    path = tmp_path / "rpm.csv"
+    rpm = [10.0, 30.0, 76.0, -10.0, -30.0, -76.0]
+    path.write_text("rpm,Nm\n" + "".join(f"{n},{(0.8 + 0.12 * abs(n) * 0.10472) * np.sign(n)}\n"
+                                         for n in rpm))
+    assert main(["train", str(path), "--columns", "v=rpm,f=Nm", "--scale", "v=0.10472",
+                 "-o", str(tmp_path / "m.json")]) == 0
+    out = capsys.readouterr().out
+    assert "Nm s/rad" in out and "F_c = 0.8 " in out
+    assert FrictionModel.load(tmp_path / "m.json").training["units"] == "rotary"
 
 
 def test_a_sweep_of_speed_and_torque_columns_trains_in_rad_and_nm(tmp_path, capsys):
@@ -162,6 +182,13 @@ def test_a_sweep_of_speed_and_torque_columns_trains_in_rad_and_nm(tmp_path, caps
     model = FrictionModel.load(tmp_path / "m.json")
     assert model.training["units"] == "rotary"
     np.testing.assert_allclose(model.force([0.3, -0.3]), [2.66, -2.66], atol=1e-6)
+    swapped = tmp_path / "swapped.csv"              # the header says speed first; torque is
+    swapped.write_text("speed,torque\n" + "".join(f"{(2.0 + 2.2 * abs(v)) * np.sign(v)},{v}\n"
+                                                  for v in speeds))
+    assert main(["train", str(swapped), "-o", str(tmp_path / "s.json")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "are the columns v and f swapped?" in err
+    assert not (tmp_path / "s.json").exists()
 
 
 @pytest.mark.parametrize("column, value", [("F_std", "0"), ("F_std", "-1"), ("n", "nan")])
@@ -208,3 +235,20 @@ def test_the_report_says_why_a_law_of_higher_held_out_error_is_kept():
     assert report.law.name == "Coulomb + viscous, per direction"
     assert min(errors.values()) < errors[report.law.name]
     assert "the floor: 2 held-out points cannot show" in str(report) and "(3 needed)" in str(report)
+
+
+def test_the_reason_a_law_is_kept_names_the_floor_a_lower_error_did_not_beat():
+    """A law of the lowest mean held-out error whose folds scatter too much to beat the floor:
+    the kept law is the one that beat it, and the reason says the other did not beat the floor
+    (not that its lower error is within the noise of the kept one's)."""
+    from fricgen.fit.law_choice import ANCHOR, _choose, _why_kept
+    folds = np.linspace(1.0, 2.0, 4)
+    floor = 2.0 * folds                                      # the per-direction textbook law
+    steady = 1.2 * folds                                     # beats it on every fold
+    erratic = np.array([0.0, 0.0, 0.0, 6.8])                 # the lowest mean, one bad fold
+    mse = [floor, steady, erratic]
+    assert erratic.mean() < steady.mean() < floor.mean()
+    chosen = _choose(mse, 0)
+    assert chosen == 1
+    why = _why_kept(list(zip([ANCHOR, "steady", "erratic"], mse)), chosen, 0)
+    assert why.startswith("steady: erratic's lower held-out error does not beat the floor, " + ANCHOR)

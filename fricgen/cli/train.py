@@ -93,8 +93,6 @@ def training_columns(args) -> dict:
                 say(f"fricgen: warning: {source_name(args)}: column {named[0]!r} is not used; "
                     f"--columns {condition}={named[0]} makes the friction depend on it")
         return columns
-    if "v" in columns and "f" not in columns and "force" in columns and not {"x", "i"} & set(columns):
-        columns["f"] = columns.pop("force")          # a sweep of v and a force or torque column
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)
         raise DataError(f"{source_name(args)}: {describe_missing(columns, written)}")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Mapping, Optional, Sequence, Tuple, Union
@@ -194,16 +195,22 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
     for alias, name in ALIASES.items():
         if alias in columns and name not in columns and name not in layout.columns:
             columns[name] = columns.pop(alias)
+    if "f" not in columns and "v" in columns and "force" in columns and not {"t", "x", "i"} & set(columns):
+        columns["f"] = columns.pop("force")         # a sweep: a velocity and a force, no time
     for name, factor in scales.items():
         if name in columns:
             columns[name] = columns[name] * _factor(name, factor, path, mat)
     return columns
 
 
+#: A header cell that writes a rotary unit: Nm, rad, rad/s, rpm, deg/s.
+ROTARY_UNIT = re.compile(r"(?<![\w/])(nm|rad|rad/s|rpm|deg/s)(?![\w/])", re.IGNORECASE)
+
+
 def names_rotary_axis(cells) -> bool:
     """Whether a header's names are a robot joint's (q, dq, qd, tau, effort, torque:
-    ``ROTARY_NAMES``)."""
-    return any(c.strip().lower() in ROTARY_NAMES for c in cells)
+    ``ROTARY_NAMES``) or write a rotary unit (``ROTARY_UNIT``: "torque [Nm]", "rpm")."""
+    return any(c.strip().lower() in ROTARY_NAMES or ROTARY_UNIT.search(c) for c in cells)
 
 
 def _increasing_time(columns: Dict[str, np.ndarray], path) -> np.ndarray:

@@ -106,7 +106,10 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     """The fastest speed (|v|, or |dx/dt| of a log without v), the largest force (|f|, |force|)
     and the largest current (|i|), each but for the top 1 % of rows (``_top``), within
     ``_validate.PHYSICAL``; else one line naming the column and the --scale that brings it
-    there. Within it, beyond ``USUAL_MAX`` or below ``USUAL_MIN``: one warning line."""
+    there. Within it, beyond ``USUAL_MAX`` or below ``USUAL_MIN``: one warning line; a sweep's
+    speed beyond ``USUAL_MAX`` is refused, or with ``accept_unusual`` warned (its fastest speed
+    is the textbook law's v_sat: speeds in m/min or rpm would make every number of the model
+    wrong)."""
     checks = []
     if "v" in columns:
         checks.append(("v", "speed", "|v| (99th percentile)", _top(columns["v"])))
@@ -127,7 +130,11 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
                     else _unit_hint(column, quantity, value))
             _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
         elif quantity in USUAL_MAX and unusual(quantity, what, value, column):
-            warn(f"fricgen: warning: {source}: {unusual(quantity, what, value, column)}")
+            note = f"{source}: {unusual(quantity, what, value, column)}"
+            if quantity == "speed" and "t" not in columns:    # a sweep: its speeds are the law's
+                _refuse_or_warn(note, accept_unusual, warn)
+            else:
+                warn(f"fricgen: warning: {note}")
         elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
             warn(f"fricgen: warning: {source}: {unusually_small(quantity, what, value, column)}")
 

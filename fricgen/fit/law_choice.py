@@ -366,38 +366,45 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
         left_out.append(f"{candidates[-1][0]}: its held-out RMS is not {RICH_MARGIN:.0%} below "
                         "the best textbook law's")
         candidates = candidates[:-1]
-    chosen = _choose([m for _, m, _ in candidates],
-                     [i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR] or [0])
+    floor = next((i for i, (n, _, _) in enumerate(candidates) if n == ANCHOR), 0)
+    chosen = _choose([m for _, m, _ in candidates], floor)
     name, _, make = candidates[chosen]
     return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in scored),
                      tuple(left_out), int(folds.max()) + 1, sweep, one_out,
-                     _why_kept([(n, m) for n, m, _ in candidates], chosen))
+                     _why_kept([(n, m) for n, m, _ in candidates], chosen, floor))
 
 
-def _why_kept(candidates: List[Tuple[str, np.ndarray]], chosen: int) -> str:
+def _why_kept(candidates: List[Tuple[str, np.ndarray]], chosen: int, floor: int) -> str:
     """Why ``_choose`` kept ``chosen`` where another candidate's mean held-out error is lower:
-    too few held-out folds to tell (fewer than MIN_PAIRED), or a lower error within the noise
-    of the paired fold differences; "" where the kept one's is the lowest."""
+    too few held-out folds to tell (fewer than MIN_PAIRED), a lower error that does not beat the
+    floor beyond the noise, or one within the noise of the kept one's; "" where the kept one's
+    is the lowest."""
     lowest = min(range(len(candidates)), key=lambda k: candidates[k][1].mean())
     if lowest == chosen:
         return ""
-    other, folds = candidates[lowest][0], candidates[lowest][1].size
-    if folds < MIN_PAIRED:
-        return (f"{candidates[chosen][0]}, the floor: {folds} held-out point{'s' * (folds != 1)} "
+    (kept, _), (other, errors) = candidates[chosen], candidates[lowest]
+    if errors.size < MIN_PAIRED:
+        return (f"{kept}, the floor: {errors.size} held-out point{'s' * (errors.size != 1)} "
                 f"cannot show {other} better ({MIN_PAIRED} needed)")
-    return (f"{candidates[chosen][0]}: {other}'s lower held-out error is within "
-            f"{SE_RULE:g} standard error of their paired fold differences")
+    if lowest != floor and not _beats(errors, candidates[floor][1]):
+        return (f"{kept}: {other}'s lower held-out error does not beat the floor, "
+                f"{candidates[floor][0]}, by {SE_RULE:g} standard error of their paired fold "
+                "differences")
+    return (f"{kept}: {other}'s lower held-out error is within {SE_RULE:g} standard error of "
+            "their paired fold differences")
 
 
-def _choose(mse: List[np.ndarray], anchor: List[int]) -> int:
-    """The candidate kept (indices into ``mse``, simplest first): the anchor (the textbook
-    floor) unless others beat it by more than SE_RULE standard errors of their paired fold
-    differences, on MIN_PAIRED folds or more; then, among those, the simplest within SE_RULE
+def _beats(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether fold errors ``a`` are below ``b`` by more than the noise: the mean of their paired
+    differences above SE_RULE standard errors, on MIN_PAIRED folds or more."""
+    d = b - a
+    return d.size >= MIN_PAIRED and d.mean() > SE_RULE * d.std(ddof=1) / np.sqrt(d.size)
+
+
+def _choose(mse: List[np.ndarray], floor: int) -> int:
+    """The candidate kept (indices into ``mse``, simplest first): ``floor`` (the textbook
+    floor) unless others beat it (``_beats``); then, among those, the simplest within SE_RULE
     standard errors of the best."""
-    def beats(a, b):                       # a's mean error below b's by more than the noise
-        d = mse[b] - mse[a]
-        return d.size >= MIN_PAIRED and d.mean() > SE_RULE * d.std(ddof=1) / np.sqrt(d.size)
-    floor = anchor[0]
-    better = [k for k in range(len(mse)) if k == floor or beats(k, floor)]
+    better = [k for k in range(len(mse)) if k == floor or _beats(mse[k], mse[floor])]
     best = min(better, key=lambda k: mse[k].mean())
-    return next(k for k in better if k == best or not beats(best, k))
+    return next(k for k in better if k == best or not _beats(mse[best], mse[k]))
