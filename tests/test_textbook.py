@@ -252,3 +252,22 @@ def test_the_reason_a_law_is_kept_names_the_floor_a_lower_error_did_not_beat():
     assert chosen == 1
     why = _why_kept(list(zip([ANCHOR, "steady", "erratic"], mse)), chosen, 0)
     assert why.startswith("steady: erratic's lower held-out error does not beat the floor, " + ANCHOR)
+
+
+def test_a_spread_column_named_std_weights_the_points_and_an_unknown_column_is_named(tmp_path, capsys):
+    """std is read as F_std (the same model); a column the fit does not use gets one warning
+    line naming it, where it was dropped in silence (a new user's trial)."""
+    speeds = [0.5, 1.0, 2.0, 4.0, -0.5, -1.0, -2.0, -4.0]
+    spread = [0.3, 0.01, 0.01, 0.3, 0.01, 0.3, 0.01, 0.01]
+    rng = np.random.default_rng(1000)
+    rows = [(v, float((0.8 + 0.12 * abs(v)) * np.sign(v) + s * rng.standard_normal()), s)
+            for v, s in zip(speeds, spread)]
+    hashes = {}
+    for name in ("F_std", "std", "bench_id"):
+        path = tmp_path / f"{name}.csv"
+        path.write_text(f"v,f,{name}\n" + "".join(f"{v},{f!r},{s}\n" for v, f, s in rows))
+        assert main(["train", str(path), "-o", str(tmp_path / f"{name}.json")]) == 0
+        hashes[name] = FrictionModel.load(tmp_path / f"{name}.json").model_hash
+        err = capsys.readouterr().err
+        assert ("column 'bench_id' is not used" in err) == (name == "bench_id")
+    assert hashes["std"] == hashes["F_std"] != hashes["bench_id"]

@@ -79,6 +79,8 @@ def source_name(args) -> str:
 #: Column names that look like a log's load or temperature (``training_columns`` warns when
 #: one is left unmapped).
 OPERATING_NAME = re.compile(r"load|grav|temp")
+#: The columns a sweep's fit uses (``training.trainer.sweep_spread`` the last two).
+SWEEP_COLUMNS = ("v", "f", "f_std", "n")
 
 
 def training_columns(args) -> dict:
@@ -98,6 +100,10 @@ def training_columns(args) -> dict:
         raise DataError(f"{source_name(args)}: {describe_missing(columns, written)}")
     if args.mass is not None or args.force_constant is not None:
         raise UsageError(f"--mass and --force-constant apply to a motion log; {source_name(args)} is a sweep (v, f)")
+    unused = [c for c in columns if c not in SWEEP_COLUMNS]
+    if unused:
+        say(f"fricgen: warning: {source_name(args)}: column {unused[0]!r} is not used (a sweep's "
+            "columns are v, f, F_std: each point's standard deviation, and n: its count)")
     return columns
 
 

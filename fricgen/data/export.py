@@ -30,11 +30,13 @@ QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A", 
 
 #: Column names of robot and drive logs, read as fricgen's quantities where the file has no
 #: column of fricgen's own name for it and ``--columns`` maps none: a joint's position q,
-#: velocity dq (qd), torque tau (effort, torque), motor current, and the plain English names.
+#: velocity dq (qd), torque tau (effort, torque), motor current, the plain English names, and
+#: a sweep's standard deviation per point (std, sd, stdev, sigma) and count.
 #: The joint's names name a rotary axis (``names_rotary_axis``).
 ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "torque": "force",
            "current": "i", "temp": "temperature", "time": "t", "position": "x", "velocity": "v",
-           "speed": "v"}
+           "speed": "v", "std": "f_std", "sd": "f_std", "stdev": "f_std", "sigma": "f_std",
+           "f_sd": "f_std", "count": "n"}
 #: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
 ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort", "torque")
 
