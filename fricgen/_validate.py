@@ -28,7 +28,8 @@ FLOAT32_MAX = float(np.finfo(np.float32).max)
 #: drives).
 PHYSICAL = {"speed": (1e-6, 20.0, "m/s"), "v_sat": (1e-7, 20.0, "m/s"),
             "force": (1e-5, 1e5, "N"), "mass": (1e-3, 1e5, "kg"), "current": (1e-6, 1e4, "A")}
-#: Within PHYSICAL, beyond what most axes do (a warning line, no refusal): the fastest speed
+#: Within PHYSICAL, beyond what most axes do (a warning line; a sweep's speed beyond it is
+#: refused without --accept-unusual, ``data.plausibility.check_bounds``): the fastest speed
 #: above 5 m/s, v_sat above 0.3 m/s (Stribeck velocities above 0.1 m/s): speeds in m/min or
 #: mm/s read as m/s land there; the largest current above 500 A: a current in mA read as A
 #: lands there (and would give a mass and forces a thousand times the axis').
