@@ -18,6 +18,7 @@ from ..fit.elm import SCHEMES, SOLVERS, EnlargedScheme
 from ..model import DEFAULT_MODEL_NAME
 from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
+from ..training.trainer import SPREAD_COLUMNS
 from ..training.with_cogging import less_position_force, train_with_cogging
 from ..training.with_dynamic import train_dynamic
 from .._io import check_destination
@@ -79,8 +80,8 @@ def source_name(args) -> str:
 #: Column names that look like a log's load or temperature (``training_columns`` warns when
 #: one is left unmapped).
 OPERATING_NAME = re.compile(r"load|grav|temp")
-#: The columns a sweep's fit uses (``training.trainer.sweep_spread`` the last two).
-SWEEP_COLUMNS = ("v", "f", "f_std", "n")
+#: The columns a sweep's fit uses.
+SWEEP_COLUMNS = ("v", "f", *SPREAD_COLUMNS)
 
 
 def training_columns(args) -> dict:

@@ -47,13 +47,15 @@ def _inner(n: int) -> slice:
     return slice(_window(n), n - _window(n))
 
 
-def _derivatives(values: np.ndarray, force: np.ndarray, ts: float):
-    """The column, its first and second derivatives (cubic Savitzky-Golay, ``_window``) and the
-    force at the ``_inner`` rows; None for a short log."""
+def _derivatives(values: np.ndarray, force: np.ndarray, ts: float, orders: int = 3):
+    """The column and its derivatives up to the second (the first ``orders`` of the three:
+    cubic Savitzky-Golay, ``_window``; None for those not asked for) and the force at the
+    ``_inner`` rows; None for a short log."""
     window, inner = _window(values.size), _inner(values.size)
     if values.size < 4 * window:
         return None
-    return [smooth(values, window, k, ts)[inner] for k in range(3)] + [force[inner]]
+    return ([smooth(values, window, k, ts)[inner] for k in range(orders)] + [None] * (3 - orders)
+            + [force[inner]])
 
 
 def check_motion_column(name: str, signals) -> None:
@@ -122,5 +124,5 @@ def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = No
     if v is not None:
         inner = _inner(v.size)
         weight_columns = () if x is None else (np.sin(x[inner]), np.cos(x[inner]))
-        check_force_column(of_v, _derivatives(force, v, ts), weight_columns)
+        check_force_column(of_v, _derivatives(force, v, ts, orders=2), weight_columns)
     return weight_residuals(of_x) if weight and of_x is not None else None

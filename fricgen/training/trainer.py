@@ -84,11 +84,15 @@ def _fit_multi_source(sweep, estimator, ident, **options):
     return fitted, ident, sweep
 
 
+#: A sweep's columns beside v and f that weight its points: each one's standard deviation and count.
+SPREAD_COLUMNS = ("f_std", "n")
+
+
 def sweep_spread(columns: Mapping[str, np.ndarray]) -> Tuple[Optional[np.ndarray], Optional[np.ndarray]]:
     """A sweep's per-point standard deviation ``f_std`` and count ``n`` where it has them (None
     where not); ``DataError`` for one that is not finite and > 0."""
     out = []
-    for name in ("f_std", "n"):
+    for name in SPREAD_COLUMNS:
         values = None
         if name in columns:
             values = np.asarray(columns[name], dtype=float)
