@@ -8,9 +8,10 @@ and no velocity column (fricgen differentiates the position). Per seed (1000 up:
 anything here) and rate (1 and 4 kHz): ``fricgen.train`` on the quantized log and on the same
 log with the exact position. Counted: the mass within 2 % of the truth and within 3 of its
 standard errors; the friction's RMS error over 0.005-0.2 m/s against the truth, quantized over
-exact.
+exact. The simulator logs its loop's force as it is sent, held over the next sample (a set-point), so
+both are trained with force_held (``train --force-held``); ``--as-logged`` trains without it.
 
-    python benchmarks/encoder_counts.py [--seeds 10] [--duration 16]
+    python benchmarks/encoder_counts.py [--seeds 10] [--duration 16] [--as-logged]
 """
 from __future__ import annotations
 
@@ -34,11 +35,11 @@ STEPS = (1e-6, 1e-5)
 RATES = (1000.0, 4000.0)
 
 
-def identify(columns: dict) -> tuple:
+def identify(columns: dict, held: bool) -> tuple:
     """(mass, its standard error, the model) of fricgen.train on the columns."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        report = fricgen.train(columns)
+        report = fricgen.train(columns, force_held=held)
     body = report.identification.body
     return body.mass, body.mass_se, report.model
 
@@ -47,20 +48,24 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--duration", type=float, default=16.0)
+    ap.add_argument("--as-logged", action="store_true",
+                    help="train without force_held (the force taken at the row it is logged at)")
     args = ap.parse_args(argv)
+    held = not args.as_logged
     speeds = np.concatenate([-np.geomspace(0.2, 0.005, 30), np.geomspace(0.005, 0.2, 30)])
-    print(f"mass {MASS} kg; seeds 1000-{999 + args.seeds}; {args.duration:g} s logs")
+    print(f"mass {MASS} kg; seeds 1000-{999 + args.seeds}; {args.duration:g} s logs; force "
+          + ("held over each sample (force_held)" if held else "as logged"))
     good = {(step, rate): 0 for step in STEPS for rate in RATES}
     ratios = {(step, rate): [] for step in STEPS for rate in RATES}
     for seed in range(1000, 1000 + args.seeds):
         for rate in RATES:
             t0 = time.perf_counter()
             log = counts_log(seed, rate, args.duration)
-            _, _, exact_model = identify(log)
+            _, _, exact_model = identify(log, held)
             exact_rms = float(np.sqrt(np.mean((exact_model.force(speeds) - friction(speeds)) ** 2)))
             for step in STEPS:
                 quantized = {**log, "x": np.round(log["x"] / step) * step}
-                mass, se, model = identify(quantized)
+                mass, se, model = identify(quantized, held)
                 rms = float(np.sqrt(np.mean((model.force(speeds) - friction(speeds)) ** 2)))
                 ok = abs(mass - MASS) <= 0.02 * MASS and abs(mass - MASS) <= 3 * se
                 good[step, rate] += ok

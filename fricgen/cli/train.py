@@ -135,6 +135,8 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
         given = [c for c in CONDITIONS if c in columns]
         if args.gravity:
             check_gravity(args, columns, rotary)
+        if args.force_held:
+            check_force_held(args, columns)
         if given and (args.dynamic or args.cogging):
             raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "
                              f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
@@ -146,7 +148,8 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
                          seed=args.seed, name=name, source=source_name(args),
                          file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
                          progress=progress, warn=warn, rotary=rotary, checks=False,
-                         velocity_resolution=args.velocity_resolution, gravity=args.gravity)
+                         velocity_resolution=args.velocity_resolution, gravity=args.gravity,
+                         force_held=args.force_held)
         if args.dynamic:
             return train_dynamic(columns, rotary=rotary, force_constant=args.force_constant,
                                  train_friction=fit_friction)
@@ -211,6 +214,18 @@ def check_gravity(args, columns, rotary: bool) -> None:
                          "torque is a function of the joint's angle")
 
 
+def check_force_held(args, columns) -> None:
+    """``UsageError`` where ``--force-held`` cannot apply: a sweep, or beside --dynamic or
+    --cogging (slow moves, whose acceleration barely turns within a sample)."""
+    if args.dynamic or args.cogging:
+        raise UsageError(f"--force-held with --{'dynamic' if args.dynamic else 'cogging'}: its log "
+                         "is a slow move, where half a sample of the force's timing does not show; "
+                         "leave --force-held out")
+    if not is_log(columns):
+        raise UsageError("--force-held applies to a motion log (t, x or v, force or i): a sweep's "
+                         "points have no sample times")
+
+
 def register(p) -> None:
     """The arguments of this command."""
     p.add_argument("sweep", help="CSV with columns v (m/s) and f (N) (a sweep), or t (s), v (m/s) "
@@ -254,6 +269,11 @@ def register(p) -> None:
                      help="a joint whose torque holds its link's weight: identify G_s sin q + G_c cos q "
                      "of the position (rad) beside the inertia and take it out of the friction "
                      "(a rotary axis with its position column)")
+    log.add_argument("--force-held", action="store_true",
+                     help="the force (or current) column is the drive's set-point, held over the "
+                     "sample after the one it is logged at (a command, not a measurement): each row "
+                     "is taken as the mean of its value and the row before's, at the motion's "
+                     "sample times")
     add_export_options(p)
     cogging = p.add_argument_group("cogging (a slow move over the travel, e.g. 2 revolutions each way)")
     cogging.add_argument("--cogging", action="store_true",

@@ -255,13 +255,24 @@ class Identification:
         return int(self.independent // SAMPLES_PER_PARAMETER)
 
 
+def at_sample_times(held: np.ndarray, junction: np.ndarray) -> np.ndarray:
+    """A force the drive holds over the sample after the one it is logged at, at the motion's
+    sample times: each row the mean of its value and the row before's (the hold straddles the
+    instant half a sample each way); the first row, and the first of each run (``junction``), as
+    logged. As logged, such a force leads the motion by half a sample, which shows wherever the
+    acceleration turns fast (m x jerk x half a sample: at the corner of a speed profile)."""
+    mean = np.concatenate([held[:1], 0.5 * (held[1:] + held[:-1])])
+    return np.where(junction, held, mean)
+
+
 def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = None,
                       v: Optional[np.ndarray] = None, x: Optional[np.ndarray] = None,
                       window: Optional[int] = None, body_window: Optional[int] = None,
                       use: Optional[np.ndarray] = None,
                       progress: Optional[Callable[[str], None]] = None,
                       conditions: Optional[Dict[str, np.ndarray]] = None,
-                      gravity: bool = False, runs: Optional[np.ndarray] = None) -> Identification:
+                      gravity: bool = False, runs: Optional[np.ndarray] = None,
+                      held: bool = False) -> Identification:
     """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
@@ -318,6 +329,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     span = t.size if runs is None else int(np.median(np.bincount(runs)))  # a typical run's rows
     body = None
     rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
+    logged, force = force, at_sample_times(force, junction) if held else force
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
         # the mass's rows: dv/dt smoothed within one run, away from the log's ends, at rows of
@@ -331,7 +343,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
             body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs, noise)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
-        window = choose_window(force, rows, guess, noise, ts, progress, span)
+        window = choose_window(logged, rows, guess, noise, ts, progress, span)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
         window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs)
     body = at_window if body is None else body
@@ -536,11 +548,12 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
 def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
                  force_constant: Optional[float] = None,
                  progress: Optional[Callable[[str], None]] = None,
-                 use: Optional[np.ndarray] = None, gravity: bool = False) -> Identification:
+                 use: Optional[np.ndarray] = None, gravity: bool = False,
+                 held: bool = False) -> Identification:
     """``identify_friction`` on the columns of a log: force in N, or current i in A times
     ``force_constant`` (N/A). A current without a force constant determines M/K and the friction
     over K only: with ``mass`` that gives K = M / (M/K); without, ``DataError`` saying so.
-    ``progress``, ``use`` (a mask of the log's rows) and ``gravity`` as there."""
+    ``progress``, ``use`` (a mask of the log's rows), ``gravity`` and ``held`` as there."""
     if "temperature" in columns:                # a sensor's slower rate: blank cells between
         columns = {**columns, "temperature": interpolated(columns["temperature"], columns.get("t"))}
     for name, values in columns.items():        # named as the file has them (i, not force)
@@ -550,16 +563,16 @@ def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
     columns, resampled, runs = resampled_runs(columns, MIN_LOG_ROWS)
     use = columns.pop(USE_COLUMN, None)
     ident = _identify_log(columns, mass, force_constant, progress,
-                          None if use is None else use > 0.5, gravity, runs)
+                          None if use is None else use > 0.5, gravity, runs, held)
     return replace(ident, resampled=resampled) if resampled else ident
 
 
 def _identify_log(columns, mass, force_constant, progress, use=None,
-                  gravity=False, runs=None) -> Identification:
+                  gravity=False, runs=None, held=False) -> Identification:
     conditions = {k: columns[k] for k in CONDITIONS if k in columns}
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress,
                                "use": use, "conditions": conditions, "gravity": gravity,
-                               "runs": runs}
+                               "runs": runs, "held": held}
     if "load" in conditions and "force" not in columns and force_constant is None:
         raise DataError("the log has a load column and a current i but no force: pass "
                         "--force-constant (N/A) so that the current is a force the load can be "

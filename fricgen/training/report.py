@@ -92,6 +92,9 @@ class FitReport:
         ident, fitted = self.identification, self.fit
         units = self.model.units
         reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric, units)]
+        if (self.training.get("log") or {}).get("force_held"):
+            reports.insert(1, f"{units.effort:10s}held over each sample (a set-point): taken as the mean of "
+                              "each row and the row before, at the motion's sample times")
         if self.law is not None:
             reports.append(self.law.line(units.force))
         if fitted.chosen_by != "textbook":

@@ -103,7 +103,8 @@ def sweep_spread(columns: Mapping[str, np.ndarray]) -> Tuple[Optional[np.ndarray
     return out[0], out[1]
 
 
-def _friction_data(data, mass, force_constant, source, progress, use=None, gravity=False):
+def _friction_data(data, mass, force_constant, source, progress, use=None, gravity=False,
+                   held=False):
     """The sweep to fit and, for a motion log, its identification (``data.inverse_dynamics``)."""
     if isinstance(data, Sweep):
         columns = {"v": np.asarray(data.v, float), "f": np.asarray(data.f, float)}
@@ -114,13 +115,13 @@ def _friction_data(data, mass, force_constant, source, progress, use=None, gravi
     if is_log(columns):
         with named_data(source):
             ident = identify_log(columns, mass, force_constant, progress=progress, use=use,
-                                 gravity=gravity)
+                                 gravity=gravity, held=held)
         return ident.sweep, ident
     if not {"v", "f"} <= set(columns):
         raise DataError(f"{source}: {describe_missing(columns)}")
-    if mass is not None or force_constant is not None or gravity:
-        raise ValueError(f"mass, force_constant and gravity apply to a motion log; {source} is a "
-                         "sweep (v, f)")
+    if mass is not None or force_constant is not None or gravity or held:
+        raise ValueError(f"mass, force_constant, gravity and force_held apply to a motion log; "
+                         f"{source} is a sweep (v, f)")
     return sweep_from_columns(columns, source), None
 
 
@@ -166,7 +167,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           progress: Optional[Callable[[str], None]] = None,
           warn: Optional[Callable[[str], None]] = None, rotary: bool = False,
           checks: bool = True, velocity_resolution: Optional[float] = None,
-          use: Optional[np.ndarray] = None, gravity: bool = False) -> FitReport:
+          use: Optional[np.ndarray] = None, gravity: bool = False,
+          force_held: bool = False) -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -220,6 +222,10 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         A log of a joint whose force holds its link's weight: G_s sin x + G_c cos x of the
         position ``x`` (rad) identified beside the inertia and taken out of the friction
         samples (the report prints it; the model stays the friction). Needs ``x``.
+    force_held : bool, default False
+        A log whose force (or current) is the drive's set-point, held over the sample after the
+        one it is logged at: brought to the motion's sample times first
+        (``identify_friction``'s ``held``), recorded as ``training.log.force_held``.
 
     Returns
     -------
@@ -258,7 +264,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         if checks:
             _check_data(data, source, accept_unusual, warn)
         report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
-                        source, file, accept_unusual, progress, warn, rotary, use, gravity)
+                        source, file, accept_unusual, progress, warn, rotary, use, gravity, force_held)
         return with_velocity_band(report, data, velocity_resolution)
 
 
@@ -294,11 +300,12 @@ def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
 
 
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
-           accept_unusual, progress, warn, rotary, use=None, gravity=False) -> FitReport:
+           accept_unusual, progress, warn, rotary, use=None, gravity=False,
+           held=False) -> FitReport:
     if vs_max is not None and not (isinstance(vs_max, (int, float)) and 0 < vs_max < math.inf):
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
-    sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity)
+    sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
 
@@ -339,7 +346,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
                            "sample_time": ident.sample_time,
                            "independent": ident.independent,
                            "slowest": [float(ident.sweep.direction(s).v.min(initial=float("inf")))
-                                       for s in (1, -1)]}
+                                       for s in (1, -1)], **({"force_held": True} if held else {})}
     if dependence is not None:
         training["inputs"] = dependence_record(dependence)
     model = FrictionModel.from_directions(*shapes, name=name, training=training)
