@@ -57,6 +57,11 @@ def rotary_axis(rotary: bool) -> Iterator[None]:
         _ROTARY.reset(token)
 
 
+def in_rotary_axis() -> bool:
+    """Whether within ``rotary_axis(True)``."""
+    return _ROTARY.get()
+
+
 def _tables():
     return (PHYSICAL_ROTARY, USUAL_MAX_ROTARY) if _ROTARY.get() else (PHYSICAL, USUAL_MAX)
 

@@ -13,6 +13,7 @@ from ._validate import (ACCEPT_UNUSUAL, FLOAT32_MAX, FLOAT32_SCALE, PHYSICAL, fl
                         json_number, physical_problem)
 from .errors import ModelError
 from .networks import network_from_dict
+from .units import axis_units
 
 #: The fields of version 2's ``negative`` object, the curve for v < 0.
 _DIRECTION_FIELDS = ("aim", "scaling", "viscous", "v_sat")
@@ -166,7 +167,7 @@ class Direction:
         problem = physical_problem("v_sat", "v_sat", self.v_sat)
         if not problem:
             worst = float(np.max(np.abs(self.magnitude(self.v_sat * CHECK_SPEEDS))))
-            problem = physical_problem("force", "the largest force on [0, v_sat]", worst)
+            problem = physical_problem("force", f"the largest {axis_units().effort} on [0, v_sat]", worst)
             if problem and self.viscous * self.v_sat > PHYSICAL_FORCE_MAX:
                 problem = f"viscous = {self.viscous:.6g} N s/m: {problem}"
         if problem:

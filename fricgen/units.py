@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ._validate import in_rotary_axis
+
 
 @dataclass(frozen=True)
 class Units:
@@ -25,6 +27,11 @@ class Units:
     mass: str
     effort: str = "force"
 
+    @property
+    def inertia_name(self) -> str:
+        """What the moving body's inertia is called: "mass" (linear) or "inertia" (rotary)."""
+        return "inertia" if self.kind == "rotary" else "mass"
+
 
 LINEAR = Units("linear", "m", "m/s", "N", "N s/m", "kg")
 ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2", "torque")
@@ -33,3 +40,8 @@ ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2", "torque")
 def units_of(rotary: bool) -> Units:
     """ROTARY or LINEAR."""
     return ROTARY if rotary else LINEAR
+
+
+def axis_units() -> Units:
+    """The units of the axis at hand: ROTARY within ``_validate.rotary_axis(True)``, else LINEAR."""
+    return units_of(in_rotary_axis())

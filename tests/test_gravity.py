@@ -87,7 +87,7 @@ def test_gravity_where_it_cannot_apply_is_one_line_and_nothing_written(joint, tm
 
 def test_the_api_refuses_gravity_for_a_sweep():
     sweep = fricgen.synthesize_benchmark(fricgen.preset("paper3"), seed=0).train
-    with pytest.raises(ValueError, match="gravity apply to a motion log"):
+    with pytest.raises(ValueError, match="gravity and force_held apply to a motion log"):
         fricgen.train(sweep, gravity=True)
 
 

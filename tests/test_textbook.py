@@ -1,5 +1,6 @@
 """The textbook laws as the default's floor (``fit.textbook``, ``fit.law_choice``): small sweeps,
 weights, the choice against richer models, rotary units and jittering logs."""
+import io
 import json
 import re
 
@@ -123,7 +124,7 @@ def test_spread_weights_shrink_to_equal_where_the_points_scatter_more_than_their
     assert w[0] / w[1] > 10
 
 
-def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys):
+def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys, monkeypatch):
     rng = np.random.default_rng(1000)
     t = np.cumsum(np.full(3000, 0.01) + rng.uniform(-0.001, 0.001, 3000))   # jittering stamps
     q = 0.5 * np.sin(2 * np.pi * t / 5)
@@ -140,6 +141,8 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys):
     assert " Nm" in offset and "constant torque" in offset and "constant force" not in offset
     assert not re.search(r"\d N\b|\(N\)", out), out
     assert "resampled from jittering time stamps" in out
+    assert any(line.startswith("inertia   ") for line in out.splitlines())
+    assert not any(line.startswith("mass") for line in out.splitlines())
     record = json.loads((tmp_path / "m.json").read_text())["training"]
     assert record["units"] == "rotary"
     assert abs(record["axis"]["mass"] - 0.3) < 3 * record["axis"]["mass_se"] + 0.03
@@ -151,6 +154,45 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys):
     source = (tmp_path / "c" / "friction_model.c").read_text()
     assert "Nm per unit AIM" in source and "B, Nm s/rad" in source
     assert not re.search(r"newtons|N s/m|\bm/s\b", source)
+    monkeypatch.setattr("sys.stdin", io.StringIO("0.2\n"))
+    assert main(["eval", str(tmp_path / "m.json")]) == 0
+    note = capsys.readouterr().err
+    assert "the torques include the axis's offset" in note and " Nm (identified" in note
+
+
+def _joint_file(path, header, *columns):
+    path.write_text(header + "\n" + "".join(",".join(f"{c:.6f}" for c in row) + "\n"
+                                            for row in zip(*columns)))
+    return str(path)
+
+
+@pytest.mark.parametrize("case, words", [
+    ("still", "the position x never changes: the axis never moves"),
+    ("flat", "the torque is constant (0 Nm) over 98 % of the log"),
+    ("tiny", "below the 1e-05 Nm of any real axis; is force in kNm? --scale force=1000"),
+    ("moving at the end", "the fitted model's largest torque on [0, v_sat] is "),
+])
+def test_a_joint_log_that_holds_no_friction_is_refused_in_a_joints_words(tmp_path, capsys, case, words):
+    """A new user's trial: these named column 'v' where the file had q, the force, N and kN on a
+    joint, and read "the fitted model's the largest force"."""
+    t = np.arange(0.0, 10.0, 0.002)
+    q = 0.0 * t if case == "still" else np.sin(1.9 * t) + 0.3 * np.sin(6.9 * t)
+    noise = 0.02 * np.random.default_rng(1000).standard_normal(t.size)
+    moving = np.tanh(np.gradient(q, t) / 0.01) * 0.8 + noise
+    tau = {"still": moving, "tiny": 2e-6 * np.sign(np.cos(3 * t)),
+           "moving at the end": np.where(t > 9.85, moving, 0.0)}.get(case, 0.0 * t)
+    tau[:10] += 1.0
+    out = tmp_path / "m.json"
+    assert main(["train", _joint_file(tmp_path / "j.csv", "t,q,tau", t, q, tau), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0] and not out.exists()
+
+
+def test_scale_and_columns_take_the_names_a_robot_log_uses(tmp_path):
+    """--scale tau=1000 scales the torque a joint's header names tau (it was refused: 'tau' is
+    not one of t, x, v, ...)."""
+    from fricgen.data.export import parse_assignments
+    assert parse_assignments(["tau=1000,dq=2", "q=3"], "--scale") == {"force": "1000", "v": "2", "x": "3"}
 
 
 def test_a_header_that_writes_a_rotary_unit_names_a_joint(tmp_path, capsys):

@@ -74,8 +74,9 @@ def run(args) -> int:
                      "of steady sliding at each v); model.stepper and NAME_step give the dynamics")
     offset = 0.0
     if model.axis_offset and not args.no_offset:
-        notes.append(f"the forces include the axis's offset {model.axis_offset:.6g} (identified "
-                     "in training); --no-offset for F(v) alone")
+        units = model.units
+        notes.append(f"the {units.effort}s include the axis's offset {model.axis_offset:.6g} "
+                     f"{units.force} (identified in training); --no-offset for F(v) alone")
         offset = model.axis_offset
     if args.position and model.cogging_map is None:
         notes.append("the model has no cogging map; --position adds nothing")

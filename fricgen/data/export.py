@@ -49,12 +49,14 @@ Factor = Union[float, str]
 
 def parse_assignments(items: Sequence[str], option: str) -> Dict[str, str]:
     """``["a=b,c=d", "e=f"]`` as {a: b, c: d, e: f}: the value of an option given once or more,
-    each a comma-separated list of NAME=VALUE (``UsageError`` naming ``option``)."""
+    each a comma-separated list of NAME=VALUE, NAME a quantity or one of its ``ALIASES``
+    (``UsageError`` naming ``option``)."""
     out: Dict[str, str] = {}
     for item in items:
         for part in item.split(","):
             name, sep, value = part.partition("=")
             name, value = name.strip().lower(), value.strip()
+            name = name if name in QUANTITIES else ALIASES.get(name, name)    # tau=... as force=...
             if not sep or not name or not value:
                 raise UsageError(f"{option}: expected NAME=VALUE, got {part.strip()[:60]!r}")
             if name not in QUANTITIES:

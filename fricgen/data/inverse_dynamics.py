@@ -20,7 +20,7 @@ from scipy.signal import savgol_filter
 
 from ..errors import DataError
 from ..metrics import least_squares_errors
-from ..units import LINEAR
+from ..units import LINEAR, axis_units
 from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
                    identify_rigid_body, known_columns, operating_basis)
 from .log_columns import check_log_columns
@@ -157,7 +157,7 @@ class Identification:
             f"({self.window * self.sample_time * 1e3:.3g} ms), from velocity noise "
             f"{self.velocity_noise:.3g} {units.speed}"
             + ("" if self.body_window in (None, self.window) else
-               f"; the {'inertia' if units is not LINEAR else 'mass'} at {self.body_window} samples, "
+               f"; the {units.inertia_name} at {self.body_window} samples, "
                "the window whose dv/dt explains the force best"),
             f"velocity  {lo:.4g} to {hi:.4g} {units.speed}; speeds {moving.min():.3g} to "
             f"{moving.max():.3g} {units.speed}",
@@ -178,7 +178,7 @@ class Identification:
             mass = (f"not determined by the log's accelerations ({b.mass:.3g} +- {b.mass_se:.2g} "
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
-        lines = [f"mass      {mass}"]
+        lines = [f"{units.inertia_name:10s}{mass}"]
         if b.phases_disagree():
             lines.append(f"          {b.phase_note(units.mass)}")
         if self.weight is not None and units.position == "rad":    # --gravity is a joint's
@@ -311,7 +311,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         junction[1:] = np.diff(runs) != 0               # the first row of each later run
     if not given:                                       # run by run: x jumps between runs
         v = np.concatenate([np.gradient(part, ts) for part in np.split(x, np.flatnonzero(junction))])
-    check_moves(v, x)
+    check_moves(v, x, given)
     weight = None
     if runs is None:                # what the columns hold (x jumps between runs: one run only)
         weight = check_log_columns(force, ts, v if given else None, x, weight=not gravity)
@@ -580,7 +580,7 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
-        check_varies(columns["force"], "force", "N")
+        check_varies(columns["force"], axis_units().effort, axis_units().force)
         return identify_friction(t, columns["force"], mass, **motion)
     current = columns["i"]
     check_varies(current, "current i", "A")

@@ -165,10 +165,13 @@ def _rounded_grid(t: np.ndarray) -> Optional[np.ndarray]:
     return None
 
 
-def check_moves(v: np.ndarray, x: Optional[np.ndarray] = None) -> None:
-    """``DataError`` when the velocity column is 0 throughout (naming x's travel if x moves)."""
+def check_moves(v: np.ndarray, x: Optional[np.ndarray] = None, v_given: bool = True) -> None:
+    """``DataError`` when the velocity column is 0 throughout (naming x's travel if x moves), or,
+    where v is x's derivative (``v_given`` False), when x never changes."""
     if np.any(v):
         return
+    if not v_given:
+        raise DataError("the position x never changes: the axis never moves")
     if x is not None and np.ptp(x) > 0:
         raise DataError(f"column 'v' is 0 throughout while x travels {np.ptp(x):.3g} m: is v logged?")
     raise DataError("column 'v' is 0 throughout: the axis never moves")

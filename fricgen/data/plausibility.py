@@ -24,6 +24,7 @@ import numpy as np
 from .._validate import (ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, USUAL_MIN, physical_problem, unusual,
                          unusually_small)
 from ..errors import DataError
+from ..units import axis_units
 from .outliers import running_median
 
 #: A sweep whose slowest speed exceeds this share of its fastest never nears v = 0, where
@@ -75,7 +76,9 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
     factor = _unit_factor(quantity, value)
     if factor is None:
         return ""
-    unit = "m" if column == "x" else PHYSICAL[quantity][2]     # a speed from the position: x's unit
+    units = axis_units()
+    unit = (units.position if column == "x" else            # a speed from the position: x's unit
+            {"speed": units.speed, "force": units.force}.get(quantity, PHYSICAL[quantity][2]))
     prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
     named = f"is {column} in {prefix}{unit}? " if prefix else ""
     return f"; {named}--scale {column}={factor:g} converts it"

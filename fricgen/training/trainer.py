@@ -41,7 +41,8 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
         try:
             curve.check_physical()
         except ModelError as exc:
-            problems.append(f"the fitted model's {str(exc).split(' (a digit')[0]}")
+            problem = str(exc).split(" (a digit")[0]
+            problems.append(f"the fitted model's {problem[4:] if problem.startswith('the ') else problem}")
     said = fastest > usual_max("speed")            # the data's speed was warned about already
     for curve in model.directions:
         judged = any(problems) or said or curve.v_sat <= fastest
@@ -50,11 +51,11 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
             warn(f"fricgen: warning: {source}: {note}")
             break
     if ident is not None and ident.body.phases_disagree():
-        word = "inertia" if model.units.kind == "rotary" else "mass"
-        warn(f"fricgen: warning: {source}: the identified {word}: "
+        warn(f"fricgen: warning: {source}: the identified {model.units.inertia_name}: "
              f"{ident.body.phase_note(model.units.mass)}")
     if ident is not None and ident.body.mass_identified and ident.body.mass_determined:
-        problems.append(physical_problem("mass", "the identified mass", ident.body.mass))
+        problems.append(physical_problem("mass", f"the identified {model.units.inertia_name}",
+                                         ident.body.mass))
     for problem in filter(None, problems):
         if not accept_unusual:
             raise DataError(f"{source}: {problem}; are the units SI ({ACCEPT_UNUSUAL} to keep it)?")
