@@ -256,11 +256,9 @@ class Identification:
 
 
 def at_sample_times(held: np.ndarray, junction: np.ndarray) -> np.ndarray:
-    """A force the drive holds over the sample after the one it is logged at, at the motion's
-    sample times: each row the mean of its value and the row before's (the hold straddles the
-    instant half a sample each way); the first row, and the first of each run (``junction``), as
-    logged. As logged, such a force leads the motion by half a sample, which shows wherever the
-    acceleration turns fast (m x jerk x half a sample: at the corner of a speed profile)."""
+    """A force held over the sample after the one it is logged at, at the motion's sample times:
+    each row the mean of it and the row before (the first of a run, ``junction``, as logged). As
+    logged it leads the motion by half a sample: m x jerk x half a sample at a speed's corner."""
     mean = np.concatenate([held[:1], 0.5 * (held[1:] + held[:-1])])
     return np.where(junction, held, mean)
 
