@@ -313,3 +313,29 @@ def test_a_spread_column_named_std_weights_the_points_and_an_unknown_column_is_n
         err = capsys.readouterr().err
         assert ("column 'bench_id' is not used" in err) == (name == "bench_id")
     assert hashes["std"] == hashes["F_std"] != hashes["bench_id"]
+
+
+def _sine_joint(t, scale=1.0):
+    q = np.sin(2 * np.pi * 0.3 * t)
+    dq = np.gradient(q, t)
+    tau = 0.12 * np.gradient(dq, t) + np.tanh(dq / 0.01) * 0.8 + 0.15 * dq
+    return q * scale, dq * scale, tau + 0.02 * np.random.default_rng(1000).standard_normal(t.size)
+
+
+def test_columns_that_map_a_joints_names_make_the_axis_rotary(tmp_path):
+    """A new user's trial: --columns q=...,dq=...,tau=... was read as a linear axis (mass, N, m/s)."""
+    t = np.arange(0.0, 10.0, 0.002)
+    path = _joint_file(tmp_path / "j.csv", "stamp,joint_pos,joint_vel,joint_torque", t, *_sine_joint(t))
+    out = tmp_path / "m.json"
+    assert main(["train", path, "--columns", "t=stamp,q=joint_pos,dq=joint_vel,tau=joint_torque",
+                 "-o", str(out)]) == 0
+    assert json.loads(out.read_text())["training"]["units"] == "rotary"
+
+
+@pytest.mark.parametrize("extra, warned", [([], True), (["--rotary"], False)])
+def test_a_joint_logged_in_degrees_gets_one_warning(tmp_path, capsys, extra, warned):
+    t = np.arange(0.0, 10.0, 0.002)
+    path = _joint_file(tmp_path / "j.csv", "t,q,dq,tau", t, *_sine_joint(t, np.degrees(1.0)))
+    assert main(["train", path, *extra, "-o", str(tmp_path / "m.json")]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "are q and dq in degrees" in line]
+    assert len(lines) == int(warned)

@@ -23,7 +23,7 @@ COMMANDS = {
     "demo": ("demo", "paper benchmark -> the paper's ELMs and elm_auto -> C -> measured parity"),
     "synth": ("synth", "write a measured-style friction sweep (CSV v,f)"),
     "train": ("train", "fit a friction model to a sweep or motion-log CSV; write model.json"),
-    "eval": ("eval", "forces (N) for velocities read from stdin, one per line"),
+    "eval": ("eval", "forces (N, or Nm on a rotary axis) for velocities read from stdin, one per line"),
     "emit": ("emit", "write NAME.h, NAME.c and the C runtime into a folder"),
     "readback": ("readback", "turn the parameters the firmware adapted (emit --adapt) back into "
                              "model.json"),

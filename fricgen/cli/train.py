@@ -5,6 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
+
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import CONDITIONS, MIN_LOG_ROWS, describe_missing, is_log
 from ..data.sweep import MIN_SWEEP_POINTS
@@ -109,9 +111,11 @@ def training_columns(args) -> dict:
 
 
 def is_rotary(args) -> bool:
-    """``--rotary``, or a header that names a robot joint's columns (q, dq, tau, ...)."""
-    return bool(args.rotary) or (not is_matfile(args.sweep) and
-                                 names_rotary_axis(header_cells(args.sweep, args.skip)))
+    """``--rotary``, or a header or ``--columns`` that names a robot joint's columns (q, dq,
+    tau, ...)."""
+    mapped = [part.partition("=")[0] for item in args.columns for part in item.split(",")]
+    return bool(args.rotary) or names_rotary_axis(mapped) or (
+        not is_matfile(args.sweep) and names_rotary_axis(header_cells(args.sweep, args.skip)))
 
 
 def run(args) -> int:
@@ -137,6 +141,8 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
             check_gravity(args, columns, rotary)
         if args.force_held:
             check_force_held(args, columns)
+        if rotary and not args.rotary:
+            warn_degrees(args, columns)
         if given and (args.dynamic or args.cogging):
             raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "
                              f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
@@ -212,6 +218,27 @@ def check_gravity(args, columns, rotary: bool) -> None:
     if "x" not in columns:
         raise UsageError("--gravity needs the position (a column q or x, in rad): the gravity "
                          "torque is a function of the joint's angle")
+
+
+#: The speed, rad/s, beyond which a log named as a robot joint's (q, dq, tau) is likely in degrees:
+#: joints of arms turn at a few rad/s; a motor shaft, faster, is said with --rotary.
+JOINT_SPEED_MAX = 20.0
+
+
+def warn_degrees(args, columns) -> None:
+    """One warning line where a log named as a joint's moves faster than JOINT_SPEED_MAX (99th
+    percentile of |v|, or of |dx/dt| without v): q and dq in degrees read as rad."""
+    if "v" in columns:
+        speed = np.abs(columns["v"])
+    elif {"t", "x"} <= set(columns) and np.all(np.diff(columns["t"]) > 0):
+        speed = np.abs(np.diff(columns["x"]) / np.diff(columns["t"]))
+    else:
+        return
+    top = float(np.quantile(speed, 0.99)) if speed.size else 0.0
+    if top > JOINT_SPEED_MAX:
+        say(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
+            f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: are q and dq in "
+            "degrees (--scale q=0.0174533,dq=0.0174533)? A motor shaft this fast: --rotary says so")
 
 
 def check_force_held(args, columns) -> None:
