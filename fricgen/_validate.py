@@ -62,6 +62,11 @@ def in_rotary_axis() -> bool:
     return _ROTARY.get()
 
 
+def physical_unit(quantity: str) -> str:
+    """The unit of PHYSICAL[quantity], or of PHYSICAL_ROTARY's within ``rotary_axis(True)``."""
+    return _tables()[0][quantity][2]
+
+
 def _tables():
     return (PHYSICAL_ROTARY, USUAL_MAX_ROTARY) if _ROTARY.get() else (PHYSICAL, USUAL_MAX)
 

@@ -5,13 +5,12 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import numpy as np
-
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import CONDITIONS, MIN_LOG_ROWS, describe_missing, is_log
 from ..data.sweep import MIN_SWEEP_POINTS
-from ..data.export import names_rotary_axis
+from ..data.export import assignments, names_rotary_axis
 from ..data.matfile import is_matfile
+from ..data.plausibility import top_speed
 from ..data.table import header_cells
 from .._validate import MAX_HIDDEN, rotary_axis
 from ..errors import DataError, UsageError
@@ -113,7 +112,7 @@ def training_columns(args) -> dict:
 def is_rotary(args) -> bool:
     """``--rotary``, or a header or ``--columns`` that names a robot joint's columns (q, dq,
     tau, ...)."""
-    mapped = [part.partition("=")[0] for item in args.columns for part in item.split(",")]
+    mapped = [name for name, *_ in assignments(args.columns)]
     return bool(args.rotary) or names_rotary_axis(mapped) or (
         not is_matfile(args.sweep) and names_rotary_axis(header_cells(args.sweep, args.skip)))
 
@@ -226,15 +225,9 @@ JOINT_SPEED_MAX = 20.0
 
 
 def warn_degrees(args, columns) -> None:
-    """One warning line where a log named as a joint's moves faster than JOINT_SPEED_MAX (99th
-    percentile of |v|, or of |dx/dt| without v): q and dq in degrees read as rad."""
-    if "v" in columns:
-        speed = np.abs(columns["v"])
-    elif {"t", "x"} <= set(columns) and np.all(np.diff(columns["t"]) > 0):
-        speed = np.abs(np.diff(columns["x"]) / np.diff(columns["t"]))
-    else:
-        return
-    top = float(np.quantile(speed, 0.99)) if speed.size else 0.0
+    """One warning line where a log named as a joint's moves faster than JOINT_SPEED_MAX
+    (``data.plausibility.top_speed``): q and dq in degrees read as rad."""
+    top = (top_speed(columns) or ("", 0.0))[1]
     if top > JOINT_SPEED_MAX:
         say(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
             f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: are q and dq in "

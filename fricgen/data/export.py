@@ -14,7 +14,7 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Dict, Iterator, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -47,24 +47,29 @@ SPAN_RATIO = 100.0
 Factor = Union[float, str]
 
 
+def assignments(items: Sequence[str]) -> Iterator[Tuple[str, str, str, str]]:
+    """Each NAME=VALUE of an option's values ``["a=b,c=d", "e=f"]``, as (name in lower case,
+    "=" or "" where it lacks one, value, the part as written), names and values stripped."""
+    for item in items:
+        for part in item.split(","):
+            name, sep, value = part.partition("=")
+            yield name.strip().lower(), sep, value.strip(), part
+
+
 def parse_assignments(items: Sequence[str], option: str) -> Dict[str, str]:
     """``["a=b,c=d", "e=f"]`` as {a: b, c: d, e: f}: the value of an option given once or more,
     each a comma-separated list of NAME=VALUE, NAME a quantity or one of its ``ALIASES``
     (``UsageError`` naming ``option``)."""
     out: Dict[str, str] = {}
-    for item in items:
-        for part in item.split(","):
-            name, sep, value = part.partition("=")
-            name, value = name.strip().lower(), value.strip()
-            name = name if name in QUANTITIES else ALIASES.get(name, name)    # tau=... as force=...
-            if not sep or not name or not value:
-                raise UsageError(f"{option}: expected NAME=VALUE, got {part.strip()[:60]!r}")
-            if name not in QUANTITIES:
-                raise UsageError(f"{option}: {name[:40]!r} is not one of "
-                                 f"{', '.join(QUANTITIES)}")
-            if name in out:
-                raise UsageError(f"{option}: {name} is given twice")
-            out[name] = value
+    for name, sep, value, part in assignments(items):
+        name = name if name in QUANTITIES else ALIASES.get(name, name)    # tau=... as force=...
+        if not sep or not name or not value:
+            raise UsageError(f"{option}: expected NAME=VALUE, got {part.strip()[:60]!r}")
+        if name not in QUANTITIES:
+            raise UsageError(f"{option}: {name[:40]!r} is not one of {', '.join(QUANTITIES)}")
+        if name in out:
+            raise UsageError(f"{option}: {name} is given twice")
+        out[name] = value
     return out
 
 

@@ -578,7 +578,8 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
-        check_varies(columns["force"], axis_units().effort, axis_units().force)
+        units = axis_units()
+        check_varies(columns["force"], units.effort, units.force)
         return identify_friction(t, columns["force"], mass, **motion)
     current = columns["i"]
     check_varies(current, "current i", "A")

@@ -17,12 +17,12 @@ really are unusual (``--accept-unusual``), gives that line back as a warning:
 from __future__ import annotations
 
 import math
-from typing import Callable, Dict, Optional
+from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from .._validate import (ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, USUAL_MIN, physical_problem, unusual,
-                         unusually_small)
+from .._validate import (ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, USUAL_MIN, physical_problem,
+                         physical_unit, unusual, unusually_small)
 from ..errors import DataError
 from ..units import axis_units
 from .outliers import running_median
@@ -76,9 +76,7 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
     factor = _unit_factor(quantity, value)
     if factor is None:
         return ""
-    units = axis_units()
-    unit = (units.position if column == "x" else            # a speed from the position: x's unit
-            {"speed": units.speed, "force": units.force}.get(quantity, PHYSICAL[quantity][2]))
+    unit = axis_units().position if column == "x" else physical_unit(quantity)   # x: its own unit
     prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
     named = f"is {column} in {prefix}{unit}? " if prefix else ""
     return f"; {named}--scale {column}={factor:g} converts it"
@@ -104,6 +102,16 @@ def _top(values: np.ndarray) -> float:
     return float(np.quantile(np.abs(values), 1.0 - TOP_SHARE))
 
 
+def top_speed(columns: Dict[str, np.ndarray]) -> Optional[Tuple[str, float]]:
+    """The fastest speed but for the top TOP_SHARE of rows (``_top``) and the column it is of:
+    of |v|, or of |dx/dt| of a log without v ("x"); None where neither is there."""
+    if "v" in columns:
+        return "v", _top(columns["v"])
+    if {"x", "t"} <= set(columns) and columns["t"].size > 1 and np.all(np.diff(columns["t"]) > 0):
+        return "x", _top(np.diff(columns["x"]) / np.diff(columns["t"]))
+    return None
+
+
 def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bool = False,
                  warn: Callable[[str], None] = print) -> None:
     """The fastest speed (|v|, or |dx/dt| of a log without v), the largest force (|f|, |force|)
@@ -114,11 +122,11 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     is the textbook law's v_sat: speeds in m/min or rpm would make every number of the model
     wrong)."""
     checks = []
-    if "v" in columns:
-        checks.append(("v", "speed", "|v| (99th percentile)", _top(columns["v"])))
-    elif {"x", "t"} <= set(columns) and columns["t"].size > 1 and np.all(np.diff(columns["t"]) > 0):
-        checks.append(("x", "speed", "|dx/dt| (99th percentile)",
-                       _top(np.diff(columns["x"]) / np.diff(columns["t"]))))
+    speed = top_speed(columns)
+    if speed is not None:
+        column, value = speed
+        what = "|v|" if column == "v" else "|dx/dt|"
+        checks.append((column, "speed", f"{what} (99th percentile)", value))
     for name in ("f", "force", "load"):
         if name in columns:
             checks.append((name, "force", f"|{name}| (99th percentile)", _top(columns[name])))
