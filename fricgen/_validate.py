@@ -4,7 +4,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
-from typing import Iterator, Type
+from typing import Iterator, Optional, Type
 
 import numpy as np
 
@@ -43,7 +43,9 @@ USUAL_MIN = {"force": 0.1}
 PHYSICAL_ROTARY = {"speed": (1e-6, 1000.0, "rad/s"), "v_sat": (1e-7, 1000.0, "rad/s"),
                    "force": (1e-5, 1e5, "Nm"), "mass": (1e-8, 1e5, "kg m^2"),
                    "current": PHYSICAL["current"]}
-USUAL_MAX_ROTARY = {"speed": 300.0, "v_sat": 30.0, "current": 500.0}
+#: A joint's or shaft's largest friction torque above 2 kNm (beyond the base joints of the
+#: largest arms): a torque in mNm read as Nm lands there.
+USUAL_MAX_ROTARY = {"speed": 300.0, "v_sat": 30.0, "current": 500.0, "force": 2000.0}
 _ROTARY = contextvars.ContextVar("rotary", default=False)
 
 
@@ -62,18 +64,24 @@ def in_rotary_axis() -> bool:
     return _ROTARY.get()
 
 
+def physical_range(quantity: str):
+    """(low, high, unit) of PHYSICAL[quantity], or PHYSICAL_ROTARY's within ``rotary_axis(True)``."""
+    return _tables()[0][quantity]
+
+
 def physical_unit(quantity: str) -> str:
-    """The unit of PHYSICAL[quantity], or of PHYSICAL_ROTARY's within ``rotary_axis(True)``."""
-    return _tables()[0][quantity][2]
+    """The unit of ``physical_range(quantity)``."""
+    return physical_range(quantity)[2]
 
 
 def _tables():
     return (PHYSICAL_ROTARY, USUAL_MAX_ROTARY) if _ROTARY.get() else (PHYSICAL, USUAL_MAX)
 
 
-def usual_max(quantity: str) -> float:
-    """USUAL_MAX[quantity], or USUAL_MAX_ROTARY's within ``rotary_axis(True)``."""
-    return _tables()[1][quantity]
+def usual_max(quantity: str) -> Optional[float]:
+    """USUAL_MAX[quantity], or USUAL_MAX_ROTARY's within ``rotary_axis(True)``; None where the
+    table bounds no such quantity."""
+    return _tables()[1].get(quantity)
 
 
 #: The option that accepts data or a model outside PHYSICAL (``--force`` means "overwrite").
@@ -109,6 +117,8 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
         return ""
     if quantity == "current":
         units = f"mA (--scale {column}=0.001)"
+    elif quantity == "force":
+        units = f"m{unit} (--scale {column}=0.001)"
     elif _ROTARY.get():
         units = (f"deg (--scale {column}=0.0174533)" if column == "x" else
                  f"rpm (--scale {column}=0.10472) or deg/s (--scale {column}=0.0174533)")
@@ -125,7 +135,7 @@ def unusually_small(quantity: str, what: str, value: float, column: str) -> str:
     """'' if ``value`` is at least USUAL_MIN[quantity], else the clause saying it is unusual, with
     the units that would explain it: "WHAT is 0.004 N, below the 0.1 N of most axes' friction: is
     f in kN (--scale f=1000)?"."""
-    low, unit = USUAL_MIN[quantity], PHYSICAL[quantity][2]
+    low, unit = USUAL_MIN[quantity], physical_unit(quantity)
     value = abs(float(value))
     if value >= low:
         return ""

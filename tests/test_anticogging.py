@@ -346,7 +346,22 @@ def test_a_wrong_pitch_is_named(calibration_csv, axis, tmp_path, capsys):
                  "--force-constant", str(axis.kt), "-o", str(tmp_path / "m.json")]) == 0
     err = capsys.readouterr().err
     assert "that no harmonic of the period 1 holds: a wrong --pitch" in err
-    assert "x in other units than rad (degrees?)" in err and "fricgen: fricgen:" not in err
+    assert "x in other units than rad" in err and "fricgen: fricgen:" not in err
+    assert "Is x in deg?" not in err
+
+
+def test_a_calibration_logged_in_degrees_is_named(axis, tmp_path, capsys):
+    """A rotary log of x in degrees found no map, among other warnings a generic 'wrong --pitch,
+    ... (degrees?)'; its force repeats every 360 / L units, which says degrees outright."""
+    t, x, f = calibration(axis)
+    path = tmp_path / "deg.csv"
+    np.savetxt(path, np.column_stack([t, np.degrees(x), f / axis.kt])[::2], delimiter=",",
+               header="t,x,i", comments="", fmt="%.9g")
+    main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+          "-o", str(tmp_path / "m.json")])
+    lines = [line for line in capsys.readouterr().err.splitlines() if "Is x in deg?" in line]
+    assert len(lines) == 1 and f"harmonic {axis.period_count} of the period 6.28319" in lines[0]
+    assert "--scale x=0.0174533" in lines[0]
 
 
 def test_a_linear_motor_without_its_pitch_gets_the_period_from_the_data(tmp_path, capsys):

@@ -141,6 +141,7 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys, monkeypatch):
     assert " Nm" in offset and "constant torque" in offset and "constant force" not in offset
     assert not re.search(r"\d N\b|\(N\)", out), out
     assert "resampled from jittering time stamps" in out
+    assert "the torque from twice it" in next(line for line in out.splitlines() if line.startswith("zero"))
     assert any(line.startswith("inertia   ") for line in out.splitlines())
     assert not any(line.startswith("mass") for line in out.splitlines())
     record = json.loads((tmp_path / "m.json").read_text())["training"]
@@ -150,6 +151,7 @@ def test_a_robot_log_speaks_rad_and_nm(tmp_path, capsys, monkeypatch):
     header = (tmp_path / "c" / "friction_model.h").read_text()
     assert "The compensating torque near zero speed, in Nm" in header
     assert "Nm, the constant torque" in header
+    assert "_AXIS_INERTIA " in header and "kg m^2, identified" in header and "_AXIS_MASS" not in header
     assert not re.search(r"newtons|\bN \(Nm\)|\bm/s\b", header)
     source = (tmp_path / "c" / "friction_model.c").read_text()
     assert "Nm per unit AIM" in source and "B, Nm s/rad" in source
@@ -339,3 +341,18 @@ def test_a_joint_logged_in_degrees_gets_one_warning(tmp_path, capsys, extra, war
     assert main(["train", path, *extra, "-o", str(tmp_path / "m.json")]) == 0
     lines = [line for line in capsys.readouterr().err.splitlines() if "are q and dq in degrees" in line]
     assert len(lines) == int(warned)
+
+
+@pytest.mark.parametrize("scale, words", [
+    (3000.0, "above the 2000 Nm of most axes: is force in mNm (--scale force=0.001)?"),
+    (1e-3, "below the 0.1 Nm of most axes' friction: is force in kNm (--scale force=1000)?"),
+])
+def test_a_joint_torque_a_thousand_times_off_gets_one_warning_in_nm(tmp_path, capsys, scale, words):
+    """A joint's torque (up to 4.5 Nm here) logged in mNm trained without a word (no bound on a
+    joint's torque), and one in kNm was asked about in N and kN."""
+    t = np.arange(0.0, 10.0, 0.002)
+    q, dq, tau = _sine_joint(t)
+    path = _joint_file(tmp_path / "j.csv", "t,q,dq,tau", t, q, dq, tau * scale)
+    main(["train", path, "--accept-unusual", "-o", str(tmp_path / "m.json")])
+    lines = [line for line in capsys.readouterr().err.splitlines() if words in line]
+    assert len(lines) == 1, lines

@@ -184,8 +184,8 @@ def _run(args) -> int:
     out(report.text)
     band = report.model.velocity_band
     if band is not None and report.model.inputs is None:     # a model with inputs emits no band
-        speed = report.model.units.speed
-        out(f"zero      NAME_compensation is 0 up to |v| = {band:.3g} {speed}, the force from twice it "
+        speed, effort = report.model.units.speed, report.model.units.effort
+        out(f"zero      NAME_compensation is 0 up to |v| = {band:.3g} {speed}, the {effort} from twice it "
             f"({report.model.training.get('velocity_band_from', 'model.json')})")
         fastest = (report.model.training.get("axis") or {}).get("speed_max")
         if fastest is not None and band >= fastest:

@@ -103,11 +103,12 @@ def axis_context(model: FrictionModel) -> dict:
     units = model.units
     if axis is None:
         return {"axis": [], "axis_units": units, "offset_in_xv": False}
+    inertia = units.inertia_name.upper()        # MASS, or a rotary axis's INERTIA
     fields = [("OFFSET", axis.offset, f"{units.force}, the constant {units.effort}"),
               ("OFFSET_SE", axis.offset_se, f"{units.force}, its standard error"),
-              ("MASS", axis.mass,
+              (inertia, axis.mass,
                f"{units.mass}, {'identified' if axis.mass_from == 'data' else 'given to train'}"),
-              ("MASS_SE", axis.mass_se, f"{units.mass}, its standard error"),
+              (f"{inertia}_SE", axis.mass_se, f"{units.mass}, its standard error"),
               ("FORCE_CONSTANT", axis.force_constant, f"{units.force}/A"),
               ("SPEED_MIN", axis.speed_min, f"{units.speed}, the slowest speed of the data"),
               ("SPEED_MAX", axis.speed_max, f"{units.speed}, the fastest")]

@@ -21,8 +21,8 @@ from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from .._validate import (ACCEPT_UNUSUAL, PHYSICAL, USUAL_MAX, USUAL_MIN, physical_problem,
-                         physical_unit, unusual, unusually_small)
+from .._validate import (ACCEPT_UNUSUAL, USUAL_MIN, physical_problem, physical_range, physical_unit,
+                         unusual, unusually_small, usual_max)
 from ..errors import DataError
 from ..units import axis_units
 from .outliers import running_median
@@ -64,15 +64,16 @@ def _refuse_or_warn(message: str, accept_unusual: bool, warn: Callable[[str], No
 
 
 def _unit_factor(quantity: str, value: float) -> Optional[float]:
-    """The smallest power of 1000 that brings ``value`` into PHYSICAL[quantity], or None."""
-    low, high, _ = PHYSICAL[quantity]
+    """The smallest power of 1000 that brings ``value`` into ``physical_range(quantity)`` (the
+    axis's own: linear or rotary), or None."""
+    low, high, _ = physical_range(quantity)
     step = 1e-3 if value > high else 1e3
     return next((step ** k for k in range(1, 5) if low <= value * step ** k <= high), None)
 
 
 def _unit_hint(column: str, quantity: str, value: float) -> str:
     """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
-    ``value`` into PHYSICAL[quantity], or ''."""
+    ``value`` into ``physical_range(quantity)``, or ''."""
     factor = _unit_factor(quantity, value)
     if factor is None:
         return ""
@@ -116,9 +117,10 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
                  warn: Callable[[str], None] = print) -> None:
     """The fastest speed (|v|, or |dx/dt| of a log without v), the largest force (|f|, |force|)
     and the largest current (|i|), each but for the top 1 % of rows (``_top``), within
-    ``_validate.PHYSICAL``; else one line naming the column and the --scale that brings it
-    there. Within it, beyond ``USUAL_MAX`` or below ``USUAL_MIN``: one warning line; a sweep's
-    speed beyond ``USUAL_MAX`` is refused, or with ``accept_unusual`` warned (its fastest speed
+    the axis's physical range (``_validate.physical_range``: a linear axis's or a rotary one's);
+    else one line naming the column and the --scale that brings it there. Within it, beyond
+    ``usual_max`` (a joint's torque above 2 kNm: mNm?) or below ``USUAL_MIN``: one warning
+    line; a sweep's speed beyond ``usual_max`` is refused, or with ``accept_unusual`` warned (its fastest speed
     is the textbook law's v_sat: speeds in m/min or rpm would make every number of the model
     wrong)."""
     checks = []
@@ -140,7 +142,7 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
             hint = (_counts_hint(quantity, value) if column == "x" and _whole_numbers(columns["x"])
                     else _unit_hint(column, quantity, value))
             _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
-        elif quantity in USUAL_MAX and unusual(quantity, what, value, column):
+        elif usual_max(quantity) is not None and unusual(quantity, what, value, column):
             note = f"{source}: {unusual(quantity, what, value, column)}"
             if quantity == "speed" and "t" not in columns:    # a sweep: its speeds are the law's
                 _refuse_or_warn(note, accept_unusual, warn)

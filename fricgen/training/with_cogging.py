@@ -104,11 +104,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic}; {fit.rows} rows in motion")
     if fit.unexplained_wavelength is not None:
-        warnings.append(f"warning: the log holds a position-periodic force of wavelength "
-                        f"{fit.unexplained_wavelength:.6g} {units.position} that no harmonic of the "
-                        f"period {fit.period:.6g} holds: a wrong --pitch, a period longer than the one "
-                        f"found, x in other units than {units.position} (degrees?), or a ripple aliased "
-                        "by a log slower than the drive's loop?")
+        warnings.append(_unexplained_warning(fit.unexplained_wavelength, fit.period, units))
     if fit.map is None:
         lines.append("cogging: none found (no harmonic above the noise): no map is emitted")
     else:
@@ -117,6 +113,29 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         lines += describe(fit.friction, "position-dependent friction (times sgn(v); reported, "
                           "not emitted)", units)
     return CoggingReport(model=model, text=text + "\n" + "\n".join(lines), warnings=tuple(warnings))
+
+
+#: Position units a log is often written in, per kind of axis: (name, its size in the axis's
+#: unit, the --scale that converts it).
+OTHER_POSITION_UNITS = {"rotary": ("deg", np.pi / 180, "0.0174533"), "linear": ("mm", 1e-3, "0.001")}
+#: How close (in harmonics) a wavelength read in the other unit must fall on a harmonic.
+UNIT_TOLERANCE = 0.01
+
+
+def _unexplained_warning(wavelength: float, period: float, units) -> str:
+    """The warning for a position-periodic force that no harmonic of the period holds; where the
+    wavelength, read in the unit a log is often written in (degrees, mm), is a harmonic of the
+    period, it names that unit and the --scale that converts it."""
+    name, size, scale = OTHER_POSITION_UNITS[units.kind]
+    h = period / (wavelength * size)
+    if round(h) >= 1 and abs(h - round(h)) <= UNIT_TOLERANCE:
+        return (f"warning: the log's position force repeats every {wavelength:.6g} {units.position}: "
+                f"harmonic {round(h)} of the period {period:.6g} if x is in {name}. Is x in {name}? "
+                f"--scale x={scale} converts it")
+    return (f"warning: the log holds a position-periodic force of wavelength {wavelength:.6g} "
+            f"{units.position} that no harmonic of the period {period:.6g} holds: a wrong --pitch, a "
+            f"period longer than the one found, x in other units than {units.position}, or a ripple "
+            "aliased by a log slower than the drive's loop?")
 
 
 def log_position(columns: Mapping[str, np.ndarray]) -> np.ndarray:
