@@ -20,7 +20,10 @@ from ._validate import ACCEPT_UNUSUAL, PHYSICAL, json_number, physical_problem
 from .errors import ModelError
 
 #: Where the mass came from: identified from the data, or given by ``--mass``.
-MASS_SOURCES = ("data", "option")
+MASS_SOURCES = ("data", "option", "cogging")
+#: What each source says of the mass.
+MASS_FROM = {"data": "identified from the data", "option": "given to train by --mass",
+             "cogging": "identified from the cogging map's ripple"}
 #: The record's keys, every one required (a value may be null where the field says so).
 FIELDS = ("mass", "mass_se", "mass_from", "force_constant", "offset", "offset_se",
           "speed_min", "speed_max")
@@ -55,8 +58,7 @@ class Axis:
         ``unit`` (kg m^2 on a rotary axis); '' without mass."""
         if self.mass is None:
             return ""
-        how = "identified from the data" if self.mass_from == "data" else "given to train by --mass"
-        return f"m = {self.mass:.4g} {unit} ({how})"
+        return f"m = {self.mass:.4g} {unit} ({MASS_FROM[self.mass_from]})"
 
     def to_dict(self) -> dict:
         d = asdict(self)
@@ -114,4 +116,4 @@ class Axis:
                    offset_se=offset_se)
 
 
-__all__ = ["Axis", "FIELDS", "MASS_SOURCES"]
+__all__ = ["Axis", "FIELDS", "MASS_FROM", "MASS_SOURCES"]

@@ -308,8 +308,30 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     assert "cogging map (position force)" in text and f"harmonic {axis.period_count:4d}" in text
     assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
+    # the friction is fitted with the inertia the map identified (a move at one speed
+    # accelerates too little to tell it again: a new user's 17-bit calibration read 5x low)
+    assert "(identified from the two directions' ripple)" in text
+    assert model.axis.mass_from == "cogging" and model.axis.mass == pytest.approx(axis.inertia, rel=0.3)
     assert axis.map_error(model.cogging_map) < 0.10
     assert "compensates nothing" not in captured.err and "fricgen: fricgen:" not in captured.err
+
+
+def test_the_friction_of_a_calibration_takes_the_inertia_the_map_identified(tmp_path, capsys):
+    """A new user's 17-bit calibration logged at 2 kHz: the friction's own inverse dynamics read
+    the inertia 5x low (a move at one speed accelerates only at its ends), beside the map's right
+    one, and the header kept the wrong one."""
+    axis = random_axis(17, bits=14)
+    log = calibration_move(axis, turns=2.0, speed=1.5, every=4)
+    path = tmp_path / "cal.csv"
+    np.savetxt(path, np.column_stack([log["t"], log["x"], log["i"]]), delimiter=",", header="t,x,i",
+               comments="", fmt="%.9g")
+    assert main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+                 "-o", str(tmp_path / "m.json")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    model = FrictionModel.load(tmp_path / "m.json")
+    assert model.axis.mass_from == "cogging" and model.axis.mass == pytest.approx(axis.inertia, rel=0.3)
+    assert any(line.startswith("inertia") and "from the cogging map's ripple (below)" in line for line in lines)
+    assert not any(line.startswith("friction: Coulomb + viscous per direction from the move") for line in lines)
 
 
 def test_a_calibration_logged_too_coarsely_for_its_speed_says_the_compensation_is_zero(

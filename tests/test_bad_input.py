@@ -24,6 +24,7 @@ def work(cli_inputs, tmp_path_factory):
         "quoted_comma.csv": "v,f\n" + "\n".join('"%s","%s"' % tuple(c.replace(".", ",") for c in r.split(","))
                                                 for r in body),
         "all_zero_v.csv": "v,f\n" + "0,1\n" * 50,
+        "all_zero_f.csv": "v,f\n" + "".join(f"{s * v:g},0\n" for s in (1, -1) for v in (0.001, 0.01, 0.1, 0.3, 0.5)),
         "long_cell.csv": "v,f\n" + "1" * 200_000 + ",1\n" + "\n".join(body[:40]),
         "tiny_values.csv": "v,f\n" + "\n".join(f"{1e-300 * (k + 1)},{1e-300 * (k + 2)}" for k in range(60)),
         "duplicate_columns.csv": "v,f,f\n" + "\n".join(r + ",0" for r in body),
@@ -331,6 +332,8 @@ ROWS = [
      "(header is v;x,f); it looks ';'-separated: say --delimiter ';'"),
     ("quoted comma decimals", ["train", "quoted_comma.csv", "-o", OUT], "non-numeric"),
     ("all v = 0", ["train", "all_zero_v.csv", "-o", OUT], "a friction sweep needs motion"),
+    ("all f = 0, accepted as unusual", ["train", "all_zero_f.csv", "--accept-unusual", "-o", OUT],
+     "the force is 0 at every moving point: the data hold no friction"),
     ("non-UTF-8 CSV", ["train", "non_utf8.csv", "-o", OUT], "not UTF-8 text"),
     ("cell of 200000 digits", ["train", "long_cell.csv", "-o", OUT], "NaN or infinite"),
     ("values around 1e-300", ["train", "tiny_values.csv", "-o", OUT], "below the 1e-06 m/s of any real axis"),

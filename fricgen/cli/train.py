@@ -164,7 +164,8 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
                     if position_force else report)
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
                                   force_constant=args.force_constant,
-                                  train_friction=lambda data: fit_friction(data, force_constant=None),
+                                  train_friction=lambda data, mass: fit_friction(data, mass=mass,
+                                                                                 force_constant=None),
                                   name=name)
 
 

@@ -9,6 +9,7 @@ import jinja2
 
 from .. import __version__
 from .._io import resource_dir
+from ..axis import MASS_FROM
 from ..c_literal import c_float
 from ..c_names import check_model_name
 from ..effects import TableEffect, model_effects
@@ -107,7 +108,7 @@ def axis_context(model: FrictionModel) -> dict:
     fields = [("OFFSET", axis.offset, f"{units.force}, the constant {units.effort}"),
               ("OFFSET_SE", axis.offset_se, f"{units.force}, its standard error"),
               (inertia, axis.mass,
-               f"{units.mass}, {'identified' if axis.mass_from == 'data' else 'given to train'}"),
+               f"{units.mass}, {MASS_FROM[axis.mass_from]}"),
               (f"{inertia}_SE", axis.mass_se, f"{units.mass}, its standard error"),
               ("FORCE_CONSTANT", axis.force_constant, f"{units.force}/A"),
               ("SPEED_MIN", axis.speed_min, f"{units.speed}, the slowest speed of the data"),

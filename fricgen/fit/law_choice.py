@@ -304,6 +304,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     moving = sweep.v != 0
     if not np.any(moving):
         raise DataError("no row with v != 0: a friction sweep needs motion")
+    if not np.any(sweep.f[moving]):
+        raise DataError("the force is 0 at every moving point: the data hold no friction")
     if asymmetric and not (np.any(sweep.v > 0) and np.any(sweep.v < 0)):
         raise DataError("an asymmetric model needs a sweep of each direction: the data move one "
                         "way only")

@@ -47,10 +47,13 @@ def _law(coulomb: float, viscous: float, fastest: float) -> LawFit:
 
 def _per_direction(fit: CoggingFit, speed: np.ndarray, name: str, units) -> FrictionModel:
     """Coulomb + viscous per direction from the move (its speeds ``speed``), with the axis record
-    of its speed range (``recording_force_constant`` adds the force constant)."""
+    of its speed range and the map's inertia where it has one (``recording_force_constant`` adds
+    the force constant)."""
     cp, bp, cn, bn = fit.coulomb_viscous
     fastest = float(np.percentile(speed, 99))
     axis = speed_record(float(np.percentile(speed, 1)), fastest)
+    if fit.inertia_source != "undetermined":
+        axis.update(mass=fit.inertia, mass_from="cogging" if fit.inertia_source == "identified" else "option")
     return FrictionModel.from_directions(_law(cp, bp, fastest).direction(),
                                          _law(-cn, bn, fastest).direction(), name=name,
                                          training={"units": units.kind, "axis": axis,
@@ -71,8 +74,10 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                        inertia: Optional[float], force_constant: Optional[float],
                        train_friction: Callable[[Mapping[str, np.ndarray]], FitReport],
                        name: str) -> CoggingReport:
-    """The map and the friction model (see the module docstring); ``train_friction`` fits the
-    default model to columns (the map's force removed) and may refuse them."""
+    """The map and the friction model (see the module docstring); ``train_friction(columns,
+    mass)`` fits the default model to columns (the map's force removed) and may refuse them;
+    ``mass`` is the inertia the map took out where it was given or identified (a slow move
+    at one speed accelerates too little to tell it again), else None."""
     if "x" not in columns or "t" not in columns:
         raise UsageError("--cogging needs a motion log with time t and position x (the map is a "
                          "function of the position)")
@@ -85,7 +90,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     cleaned["force"] = force - (fit.map.force(columns["x"]) if fit.map is not None else 0.0)
     lines = []
     try:
-        report = train_friction(cleaned)
+        report = train_friction(cleaned, None if fit.inertia_source == "undetermined" else fit.inertia)
         model, text, warnings = report.model, report.text, list(report.warnings)
     except (DataError, ModelError, ValueError):
         speed = np.abs(np.gradient(columns["x"], columns["t"]))
@@ -93,6 +98,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         text = ("friction: Coulomb + viscous per direction from the move (a calibration at one "
                 "speed each way holds too few speeds for the default fit)")
         warnings = []
+    if fit.inertia_source == "identified":
+        model, text = _recording_inertia_source(model, text)
     model = replace(recording_force_constant(model, columns, force_constant), cogging_map=fit.map,
                     cogging_friction=fit.friction)
     j = {"given": "given", "identified": "identified from the two directions' ripple",
@@ -179,6 +186,18 @@ def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
         return report
     model = recording_force_constant(again.model, columns, constant)
     return replace(again, model=replace(model, cogging_map=fit.map))
+
+
+def _recording_inertia_source(model: FrictionModel, text: str) -> Tuple[FrictionModel, str]:
+    """``model`` and its report ``text`` saying that the inertia the friction was fitted with is
+    the one the cogging map identified (train was given it, as by --mass)."""
+    axis = model.training.get("axis")
+    if axis is None or axis.get("mass_from") != "option":
+        return model, text
+    lines = [line.replace(" as given", " from the cogging map's ripple (below)")
+             if line.startswith(("inertia ", "mass ")) else line for line in text.splitlines()]
+    return (replace(model, training={**model.training, "axis": {**axis, "mass_from": "cogging"}}),
+            "\n".join(lines))
 
 
 def recording_force_constant(model: FrictionModel, columns: Mapping[str, np.ndarray],
