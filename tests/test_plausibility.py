@@ -330,3 +330,21 @@ def test_a_small_sweep_with_v_and_f_swapped_is_refused_and_a_real_one_is_not():
     warned = []
     check_sweep_shape(f, v, "sweep.csv", accept_unusual=True, warn=warned.append)
     assert len(warned) == 1
+
+
+@pytest.mark.parametrize("rotary, columns, hint", [
+    (True, {"x": 40.0 * 57.29578}, "; is x in deg (--scale x=0.0174533)?"),
+    (True, {"v": 125.0 * 30 / np.pi}, "; is v in rpm (--scale v=0.10472) or deg/s (--scale v=0.0174533)?"),
+    (False, {"x": 40.0}, "--scale x=0.001 converts it; or is the axis a joint or shaft in rad (--rotary)?"),
+])
+def test_a_shaft_too_fast_for_its_units_is_asked_about_degrees_rpm_or_rotary(rotary, columns, hint):
+    """A new user's trial: a shaft's x in degrees was asked 'is x in mrad?', rpm 'is v in
+    mrad/s?', a shaft in rad without --rotary 'is x in mm?': each hint, followed, trained a
+    silently wrong model."""
+    from fricgen._validate import rotary_axis
+    t = np.arange(5000) / 1000.0
+    (name, amplitude), = columns.items()
+    wave = amplitude * (np.sin(np.pi * t) if name == "x" else np.cos(np.pi * t) * np.pi)
+    with rotary_axis(rotary), pytest.raises(DataError) as refused:
+        check_bounds({"t": t, name: wave, "force": np.ones_like(t)}, "log.csv")
+    assert hint in str(refused.value) and "mrad" not in str(refused.value)

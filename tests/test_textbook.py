@@ -356,3 +356,40 @@ def test_a_joint_torque_a_thousand_times_off_gets_one_warning_in_nm(tmp_path, ca
     main(["train", path, "--accept-unusual", "-o", str(tmp_path / "m.json")])
     lines = [line for line in capsys.readouterr().err.splitlines() if words in line]
     assert len(lines) == 1, lines
+
+
+def test_a_log_of_friction_differing_by_direction_says_the_offset_may_be_that():
+    """A new user's trial: Coulomb 0.040 Nm one way and 0.055 Nm the other, no load, read as an
+    offset of -0.011 Nm and curves of 0.051 and 0.044 Nm, without a word that motion cannot tell
+    the two apart. The line says so; the curve plus or less o is each direction's friction."""
+    t = np.arange(0.0, 20.0, 0.001)
+    v = 30.0 * np.sin(2 * np.pi * 0.2 * t)
+    friction = np.where(v > 0, 0.040 + 6e-4 * v, -0.055 + 9e-4 * v)
+    force = 4e-4 * np.gradient(v, t) + friction + 5e-4 * np.random.default_rng(1000).standard_normal(t.size)
+    report = fricgen.train({"t": t, "v": v, "force": force}, rotary=True, warn=lambda line: None)
+    line = next(line for line in report.text.splitlines() if line.startswith("offset"))
+    assert "Motion does not tell it from a friction that differs by direction" in line
+    o = report.training["axis"]["offset"]
+    assert abs(o) > 0.003
+    for speed in (5.0, 20.0):
+        for s in (1, -1):
+            truth = 0.040 + 6e-4 * speed if s > 0 else -(0.055 + 9e-4 * speed)
+            assert report.model.force(s * speed) + o == pytest.approx(truth, abs=0.002)
+
+
+def test_a_stribeck_law_whose_v_s_the_points_do_not_determine_is_no_candidate():
+    """A new user's trial: 5 speeds a side of Coulomb + viscous friction (10-300 rad/s) kept a
+    Stribeck law with v_s = 100 +- 76 rad/s on some seeds, up to 2.4x the plain fit's error."""
+    speed = np.geomspace(10.0, 300.0, 5)
+    v = np.concatenate([speed, -speed])
+    said = 0
+    for seed in range(1000, 1012):
+        f = np.sign(v) * np.where(v > 0, 0.12 + 4e-4 * np.abs(v),
+                                  0.145 + 5.5e-4 * np.abs(v))
+        f = f + 0.002 * np.random.default_rng(seed).standard_normal(v.size)
+        choice = choose_law(fricgen.Sweep(v, f))
+        for curve in choice.fit.fits:
+            law = curve.estimator.law_
+            assert not law.stribeck or law.standard_errors["v_s"] < law.v_s
+        said += any("do not determine v_s" in why for why in choice.left_out)
+    assert said >= 1

@@ -108,7 +108,7 @@ def axis_context(model: FrictionModel) -> dict:
     fields = [("OFFSET", axis.offset, f"{units.force}, the constant {units.effort}"),
               ("OFFSET_SE", axis.offset_se, f"{units.force}, its standard error"),
               (inertia, axis.mass,
-               f"{units.mass}, {MASS_FROM[axis.mass_from]}"),
+               f"{units.mass}, {MASS_FROM.get(axis.mass_from)}"),
               (f"{inertia}_SE", axis.mass_se, f"{units.mass}, its standard error"),
               ("FORCE_CONSTANT", axis.force_constant, f"{units.force}/A"),
               ("SPEED_MIN", axis.speed_min, f"{units.speed}, the slowest speed of the data"),

@@ -235,10 +235,10 @@ class Identification:
             return ("offset    not determined: the log moves one way only, where a constant "
                     f"{units.effort} is one with the friction")
         o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} {units.force}"
-        if self.load == "textbook":
-            return (f"{o}: a constant {units.effort} beside the friction (the even part of the "
-                    f"{units.effort}, which the textbook law's curves leave out, per direction as symmetric; "
-                    f"{COMPENSATED})")
+        if self.load == "textbook":     # motion alone does not tell o from friction differing by direction
+            return (f"{o}: a constant {units.effort} beside the friction (the even part of the {units.effort}, which the textbook law's "
+                    f"curves leave out, per direction as symmetric; {COMPENSATED}). Motion does not tell it from a friction that differs "
+                    "by direction: on an axis without a constant load, each direction's F_c is its curve's plus (v > 0) or less (v < 0) o")
         if self.load:
             return (f"{o}: a load beside the friction (held in the two curves, it would make one "
                     f"of them push the axis; {COMPENSATED})")
@@ -578,8 +578,7 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
-        units = axis_units()
-        check_varies(columns["force"], units.effort, units.force)
+        check_varies(columns["force"], axis_units().effort, axis_units().force)
         return identify_friction(t, columns["force"], mass, **motion)
     current = columns["i"]
     check_varies(current, "current i", "A")

@@ -21,8 +21,8 @@ from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from .._validate import (ACCEPT_UNUSUAL, USUAL_MIN, physical_problem, physical_range, physical_unit,
-                         unusual, unusually_small, usual_max)
+from .._validate import (ACCEPT_UNUSUAL, PHYSICAL_ROTARY, USUAL_MIN, in_rotary_axis, physical_problem,
+                         physical_range, physical_unit, unusual, unusually_small, usual_max)
 from ..errors import DataError
 from ..units import axis_units
 from .outliers import running_median
@@ -71,16 +71,30 @@ def _unit_factor(quantity: str, value: float) -> Optional[float]:
     return next((step ** k for k in range(1, 5) if low <= value * step ** k <= high), None)
 
 
+#: The units a rotary axis's position and speed are often logged in: (column, unit, its size in
+#: rad or rad/s); a speed too fast for rad/s asks for these before any power of 1000.
+ROTARY_UNITS = (("x", "deg", np.pi / 180), ("v", "rpm", np.pi / 30), ("v", "deg/s", np.pi / 180))
+
+
 def _unit_hint(column: str, quantity: str, value: float) -> str:
     """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
-    ``value`` into ``physical_range(quantity)``, or ''."""
+    ``value`` into ``physical_range(quantity)``, or ''. A rotary axis's speed too fast asks for
+    degrees or rpm first (``ROTARY_UNITS``); a linear axis's, whether it is a rotary one in rad."""
+    low, high, _ = physical_range(quantity)
+    if quantity == "speed" and value > high and in_rotary_axis():
+        named = [f"{unit} (--scale {column}={size:.6g})" for c, unit, size in ROTARY_UNITS
+                 if c == column and low <= value * size <= high]
+        if named:
+            return f"; is {column} in {' or '.join(named)}?"
     factor = _unit_factor(quantity, value)
     if factor is None:
         return ""
     unit = axis_units().position if column == "x" else physical_unit(quantity)   # x: its own unit
     prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
     named = f"is {column} in {prefix}{unit}? " if prefix else ""
-    return f"; {named}--scale {column}={factor:g} converts it"
+    rotary = ("; or is the axis a joint or shaft in rad (--rotary)?" if quantity == "speed" and
+              value > high and not in_rotary_axis() and value <= PHYSICAL_ROTARY["speed"][1] else "")
+    return f"; {named}--scale {column}={factor:g} converts it{rotary}"
 
 
 def _counts_hint(quantity: str, value: float) -> str:
