@@ -49,10 +49,6 @@ STRUCTURE_POINTS = 10
 #: Fewest paired held-out folds on which one candidate can beat another: the standard error of
 #: fewer differences is itself a guess (a sweep of 3 points a side holds out its 2 middle ones).
 MIN_PAIRED = 3
-#: A Stribeck law is a candidate only where every curve's v_s lies this many standard errors
-#: above 0 (a v_s the points do not determine bends a curve through their noise; 2 left out
-#: the term the textbook law's 5- and 8-point sweeps of benchmarks/small_sweeps.py need).
-VS_Z = 1.0
 #: The textbook floor: kept unless another candidate beats it clearly (the law of the
 #: engineer's spreadsheet; symmetric Coulomb + viscous where the data move one way).
 ANCHOR = "Coulomb + viscous, per direction"
@@ -346,11 +342,6 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                             (" in a direction" if law.asymmetric else ""))
             continue
         pinned = law.fits(level, weight) if one_out and law.stribeck else None
-        if law.stribeck and not all(VS_Z * curve.standard_errors["v_s"] < curve.v_s
-                                    for curve in pinned or law.fits(level, weight)):
-            left_out.append(f"{law.name}: the data do not determine v_s (its standard error "
-                            "exceeds it): no Stribeck drop within the speeds")
-            continue
         mse = _fold_mse(lambda train, w, law=law, pinned=pinned: law.predictor(train, w, offset,
                                                                                 pinned),
                         sweep, weight, folds)
