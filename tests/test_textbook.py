@@ -375,4 +375,3 @@ def test_a_log_of_friction_differing_by_direction_says_the_offset_may_be_that():
         for s in (1, -1):
             truth = 0.040 + 6e-4 * speed if s > 0 else -(0.055 + 9e-4 * speed)
             assert report.model.force(s * speed) + o == pytest.approx(truth, abs=0.002)
-
