@@ -148,15 +148,16 @@ class Direction:
             raise ModelError(f"the force reaches {worst:.3g} N within [0, v_sat]; the float32 C "
                              f"needs it below {FLOAT32_SCALE[1]:g}")
         lowest = int(np.argmin(force))
+        units = axis_units()
         if not opposes_motion(force):
-            raise ModelError(f"the friction is {force[lowest]:.3g} N at |v| = "
-                             f"{self.v_sat * CHECK_SPEEDS[lowest]:.3g} m/s: it pushes the axis "
+            raise ModelError(f"the friction is {force[lowest]:.3g} {units.force} at |v| = "
+                             f"{self.v_sat * CHECK_SPEEDS[lowest]:.3g} {units.speed}: it pushes the axis "
                              "instead of opposing the motion (an edited offset, slope or weight?)")
         if self.viscous < 0:
             reversal = -self.stribeck(self.v_sat) / self.viscous
             if reversal < OPPOSES_MOTION_UP_TO * self.v_sat:
-                raise ModelError(f"viscous = {self.viscous:.3g} N s/m turns the friction against "
-                                 f"|v| beyond {float(reversal):.3g} m/s, within "
+                raise ModelError(f"viscous = {self.viscous:.3g} {units.viscous} turns the friction against "
+                                 f"|v| beyond {float(reversal):.3g} {units.speed}, within "
                                  f"{OPPOSES_MOTION_UP_TO:g} v_sat: friction must oppose the motion")
         return self
 

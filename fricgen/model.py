@@ -439,6 +439,12 @@ class FrictionModel:
     def from_dict(cls, d: Any) -> "FrictionModel":
         if not isinstance(d, dict):
             raise ModelError("model.json must hold a JSON object")
+        training = d.get("training")
+        with rotary_axis(isinstance(training, dict) and training.get("units") == "rotary"):
+            return cls._from_dict(d)         # its checks speak the units of its axis
+
+    @classmethod
+    def _from_dict(cls, d: dict) -> "FrictionModel":
         if d.get("format") != FORMAT:
             raise ModelError(f"format must be {FORMAT!r}, got {d.get('format')!r}"[:200])
         version = d.get("format_version")

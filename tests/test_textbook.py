@@ -375,3 +375,16 @@ def test_a_log_of_friction_differing_by_direction_says_the_offset_may_be_that():
         for s in (1, -1):
             truth = 0.040 + 6e-4 * speed if s > 0 else -(0.055 + 9e-4 * speed)
             assert report.model.force(s * speed) + o == pytest.approx(truth, abs=0.002)
+
+
+def test_a_hand_edited_rotary_model_is_refused_in_its_own_units(tmp_path):
+    """A new user's trial: a negative viscous edited into a joint's model.json was refused as
+    '-0.663 N at |v| = 70.4 m/s'."""
+    model = fricgen.train(sweep_of(8, 1000), rotary=True, warn=lambda line: None).model
+    d = json.loads(model.checked_json())
+    curve = d if "viscous" in d else d["positive"]
+    curve["viscous"] = -50.0 * abs(curve["viscous"]) - 50.0
+    with pytest.raises(fricgen.ModelError) as refused:
+        FrictionModel.from_dict(d)
+    assert re.search(r"Nm s/rad|Nm at \|v\|", str(refused.value)) and "rad/s" in str(refused.value)
+    assert not re.search(r"\bN s/m\b|\bm/s\b|\d N\b", str(refused.value))
