@@ -106,10 +106,11 @@ def physical_problem(quantity: str, what: str, value: float) -> str:
 
 
 def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
-    """'' if ``value`` lies within USUAL_MAX[quantity], else the clause saying it is unusual,
+    """'' if ``value`` lies within ``usual_max(quantity)``, else the clause saying it is unusual,
     with the units of ``column`` that would explain it: "WHAT is 15 m/s, above the 5 m/s of
     most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?" (for a speed
-    taken from the position x: "is x in mm (--scale x=0.001)?")."""
+    taken from the position x: "is x in mm (--scale x=0.001)?"; for a joint's torque: "is tau
+    in mNm (--scale tau=0.001)?")."""
     physical, usual = _tables()
     high, unit = usual[quantity], physical[quantity][2]
     value = abs(float(value))

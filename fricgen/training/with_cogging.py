@@ -72,7 +72,7 @@ def describe(m: CoggingMap, what: str, units) -> list:
 
 def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[float], rotary: bool,
                        inertia: Optional[float], force_constant: Optional[float],
-                       train_friction: Callable[[Mapping[str, np.ndarray]], FitReport],
+                       train_friction: Callable[[Mapping[str, np.ndarray], Optional[float]], FitReport],
                        name: str) -> CoggingReport:
     """The map and the friction model (see the module docstring); ``train_friction(columns,
     mass)`` fits the default model to columns (the map's force removed) and may refuse them;
