@@ -46,6 +46,9 @@ PHYSICAL_ROTARY = {"speed": (1e-6, 1000.0, "rad/s"), "v_sat": (1e-7, 1000.0, "ra
 #: A joint's or shaft's largest friction torque above 2 kNm (beyond the base joints of the
 #: largest arms): a torque in mNm read as Nm lands there.
 USUAL_MAX_ROTARY = {"speed": 300.0, "v_sat": 30.0, "current": 500.0, "force": 2000.0}
+#: The units a rotary axis's position and speed are often logged in: (column, unit, its size in
+#: rad or rad/s), which the hints of a speed beyond the bounds name.
+ROTARY_UNITS = (("x", "deg", math.pi / 180), ("v", "rpm", math.pi / 30), ("v", "deg/s", math.pi / 180))
 _ROTARY = contextvars.ContextVar("rotary", default=False)
 
 
@@ -121,8 +124,7 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
     elif quantity == "force":
         units = f"m{unit} (--scale {column}=0.001)"
     elif _ROTARY.get():
-        units = (f"deg (--scale {column}=0.0174533)" if column == "x" else
-                 f"rpm (--scale {column}=0.10472) or deg/s (--scale {column}=0.0174533)")
+        units = rotary_units(column, "x" if column == "x" else "v")
     elif column == "x":
         units = "mm (--scale x=0.001)"
     else:
@@ -130,6 +132,13 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
                  "joint or shaft in rad/s (--rotary)")
     return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in "
             f"{units}?")
+
+
+def rotary_units(column: str, kind: str, fits=lambda size: True) -> str:
+    """The ``ROTARY_UNITS`` of a position ("x") or a speed ("v") ``kind`` whose size ``fits``,
+    each with the --scale of ``column``: "rpm (--scale v=0.10472) or deg/s (--scale v=0.0174533)"."""
+    return " or ".join(f"{unit} (--scale {column}={size:.6g})" for c, unit, size in ROTARY_UNITS
+                       if c == kind and fits(size))
 
 
 def unusually_small(quantity: str, what: str, value: float, column: str) -> str:

@@ -144,11 +144,11 @@ class Direction:
         with np.errstate(over="ignore", invalid="ignore"):
             force = self.magnitude(self.v_sat * CHECK_SPEEDS)
         worst = float(np.max(np.abs(force)))
-        if not worst <= FLOAT32_SCALE[1]:
-            raise ModelError(f"the force reaches {worst:.3g} N within [0, v_sat]; the float32 C "
-                             f"needs it below {FLOAT32_SCALE[1]:g}")
-        lowest = int(np.argmin(force))
         units = axis_units()
+        if not worst <= FLOAT32_SCALE[1]:
+            raise ModelError(f"the {units.effort} reaches {worst:.3g} {units.force} within [0, v_sat]; "
+                             f"the float32 C needs it below {FLOAT32_SCALE[1]:g}")
+        lowest = int(np.argmin(force))
         if not opposes_motion(force):
             raise ModelError(f"the friction is {force[lowest]:.3g} {units.force} at |v| = "
                              f"{self.v_sat * CHECK_SPEEDS[lowest]:.3g} {units.speed}: it pushes the axis "
@@ -168,9 +168,10 @@ class Direction:
         problem = physical_problem("v_sat", "v_sat", self.v_sat)
         if not problem:
             worst = float(np.max(np.abs(self.magnitude(self.v_sat * CHECK_SPEEDS))))
-            problem = physical_problem("force", f"the largest {axis_units().effort} on [0, v_sat]", worst)
+            units = axis_units()
+            problem = physical_problem("force", f"the largest {units.effort} on [0, v_sat]", worst)
             if problem and self.viscous * self.v_sat > PHYSICAL_FORCE_MAX:
-                problem = f"viscous = {self.viscous:.6g} N s/m: {problem}"
+                problem = f"viscous = {self.viscous:.6g} {units.viscous}: {problem}"
         if problem:
             raise ModelError(f"{problem} (a digit or decimal point lost, or other units? "
                              f"{ACCEPT_UNUSUAL} at training accepts it)")

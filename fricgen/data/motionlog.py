@@ -15,6 +15,7 @@ import numpy as np
 
 from .._io import named_data
 from ..errors import DataError
+from ..units import axis_units
 from .matfile import is_matfile, read_matfile
 from .table import header_hint, read_table_csv, table_csv_text
 
@@ -173,7 +174,8 @@ def check_moves(v: np.ndarray, x: Optional[np.ndarray] = None, v_given: bool = T
     if not v_given:
         raise DataError("the position x never changes: the axis never moves")
     if x is not None and np.ptp(x) > 0:
-        raise DataError(f"column 'v' is 0 throughout while x travels {np.ptp(x):.3g} m: is v logged?")
+        raise DataError(f"column 'v' is 0 throughout while x travels {np.ptp(x):.3g} "
+                        f"{axis_units().position}: is v logged?")
     raise DataError("column 'v' is 0 throughout: the axis never moves")
 
 

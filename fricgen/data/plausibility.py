@@ -22,7 +22,7 @@ from typing import Callable, Dict, Optional, Tuple
 import numpy as np
 
 from .._validate import (ACCEPT_UNUSUAL, PHYSICAL_ROTARY, USUAL_MIN, in_rotary_axis, physical_problem,
-                         physical_range, physical_unit, unusual, unusually_small, usual_max)
+                         physical_range, physical_unit, rotary_units, unusual, unusually_small, usual_max)
 from ..errors import DataError
 from ..units import axis_units
 from .outliers import running_median
@@ -71,21 +71,15 @@ def _unit_factor(quantity: str, value: float) -> Optional[float]:
     return next((step ** k for k in range(1, 5) if low <= value * step ** k <= high), None)
 
 
-#: The units a rotary axis's position and speed are often logged in: (column, unit, its size in
-#: rad or rad/s); a speed too fast for rad/s asks for these before any power of 1000.
-ROTARY_UNITS = (("x", "deg", np.pi / 180), ("v", "rpm", np.pi / 30), ("v", "deg/s", np.pi / 180))
-
-
 def _unit_hint(column: str, quantity: str, value: float) -> str:
     """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
     ``value`` into ``physical_range(quantity)``, or ''. A rotary axis's speed too fast asks for
-    degrees or rpm first (``ROTARY_UNITS``); a linear axis's, whether it is a rotary one in rad."""
+    degrees or rpm first (``_validate.rotary_units``); a linear axis's, whether it is a rotary one in rad."""
     low, high, _ = physical_range(quantity)
     if quantity == "speed" and value > high and in_rotary_axis():
-        named = [f"{unit} (--scale {column}={size:.6g})" for c, unit, size in ROTARY_UNITS
-                 if c == column and low <= value * size <= high]
-        if named:
-            return f"; is {column} in {' or '.join(named)}?"
+        named = rotary_units(column, column, lambda size: low <= value * size <= high)
+        if named:           # degrees or rpm before any power of 1000
+            return f"; is {column} in {named}?"
     factor = _unit_factor(quantity, value)
     if factor is None:
         return ""
