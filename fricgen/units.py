@@ -32,6 +32,11 @@ class Units:
         """What the moving body's inertia is called: "mass" (linear) or "inertia" (rotary)."""
         return "inertia" if self.kind == "rotary" else "mass"
 
+    @property
+    def force_constant(self) -> str:
+        """The unit of a force constant, force per ampere: "N/A" or "Nm/A"."""
+        return f"{self.force}/A"
+
 
 LINEAR = Units("linear", "m", "m/s", "N", "N s/m", "kg")
 ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2", "torque")

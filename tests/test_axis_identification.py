@@ -213,6 +213,18 @@ def test_a_current_log_without_force_constant_says_what_it_determines(offset_log
     assert ident_k == pytest.approx(k, rel=0.03)
 
 
+def test_a_joints_current_log_without_force_constant_speaks_torque_and_inertia(
+        offset_log, tmp_path, capsys):
+    """On a rotary axis the same refusal names Nm/A and kg m^2, never N/A nor kg."""
+    log = _write(tmp_path, "i.csv", {"t": offset_log["t"], "v": offset_log["v"],
+                                     "i": offset_log["force"] / 2.5})
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "--rotary", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "kg m^2/(Nm/A)" in err[0] and "--force-constant (Nm/A)" in err[0]
+    assert "(N/A)" not in err[0] and "(kg)" not in err[0] and not out.exists()
+
+
 def test_a_current_in_ma_gets_one_warning_naming_the_unit_and_scaled_the_same_axis(
         offset_log, tmp_path, capsys):
     """A current written in mA is a thousand times the axis' (a mass a thousand times its own):

@@ -206,8 +206,9 @@ class Identification:
                          "friction level as one sum")
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
-            lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} N/A identified from the "
-                         "mass given (the current determines M/K)")
+            lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} {units.force_constant} "
+                         f"identified from the {units.inertia_name} given (the current determines "
+                         "M/K)")
         return lines
 
     def as_load(self, why: str = "push") -> "Identification":
@@ -572,9 +573,9 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
                                "use": use, "conditions": conditions, "gravity": gravity,
                                "runs": runs, "held": held}
     if "load" in conditions and "force" not in columns and force_constant is None:
-        raise DataError("the log has a load column and a current i but no force: pass "
-                        "--force-constant (N/A) so that the current is a force the load can be "
-                        "taken from")
+        raise DataError(f"the log has a load column and a current i but no force: pass "
+                        f"--force-constant ({axis_units().force_constant}) so that the current is "
+                        f"a {axis_units().effort} the load can be taken from")
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
@@ -586,15 +587,18 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
         return replace(identify_friction(t, force_constant * current, mass, **motion),
                        force_constant=(float(force_constant), None))
     in_amperes = identify_friction(t, current, None, **{**motion, "conditions": {}}).body  # m/K, o/K
+    units = axis_units()
+    per_k = f"{units.mass}/({units.force_constant})"
     if mass is not None and not in_amperes.mass_determined:
         raise DataError(f"the log's accelerations do not determine M/K ({in_amperes.mass:.3g} +- "
-                        f"{in_amperes.mass_se:.2g} kg/(N/A)), so --mass cannot give K: pass "
+                        f"{in_amperes.mass_se:.2g} {per_k}), so --mass cannot give K: pass "
                         "--force-constant, or log motion that accelerates and brakes")
     if mass is None:
-        raise DataError(f"the log has a current i but no force: it determines M/K = "
-                        f"{in_amperes.mass:.4g} +- {in_amperes.mass_se:.2g} kg/(N/A) and the "
-                        "friction in A, not M nor the force in N: pass --force-constant (N/A), "
-                        "or --mass (kg) to identify K")
+        raise DataError(f"the log has a current i but no {units.effort}: it determines M/K = "
+                        f"{in_amperes.mass:.4g} +- {in_amperes.mass_se:.2g} {per_k} and the "
+                        f"friction in A, not M nor the {units.effort} in {units.force}: pass "
+                        f"--force-constant ({units.force_constant}), or --mass ({units.mass}) to "
+                        "identify K")
     k = mass / in_amperes.mass
     k_se = k * in_amperes.mass_se / in_amperes.mass
     return replace(identify_friction(t, k * current, mass, **motion), force_constant=(k, k_se))
