@@ -37,15 +37,17 @@ USUAL_MAX = {"speed": 5.0, "v_sat": 0.3, "current": 500.0}
 #: ... and a largest friction force below 0.1 N: forces in kN read as N land there.
 USUAL_MIN = {"force": 0.1}
 #: The same of a rotary axis (a robot joint, a motor shaft), in rad/s, Nm and kg m^2: speeds of
-#: 1 urad/s to 1000 rad/s (a motor shaft at 9500 rpm), v_sat likewise, friction torques of
-#: 10 uNm to 100 kNm, inertias of 1e-8 kg m^2 (a small rotor) to 1e5 kg m^2; most joints and
-#: shafts turn below 300 rad/s, with v_sat below 30 rad/s.
-PHYSICAL_ROTARY = {"speed": (1e-6, 1000.0, "rad/s"), "v_sat": (1e-7, 1000.0, "rad/s"),
+#: 1 urad/s to 10000 rad/s (a small motor's shaft at 95000 rpm), v_sat likewise, friction
+#: torques of 10 uNm to 100 kNm, inertias of 1e-8 kg m^2 (a small rotor) to 1e5 kg m^2; most
+#: joints and shafts turn below 1000 rad/s (9500 rpm), with v_sat below 30 rad/s.
+PHYSICAL_ROTARY = {"speed": (1e-6, 1e4, "rad/s"), "v_sat": (1e-7, 1e4, "rad/s"),
                    "force": (1e-5, 1e5, "Nm"), "mass": (1e-8, 1e5, "kg m^2"),
                    "current": PHYSICAL["current"]}
 #: A joint's or shaft's largest friction torque above 2 kNm (beyond the base joints of the
 #: largest arms): a torque in mNm read as Nm lands there.
-USUAL_MAX_ROTARY = {"speed": 300.0, "v_sat": 30.0, "current": 500.0, "force": 2000.0}
+USUAL_MAX_ROTARY = {"speed": 1000.0, "v_sat": 30.0, "current": 500.0, "force": 2000.0}
+#: ... and its largest friction torque below 1 mNm (a small servo motor's is tens of mNm).
+USUAL_MIN_ROTARY = {"force": 1e-3}
 #: The units a rotary axis's position and speed are often logged in: (column, unit, its size in
 #: rad or rad/s), which the hints of a speed beyond the bounds name.
 ROTARY_UNITS = (("x", "deg", math.pi / 180), ("v", "rpm", math.pi / 30), ("v", "deg/s", math.pi / 180))
@@ -142,10 +144,10 @@ def rotary_units(column: str, kind: str, fits=lambda size: True) -> str:
 
 
 def unusually_small(quantity: str, what: str, value: float, column: str) -> str:
-    """'' if ``value`` is at least USUAL_MIN[quantity], else the clause saying it is unusual, with
-    the units that would explain it: "WHAT is 0.004 N, below the 0.1 N of most axes' friction: is
+    """'' if ``value`` is at least USUAL_MIN[quantity] (USUAL_MIN_ROTARY's on a rotary axis), else
+    the clause saying it is unusual, with the units that would explain it: "WHAT is 0.004 N, below the 0.1 N of most axes' friction: is
     f in kN (--scale f=1000)?"."""
-    low, unit = USUAL_MIN[quantity], physical_unit(quantity)
+    low, unit = (USUAL_MIN_ROTARY if _ROTARY.get() else USUAL_MIN)[quantity], physical_unit(quantity)
     value = abs(float(value))
     if value >= low:
         return ""

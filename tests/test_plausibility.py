@@ -230,6 +230,26 @@ def test_a_log_timed_in_ms_read_as_s_is_named():
     assert heard == []
     check_rate(1000 * t, "log.csv", heard.append)
     assert len(heard) == 1 and "sampled at 1 Hz" in heard[0] and "--scale t=0.001" in heard[0]
+    check_rate(1e6 * t, "log.csv", heard.append)        # in us: 1e-3 would leave it at 1 Hz
+    assert len(heard) == 2 and "is t in us (--scale t=1e-06)" in heard[1]
+    check_rate(1000 * t, "log.csv", heard.append, {"t": 1.0})   # the user's own factor: no ask
+    assert len(heard) == 3 and "after --scale t=1" in heard[2] and "is t in" not in heard[2]
+
+
+def test_a_column_the_user_scaled_is_not_asked_about_that_unit_again():
+    """A new user's trial: a shaft at 12000 rpm scaled with --scale v=0.10472 was still asked 'is
+    v in rpm (--scale v=0.10472)?', which invites scaling twice; a shaft at 3000 rpm (314 rad/s)
+    was warned about at all."""
+    from fricgen._validate import rotary_axis
+    t = np.arange(5000) / 1000.0
+    heard = []
+    with rotary_axis(True):
+        for rpm in (3000.0, 12000.0):
+            v = rpm * np.pi / 30 * np.cos(np.pi * t)
+            check_bounds({"t": t, "v": v, "force": np.ones_like(t)}, "log.csv", warn=heard.append,
+                         scaled={"v": np.pi / 30})
+    assert len(heard) == 1 and "after --scale v=0.10472" in heard[0]
+    assert "is v in" not in heard[0] and "above the 1000 rad/s" in heard[0]
 
 
 def test_a_value_at_a_physical_bound_but_for_rounding_is_within_it():
@@ -333,8 +353,8 @@ def test_a_small_sweep_with_v_and_f_swapped_is_refused_and_a_real_one_is_not():
 
 
 @pytest.mark.parametrize("rotary, columns, hint", [
-    (True, {"x": 40.0 * 57.29578}, "; is x in deg (--scale x=0.0174533)?"),
-    (True, {"v": 125.0 * 30 / np.pi}, "; is v in rpm (--scale v=0.10472) or deg/s (--scale v=0.0174533)?"),
+    (True, {"x": 100.0 * 57.29578}, "; is x in deg (--scale x=0.0174533)?"),
+    (True, {"v": 1500.0 * 30 / np.pi ** 2}, "; is v in rpm (--scale v=0.10472) or deg/s (--scale v=0.0174533)?"),
     (False, {"x": 40.0}, "--scale x=0.001 converts it; or is the axis a joint or shaft in rad (--rotary)?"),
 ])
 def test_a_shaft_too_fast_for_its_units_is_asked_about_degrees_rpm_or_rotary(rotary, columns, hint):

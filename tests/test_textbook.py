@@ -345,7 +345,7 @@ def test_a_joint_logged_in_degrees_gets_one_warning(tmp_path, capsys, extra, war
 
 @pytest.mark.parametrize("scale, words", [
     (3000.0, "above the 2000 Nm of most axes: is force in mNm (--scale force=0.001)?"),
-    (1e-3, "below the 0.1 Nm of most axes' friction: is force in kNm (--scale force=1000)?"),
+    (1e-4, "below the 0.001 Nm of most axes' friction: is force in kNm (--scale force=1000)?"),
 ])
 def test_a_joint_torque_a_thousand_times_off_gets_one_warning_in_nm(tmp_path, capsys, scale, words):
     """A joint's torque (up to 4.5 Nm here) logged in mNm trained without a word (no bound on a

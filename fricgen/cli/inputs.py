@@ -103,7 +103,7 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
         check_merge_shift(columns, second, args.merge_shift, names, args.accept_unusual, _warn(args))
         columns = merged
     check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual,
-                  _warn(args))
+                  _warn(args), {k: f for k, f in scales.items() if not isinstance(f, str)})
     return columns
 
 

@@ -17,7 +17,7 @@ really are unusual (``--accept-unusual``), gives that line back as a warning:
 from __future__ import annotations
 
 import math
-from typing import Callable, Dict, Optional, Tuple
+from typing import Callable, Dict, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -122,7 +122,7 @@ def top_speed(columns: Dict[str, np.ndarray]) -> Optional[Tuple[str, float]]:
 
 
 def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bool = False,
-                 warn: Callable[[str], None] = print) -> None:
+                 warn: Callable[[str], None] = print, scaled: Mapping[str, float] = None) -> None:
     """The fastest speed (|v|, or |dx/dt| of a log without v), the largest force (|f|, |force|)
     and the largest current (|i|), each but for the top 1 % of rows (``_top``), within
     the axis's physical range (``_validate.physical_range``: a linear axis's or a rotary one's);
@@ -130,7 +130,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     ``usual_max`` (a joint's torque above 2 kNm: mNm?) or below ``USUAL_MIN``: one warning
     line; a sweep's speed beyond ``usual_max`` is refused, or with ``accept_unusual`` warned (its fastest speed
     is the textbook law's v_sat: speeds in m/min or rpm would make every number of the model
-    wrong)."""
+    wrong). ``scaled``: the factors the user's --scale gave, by column: a column scaled already
+    is named with its factor, and no unit is asked about (``_given_scale``)."""
     checks = []
     speed = top_speed(columns)
     if speed is not None:
@@ -145,19 +146,31 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     for column, quantity, what, value in checks:
         if value == 0:
             continue                # no motion or no force: the readers name that
+        given = _given_scale(column, scaled)
         problem = physical_problem(quantity, what, value)
         if problem:
-            hint = (_counts_hint(quantity, value) if column == "x" and _whole_numbers(columns["x"])
-                    else _unit_hint(column, quantity, value))
+            counts = column == "x" and _whole_numbers(columns["x"])
+            hint = given or (_counts_hint(quantity, value) if counts else
+                             _unit_hint(column, quantity, value))
             _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
         elif usual_max(quantity) is not None and unusual(quantity, what, value, column):
             note = f"{source}: {unusual(quantity, what, value, column)}"
+            if given:               # the unit was the user's choice: name it, ask for none
+                note = f"{note.partition(': is ')[0]}{given}"
             if quantity == "speed" and "t" not in columns:    # a sweep: its speeds are the law's
                 _refuse_or_warn(note, accept_unusual, warn)
             else:
                 warn(f"fricgen: warning: {note}")
         elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
-            warn(f"fricgen: warning: {source}: {unusually_small(quantity, what, value, column)}")
+            small = unusually_small(quantity, what, value, column)
+            warn(f"fricgen: warning: {source}: "
+                 f"{small.partition(': is ')[0] + given if given else small}")
+
+
+def _given_scale(column: str, scaled: Optional[Mapping[str, float]]) -> str:
+    """' (after --scale v=0.10472: check the factor)' where the user scaled ``column``, else ''."""
+    factor = (scaled or {}).get(column)
+    return "" if factor is None else f" (after --scale {column}={factor:g}: check the factor)"
 
 
 def _scatter(a: np.ndarray, b: np.ndarray) -> float:
@@ -317,10 +330,11 @@ def check_temperature(values: np.ndarray, source: str, accept_unusual: bool = Fa
 
 
 def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
-                  accept_unusual: bool = False, warn: Callable[[str], None] = print) -> None:
+                  accept_unusual: bool = False, warn: Callable[[str], None] = print,
+                  scaled: Mapping[str, float] = None) -> None:
     """Every data check that applies to the columns read from ``source``: for a sweep its shape
     (``check_sweep_shape``, first: swapped columns also break the bounds), then the physical
-    bounds; a log's temperature column (``check_temperature``)."""
+    bounds (``scaled`` as ``check_bounds``); a log's temperature column (``check_temperature``)."""
     if "temperature" in columns:
         check_temperature(columns["temperature"], source, accept_unusual, warn)
     if not all(np.all(np.isfinite(values)) for k, values in columns.items() if k != "temperature"):
@@ -328,9 +342,9 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
     if not is_log and {"v", "f"} <= set(columns):
         check_sweep_shape(columns["v"], columns["f"], source, accept_unusual, warn)
         check_repeats(columns["v"], columns["f"], source, warn)
-    check_bounds(columns, source, accept_unusual, warn)
+    check_bounds(columns, source, accept_unusual, warn, scaled)
     if is_log and "t" in columns:
-        check_rate(columns["t"], source, warn)
+        check_rate(columns["t"], source, warn, scaled)
 
 
 def check_repeats(v: np.ndarray, f: np.ndarray, source: str, warn: Callable[[str], None] = print) -> None:
@@ -345,11 +359,18 @@ def check_repeats(v: np.ndarray, f: np.ndarray, source: str, warn: Callable[[str
              "standard errors and its held-out error")
 
 
-def check_rate(t: np.ndarray, source: str, warn: Callable[[str], None] = print) -> None:
-    """One warning line when the log's median sampling rate is below USUAL_MIN_RATE."""
+def check_rate(t: np.ndarray, source: str, warn: Callable[[str], None] = print,
+               scaled: Mapping[str, float] = None) -> None:
+    """One warning line when the log's median sampling rate is below USUAL_MIN_RATE, asking
+    whether t is in ms or us (the first that brings the rate above it; none where the user
+    scaled t, ``_given_scale``)."""
     steps = np.diff(t)
     step = float(np.median(steps)) if steps.size else 0.0
     if step > 1.0 / USUAL_MIN_RATE:
+        given = _given_scale("t", scaled)
+        unit, factor = next(((u, f) for u, f in (("ms", 1e-3), ("us", 1e-6))
+                             if step * f <= 1.0 / USUAL_MIN_RATE), ("us", 1e-6))
+        ask = (given if given else f": is t in {unit} (--scale t={factor:g})? The inertia would "
+               f"come out {1 / factor:.0f} times the axis's")
         warn(f"fricgen: warning: {source}: the log is sampled at {1.0 / step:.3g} Hz, below the "
-             f"{USUAL_MIN_RATE:g} Hz of any drive's or DAQ's log: is t in ms (--scale t=0.001)? "
-             "The inertia would come out a thousand times the axis's")
+             f"{USUAL_MIN_RATE:g} Hz of any drive's or DAQ's log{ask}")
