@@ -371,3 +371,20 @@ def test_a_log_in_10_um_encoder_counts_keeps_its_stribeck_region():
     assert ident.sweep.v.min() < 0.006                              # the slow rows are kept
     report = fricgen.train(log, estimator=fricgen.StribeckRegressor())
     assert np.max(np.abs(report.model.force(slow) - law(slow))) < 0.2
+
+
+def test_a_log_without_time_column_trains_as_a_log_with_its_sample_rate(offset_log, tmp_path, capsys):
+    """A drive export of position, velocity and force with the rate in its preamble and no time
+    column: read as a sweep it took the accelerations for friction without a word (a new user's
+    trial); it is refused, and --sample-rate gives it its time."""
+    x = np.cumsum(offset_log["v"]) / RUN.rate
+    log = _write(tmp_path, "no_time.csv", {"ActPos": x, "v": offset_log["v"], "f": offset_log["force"]})
+    out = tmp_path / "m.json"
+    assert main(["train", str(log), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'actpos' holds a position" in err[0] and "--sample-rate" in err[0]
+    assert not out.exists()
+    assert main(["train", str(log), "--columns", "x=ActPos,force=f", "--sample-rate", str(RUN.rate),
+                 "-o", str(out)]) == 0
+    axis = json.loads(out.read_text())["training"]["axis"]
+    assert abs(axis["mass"] - RUN.mass) < 4 * axis["mass_se"]

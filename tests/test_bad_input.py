@@ -53,6 +53,7 @@ def work(cli_inputs, tmp_path_factory):
     ms = [log[0]] + [",".join([repr(1000 * float(line.split(",")[0]))] + line.split(",")[1:])
                      for line in log[1:]]
     (d / "log_ms.csv").write_text("\n".join(ms) + "\n")
+    (d / "log_no_time.csv").write_text("\n".join(line.partition(",")[2] for line in log) + "\n")
     cells = log[50].split(",")
     cells[log[0].split(",").index("i")] = "nan"
     (d / "log_nan.csv").write_text("\n".join(log[:50] + [",".join(cells)] + log[51:]) + "\n")
@@ -451,6 +452,14 @@ ROWS = [
     ("unknown option", ["train", "sweep.csv", "--nuerons", "3"], "unrecognized arguments"),
     ("log of current with neither --mass nor --force-constant", ["train", "log.csv", "-o", OUT],
      "the log has a current i but no force: it determines M/K"),
+    ("log without time, read as a sweep", ["train", "log_no_time.csv", "--columns", "f=i", "-o", OUT],
+     "column 'x' holds a position, and the file has no time column"),
+    ("--sample-rate 0", ["train", "log_no_time.csv", "--sample-rate", "0", "-o", OUT],
+     "--sample-rate: must be a finite number > 0"),
+    ("--sample-rate on a timed log", ["train", "log.csv", *LOG, "--sample-rate", "1000", "-o", OUT],
+     "log.csv has a time column t already"),
+    ("--sample-rate with --merge", ["train", "log_no_time.csv", "--sample-rate", "1000", "--merge",
+                                    "log.csv", "-o", OUT], "--sample-rate gives a file without a time"),
     ("log of force with --force-constant", ["train", "log_force.csv", *LOG, "-o", OUT],
      "--force-constant applies to a current column"),
     ("sweep with --mass", ["train", "sweep.csv", "--mass", "4", "-o", OUT], "apply to a motion log"),

@@ -2,14 +2,17 @@
 and model.json with a warning when it was edited after training."""
 from __future__ import annotations
 
+import re
 from contextlib import contextmanager
+
+import numpy as np
 
 from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments,
                            parse_scales, read_export)
 from ..data.inverse_dynamics import is_log
 from ..data.table import DELIMITERS, DETECT
 from ..data.plausibility import check_columns, check_merge_shift
-from ..errors import FricgenError, UsageError
+from ..errors import DataError, FricgenError, UsageError
 from ..model import FrictionModel
 from .common import number, say
 
@@ -52,6 +55,9 @@ def add_export_options(p) -> None:
                         help="multiply a quantity to SI units, e.g. v=0.000333333 (rpm to m/s), "
                         "or by a scalar variable of a .mat file, e.g. force=gtau; applies to the "
                         "--merge file too, for the quantities --merge-scale does not name")
+    export.add_argument("--sample-rate", type=number(0, 1e9, low_open=True, unit="Hz"),
+                        help="the rate, Hz, a file without a time column was logged at: its rows "
+                        "are then a motion log's, t = row / rate")
     export.add_argument("--merge", metavar="FILE", help="a second instrument's CSV or .mat, merged on "
                         "time onto the slower of the two clocks (linear interpolation)")
     export.add_argument("--merge-columns", action="append", default=[], metavar="NAME=COLUMN,...",
@@ -84,6 +90,14 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
                    decimal_comma=args.decimal_comma)
     columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns"),
                                              **dialect), scales, drop_text)
+    rate = getattr(args, "sample_rate", None)
+    if rate is not None:
+        if args.merge is not None:
+            raise UsageError("--sample-rate gives a file without a time column its time; --merge "
+                             "joins files on their own time columns")
+        if "t" in columns:
+            raise UsageError(f"--sample-rate: {path} has a time column t already")
+        columns = {"t": np.arange(len(next(iter(columns.values())))) / rate, **columns}
     if args.merge is None:
         if args.merge_columns or args.merge_skip or args.merge_shift or args.merge_scale:
             raise UsageError("--merge-columns, --merge-skip, --merge-scale and --merge-shift need "
@@ -102,9 +116,28 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
         merged = merge_on_time(columns, second, args.merge_shift, names, least)
         check_merge_shift(columns, second, args.merge_shift, names, args.accept_unusual, _warn(args))
         columns = merged
+    check_timed(columns, source_name(path, args.merge))
     check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual,
                   _warn(args), {k: f for k, f in scales.items() if not isinstance(f, str)})
     return columns
+
+
+#: Column names that look like a position: a log's, never a sweep's (``check_timed``).
+POSITION_NAME = re.compile(r"pos|angle|encoder")
+
+
+def check_timed(columns, source: str) -> None:
+    """``DataError`` for a file without a time column that holds a position (x, or a column
+    named like one): a motion log, whose rows read as a sweep's points would take its
+    accelerations for friction."""
+    if "t" in columns:
+        return
+    position = next((c for c in columns if c == "x" or POSITION_NAME.search(c)), None)
+    if position is not None:
+        raise DataError(f"{source}: column {position!r} holds a position, and the file has no time "
+                        "column: a motion log read as a sweep would take its accelerations for "
+                        "friction; --sample-rate HZ gives a log logged at a fixed rate its time "
+                        "(--columns t=NAME names its time column)")
 
 
 def _warn(args):
