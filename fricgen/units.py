@@ -37,6 +37,11 @@ class Units:
         """The unit of a force constant, force per ampere: "N/A" or "Nm/A"."""
         return f"{self.force}/A"
 
+    @property
+    def per_force_constant(self) -> str:
+        """The unit of a mass over a force constant (a current log's M/K): "kg/(N/A)"."""
+        return f"{self.mass}/({self.force_constant})"
+
 
 LINEAR = Units("linear", "m", "m/s", "N", "N s/m", "kg")
 ROTARY = Units("rotary", "rad", "rad/s", "Nm", "Nm s/rad", "kg m^2", "torque")

@@ -206,9 +206,8 @@ class Identification:
                          "friction level as one sum")
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
-            lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} {units.force_constant} "
-                         f"identified from the {units.inertia_name} given (the current determines "
-                         "M/K)")
+            lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} {units.force_constant} from "
+                         f"the {units.inertia_name} given (the current determines M/K)")
         return lines
 
     def as_load(self, why: str = "push") -> "Identification":
@@ -573,9 +572,8 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
                                "use": use, "conditions": conditions, "gravity": gravity,
                                "runs": runs, "held": held}
     if "load" in conditions and "force" not in columns and force_constant is None:
-        raise DataError(f"the log has a load column and a current i but no force: pass "
-                        f"--force-constant ({axis_units().force_constant}) so that the current is "
-                        f"a {axis_units().effort} the load can be taken from")
+        raise DataError("the log has a load column and a current i but no force: the load is a "
+                        f"force, the current not: pass --force-constant ({axis_units().force_constant})")
     if "force" in columns:
         if force_constant is not None:
             raise DataError("the log has a force column; --force-constant applies to a current column i")
@@ -588,15 +586,13 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
                        force_constant=(float(force_constant), None))
     in_amperes = identify_friction(t, current, None, **{**motion, "conditions": {}}).body  # m/K, o/K
     units = axis_units()
-    per_k = f"{units.mass}/({units.force_constant})"
+    m_k = f"{in_amperes.mass:.4g} +- {in_amperes.mass_se:.2g} {units.per_force_constant}"
     if mass is not None and not in_amperes.mass_determined:
-        raise DataError(f"the log's accelerations do not determine M/K ({in_amperes.mass:.3g} +- "
-                        f"{in_amperes.mass_se:.2g} {per_k}), so --mass cannot give K: pass "
-                        "--force-constant, or log motion that accelerates and brakes")
+        raise DataError(f"the log's accelerations do not determine M/K ({m_k}), so --mass cannot "
+                        "give K: pass --force-constant, or log motion that accelerates and brakes")
     if mass is None:
-        raise DataError(f"the log has a current i but no {units.effort}: it determines M/K = "
-                        f"{in_amperes.mass:.4g} +- {in_amperes.mass_se:.2g} {per_k} and the "
-                        f"friction in A, not M nor the {units.effort} in {units.force}: pass "
+        raise DataError(f"the log has a current i but no {units.effort}: it determines M/K = {m_k} "
+                        f"and the friction in A, not M nor the {units.effort} in {units.force}: pass "
                         f"--force-constant ({units.force_constant}), or --mass ({units.mass}) to "
                         "identify K")
     k = mass / in_amperes.mass
