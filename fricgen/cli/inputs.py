@@ -127,10 +127,10 @@ POSITION_NAME = re.compile(r"pos|angle|encoder")
 
 
 def check_timed(columns, source: str) -> None:
-    """``DataError`` for a file without a time column that holds a position (x, or a column
-    named like one): a motion log, whose rows read as a sweep's points would take its
-    accelerations for friction."""
-    if "t" in columns:
+    """``DataError`` for a file read as a sweep (v and f, no time column) that holds a position
+    (x, or a column named like one): a motion log, whose rows read as a sweep's points would
+    take its accelerations for friction."""
+    if "t" in columns or not {"v", "f"} <= set(columns):
         return
     position = next((c for c in columns if c == "x" or POSITION_NAME.search(c)), None)
     if position is not None:
