@@ -145,8 +145,8 @@ def rotary_units(column: str, kind: str, fits=lambda size: True) -> str:
 
 def unusually_small(quantity: str, what: str, value: float, column: str) -> str:
     """'' if ``value`` is at least USUAL_MIN[quantity] (USUAL_MIN_ROTARY's on a rotary axis), else
-    the clause saying it is unusual, with the units that would explain it: "WHAT is 0.004 N, below the 0.1 N of most axes' friction: is
-    f in kN (--scale f=1000)?"."""
+    the clause saying it is unusual, with the units that would explain it: "WHAT is 0.004 N,
+    below the 0.1 N of most axes' friction: is f in kN (--scale f=1000)?"."""
     low, unit = (USUAL_MIN_ROTARY if _ROTARY.get() else USUAL_MIN)[quantity], physical_unit(quantity)
     value = abs(float(value))
     if value >= low:

@@ -282,11 +282,12 @@ def register(p) -> None:
                           help="one curve for both directions, F(-v) = -F(v)")
     log = p.add_argument_group("motion logs (inverse dynamics, [C1]: F = force - m dv/dt)")
     log.add_argument("--mass", type=number(0, 1e6, low_open=True, unit="kg"),
-                     help="moving mass of the axis, kg (the inertia, kg m^2, of a rotary one) (default: identified from the log by inverse "
-                     "dynamics; with a current log and no --force-constant, K is identified instead)")
+                     help="moving mass of the axis, kg (its inertia, kg m^2, on a rotary axis) "
+                     "(default: identified from the log by inverse dynamics; with a current log "
+                     "and no --force-constant, K is identified instead)")
     log.add_argument("--force-constant", type=number(0, 1e6, low_open=True, unit="N/A"),
-                     help="force constant, N/A (Nm/A on a rotary axis), for a log with current i instead "
-                     "of force")
+                     help="force constant, N/A (Nm/A on a rotary axis), for a log with current i "
+                     "instead of force")
     log.add_argument("--gravity", action="store_true",
                      help="a joint whose torque holds its link's weight: identify G_s sin q + G_c cos q "
                      "of the position (rad) beside the inertia and take it out of the friction "
