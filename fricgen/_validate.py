@@ -110,17 +110,21 @@ def physical_problem(quantity: str, what: str, value: float) -> str:
     return ""
 
 
-def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
+def unusual(quantity: str, what: str, value: float, column: str = "v", given: str = "") -> str:
     """'' if ``value`` lies within ``usual_max(quantity)``, else the clause saying it is unusual,
     with the units of ``column`` that would explain it: "WHAT is 15 m/s, above the 5 m/s of
     most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?" (for a speed
     taken from the position x: "is x in mm (--scale x=0.001)?"; for a joint's torque: "is tau
-    in mNm (--scale tau=0.001)?")."""
+    in mNm (--scale tau=0.001)?"). ``given``: what the user's own --scale of ``column`` was,
+    said instead of asking about units."""
     physical, usual = _tables()
     high, unit = usual[quantity], physical[quantity][2]
     value = abs(float(value))
     if value <= high:
         return ""
+    clause = f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes"
+    if given:
+        return clause + given
     if quantity == "current":
         units = f"mA (--scale {column}=0.001)"
     elif quantity == "force":
@@ -132,8 +136,7 @@ def unusual(quantity: str, what: str, value: float, column: str = "v") -> str:
     else:
         units = (f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001), or the axis a "
                  "joint or shaft in rad/s (--rotary)")
-    return (f"{what} is {value:.4g} {unit}, above the {high:g} {unit} of most axes: is {column} in "
-            f"{units}?")
+    return f"{clause}: is {column} in {units}?"
 
 
 def rotary_units(column: str, kind: str, fits=lambda size: True) -> str:
@@ -143,16 +146,17 @@ def rotary_units(column: str, kind: str, fits=lambda size: True) -> str:
                        if c == kind and fits(size))
 
 
-def unusually_small(quantity: str, what: str, value: float, column: str) -> str:
+def unusually_small(quantity: str, what: str, value: float, column: str, given: str = "") -> str:
     """'' if ``value`` is at least USUAL_MIN[quantity] (USUAL_MIN_ROTARY's on a rotary axis), else
     the clause saying it is unusual, with the units that would explain it: "WHAT is 0.004 N,
-    below the 0.1 N of most axes' friction: is f in kN (--scale f=1000)?"."""
+    below the 0.1 N of most axes' friction: is f in kN (--scale f=1000)?" (``given`` as
+    ``unusual``)."""
     low, unit = (USUAL_MIN_ROTARY if _ROTARY.get() else USUAL_MIN)[quantity], physical_unit(quantity)
     value = abs(float(value))
     if value >= low:
         return ""
-    return (f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of most axes' friction: is "
-            f"{column} in k{unit} (--scale {column}=1000)?")
+    clause = f"{what} is {value:.4g} {unit}, below the {low:g} {unit} of most axes' friction"
+    return clause + (given or f": is {column} in k{unit} (--scale {column}=1000)?")
 
 
 def _is_number(value) -> bool:

@@ -141,7 +141,7 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
         if args.force_held:
             check_force_held(args, columns)
         if rotary and not args.rotary:
-            warn_degrees(args, columns)
+            warn_degrees(args, columns, warn)
         if given and (args.dynamic or args.cogging):
             raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "
                              f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
@@ -225,12 +225,12 @@ def check_gravity(args, columns, rotary: bool) -> None:
 JOINT_SPEED_MAX = 20.0
 
 
-def warn_degrees(args, columns) -> None:
-    """One warning line where a log named as a joint's moves faster than JOINT_SPEED_MAX
-    (``data.plausibility.top_speed``): q and dq in degrees read as rad."""
+def warn_degrees(args, columns, warn=say) -> None:
+    """One warning line (to ``warn``) where a log named as a joint's moves faster than
+    JOINT_SPEED_MAX (``data.plausibility.top_speed``): q and dq in degrees read as rad."""
     top = (top_speed(columns) or ("", 0.0))[1]
     if top > JOINT_SPEED_MAX:
-        say(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
+        warn(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
             f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: are q and dq in "
             "degrees (--scale q=0.0174533,dq=0.0174533)? A motor shaft this fast: --rotary says so")
 

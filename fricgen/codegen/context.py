@@ -110,7 +110,7 @@ def axis_context(model: FrictionModel) -> dict:
               (inertia, axis.mass,
                f"{units.mass}, {MASS_FROM.get(axis.mass_from)}"),
               (f"{inertia}_SE", axis.mass_se, f"{units.mass}, its standard error"),
-              ("FORCE_CONSTANT", axis.force_constant, f"{units.force}/A"),
+              ("FORCE_CONSTANT", axis.force_constant, units.force_constant),
               ("SPEED_MIN", axis.speed_min, f"{units.speed}, the slowest speed of the data"),
               ("SPEED_MAX", axis.speed_max, f"{units.speed}, the fastest")]
     known = [(macro, c_float(value), what) for macro, value, what in fields if value is not None]

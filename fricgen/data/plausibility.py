@@ -131,7 +131,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     line; a sweep's speed beyond ``usual_max`` is refused, or with ``accept_unusual`` warned (its fastest speed
     is the textbook law's v_sat: speeds in m/min or rpm would make every number of the model
     wrong). ``scaled``: the factors the user's --scale gave, by column: a column scaled already
-    is named with its factor, and no unit is asked about (``_given_scale``)."""
+    is named with its factor, and no unit is asked about (``_given_scale``, ``unusual``'s
+    ``given``)."""
     checks = []
     speed = top_speed(columns)
     if speed is not None:
@@ -154,17 +155,13 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
                              _unit_hint(column, quantity, value))
             _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
         elif usual_max(quantity) is not None and unusual(quantity, what, value, column):
-            note = f"{source}: {unusual(quantity, what, value, column)}"
-            if given:               # the unit was the user's choice: name it, ask for none
-                note = f"{note.partition(': is ')[0]}{given}"
+            note = f"{source}: {unusual(quantity, what, value, column, given)}"
             if quantity == "speed" and "t" not in columns:    # a sweep: its speeds are the law's
                 _refuse_or_warn(note, accept_unusual, warn)
             else:
                 warn(f"fricgen: warning: {note}")
         elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
-            small = unusually_small(quantity, what, value, column)
-            warn(f"fricgen: warning: {source}: "
-                 f"{small.partition(': is ')[0] + given if given else small}")
+            warn(f"fricgen: warning: {source}: {unusually_small(quantity, what, value, column, given)}")
 
 
 def _given_scale(column: str, scaled: Optional[Mapping[str, float]]) -> str:
@@ -367,10 +364,11 @@ def check_rate(t: np.ndarray, source: str, warn: Callable[[str], None] = print,
     steps = np.diff(t)
     step = float(np.median(steps)) if steps.size else 0.0
     if step > 1.0 / USUAL_MIN_RATE:
-        given = _given_scale("t", scaled)
-        unit, factor = next(((u, f) for u, f in (("ms", 1e-3), ("us", 1e-6))
-                             if step * f <= 1.0 / USUAL_MIN_RATE), ("us", 1e-6))
-        ask = (given if given else f": is t in {unit} (--scale t={factor:g})? The inertia would "
-               f"come out {1 / factor:.0f} times the axis's")
+        ask = _given_scale("t", scaled)
+        if not ask:                         # ms, or us where ms leaves it below
+            unit, factor = next(((u, f) for u, f in (("ms", 1e-3), ("us", 1e-6))
+                                 if step * f <= 1.0 / USUAL_MIN_RATE), ("us", 1e-6))
+            ask = (f": is t in {unit} (--scale t={factor:g})? The inertia would come out "
+                   f"{1 / factor:.0f} times the axis's")
         warn(f"fricgen: warning: {source}: the log is sampled at {1.0 / step:.3g} Hz, below the "
              f"{USUAL_MIN_RATE:g} Hz of any drive's or DAQ's log{ask}")
