@@ -11,6 +11,7 @@ from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assi
                            parse_scales, read_export)
 from ..data.inverse_dynamics import is_log
 from ..data.table import DELIMITERS, DETECT
+from ..data.wrapping import unwrapped
 from ..data.plausibility import check_columns, check_merge_shift
 from ..errors import DataError, FricgenError, UsageError
 from ..model import FrictionModel
@@ -116,6 +117,7 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
         merged = merge_on_time(columns, second, args.merge_shift, names, least)
         check_merge_shift(columns, second, args.merge_shift, names, args.accept_unusual, _warn(args))
         columns = merged
+    columns = unwrapped(columns, _warn(args))
     check_timed(columns, source_name(path, args.merge))
     check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual,
                   _warn(args), {k: f for k, f in scales.items() if not isinstance(f, str)})

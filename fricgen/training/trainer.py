@@ -17,6 +17,7 @@ from ..c_names import check_model_name
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log, velocity_resolution
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
+from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
@@ -261,6 +262,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     [ True False]
     """
     warn = warn or (lambda line: warnings.warn(line, stacklevel=4))
+    if isinstance(data, Mapping):
+        data = unwrapped(data, warn)
     with rotary_axis(rotary), blas_threads(wanted_threads()):
         if checks:
             _check_data(data, source, accept_unusual, warn)

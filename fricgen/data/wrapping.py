@@ -1,0 +1,75 @@
+"""A position that wraps, unwrapped: a single-turn encoder's angle (0 to 2 pi, -180 to 180
+degrees, 0 to 4095 counts) read as a log's x jumps back by a turn each time the axis passes the
+wrap, and every derivative of x (velocity, acceleration, the inertia's force) takes the jump for
+motion. ``unwrapped`` finds the period from the jumps and adds the turns back.
+
+A jump is a step of x larger than half its range with the steps either side of it (the
+motion) at most WRAP_SMOOTH of the range. The period is the jump less the motion over that
+sample, the median over the jumps; every jump must give it within WRAP_AGREE (a reset of a
+log's position, or a concatenation of runs, gives periods that disagree and is left alone).
+A period within ROUND_WITHIN of a round one (2 pi, 360, 1, a power of two) is taken as that one;
+a single jump of no round period is taken for a reset, not a wrap.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable, Dict, Optional, Tuple
+
+import numpy as np
+
+#: The steps beside a jump are at most this share of x's range (else no wrap is told).
+WRAP_SMOOTH = 0.1
+#: Every jump's period within this share of their median.
+WRAP_AGREE = 0.02
+#: A period within this share of a round one is taken as the round one.
+ROUND_WITHIN = 2e-3
+#: Round periods: a turn in rad, in degrees, in turns, and 2^k encoder counts (k 8 to 24).
+ROUND_PERIODS = ((2 * math.pi, "2 pi"), (360.0, "360"), (1.0, "1"),
+                 *((float(2 ** k), f"2^{k}") for k in range(8, 25)))
+
+
+def wrap_period(x: np.ndarray) -> Optional[Tuple[float, str, int]]:
+    """The period x wraps at, its name (a round period's, else its digits) and the number of
+    wraps; None when x does not wrap (see the module docstring)."""
+    x = np.asarray(x, dtype=float)
+    if x.size < 4 or not np.all(np.isfinite(x)):
+        return None
+    span = float(np.ptp(x))
+    step = np.diff(x)
+    wrap = np.abs(step) > 0.5 * span
+    if not wrap.any() or np.max(np.abs(step[~wrap]), initial=0.0) > WRAP_SMOOTH * span:
+        return None
+    # the motion over a jump's sample: the mean of the steps either side that are no jumps
+    beside = np.pad(np.where(wrap, np.nan, step), 1, constant_values=np.nan)
+    pair = np.column_stack([beside[:-2], beside[2:]])[wrap]
+    known = np.isfinite(pair).sum(axis=1)
+    motion = np.divide(np.nansum(pair, axis=1), known, out=np.zeros(known.size), where=known > 0)
+    jumps = step[wrap]
+    periods = np.abs(motion - jumps)
+    period = float(np.median(periods))
+    if np.any(np.sign(jumps) == np.sign(motion)) or \
+            np.max(np.abs(periods - period)) > WRAP_AGREE * period or span > period * (1 + WRAP_AGREE):
+        return None
+    rounded = next(((p, name) for p, name in ROUND_PERIODS if abs(period / p - 1) <= ROUND_WITHIN), None)
+    if rounded is None and wrap.sum() < 2:            # one jump of no round period: a reset
+        return None
+    period, name = rounded if rounded else (period, f"{period:.6g}")
+    return period, name, int(wrap.sum())
+
+
+def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Dict[str, np.ndarray]:
+    """``columns`` with a wrapping position x unwrapped (the turns added back at each jump), and
+    one line through ``warn`` saying so; unchanged when x is absent or does not wrap."""
+    try:
+        x = np.asarray(columns["x"], dtype=float)
+    except (KeyError, TypeError, ValueError):        # no x, or none the fit can read: it says so
+        return columns
+    found = wrap_period(x) if x.ndim == 1 else None
+    if found is None:
+        return columns
+    period, name, wraps = found
+    step = np.diff(x)
+    turns = np.where(np.abs(step) > 0.5 * np.ptp(x), -np.sign(step), 0.0)
+    warn(f"x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
+         "(a single-turn position)")
+    return {**columns, "x": x + period * np.concatenate([[0.0], np.cumsum(turns)])}
