@@ -64,7 +64,8 @@ def work(cli_inputs, tmp_path_factory):
     (d / "log_swapped.csv").write_text("\n".join(log[:100] + [log[101], log[100]] + log[102:]) + "\n")
     (d / "log_short.csv").write_text("\n".join(log[:16]) + "\n")
     (d / "log_repeated_t.csv").write_text("\n".join(log[:100] + [log[100]] + log[100:]) + "\n")
-    (d / "log_units.csv").write_text("\n".join([log[0].replace("i", "I [A]")] + log[1:]) + "\n")
+    (d / "log_units.csv").write_text("\n".join([log[0].replace("i", "I [Nm]")] + log[1:]) + "\n")
+    (d / "log_percent.csv").write_text("\n".join([log[0].replace("i", "Iq [%]")] + log[1:]) + "\n")
     _edited_columns(d, log, "log_v_zero.csv", v=lambda v, x: 0.0)
     _edited_columns(d, log, "log_x_inverted.csv", x=lambda v, x: -x)
     columns = log[0].split(",")
@@ -419,8 +420,10 @@ ROWS = [
      "t goes back by"),
     ("diagnose, a time repeated", ["diagnose", "log_repeated_t.csv", "--model", "model.json", *DIAG, "-o", OUT],
      "t repeats at data rows 100 and 101"),
-    ("diagnose, units in the header", ["diagnose", "log_units.csv", "--model", "model.json", *DIAG, "-o", OUT],
-     "(header is t,x,v,I [A],x_d); write the names without units ('I [A]' as 'i')"),
+    ("diagnose, a current in Nm", ["diagnose", "log_units.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "column 'I [Nm]' is read as i, a current, but its unit Nm is a force's: are the columns swapped?"),
+    ("diagnose, a current in %", ["diagnose", "log_percent.csv", "--model", "model.json", *DIAG, "-o", OUT],
+     "column 'Iq [%]' (i) is in %, a unit of no size the file gives: --scale i=FACTOR brings it to SI"),
     ("diagnose, v logged as 0", ["diagnose", "log_v_zero.csv", "--model", "model.json", *DIAG, "-o", OUT],
      "column 'v' is 0 throughout while x travels"),
     ("diagnose, x inverted", ["diagnose", "log_x_inverted.csv", "--model", "model.json", *DIAG, "-o", OUT],

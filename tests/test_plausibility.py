@@ -232,7 +232,7 @@ def test_a_log_timed_in_ms_read_as_s_is_named():
     assert len(heard) == 1 and "sampled at 1 Hz" in heard[0] and "--scale t=0.001" in heard[0]
     check_rate(1e6 * t, "log.csv", heard.append)        # in us: 1e-3 would leave it at 1 Hz
     assert len(heard) == 2 and "is t in us (--scale t=1e-06)" in heard[1]
-    check_rate(1000 * t, "log.csv", heard.append, {"t": 1.0})   # the user's own factor: no ask
+    check_rate(1000 * t, "log.csv", heard.append, {"t": "--scale t=1"})   # the user's own factor: no ask
     assert len(heard) == 3 and "after --scale t=1" in heard[2] and "is t in" not in heard[2]
 
 
@@ -247,7 +247,7 @@ def test_a_column_the_user_scaled_is_not_asked_about_that_unit_again():
         for rpm in (3000.0, 12000.0):
             v = rpm * np.pi / 30 * np.cos(np.pi * t)
             check_bounds({"t": t, "v": v, "force": np.ones_like(t)}, "log.csv", warn=heard.append,
-                         scaled={"v": np.pi / 30})
+                         scaled={"v": "--scale v=0.10472"})
     assert len(heard) == 1 and "after --scale v=0.10472" in heard[0]
     assert "is v in" not in heard[0] and "above the 1000 rad/s" in heard[0]
 

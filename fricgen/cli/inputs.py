@@ -7,10 +7,12 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from ..data.export import (ExportLayout, check_scaled, merge_on_time, parse_assignments,
-                           parse_scales, read_export)
+from ..data.export import (KNOWN_NAMES, ExportLayout, check_scaled, merge_on_time,
+                           parse_assignments, parse_scales, read_export)
+from ..data.header_units import header_units
+from ..data.matfile import is_matfile
 from ..data.inverse_dynamics import is_log
-from ..data.table import DELIMITERS, DETECT
+from ..data.table import DELIMITERS, DETECT, header_cells
 from ..data.wrapping import unwrapped
 from ..data.plausibility import check_columns, check_merge_shift
 from ..errors import DataError, FricgenError, UsageError
@@ -89,8 +91,12 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     scales = parse_scales(args.scale)
     dialect = dict(delimiter=DELIMITERS[args.delimiter] if args.delimiter else DETECT,
                    decimal_comma=args.decimal_comma)
-    columns = read_export(path, ExportLayout(args.skip, parse_assignments(args.columns, "--columns"),
-                                             **dialect), scales, drop_text)
+    mapped, units = _header_units(args, path, parse_assignments(args.columns, "--columns"), scales)
+    columns = read_export(path, ExportLayout(args.skip, mapped, **dialect), scales, drop_text)
+    for quantity, unit in units.items():        # a sweep's force is read as f
+        name = quantity if quantity in columns else SWEEP_NAME.get(quantity)
+        if name in columns:
+            columns[name] = columns[name] * unit.factor
     rate = getattr(args, "sample_rate", None)
     if rate is not None:
         if args.merge is not None:
@@ -119,9 +125,37 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
         columns = merged
     columns = unwrapped(columns, _warn(args))
     check_timed(columns, source_name(path, args.merge))
+    given = {**{q: f"the header's {u.unit}" for q, u in units.items()},
+             **{k: f"--scale {k}={f:g}" for k, f in scales.items() if not isinstance(f, str)}}
     check_columns(columns, source_name(path, args.merge), is_log(columns), args.accept_unusual,
-                  _warn(args), {k: f for k, f in scales.items() if not isinstance(f, str)})
+                  _warn(args), given)
     return columns
+
+
+#: A sweep's force is read as f (``data.export.read_export``): a scale of either is one of both.
+SWEEP_NAME = {"force": "f", "f": "force"}
+
+
+def _header_units(args, path, mapped, scales):
+    """The columns to read (--columns and the cells whose names write a unit,
+    ``data.header_units``) and the units to scale by: those --scale leaves (a --scale that
+    differs from its column's unit is warned about); one line for each unit applied."""
+    if is_matfile(path):
+        return mapped, {}
+    cells = header_cells(path, args.skip, DELIMITERS[args.delimiter] if args.delimiter else DETECT)
+    warn = _warn(args)
+    extra, units = header_units(cells, mapped, KNOWN_NAMES, warn)
+    applied = {}
+    for quantity, unit in units.items():
+        factor = scales.get(quantity, scales.get(SWEEP_NAME.get(quantity, quantity)))
+        if isinstance(factor, float) and unit.factor != 1 and abs(factor / unit.factor - 1) > 0.01:
+            warn(f"fricgen: warning: --scale {quantity}={factor:g} is not the factor of the header's "
+                 f"{unit.unit} ({unit.factor:.6g}, {unit.cell!r}): --scale is used")
+        elif factor is None and unit.factor != 1:
+            warn(f"fricgen: {quantity} read in {unit.unit} ({unit.cell!r}): scaled by "
+                 f"{unit.factor:.6g} to SI")
+            applied[quantity] = unit
+    return {**extra, **mapped}, applied
 
 
 #: Column names that look like a position: a log's, never a sweep's (``check_timed``).

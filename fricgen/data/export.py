@@ -20,6 +20,7 @@ import numpy as np
 
 from .._io import plain_float
 from ..errors import DataError, UsageError
+from .header_units import is_rotary_unit
 from .matfile import MatFile, is_matfile, read_matfile
 from .motionlog import check_finite
 from .table import DETECT, header_cells, read_table_csv
@@ -30,13 +31,15 @@ QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A", 
 
 #: Column names of robot and drive logs, read as fricgen's quantities where the file has no
 #: column of fricgen's own name for it and ``--columns`` maps none: a joint's position q,
-#: velocity dq (qd), torque tau (effort, torque), motor current, the plain English names, and
-#: a sweep's standard deviation per point (std, sd, stdev, sigma) and count.
-#: The joint's names name a rotary axis (``names_rotary_axis``).
+#: velocity dq (qd), torque tau (effort, torque), motor current (current, a drive's iq), the
+#: plain English names, and a sweep's standard deviation per point (std, sd, stdev, sigma) and
+#: count. The joint's names name a rotary axis (``names_rotary_axis``).
 ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "torque": "force",
-           "current": "i", "temp": "temperature", "time": "t", "position": "x", "velocity": "v",
-           "speed": "v", "std": "f_std", "sd": "f_std", "stdev": "f_std", "sigma": "f_std",
+           "current": "i", "iq": "i", "temp": "temperature", "time": "t", "position": "x",
+           "velocity": "v", "speed": "v", "std": "f_std", "sd": "f_std", "stdev": "f_std", "sigma": "f_std",
            "f_sd": "f_std", "count": "n"}
+#: Every plain name read as a quantity: the quantities' own and the aliases.
+KNOWN_NAMES = {**{q: q for q in QUANTITIES}, **ALIASES}
 #: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
 ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort", "torque")
 
@@ -219,7 +222,8 @@ ROTARY_UNIT = re.compile(r"(?<![\w/])(nm|rad|rad/s|rpm|deg/s)(?![\w/])", re.IGNO
 def names_rotary_axis(cells) -> bool:
     """Whether a header's names are a robot joint's (q, dq, qd, tau, effort, torque:
     ``ROTARY_NAMES``) or write a rotary unit (``ROTARY_UNIT``: "torque [Nm]", "rpm")."""
-    return any(c.strip().lower() in ROTARY_NAMES or ROTARY_UNIT.search(c) for c in cells)
+    return any(c.strip().lower() in ROTARY_NAMES or ROTARY_UNIT.search(c) or is_rotary_unit(c)
+               for c in cells)
 
 
 def _increasing_time(columns: Dict[str, np.ndarray], path) -> np.ndarray:

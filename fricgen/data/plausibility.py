@@ -122,7 +122,7 @@ def top_speed(columns: Dict[str, np.ndarray]) -> Optional[Tuple[str, float]]:
 
 
 def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bool = False,
-                 warn: Callable[[str], None] = print, scaled: Mapping[str, float] = None) -> None:
+                 warn: Callable[[str], None] = print, scaled: Mapping[str, str] = None) -> None:
     """The fastest speed (|v|, or |dx/dt| of a log without v), the largest force (|f|, |force|)
     and the largest current (|i|), each but for the top 1 % of rows (``_top``), within
     the axis's physical range (``_validate.physical_range``: a linear axis's or a rotary one's);
@@ -130,8 +130,8 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
     ``usual_max`` (a joint's torque above 2 kNm: mNm?) or below ``USUAL_MIN``: one warning
     line; a sweep's speed beyond ``usual_max`` is refused, or with ``accept_unusual`` warned (its fastest speed
     is the textbook law's v_sat: speeds in m/min or rpm would make every number of the model
-    wrong). ``scaled``: the factors the user's --scale gave, by column: a column scaled already
-    is named with its factor, and no unit is asked about (``_given_scale``, ``unusual``'s
+    wrong). ``scaled``: how a column was scaled already, by column (the user's --scale, the
+    header's unit): it is named, and no unit is asked about (``_given_scale``, ``unusual``'s
     ``given``)."""
     checks = []
     speed = top_speed(columns)
@@ -164,10 +164,11 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
             warn(f"fricgen: warning: {source}: {unusually_small(quantity, what, value, column, given)}")
 
 
-def _given_scale(column: str, scaled: Optional[Mapping[str, float]]) -> str:
-    """' (after --scale v=0.10472: check the factor)' where the user scaled ``column``, else ''."""
-    factor = (scaled or {}).get(column)
-    return "" if factor is None else f" (after --scale {column}={factor:g}: check the factor)"
+def _given_scale(column: str, scaled: Optional[Mapping[str, str]]) -> str:
+    """' (after --scale v=0.10472: check the factor)' where ``column`` was scaled (``scaled``:
+    how, by column: the user's --scale, the header's unit), else ''."""
+    how = (scaled or {}).get(column)
+    return "" if how is None else f" (after {how}: check the factor)"
 
 
 def _scatter(a: np.ndarray, b: np.ndarray) -> float:
@@ -328,7 +329,7 @@ def check_temperature(values: np.ndarray, source: str, accept_unusual: bool = Fa
 
 def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
                   accept_unusual: bool = False, warn: Callable[[str], None] = print,
-                  scaled: Mapping[str, float] = None) -> None:
+                  scaled: Mapping[str, str] = None) -> None:
     """Every data check that applies to the columns read from ``source``: for a sweep its shape
     (``check_sweep_shape``, first: swapped columns also break the bounds), then the physical
     bounds (``scaled`` as ``check_bounds``); a log's temperature column (``check_temperature``)."""
@@ -357,7 +358,7 @@ def check_repeats(v: np.ndarray, f: np.ndarray, source: str, warn: Callable[[str
 
 
 def check_rate(t: np.ndarray, source: str, warn: Callable[[str], None] = print,
-               scaled: Mapping[str, float] = None) -> None:
+               scaled: Mapping[str, str] = None) -> None:
     """One warning line when the log's median sampling rate is below USUAL_MIN_RATE, asking
     whether t is in ms or us (the first that brings the rate above it; none where the user
     scaled t, ``_given_scale``)."""

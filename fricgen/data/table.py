@@ -28,15 +28,12 @@ _SEMICOLONS = "looks ';'-separated: say --delimiter ';'"
 
 def header_hint(cells: Sequence[str]) -> str:
     """Why a header may lack fricgen's column names ('' if no idea): it is ';'-separated, or
-    its names carry units."""
+    its names carry units (read, ``header_units``, where the name is a quantity's or mapped)."""
     if any(";" in c for c in cells):
         return f"; it {_SEMICOLONS}"
-    for cell in cells:
-        united = _WITH_UNIT.fullmatch(cell)
-        if united:
-            return (f"; write the names without units ({cell.strip()!r} as "
-                    f"{united.group(1).lower()!r}) and the values in SI units (s, m, m/s, A, N; "
-                    "rad, rad/s and Nm for a joint)")
+    if any(_WITH_UNIT.fullmatch(cell) for cell in cells):
+        return ("; --columns maps the file's columns to fricgen's quantities, and the units their "
+                "names write are read (e.g. --columns 'i=Iq [mA]')")
     return ""
 
 

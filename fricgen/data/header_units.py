@@ -1,0 +1,117 @@
+"""Units written in a header's names, read: a drive's export names its columns "Speed [rpm]",
+"Torque (mNm)", "Iq [mA]", and the values are in those units. A column so named is read as its
+quantity (the name before the unit, as ``export.ALIASES`` reads plain names, or as --columns
+maps it) and scaled to SI by its unit, unless the user's --scale names that quantity (it wins).
+
+A unit of another kind than its quantity's (a velocity column in Nm: swapped columns) and a unit
+of no size the file gives (%, encoder increments) are refused in one line; a unit not known here
+is warned about and the column read as written.
+"""
+from __future__ import annotations
+
+import math
+import re
+from typing import Dict, Mapping, NamedTuple, Optional, Sequence, Tuple
+
+from ..errors import DataError
+
+#: "Name [unit]" or "Name (unit)".
+_NAMED_UNIT = re.compile(r"\s*(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]\s*")
+
+_DEG = math.pi / 180.0
+_TURN = 2.0 * math.pi
+#: Each unit (written in lower case, without spaces, dots or the multiplication sign) by the
+#: kind of quantity it measures, its factor to SI (rad for angles) and whether it is rotary.
+UNITS: Dict[str, Tuple[str, float, bool]] = {
+    "s": ("time", 1.0, False), "sec": ("time", 1.0, False), "ms": ("time", 1e-3, False),
+    "us": ("time", 1e-6, False), "min": ("time", 60.0, False),
+    "m": ("position", 1.0, False), "cm": ("position", 1e-2, False), "mm": ("position", 1e-3, False),
+    "um": ("position", 1e-6, False), "rad": ("position", 1.0, True), "mrad": ("position", 1e-3, True),
+    "deg": ("position", _DEG, True), "rev": ("position", _TURN, True), "turn": ("position", _TURN, True),
+    "turns": ("position", _TURN, True),
+    "m/s": ("velocity", 1.0, False), "mm/s": ("velocity", 1e-3, False), "um/s": ("velocity", 1e-6, False),
+    "m/min": ("velocity", 1 / 60, False), "mm/min": ("velocity", 1e-3 / 60, False),
+    "rad/s": ("velocity", 1.0, True), "mrad/s": ("velocity", 1e-3, True), "deg/s": ("velocity", _DEG, True),
+    "rpm": ("velocity", _TURN / 60, True), "1/min": ("velocity", _TURN / 60, True),
+    "u/min": ("velocity", _TURN / 60, True), "rev/min": ("velocity", _TURN / 60, True),
+    "rps": ("velocity", _TURN, True), "rev/s": ("velocity", _TURN, True), "turn/s": ("velocity", _TURN, True),
+    "n": ("force", 1.0, False), "kn": ("force", 1e3, False), "mn": ("force", 1e-3, False),
+    "nm": ("force", 1.0, True), "mnm": ("force", 1e-3, True), "ncm": ("force", 1e-2, True),
+    "nmm": ("force", 1e-3, True), "knm": ("force", 1e3, True),
+    "a": ("current", 1.0, False), "ma": ("current", 1e-3, False),
+    "degc": ("temperature", 1.0, False), "c": ("temperature", 1.0, False),
+}
+#: Units whose size the file does not give: a share of a rating, encoder steps, raw numbers.
+SIZELESS = ("%", "‰", "inc", "incr", "increments", "counts", "count", "cnt", "cts", "ticks",
+            "digits", "lsb", "pu")
+#: The kind of each quantity a column can be read as.
+KIND = {"t": "time", "x": "position", "v": "velocity", "f": "force", "force": "force",
+        "load": "force", "i": "current", "temperature": "temperature"}
+
+
+class HeaderUnit(NamedTuple):
+    """A header cell's unit as read: the cell, the unit as written, its factor to SI."""
+    cell: str
+    unit: str
+    factor: float
+
+
+def named_unit(cell: str) -> Optional[Tuple[str, str]]:
+    """The name and the unit of a cell written "Name [unit]" or "Name (unit)"; None otherwise."""
+    found = _NAMED_UNIT.fullmatch(cell)
+    return (found.group(1), found.group(2)) if found and found.group(1) else None
+
+
+def _key(unit: str) -> str:
+    """The unit as ``UNITS`` writes it: lower case, 'µ' as 'u', '°' as 'deg', no spaces, dots
+    or multiplication signs (N.m, N·m, N*m as nm)."""
+    key = unit.strip().lower().replace("µ", "u").replace("μ", "u").replace("°c", "degc")
+    return re.sub(r"[\s.·*]", "", key.replace("°", "deg"))
+
+
+def is_rotary_unit(cell: str) -> bool:
+    """Whether a cell writes a rotary unit (rad, deg, rpm, Nm, ...)."""
+    found = named_unit(cell)
+    return bool(found and UNITS.get(_key(found[1]), ("", 0.0, False))[2])
+
+
+def header_units(cells: Sequence[str], mapped: Mapping[str, str], known: Mapping[str, str],
+                 warn) -> Tuple[Dict[str, str], Dict[str, HeaderUnit]]:
+    """The quantities that the header's cells with units name, and their units.
+
+    ``mapped``: --columns (quantity to cell); ``known``: the plain names read as a quantity
+    (``export.ALIASES`` and the quantities' own). Returns the cells to map (quantity to cell,
+    for the cells with a unit whose name is a known one and that --columns leaves unmapped) and
+    each quantity's unit (``HeaderUnit``). ``DataError`` for a unit of another kind than its
+    quantity or of no size; ``warn`` for a unit not known here."""
+    by_cell = {c.strip().lower(): q for q, c in mapped.items()}
+    plain = {known[c.strip().lower()] for c in cells if c.strip().lower() in known}
+    to_map, units = {}, {}
+    for cell in cells:
+        found = named_unit(cell)
+        if found is None:
+            continue
+        name, unit = found
+        quantity = by_cell.get(cell.strip().lower())
+        if quantity is None and name.lower() in known:
+            quantity = known[name.lower()]
+            if quantity in mapped or quantity in to_map or quantity in plain:
+                continue                # a column is read as it already
+            to_map[quantity] = cell
+        if quantity not in KIND:
+            continue
+        key = _key(unit)
+        if key in SIZELESS:
+            raise DataError(f"column {cell.strip()!r} ({quantity}) is in {unit}, a unit of no size the "
+                            f"file gives: --scale {quantity}=FACTOR brings it to SI")
+        if key not in UNITS:
+            warn(f"fricgen: warning: column {cell.strip()!r} ({quantity}): unit {unit!r} is not one "
+                 "fricgen knows; read as SI (--scale sets its factor)")
+            continue
+        kind, factor, _ = UNITS[key]
+        if kind != KIND[quantity]:
+            raise DataError(f"column {cell.strip()!r} is read as {quantity}, a {KIND[quantity]}, but "
+                            f"its unit {unit} is a {kind}'s: are the columns swapped? (--columns "
+                            "maps them)")
+        units[quantity] = HeaderUnit(cell.strip(), unit, factor)
+    return to_map, units

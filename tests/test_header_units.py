@@ -1,0 +1,90 @@
+"""Units written in a header's names (``data.header_units``): "Speed [rpm]" read as v in rpm and
+scaled to SI, the user's --scale first, and a unit that cannot be the column's refused."""
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.data.header_units import UNITS, _key, header_units, is_rotary_unit, named_unit
+from fricgen.data.export import KNOWN_NAMES
+from fricgen.errors import DataError
+from fricgen.model import FrictionModel
+
+COULOMB, VISCOUS = 0.3, 0.05                 # Nm, Nm s/rad
+
+
+@pytest.mark.parametrize("cell, name, unit, factor", [
+    ("Speed [rpm]", "Speed", "rpm", np.pi / 30),
+    ("Torque (N·m)", "Torque", "N·m", 1.0),
+    ("Torque [N.m]", "Torque", "N.m", 1.0),
+    ("Pos [°]", "Pos", "°", np.pi / 180),
+    ("Iq [mA]", "Iq", "mA", 1e-3),
+    ("n [U/min]", "n", "U/min", np.pi / 30),
+    ("Time (µs)", "Time", "µs", 1e-6),
+])
+def test_a_cells_unit_is_read_with_its_factor(cell, name, unit, factor):
+    assert named_unit(cell) == (name, unit)
+    assert UNITS[_key(unit)][1] == pytest.approx(factor)
+
+
+def test_rotary_units_name_a_rotary_axis():
+    assert is_rotary_unit("Speed [rpm]") and is_rotary_unit("Torque (mNm)") and is_rotary_unit("q [deg]")
+    assert not is_rotary_unit("v [m/s]") and not is_rotary_unit("F [N]") and not is_rotary_unit("speed")
+
+
+def test_only_known_names_and_mapped_cells_are_read_and_a_plain_name_wins():
+    lines = []
+    cells = ["v", "Speed [rpm]", "Torque [mNm]", "Voltage [V]"]
+    mapped, units = header_units(cells, {}, KNOWN_NAMES, lines.append)
+    assert mapped == {"force": "Torque [mNm]"}           # 'v' is there as written: 'Speed' is not v
+    assert set(units) == {"force"} and units["force"].factor == pytest.approx(1e-3)
+    assert lines == []                                   # 'Voltage' is no quantity: not read
+    mapped, units = header_units(cells, {"i": "Voltage [V]"}, KNOWN_NAMES, lines.append)
+    assert "i" not in units and len(lines) == 1 and "unit 'V' is not one fricgen knows" in lines[0]
+
+
+@pytest.mark.parametrize("cells, mapped, words", [
+    (["Speed [Nm]", "Torque [rpm]"], {}, "column 'Speed [Nm]' is read as v, a velocity, but its unit Nm"),
+    (["t [s]", "q [rad]", "Iq [%]"], {}, "column 'Iq [%]' (i) is in %, a unit of no size"),
+    (["t [s]", "Pos [inc]", "I [A]"], {"x": "Pos [inc]"}, "column 'Pos [inc]' (x) is in inc"),
+])
+def test_a_unit_that_cannot_be_the_columns_is_refused(cells, mapped, words):
+    with pytest.raises(DataError, match=None) as err:
+        header_units(cells, mapped, KNOWN_NAMES, lambda line: None)
+    assert words in str(err.value)
+
+
+@pytest.fixture
+def export(tmp_path):
+    """A drive's sweep export in rpm and mNm, 8 speeds a side."""
+    rng = np.random.default_rng(1000)
+    speed = np.geomspace(0.05, 3.0, 8)
+    v = np.concatenate([speed, -speed])
+    f = np.sign(v) * (COULOMB + VISCOUS * np.abs(v)) + 0.003 * rng.standard_normal(v.size)
+    path = tmp_path / "export.csv"
+    rows = "\n".join(f"{a * 30 / np.pi:.6f},{b * 1000:.5f}" for a, b in zip(v, f))
+    path.write_text("Speed [rpm],Torque [mNm]\n" + rows + "\n")
+    return path
+
+
+def _trained(path, capsys, *options):
+    """The model trained on ``path`` and what train said on stderr."""
+    out = path.parent / "model.json"
+    assert main(["train", str(path), "-o", str(out), *options]) == 0
+    return FrictionModel.load(out), capsys.readouterr().err
+
+
+def test_a_sweep_in_rpm_and_mnm_trains_in_si(export, capsys):
+    model, err = _trained(export, capsys)
+    assert "v read in rpm ('Speed [rpm]'): scaled by 0.10472 to SI" in err
+    assert "read in mNm ('Torque [mNm]'): scaled by 0.001 to SI" in err
+    assert model.training["units"] == "rotary"
+    v = np.array([-2.0, -0.5, 0.5, 2.0])
+    assert np.allclose(model.force(v), np.sign(v) * (COULOMB + VISCOUS * np.abs(v)), atol=0.01)
+
+
+def test_the_users_scale_wins_and_a_different_one_is_named(export, capsys):
+    model, err = _trained(export, capsys, "--scale", "v=0.10472")
+    assert "v read in" not in err and "is not the factor" not in err
+    assert model.force([1.0])[0] == pytest.approx(COULOMB + VISCOUS, abs=0.01)
+    model, err = _trained(export, capsys, "--scale", "v=0.0174533", "--accept-unusual")
+    assert "--scale v=0.0174533 is not the factor of the header's rpm (0.10472" in err
