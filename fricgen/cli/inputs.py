@@ -91,7 +91,8 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     scales = parse_scales(args.scale)
     dialect = dict(delimiter=DELIMITERS[args.delimiter] if args.delimiter else DETECT,
                    decimal_comma=args.decimal_comma)
-    mapped, units = _header_units(args, path, parse_assignments(args.columns, "--columns"), scales)
+    mapped, units = _header_units(args, path, parse_assignments(args.columns, "--columns"), scales,
+                                  dialect["delimiter"])
     columns = read_export(path, ExportLayout(args.skip, mapped, **dialect), scales, drop_text)
     for quantity, unit in units.items():        # a sweep's force is read as f
         name = quantity if quantity in columns else SWEEP_NAME.get(quantity)
@@ -136,13 +137,13 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
 SWEEP_NAME = {"force": "f", "f": "force"}
 
 
-def _header_units(args, path, mapped, scales):
+def _header_units(args, path, mapped, scales, delimiter):
     """The columns to read (--columns and the cells whose names write a unit,
     ``data.header_units``) and the units to scale by: those --scale leaves (a --scale that
     differs from its column's unit is warned about); one line for each unit applied."""
     if is_matfile(path):
         return mapped, {}
-    cells = header_cells(path, args.skip, DELIMITERS[args.delimiter] if args.delimiter else DETECT)
+    cells = header_cells(path, args.skip, delimiter)
     warn = _warn(args)
     extra, units = header_units(cells, mapped, KNOWN_NAMES, warn)
     applied = {}
