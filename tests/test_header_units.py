@@ -20,6 +20,9 @@ COULOMB, VISCOUS = 0.3, 0.05                 # Nm, Nm s/rad
     ("Iq [mA]", "Iq", "mA", 1e-3),
     ("n [U/min]", "n", "U/min", np.pi / 30),
     ("Time (µs)", "Time", "µs", 1e-6),
+    ("n [min-1]", "n", "min-1", np.pi / 30),
+    ("M [oz-in]", "M", "oz-in", 7.0615518e-3),
+    ("Speed [krpm]", "Speed", "krpm", 1000 * np.pi / 30),
 ])
 def test_a_cells_unit_is_read_with_its_factor(cell, name, unit, factor):
     assert named_unit(cell) == (name, unit)
@@ -32,14 +35,14 @@ def test_rotary_units_name_a_rotary_axis():
 
 
 def test_only_known_names_and_mapped_cells_are_read_and_a_plain_name_wins():
-    lines = []
     cells = ["v", "Speed [rpm]", "Torque [mNm]", "Voltage [V]"]
-    mapped, units = header_units(cells, {}, KNOWN_NAMES, lines.append)
+    mapped, units = header_units(cells, {}, KNOWN_NAMES)
     assert mapped == {"force": "Torque [mNm]"}           # 'v' is there as written: 'Speed' is not v
     assert set(units) == {"force"} and units["force"].factor == pytest.approx(1e-3)
-    assert lines == []                                   # 'Voltage' is no quantity: not read
-    mapped, units = header_units(cells, {"i": "Voltage [V]"}, KNOWN_NAMES, lines.append)
-    assert "i" not in units and len(lines) == 1 and "unit 'V' is not one fricgen knows" in lines[0]
+    with pytest.raises(DataError, match="'Voltage \\[V\\]' \\(i\\) is in V, a unit fricgen does not know"):
+        header_units(cells, {"i": "Voltage [V]"}, KNOWN_NAMES)
+    mapped, units = header_units(cells, {"i": "Voltage [V]"}, KNOWN_NAMES, ["i"])   # --scale i=...
+    assert mapped == {"force": "Torque [mNm]"} and "i" not in units
 
 
 @pytest.mark.parametrize("cells, mapped, words", [
@@ -48,9 +51,23 @@ def test_only_known_names_and_mapped_cells_are_read_and_a_plain_name_wins():
     (["t [s]", "Pos [inc]", "I [A]"], {"x": "Pos [inc]"}, "column 'Pos [inc]' (x) is in inc"),
 ])
 def test_a_unit_that_cannot_be_the_columns_is_refused(cells, mapped, words):
-    with pytest.raises(DataError, match=None) as err:
-        header_units(cells, mapped, KNOWN_NAMES, lambda line: None)
+    with pytest.raises(DataError) as err:
+        header_units(cells, mapped, KNOWN_NAMES)
     assert words in str(err.value)
+
+
+def test_units_of_a_linear_and_a_rotary_axis_are_refused_unless_one_is_scaled():
+    cells = ["Speed [mm/s]", "Torque [Nm]"]
+    with pytest.raises(DataError, match="mix a linear axis's \\('Speed \\[mm/s\\]'\\) and a rotary"):
+        header_units(cells, {}, KNOWN_NAMES)
+    _, units = header_units(cells, {}, KNOWN_NAMES, ["force"])        # --scale force=2pi/lead
+    assert units["v"].factor == pytest.approx(1e-3)
+
+
+def test_a_sizeless_unit_is_read_by_the_users_scale():
+    mapped, units = header_units(["t [s]", "Encoder [counts]", "Iq [A]"], {"x": "Encoder [counts]"},
+                                 KNOWN_NAMES, ["x"])
+    assert mapped == {"i": "Iq [A]", "t": "t [s]"} and set(units) == {"i", "t"}
 
 
 @pytest.fixture

@@ -43,6 +43,14 @@ def test_the_period_is_found_and_the_turns_added_back(period, name, to_wrap):
         assert np.allclose(back - back[0], truth - truth[0], atol=1.0)
 
 
+def test_a_turn_sampled_four_times_is_unwrapped_and_degrees_are_asked_about():
+    x = np.cumsum(np.full(400, 90.0))                  # 90 degrees a sample
+    lines = []
+    back = unwrapped({"x": np.mod(x, 360.0)}, lines.append)["x"]
+    assert np.allclose(back - back[0], x - x[0])
+    assert len(lines) == 1 and "x in degrees? fricgen reads rad: --scale x=0.0174533" in lines[0]
+
+
 def test_a_position_flickering_across_the_wrap_at_rest_is_unwrapped_to_rest():
     x = np.where(np.arange(2000) % 3 == 0, 2 * np.pi - 1e-4, 1e-4)
     back = unwrapped({"x": x}, lambda line: None)["x"]

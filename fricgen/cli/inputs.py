@@ -145,7 +145,8 @@ def _header_units(args, path, mapped, scales, delimiter):
         return mapped, {}
     cells = header_cells(path, args.skip, delimiter)
     warn = _warn(args)
-    extra, units = header_units(cells, mapped, KNOWN_NAMES, warn)
+    scaled = [q for q in KNOWN_NAMES.values() if q in scales or SWEEP_NAME.get(q) in scales]
+    extra, units = header_units(cells, mapped, KNOWN_NAMES, scaled)
     applied = {}
     for quantity, unit in units.items():
         factor = scales.get(quantity, scales.get(SWEEP_NAME.get(quantity, quantity)))

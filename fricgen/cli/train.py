@@ -9,6 +9,7 @@ from ..c_names import check_model_name
 from ..data.inverse_dynamics import CONDITIONS, MIN_LOG_ROWS, describe_missing, is_log
 from ..data.sweep import MIN_SWEEP_POINTS
 from ..data.export import assignments, names_rotary_axis
+from ..data.header_units import is_rotary_unit
 from ..data.matfile import is_matfile
 from ..data.plausibility import top_speed
 from ..data.table import header_cells
@@ -117,6 +118,14 @@ def is_rotary(args) -> bool:
         not is_matfile(args.sweep) and names_rotary_axis(header_cells(args.sweep, args.skip)))
 
 
+def writes_rotary_unit(args) -> bool:
+    """Whether the header or ``--columns`` writes a rotary unit ("Speed [rpm]"): its speeds are
+    read in that unit, not asked about as a joint's in degrees."""
+    cells = [] if is_matfile(args.sweep) else header_cells(args.sweep, args.skip)
+    mapped = [value for _, _, value, _ in assignments(args.columns)]
+    return any(is_rotary_unit(c) for c in [*cells, *mapped])
+
+
 def run(args) -> int:
     with data_warnings(args):
         return _run(args)
@@ -140,7 +149,7 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
             check_gravity(args, columns, rotary)
         if args.force_held:
             check_force_held(args, columns)
-        if rotary and not args.rotary:
+        if rotary and not args.rotary and not writes_rotary_unit(args):
             warn_degrees(args, columns, warn)
         if given and (args.dynamic or args.cogging):
             raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "

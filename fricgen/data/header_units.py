@@ -3,9 +3,10 @@
 quantity (the name before the unit, as ``export.ALIASES`` reads plain names, or as --columns
 maps it) and scaled to SI by its unit, unless the user's --scale names that quantity (it wins).
 
-A unit of another kind than its quantity's (a velocity column in Nm: swapped columns) and a unit
-of no size the file gives (%, encoder increments) are refused in one line; a unit not known here
-is warned about and the column read as written.
+A unit of another kind than its quantity's (a velocity column in Nm: swapped columns), units
+that mix a linear and a rotary axis, and a unit of no size the file gives (%, encoder
+increments) or not known here are refused in one line; the last two are read as the user's
+--scale says where it names the quantity.
 """
 from __future__ import annotations
 
@@ -34,6 +35,13 @@ UNITS: Dict[str, Tuple[str, float, bool]] = {
     "rad/s": ("velocity", 1.0, True), "mrad/s": ("velocity", 1e-3, True), "deg/s": ("velocity", _DEG, True),
     "rpm": ("velocity", _TURN / 60, True), "1/min": ("velocity", _TURN / 60, True),
     "u/min": ("velocity", _TURN / 60, True), "rev/min": ("velocity", _TURN / 60, True),
+    "r/min": ("velocity", _TURN / 60, True), "min^-1": ("velocity", _TURN / 60, True),
+    "min-1": ("velocity", _TURN / 60, True), "upm": ("velocity", _TURN / 60, True),
+    "krpm": ("velocity", 1e3 * _TURN / 60, True), "in/s": ("velocity", 0.0254, False),
+    "inch/s": ("velocity", 0.0254, False), "in": ("position", 0.0254, False),
+    "inch": ("position", 0.0254, False), "lbf": ("force", 4.4482216, False),
+    "unm": ("force", 1e-6, True), "ozin": ("force", 7.0615518e-3, True),
+    "lbfin": ("force", 0.11298483, True),
     "rps": ("velocity", _TURN, True), "rev/s": ("velocity", _TURN, True), "turn/s": ("velocity", _TURN, True),
     "n": ("force", 1.0, False), "kn": ("force", 1e3, False), "mn": ("force", 1e-3, False),
     "nm": ("force", 1.0, True), "mnm": ("force", 1e-3, True), "ncm": ("force", 1e-2, True),
@@ -63,10 +71,10 @@ def named_unit(cell: str) -> Optional[Tuple[str, str]]:
 
 
 def _key(unit: str) -> str:
-    """The unit as ``UNITS`` writes it: lower case, 'µ' as 'u', '°' as 'deg', no spaces, dots
-    or multiplication signs (N.m, N·m, N*m as nm)."""
+    """The unit as ``UNITS`` writes it: lower case, 'µ' as 'u', '°' as 'deg', no spaces, dots,
+    hyphens or multiplication signs (N.m, N·m, N*m as nm; oz-in as ozin; min-1 kept)."""
     key = unit.strip().lower().replace("µ", "u").replace("μ", "u").replace("°c", "degc")
-    return re.sub(r"[\s.·*]", "", key.replace("°", "deg"))
+    return re.sub(r"[\s.·*-](?!1)", "", key.replace("°", "deg"))
 
 
 def is_rotary_unit(cell: str) -> bool:
@@ -76,14 +84,15 @@ def is_rotary_unit(cell: str) -> bool:
 
 
 def header_units(cells: Sequence[str], mapped: Mapping[str, str], known: Mapping[str, str],
-                 warn) -> Tuple[Dict[str, str], Dict[str, HeaderUnit]]:
+                 scaled: Sequence[str] = ()) -> Tuple[Dict[str, str], Dict[str, HeaderUnit]]:
     """The quantities that the header's cells with units name, and their units.
 
     ``mapped``: --columns (quantity to cell); ``known``: the plain names read as a quantity
     (``export.ALIASES`` and the quantities' own). Returns the cells to map (quantity to cell,
     for the cells with a unit whose name is a known one and that --columns leaves unmapped) and
     each quantity's unit (``HeaderUnit``). ``DataError`` for a unit of another kind than its
-    quantity or of no size; ``warn`` for a unit not known here."""
+    quantity, for units that mix a linear axis's and a rotary one's, and for a unit of no size
+    or not known here, unless ``scaled`` (the quantities --scale names) holds its quantity."""
     by_cell = {c.strip().lower(): q for q, c in mapped.items()}
     plain = {known[c.strip().lower()] for c in cells if c.strip().lower() in known}
     to_map, units = {}, {}
@@ -101,17 +110,30 @@ def header_units(cells: Sequence[str], mapped: Mapping[str, str], known: Mapping
         if quantity not in KIND:
             continue
         key = _key(unit)
-        if key in SIZELESS:
-            raise DataError(f"column {cell.strip()!r} ({quantity}) is in {unit}, a unit of no size the "
-                            f"file gives: --scale {quantity}=FACTOR brings it to SI")
-        if key not in UNITS:
-            warn(f"fricgen: warning: column {cell.strip()!r} ({quantity}): unit {unit!r} is not one "
-                 "fricgen knows; read as SI (--scale sets its factor)")
-            continue
+        if key not in UNITS and quantity in scaled:
+            continue                    # the user's factor reads it
+        if key in SIZELESS or key not in UNITS:
+            what = "a unit of no size the file gives" if key in SIZELESS else "a unit fricgen does not know"
+            raise DataError(f"column {cell.strip()!r} ({quantity}) is in {unit}, {what}: --scale "
+                            f"{quantity}=FACTOR brings it to SI")
         kind, factor, _ = UNITS[key]
         if kind != KIND[quantity]:
             raise DataError(f"column {cell.strip()!r} is read as {quantity}, a {KIND[quantity]}, but "
                             f"its unit {unit} is a {kind}'s: are the columns swapped? (--columns "
                             "maps them)")
         units[quantity] = HeaderUnit(cell.strip(), unit, factor)
+    _check_one_axis(units, scaled)
     return to_map, units
+
+
+def _check_one_axis(units: Mapping[str, HeaderUnit], scaled: Sequence[str]) -> None:
+    """``DataError`` where the units of position, velocity and force that --scale leaves mix a
+    linear axis's and a rotary one's (a table's speed in mm/s beside a motor's torque in Nm)."""
+    rotary = {q: UNITS[_key(u.unit)][2] for q, u in units.items()
+              if q not in scaled and KIND[q] in ("position", "velocity", "force")}
+    if len(set(rotary.values())) > 1:
+        linear = next(units[q] for q, r in rotary.items() if not r)
+        turning = next(units[q] for q, r in rotary.items() if r)
+        raise DataError(f"the header's units mix a linear axis's ({linear.cell!r}) and a rotary one's "
+                        f"({turning.cell!r}): --scale one of them to the other's axis (through the "
+                        "screw's lead or the gear)")

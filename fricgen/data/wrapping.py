@@ -3,8 +3,8 @@ degrees, 0 to 4095 counts) read as a log's x jumps back by a turn each time the 
 wrap, and every derivative of x (velocity, acceleration, the inertia's force) takes the jump for
 motion. ``unwrapped`` finds the period from the jumps and adds the turns back.
 
-A jump is a step of x larger than half its range with the steps either side of it (the
-motion) at most WRAP_SMOOTH of the range. The period is the jump less the motion over that
+A jump is a step of x larger than half its range, the other steps (the motion) at most
+WRAP_SMOOTH of the range. The period is the jump less the motion over that
 sample, the median over the jumps; every jump must give it within WRAP_AGREE (a reset of a
 log's position, or a concatenation of runs, gives periods that disagree and is left alone).
 A period within ROUND_WITHIN of a round one (2 pi, 360, 1, a power of two) is taken as that one;
@@ -17,8 +17,9 @@ from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-#: The steps beside a jump are at most this share of x's range (else no wrap is told).
-WRAP_SMOOTH = 0.1
+#: The steps that are no jumps are at most this share of x's range (else no wrap is told): a
+#: log that samples a turn at least four times.
+WRAP_SMOOTH = 0.4
 #: Every jump's period within this share of their median.
 WRAP_AGREE = 0.02
 #: A period within this share of a round one is taken as the round one.
@@ -70,6 +71,7 @@ def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Di
     period, name, wraps = found
     step = np.diff(x)
     turns = np.where(np.abs(step) > 0.5 * np.ptp(x), -np.sign(step), 0.0)
+    degrees = " (x in degrees? fricgen reads rad: --scale x=0.0174533)" if name == "360" else ""
     warn(f"x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
-         "(a single-turn position)")
+         f"(a single-turn position){degrees}")
     return {**columns, "x": x + period * np.concatenate([[0.0], np.cumsum(turns)])}
