@@ -145,11 +145,15 @@ def _header_units(args, path, mapped, scales, delimiter):
         return mapped, {}
     cells = header_cells(path, args.skip, delimiter)
     warn = _warn(args)
-    scaled = [q for q in KNOWN_NAMES.values() if q in scales or SWEEP_NAME.get(q) in scales]
+
+    def users(quantity):                        # the user's --scale of a quantity, or None
+        return scales.get(quantity, scales.get(SWEEP_NAME.get(quantity, quantity)))
+
+    scaled = [q for q in set(KNOWN_NAMES.values()) if users(q) is not None]
     extra, units = header_units(cells, mapped, KNOWN_NAMES, scaled)
     applied = {}
     for quantity, unit in units.items():
-        factor = scales.get(quantity, scales.get(SWEEP_NAME.get(quantity, quantity)))
+        factor = users(quantity)
         if isinstance(factor, float) and unit.factor != 1 and abs(factor / unit.factor - 1) > 0.01:
             warn(f"fricgen: warning: --scale {quantity}={factor:g} is not the factor of the header's "
                  f"{unit.unit} ({unit.factor:.6g}, {unit.cell!r}): --scale is used")

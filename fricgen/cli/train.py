@@ -114,16 +114,19 @@ def is_rotary(args) -> bool:
     """``--rotary``, or a header or ``--columns`` that names a robot joint's columns (q, dq,
     tau, ...)."""
     mapped = [name for name, *_ in assignments(args.columns)]
-    return bool(args.rotary) or names_rotary_axis(mapped) or (
-        not is_matfile(args.sweep) and names_rotary_axis(header_cells(args.sweep, args.skip)))
+    return bool(args.rotary) or names_rotary_axis(mapped) or names_rotary_axis(_header(args))
 
 
 def writes_rotary_unit(args) -> bool:
     """Whether the header or ``--columns`` writes a rotary unit ("Speed [rpm]"): its speeds are
     read in that unit, not asked about as a joint's in degrees."""
-    cells = [] if is_matfile(args.sweep) else header_cells(args.sweep, args.skip)
     mapped = [value for _, _, value, _ in assignments(args.columns)]
-    return any(is_rotary_unit(c) for c in [*cells, *mapped])
+    return any(is_rotary_unit(c) for c in [*_header(args), *mapped])
+
+
+def _header(args) -> list:
+    """The data file's header cells as written; none for a MATLAB file."""
+    return [] if is_matfile(args.sweep) else header_cells(args.sweep, args.skip)
 
 
 def run(args) -> int:

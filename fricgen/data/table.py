@@ -16,10 +16,8 @@ import numpy as np
 
 from .._io import plain_float
 from ..errors import DataError
+from .header_units import named_unit
 
-
-#: A header cell with its unit written in, e.g. "i [A]" or "v (m/s)".
-_WITH_UNIT = re.compile(r"\s*([A-Za-z_]\w*)\s*[\[(].*[\])]\s*")
 
 
 #: What a header with ';' in it is told.
@@ -31,7 +29,7 @@ def header_hint(cells: Sequence[str]) -> str:
     its names carry units (read, ``header_units``, where the name is a quantity's or mapped)."""
     if any(";" in c for c in cells):
         return f"; it {_SEMICOLONS}"
-    if any(_WITH_UNIT.fullmatch(cell) for cell in cells):
+    if any(named_unit(cell) for cell in cells):
         return ("; --columns maps the file's columns to fricgen's quantities, and the units their "
                 "names write are read (e.g. --columns 'i=Iq [mA]')")
     return ""

@@ -29,15 +29,19 @@ ROUND_PERIODS = ((2 * math.pi, "2 pi"), (360.0, "360"), (1.0, "1"),
                  *((float(2 ** k), f"2^{k}") for k in range(8, 25)))
 
 
+def _jumps(step: np.ndarray, span: float) -> np.ndarray:
+    """Which steps of x are jumps: larger than half its range ``span``."""
+    return np.abs(step) > 0.5 * span
+
+
 def wrap_period(x: np.ndarray) -> Optional[Tuple[float, str, int]]:
     """The period x wraps at, its name (a round period's, else its digits) and the number of
     wraps; None when x does not wrap (see the module docstring)."""
     x = np.asarray(x, dtype=float)
     if x.size < 4 or not np.all(np.isfinite(x)):
         return None
-    span = float(np.ptp(x))
-    step = np.diff(x)
-    wrap = np.abs(step) > 0.5 * span
+    span, step = float(np.ptp(x)), np.diff(x)
+    wrap = _jumps(step, span)
     if not wrap.any() or np.max(np.abs(step[~wrap]), initial=0.0) > WRAP_SMOOTH * span:
         return None
     # the motion over a jump's sample: the mean of the steps either side that are no jumps
@@ -70,7 +74,7 @@ def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Di
         return columns
     period, name, wraps = found
     step = np.diff(x)
-    turns = np.where(np.abs(step) > 0.5 * np.ptp(x), -np.sign(step), 0.0)
+    turns = np.where(_jumps(step, np.ptp(x)), -np.sign(step), 0.0)
     degrees = " (x in degrees? fricgen reads rad: --scale x=0.0174533)" if name == "360" else ""
     warn(f"x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
          f"(a single-turn position){degrees}")
