@@ -6,6 +6,7 @@ import pytest
 from fricgen.cli import main
 from fricgen.data.header_units import UNITS, _key, header_units, is_rotary_unit, named_unit
 from fricgen.data.export import KNOWN_NAMES
+from fricgen.data.table import header_cells, read_table_csv
 from fricgen.errors import DataError
 from fricgen.model import FrictionModel
 
@@ -105,3 +106,53 @@ def test_the_users_scale_wins_and_a_different_one_is_named(export, capsys):
     assert model.force([1.0])[0] == pytest.approx(COULOMB + VISCOUS, abs=0.01)
     model, err = _trained(export, capsys, "--scale", "v=0.0174533", "--accept-unusual")
     assert "--scale v=0.0174533 is not the factor of the header's rpm (0.10472" in err
+
+
+def _units_row_export(export, units_row, sep=","):
+    """``export`` rewritten with plain names and its units on a row of their own."""
+    lines = export.read_text().splitlines()
+    rows = [line.replace(",", sep) for line in lines[1:]]
+    export.write_text("\n".join([f"Speed{sep}Torque", units_row] + rows) + "\n")
+    return export
+
+
+@pytest.mark.parametrize("units_row, sep", [("rpm,mNm", ","), ("[rpm];[mNm]", ";"), ("(rpm)\t(mNm)", "\t")])
+def test_a_units_row_under_the_header_is_read_as_the_names_units(export, capsys, units_row, sep):
+    model, err = _trained(_units_row_export(export, units_row, sep), capsys)
+    assert "v read in rpm ('Speed [rpm]'): scaled by 0.10472 to SI" in err
+    v = np.array([-2.0, 0.5, 2.0])
+    assert np.allclose(model.force(v), np.sign(v) * (COULOMB + VISCOUS * np.abs(v)), atol=0.01)
+
+
+def test_a_units_row_after_a_preamble_and_with_a_blank_unit_is_read(tmp_path):
+    path = tmp_path / "log.csv"
+    path.write_text("Drive export v2\nsaved 2026-01-01\nt,Speed,Torque,state\ns,rpm,Nm,\n"
+                    "0,10,0.5,1\n0.001,20,0.6,1\n")
+    assert header_cells(path) == ["t [s]", "Speed [rpm]", "Torque [Nm]", "state"]
+    table = read_table_csv(path, ("speed [rpm]",), keep_extra=True)
+    assert list(table) == ["t [s]", "speed [rpm]", "torque [nm]", "state"]
+    assert table["speed [rpm]"].tolist() == [10.0, 20.0]
+
+
+def test_a_units_row_of_no_size_is_refused_in_one_line(export, capsys):
+    out = export.parent / "model.json"
+    assert main(["train", str(_units_row_export(export, "rpm,%")), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'Torque [%]' (force) is in %, a unit of no size" in err[0]
+    assert not out.exists()
+
+
+def test_a_second_row_of_names_is_no_units_row(tmp_path):
+    path = tmp_path / "log.csv"
+    path.write_text("v,f\nspeed,torque\n0.1,0.5\n0.2,0.6\n")
+    assert header_cells(path) == ["speed", "torque"]
+
+
+def test_a_sweeps_force_is_scaled_by_either_of_its_names(export, capsys):
+    plain = export.parent / "plain.csv"
+    plain.write_text("v,force\n" + "\n".join(export.read_text().splitlines()[1:]) + "\n")
+    by_force, _ = _trained(plain, capsys, "--scale", "v=0.10472,force=0.001")
+    by_f, _ = _trained(plain, capsys, "--scale", "v=0.10472,f=0.001")
+    v = np.array([-2.0, 0.5, 2.0])
+    assert np.array_equal(by_force.force(v), by_f.force(v))
+    assert np.allclose(by_f.force(v), np.sign(v) * (COULOMB + VISCOUS * np.abs(v)), atol=0.01)

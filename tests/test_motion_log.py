@@ -208,3 +208,23 @@ def test_x_and_v_swapped_are_named_as_swapped():
         check_units(v, x, ts)
     with pytest.raises(DataError, match=r"is t in ms, x in mm"):
         check_units(1000 * x, v, ts)                        # x in mm: not a swap
+
+
+def test_a_merged_files_header_units_are_read(noisy, tmp_path, capsys):
+    (tmp_path / "drive.csv").write_text("t,v\n" + "".join(
+        f"{float(t)!r},{float(v)!r}\n" for t, v in zip(noisy["t"], noisy["v"])))
+    common = ["--mass", str(RUN.mass), "--symmetric", "--method", "elm", "--neurons", "10"]
+    trained = []
+    for name, header, time_factor, force_factor in (("si.csv", "Stamp,Load", 1.0, 1.0),
+                                                    ("units.csv", "Stamp [ms],Load [kN]", 1e3, 1e-3)):
+        (tmp_path / name).write_text(header + "\n" + "".join(
+            f"{float(t) * time_factor!r},{float(f) * force_factor!r}\n"
+            for t, f in zip(noisy["t"], noisy["force"])))
+        stamp, load = header.split(",")
+        assert main(["train", str(tmp_path / "drive.csv"), "--merge", str(tmp_path / name),
+                     "--merge-columns", f"t={stamp},force={load}", *common,
+                     "-o", str(tmp_path / f"{name}.json")]) == 0
+        trained.append(FrictionModel.load(tmp_path / f"{name}.json"))
+    assert "force read in kN ('Load [kN]'): scaled by 1000 to SI" in capsys.readouterr().err
+    v = np.linspace(-0.3, 0.3, 13)
+    np.testing.assert_allclose(trained[1].force(v), trained[0].force(v), rtol=1e-6, atol=1e-9)

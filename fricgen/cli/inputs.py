@@ -7,8 +7,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from ..data.export import (KNOWN_NAMES, ExportLayout, check_scaled, merge_on_time,
-                           parse_assignments, parse_scales, read_export)
+from ..data.export import (KNOWN_NAMES, SWEEP_NAME, ExportLayout, check_scaled, merge_on_time,
+                           parse_assignments, parse_scales, read_export, scaled_column)
 from ..data.header_units import header_units
 from ..data.matfile import is_matfile
 from ..data.inverse_dynamics import is_log
@@ -91,13 +91,9 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     scales = parse_scales(args.scale)
     dialect = dict(delimiter=DELIMITERS[args.delimiter] if args.delimiter else DETECT,
                    decimal_comma=args.decimal_comma)
-    mapped, units = _header_units(args, path, parse_assignments(args.columns, "--columns"), scales,
-                                  dialect["delimiter"])
-    columns = read_export(path, ExportLayout(args.skip, mapped, **dialect), scales, drop_text)
-    for quantity, unit in units.items():        # a sweep's force is read as f
-        name = quantity if quantity in columns else SWEEP_NAME.get(quantity)
-        if name in columns:
-            columns[name] = columns[name] * unit.factor
+    mapped, units = _header_units(args, path, args.skip, parse_assignments(args.columns, "--columns"),
+                                  scales, dialect["delimiter"])
+    columns = _in_si(read_export(path, ExportLayout(args.skip, mapped, **dialect), scales, drop_text), units)
     rate = getattr(args, "sample_rate", None)
     if rate is not None:
         if args.merge is not None:
@@ -113,9 +109,12 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
         check_scaled(scales, {path: columns})
     else:
         merge_scales = parse_scales(args.merge_scale, "--merge-scale")
-        second = read_export(args.merge, ExportLayout(args.merge_skip, parse_assignments(
-            args.merge_columns, "--merge-columns"), **dialect), {**scales, **merge_scales}, drop_text,
-            "--merge-columns")
+        both = {**scales, **merge_scales}
+        merge_mapped, merge_units = _header_units(args, args.merge, args.merge_skip, parse_assignments(
+            args.merge_columns, "--merge-columns"), both, dialect["delimiter"])
+        second = _in_si(read_export(args.merge, ExportLayout(args.merge_skip, merge_mapped, **dialect),
+                                    both, drop_text, "--merge-columns"), merge_units)
+        units = {**units, **merge_units}
         check_scaled({k: f for k, f in scales.items() if k not in merge_scales},
                      {path: columns, args.merge: second})
         check_scaled(merge_scales, {args.merge: second}, "--merge-scale")
@@ -133,17 +132,22 @@ def read_data(args, path, min_rows=None, drop_text: bool = False):
     return columns
 
 
-#: A sweep's force is read as f (``data.export.read_export``): a scale of either is one of both.
-SWEEP_NAME = {"force": "f", "f": "force"}
+def _in_si(columns, units):
+    """The columns with the header's ``units`` applied (a sweep's force is read as f)."""
+    for quantity, unit in units.items():
+        name = scaled_column(quantity, columns)
+        if name in columns:
+            columns[name] = columns[name] * unit.factor
+    return columns
 
 
-def _header_units(args, path, mapped, scales, delimiter):
-    """The columns to read (--columns and the cells whose names write a unit,
+def _header_units(args, path, skip, mapped, scales, delimiter):
+    """The columns to read of ``path`` (its mapping and the cells whose names write a unit,
     ``data.header_units``) and the units to scale by: those --scale leaves (a --scale that
     differs from its column's unit is warned about); one line for each unit applied."""
     if is_matfile(path):
         return mapped, {}
-    cells = header_cells(path, args.skip, delimiter)
+    cells = header_cells(path, skip, delimiter)
     warn = _warn(args)
 
     def users(quantity):                        # the user's --scale of a quantity, or None

@@ -114,12 +114,21 @@ def _factor(name: str, factor: Factor, path, mat: Optional[MatFile], option: str
     return value
 
 
+#: A sweep's force is read as f (``read_export``): a scale of either is one of both.
+SWEEP_NAME = {"force": "f", "f": "force"}
+
+
+def scaled_column(name: str, columns: Mapping[str, np.ndarray]) -> str:
+    """The column a scale of ``name`` applies to: ``name``, else its twin of ``SWEEP_NAME``."""
+    return name if name in columns else SWEEP_NAME.get(name, name)
+
+
 def check_scaled(scales: Mapping[str, Factor], files: Mapping[str, Dict[str, np.ndarray]],
                  option: str = "--scale") -> None:
     """``UsageError`` naming a scaled quantity that none of ``files`` (columns by file name)
     has, and the columns each has."""
     for name in scales:
-        if not any(name in columns for columns in files.values()):
+        if not any(scaled_column(name, columns) in columns for columns in files.values()):
             listed = [(path, ", ".join(columns)[:80]) for path, columns in files.items()]
             where = (f"is not a column of {listed[0][0]} (its columns: {listed[0][1]})"
                      if len(listed) == 1 else "is a column of neither " +
@@ -210,8 +219,9 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
     if "f" not in columns and "v" in columns and "force" in columns and not {"t", "x", "i"} & set(columns):
         columns["f"] = columns.pop("force")         # a sweep: a velocity and a force, no time
     for name, factor in scales.items():
-        if name in columns:
-            columns[name] = columns[name] * _factor(name, factor, path, mat)
+        column = scaled_column(name, columns)
+        if column in columns:
+            columns[column] = columns[column] * _factor(name, factor, path, mat)
     return columns
 
 

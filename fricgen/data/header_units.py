@@ -70,6 +70,15 @@ def named_unit(cell: str) -> Optional[Tuple[str, str]]:
     return (found.group(1), found.group(2)) if found and found.group(1) else None
 
 
+def row_unit(cell: str) -> Optional[str]:
+    """The unit a cell of a units row writes ("rpm", "[rpm]", "(mNm)"), when fricgen knows it or
+    knows it has no size; None otherwise."""
+    unit = cell.strip()
+    if len(unit) > 2 and unit[0] + unit[-1] in ("[]", "()"):
+        unit = unit[1:-1].strip()
+    return unit if unit and (_key(unit) in UNITS or _key(unit) in SIZELESS) else None
+
+
 def _key(unit: str) -> str:
     """The unit as ``UNITS`` writes it: lower case, 'µ' as 'u', '°' as 'deg', no spaces, dots,
     hyphens or multiplication signs (N.m, N·m, N*m as nm; oz-in as ozin; min-1 kept)."""

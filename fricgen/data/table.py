@@ -2,10 +2,12 @@
 spreadsheets write it: ',', ';', tab or whitespace between cells (detected on the header line,
 or given), '.' or a decimal comma (detected on the first data line where the cells are not
 ','-separated, or given), and a preamble before the header (given as a line count, or found:
-the first line followed by a numeric row of as many cells)."""
+the first line followed by a numeric row of as many cells). A row of units under the header
+(s, rpm, [mNm]) is read into the names (``t [s]``, as ``header_units`` reads them)."""
 from __future__ import annotations
 
 import csv
+import itertools
 import math
 import re
 from array import array
@@ -16,7 +18,7 @@ import numpy as np
 
 from .._io import plain_float
 from ..errors import DataError
-from .header_units import named_unit
+from .header_units import named_unit, row_unit
 
 
 
@@ -85,11 +87,36 @@ def _decimal_comma(cells: Sequence[str], sep: Optional[str]) -> bool:
     return sep != "," and any(_DECIMAL_COMMA.fullmatch(c.strip()) for c in cells)
 
 
+#: A units row's cell: the unit, bracketed or not.
+_BRACKETED = re.compile(r"\s*[\[(]\s*(.*?)\s*[\])]\s*")
+
+
+def _units_row(names: Sequence[str], row: Sequence[str]) -> bool:
+    """Whether ``row``, the line under the header ``names``, writes the columns' units: as many
+    cells, none a number, at least one a unit fricgen knows (``header_units.row_unit``), under
+    names that are not units themselves."""
+    return (len(row) == len(names) > 1 and any(row_unit(c) for c in row)
+            and not any(_is_number(c) for c in row if c.strip())
+            and not all(row_unit(c) for c in names if c.strip()))
+
+
+def _with_units(names: Sequence[str], units: Sequence[str]) -> List[str]:
+    """The header's names with the units row's units written in: "v" and "rpm" as "v [rpm]"
+    (a name that writes a unit of its own keeps it)."""
+    out = []
+    for name, unit in zip(names, units):
+        found = _BRACKETED.fullmatch(unit)
+        unit = found.group(1) if found else unit.strip()
+        out.append(f"{name.strip()} [{unit}]" if unit and not named_unit(name) else name)
+    return out
+
+
 def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> int:
     """The lines before the header of ``path``: 0 where the first line is followed by a row of
     as many cells, else the first line among ``PREAMBLE_LINES`` that is (its next non-blank line
     numeric, with as many cells, blank cells allowed: a signal logged at a slower rate; a
-    drive's preamble), else 0 (the reader then says what is wrong)."""
+    drive's preamble), else 0 (the reader then says what is wrong). Where that line is a units
+    row (``_units_row``), the header is the line above it."""
     try:
         with open(path, encoding="utf-8-sig", newline="") as fh:
             lines = [fh.readline() for _ in range(PREAMBLE_LINES + 1)]
@@ -108,6 +135,9 @@ def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> in
         if len(cells) == len(row) and len(cells) > 1 and any(numeric) \
                 and all(n or not c.strip() for n, c in zip(numeric, row)) \
                 and not all(_is_number(c, comma) for c in cells):
+            above = next((j for j in range(k - 1, -1, -1) if lines[j].strip()), None)
+            if above is not None and _units_row(_split(lines[above].strip("\r\n"), sep), cells):
+                return above
             return k
     return 0
 
@@ -168,11 +198,17 @@ def header_cells(path: Union[str, Path], skip: int = 0, delimiter: Optional[str]
                 fh.readline()
             line = fh.readline()
             sep = _delimiter(line, delimiter)
-            if sep is None:
-                return line.split()
-            return [h.strip() for h in next(csv.reader([line], delimiter=sep), [])]
+            names, units = (_cells(text, sep) for text in (line, fh.readline()))
+            return _with_units(names, units) if _units_row(names, units) else names
     except (OSError, UnicodeDecodeError, csv.Error):
         return []
+
+
+def _cells(line: str, sep: Optional[str]) -> List[str]:
+    """The cells of one line, stripped."""
+    if sep is None:
+        return line.split()
+    return [h.strip() for h in next(csv.reader([line], delimiter=sep), [])]
 
 
 def _skip_lines(path, fh, skip: int) -> None:
@@ -205,7 +241,14 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
         if not line.strip():        # an empty file or a blank header: the careful reader says which
             return None
         sep = _delimiter(line)
-        header = [h.strip().lower() for h in line.split(sep)]
+        header = [h.strip() for h in line.split(sep)]
+        under = fh.tell()
+        units = [c.strip() for c in fh.readline().split(sep)]
+        if _units_row(header, units):
+            header = _with_units(header, units)
+        else:
+            fh.seek(under)
+        header = [h.lower() for h in header]
         if len(set(header)) != len(header) or not set(required) <= set(header):
             return None
         try:
@@ -234,6 +277,11 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
     if not any(h.strip() for h in header):
         raise DataError(f"{path}: the header line is blank; the first line must name the columns")
     written = [h.strip() for h in header]
+    under = next(rows, None)
+    if under is not None and _units_row(written, under):
+        written, first_line = _with_units(written, under), first_line + 1
+    elif under is not None:
+        rows = itertools.chain([under], rows)
     header = [h.lower() for h in written]
     named = {",": "','", ";": "';'", "\t": "tab", None: "whitespace"}[sep]
     if len(header) == 1 and any(c in header[0] for c in ",;\t"):
