@@ -88,3 +88,25 @@ def test_a_wrapped_log_trains_the_model_of_the_unwrapped_one(tmp_path, capsys):
     assert "x wraps at a period of 2 pi" in capsys.readouterr().err
     mass = fricgen.FrictionModel.load(tmp_path / "m.json").training["axis"]["mass"]
     assert mass == pytest.approx(straight.identification.body.mass, rel=1e-6)
+
+
+def test_a_reset_of_the_position_while_the_time_runs_is_stitched():
+    log = joint_log()
+    x = log["x"]
+    reset = log["x"].copy()
+    k = int(np.argmax(x))                          # homed to 0 where the joint is farthest out
+    reset[k:] -= x[k]
+    lines = []
+    straight = fricgen.train(log, rotary=True, warn=lambda line: None)
+    stitched = fricgen.train({**log, "x": reset}, rotary=True, warn=lines.append)
+    assert any("taken for a reset of the position and stitched" in line for line in lines)
+    assert stitched.identification.body.mass == pytest.approx(straight.identification.body.mass, rel=1e-3)
+    v = np.linspace(-5, 5, 11)
+    assert np.allclose(stitched.model.force(v), straight.model.force(v), rtol=1e-3, atol=1e-4)
+
+
+def test_runs_joined_end_to_end_keep_their_positions():
+    t = np.concatenate([np.arange(0, 1, 1e-3)] * 2)            # the time restarts with each run
+    x = np.concatenate([np.linspace(0, 5, 1000), np.linspace(0, 5, 1000)])
+    lines = []
+    assert unwrapped({"t": t, "x": x}, lines.append)["x"] is x and lines == []

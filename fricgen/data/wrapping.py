@@ -9,6 +9,11 @@ sample, the median over the jumps; every jump must give it within WRAP_AGREE (a 
 log's position, or a concatenation of runs, gives periods that disagree and is left alone).
 A period within ROUND_WITHIN of a round one (2 pi, 360, 1, a power of two) is taken as that one;
 a single jump of no round period is taken for a reset, not a wrap.
+
+A reset of the position while the time runs on (x set to 0 or homed mid-log) is a jump too; it
+is stitched: x after it shifted by the jump less the motion over that sample, so the
+derivatives see no motion that did not happen. Where the time restarts or pauses at the jump
+(runs joined end to end), x is left alone.
 """
 from __future__ import annotations
 
@@ -34,22 +39,35 @@ def _jumps(step: np.ndarray, span: float) -> np.ndarray:
     return np.abs(step) > 0.5 * span
 
 
-def wrap_period(x: np.ndarray) -> Optional[Tuple[float, str, int]]:
-    """The period x wraps at, its name (a round period's, else its digits) and the number of
-    wraps; None when x does not wrap (see the module docstring)."""
-    x = np.asarray(x, dtype=float)
+def _motion_over(step: np.ndarray, jump: np.ndarray) -> np.ndarray:
+    """The motion over each jump's sample: the mean of the steps either side that are no jumps."""
+    beside = np.pad(np.where(jump, np.nan, step), 1, constant_values=np.nan)
+    pair = np.column_stack([beside[:-2], beside[2:]])[jump]
+    known = np.isfinite(pair).sum(axis=1)
+    return np.divide(np.nansum(pair, axis=1), known, out=np.zeros(known.size), where=known > 0)
+
+
+def _smooth_jumps(x: np.ndarray) -> Optional[np.ndarray]:
+    """Which steps of x are jumps, when it has any and its other steps are smooth (at most
+    WRAP_SMOOTH of the range); None otherwise."""
     if x.size < 4 or not np.all(np.isfinite(x)):
         return None
     span, step = float(np.ptp(x)), np.diff(x)
     wrap = _jumps(step, span)
     if not wrap.any() or np.max(np.abs(step[~wrap]), initial=0.0) > WRAP_SMOOTH * span:
         return None
-    # the motion over a jump's sample: the mean of the steps either side that are no jumps
-    beside = np.pad(np.where(wrap, np.nan, step), 1, constant_values=np.nan)
-    pair = np.column_stack([beside[:-2], beside[2:]])[wrap]
-    known = np.isfinite(pair).sum(axis=1)
-    motion = np.divide(np.nansum(pair, axis=1), known, out=np.zeros(known.size), where=known > 0)
-    jumps = step[wrap]
+    return wrap
+
+
+def wrap_period(x: np.ndarray) -> Optional[Tuple[float, str, int]]:
+    """The period x wraps at, its name (a round period's, else its digits) and the number of
+    wraps; None when x does not wrap (see the module docstring)."""
+    x = np.asarray(x, dtype=float)
+    wrap = _smooth_jumps(x)
+    if wrap is None:
+        return None
+    span, step = float(np.ptp(x)), np.diff(x)
+    motion, jumps = _motion_over(step, wrap), step[wrap]
     periods = np.abs(motion - jumps)
     period = float(np.median(periods))
     if np.any(np.sign(jumps) == np.sign(motion)) or \
@@ -71,7 +89,7 @@ def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Di
         return columns
     found = wrap_period(x) if x.ndim == 1 else None
     if found is None:
-        return columns
+        return _stitched(columns, x, warn) if x.ndim == 1 else columns
     period, name, wraps = found
     step = np.diff(x)
     turns = np.where(_jumps(step, np.ptp(x)), -np.sign(step), 0.0)
@@ -79,3 +97,24 @@ def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Di
     warn(f"x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
          f"(a single-turn position){degrees}")
     return {**columns, "x": x + period * np.concatenate([[0.0], np.cumsum(turns)])}
+
+
+def _stitched(columns: Dict[str, np.ndarray], x: np.ndarray, warn: Callable[[str], None]) -> Dict[str, np.ndarray]:
+    """``columns`` with the resets of x stitched (see the module docstring) and one line through
+    ``warn`` saying so; unchanged where x has none, or where the time does not run on over a jump."""
+    jump = _smooth_jumps(x)
+    t = columns.get("t")
+    if jump is None or t is None or np.shape(t) != x.shape:
+        return columns
+    dt = np.diff(np.asarray(t, dtype=float))
+    usual = float(np.median(dt))
+    if not (usual > 0 and np.all((dt[jump] > 0) & (dt[jump] <= 2 * usual))):
+        return columns                                 # runs joined end to end: left alone
+    step = np.diff(x)
+    shift = np.zeros(step.size)
+    shift[jump] = _motion_over(step, jump) - step[jump]
+    first = int(np.flatnonzero(jump)[0])
+    warn(f"x jumps by {step[first]:.6g} at t = {float(t[first + 1]):.6g} s while the time runs on"
+         f"{f' ({int(jump.sum())} times)' if jump.sum() > 1 else ''}: taken for a reset of the "
+         "position and stitched (x after it shifted by the jump less the motion)")
+    return {**columns, "x": x + np.concatenate([[0.0], np.cumsum(shift)])}
