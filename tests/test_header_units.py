@@ -142,6 +142,14 @@ def test_a_units_row_of_no_size_is_refused_in_one_line(export, capsys):
     assert not out.exists()
 
 
+@pytest.mark.parametrize("row", [",,", "-,-,-", "N/A,n/a,-", "s,-,"])
+def test_a_units_row_of_no_units_is_passed_over(tmp_path, row):
+    path = tmp_path / "log.csv"
+    path.write_text(f"t,v,f\n{row}\n0,0.1,0.5\n0.001,0.2,0.6\n")
+    assert header_cells(path)[1:] == ["v", "f"]
+    assert read_table_csv(path, ("v", "f"))["v"].tolist() == [0.1, 0.2]
+
+
 def test_a_second_row_of_names_is_no_units_row(tmp_path):
     path = tmp_path / "log.csv"
     path.write_text("v,f\nspeed,torque\n0.1,0.5\n0.2,0.6\n")

@@ -90,12 +90,21 @@ def test_a_wrapped_log_trains_the_model_of_the_unwrapped_one(tmp_path, capsys):
     assert mass == pytest.approx(straight.identification.body.mass, rel=1e-6)
 
 
-def test_a_reset_of_the_position_while_the_time_runs_is_stitched():
+def _zeroed(x, at):
+    """x set to 0 at row ``at`` and counting on from there."""
+    out = x.copy()
+    out[at:] -= x[at]
+    return out
+
+
+@pytest.mark.parametrize("reset", [
+    lambda x: _zeroed(x, int(np.argmax(x))),                   # zeroed where it is farthest out
+    lambda x: x - 0.5 * (np.arange(x.size) >= 5000),           # homed by 0.5 rad, 4 % of the range
+    lambda x: _zeroed(_zeroed(x, 1500), 6000),                 # zeroed twice
+])
+def test_a_reset_of_the_position_while_the_time_runs_is_stitched(reset):
     log = joint_log()
-    x = log["x"]
-    reset = log["x"].copy()
-    k = int(np.argmax(x))                          # homed to 0 where the joint is farthest out
-    reset[k:] -= x[k]
+    reset = reset(log["x"])
     lines = []
     straight = fricgen.train(log, rotary=True, warn=lambda line: None)
     stitched = fricgen.train({**log, "x": reset}, rotary=True, warn=lines.append)

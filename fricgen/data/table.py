@@ -89,26 +89,30 @@ def _decimal_comma(cells: Sequence[str], sep: Optional[str]) -> bool:
 
 #: A units row's cell: the unit, bracketed or not.
 _BRACKETED = re.compile(r"\s*[\[(]\s*(.*?)\s*[\])]\s*")
+#: A units row's cell of a column without a unit.
+_NO_UNIT = ("", "-", "--", "\u2013", "\u2014", "n/a", "na")
+
+
+def _unit_text(cell: str) -> str:
+    """A units row's cell as its unit: brackets taken off, '' for none (``_NO_UNIT``)."""
+    found = _BRACKETED.fullmatch(cell)
+    unit = found.group(1) if found else cell.strip()
+    return "" if unit.lower() in _NO_UNIT else unit
 
 
 def _units_row(names: Sequence[str], row: Sequence[str]) -> bool:
     """Whether ``row``, the line under the header ``names``, writes the columns' units: as many
-    cells, none a number, at least one a unit fricgen knows (``header_units.row_unit``), under
-    names that are not units themselves."""
-    return (len(row) == len(names) > 1 and any(row_unit(c) for c in row)
-            and not any(_is_number(c) for c in row if c.strip())
-            and not all(row_unit(c) for c in names if c.strip()))
+    cells, each a unit fricgen knows (``header_units.row_unit``), a bracketed one or none
+    (blank, '-'), under names that are not units themselves."""
+    return (len(row) == len(names) > 1 and not all(row_unit(c) for c in names if c.strip())
+            and all(not _unit_text(c) or row_unit(c) or _BRACKETED.fullmatch(c) for c in row))
 
 
 def _with_units(names: Sequence[str], units: Sequence[str]) -> List[str]:
     """The header's names with the units row's units written in: "v" and "rpm" as "v [rpm]"
     (a name that writes a unit of its own keeps it)."""
-    out = []
-    for name, unit in zip(names, units):
-        found = _BRACKETED.fullmatch(unit)
-        unit = found.group(1) if found else unit.strip()
-        out.append(f"{name.strip()} [{unit}]" if unit and not named_unit(name) else name)
-    return out
+    return [f"{name.strip()} [{_unit_text(unit)}]" if _unit_text(unit) and not named_unit(name) else name
+            for name, unit in zip(names, units)]
 
 
 def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> int:

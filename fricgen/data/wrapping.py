@@ -10,10 +10,11 @@ log's position, or a concatenation of runs, gives periods that disagree and is l
 A period within ROUND_WITHIN of a round one (2 pi, 360, 1, a power of two) is taken as that one;
 a single jump of no round period is taken for a reset, not a wrap.
 
-A reset of the position while the time runs on (x set to 0 or homed mid-log) is a jump too; it
-is stitched: x after it shifted by the jump less the motion over that sample, so the
-derivatives see no motion that did not happen. Where the time restarts or pauses at the jump
-(runs joined end to end), x is left alone.
+A reset of the position while the time runs on (x set to 0 or homed mid-log) is a step of x
+more than RESET_LOCAL times the largest of the RESET_SIDE steps on each side of it and more than
+RESET_SPAN of x's range; each is stitched: x after it shifted by the step less the motion over
+that sample, so the derivatives see no motion that did not happen. Where the time restarts or
+pauses at one (runs joined end to end), x is left alone.
 """
 from __future__ import annotations
 
@@ -25,6 +26,9 @@ import numpy as np
 #: The steps that are no jumps are at most this share of x's range (else no wrap is told): a
 #: log that samples a turn at least four times.
 WRAP_SMOOTH = 0.4
+#: A reset: a step more than RESET_LOCAL times the largest of the RESET_SIDE steps on each side,
+#: and more than RESET_SPAN of x's range.
+RESET_LOCAL, RESET_SIDE, RESET_SPAN = 20.0, 8, 0.02
 #: Every jump's period within this share of their median.
 WRAP_AGREE = 0.02
 #: A period within this share of a round one is taken as the round one.
@@ -94,17 +98,36 @@ def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Di
     step = np.diff(x)
     turns = np.where(_jumps(step, np.ptp(x)), -np.sign(step), 0.0)
     degrees = " (x in degrees? fricgen reads rad: --scale x=0.0174533)" if name == "360" else ""
-    warn(f"x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
+    warn(f"fricgen: x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
          f"(a single-turn position){degrees}")
     return {**columns, "x": x + period * np.concatenate([[0.0], np.cumsum(turns)])}
 
 
+def _beside(size: np.ndarray, side: int) -> np.ndarray:
+    """The largest of ``size`` over the ``side`` entries before and after each (not itself)."""
+    out = np.zeros_like(size)
+    for s in range(1, min(side, size.size - 1) + 1):
+        out[s:] = np.maximum(out[s:], size[:-s])
+        out[:-s] = np.maximum(out[:-s], size[s:])
+    return out
+
+
+def _resets(x: np.ndarray) -> np.ndarray:
+    """Which steps of x are resets (see the module docstring)."""
+    step = np.abs(np.diff(x))
+    if step.size < 2 * RESET_SIDE or not np.all(np.isfinite(step)):
+        return np.zeros(step.size, dtype=bool)
+    return (step > RESET_LOCAL * _beside(step, RESET_SIDE)) & (step > RESET_SPAN * np.ptp(x))
+
+
 def _stitched(columns: Dict[str, np.ndarray], x: np.ndarray, warn: Callable[[str], None]) -> Dict[str, np.ndarray]:
     """``columns`` with the resets of x stitched (see the module docstring) and one line through
-    ``warn`` saying so; unchanged where x has none, or where the time does not run on over a jump."""
-    jump = _smooth_jumps(x)
+    ``warn`` saying so; unchanged where x has none, or where the time does not run on over one."""
     t = columns.get("t")
-    if jump is None or t is None or np.shape(t) != x.shape:
+    if t is None or np.shape(t) != x.shape:
+        return columns
+    jump = _resets(x)
+    if not jump.any():
         return columns
     dt = np.diff(np.asarray(t, dtype=float))
     usual = float(np.median(dt))
@@ -114,7 +137,7 @@ def _stitched(columns: Dict[str, np.ndarray], x: np.ndarray, warn: Callable[[str
     shift = np.zeros(step.size)
     shift[jump] = _motion_over(step, jump) - step[jump]
     first = int(np.flatnonzero(jump)[0])
-    warn(f"x jumps by {step[first]:.6g} at t = {float(t[first + 1]):.6g} s while the time runs on"
-         f"{f' ({int(jump.sum())} times)' if jump.sum() > 1 else ''}: taken for a reset of the "
-         "position and stitched (x after it shifted by the jump less the motion)")
+    warn(f"fricgen: warning: x jumps by {step[first]:.6g} at t = {float(t[first + 1]):.6g} s while the "
+         f"time runs on{f' ({int(jump.sum())} times)' if jump.sum() > 1 else ''}: taken for a reset "
+         "of the position and stitched (x after it shifted by the jump less the motion)")
     return {**columns, "x": x + np.concatenate([[0.0], np.cumsum(shift)])}
