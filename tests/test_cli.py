@@ -371,3 +371,19 @@ def test_train_reads_a_semicolon_decimal_comma_export_with_a_preamble_to_the_sam
                      *options]) == 0
         hashes.append(FrictionModel.load(out).model_hash)
     assert hashes[0] == hashes[1] == hashes[2]
+
+
+def test_a_model_the_loader_refuses_is_refused_before_its_report(tmp_path, capsys, monkeypatch):
+    from fricgen.errors import ModelError
+    speed = np.geomspace(0.01, 1.0, 8)
+    v = np.concatenate([speed, -speed])
+    path = tmp_path / "sweep.csv"
+    path.write_text("v,f\n" + "".join(f"{a:.6g},{np.sign(a) * (1.0 + 2.0 * abs(a)):.6g}\n" for a in v))
+
+    def refuse(model):
+        raise ModelError("training.axis.mass is 1e-05 kg, below the 0.001 kg of any real axis")
+    monkeypatch.setattr(FrictionModel, "checked_json", refuse)
+    assert main(["train", str(path), "-o", str(tmp_path / "m.json")]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1 and "below the 0.001 kg" in err
+    assert not (tmp_path / "m.json").exists()

@@ -193,6 +193,7 @@ def _run(args) -> int:
     inputs = [args.sweep] + ([args.merge] if args.merge else [])
     check_destination(args.output, inputs, args.force)
     report = fit(args)
+    payload = report.model.checked_json()       # never one that load refuses, nor its report
     say_data_warnings(args)
     out(report.text)
     band = report.model.velocity_band
@@ -208,7 +209,7 @@ def _run(args) -> int:
                 "faster sample rate, a finer encoder, or a faster move)")
     for warning in report.warnings:
         say(f"fricgen: {warning}")
-    write_file(args, report.model.checked_json(), inputs)    # never one that load refuses
+    write_file(args, payload, inputs)
     say(f"wrote {args.output} (model {report.model.model_hash})")
     return 0
 
