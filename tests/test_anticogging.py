@@ -57,6 +57,16 @@ def test_position_friction_is_kept_apart_from_the_position_force(axis, fitted):
     assert fitted.map.amplitude[h1] == pytest.approx(axis.unbalance[0], rel=0.15)
 
 
+def test_a_stall_at_one_position_keeps_the_harmonics_screened(axis, fitted):
+    t, x, force = calibration(axis)
+    below = np.mod(x, TWO_PI) - 1.0           # going back, each turn sticks for 0.01 rad at 1 rad
+    stuck = (np.arange(x.size) > np.argmax(x)) & (below < 0) & (below > -0.01)
+    x = np.where(stuck, x - below, x)
+    stalled = identify_cogging(t, x, force, period=TWO_PI)
+    assert stalled.highest_harmonic == fitted.highest_harmonic
+    assert axis.map_error(stalled.map) < 0.10
+
+
 def test_an_axis_without_cogging_gets_no_map():
     axis = replace(random_axis(23, bits=14), cogging=(), unbalance=(0.0, 0.0), ripple=(0.0, 0.0),
                    position_friction=())

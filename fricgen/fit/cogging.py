@@ -9,7 +9,8 @@ that varies along the travel R (a ripple times sgn(v)), kept apart from C becaus
 directions see R with opposite signs.
 
 1. Screening: the force less the per-direction friction, averaged in position bins per
-   direction (the most bins both directions fill), and its Fourier coefficients up to the
+   direction (the most bins both directions fill, all but MAX_EMPTY of them: a bin left
+   unvisited, where the axis stalled, is interpolated), and its Fourier coefficients up to the
    highest harmonic the bins, the encoder and the sample rate resolve; C's are the mean of the
    two directions', R's half their difference. A harmonic is a candidate when its amplitude
    exceeds the level that noise alone reaches with probability ALPHA over all harmonics tried
@@ -64,8 +65,11 @@ FUNDAMENTAL_PERIODS = 2
 #: Periods the travel must hold for a wavelength to be checked for a wrong period (longer ones
 #: are not told from the friction's slow drifts along the travel).
 UNEXPLAINED_PERIODS = 8
-#: Fewest position bins per period; a direction must visit every bin.
+#: Fewest position bins per period.
 MIN_BINS = 32
+#: The share of the bins a direction may leave unvisited (an axis that stalls for a moment at a
+#: cogging peak): their means are interpolated from the bins beside them.
+MAX_EMPTY = 0.01
 
 
 @dataclass(frozen=True)
@@ -167,15 +171,15 @@ def _bin_index(x, period, bins):
 
 def _filled_bins(x, sign, period, most) -> int:
     """The most position bins per period (a power of two from MIN_BINS up to ``most``) that each
-    direction visits every one of (the encoder's steps and the sample rate leave finer bins
-    empty); DataError if the move does not cover the period each way."""
+    direction visits all but MAX_EMPTY of (the encoder's steps and the sample rate leave finer
+    bins empty); DataError if the move does not cover the period each way."""
     bins = MIN_BINS
     while 2 * bins <= most:
         bins *= 2
     while True:
         empty = [(label, np.bincount(_bin_index(x[sign == d], period, bins), minlength=bins) == 0)
                  for d, label in ((1, "+"), (-1, "-"))]
-        if not any(e.any() for _, e in empty):
+        if all(e.mean() <= MAX_EMPTY for _, e in empty):
             return bins
         if bins == MIN_BINS:
             label, e = next((label, e) for label, e in empty if e.any())
@@ -187,14 +191,17 @@ def _filled_bins(x, sign, period, most) -> int:
 def _bin_coefficients(x, r, sign, period, bins, harmonics):
     """Per direction (+, -), the sine and cosine coefficients of the bin means of r over one
     period (each divided by the bin's sinc attenuation); ``bins`` as ``_filled_bins`` gives them,
-    every one visited in each direction."""
+    a bin a direction left unvisited interpolated from its neighbours."""
     idx = _bin_index(x, period, bins)
     arg = np.outer(harmonics, (np.arange(bins) + 0.5) / bins * 2 * np.pi)
     sine, cosine = (2 / bins * w(arg) / np.sinc(harmonics / bins)[:, None] for w in (np.sin, np.cos))
-    out = []
+    centre, out = np.arange(bins), []
     for d in (1, -1):
         rows = sign == d
-        means = np.bincount(idx[rows], weights=r[rows], minlength=bins) / np.bincount(idx[rows], minlength=bins)
+        counts = np.bincount(idx[rows], minlength=bins)
+        seen = counts > 0
+        means = np.bincount(idx[rows], weights=r[rows], minlength=bins)[seen] / counts[seen]
+        means = np.interp(centre, centre[seen], means, period=bins)
         out.append((sine @ means, cosine @ means))
     return out
 
