@@ -539,7 +539,7 @@ ROWS = [
     ("--merge-shift with '_'", ["train", *DRIVE, *MERGE, "--merge-shift", "0_1", "-o", OUT],
      "--merge-shift: must be a finite number"),
     ("--merge without its time column", ["train", *DRIVE, "--merge", "load.csv", "-o", OUT],
-     "no time column 't' to merge on"),
+     "no time column 't' to merge on (map one: --merge-columns t=NAME)"),
     ("--merge with no common time", ["train", *DRIVE, *MERGE, "--merge-shift", "1e5", "-o", OUT],
      "share no time span"),
     ("--merge of a column in both files", ["train", *DRIVE, "--merge", "log_force.csv", "-o", OUT],

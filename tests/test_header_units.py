@@ -164,3 +164,10 @@ def test_a_sweeps_force_is_scaled_by_either_of_its_names(export, capsys):
     v = np.array([-2.0, 0.5, 2.0])
     assert np.array_equal(by_force.force(v), by_f.force(v))
     assert np.allclose(by_f.force(v), np.sign(v) * (COULOMB + VISCOUS * np.abs(v)), atol=0.01)
+
+
+def test_a_skip_that_lands_on_the_units_row_says_so(export, capsys):
+    path = _units_row_export(export, "[rpm],[mNm]")
+    assert main(["train", str(path), "--skip", "1", "-o", str(export.parent / "m.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "reads as a row of units: are the names on the line above it" in err[0]

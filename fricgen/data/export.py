@@ -236,10 +236,10 @@ def names_rotary_axis(cells) -> bool:
                for c in cells)
 
 
-def _increasing_time(columns: Dict[str, np.ndarray], path) -> np.ndarray:
+def _increasing_time(columns: Dict[str, np.ndarray], path, option: str) -> np.ndarray:
     t = columns.get("t")
     if t is None:
-        raise DataError(f"{path}: no time column 't' to merge on (map one with the columns option)")
+        raise DataError(f"{path}: no time column 't' to merge on (map one: {option} t=NAME)")
     if t.size < 2 or not np.all(np.diff(t) > 0):         # finite: merge_on_time checked it
         raise DataError(f"{path}: the time column must be finite and increase to merge on it")
     return t
@@ -255,8 +255,8 @@ def merge_on_time(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray], s
     for columns, name in zip((first, second), names):       # rows counted in each file
         for k, values in columns.items():
             check_finite(k, values, str(name))
-    t1 = _increasing_time(first, names[0])
-    t2 = _increasing_time(second, names[1]) + shift
+    t1 = _increasing_time(first, names[0], "--columns")
+    t2 = _increasing_time(second, names[1], "--merge-columns") + shift
     both = sorted((set(first) & set(second)) - {"t"})
     if both:
         raise DataError(f"column {both[0]!r} is in {names[0]} and in {names[1]}; keep one of them")

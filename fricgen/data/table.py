@@ -31,6 +31,8 @@ def header_hint(cells: Sequence[str]) -> str:
     its names carry units (read, ``header_units``, where the name is a quantity's or mapped)."""
     if any(";" in c for c in cells):
         return f"; it {_SEMICOLONS}"
+    if all(row_unit(c) or not c.strip() for c in cells) and any(c.strip() for c in cells):
+        return "; it reads as a row of units: are the names on the line above it (one --skip less)?"
     if any(named_unit(cell) for cell in cells):
         return ("; --columns maps the file's columns to fricgen's quantities, and the units their "
                 "names write are read (e.g. --columns 'i=Iq [mA]')")
