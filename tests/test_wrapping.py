@@ -119,3 +119,11 @@ def test_runs_joined_end_to_end_keep_their_positions():
     x = np.concatenate([np.linspace(0, 5, 1000), np.linspace(0, 5, 1000)])
     lines = []
     assert unwrapped({"t": t, "x": x}, lines.append)["x"] is x and lines == []
+
+
+def test_a_counts_step_out_of_rest_is_motion_not_a_reset():
+    t = np.arange(0, 2, 1e-3)
+    counts = np.floor(np.where(t < 1, 0.0, (t - 1) * 3.0))     # at rest, then creeping 3 counts/s
+    x = counts * 1e-4                                            # a 0.1 mm count; range 3 counts
+    lines = []
+    assert unwrapped({"t": t, "x": x}, lines.append)["x"] is x and lines == []

@@ -8,11 +8,13 @@ WRAP_SMOOTH of the range. The period is the jump less the motion over that
 sample, the median over the jumps; every jump must give it within WRAP_AGREE (a reset of a
 log's position, or a concatenation of runs, gives periods that disagree and is left alone).
 A period within ROUND_WITHIN of a round one (2 pi, 360, 1, a power of two) is taken as that one;
-a single jump of no round period is taken for a reset, not a wrap.
+a single jump of no round period is taken for a reset, not a wrap, and jumps of no round period
+in an x of fewer than MIN_WRAP_VALUES values for the count steps of a creep.
 
 A reset of the position while the time runs on (x set to 0 or homed mid-log) is a step of x
-more than RESET_LOCAL times the largest of the RESET_SIDE steps on each side of it and more than
-RESET_SPAN of x's range; each is stitched: x after it shifted by the step less the motion over
+more than RESET_LOCAL times the largest of the RESET_SIDE steps on each side of it and than x's
+finest step (an encoder's count: a count's step out of rest is motion) and more than RESET_SPAN
+of x's range; each is stitched: x after it shifted by the step less the motion over
 that sample, so the derivatives see no motion that did not happen. Where the time restarts or
 pauses at one (runs joined end to end), x is left alone.
 """
@@ -29,6 +31,9 @@ WRAP_SMOOTH = 0.4
 #: A reset: a step more than RESET_LOCAL times the largest of the RESET_SIDE steps on each side,
 #: and more than RESET_SPAN of x's range.
 RESET_LOCAL, RESET_SIDE, RESET_SPAN = 20.0, 8, 0.02
+#: A period that is no round one needs x to take at least this many values (a log that creeps
+#: a few counts steps by one count between rests: motion, not wraps).
+MIN_WRAP_VALUES = 64
 #: Every jump's period within this share of their median.
 WRAP_AGREE = 0.02
 #: A period within this share of a round one is taken as the round one.
@@ -78,8 +83,8 @@ def wrap_period(x: np.ndarray) -> Optional[Tuple[float, str, int]]:
             np.max(np.abs(periods - period)) > WRAP_AGREE * period or span > period * (1 + WRAP_AGREE):
         return None
     rounded = next(((p, name) for p, name in ROUND_PERIODS if abs(period / p - 1) <= ROUND_WITHIN), None)
-    if rounded is None and wrap.sum() < 2:            # one jump of no round period: a reset
-        return None
+    if rounded is None and (wrap.sum() < 2 or np.unique(x).size < MIN_WRAP_VALUES):
+        return None                 # one jump of no round period: a reset; few values: steps
     period, name = rounded if rounded else (period, f"{period:.6g}")
     return period, name, int(wrap.sum())
 
@@ -117,7 +122,9 @@ def _resets(x: np.ndarray) -> np.ndarray:
     step = np.abs(np.diff(x))
     if step.size < 2 * RESET_SIDE or not np.all(np.isfinite(step)):
         return np.zeros(step.size, dtype=bool)
-    return (step > RESET_LOCAL * _beside(step, RESET_SIDE)) & (step > RESET_SPAN * np.ptp(x))
+    finest = float(step[step > 0].min(initial=np.inf))      # an encoder's count, for x in counts
+    local = np.maximum(_beside(step, RESET_SIDE), finest)
+    return (step > RESET_LOCAL * local) & (step > RESET_SPAN * np.ptp(x))
 
 
 def _stitched(columns: Dict[str, np.ndarray], x: np.ndarray, warn: Callable[[str], None]) -> Dict[str, np.ndarray]:
