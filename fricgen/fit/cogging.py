@@ -182,7 +182,7 @@ def _filled_bins(x, sign, period, most) -> int:
         if all(e.mean() <= MAX_EMPTY for _, e in empty):
             return bins
         if bins == MIN_BINS:
-            label, e = next((label, e) for label, e in empty if e.any())
+            label, e = next((label, e) for label, e in empty if e.mean() > MAX_EMPTY)
             raise DataError(f"the move covers {1 - e.mean():.0%} of one period ({period:.6g}) in the "
                             f"{label} direction; a cogging map needs the whole period each way")
         bins //= 2
