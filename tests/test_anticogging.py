@@ -67,6 +67,14 @@ def test_a_stall_at_one_position_keeps_the_harmonics_screened(axis, fitted):
     assert axis.map_error(stalled.map) < 0.10
 
 
+def test_what_limits_the_harmonics_screened_is_named(axis, fitted):
+    assert fitted.screened_by == "fricgen's limit of 512"
+    log = calibration_move(axis, turns=2.0, speed=8.0, every=4)      # fast, logged at 2 kHz
+    fast = identify_cogging(log["t"], log["x"], axis.kt * log["i"], period=TWO_PI)
+    assert fast.highest_harmonic < fitted.highest_harmonic
+    assert fast.screened_by.startswith("the sample rate: ") and "samples per period at this speed" in fast.screened_by
+
+
 def test_an_axis_without_cogging_gets_no_map():
     axis = replace(random_axis(23, bits=14), cogging=(), unbalance=(0.0, 0.0), ripple=(0.0, 0.0),
                    position_friction=())
@@ -316,6 +324,7 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     captured = capsys.readouterr()
     text = captured.out
     assert "cogging map (position force)" in text and f"harmonic {axis.period_count:4d}" in text
+    assert "harmonics screened up to 512 (set by fricgen's limit of 512)" in text
     assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
     # the friction is fitted with the inertia the map identified (a move at one speed

@@ -100,6 +100,9 @@ class CoggingFit:
     unexplained_wavelength : float, optional
         The wavelength of a position-periodic force the residual still holds that no harmonic
         of the period can (a wrong period given); None when there is none.
+    screened_by : str, optional
+        What set ``highest_harmonic`` (the sample rate at the move's speed, the encoder, the
+        position bins a direction visited, or fricgen's limit).
 
     Examples
     --------
@@ -118,6 +121,7 @@ class CoggingFit:
     rows: int
     period: Optional[float] = None
     unexplained_wavelength: Optional[float] = None
+    screened_by: str = ""
 
 
 def _odd(n: float) -> int:
@@ -241,10 +245,10 @@ def _jackknife_se(design, target, folds=FIT_FOLDS):
 
 
 def _screen(x, r, sign, period, speed, ts, quantum):
-    """The candidate terms (h, signed), strongest first, the highest harmonic screened and the
-    position bins per period (``_filled_bins``): the harmonics of the bin means of r (the force
-    less the friction columns) per direction whose amplitude noise alone reaches with
-    probability below ALPHA (``_candidates``)."""
+    """The candidate terms (h, signed), strongest first, the highest harmonic screened, what
+    set it (``_screen_limit``) and the position bins per period (``_filled_bins``): the
+    harmonics of the bin means of r (the force less the friction columns) per direction whose
+    amplitude noise alone reaches with probability below ALPHA (``_candidates``)."""
     samples = period / (speed * ts)                 # samples per period in each pass
     cells = period / quantum if quantum > 0 else np.inf
     if min(samples, cells) < 2 * MIN_BINS:
@@ -263,7 +267,22 @@ def _screen(x, r, sign, period, speed, ts, quantum):
         chosen, z = _candidates(sa, sb, span)
         ranked += [(float(z[j]), int(harmonics[j]), signed) for j in chosen]
     ranked.sort(reverse=True)
-    return [(h, s) for _, h, s in ranked[:MAX_TERMS]], int(harmonics[-1]), bins
+    limit = _screen_limit(highest, bins, samples, cells)
+    return [(h, s) for _, h, s in ranked[:MAX_TERMS]], int(harmonics[-1]), limit, bins
+
+
+def _screen_limit(highest, bins, samples, cells) -> str:
+    """What set the highest harmonic screened: MAX_HARMONIC, or the position bins (a quarter of
+    them), themselves set by the samples per period of a pass (the sample rate and the speed),
+    by the encoder's counts per period, or by bins a direction left unvisited."""
+    if highest >= MAX_HARMONIC:
+        return f"fricgen's limit of {MAX_HARMONIC}"
+    if 2 * bins <= min(samples, cells) / 2:
+        return f"{bins} position bins, finer ones left unvisited in a direction"
+    if samples <= cells:
+        return (f"the sample rate: {samples:.0f} samples per period at this speed; a slower move or a "
+                "faster log screens more")
+    return f"the encoder: {cells:.0f} counts per period"
 
 
 def _travel_spectrum(x, r, speed, ts, quantum):
@@ -391,7 +410,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     xs, ss = x[rows], sign[rows]
     nuisance = _nuisance(v_mean[rows])
     r = _less_nuisance(f[rows], nuisance)
-    terms, highest, bins = _screen(xs, r, ss, period, speed, ts, quantum)
+    terms, highest, screened_by, bins = _screen(xs, r, ss, period, speed, ts, quantum)
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
     # for the coefficients (the encoder's steps add noise, periodic in the count, that the
@@ -432,4 +451,4 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
                       inertia_source="given" if given else ("identified" if determined else "undetermined"),
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
                       residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),
-                      period=float(period), unexplained_wavelength=left)
+                      period=float(period), unexplained_wavelength=left, screened_by=screened_by)

@@ -109,7 +109,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
-                 f"up to {fit.highest_harmonic}; {fit.rows} rows in motion")
+                 f"up to {fit.highest_harmonic} (set by {fit.screened_by}); {fit.rows} rows in motion")
     if fit.unexplained_wavelength is not None:
         warnings.append(_unexplained_warning(fit.unexplained_wavelength, fit.period, units))
     if fit.map is None:
