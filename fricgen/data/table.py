@@ -12,7 +12,7 @@ import math
 import re
 from array import array
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -110,11 +110,14 @@ def _units_row(names: Sequence[str], row: Sequence[str]) -> bool:
             and all(not _unit_text(c) or row_unit(c) or _BRACKETED.fullmatch(c) for c in row))
 
 
-def _with_units(names: Sequence[str], units: Sequence[str]) -> List[str]:
-    """The header's names with the units row's units written in: "v" and "rpm" as "v [rpm]"
-    (a name that writes a unit of its own keeps it)."""
+def _names_over(names: Sequence[str], under: Optional[Sequence[str]]) -> Tuple[List[str], bool]:
+    """The header's names and whether the row ``under`` them is a units row (``_units_row``),
+    whose units are then written in: "v" and "rpm" as "v [rpm]" (a name that writes a unit of
+    its own keeps it)."""
+    if under is None or not _units_row(names, under):
+        return list(names), False
     return [f"{name.strip()} [{_unit_text(unit)}]" if _unit_text(unit) and not named_unit(name) else name
-            for name, unit in zip(names, units)]
+            for name, unit in zip(names, under)], True
 
 
 def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> int:
@@ -204,8 +207,7 @@ def header_cells(path: Union[str, Path], skip: int = 0, delimiter: Optional[str]
                 fh.readline()
             line = fh.readline()
             sep = _delimiter(line, delimiter)
-            names, units = (_cells(text, sep) for text in (line, fh.readline()))
-            return _with_units(names, units) if _units_row(names, units) else names
+            return _names_over(*(_cells(text, sep) for text in (line, fh.readline())))[0]
     except (OSError, UnicodeDecodeError, csv.Error):
         return []
 
@@ -247,12 +249,10 @@ def _read_plain(path, required, keep_extra, skip=0) -> Optional[Dict[str, np.nda
         if not line.strip():        # an empty file or a blank header: the careful reader says which
             return None
         sep = _delimiter(line)
-        header = [h.strip() for h in line.split(sep)]
         under = fh.tell()
-        units = [c.strip() for c in fh.readline().split(sep)]
-        if _units_row(header, units):
-            header = _with_units(header, units)
-        else:
+        header, units_row = _names_over([h.strip() for h in line.split(sep)],
+                                        [c.strip() for c in fh.readline().split(sep)])
+        if not units_row:
             fh.seek(under)
         header = [h.lower() for h in header]
         if len(set(header)) != len(header) or not set(required) <= set(header):
@@ -282,10 +282,10 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
         raise DataError(f"{path}: empty file")
     if not any(h.strip() for h in header):
         raise DataError(f"{path}: the header line is blank; the first line must name the columns")
-    written = [h.strip() for h in header]
     under = next(rows, None)
-    if under is not None and _units_row(written, under):
-        written, first_line = _with_units(written, under), first_line + 1
+    written, units_row = _names_over([h.strip() for h in header], under)
+    if units_row:
+        first_line += 1
     elif under is not None:
         rows = itertools.chain([under], rows)
     header = [h.lower() for h in written]

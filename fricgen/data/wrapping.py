@@ -117,14 +117,14 @@ def _beside(size: np.ndarray, side: int) -> np.ndarray:
     return out
 
 
-def _resets(x: np.ndarray) -> np.ndarray:
-    """Which steps of x are resets (see the module docstring)."""
-    step = np.abs(np.diff(x))
-    if step.size < 2 * RESET_SIDE or not np.all(np.isfinite(step)):
-        return np.zeros(step.size, dtype=bool)
-    finest = float(step[step > 0].min(initial=np.inf))      # an encoder's count, for x in counts
-    local = np.maximum(_beside(step, RESET_SIDE), finest)
-    return (step > RESET_LOCAL * local) & (step > RESET_SPAN * np.ptp(x))
+def _resets(step: np.ndarray, span: float) -> np.ndarray:
+    """Which of x's steps are resets (see the module docstring); ``span``: x's range."""
+    size = np.abs(step)
+    if size.size < 2 * RESET_SIDE or not np.all(np.isfinite(size)):
+        return np.zeros(size.size, dtype=bool)
+    finest = float(size[size > 0].min(initial=np.inf))      # an encoder's count, for x in counts
+    local = np.maximum(_beside(size, RESET_SIDE), finest)
+    return (size > RESET_LOCAL * local) & (size > RESET_SPAN * span)
 
 
 def _stitched(columns: Dict[str, np.ndarray], x: np.ndarray, warn: Callable[[str], None]) -> Dict[str, np.ndarray]:
@@ -133,14 +133,14 @@ def _stitched(columns: Dict[str, np.ndarray], x: np.ndarray, warn: Callable[[str
     t = columns.get("t")
     if t is None or np.shape(t) != x.shape:
         return columns
-    jump = _resets(x)
+    step = np.diff(x)
+    jump = _resets(step, float(np.ptp(x)))
     if not jump.any():
         return columns
     dt = np.diff(np.asarray(t, dtype=float))
     usual = float(np.median(dt))
     if not (usual > 0 and np.all((dt[jump] > 0) & (dt[jump] <= 2 * usual))):
         return columns                                 # runs joined end to end: left alone
-    step = np.diff(x)
     shift = np.zeros(step.size)
     shift[jump] = _motion_over(step, jump) - step[jump]
     first = int(np.flatnonzero(jump)[0])
