@@ -75,6 +75,15 @@ def test_what_limits_the_harmonics_screened_is_named(axis, fitted):
     assert fast.screened_by.startswith("the sample rate: ") and "samples per period at this speed" in fast.screened_by
 
 
+def test_the_encoders_count_aliased_by_a_2_khz_log_is_no_wrong_period(axis):
+    """Logged at 2 kHz, a 12-bit calibration at 1 rad/s holds weak lines of the count's harmonics
+    aliased by the sample rate; they were warned of as 'a wrong --pitch?' on every such log."""
+    log = calibration_move(axis, turns=2.0, speed=1.0, every=4)
+    fit = identify_cogging(log["t"], log["x"], axis.kt * log["i"], period=TWO_PI)
+    assert axis.map_error(fit.map) < 0.10 and fit.unexplained_wavelength is None
+    assert identify_cogging(log["t"], log["x"], axis.kt * log["i"], period=1.0).unexplained_wavelength
+
+
 def test_an_axis_without_cogging_gets_no_map():
     axis = replace(random_axis(23, bits=14), cogging=(), unbalance=(0.0, 0.0), ripple=(0.0, 0.0),
                    position_friction=())
@@ -389,6 +398,16 @@ def test_a_wrong_pitch_is_named(calibration_csv, axis, tmp_path, capsys):
     assert "that no harmonic of the period 1 holds: a wrong --pitch" in err
     assert "x in other units than rad" in err and "fricgen: fricgen:" not in err
     assert "Is x in deg?" not in err
+
+
+def test_a_pitch_below_a_turn_names_the_harmonics_of_the_turn_it_drops(calibration_csv, axis, tmp_path, capsys):
+    pitch = f"{TWO_PI / axis.pole_pairs:.6g}"
+    assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--pitch", pitch,
+                 "--force-constant", str(axis.kt), "-o", str(tmp_path / "m.json")]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "leave --pitch out" in line]
+    assert len(lines) == 1 and "holds harmonic 1 of the turn" in lines[0]
+    assert f"(a turn is {axis.pole_pairs} of it)" in lines[0]
+    assert FrictionModel.load(tmp_path / "m.json").cogging_map.period == pytest.approx(float(pitch))
 
 
 def test_a_calibration_logged_in_degrees_is_named(axis, tmp_path, capsys):

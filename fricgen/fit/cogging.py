@@ -65,6 +65,9 @@ FUNDAMENTAL_PERIODS = 2
 #: Periods the travel must hold for a wavelength to be checked for a wrong period (longer ones
 #: are not told from the friction's slow drifts along the travel).
 UNEXPLAINED_PERIODS = 8
+#: ... and its amplitude at least this share of the map's strongest harmonic (the encoder's
+#: count, aliased by the log's sample rate, leaves weaker lines in a calibration).
+UNEXPLAINED_SHARE = 0.25
 #: Fewest position bins per period.
 MIN_BINS = 32
 #: The share of the bins a direction may leave unvisited (an axis that stalls for a moment at a
@@ -324,13 +327,14 @@ def _refined_peak(x, r, peak, grid) -> float:
     return refine(rss, peak - grid, peak + grid)
 
 
-def _unexplained(x, r, period, highest, speed, ts, quantum) -> Optional[float]:
+def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Optional[float]:
     """The wavelength of a position-periodic force left in the residual r that no harmonic of
     ``period`` holds (a wrong period given): of the wavelengths from a UNEXPLAINED_PERIODS-th of
     the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that stands highest above the running median
     around it, when noise alone reaches it with probability below ALPHA (Rayleigh) and its
     wavenumber (refined, ``_refined_peak``) is not within one FFT spacing of a multiple of
-    2 pi / period; else None."""
+    2 pi / period, and its amplitude is at least UNEXPLAINED_SHARE of ``strongest`` (the map's
+    strongest harmonic's; 0 without a map); else None."""
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     usable &= (k <= 2 * np.pi * highest / period) & (k >= 2 * np.pi * UNEXPLAINED_PERIODS / np.ptp(x))
     if usable.sum() < 2:
@@ -344,8 +348,10 @@ def _unexplained(x, r, period, highest, speed, ts, quantum) -> Optional[float]:
         return None
     peak = _refined_peak(x, r, k[j], grid)
     h = peak * period / (2 * np.pi)
-    return None if abs(h - round(h)) * 2 * np.pi / period <= grid and round(h) >= 1 \
-        else float(2 * np.pi / peak)
+    if abs(h - round(h)) * 2 * np.pi / period <= grid and round(h) >= 1:
+        return None
+    (sine, cosine), _ = lstsq(np.column_stack([np.sin(peak * x), np.cos(peak * x)]), r)
+    return float(2 * np.pi / peak) if np.hypot(sine, cosine) >= UNEXPLAINED_SHARE * strongest else None
 
 
 def identify_cogging(t, x, force, period: Optional[float] = None,
@@ -446,8 +452,10 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
                           sine_se=tuple(float(se[i]) for i in at),
                           cosine_se=tuple(float(se[i + 1]) for i in at))
 
-    left = _unexplained(xs, target - design @ coef, period, highest, speed, ts, quantum)
-    return CoggingFit(map=series(False), friction=series(True), inertia=float(inertia),
+    found = series(False)
+    strongest = max(found.amplitude) if found is not None else 0.0
+    left = _unexplained(xs, target - design @ coef, period, highest, speed, ts, quantum, strongest)
+    return CoggingFit(map=found, friction=series(True), inertia=float(inertia),
                       inertia_source="given" if given else ("identified" if determined else "undetermined"),
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
                       residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),

@@ -112,6 +112,12 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                  f"up to {fit.highest_harmonic} (set by {fit.screened_by}); {fit.rows} rows in motion")
     if fit.unexplained_wavelength is not None:
         warnings.append(_unexplained_warning(fit.unexplained_wavelength, fit.period, units))
+    if rotary and fit.period < 2 * np.pi * (1 - TURN_TOLERANCE):
+        dropped = turn_harmonics_dropped(columns["t"], columns["x"], force, fit.period, inertia)
+        if dropped:
+            warnings.append(f"warning: the map of a whole turn holds harmonic {', '.join(map(str, dropped))} "
+                            f"of the turn, which no harmonic of --pitch {fit.period:.6g} rad holds (a turn "
+                            f"is {2 * np.pi / fit.period:.4g} of it): leave --pitch out to keep them")
     if fit.map is None:
         lines.append("cogging: none found (no harmonic above the noise): no map is emitted")
     else:
@@ -120,6 +126,22 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         lines += describe(fit.friction, "position-dependent friction (times sgn(v); reported, "
                           "not emitted)", units)
     return CoggingReport(model=model, text=text + "\n" + "\n".join(lines), warnings=tuple(warnings))
+
+
+#: How close (relative) a harmonic of the turn must fall to a harmonic of a shorter pitch to be one.
+TURN_TOLERANCE = 1e-3
+
+
+def turn_harmonics_dropped(t, x, force, pitch: float, inertia: Optional[float]) -> Tuple[int, ...]:
+    """The harmonics of a turn that the map of a rotary log over a whole turn holds and no
+    harmonic of a shorter ``pitch`` does (the once-per-turn unbalance under a pole pitch); ()
+    for a log shorter than a turn."""
+    if np.ptp(x) < 2 * np.pi:
+        return ()
+    turn = identify_cogging(t, x, force, 2 * np.pi, inertia=inertia).map
+    per_turn = 2 * np.pi / pitch
+    return () if turn is None else tuple(h for h in turn.harmonics
+                                         if abs(h / per_turn - round(h / per_turn)) > TURN_TOLERANCE * h / per_turn)
 
 
 #: Position units a log is often written in, per kind of axis: (name, its size in the axis's
