@@ -9,6 +9,7 @@ from typing import Iterator, Optional, Type
 import numpy as np
 
 from .errors import ModelError
+from .unit_sizes import size
 
 #: The largest hidden layer (or rule base) a model may hold: fixed-size C tables.
 MAX_HIDDEN = 4096
@@ -50,7 +51,7 @@ USUAL_MAX_ROTARY = {"speed": 1000.0, "v_sat": 30.0, "current": 500.0, "force": 2
 USUAL_MIN_ROTARY = {"force": 1e-3}
 #: The units a rotary axis's position and speed are often logged in: (column, unit, its size in
 #: rad or rad/s), which the hints of a speed beyond the bounds name.
-ROTARY_UNITS = (("x", "deg", math.pi / 180), ("v", "rpm", math.pi / 30), ("v", "deg/s", math.pi / 180))
+ROTARY_UNITS = tuple((column, unit, size(unit)) for column, unit in (("x", "deg"), ("v", "rpm"), ("v", "deg/s")))
 _ROTARY = contextvars.ContextVar("rotary", default=False)
 
 

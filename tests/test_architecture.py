@@ -6,7 +6,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "fricgen"
 #: Dependencies imported only where they are used, because a user may not have them.
 OPTIONAL = {"matplotlib", "cffi", "emlearn", "sklearn"}
 #: The layers, bottom first: a module may import only from its own layer or those before it.
-LAYERS = ["errors", "_lazy", "_validate", "_io", "_json", "_progress", "_plot", "_blas", "metrics", "units", "friction", "c_literal",
+LAYERS = ["errors", "unit_sizes", "_lazy", "_validate", "_io", "_json", "_progress", "_plot", "_blas", "metrics", "units", "friction", "c_literal",
           "c_names", "networks", "effects", "axis", "direction", "model", "data", "fit", "codegen", "training", "sim",
           "control", "diagnose", "paper", "firmware", "fleet", "cli"]
 

@@ -10,45 +10,15 @@ increments) or not known here are refused in one line; the last two are read as 
 """
 from __future__ import annotations
 
-import math
 import re
 from typing import Dict, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from ..errors import DataError
+from ..unit_sizes import UNITS
 
 #: "Name [unit]" or "Name (unit)".
 _NAMED_UNIT = re.compile(r"\s*(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]\s*")
 
-_DEG = math.pi / 180.0
-_TURN = 2.0 * math.pi
-#: Each unit (written in lower case, without spaces, dots or the multiplication sign) by the
-#: kind of quantity it measures, its factor to SI (rad for angles) and whether it is rotary.
-UNITS: Dict[str, Tuple[str, float, bool]] = {
-    "s": ("time", 1.0, False), "sec": ("time", 1.0, False), "ms": ("time", 1e-3, False),
-    "us": ("time", 1e-6, False), "min": ("time", 60.0, False),
-    "m": ("position", 1.0, False), "cm": ("position", 1e-2, False), "mm": ("position", 1e-3, False),
-    "um": ("position", 1e-6, False), "rad": ("position", 1.0, True), "mrad": ("position", 1e-3, True),
-    "deg": ("position", _DEG, True), "rev": ("position", _TURN, True), "turn": ("position", _TURN, True),
-    "turns": ("position", _TURN, True),
-    "m/s": ("velocity", 1.0, False), "mm/s": ("velocity", 1e-3, False), "um/s": ("velocity", 1e-6, False),
-    "m/min": ("velocity", 1 / 60, False), "mm/min": ("velocity", 1e-3 / 60, False),
-    "rad/s": ("velocity", 1.0, True), "mrad/s": ("velocity", 1e-3, True), "deg/s": ("velocity", _DEG, True),
-    "rpm": ("velocity", _TURN / 60, True), "1/min": ("velocity", _TURN / 60, True),
-    "u/min": ("velocity", _TURN / 60, True), "rev/min": ("velocity", _TURN / 60, True),
-    "r/min": ("velocity", _TURN / 60, True), "min^-1": ("velocity", _TURN / 60, True),
-    "min-1": ("velocity", _TURN / 60, True), "upm": ("velocity", _TURN / 60, True),
-    "krpm": ("velocity", 1e3 * _TURN / 60, True), "in/s": ("velocity", 0.0254, False),
-    "inch/s": ("velocity", 0.0254, False), "in": ("position", 0.0254, False),
-    "inch": ("position", 0.0254, False), "lbf": ("force", 4.4482216, False),
-    "unm": ("force", 1e-6, True), "ozin": ("force", 7.0615518e-3, True),
-    "lbfin": ("force", 0.11298483, True),
-    "rps": ("velocity", _TURN, True), "rev/s": ("velocity", _TURN, True), "turn/s": ("velocity", _TURN, True),
-    "n": ("force", 1.0, False), "kn": ("force", 1e3, False), "mn": ("force", 1e-3, False),
-    "nm": ("force", 1.0, True), "mnm": ("force", 1e-3, True), "ncm": ("force", 1e-2, True),
-    "nmm": ("force", 1e-3, True), "knm": ("force", 1e3, True),
-    "a": ("current", 1.0, False), "ma": ("current", 1e-3, False),
-    "degc": ("temperature", 1.0, False), "c": ("temperature", 1.0, False),
-}
 #: Units whose size the file does not give: a share of a rating, encoder steps, raw numbers.
 SIZELESS = ("%", "‰", "inc", "incr", "increments", "counts", "count", "cnt", "cts", "ticks",
             "digits", "lsb", "pu")

@@ -16,6 +16,7 @@ from ..fit.cogging import CoggingFit, identify_cogging
 from ..errors import DataError, ModelError, UsageError
 from ..fit.textbook import LawFit
 from ..model import FrictionModel
+from ..unit_sizes import size as unit_size
 from ..units import units_of
 from .record import speed_record
 from .report import FitReport
@@ -144,9 +145,8 @@ def turn_harmonics_dropped(t, x, force, pitch: float, inertia: Optional[float]) 
                                          if abs(h / per_turn - round(h / per_turn)) > TURN_TOLERANCE * h / per_turn)
 
 
-#: Position units a log is often written in, per kind of axis: (name, its size in the axis's
-#: unit, the --scale that converts it).
-OTHER_POSITION_UNITS = {"rotary": ("deg", np.pi / 180, "0.0174533"), "linear": ("mm", 1e-3, "0.001")}
+#: The position unit a log is often written in, per kind of axis.
+OTHER_POSITION_UNITS = {"rotary": "deg", "linear": "mm"}
 #: How close (in harmonics) a wavelength read in the other unit must fall on a harmonic.
 UNIT_TOLERANCE = 0.01
 
@@ -155,7 +155,9 @@ def _unexplained_warning(wavelength: float, period: float, units) -> str:
     """The warning for a position-periodic force that no harmonic of the period holds; where the
     wavelength, read in the unit a log is often written in (degrees, mm), is a harmonic of the
     period, it names that unit and the --scale that converts it."""
-    name, size, scale = OTHER_POSITION_UNITS[units.kind]
+    name = OTHER_POSITION_UNITS[units.kind]
+    size = unit_size(name)
+    scale = f"{size:.6g}"
     h = period / (wavelength * size)
     if round(h) >= 1 and abs(h - round(h)) <= UNIT_TOLERANCE:
         return (f"warning: the log's position force repeats every {wavelength:.6g} {units.position}: "
