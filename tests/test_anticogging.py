@@ -400,6 +400,17 @@ def test_a_wrong_pitch_is_named(calibration_csv, axis, tmp_path, capsys):
     assert "Is x in deg?" not in err
 
 
+def test_a_calibration_too_fast_for_its_log_rate_is_warned_of(axis, tmp_path, capsys):
+    log = calibration_move(axis, turns=2.0, speed=8.0, every=4)      # fast, logged at 2 kHz
+    path = tmp_path / "fast.csv"
+    np.savetxt(path, np.column_stack([log["t"], log["x"], log["i"]]), delimiter=",", header="t,x,i",
+               comments="", fmt="%.9g")
+    main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+          "-o", str(tmp_path / "m.json")])
+    lines = [line for line in capsys.readouterr().err.splitlines() if "fast for the log's rate" in line]
+    assert len(lines) == 1 and "a slower move or a faster log screens more" in lines[0]
+
+
 def test_a_pitch_below_a_turn_names_the_harmonics_of_the_turn_it_drops(calibration_csv, axis, tmp_path, capsys):
     pitch = f"{TWO_PI / axis.pole_pairs:.6g}"
     assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--pitch", pitch,

@@ -111,6 +111,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic} (set by {fit.screened_by}); {fit.rows} rows in motion")
+    if fit.screened_by.startswith("the sample rate"):
+        warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
+                        f"are not screened ({fit.screened_by})")
     if fit.unexplained_wavelength is not None:
         warnings.append(_unexplained_warning(fit.unexplained_wavelength, fit.period, units))
     if rotary and fit.period < 2 * np.pi * (1 - TURN_TOLERANCE):
