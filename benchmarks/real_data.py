@@ -16,7 +16,8 @@ Beside each: the textbook fit, per-direction Coulomb + viscous by ordinary least
 inertia where the data hold it (the folder's baseline.py), and the published model where there is
 one; v and a of the scores come from each folder's own filter (its baseline's), the same for every
 model, over samples with |v| above the folder's threshold. Ratios are the default's RMS error over
-the textbook's and over the published model's.
+the textbook's and over the published model's; beside the first, its 90 % interval from a
+moving-block bootstrap of the scored rows (``ratio_interval``): what the test data can tell.
 
 Run: python benchmarks/real_data.py [--data ../shared/data]
 """
@@ -74,10 +75,26 @@ def log_columns(d):
     return {"t": d["t"], "v": d["dq"], "force": d["tau"]}
 
 
-def row(name, fit_err, tb_err, pub_err, chose, extra=""):
+def ratio_interval(fit_res, tb_res, resamples=2000, blocks=50):
+    """The 90 % interval of rms(fit_res) / rms(tb_res): a moving-block bootstrap of the rows (at
+    most ``blocks`` blocks of consecutive rows, so a log's correlated neighbours move together;
+    one row per block for a sweep's few points), with a fixed seed."""
+    n = fit_res.size
+    size = max(1, n // blocks)
+    starts = np.random.default_rng(0).integers(0, n - size + 1, (resamples, -(-n // size)))
+    idx = (starts[:, :, None] + np.arange(size)).reshape(resamples, -1)[:, :n]
+    ratios = np.sqrt(np.mean(fit_res[idx] ** 2, axis=1) / np.mean(tb_res[idx] ** 2, axis=1))
+    return np.percentile(ratios, [5, 95])
+
+
+def row(name, fit_res, tb_res, pub_err, chose, extra=""):
+    """One line: the default's and the textbook's RMS error (from their residuals), their ratio
+    with its 90 % interval, the published model's RMS error and the ratio to it."""
+    fit_err, tb_err = rms(fit_res), rms(tb_res)
+    lo, hi = ratio_interval(np.asarray(fit_res), np.asarray(tb_res))
     pub = f"{pub_err:8.4f} {fit_err / pub_err:6.3f}" if pub_err is not None else f"{'-':>8s} {'-':>6s}"
-    print(f"{name:22s} {fit_err:8.4f} {tb_err:8.4f} {fit_err / tb_err:6.3f} {pub} {chose}{extra}")
-    return fit_err / tb_err, (fit_err / pub_err if pub_err else None)
+    print(f"{name:22s} {fit_err:8.4f} {tb_err:8.4f} {fit_err / tb_err:6.3f} {lo:5.2f}-{hi:4.2f} {pub} {chose}{extra}")
+    return fit_err / tb_err, (fit_err / pub_err if pub_err else None), lo
 
 
 def load_baseline(folder):
@@ -119,18 +136,18 @@ def ur10e(folder, ratios):
     def score(j):
         predict, tb, chose, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv")
         pub = b.fric_pub(j, v) + b.PUB_MJJ[j] * a
-        ratios.append(row(f"ur10e J{j + 1} test", rms(y - predict(v, a)), rms(y - tb(v, a)),
+        ratios.append(row(f"ur10e J{j + 1} test", y - predict(v, a), y - tb(v, a),
                           rms(y - pub), chose, note))
         ho = csv(folder / f"joint{j + 1}_heldout_ptp.csv")
         v, _ = b.va(ho["t"], ho["dq"])
         m = np.abs(v) > b.VMIN
         y, zero = ho["tau"][m], np.zeros(int(m.sum()))
-        ratios.append(row(f"ur10e J{j + 1} ptp", rms(y - predict(v[m], zero)), rms(y - tb(v[m], zero)),
+        ratios.append(row(f"ur10e J{j + 1} ptp", y - predict(v[m], zero), y - tb(v[m], zero),
                           rms(y - b.fric_pub(j, v[m])), chose))
         sw = csv(folder / f"joint{j + 1}_sweep_ptp.csv")
         zero = np.zeros(sw["v"].size)
-        ratios.append(row(f"ur10e J{j + 1} sweep", rms(sw["f"] - predict(sw["v"], zero)),
-                          rms(sw["f"] - tb(sw["v"], zero)), rms(sw["f"] - b.fric_pub(j, sw["v"])), chose))
+        ratios.append(row(f"ur10e J{j + 1} sweep", sw["f"] - predict(sw["v"], zero),
+                          sw["f"] - tb(sw["v"], zero), rms(sw["f"] - b.fric_pub(j, sw["v"])), chose))
     per_joint("ur10e", 6, score)
 
 
@@ -140,7 +157,7 @@ def panda(folder, ratios):
     def score(j):
         predict, tb, chose, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv")
         pub = min(rms(y - b.sigmoid(j, v)), rms(y - b.linear(j, v)))
-        ratios.append(row(f"panda J{j + 1}", rms(y - predict(v, a)), rms(y - tb(v, a)), pub, chose, note))
+        ratios.append(row(f"panda J{j + 1}", y - predict(v, a), y - tb(v, a), pub, chose, note))
     per_joint("panda", 7, score)
 
 
@@ -152,7 +169,7 @@ def kinova(folder, ratios):
     sec = time.process_time() - start
     fc_fv, *_ = np.linalg.lstsq(np.column_stack([np.ones_like(tr["v"]), tr["v"]]), tr["f"], rcond=None)
     tb = fc_fv[0] + fc_fv[1] * te["v"]
-    ratios.append(row("kinova sweep", rms(te["f"] - report.model.force(te["v"])), rms(te["f"] - tb),
+    ratios.append(row("kinova sweep", te["f"] - report.model.force(te["v"]), te["f"] - tb,
                       None, report.law.name, f" ({sec:.2f} s CPU)"))
     b = load_baseline(folder)
     logs = {part: [csv(path) for path in sorted(folder.glob(f"run_v*_{part}.csv"))]
@@ -167,7 +184,7 @@ def kinova(folder, ratios):
         parts = [(d["t"], *b.va(d["t"], d["dq"]), d["tau"]) for d in logs["test"]]
         keep = [(f[1] > b.VMIN) & (f[0] >= steady) for f in parts]
         v, a, y = (np.concatenate([f[k][m] for f, m in zip(parts, keep)]) for k in (1, 2, 3))
-        ratios.append(row(f"kinova runs {name}", rms(y - predict(v, a)), rms(y - tb(v, a)), None,
+        ratios.append(row(f"kinova runs {name}", y - predict(v, a), y - tb(v, a), None,
                           chose, f" (m {mass:.3g}, {sec:.2f} s CPU)" if not steady else ""))
 
 
@@ -189,7 +206,7 @@ def emps(folder, ratios):
     cols = lambda v, a: np.column_stack([a, v, np.sign(v), np.ones_like(v)])
     theta, *_ = np.linalg.lstsq(cols(v[train], a[train]), force[train], rcond=None)
     y = force[test]
-    ratios.append(row("emps (last 30 %)", rms(y - predict(v[test], a[test])), rms(y - tb(v[test], a[test])),
+    ratios.append(row("emps (last 30 %)", y - predict(v[test], a[test]), y - tb(v[test], a[test]),
                       rms(y - cols(v[test], a[test]) @ theta), chose,
                       f" (m {mass:.4g}, {sec:.2f} s CPU; 'published' = IDIM-LS refitted)"))
 
@@ -198,7 +215,8 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--data", type=Path, default=DATA)
     args = p.parse_args()
-    print(f"{'dataset':22s} {'default':>8s} {'textbook':>8s} {'ratio':>6s} {'publish.':>8s} {'ratio':>6s} chose")
+    print(f"{'dataset':22s} {'default':>8s} {'textbook':>8s} {'ratio':>6s} {'90 % int.':>9s} {'publish.':>8s} "
+          f"{'ratio':>6s} chose")
     ratios = []
     for name, run in (("ur10e", ur10e), ("panda", panda), ("kinova_gen3", kinova), ("emps", emps)):
         folder = args.data / name
@@ -214,7 +232,9 @@ def main():
     if not tb.size:
         print(f"\nno dataset scored: none of the folders is in {args.data} (--data names the folder)")
         return
-    print(f"\n{len(tb)} scores: default / textbook worst {tb.max():.3f}, median {np.median(tb):.3f}"
+    above = [r for r in ratios if r[2] > 1.0]
+    print(f"\n{len(tb)} scores: default / textbook worst {tb.max():.3f}, median {np.median(tb):.3f} "
+          f"({len(above)} with its 90 % interval above 1)"
           + (f"; default / published worst {pub.max():.3f}, median {np.median(pub):.3f}" if pub.size else ""))
 
 

@@ -330,8 +330,9 @@ def _refined_peak(x, r, peak, grid) -> float:
 def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Optional[float]:
     """The wavelength of a position-periodic force left in the residual r that no harmonic of
     ``period`` holds (a wrong period given): of the wavelengths from a UNEXPLAINED_PERIODS-th of
-    the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that stands highest above the running median
-    around it, when noise alone reaches it with probability below ALPHA (Rayleigh) and its
+    the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that
+    stands highest above the running median around it, when noise alone reaches it with
+    probability below ALPHA (Rayleigh) and its
     wavenumber (refined, ``_refined_peak``) is not within one FFT spacing of a multiple of
     2 pi / period, and its amplitude is at least UNEXPLAINED_SHARE of ``strongest`` (the map's
     strongest harmonic's; 0 without a map); else None."""
