@@ -8,7 +8,7 @@ from fricgen import _progress
 from fricgen.data import inverse_dynamics as idm
 from fricgen.data import smoothing
 from fricgen.data.inverse_dynamics import identify_friction
-from fricgen.data.smoothing import (FFT_WINDOW, MAX_WINDOW_FRACTION, MIN_WINDOW, POLYORDER,
+from fricgen.data.smoothing import (FFT_WINDOW, between_edges, MAX_WINDOW_FRACTION, MIN_WINDOW, POLYORDER,
                                     WINDOW_RATIO, candidate_windows, choose_window, smooth)
 from fricgen.friction import preset
 
@@ -96,3 +96,29 @@ def test_progress_goes_to_the_callback_not_to_stderr(monkeypatch, capsys):
     assert told.window == quiet.window
     assert 1 < len(heard) < len(candidate_windows(t.size)) and "smoothing window" in heard[0]
     assert capsys.readouterr() == ("", "")
+
+
+def test_a_position_in_counts_read_between_its_edges_follows_the_motion():
+    """A move with a ripple logged as floored counts (about 30 rows per count): read between
+    its edges the position is within a tenth of a count of the motion less half a count (the
+    floor's mean), where the counts stray by half a count; the acceleration smoothed over 30 ms
+    is five times closer to the ripple's."""
+    t = np.arange(0.0, 1.0, 1e-4)
+    motion = 300.0 * t + 2.0 * np.sin(2 * np.pi * 5 * t) + 0.3           # in counts
+    counts = np.floor(motion)
+    inner = slice(1000, -1000)
+    read = between_edges(t, counts)
+    assert np.max(np.abs(read - (motion - 0.5))[inner]) < 0.1
+    assert np.max(np.abs(counts - (motion - 0.5))[inner]) > 0.45
+    ripple_a = -2.0 * (2 * np.pi * 5) ** 2 * np.sin(2 * np.pi * 5 * t)
+
+    def rms(x):
+        return float(np.sqrt(np.mean((smooth(x, 301, 2, 1e-4) - ripple_a)[inner] ** 2)))
+    assert 5 * rms(read) < rms(counts)
+
+
+def test_a_position_that_changes_at_every_row_is_read_as_it_is_but_for_a_light_smoothing():
+    t = np.arange(200) * 1e-3
+    x = np.cumsum(np.random.default_rng(0).uniform(0.5, 1.5, t.size))
+    assert np.allclose(between_edges(t, x)[1:-1], (x[:-2] + 2 * x[1:-1] + x[2:]) / 4)
+    assert np.array_equal(between_edges(t, np.full(t.size, 3.0)), np.full(t.size, 3.0))

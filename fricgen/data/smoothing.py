@@ -4,7 +4,8 @@ and the force between which inverse dynamics [C1] holds, and the choice of its w
 ``smooth`` is ``scipy.signal.savgol_filter`` in time linear in the log (by FFT from
 FFT_WINDOW samples on); ``choose_window`` takes the window that minimizes the generalized
 cross-validation score of the smoothed force plus the variance the velocity noise leaves in
-m dv/dt; ``steady_rows`` the rows whose whole window moves one way.
+m dv/dt; ``steady_rows`` the rows whose whole window moves one way; ``between_edges`` a
+position logged in encoder counts as the line through its count edges, for its derivatives.
 """
 from __future__ import annotations
 
@@ -30,6 +31,21 @@ STOP_FACTOR = 2.0
 #: Windows (samples) from which ``smooth`` convolves by FFT: the direct sum costs O(window)
 #: per sample, the FFT O(log window).
 FFT_WINDOW = 64
+
+
+def between_edges(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """A position in encoder counts read between its count edges: each change of x placed half
+    a sample before the row that first shows it, at the middle of the two levels, and x linear
+    between those points (flat before the first and after the last). The staircase's steps,
+    seen through a second derivative, are a noise that the sample rate aliases down to the
+    frequencies of a slow move's ripple; the edges' times hold the motion to a fraction of a
+    count. A position that
+    changes at every row is left as good as unchanged (the midpoints lie on the motion)."""
+    changed = np.flatnonzero(np.diff(x) != 0) + 1
+    if changed.size < 2:
+        return x
+    edge_t = t[changed] - 0.5 * (t[changed] - t[changed - 1])
+    return np.interp(t, edge_t, 0.5 * (x[changed] + x[changed - 1]))
 
 
 @lru_cache(maxsize=256)

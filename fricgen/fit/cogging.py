@@ -37,7 +37,7 @@ from scipy.ndimage import median_filter, uniform_filter1d
 from .._blas import blas_threads, wanted_threads
 from ..data.inverse_dynamics import position_quantum
 from ..data.motionlog import uniform_time
-from ..data.smoothing import MIN_WINDOW, smooth, steady_rows
+from ..data.smoothing import MIN_WINDOW, between_edges, smooth, steady_rows
 from ..effects.fitting import FIT_FOLDS, block_grams, lstsq, nested_cross_validation, refine
 from ..errors import DataError
 from ..effects.cogging_map import MAX_TERMS, CoggingMap
@@ -401,13 +401,16 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
         raise DataError(f"the log travels {np.ptp(x):.6g}, less than one period ({period:.6g}); "
                         "a cogging map needs the whole period each way")
     window = _odd(INERTIA_WINDOW / ts)
-    v, a_smooth = smooth(x, window, 1, ts), smooth(x, window, 2, ts)
+    quantum = position_quantum(x)
+    # the derivatives from the position between its count edges; the map keeps the counts the
+    # drive reads
+    moved = between_edges(t, x) if quantum > 0 else x
+    v, a_smooth = smooth(moved, window, 1, ts), smooth(moved, window, 2, ts)
     rows = _moving(v, window)
     if rows.sum() < 10 * MIN_BINS:
         raise DataError("the log has too few rows in motion for a cogging map")
     sign = np.sign(v)
     speed = float(np.median(np.abs(v[rows])))
-    quantum = position_quantum(x)
     if period is None:      # in the force less a given inertia's m a (a log of normal operation accelerates)
         less = f - inertia * a_smooth if inertia is not None else f
         period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum)
@@ -423,7 +426,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     # for the coefficients (the encoder's steps add noise, periodic in the count, that the
     # harmonics below the count's are nearly orthogonal to; smoothing would attenuate J a)
     fastest = max([h for h, _ in terms], default=1) * speed / period
-    a = smooth(x, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))), 2, ts)
+    a = smooth(moved, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))), 2, ts)
     given = inertia is not None
     if not given:
         inertia = _inertia(xs, r, a[rows], ss, period, bins,
