@@ -24,6 +24,9 @@ directions see R with opposite signs.
 4. The coefficients by least squares on f - J a, their standard errors by the blocked jackknife
    (the residual of a drive's loop is correlated in time; the blocks are long beside that).
 
+v and a of a position in encoder counts come from the position between its count edges
+(``data.smoothing.between_edges``); the map is a function of the counts themselves.
+
 BLAS runs on the threads ``fricgen.train`` uses (``_blas``).
 """
 from __future__ import annotations
@@ -332,9 +335,8 @@ def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Option
     ``period`` holds (a wrong period given): of the wavelengths from a UNEXPLAINED_PERIODS-th of
     the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that
     stands highest above the running median around it, when noise alone reaches it with
-    probability below ALPHA (Rayleigh) and its
-    wavenumber (refined, ``_refined_peak``) is not within one FFT spacing of a multiple of
-    2 pi / period, and its amplitude is at least UNEXPLAINED_SHARE of ``strongest`` (the map's
+    probability below ALPHA (Rayleigh) and its wavenumber (refined, ``_refined_peak``) is not
+    within one FFT spacing of a multiple of 2 pi / period, and its amplitude is at least UNEXPLAINED_SHARE of ``strongest`` (the map's
     strongest harmonic's; 0 without a map); else None."""
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     usable &= (k <= 2 * np.pi * highest / period) & (k >= 2 * np.pi * UNEXPLAINED_PERIODS / np.ptp(x))
@@ -423,8 +425,8 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     terms, highest, screened_by, bins = _screen(xs, r, ss, period, speed, ts, quantum)
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
-    # for the coefficients (the encoder's steps add noise, periodic in the count, that the
-    # harmonics below the count's are nearly orthogonal to; smoothing would attenuate J a)
+    # for the coefficients (smoothing would attenuate J a; the count edges keep the encoder's
+    # steps out of it)
     fastest = max([h for h, _ in terms], default=1) * speed / period
     a = smooth(moved, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))), 2, ts)
     given = inertia is not None
