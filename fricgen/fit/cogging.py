@@ -24,7 +24,8 @@ directions see R with opposite signs.
 4. The coefficients by least squares on f - J a, their standard errors by the blocked jackknife
    (the residual of a drive's loop is correlated in time; the blocks are long beside that).
 
-v and a of a position in encoder counts come from the position between its count edges
+Rows of a start or stop by a velocity step (``_not_transient``) are left out first. v and a of a
+position in encoder counts come from the position between its count edges
 (``data.smoothing.between_edges``); the map is a function of the counts themselves.
 
 BLAS runs on the threads ``fricgen.train`` uses (``_blas``).
@@ -35,7 +36,7 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 import numpy as np
-from scipy.ndimage import median_filter, uniform_filter1d
+from scipy.ndimage import median_filter, minimum_filter1d, uniform_filter1d
 
 from .._blas import blas_threads, wanted_threads
 from ..data.inverse_dynamics import position_quantum
@@ -71,6 +72,9 @@ UNEXPLAINED_PERIODS = 8
 #: ... and its amplitude at least this share of the map's strongest harmonic (the encoder's
 #: count, aliased by the log's sample rate, leaves weaker lines in a calibration).
 UNEXPLAINED_SHARE = 0.25
+#: Rows whose force less the friction strays farther than this many robust standard deviations
+#: are left out (``_not_transient``).
+TRANSIENT_SIGMAS = 10.0
 #: Fewest position bins per period.
 MIN_BINS = 32
 #: The share of the bins a direction may leave unvisited (an axis that stalls for a moment at a
@@ -149,6 +153,15 @@ def _moving(v: np.ndarray, window: int) -> np.ndarray:
     """Rows where the axis moves in one direction over the whole window, faster than a fifth of
     its typical speed (``steady_rows``)."""
     return steady_rows(v, np.abs(v) > 0.2 * np.percentile(np.abs(v), 90), window)
+
+
+def _not_transient(r: np.ndarray) -> np.ndarray:
+    """The rows whose force less the friction lies within TRANSIENT_SIGMAS robust standard
+    deviations (1.4826 median absolute deviations) of its median: the few rows of a start or
+    stop by a velocity step, whose force is many times the cogging's, would otherwise spread
+    over every harmonic's bin average and hide the cogging."""
+    deviation = np.abs(r - np.median(r))
+    return deviation <= TRANSIENT_SIGMAS * 1.4826 * max(float(np.median(deviation)), 1e-300)
 
 
 def _inertia(x, r, a, sign, period, bins, harmonics) -> Optional[float]:
@@ -419,6 +432,9 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     # the viscous columns take the speed averaged over one period's travel: the velocity ripple
     # that the cogging itself causes would otherwise take part of it
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
+    calm = np.ones(rows.size, dtype=bool)
+    calm[rows] = _not_transient(_less_nuisance(f[rows], _nuisance(v_mean[rows])))
+    rows &= minimum_filter1d(calm, window, mode="nearest")      # and the window around them
     xs, ss = x[rows], sign[rows]
     nuisance = _nuisance(v_mean[rows])
     r = _less_nuisance(f[rows], nuisance)
@@ -442,6 +458,8 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     n_terms = nested_cross_validation(full, (f - inertia * a_smooth)[rows],
                                       [4 + 2 * n for n in range(len(terms) + 1)]) - 1
     terms = terms[:n_terms]
+    if determined and not given and not any(not signed and h > 1 for h, signed in terms):
+        determined, inertia, target = False, 0.0, f[rows]     # J told from harmonics not kept
     design = full[:, :4 + 2 * n_terms]
     coef, rss = lstsq(design, target)
     se = _jackknife_se(design, target)

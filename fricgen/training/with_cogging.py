@@ -104,8 +104,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     model = replace(recording_force_constant(model, columns, force_constant), cogging_map=fit.map,
                     cogging_friction=fit.friction)
     j = {"given": "given", "identified": "identified from the two directions' ripple",
-         "undetermined": "not determined by this log (taken as 0: the map holds the inertia's "
-                         "ripple; move slower or give --mass)"}[fit.inertia_source]
+         "undetermined": "not determined by this log, taken as 0" + (
+             ": the map holds the inertia's ripple; move slower or give --mass" if fit.map is not None
+             else "")}[fit.inertia_source]
     if pitch is None and fit.map is not None:
         lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
@@ -119,9 +120,11 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if rotary and fit.period < 2 * np.pi * (1 - TURN_TOLERANCE):
         dropped = turn_harmonics_dropped(columns["t"], columns["x"], force, fit.period, inertia)
         if dropped:
-            warnings.append(f"warning: the map of a whole turn holds harmonic {', '.join(map(str, dropped))} "
-                            f"of the turn, which no harmonic of --pitch {fit.period:.6g} rad holds (a turn "
-                            f"is {2 * np.pi / fit.period:.4g} of it): leave --pitch out to keep them")
+            many = len(dropped) > 1
+            warnings.append(f"warning: the map of a whole turn holds harmonic{'s' if many else ''} "
+                            f"{', '.join(map(str, dropped))} of the turn, which no harmonic of --pitch "
+                            f"{fit.period:.6g} rad holds (a turn is {2 * np.pi / fit.period:.4g} of it): "
+                            f"leave --pitch out to keep {'them' if many else 'it'}")
     if fit.map is None:
         lines.append("cogging: none found (no harmonic above the noise): no map is emitted")
     else:
