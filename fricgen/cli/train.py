@@ -22,6 +22,7 @@ from ..networks.elm import ACTIVATIONS
 from ..training import FitReport, train
 from ..training.trainer import SPREAD_COLUMNS
 from ..training.with_cogging import less_position_force, train_with_cogging
+from ..unit_sizes import size
 from ..training.with_dynamic import train_dynamic
 from .._io import check_destination
 from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
@@ -238,6 +239,10 @@ def check_gravity(args, columns, rotary: bool) -> None:
 JOINT_SPEED_MAX = 20.0
 
 
+#: A degree in rad, the --scale that reads a position or speed logged in degrees.
+DEGREE = size("deg")
+
+
 def warn_degrees(args, columns, warn=say) -> None:
     """One warning line (to ``warn``) where a log named as a joint's moves faster than
     JOINT_SPEED_MAX (``data.plausibility.top_speed``): q and dq in degrees read as rad."""
@@ -245,7 +250,7 @@ def warn_degrees(args, columns, warn=say) -> None:
     if top > JOINT_SPEED_MAX:
         warn(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
             f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: are q and dq in "
-            "degrees (--scale q=0.0174533,dq=0.0174533)? A motor shaft this fast: --rotary says so")
+            f"degrees (--scale q={DEGREE:.6g},dq={DEGREE:.6g})? A motor shaft this fast: --rotary says so")
 
 
 def check_force_held(args, columns) -> None:

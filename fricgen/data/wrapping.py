@@ -25,6 +25,8 @@ from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
+from ..unit_sizes import size
+
 #: The steps that are no jumps are at most this share of x's range (else no wrap is told): a
 #: log that samples a turn at least four times.
 WRAP_SMOOTH = 0.4
@@ -102,7 +104,7 @@ def unwrapped(columns: Dict[str, np.ndarray], warn: Callable[[str], None]) -> Di
     period, name, wraps = found
     step = np.diff(x)
     turns = np.where(_jumps(step, np.ptp(x)), -np.sign(step), 0.0)
-    degrees = " (x in degrees? fricgen reads rad: --scale x=0.0174533)" if name == "360" else ""
+    degrees = f" (x in degrees? fricgen reads rad: --scale x={size('deg'):.6g})" if name == "360" else ""
     warn(f"fricgen: x wraps at a period of {name} ({wraps} times): unwrapped, the turns added back "
          f"(a single-turn position){degrees}")
     return {**columns, "x": x + period * np.concatenate([[0.0], np.cumsum(turns)])}

@@ -72,6 +72,8 @@ UNEXPLAINED_PERIODS = 8
 #: ... and its amplitude at least this share of the map's strongest harmonic (the encoder's
 #: count, aliased by the log's sample rate, leaves weaker lines in a calibration).
 UNEXPLAINED_SHARE = 0.25
+#: How ``CoggingFit.screened_by`` names the sample rate as what set the highest harmonic.
+SAMPLE_RATE_LIMIT = "the sample rate"
 #: Rows whose force less the friction strays farther than this many robust standard deviations
 #: are left out (``_not_transient``).
 TRANSIENT_SIGMAS = 10.0
@@ -299,8 +301,8 @@ def _screen_limit(highest, bins, samples, cells) -> str:
     if 2 * bins <= min(samples, cells) / 2:
         return f"{bins} position bins, finer ones left unvisited in a direction"
     if samples <= cells:
-        return (f"the sample rate: {samples:.0f} samples per period at this speed; a slower move or a "
-                "faster log screens more")
+        return (f"{SAMPLE_RATE_LIMIT}: {samples:.0f} samples per period at this speed; a slower move "
+                "or a faster log screens more")
     return f"the encoder: {cells:.0f} counts per period"
 
 
@@ -349,8 +351,9 @@ def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Option
     the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that
     stands highest above the running median around it, when noise alone reaches it with
     probability below ALPHA (Rayleigh) and its wavenumber (refined, ``_refined_peak``) is not
-    within one FFT spacing of a multiple of 2 pi / period, and its amplitude is at least UNEXPLAINED_SHARE of ``strongest`` (the map's
-    strongest harmonic's; 0 without a map); else None."""
+    within one FFT spacing of a multiple of 2 pi / period, and its amplitude is at least
+    UNEXPLAINED_SHARE of ``strongest`` (the map's strongest harmonic's; 0 without a map); else
+    None."""
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     usable &= (k <= 2 * np.pi * highest / period) & (k >= 2 * np.pi * UNEXPLAINED_PERIODS / np.ptp(x))
     if usable.sum() < 2:

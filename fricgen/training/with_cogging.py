@@ -12,7 +12,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
 from ..effects.cogging_map import CoggingMap
-from ..fit.cogging import CoggingFit, identify_cogging
+from ..fit.cogging import SAMPLE_RATE_LIMIT, CoggingFit, identify_cogging
 from ..errors import DataError, ModelError, UsageError
 from ..fit.textbook import LawFit
 from ..model import FrictionModel
@@ -112,7 +112,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic} (set by {fit.screened_by}); {fit.rows} rows in motion")
-    if fit.screened_by.startswith("the sample rate"):
+    if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
     if fit.unexplained_wavelength is not None:
