@@ -54,11 +54,12 @@ def textbook(v, a, tau, inertia=True):
     return lambda v, a: np.column_stack([basis(v)] + ([a[:, None]] if inertia else [])) @ theta
 
 
-def trained(columns):
-    """fricgen's default on the columns, silent; (predictor of (v, a), what it chose, seconds)."""
+def trained(columns, rotary=True):
+    """fricgen's default on the columns, silent, a robot joint's in rad, rad/s, Nm (as its q, dq,
+    tau columns would name it); (predictor of (v, a), what it chose, seconds, the inertia)."""
     start = time.process_time()
     with contextlib.redirect_stderr(io.StringIO()):
-        report = fricgen.train(columns, warn=lambda line: None)
+        report = fricgen.train(columns, warn=lambda line: None, rotary=rotary)
     seconds = time.process_time() - start
     model, ident = report.model, report.identification
     mass = ident.body.inertia if ident is not None else 0.0   # a residual inertia may be < 0
@@ -165,7 +166,7 @@ def kinova(folder, ratios):
     tr, te = csv(folder / "sweep_train.csv"), csv(folder / "sweep_test.csv")
     start = time.process_time()
     report = fricgen.train({"v": tr["v"], "f": tr["f"], "f_std": tr["f_std"], "n": tr["n"]},
-                           warn=lambda line: None)
+                           warn=lambda line: None, rotary=True)
     sec = time.process_time() - start
     fc_fv, *_ = np.linalg.lstsq(np.column_stack([np.ones_like(tr["v"]), tr["v"]]), tr["f"], rcond=None)
     tb = fc_fv[0] + fc_fv[1] * te["v"]
@@ -193,7 +194,7 @@ def emps(folder, ratios):
     t, qm = d["t"].ravel(), d["qm"].ravel()
     force = float(d["gtau"].ravel()[0]) * d["vir"].ravel()
     cut = int(0.7 * t.size)
-    predict, chose, sec, mass = trained({"t": t[:cut], "x": qm[:cut], "force": force[:cut]})
+    predict, chose, sec, mass = trained({"t": t[:cut], "x": qm[:cut], "force": force[:cut]}, rotary=False)
     ts = float(np.median(np.diff(t)))
     bb, aa = butter(4, 100.0 / (0.5 / ts))
     q = filtfilt(bb, aa, qm)

@@ -37,6 +37,9 @@ def work(cli_inputs, tmp_path_factory):
         "unicode_digits.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,\uff11\n" + "\n".join(body[20:]),
         "underscores.csv": "v,f\n" + "\n".join(body[:20]) + "\n0.01,1_0\n" + "\n".join(body[20:]),
         "ragged.csv": "v,f\n" + "\n".join(body[:30]) + "\n0.01,1,2\n" + "\n".join(body[30:]),
+        "status_row.csv": "v,f\nOK,OK\n" + "\n".join(body),
+        "text_in_force.csv": "v,f,state\n" + "\n".join(r + ",OK" for r in body[:20]) + "\n0.01,ERR,fault\n"
+                             + "\n".join(r + ",OK" for r in body[20:]),
         "semicolon_cells.csv": "v;x,f\n" + "\n".join(body),
         "big_int.json": '{"format": "fricgen-model", "format_version": 1, "name": "m", "viscous": '
                         + "9" * 5001 + "}",
@@ -346,6 +349,10 @@ ROWS = [
     ("a sweep at one speed", ["train", "one_speed.csv", "-o", OUT], "all at one speed"),
     ("a log with t in ms", ["train", "log_ms.csv", *LOG, "-o", OUT], "dx/dt is 0.001 times v"),
     ("a row of the wrong width", ["train", "ragged.csv", "-o", OUT], "3 cells, the header names 2"),
+    ("a status row under the header", ["train", "status_row.csv", "-o", OUT],
+     "line 2: non-numeric or missing cell 'OK' in column 'v'"),
+    ("text in the force beside a status column", ["train", "text_in_force.csv", "-o", OUT],
+     "line 22: non-numeric or missing cell 'ERR' in column 'f'"),
     ("digits of another script", ["train", "unicode_digits.csv", "-o", OUT], "non-numeric"),
     ("'_' in a number", ["train", "underscores.csv", "-o", OUT], "non-numeric"),
     ("--C without ridge", ["train", "sweep.csv", "-o", OUT, "--C", "10"], "--C sets the C of --solver ridge"),

@@ -1,7 +1,7 @@
+import json
+
 import numpy as np
 import pytest
-
-from fricgen.friction import preset
 
 from fricgen.data import (DataError, Sweep, choose_vs_max, identify_viscous, prepare,
                           read_sweep_csv, sweep_csv_text, synthesize_benchmark)
@@ -270,3 +270,19 @@ def test_a_header_that_does_not_split_names_the_delimiter(tmp_path, bench):
         read_table_csv(path, ["v", "f"], delimiter=",")
     forced = read_table_csv(path, ["v", "f"], delimiter=";", decimal_comma=True)
     assert np.array_equal(forced["v"], bench.train.v)
+
+
+def test_a_drive_logs_status_column_of_text_is_left_out_of_training(tmp_path, capsys):
+    """A status column (text) beside the quantities is no reason to refuse the file: the model
+    is the one trained without it."""
+    from fricgen.cli import main
+    speeds = np.geomspace(0.01, 1.0, 8)
+    v = np.concatenate([speeds, -speeds])
+    f = np.sign(v) * (0.3 + 0.05 * np.abs(v))
+    plain, status = tmp_path / "plain.csv", tmp_path / "status.csv"
+    plain.write_text("v,f\n" + "".join(f"{a:.17g},{b:.17g}\n" for a, b in zip(v, f)))
+    status.write_text("v,f,status\n" + "".join(f"{a:.17g},{b:.17g},OK\n" for a, b in zip(v, f)))
+    for path in (plain, status):
+        assert main(["train", str(path), "-o", str(path.with_suffix(".json"))]) == 0
+    models = [json.loads(p.with_suffix(".json").read_text()) for p in (plain, status)]
+    assert models[0]["model_hash"] == models[1]["model_hash"]

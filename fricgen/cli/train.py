@@ -72,7 +72,8 @@ def _estimator(args):
 def read_columns(args):
     """The input's columns by fricgen's names, read with the vendor-export options
     (``common.read_data``): a merge needs the rows of a log or of a sweep."""
-    return read_data(args, args.sweep, lambda c: MIN_LOG_ROWS if is_log(c) else MIN_SWEEP_POINTS)
+    return read_data(args, args.sweep, lambda c: MIN_LOG_ROWS if is_log(c) else MIN_SWEEP_POINTS,
+                     drop_text=True)
 
 
 def source_name(args) -> str:
@@ -206,8 +207,9 @@ def _run(args) -> int:
         if fastest is not None and band >= fastest:
             say(f"fricgen: warning: NAME_compensation is 0 up to |v| = {band:.3g} {speed}, at or "
                 f"above the log's fastest speed {fastest:.3g} {speed}: it compensates nothing at "
-                "the speeds trained (the log's velocity resolution is coarser than its motion: a "
-                "faster sample rate, a finer encoder, or a faster move)")
+                "the speeds trained (the velocity the log resolves is coarser than its motion: "
+                "give the firmware's velocity estimate's resolution with --velocity-resolution, "
+                "or log a finer encoder or a faster move)")
     for warning in report.warnings:
         say(f"fricgen: {warning}")
     write_file(args, payload, inputs)

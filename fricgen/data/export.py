@@ -191,7 +191,8 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
                 option: str = "--columns") -> Dict[str, np.ndarray]:
     """The columns of ``path`` (a CSV, or a MATLAB file's vectors) by fricgen's names, scaled to
     SI by ``scales`` (factor per name; a name the file lacks is left for the caller:
-    ``check_scaled``). ``drop_text``: a CSV's unmapped column holding text is left out.
+    ``check_scaled``). ``drop_text``: a CSV's column holding text is left out, unless mapped or
+    named as a quantity (``KNOWN_NAMES``): a drive's status column.
     ``option`` names the layout's columns in messages (a column the header lacks)."""
     rename = {vendor.strip().lower(): name for name, vendor in layout.columns.items()}
     mat = None
@@ -205,7 +206,7 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         sparse = [h for h, name in rename.items() if name == "temperature"] or ["temperature", "temp"]
         raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text,
                              delimiter=layout.delimiter, decimal_comma=layout.decimal_comma,
-                             sparse=sparse)
+                             sparse=sparse, numeric=list(KNOWN_NAMES) + ["f_std", "n"])
     columns = {}
     for header, values in raw.items():
         name = rename.get(header, header)

@@ -110,6 +110,14 @@ def _units_row(names: Sequence[str], row: Sequence[str]) -> bool:
             and all(not _unit_text(c) or row_unit(c) or _BRACKETED.fullmatch(c) for c in row))
 
 
+def _status_row(names: Sequence[str], row: Sequence[str]) -> bool:
+    """Whether ``row``, a line of text under ``names``, is a row of the data (a status such as
+    OK,OK,OK) rather than the header: it repeats a cell where ``names``, as many, repeat none."""
+    folded = [c.strip().lower() for c in row]
+    return (len(names) == len(row) and len(set(folded)) < len(folded)
+            and len({c.strip().lower() for c in names}) == len(names))
+
+
 def _names_over(names: Sequence[str], under: Optional[Sequence[str]]) -> Tuple[List[str], bool]:
     """The header's names and whether the row ``under`` them is a units row (``_units_row``),
     whose units are then written in: "v" and "rpm" as "v [rpm]" (a name that writes a unit of
@@ -145,7 +153,8 @@ def header_skip(path: Union[str, Path], delimiter: Optional[str] = DETECT) -> in
                 and all(n or not c.strip() for n, c in zip(numeric, row)) \
                 and not all(_is_number(c, comma) for c in cells):
             above = next((j for j in range(k - 1, -1, -1) if lines[j].strip()), None)
-            if above is not None and _units_row(_split(lines[above].strip("\r\n"), sep), cells):
+            names = None if above is None else _split(lines[above].strip("\r\n"), sep)
+            if names is not None and (_units_row(names, cells) or _status_row(names, cells)):
                 return above
             return k
     return 0
@@ -159,7 +168,7 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
                    keep_extra: bool = False, skip: int = 0, drop_text: bool = False,
                    delimiter: Optional[str] = DETECT,
                    decimal_comma: Optional[bool] = None,
-                   sparse: Sequence[str] = ()) -> Dict[str, np.ndarray]:
+                   sparse: Sequence[str] = (), numeric: Sequence[str] = ()) -> Dict[str, np.ndarray]:
     """Read a numeric CSV (the module doc's dialects) whose header names (at least) the
     ``required`` columns.
 
@@ -169,7 +178,7 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     is streamed: memory holds the numbers, not the text. Finiteness and lengths are for the
     caller to judge. The first ``skip`` lines (an export's preamble) are passed over unread;
     line numbers in messages count them. With ``drop_text``, an extra column holding text is
-    left out instead of refused. Without ``skip`` a preamble is found (``header_skip``);
+    left out instead of refused, unless it is one of the ``numeric`` names (a quantity's). Without ``skip`` a preamble is found (``header_skip``);
     ``delimiter`` (a value of ``DELIMITERS``) and ``decimal_comma`` force the dialect.
     A blank cell of a ``sparse`` column (a signal logged at a slower rate) reads as NaN.
     """
@@ -188,7 +197,7 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
                     (line.split() for line in fh))
             return _read_rows(path, rows, required, keep_extra, first_line=skip + 1,
                               drop_text=drop_text, sep=sep, decimal_comma=decimal_comma,
-                              sparse=sparse)
+                              sparse=sparse, numeric=numeric)
     except UnicodeDecodeError as exc:
         raise _utf8_error(path, exc) from None
     except csv.Error as exc:
@@ -276,7 +285,7 @@ def _is_number(cell: str, decimal_comma: bool = False) -> bool:
 
 
 def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, sep=",",
-               decimal_comma=None, sparse=()) -> Dict[str, np.ndarray]:
+               decimal_comma=None, sparse=(), numeric=()) -> Dict[str, np.ndarray]:
     header = next(rows, None)
     if header is None:
         raise DataError(f"{path}: empty file")
@@ -321,7 +330,7 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
             if all(header[k] in sparse and not row[k].strip() for k in bad):
                 values.extend([math.nan if k in bad else plain_float(row[k]) for k in wanted])
                 continue
-            if not drop_text or any(header[k] in required for k in bad):
+            if not drop_text or any(header[k] in required or header[k] in numeric for k in bad):
                 grouped = any(_GROUPED.fullmatch(row[k].strip()) for k in bad)
                 decimal_comma = any(_DECIMAL_COMMA.fullmatch(row[k].strip()) for k in bad)
                 hint = (_thousands_hint(['', '000'], 1) if grouped else
