@@ -279,8 +279,10 @@ def test_a_position_in_whole_counts_is_named_as_encoder_counts():
     t = np.arange(2000) / 1000.0
     counts = np.round(4096 / 0.005 * 0.002 * np.sin(2 * np.pi * t))     # 2 mm, 1.2 um a count
     with pytest.raises(DataError, match=r"x holds whole numbers: encoder counts\? --scale x=M "
-                                        r"converts them, M the metres \(or radians\) of one count"):
+                                        r"converts them, M the radians \(2 pi over the counts per "
+                                        r"turn\) or the metres of one count \(") as err:
         check_bounds({"t": t, "x": counts, "force": np.ones_like(t)}, "log.csv")
+    assert "0.001" not in str(err.value)       # no power of 1000: a plausible wrong size
 
 
 def _one_column_log(rng):

@@ -334,13 +334,29 @@ def test_columns_that_map_a_joints_names_make_the_axis_rotary(tmp_path):
     assert json.loads(out.read_text())["training"]["units"] == "rotary"
 
 
-@pytest.mark.parametrize("extra, warned", [([], True), (["--rotary"], False)])
+@pytest.mark.parametrize("extra, warned", [([], True), (["--rotary"], False),
+                                           (["--scale", "x=0.0174533,v=0.0174533"], False)])
 def test_a_joint_logged_in_degrees_gets_one_warning(tmp_path, capsys, extra, warned):
     t = np.arange(0.0, 10.0, 0.002)
     path = _joint_file(tmp_path / "j.csv", "t,q,dq,tau", t, *_sine_joint(t, np.degrees(1.0)))
     assert main(["train", path, *extra, "-o", str(tmp_path / "m.json")]) == 0
-    lines = [line for line in capsys.readouterr().err.splitlines() if "are q and dq in degrees" in line]
+    lines = [line for line in capsys.readouterr().err.splitlines() if "in degrees (--scale" in line]
     assert len(lines) == int(warned)
+    assert all("are its position and speed in degrees (--scale x=0.0174533,v=0.0174533)?" in line
+               for line in lines)
+
+
+def test_a_joints_sweep_in_degrees_is_told_the_scale_of_its_speed_alone(tmp_path, capsys):
+    """A new user's trial: a sweep (speed, torque) in deg/s was told --scale q=...,dq=..., which
+    it has no columns for; the --scale named now trains without the warning."""
+    speeds = np.geomspace(0.5, 2.0, 6)
+    v = np.degrees(np.concatenate([speeds, -speeds]))
+    path = _joint_file(tmp_path / "s.csv", "speed,torque", v, np.sign(v) * (0.8 + 0.002 * np.abs(v)))
+    assert main(["train", path, "-o", str(tmp_path / "m.json")]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "in degrees (--scale" in line]
+    assert len(lines) == 1 and "is it in degrees (--scale v=0.0174533)?" in lines[0]
+    assert main(["train", path, "--scale", "v=0.0174533", "-o", str(tmp_path / "m2.json")]) == 0
+    assert "in degrees" not in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("scale, words", [
@@ -388,3 +404,43 @@ def test_a_hand_edited_rotary_model_is_refused_in_its_own_units(tmp_path):
         FrictionModel.from_dict(d)
     assert re.search(r"Nm s/rad|Nm at \|v\|", str(refused.value)) and "rad/s" in str(refused.value)
     assert not re.search(r"\bN s/m\b|\bm/s\b|\d N\b", str(refused.value))
+
+
+def _drag_sweep(points=15, noise=0.01, seed=1000):
+    """A new user's trial: per direction 0.3 (0.4) Nm + 0.02 v + 0.02 v |v| from 0.1 to 30 rad/s,
+    log-spaced, with noise growing with the force (1 %): a drag rising by decades."""
+    speeds = np.geomspace(0.1, 30.0, points)
+    rng = np.random.default_rng(seed)
+    curves = [(c + 0.02 * speeds + 0.02 * speeds ** 2) * (1 + noise * rng.standard_normal(points))
+              for c in (0.4, 0.3)]
+    return fricgen.Sweep(np.concatenate([speeds, -speeds]), np.concatenate([curves[0], -curves[1]]))
+
+
+def test_the_fast_points_of_a_drag_are_no_gross_outliers():
+    """The line between neighbours cuts a drag's bend by far more than the slow points' noise:
+    judged in log speed and log force, the fast points stay (six of them were left out)."""
+    choice = choose_law(_drag_sweep())
+    assert not any("gross outliers" in line for line in choice.left_out)
+    spiked = _drag_sweep()
+    f = spiked.f.copy()
+    f[5] *= 3.0                                   # a spike (x3 at 0.77 rad/s) is still one
+    choice = choose_law(fricgen.Sweep(spiked.v, f))
+    assert any(line.startswith("1 point: gross outliers") for line in choice.left_out)
+
+
+def test_a_curve_the_textbook_laws_miss_in_few_points_is_given_the_multi_source_fit(tmp_path, capsys):
+    """Long runs of small residuals and a few large ones pass the runs test; the points predicted
+    from their neighbours show the law misses a curve."""
+    from fricgen.fit.law_choice import runs_z, shows_structure
+    drag = _drag_sweep(seed=1001)
+    for sign in (1, -1):                        # the runs test alone misses it, both ways
+        order = np.argsort(np.abs(drag.v[np.sign(drag.v) == sign]))
+        magnitude = sign * drag.f[np.sign(drag.v) == sign][order]
+        speed = np.abs(drag.v[np.sign(drag.v) == sign])[order]
+        assert runs_z(magnitude - fit_law(speed, magnitude, stribeck=True).magnitude(speed)) > -2.0
+    assert shows_structure(drag)
+    speeds = np.geomspace(0.1, 30.0, 15)
+    rng = np.random.default_rng(1001)
+    straight = [c + 0.05 * speeds + 0.01 * rng.standard_normal(15) for c in (0.4, 0.3)]
+    assert not shows_structure(fricgen.Sweep(np.concatenate([speeds, -speeds]),
+                                             np.concatenate([straight[0], -straight[1]])))

@@ -250,9 +250,11 @@ def warn_degrees(args, columns, warn=say) -> None:
     JOINT_SPEED_MAX (``data.plausibility.top_speed``): q and dq in degrees read as rad."""
     top = (top_speed(columns) or ("", 0.0))[1]
     if top > JOINT_SPEED_MAX:
+        scale = ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
         warn(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
-            f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: are q and dq in "
-            f"degrees (--scale q={DEGREE:.6g},dq={DEGREE:.6g})? A motor shaft this fast: --rotary says so")
+            f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: "
+            f"{'are its position and speed' if ',' in scale else 'is it'} in degrees (--scale "
+            f"{scale})? A motor shaft this fast: --rotary says so")
 
 
 def check_force_held(args, columns) -> None:

@@ -91,13 +91,11 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
     return f"; {named}--scale {column}={factor:g} converts it{rotary}"
 
 
-def _counts_hint(quantity: str, value: float) -> str:
-    """The hint for a position of whole numbers too fast for metres: the encoder's counts, whose
-    size no power of 1000 need give."""
-    factor = _unit_factor(quantity, value)
-    within = "" if factor is None else f"; {factor:g} would bring the speed within bounds"
-    return ("; x holds whole numbers: encoder counts? --scale x=M converts them, M the metres (or "
-            f"radians) of one count{within}")
+#: The hint for a position of whole numbers too fast for the axis: the encoder's counts, whose
+#: size no power of 1000 gives (a power that brings the speed within bounds is a plausible
+#: wrong one: 2^16 counts a turn are 9.59e-5 rad each, not 0.001).
+COUNTS_HINT = ("; x holds whole numbers: encoder counts? --scale x=M converts them, M the radians "
+               "(2 pi over the counts per turn) or the metres of one count")
 
 
 def _whole_numbers(values: np.ndarray) -> bool:
@@ -151,7 +149,7 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
         problem = physical_problem(quantity, what, value)
         if problem:
             counts = column == "x" and _whole_numbers(columns["x"])
-            hint = given or (_counts_hint(quantity, value) if counts else
+            hint = given or (COUNTS_HINT if counts else
                              _unit_hint(column, quantity, value))
             _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
         elif usual_max(quantity) is not None and unusual(quantity, what, value, column):

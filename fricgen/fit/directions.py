@@ -62,7 +62,8 @@ class DirectionsFit:
     """The fitted curves ((both) or (positive, negative)) and how the choice was made."""
 
     fits: Tuple[FittedDirection, ...]
-    chosen_by: str      # "forced", "cross-validation [in blocks of time]", "one direction only"
+    chosen_by: str      # "forced", "cross-validation [in blocks of time]", "one direction only",
+    #                     law_choice.TEXTBOOK_ASYMMETRY
     cv_rmse: Optional[Tuple[float, float]] = None   # (symmetric, asymmetric), N
 
     @property

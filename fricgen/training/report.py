@@ -20,7 +20,7 @@ from ..data.sweep import Sweep
 from ..data.training_set import SAT_FACTOR
 from ..fit import DefaultRegressor, StribeckRegressor
 from ..fit.directions import CV_FOLDS, DirectionsFit
-from ..fit.law_choice import LawChoice
+from ..fit.law_choice import TEXTBOOK_ASYMMETRY, LawChoice
 from ..fit.load_temperature import DependenceFit
 from ..fit.textbook import TextbookRegressor
 from ..units import LINEAR
@@ -250,6 +250,9 @@ def choice_line(fitted: DirectionsFit, log: bool = False, unit: str = "N") -> st
                 "other direction, which the data do not show" if log else "")
     if fitted.chosen_by.startswith("asymmetric model not fittable"):
         return f"symmetry {kind}: the {fitted.chosen_by}"
+    if fitted.chosen_by == TEXTBOOK_ASYMMETRY:
+        return (f"symmetry {kind}: the textbook laws per direction beat their symmetric twins "
+                "beyond the noise")
     if fitted.cv_rmse is None:
         return f"symmetry {kind}, as asked"
     sym, asym = fitted.cv_rmse
@@ -274,5 +277,7 @@ def stribeck_warning(ident: Identification, fits, units=LINEAR) -> str:
         if slowest > 0.5 * vs_max:
             return (f"warning: the log's slowest speed ({slowest:.3g} {units.speed}) is above vs_max / 2 = "
                     f"{0.5 * vs_max:.3g} {units.speed}; too narrow a velocity range to identify the Stribeck "
-                    "region (log slower motion)")
+                    f"region (log slower steady motion: rows within half a smoothing window, "
+                    f"{500 * ident.window * ident.sample_time:.3g} ms, of a reversal or a stop are left "
+                    "out, their smoothed force mixing both directions)")
     return ""

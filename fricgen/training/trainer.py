@@ -21,8 +21,8 @@ from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import (STRUCTURE_POINTS, choose_law, point_weights, shows_structure,
-                              testable)
+from ..fit.law_choice import (STRUCTURE_POINTS, TEXTBOOK_ASYMMETRY, asymmetry_evident,
+                              choose_law, point_weights, shows_structure, testable)
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, stribeck_warning
@@ -132,18 +132,30 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
     multi-source fit, the simplest within the noise of the best kept. Returns the fit, the
     identification (its offset made a load where the multi-source curves would push the
     axis) and the choice."""
-    rich, reason = None, ""
+    rich, reason, evident, known = None, "", False, {}
     weight = point_weights(sweep, *spread)
     if ident is None and not shows_structure(sweep, weight):
         reason = ("multi-source fit: not tried, the textbook law's residuals run along the speed "
-                  "as chance does (no curve left for it to find)" if testable(sweep) else
+                  "as chance does and are no larger than the points' from their neighbours (no "
+                  "curve left for it to find)" if testable(sweep) else
                   f"multi-source fit: not tried, no curve has the {STRUCTURE_POINTS} points "
                   "a test of the textbook law's residuals needs")
     else:
+        # a sweep whose textbook laws already tell the directions apart: the multi-source
+        # curves per direction, without cross-validating their symmetry
+        if asymmetric is None and ident is None:
+            evident, known = asymmetry_evident(sweep, weight, seed)
+        options = dict(vs_max=vs_max, seed=seed, progress=progress)
         try:
-            rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
-                                                   asymmetric=asymmetric, seed=seed,
-                                                   progress=progress)
+            try:
+                rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, **options,
+                                                       asymmetric=True if evident else asymmetric)
+                rich = replace(rich, chosen_by=TEXTBOOK_ASYMMETRY) if evident else rich
+            except DataError:
+                if not evident:
+                    raise               # else a direction cannot have a curve of its own
+                rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, **options,
+                                                       asymmetric=asymmetric)
         except (DataError, ValueError) as exc:  # ValueError: the estimator found no admissible fit
             reason = f"multi-source fit: {exc}"
     error = None if rich is None else _check_error(rich)
@@ -155,7 +167,7 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
                                         offset=ident.offset_in_friction,
                                         blocks=BLOCK_WINDOWS * ident.window)
     choice = choose_law(sweep, weight, rich, reason, seed=seed,
-                        asymmetric=asymmetric, **log)
+                        asymmetric=asymmetric, known=known, **log)
     if choice.fit.chosen_by == "textbook" and choice.fit.asymmetric and ident is not None \
             and ident.offset_in_friction:
         ident = ident.as_load("textbook")   # the textbook curves leave the offset out
