@@ -469,7 +469,9 @@ class FrictionModel:
         elif symmetric is not True:
             raise ModelError(f"symmetric must be true or false, got {symmetric!r}"[:200])
         elif "negative" in d:
-            raise ModelError("field 'negative' belongs to an asymmetric model (symmetric: false)")
+            raise ModelError("the model says symmetric: true, yet holds a curve 'negative' of v < 0, "
+                             "which only an asymmetric model (symmetric: false) has: one of the two "
+                             "was edited")
         effects = validate_effects(d.get("effects", []))
         training = d.get("training", {})
         if not isinstance(training, dict):

@@ -75,7 +75,8 @@ def _mutations():
     yield "negative bad kind", lambda d: d["negative"]["aim"].__setitem__("kind", "svm"), "aim.kind"
     yield "negative no scaling", lambda d: d["negative"].pop("scaling"), "negative: missing"
     yield "symmetric a string", lambda d: d.__setitem__("symmetric", "no"), "true or false"
-    yield "negative in a symmetric model", lambda d: d.__setitem__("symmetric", True), "symmetric: false"
+    yield "negative in a symmetric model", lambda d: d.__setitem__("symmetric", True), \
+        "says symmetric: true, yet holds a curve .negative. of v < 0"
     yield "negative in version 1", lambda d: d.__setitem__("format_version", 1), "symmetric must be true"
     yield "version 3 without inputs", lambda d: d.__setitem__("format_version", 3), "needs format_version 3"
 

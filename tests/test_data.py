@@ -27,11 +27,22 @@ def test_training_set_has_the_two_added_points(bench, paper_friction):
     slowest = np.sort(bench.train.v)[:4]
     f_slowest = bench.train.f[np.argsort(bench.train.v)[:4]]
     assert d.x[0] == 0.0
-    assert d.t[0] == pytest.approx(d.scaling.k_out * f_slowest.mean())
+    assert d.t[0] == pytest.approx(d.scaling.k_out * (f_slowest - d.viscous * slowest).mean())
     assert slowest.max() < 0.06
     assert d.x[-1] == pytest.approx(1.0)
     f_sat = float(paper_friction(0.06))
     assert d.t[-1] == pytest.approx(d.scaling.k_out * (f_sat - d.viscous * 0.06))
+
+
+def test_the_point_at_rest_carries_no_viscous_force_of_the_slowest_speed():
+    """A log whose slowest steady speed is far from rest (a 67 Hz log's reversals leave out
+    everything below 1.8 rad/s): the point added at v = 0 holds the curve less its viscous line
+    at the slowest rows, so that the model does not add B v_min there a second time (a hump
+    of B v_min below the data: 2.8 Nm where the truth was 1.4)."""
+    v = np.linspace(1.8, 7.0, 200)
+    f = 0.4 + 1.3 * v                               # Coulomb + viscous, no Stribeck drop
+    d = prepare(Sweep(v, f), vs_max=1.5)            # B from the rows beyond 4.5 rad/s
+    assert d.t[0] / d.scaling.k_out == pytest.approx(0.4, abs=0.02)
 
 
 def test_normalization_defaults(bench):

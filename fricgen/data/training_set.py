@@ -120,7 +120,8 @@ def prepare(sweep: Sweep, vs_max: Union[None, float, StribeckRange] = None, f_sa
 
     The sweep is folded (symmetric model). Rows with |v| > v_sat = 3 vs_max identify B by linear
     regression (unless ``viscous`` is given); rows within [0, v_sat] become training data, with the
-    two added points (0, mean force of the four slowest rows) and (v_sat, f_sat). K_in = 1/v_sat,
+    two added points (0, mean force of the four slowest rows less their B v: the curve less its
+    viscous line held flat from them to rest) and (v_sat, f_sat). K_in = 1/v_sat,
     K_out = 1/max(t) over the points that are no gross outliers. Without ``vs_max`` it is chosen by
     cross-validation (``choose_vs_max``); where the data have no linear high-speed region, B is
     fitted with the rest and v_sat is the fastest speed.
@@ -202,7 +203,9 @@ def _prepare(folded: Sweep, vs_max: float, f_sat, viscous, max_points: int,
     slowest = np.argsort(low.v)[:4] if n_rows <= bins else None   # binned: low.f[0] instead
     low = bin_equal_counts(low, bins)
     v = np.concatenate([[0.0], low.v, [v_sat]])
-    f = np.concatenate([[low.f[slowest].mean() if n_rows == len(low) else low.f[0]], low.f, [f_sat]])
+    rest = (low.f[slowest] - viscous * low.v[slowest]).mean() if n_rows == len(low) else \
+        low.f[0] - viscous * low.v[0]           # at v = 0: no B v of the slowest rows' speed
+    f = np.concatenate([[rest], low.f, [f_sat]])
     k_in = 1.0 / v_sat
     t_raw = f - viscous * v
     peak = np.max(t_raw[~gross_outliers(v, t_raw)])         # a spike must not set the scale
