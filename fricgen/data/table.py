@@ -178,8 +178,9 @@ def read_table_csv(path: Union[str, Path], required: Sequence[str],
     is streamed: memory holds the numbers, not the text. Finiteness and lengths are for the
     caller to judge. The first ``skip`` lines (an export's preamble) are passed over unread;
     line numbers in messages count them. With ``drop_text``, an extra column holding text is
-    left out instead of refused, unless it is one of the ``numeric`` names (a quantity's). Without ``skip`` a preamble is found (``header_skip``);
-    ``delimiter`` (a value of ``DELIMITERS``) and ``decimal_comma`` force the dialect.
+    left out instead of refused, unless it is one of the ``numeric`` names (a quantity's).
+    Without ``skip`` a preamble is found (``header_skip``); ``delimiter`` (a value of
+    ``DELIMITERS``) and ``decimal_comma`` force the dialect.
     A blank cell of a ``sparse`` column (a signal logged at a slower rate) reads as NaN.
     """
     try:

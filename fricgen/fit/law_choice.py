@@ -242,7 +242,6 @@ def shows_structure(sweep: Sweep, weight: Optional[np.ndarray] = None) -> bool:
     return False
 
 
-
 def folds_for(v: np.ndarray, seed, blocks: int) -> np.ndarray:
     """The fold of each moving row of velocity ``v``: a log's contiguous blocks, else
     ``row_folds``' random partition (``cross_validate``'s own); on a small sweep one point
