@@ -206,7 +206,7 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         sparse = [h for h, name in rename.items() if name == "temperature"] or ["temperature", "temp"]
         raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text,
                              delimiter=layout.delimiter, decimal_comma=layout.decimal_comma,
-                             sparse=sparse, numeric=list(KNOWN_NAMES) + ["f_std", "n"])
+                             sparse=sparse, numeric={*KNOWN_NAMES, *KNOWN_NAMES.values()})
     columns = {}
     for header, values in raw.items():
         name = rename.get(header, header)

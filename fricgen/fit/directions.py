@@ -37,6 +37,10 @@ BLOCK_WINDOWS = 10
 BLOCKS_PER_FOLD = 4
 #: Training points per direction in a cross-validation fit (binned as ``prepare`` does).
 CV_POINTS = 512
+#: ``DirectionsFit.chosen_by`` of curves made per direction without cross-validating their
+#: symmetry, the textbook laws having already told the directions apart
+#: (``law_choice.asymmetry_evident``).
+TEXTBOOK_ASYMMETRY = "the textbook laws' asymmetry"
 #: The asymmetric model's mean gain must exceed this fraction of the symmetric model's error.
 CV_MARGIN = 0.01
 #: ... and this many standard errors of the paired fold differences.
@@ -63,7 +67,7 @@ class DirectionsFit:
 
     fits: Tuple[FittedDirection, ...]
     chosen_by: str      # "forced", "cross-validation [in blocks of time]", "one direction only",
-    #                     law_choice.TEXTBOOK_ASYMMETRY
+    #                     TEXTBOOK_ASYMMETRY
     cv_rmse: Optional[Tuple[float, float]] = None   # (symmetric, asymmetric), N
 
     @property
@@ -192,11 +196,13 @@ def _direction_vs_max(half: Sweep, sweep: Sweep, vs_max: Optional[float], blocks
 def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                    asymmetric: Optional[bool] = None, seed=0, per_direction=None,
                    blocks: int = 0, independence: float = 1.0, offset: float = 0.0,
-                   progress: Optional[Callable[[str], None]] = None) -> DirectionsFit:
+                   progress: Optional[Callable[[str], None]] = None,
+                   evident: bool = False) -> DirectionsFit:
     """Fit one curve (symmetric) or two (asymmetric, each by ``per_direction``, default
     ``estimator``); ``asymmetric`` None chooses by cross-validation (in contiguous ``blocks`` of
     rows, ``row_folds``, for a log's samples in time order; its folds told to ``progress``),
-    True or False forces the model. Without ``vs_max`` each curve's is chosen on the same kind
+    or, where the directions are ``evident``\ly apart, takes the two curves without it whenever
+    each direction can have its own (``TEXTBOOK_ASYMMETRY``); True or False forces the model. Without ``vs_max`` each curve's is chosen on the same kind
     of folds. ``independence`` (the share of an independent sample in a row, a smoothed log's)
     bins each curve's training set to its effective samples (``prepare``). With data in one
     direction only the model is symmetric (``DataError`` if the asymmetric one was asked for);
@@ -221,7 +227,7 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
             reason = "one direction only" if one_direction else f"asymmetric model not fittable: {exc}"
             return DirectionsFit((_fit(level, estimator, _vs_max(level, vs_max, blocks), None,
                                        independence),), reason)
-    if asymmetric is None:
+    if asymmetric is None and not evident:
         both = _vs_max(level, vs_max, blocks)
         mse, whole = cross_validate(sweep, estimator, (both, *vs_dirs), seed=seed,
                                     per_direction=per_direction, blocks=blocks,
@@ -233,11 +239,12 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
                                        done=whole[0]),), how, cv)
         return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence, done=done)
                                    for h, vs, done in zip(halves, vs_dirs, whole[1:])), how, cv)
-    if not asymmetric:
+    if asymmetric is False:
         return DirectionsFit((_fit(level, estimator, _vs_max(level, vs_max, blocks), None,
                                    independence),), "forced")
     return DirectionsFit(tuple(_fit(h, per_direction, vs, None, independence)
-                               for h, vs in zip(halves, vs_dirs)), "forced")
+                               for h, vs in zip(halves, vs_dirs)),
+                         "forced" if asymmetric else TEXTBOOK_ASYMMETRY)
 
 
 def within_budget(estimator, budget: int):
@@ -255,7 +262,7 @@ def within_budget(estimator, budget: int):
 
 
 def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max=None,
-                 asymmetric=None, seed=0, progress=None) -> DirectionsFit:
+                 asymmetric=None, seed=0, progress=None, evident: bool = False) -> DirectionsFit:
     """``fit_directions`` as ``fricgen train`` runs it. For a log (``ident``, its
     ``Identification``): cross-validation in blocks of BLOCK_WINDOWS smoothing windows of time,
     training sets binned to the
@@ -264,7 +271,7 @@ def fit_friction(sweep: Sweep, estimator, per_direction=None, ident=None, vs_max
     friction samples out (``Identification.offset_in_friction``, ``fit_directions``' ``offset``)."""
     if ident is None:
         return fit_directions(sweep, estimator, vs_max=vs_max, asymmetric=asymmetric, seed=seed,
-                              per_direction=per_direction, progress=progress)
+                              per_direction=per_direction, progress=progress, evident=evident)
     per_direction = estimator if per_direction is None else per_direction
     return fit_directions(sweep, within_budget(estimator, ident.parameter_budget), vs_max=vs_max,
                           asymmetric=asymmetric, seed=seed,

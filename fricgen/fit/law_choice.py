@@ -55,9 +55,6 @@ NEIGHBOURS_BEAT = 2.0
 #: Fewest paired held-out folds on which one candidate can beat another: the standard error of
 #: fewer differences is itself a guess (a sweep of 3 points a side holds out its 2 middle ones).
 MIN_PAIRED = 3
-#: ``DirectionsFit.chosen_by`` of a multi-source fit made per direction because the textbook
-#: laws already tell the directions apart (``asymmetry_evident``).
-TEXTBOOK_ASYMMETRY = "the textbook laws' asymmetry"
 #: The textbook floor: kept unless another candidate beats it clearly (the law of the
 #: engineer's spreadsheet; symmetric Coulomb + viscous where the data move one way).
 ANCHOR = "Coulomb + viscous, per direction"

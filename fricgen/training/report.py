@@ -19,8 +19,8 @@ from ..data.outliers import OUTLIER_SIGMAS
 from ..data.sweep import Sweep
 from ..data.training_set import SAT_FACTOR
 from ..fit import DefaultRegressor, StribeckRegressor
-from ..fit.directions import CV_FOLDS, DirectionsFit
-from ..fit.law_choice import TEXTBOOK_ASYMMETRY, LawChoice
+from ..fit.directions import CV_FOLDS, TEXTBOOK_ASYMMETRY, DirectionsFit
+from ..fit.law_choice import LawChoice
 from ..fit.load_temperature import DependenceFit
 from ..fit.textbook import TextbookRegressor
 from ..units import LINEAR

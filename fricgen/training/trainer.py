@@ -21,8 +21,8 @@ from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import (STRUCTURE_POINTS, TEXTBOOK_ASYMMETRY, asymmetry_evident,
-                              choose_law, point_weights, shows_structure, testable)
+from ..fit.law_choice import (STRUCTURE_POINTS, asymmetry_evident, choose_law, point_weights,
+                              shows_structure, testable)
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, stribeck_warning
@@ -145,17 +145,10 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
         # curves per direction, without cross-validating their symmetry
         if asymmetric is None and ident is None:
             evident, known = asymmetry_evident(sweep, weight, seed)
-        options = dict(vs_max=vs_max, seed=seed, progress=progress)
         try:
-            try:
-                rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, **options,
-                                                       asymmetric=True if evident else asymmetric)
-                rich = replace(rich, chosen_by=TEXTBOOK_ASYMMETRY) if evident else rich
-            except DataError:
-                if not evident:
-                    raise               # else a direction cannot have a curve of its own
-                rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, **options,
-                                                       asymmetric=asymmetric)
+            rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
+                                                   asymmetric=asymmetric, seed=seed,
+                                                   progress=progress, evident=evident)
         except (DataError, ValueError) as exc:  # ValueError: the estimator found no admissible fit
             reason = f"multi-source fit: {exc}"
     error = None if rich is None else _check_error(rich)
