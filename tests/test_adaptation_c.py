@@ -3,10 +3,10 @@ generates: strict build, emit unchanged without --adapt, and the whole adapted c
 bit-equal to its float32 twin (fricgen.control.adaptation with dtype="float32").
 
 Bit-equality: the C and the twin perform the same float operations in the same order. With
---activation-impl fast no libm function is involved, so equality is exact by construction; with
-libm the twin takes expf as correctly rounded; glibc's expf is, for every argument met in the
-short loops here (compared bit for bit), but over 60 s it is 1 ULP off somewhere and the
-trajectories part by ~1e-10 m (measured), so the 60 s loops are the fast ones, bit for bit."""
+--activation-impl fast no libm function is involved, so equality is exact by construction on
+every platform: the step-for-step tests use it (EXACT). With libm the twin takes expf as
+correctly rounded and a libm's expf may differ by 1 ULP (glibc's does for 82 of 100000
+regressor calls), so the libm loops are compared within the twin's bound, never bit for bit."""
 import re
 import shutil
 import subprocess
@@ -30,6 +30,8 @@ from fricgen.model import FrictionModel
 from fricgen._io import resource_dir
 
 CC = shutil.which("cc") or shutil.which("gcc")
+#: The activation of the step-for-step tests: no libm call, so C and twin agree bit for bit.
+EXACT = "fast"
 pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
 
 
@@ -173,14 +175,19 @@ def _parity(model, impl, rule, duration):
     return twin, c, runs
 
 
-@pytest.mark.parametrize("impl, rule, kind", [("fast", "rls", "elm"), ("libm", "lyapunov", "grey")])
+@pytest.mark.parametrize("impl, rule, kind", [("fast", "rls", "elm"), ("fast", "lyapunov", "grey"),
+                                              ("libm", "lyapunov", "grey")])
 def test_c_adapted_loop_is_bit_equal_to_the_twin(default_model, grey_model, impl, rule, kind):
+    """Bit for bit with the fast activation; with libm's expf (within 1 ULP of the twin's
+    correctly rounded one) within 1e-4 of the current, as the offset test below argues."""
     model = default_model if kind == "elm" else grey_model
     twin, c, (py, cc) = _parity(model, impl, rule, 1.5)
     assert py.finite and cc.finite
-    np.testing.assert_array_equal(py.x, cc.x)
-    np.testing.assert_array_equal(py.i, cc.i)
-    np.testing.assert_array_equal(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
+    check = np.testing.assert_array_equal if impl == EXACT else (
+        lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-3, atol=1e-5))
+    check(py.x, cc.x)
+    check(py.i, cc.i)
+    check(np.asarray(twin.adapter.theta_), np.float32(c.theta_))
     assert not np.array_equal(np.asarray(twin.adapter.theta_), twin.adapter._theta0)  # it adapted
 
 
@@ -211,9 +218,10 @@ def test_the_estimates_hold_at_rest_and_while_the_axis_catches_up(default_model,
     """m_o_hat and k_hat (and Lyapunov's theta) do not adapt on the velocity error of a stick,
     |v| < v_dead, nor for SETTLE / k1 after it (37 samples at k1 = 80, Ts = 1 ms): the C and
     its twin, step for step."""
-    module = build_adapted(default_model)
-    twin = adapted(default_model, rule, dtype="float32").reset()
-    c = CAdaptedController(module, adapted(default_model, rule, dtype="float32")).reset()
+    module = build_adapted(default_model, activation_impl=EXACT)
+    twin = adapted(default_model, rule, dtype="float32", activation_impl=EXACT).reset()
+    c = CAdaptedController(module, adapted(default_model, rule, dtype="float32",
+                                           activation_impl=EXACT)).reset()
     a0, theta0 = twin.adaptive_parameters, np.asarray(twin.adapter.theta_).copy()
     held = int(SETTLE / twin.controller.k1 / twin.controller.ts)
     behind = (0.0, 1e-3, 0.05, 1.0)                 # x, xd, xd', xd'': 1 mm behind, e2 0.08 m/s
@@ -238,10 +246,11 @@ def test_without_the_hold_the_estimates_adapt_through_the_stick(default_model, r
     """hold_at_rest=False (fric_adapt_params_t.hold_at_rest = 0): the same stick and catch-up
     move m_o_hat and k_hat from the first step on, and Lyapunov's theta once the axis moves,
     in the C as in its twin, step for step."""
-    module = build_adapted(default_model)
-    twin = adapted(default_model, rule, dtype="float32", hold_at_rest=False).reset()
+    module = build_adapted(default_model, activation_impl=EXACT)
+    twin = adapted(default_model, rule, dtype="float32", activation_impl=EXACT,
+                   hold_at_rest=False).reset()
     c = CAdaptedController(module, adapted(default_model, rule, dtype="float32",
-                                           hold_at_rest=False)).reset()
+                                           activation_impl=EXACT, hold_at_rest=False)).reset()
     a0, theta0 = twin.adaptive_parameters, np.asarray(twin.adapter.theta_).copy()
     behind = (0.0, 1e-3, 0.05, 1.0)
     for v in [0.0] * 5 + [0.05] * 5:
@@ -376,10 +385,11 @@ def test_the_adapted_sample_step_is_the_positional_step_bit_for_bit(default_mode
 def test_c_clamps_an_outlier_and_keeps_the_force_in_its_band_as_the_twin(default_model, rule):
     """A finite outlier (1e20) moves theta one clamped step, bit-equal to the twin; with theta at
     a corner of its box the force stays within the band, bit-equal too."""
-    module = build_adapted(default_model)
+    module = build_adapted(default_model, activation_impl=EXACT)
     lib, ffi = module.lib, module.ffi
     reg = ffi.addressof(lib, "fm_regressor")
-    twin = FrictionAdapter(default_model, rule, dtype="float32", band=3.0).reset()
+    twin = FrictionAdapter(default_model, rule, dtype="float32", band=3.0,
+                           activation_impl=EXACT).reset()
     a = _c_adapter(module, twin)
     update = lib.fric_adapt_lyapunov if rule == "lyapunov" else lib.fric_adapt_rls
     assert update(a, reg, 1e20, 1.0, 0) == FLAGS.value("out of range") == getattr(twin, rule)(1e20, 1.0)
@@ -398,9 +408,10 @@ def test_c_clamps_an_outlier_and_keeps_the_force_in_its_band_as_the_twin(default
 def test_rls_is_held_when_this_step_saturates(default_model):
     """A glitch of v (+0.5 m/s) that saturates the controller moves no parameter, in C and in
     the twin (the update is gated on this step, not the last)."""
-    module = build_adapted(default_model)
-    twin = adapted(default_model, "rls", dtype="float32")
-    c = CAdaptedController(module, adapted(default_model, "rls", dtype="float32"))
+    module = build_adapted(default_model, activation_impl=EXACT)
+    twin = adapted(default_model, "rls", dtype="float32", activation_impl=EXACT)
+    c = CAdaptedController(module, adapted(default_model, "rls", dtype="float32",
+                                           activation_impl=EXACT))
     for ctrl in (twin.reset(), c.reset()):
         for k in range(200):
             t = k * 1e-3
@@ -416,9 +427,10 @@ def test_the_sample_after_a_glitch_is_held_not_an_input_fault(default_model):
     """RLS observes the friction over the last sample: after a NaN (or a huge finite) v, the
     next, clean, sample's update is held, never flagged an input fault (the flag of a refused
     input), in C and in the twin (a firmware engineer's trial)."""
-    module = build_adapted(default_model)
-    twin = adapted(default_model, "rls", dtype="float32")
-    c = CAdaptedController(module, adapted(default_model, "rls", dtype="float32"))
+    module = build_adapted(default_model, activation_impl=EXACT)
+    twin = adapted(default_model, "rls", dtype="float32", activation_impl=EXACT)
+    c = CAdaptedController(module, adapted(default_model, "rls", dtype="float32",
+                                           activation_impl=EXACT))
     for glitch in (float("nan"), 3e38):
         for ctrl in (twin.reset(), c.reset()):
             for k in range(50):
