@@ -10,7 +10,7 @@ import pytest
 import fricgen
 from fricgen.cli import main
 from fricgen.fit.law_choice import choose_law, point_weights
-from fricgen.fit.textbook import fit_law
+from fricgen.fit.textbook import _design, _grid_rss, _solve, fit_law
 from fricgen.model import FrictionModel
 
 
@@ -24,6 +24,23 @@ def sweep_of(n, seed, noise=0.02, pos=(2.0, 2.6, 0.05, 1.5), neg=(1.6, 2.1, 0.03
     v = np.geomspace(0.002, 1.5, n)
     return {"v": np.concatenate([v, -v]),
             "f": np.concatenate([law(v, *pos), -law(v, *neg)]) + noise * rng.standard_normal(2 * n)}
+
+
+@pytest.mark.parametrize("shape", ["gauss", "exponential"])
+def test_the_grid_of_stribeck_velocities_scores_as_the_non_negative_solve(shape):
+    """All v_s of the grid at once (unconstrained where every coefficient is >= 0) give the
+    residual of the non-negative least squares at each: also where the unconstrained solution
+    has a coefficient < 0 (a force rising from far below its Coulomb level, a line with a
+    negative intercept)."""
+    rng = np.random.default_rng(3)
+    speed = np.geomspace(0.002, 1.5, 40)
+    w = np.sqrt(rng.uniform(0.5, 2.0, speed.size))
+    grid = np.geomspace(speed.min(), speed.max() / 3, 24)
+    for force in (law(speed, 2.0, 2.6, 0.05, 1.5), law(speed, 2.0, -0.5, 0.05, 1.5),
+                  1.5 * speed - 0.3):
+        force = force + 0.02 * rng.standard_normal(speed.size)
+        each = [_solve(_design(speed, vs, shape), force, w)[1] for vs in grid]
+        np.testing.assert_allclose(_grid_rss(speed, force, w, shape, grid), each, rtol=1e-9)
 
 
 def test_the_law_and_its_standard_errors_recover_the_truth():

@@ -105,6 +105,25 @@ def _solve(columns: np.ndarray, force: np.ndarray, root_w: np.ndarray):
     return sol.x, float(r @ r)
 
 
+def _grid_rss(speed, force, root_w, shape: str, grid: np.ndarray) -> np.ndarray:
+    """The weighted residual sum of squares of the Stribeck law at each v_s of ``grid``, as
+    ``_solve`` gives it: the unconstrained least squares of all grid points at once (the
+    non-negative solution wherever its coefficients are all >= 0), ``_solve`` at the others."""
+    g = SHAPES[shape](speed[None, :], grid[:, None])
+    a = np.stack([1.0 - g, g, np.broadcast_to(speed, g.shape)], axis=2) * root_w[None, :, None]
+    b = force * root_w
+    at = a.transpose(0, 2, 1)
+    try:
+        coef = np.linalg.solve(at @ a, (at @ b)[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        coef = np.full((grid.size, 3), -1.0)
+    r = np.einsum("knj,kj->kn", a, coef) - b
+    rss = np.einsum("kn,kn->k", r, r)
+    for k in np.flatnonzero(~(np.all(coef >= 0, axis=1) & np.isfinite(rss))):
+        rss[k] = _solve(_design(speed, grid[k], shape), force, root_w)[1]
+    return rss
+
+
 def _design(speed, v_s=None, shape=None) -> np.ndarray:
     if v_s is None:
         return np.column_stack([np.ones_like(speed), speed])
@@ -163,7 +182,7 @@ def fit_law(speed, force, weight=None, stribeck: bool = False,
         coef, rss = _solve(_design(speed, vs, shape), force, root_w)
         best = (rss, shape, vs, coef)
     for shape in STRIBECK_SHAPES if pinned is None else ():
-        scores = [_solve(_design(speed, vs, shape), force, root_w)[1] for vs in grid]
+        scores = _grid_rss(speed, force, root_w, shape, grid)
         k = int(np.argmin(scores))
         lo, hi = np.log(grid[max(k - 1, 0)]), np.log(grid[min(k + 1, grid.size - 1)])
         found = minimize_scalar(lambda u: _solve(_design(speed, np.exp(u), shape), force, root_w)[1],
