@@ -4,13 +4,16 @@ A point is a gross outlier when its residual from a robust fit lies further than
 OUTLIER_SIGMAS robust standard deviations (1.4826 MAD, ``robust_scale``) from it. The high-speed
 rows of B are judged against a Theil-Sen line (``fricgen.data.training_set.identify_viscous``),
 the [F9] training set against a running median over the points in order of x, which no
-isolated spike moves. A running median lags where the curve is steepest (a narrow Stribeck drop
+isolated spike moves (a Theil-Sen line where the points are too few for its window:
+``line_outliers``). A running median lags where the curve is steepest (a narrow Stribeck drop
 next to v = 0), so its suspects are confirmed against a smooth model fitted to every point (``unexplained``;
 the default's [F1], which no isolated spike bends): a suspect that it explains within
 OUTLIER_SIGMAS of its robust residual spread on the other points is kept. Bounded noise, such as the benchmark's uniform +-0.5 N, is never
 rejected.
 """
 from __future__ import annotations
+
+from typing import Tuple
 
 import numpy as np
 
@@ -21,6 +24,8 @@ OUTLIER_SIGMAS = 6.0
 SCALE_FLOOR = 1e-3
 #: Points in the running median's window (odd): a spike is outvoted unless 4 meet in one window.
 MEDIAN_WINDOW = 7
+#: Fewest points ``line_outliers`` judges: with fewer, a line through the others is no judge.
+LINE_POINTS = 5
 
 
 def robust_scale(residual: np.ndarray, values: np.ndarray) -> float:
@@ -73,6 +78,33 @@ def gross_outliers(x, t, sigmas: float = OUTLIER_SIGMAS, window: int = MEDIAN_WI
     if not scale > 0:
         return np.zeros(x.size, dtype=bool)
     return (residual > sigmas * scale) & inner_points(x)
+
+
+def theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
+    """A line through (v, f) that gross outliers cannot move: the median of pairwise slopes
+    over at most ``most`` rows spread over the velocity order, and the median intercept."""
+    order = np.argsort(v)
+    pick = order[np.unique(np.linspace(0, v.size - 1, min(most, v.size)).astype(int))]
+    dv = v[pick][:, None] - v[pick][None, :]
+    df = f[pick][:, None] - f[pick][None, :]
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):   # ties: masked out
+        slopes = (df / dv)[np.triu(dv != 0, 1)]
+    slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
+    with np.errstate(over="ignore", invalid="ignore"):
+        return slope, float(np.median(f - slope * v))
+
+
+def line_outliers(x, t, sigmas: float = OUTLIER_SIGMAS) -> np.ndarray:
+    """``gross_outliers`` for points too few for a running median (LINE_POINTS up to 2
+    MEDIAN_WINDOW): those off the Theil-Sen line (``theil_sen``) by more than ``sigmas`` robust
+    standard deviations of its residuals, the points at the smallest and the largest x never. A
+    curve that bends off a line gives suspects too: ``unexplained`` confirms them."""
+    x, t = np.asarray(x, dtype=float), np.asarray(t, dtype=float)
+    if x.size < LINE_POINTS:
+        return np.zeros(x.size, dtype=bool)
+    slope, intercept = theil_sen(x, t)
+    residual = np.abs(t - intercept - slope * x)
+    return (residual > sigmas * robust_scale(residual, t)) & inner_points(x)
 
 
 def unexplained(t, suspects, predictions, sigmas: float = OUTLIER_SIGMAS) -> np.ndarray:

@@ -2,32 +2,16 @@
 binning of many rows into means of equal counts."""
 from __future__ import annotations
 
-from typing import Tuple
-
 import numpy as np
 
 from ..errors import DataError
-from .outliers import OUTLIER_SIGMAS, robust_scale
+from .outliers import OUTLIER_SIGMAS, robust_scale, theil_sen
 from .sweep import Sweep
 
 #: Fewest high-speed rows (|v| > v_sat) the regression for B needs.
 MIN_HIGH_SPEED_ROWS = 5
 #: v_sat = SAT_FACTOR * vs_max: beyond it g(v, v_s) ~ 0 and [F3] saturates the network input.
 SAT_FACTOR = 3.0
-
-
-def _theil_sen(v: np.ndarray, f: np.ndarray, most: int = 400) -> Tuple[float, float]:
-    """A line through (v, f) that gross outliers cannot move: the median of pairwise slopes
-    over at most ``most`` rows spread over the velocity order, and the median intercept."""
-    order = np.argsort(v)
-    pick = order[np.unique(np.linspace(0, v.size - 1, min(most, v.size)).astype(int))]
-    dv = v[pick][:, None] - v[pick][None, :]
-    df = f[pick][:, None] - f[pick][None, :]
-    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):   # ties: masked out
-        slopes = (df / dv)[np.triu(dv != 0, 1)]
-    slope = float(np.median(slopes[np.isfinite(slopes)])) if np.isfinite(slopes).any() else 0.0
-    with np.errstate(over="ignore", invalid="ignore"):
-        return slope, float(np.median(f - slope * v))
 
 
 def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
@@ -67,7 +51,7 @@ def identify_viscous(high: Sweep) -> Tuple[float, float, int]:
                         f"need at least {MIN_HIGH_SPEED_ROWS}")
     if np.ptp(high.v) <= 0:
         raise DataError("high-speed data for B spans no velocity range")
-    slope, intercept = _theil_sen(high.v, high.f)
+    slope, intercept = theil_sen(high.v, high.f)
     with np.errstate(over="ignore", invalid="ignore"):
         residual = np.abs(high.f - intercept - slope * high.v)
     scale = robust_scale(residual, high.f)

@@ -8,9 +8,10 @@ scored in newtons on the held-out points (CV_FOLDS folds; a log's in contiguous 
 ``row_folds``). A sweep of up to LOO_POINTS points is judged leaving out one point at a time,
 each within the speeds its fit saw: the slowest and the fastest point of each direction are
 always fitted, for a line through two points carried a decade beyond them scores the
-extrapolation, not the law. There the Stribeck laws keep the shape and v_s of their fit on
-all points and refit their levels: a fold with as many points as parameters fits v_s exactly
-through them, and its held-out error measures that instability instead. The simplest
+extrapolation, not the law. There the Stribeck laws of curves of few points (PIN_POINTS) keep
+the shape and v_s of their fit on all points and refit their levels: a fold with as many points
+as parameters fits v_s exactly through them, and its held-out error measures that instability
+instead. The simplest
 candidate whose mean held-out squared error is within one standard error of the paired fold
 differences of the best one's is kept (the one-standard-error rule), so that no richer model is
 kept for a gain within the noise and the default is never clearly worse than the textbook fit.
@@ -25,16 +26,20 @@ from typing import Callable, Dict, List, Optional, Tuple
 import numpy as np
 
 from ..data.sweep import Sweep
-from ..data.outliers import MEDIAN_WINDOW, gross_outliers, unexplained
+from ..data.outliers import MEDIAN_WINDOW, gross_outliers, line_outliers, unexplained
 from ..data.training_set import Dataset, check_friction_sign
 from ..errors import DataError
 from ..metrics import rmse
 from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
                          warm_copy)
-from .textbook import MIN_POINTS, LawFit, TextbookRegressor, fit_law
+from .textbook import DROP_SE, MIN_POINTS, LawFit, TextbookRegressor, fit_law
 
 #: Sweeps of up to this many points are cross-validated leaving one point out.
 LOO_POINTS = 30
+#: ... and a Stribeck law's v_s is pinned in those folds on curves of fewer points than this;
+#: from it a fold leaves enough points to fit v_s again (a v_s fitted with the held-out point
+#: sees it: the law then beat the textbook floor by chance on 4 of 20 straight sweeps of 10).
+PIN_POINTS = 8
 #: A candidate is kept when its mean held-out squared error exceeds the best one's by at most
 #: this many standard errors of their paired fold differences.
 SE_RULE = 1.0
@@ -150,39 +155,58 @@ def textbook_outliers(sweep: Sweep) -> np.ndarray:
     forces are all > 0, that line in log speed and log force, judged against the spread of the
     logarithms (a force whose noise grows with it, a drag rising by decades over log-spaced
     speeds: the line between neighbours cuts the bend, by far more than the slow points'
-    noise)."""
+    noise). A direction of too few points for the running median's window has its suspects off
+    a Theil-Sen line (``line_outliers``; the slowest and the fastest point never), and their
+    neighbours' lines are drawn through the other points alone: in a few points a suspect is
+    its neighbours' neighbour, and would bend the very lines that judge it."""
     out = np.zeros(len(sweep), dtype=bool)
     for speed, magnitude, rows in curve_points(sweep, np.arange(len(sweep)), asymmetric=True):
-        suspects = gross_outliers(speed, magnitude)
-        if speed.size >= 2 * MEDIAN_WINDOW:
+        few = speed.size < 2 * MEDIAN_WINDOW
+        suspects = line_outliers(speed, magnitude) if few else gross_outliers(speed, magnitude)
+        if not few:
             suspects[np.argmax(speed)] = True
         kept = int((~suspects).sum())
         if suspects.any() and kept >= MIN_POINTS[False]:
             laws = [fit_law(speed[~suspects], magnitude[~suspects], stribeck=s)
                     for s in (False, True) if kept >= MIN_POINTS[s]]
+            others = ~suspects if few else None
             confirmed = unexplained(magnitude, suspects, [law.magnitude(speed) for law in laws]
-                                    + [between(speed, magnitude)])
+                                    + [between(speed, magnitude, others)])
             if np.all(magnitude > 0):
                 log_speed, log_force = np.log(speed), np.log(magnitude)
-                confirmed &= unexplained(log_force, suspects, [between(log_speed, log_force)])
+                confirmed &= unexplained(log_force, suspects, [between(log_speed, log_force, others)])
             out[rows] = confirmed
     return out
 
 
-def between(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def between(x: np.ndarray, y: np.ndarray, kept: Optional[np.ndarray] = None) -> np.ndarray:
     """Each point's value on the line through its two neighbours in x (the two nearest at an
-    end), the point itself left out."""
+    end), the point itself left out; ``kept`` (a mask): the neighbours only among those points,
+    so that a suspect bends no other point's line."""
+    if kept is not None and 2 <= int(kept.sum()) < kept.size:
+        out = np.empty(np.size(y), dtype=float)
+        out[kept] = between(x[kept], y[kept])
+        order = np.argsort(x[kept], kind="stable")
+        xs, ys = x[kept][order], y[kept][order]
+        right = np.clip(np.searchsorted(xs, x[~kept]), 1, xs.size - 1)
+        out[~kept] = _line(xs, ys, right - 1, right, x[~kept])
+        return out
     order = np.argsort(x, kind="stable")
     xs, ys = x[order], y[order]
     left = np.clip(np.arange(xs.size) - 1, 0, None)
     right = np.clip(np.arange(xs.size) + 1, None, xs.size - 1)
     left[0], right[0] = 1, min(2, xs.size - 1)
     left[-1], right[-1] = max(xs.size - 3, 0), xs.size - 2
+    out = np.empty_like(ys)
+    out[order] = _line(xs, ys, left, right, xs)
+    return out
+
+
+def _line(xs: np.ndarray, ys: np.ndarray, left: np.ndarray, right: np.ndarray, at: np.ndarray):
+    """The lines through (xs, ys)[left] and [right] at ``at`` (flat where the two x coincide)."""
     span = xs[right] - xs[left]
     slope = np.divide(ys[right] - ys[left], span, out=np.zeros_like(span), where=span != 0)
-    out = np.empty_like(ys)
-    out[order] = ys[left] + slope * (xs - xs[left])
-    return out
+    return ys[left] + slope * (at - xs[left])
 
 
 def runs_z(residual: np.ndarray) -> float:
@@ -349,8 +373,9 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     left_out = [rich_reason] if rich is None and rich_reason else []
     if outliers.any():
         count = int(outliers.sum())
-        left_out.append(f"{count} point{'s' * (count > 1)}: gross outliers (off a running median and "
-                        "off the textbook laws fitted without them)")
+        left_out.append(f"{count} point{'s' * (count > 1)}: gross outliers (off a running median, "
+                        "or a robust line where a direction has few points, and off the textbook "
+                        "laws fitted without them)")
     one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
     if one_way and asymmetric is not False:
         left_out.append("per direction: the log moves one way only; its curve is mirrored to the "
@@ -366,6 +391,11 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             need = MIN_POINTS[law.stribeck]
             left_out.append(f"{law.name}: fewer than {need} points" +
                             (" in a direction" if law.asymmetric else ""))
+            continue
+        if law.stribeck and not all(curve.drop_determined for curve in law.fits(level, weight)):
+            left_out.append(f"{law.name}: its drop F_s - F_c is not determined by the data "
+                            f"(not {DROP_SE:g} standard errors clear of 0"
+                            f"{' in a direction' if law.asymmetric else ''})")
             continue
         mse = (known or {}).get(law.name) if not offset else None
         mse = _law_mse(law, sweep, weight, folds, one_out, offset) if mse is None else mse
@@ -412,10 +442,12 @@ def _scored(sweep: Sweep, weight: Optional[np.ndarray], blocks: int):
 
 def _law_mse(law: "TextbookLaw", sweep: Sweep, weight: np.ndarray, folds: np.ndarray,
              one_out: bool, offset: float = 0.0) -> Optional[np.ndarray]:
-    """A textbook law's held-out errors per fold (``_fold_mse``); left out one point at a time,
-    a Stribeck law keeps the shape and v_s of its fit on all points (see the module)."""
+    """A textbook law's held-out errors per fold (``_fold_mse``); left out one point at a time
+    from a curve of fewer than PIN_POINTS points, a Stribeck law keeps the shape and v_s of its
+    fit on all points (see the module)."""
     level = Sweep(sweep.v, sweep.f - offset)
-    pinned = law.fits(level, weight) if one_out and law.stribeck else None
+    few = min(speed.size for speed, _, _ in curve_points(level, weight, law.asymmetric)) < PIN_POINTS
+    pinned = law.fits(level, weight) if one_out and law.stribeck and few else None
     return _fold_mse(lambda train, w: law.predictor(train, w, offset, pinned), sweep, weight, folds)
 
 

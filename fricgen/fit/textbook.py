@@ -35,6 +35,8 @@ STRIBECK_SHAPES = ("gauss", "exponential")
 #: (g < 1e-4 at three v_s) within the data, as v_sat = 3 vs_max of section 2 has it.
 VS_GRID = 24
 VS_FASTEST = 1.0 / 3.0
+#: The Stribeck drop must exceed this many of its standard errors for the data to show it.
+DROP_SE = 2.0
 #: Parameters of a curve without and with the Stribeck term.
 PARAMETERS = {False: 2, True: 4}
 #: Fewest points per curve for the law to be a candidate: one more than its parameters, so
@@ -45,7 +47,8 @@ MIN_POINTS = {stribeck: n + 1 for stribeck, n in PARAMETERS.items()}
 @dataclass(frozen=True)
 class LawFit:
     """One fitted textbook curve: F(|v|) = F_c + (F_s - F_c) g(|v| / v_s) + F_v |v| (``stribeck``)
-    or F_c + F_v |v|, with standard errors (same keys) and the data's fastest speed."""
+    or F_c + F_v |v|, with standard errors (same keys) and the data's fastest speed; ``drop_se``:
+    the standard error of the drop F_s - F_c (infinite without the Stribeck term)."""
 
     coulomb: float
     viscous: float
@@ -55,6 +58,13 @@ class LawFit:
     standard_errors: Dict[str, float]
     fastest: float
     rms: float
+    drop_se: float = float("inf")
+
+    @property
+    def drop_determined(self) -> bool:
+        """Whether the data tell the Stribeck drop F_s - F_c from 0: by more than DROP_SE of
+        its standard errors (False without the Stribeck term)."""
+        return self.stribeck and abs(self.static - self.coulomb) > DROP_SE * self.drop_se
 
     @property
     def stribeck(self) -> bool:
@@ -133,10 +143,12 @@ def _design(speed, v_s=None, shape=None) -> np.ndarray:
 
 def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float) -> Dict[str, float]:
     """Standard errors of ``params`` from the weighted Jacobian (central differences), the
-    residual variance rss / (n - p); infinite where the data do not determine one."""
+    residual variance rss / (n - p); infinite where the data do not determine one. A "drop"
+    F_s - F_c may stand for "static"."""
     names = list(params)
     def magnitude(p):
-        return LawFit(p["coulomb"], p["viscous"], p.get("static"), p.get("v_s"), shape, {}, 0.0,
+        static = p["coulomb"] + p["drop"] if "drop" in p else p.get("static")
+        return LawFit(p["coulomb"], p["viscous"], static, p.get("v_s"), shape, {}, 0.0,
                       0.0).magnitude(speed)
     jac = np.empty((speed.size, len(names)))
     for j, k in enumerate(names):
@@ -148,7 +160,8 @@ def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float)
     if dof > 0:
         jw = jac * np.sqrt(weight)[:, None]
         try:
-            se = np.sqrt(np.clip(np.diag(rss / dof * np.linalg.inv(jw.T @ jw)), 0, None))
+            variance = np.diag(rss / dof * np.linalg.inv(jw.T @ jw))
+            se = np.where(variance >= 0, np.sqrt(np.abs(variance)), np.inf)  # < 0: ill-posed
         except np.linalg.LinAlgError:
             pass
     return {k: float(s) if np.isfinite(s) else float("inf") for k, s in zip(names, se)}
@@ -194,8 +207,10 @@ def fit_law(speed, force, weight=None, stribeck: bool = False,
     rss, shape, vs, (fc, fs, fv) = best
     se = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv, "static": fs, "v_s": vs},
                           shape, rss)
+    drop = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv, "drop": fs - fc, "v_s": vs},
+                            shape, rss)["drop"]
     return LawFit(float(fc), float(fv), float(fs), vs, shape, se, fastest,
-                  float(np.sqrt(rss / speed.size)))
+                  float(np.sqrt(rss / speed.size)), drop)
 
 
 class TextbookRegressor(Estimator):
