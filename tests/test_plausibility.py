@@ -161,6 +161,20 @@ def test_a_friction_sweep_passes_and_its_swap_is_refused():
     assert len(warned) == 1 and warned[0].startswith("fricgen: warning: ")
 
 
+@pytest.mark.parametrize("speeds", [np.geomspace(0.01, 1.0, 10), np.linspace(0.01, 1.0, 25)])
+def test_an_asymmetric_sweep_passes_and_its_swap_is_refused(speeds):
+    """Per-direction Coulomb + viscous (2 + 1.5 v and 1.4 + 2.2 |v|): the two directions'
+    curves, folded into one, interleave; each is judged alone, so the sweep passes and its
+    swap (which trained, F_c = 0 both ways) is refused, also where the speeds are set exactly
+    and evenly spaced (no scatter about a running median either way)."""
+    rng = np.random.default_rng(7)
+    v = np.concatenate([speeds, -speeds])
+    f = np.concatenate([2.0 + 1.5 * speeds, -1.4 - 2.2 * speeds]) + 0.03 * rng.standard_normal(v.size)
+    check_sweep_shape(v, f, "s.csv")
+    with pytest.raises(DataError, match="are the columns v and f swapped"):
+        check_sweep_shape(f, v, "s.csv")
+
+
 def test_the_merge_shift_is_checked_against_the_best_fitting_one(cli_inputs):
     rows = np.array([line.split(",") for line in (cli_inputs / "log.csv").read_text().splitlines()[1:]],
                     dtype=float)

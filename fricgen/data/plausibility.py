@@ -197,26 +197,38 @@ def check_sweep_shape(v: np.ndarray, f: np.ndarray, source: str, accept_unusual:
     Runs before any fit, so every method sees the same answer."""
     keep = _thin(v.size)
     moving = v[keep] != 0
-    speed, force = np.abs(v[keep][moving]), (np.sign(v[keep]) * f[keep])[moving]
+    signed, force_all = v[keep][moving], (np.sign(v[keep]) * f[keep])[moving]
+    speed = np.abs(signed)
     if speed.size < 2:
         return                      # the sweep reader names too few rows
     slowest = float(speed.min()) / float(speed.max())
-    if speed.size < 20:             # too few for running medians: the Coulomb level's sign
-        if SLOWEST_SHARE < slowest < 1 and _pushes_at_rest(speed, force):
-            _refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of "
-                            "its fastest) and the force's line through the points reaches 0 before "
-                            "v does (no Coulomb level): are the columns v and f swapped?",
-                            accept_unusual, warn)
-        return
-    f_on_v, v_on_f = _scatter(speed, force), _scatter(force, speed)
-    if SLOWEST_SHARE < slowest < 1 and v_on_f < SWAP_RATIO * f_on_v:
+    # per direction: two directions' curves (a Coulomb level and a B each) interleave in one
+    curves = [(speed[m], force_all[m]) for m in (signed > 0, signed < 0) if m.sum() >= 3] or \
+        [(speed, force_all)]
+    why = [_looks_swapped(*curve) for curve in curves] if SLOWEST_SHARE < slowest < 1 else [""]
+    if all(why):
         _refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of its "
-                        f"fastest) and v follows f more closely than f follows v: are the columns v "
-                        "and f swapped?", accept_unusual, warn)
-    elif f_on_v > NOTHING_EXPLAINED:
-        _refuse_or_warn(f"{source}: f scatters about any curve of v by {f_on_v:.0%} of its median "
+                        f"fastest) and {why[0]}: are the columns v and f swapped?", accept_unusual, warn)
+        return
+    scatter = min(_scatter(*curve) for curve in curves) if speed.size >= 20 else 0.0
+    if scatter > NOTHING_EXPLAINED:
+        _refuse_or_warn(f"{source}: f scatters about any curve of v by {scatter:.0%} of its median "
                         "level: no friction curve is in it (is f the force of this axis, the sensor "
                         "connected?)", accept_unusual, warn)
+
+
+def _looks_swapped(speed: np.ndarray, force: np.ndarray) -> str:
+    """Why one curve (|v|, the force in the direction of motion) looks like a speed read as
+    the force ("" where it does not): under 20 points its line reaches 0 at a positive speed
+    (``_pushes_at_rest``), from 20 v follows f more closely than f follows v (SWAP_RATIO,
+    ``_scatter``), or, where neither scatters about its running median at all (a speed set
+    exactly, evenly spaced), that line again."""
+    line = "the force's line through the points reaches 0 before v does (no Coulomb level)"
+    if speed.size >= 20:
+        f_on_v, v_on_f = _scatter(speed, force), _scatter(force, speed)
+        if f_on_v > 0 or v_on_f > 0:
+            return "v follows f more closely than f follows v" if v_on_f < SWAP_RATIO * f_on_v else ""
+    return line if _pushes_at_rest(speed, force) else ""
 
 
 def _regressors(columns: Dict[str, np.ndarray], t: np.ndarray) -> Optional[np.ndarray]:
