@@ -66,6 +66,9 @@ INERTIA_Z = 3.0
 #: Position bins of the periodogram that finds the period, and the fewest periods it must see.
 FUNDAMENTAL_BINS = 1 << 16
 FUNDAMENTAL_PERIODS = 2
+#: The period found is refined with this many of its harmonics, on at most PERIOD_ROWS rows.
+PERIOD_HARMONICS = 16
+PERIOD_ROWS = 20_000
 #: Periods the travel must hold for a wavelength to be checked for a wrong period (longer ones
 #: are not told from the friction's slow drifts along the travel).
 UNEXPLAINED_PERIODS = 8
@@ -334,14 +337,22 @@ def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
     if not usable.any():
         raise DataError(f"the log travels {np.ptp(x):.6g}: too short to find the cogging's period; "
                         "give --pitch")
-    return float(2 * np.pi / _refined_peak(x, r, float(k[usable][np.argmax(spectrum[usable])]), grid))
+    peak = _refined_peak(x, r, float(k[usable][np.argmax(spectrum[usable])]), grid)
+    # the harmonics of the period: a travel of a few periods places one sinusoid's peak only
+    # roughly (its neighbours' leakage, a drift of the friction), the whole series sharply
+    harmonics = max(1, min(PERIOD_HARMONICS, int(k[usable].max() / peak)))
+    thin = slice(None, None, max(1, x.size // PERIOD_ROWS))
+    return float(2 * np.pi / _refined_peak(x[thin], r[thin], peak, grid, harmonics))
 
 
-def _refined_peak(x, r, peak, grid) -> float:
-    """The wavenumber within one FFT spacing of ``peak`` whose sinusoid leaves r the least
-    residual sum of squares (bounded Brent)."""
+def _refined_peak(x, r, peak, grid, harmonics: int = 1) -> float:
+    """The wavenumber within one FFT spacing of ``peak`` whose sinusoid (with its ``harmonics``
+    - 1 overtones) leaves r the least residual sum of squares (bounded Brent)."""
+    h = np.arange(1, harmonics + 1)
+
     def rss(wavenumber):
-        return lstsq(np.column_stack([np.sin(wavenumber * x), np.cos(wavenumber * x)]), r)[1]
+        phase = np.outer(x, wavenumber * h)
+        return lstsq(np.hstack([np.sin(phase), np.cos(phase)]), r)[1]
     return refine(rss, peak - grid, peak + grid)
 
 
