@@ -16,7 +16,7 @@ from fricgen.codegen.cbuild import build, build_module
 from fricgen.codegen.cogging_table import CoggingTable, q15_twin, q31_twin
 from fricgen.effects import CoggingMap
 from fricgen.fit.cogging import _not_transient, identify_cogging
-from fricgen.errors import ModelError
+from fricgen.errors import DataError, ModelError
 from fricgen.model import FrictionModel
 from fricgen.sim.servo_axis import TWO_PI, calibration_move, random_axis
 
@@ -68,7 +68,7 @@ def test_a_stall_at_one_position_keeps_the_harmonics_screened(axis, fitted):
 
 
 def test_what_limits_the_harmonics_screened_is_named(axis, fitted):
-    assert fitted.screened_by == "fricgen's limit of 512"
+    assert fitted.screened_by == "the encoder: 4096 counts per period"
     log = calibration_move(axis, turns=2.0, speed=8.0, every=4)      # fast, logged at 2 kHz
     fast = identify_cogging(log["t"], log["x"], axis.kt * log["i"], period=TWO_PI)
     assert fast.highest_harmonic < fitted.highest_harmonic
@@ -333,7 +333,7 @@ def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tm
     captured = capsys.readouterr()
     text = captured.out
     assert "cogging map (position force)" in text and f"harmonic {axis.period_count:4d}" in text
-    assert "harmonics screened up to 512 (set by fricgen's limit of 512)" in text
+    assert "harmonics screened up to 512 (set by the encoder: 4096 counts per period)" in text
     assert "a wrong --pitch" not in captured.err
     model = FrictionModel.load(out)
     # the friction is fitted with the inertia the map identified (a move at one speed
@@ -468,6 +468,39 @@ def test_a_period_seen_twice_in_the_travel_is_placed_by_all_its_harmonics(seed):
     assert fit.period == pytest.approx(pitch, rel=2e-4)
     u = np.linspace(0, pitch, 2000)
     assert np.sqrt(np.mean((fit.map.force(u) - cogging(u)) ** 2)) < 0.01 * np.std(cogging(u))
+
+
+def _turns(harmonics, amplitudes, bits, seed=0, counts=False):
+    """Two turns each way at 1 rad/s, 8 kHz, the position in steps of a ``bits`` encoder (in
+    counts where ``counts``), a cogging of ``harmonics`` per turn, Coulomb friction, noise."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0, 8 * np.pi, 1 / 8000.0)
+    step = TWO_PI / 2 ** bits
+    x = np.round((2 * TWO_PI - np.abs(t - 2 * TWO_PI)) / step) * step
+    phase = rng.uniform(0, TWO_PI, len(harmonics))
+
+    def cogging(u):
+        return sum(a * np.sin(h * u + p) for h, a, p in zip(harmonics, amplitudes, phase))
+    f = cogging(x) + 0.02 * np.sign(np.gradient(x, t)) + 1e-3 * rng.standard_normal(t.size)
+    return t, (np.round(x / step) if counts else x), f, cogging
+
+
+def test_harmonics_beyond_512_are_screened():
+    """A 36-slot, 32-pole motor cogs 288 times a turn: its second harmonic (576) was beyond the
+    512 screened and left out silently (a map 20-35 % off); on a 14-bit encoder it is found."""
+    t, x, f, cogging = _turns((288, 576), (0.01, 0.004), bits=14)
+    fit = identify_cogging(t, x, f, period=TWO_PI, inertia=0.0)
+    assert fit.highest_harmonic > 576 and fit.map.harmonics == (288, 576)
+    u = np.linspace(0, TWO_PI, 1 << 16)
+    assert np.sqrt(np.mean((fit.map.force(u) - cogging(u)) ** 2)) < 0.05 * np.std(cogging(u))
+
+
+def test_a_position_in_counts_is_named_not_blamed_on_the_speed():
+    """x in encoder counts read as rad: 6 steps a turn. The refusal asks whether x is in counts
+    (it said 'move slower or log faster', which no move fixes)."""
+    t, x, f, _ = _turns((24,), (0.01,), bits=12, counts=True)
+    with pytest.raises(DataError, match="is x in encoder counts or another unit"):
+        identify_cogging(t, x, f, period=TWO_PI, inertia=0.0)
 
 
 def test_a_grey_box_without_an_admissible_fit_leaves_the_textbook_law(monkeypatch):

@@ -50,7 +50,7 @@ from ..effects.cogging_map import MAX_TERMS, CoggingMap
 ALPHA = 0.01
 #: Highest harmonic screened; harmonics per period the encoder (QUANTA_PER_WAVE counts) and the
 #: sample rate (SAMPLES_PER_WAVE samples) must resolve.
-MAX_HARMONIC = 512
+MAX_HARMONIC = 1024
 QUANTA_PER_WAVE = 6
 SAMPLES_PER_WAVE = 6
 #: Half-width (harmonics) of the running median that sets the noise level.
@@ -275,11 +275,16 @@ def _screen(x, r, sign, period, speed, ts, quantum):
     amplitude noise alone reaches with probability below ALPHA (``_candidates``)."""
     samples = period / (speed * ts)                 # samples per period in each pass
     cells = period / quantum if quantum > 0 else np.inf
-    if min(samples, cells) < 2 * MIN_BINS:
-        what = (f"{samples:.0f} samples per period at {speed:.3g} per s" if samples <= cells else
-                f"{cells:.0f} encoder steps per period")
-        raise DataError(f"the log resolves the cogging's period too coarsely ({what}, need "
-                        f"{2 * MIN_BINS}): move slower or log faster")
+    if samples < 2 * MIN_BINS and samples <= cells:
+        raise DataError(f"the log resolves the cogging's period too coarsely ({samples:.0f} samples "
+                        f"per period at {speed:.3g} per s, need {2 * MIN_BINS}): move slower or log "
+                        "faster")
+    if cells < 2 * MIN_BINS:
+        raise DataError(f"the position's step {quantum:.3g} resolves the cogging's period "
+                        f"{period:.6g} too coarsely ({cells:.0f} steps, need {2 * MIN_BINS}): is x in "
+                        "encoder counts or another unit (--scale x= the size of its unit)? With x "
+                        "as fine as the encoder, give a longer --pitch (a whole turn) and the "
+                        "period's harmonics come from it")
     bins = _filled_bins(x, sign, period, min(samples, cells) / 2)
     # harmonics up to a quarter of the bins (their averaging attenuates those by at most 10 %)
     highest = int(min(MAX_HARMONIC, bins // 4, samples / SAMPLES_PER_WAVE, cells / QUANTA_PER_WAVE))
