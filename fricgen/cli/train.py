@@ -180,7 +180,7 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
                                   force_constant=args.force_constant,
                                   train_friction=lambda data, mass: fit_friction(data, mass=mass,
                                                                                  force_constant=None),
-                                  name=name)
+                                  name=name, symmetric=args.asymmetric is False)
 
 
 def train_argv(argv) -> FitReport:

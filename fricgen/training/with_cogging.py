@@ -46,19 +46,25 @@ def _law(coulomb: float, viscous: float, fastest: float) -> LawFit:
                   {"coulomb": 0.0, "viscous": 0.0}, fastest, 0.0)
 
 
-def _per_direction(fit: CoggingFit, speed: np.ndarray, name: str, units) -> FrictionModel:
-    """Coulomb + viscous per direction from the move (its speeds ``speed``), with the axis record
-    of its speed range and the map's inertia where it has one (``recording_force_constant`` adds
-    the force constant)."""
+def _per_direction(fit: CoggingFit, speed: np.ndarray, name: str, units,
+                   symmetric: bool = False) -> FrictionModel:
+    """Coulomb + viscous per direction from the move (its speeds ``speed``), or one curve of
+    their means where ``symmetric`` (the constant force between the directions left out, as a
+    symmetric fit folds it), with the axis record of its speed range and the map's inertia
+    where it has one (``recording_force_constant`` adds the force constant)."""
     cp, bp, cn, bn = fit.coulomb_viscous
     fastest = float(np.percentile(speed, 99))
     axis = speed_record(float(np.percentile(speed, 1)), fastest)
     if fit.inertia_source != "undetermined":
         axis.update(mass=fit.inertia, mass_from="cogging" if fit.inertia_source == "identified" else "option")
+    training = {"units": units.kind, "axis": axis, "method": "coulomb_viscous_per_direction"}
+    if symmetric:
+        curve = _law((cp - cn) / 2, (bp + bn) / 2, fastest).direction()
+        return FrictionModel.from_directions(curve, name=name, training={
+            **training, "method": "coulomb_viscous_symmetric"})
     return FrictionModel.from_directions(_law(cp, bp, fastest).direction(),
                                          _law(-cn, bn, fastest).direction(), name=name,
-                                         training={"units": units.kind, "axis": axis,
-                                                   "method": "coulomb_viscous_per_direction"})
+                                         training=training)
 
 
 def describe(m: CoggingMap, what: str, units) -> list:
@@ -74,11 +80,13 @@ def describe(m: CoggingMap, what: str, units) -> list:
 def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[float], rotary: bool,
                        inertia: Optional[float], force_constant: Optional[float],
                        train_friction: Callable[[Mapping[str, np.ndarray], Optional[float]], FitReport],
-                       name: str) -> CoggingReport:
+                       name: str, symmetric: bool = False) -> CoggingReport:
     """The map and the friction model (see the module docstring); ``train_friction(columns,
     mass)`` fits the default model to columns (the map's force removed) and may refuse them;
     ``mass`` is the inertia the map took out where it was given or identified (a slow move
-    at one speed accelerates too little to tell it again), else None."""
+    at one speed accelerates too little to tell it again), else None. ``symmetric``: the
+    friction of a move the default fit refuses is one curve (--symmetric), not one per
+    direction."""
     if "x" not in columns or "t" not in columns:
         raise UsageError("--cogging needs a motion log with time t and position x (the map is a "
                          "function of the position)")
@@ -95,9 +103,10 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         model, text, warnings = report.model, report.text, list(report.warnings)
     except (DataError, ModelError, ValueError):
         speed = np.abs(np.gradient(columns["x"], columns["t"]))
-        model = _per_direction(fit, speed[speed > 0], name, units)
-        text = ("friction: Coulomb + viscous per direction from the move (a calibration at one "
-                "speed each way holds too few speeds for the default fit)")
+        model = _per_direction(fit, speed[speed > 0], name, units, symmetric)
+        text = (f"friction: Coulomb + viscous {'symmetric' if symmetric else 'per direction'} from "
+                "the move (a calibration at one speed each way holds too few speeds for the "
+                "default fit)")
         warnings = []
     if fit.inertia_source == "identified":
         model, text = _recording_inertia_source(model, text)
