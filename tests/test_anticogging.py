@@ -342,6 +342,26 @@ def test_symmetric_holds_with_cogging(calibration_csv, axis, tmp_path, capsys):
     assert one.force(speed) == pytest.approx((two.force(speed) - two.force(-speed)) / 2, rel=0.05)
 
 
+def test_an_inertia_the_calibration_cannot_show_is_not_emitted(tmp_path, capsys):
+    """A calibration whose two directions' ripple does not determine J (the map takes out none
+    and holds J a): the friction fit of the same log must not report an inertia either (from
+    the ripple the map holds it found one, which the header emitted as identified)."""
+    axis = random_axis(21, bits=14)
+    log = calibration_move(axis, turns=2.0, speed=1.0, every=2)
+    path = tmp_path / "cal.csv"
+    np.savetxt(path, np.column_stack([log["t"], log["x"], log["omega"], log["i"]]), delimiter=",",
+               header="t,x,v,i", comments="", fmt="%.9g")
+    out = tmp_path / "m.json"
+    assert main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+                 "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "taken as 0: the map holds the inertia's ripple" in text
+    assert "inertia   not determined: the calibration accelerates only by the ripple" in text
+    assert FrictionModel.load(out).axis.mass is None
+    codegen.emit(FrictionModel.load(out), tmp_path / "c", "cal")
+    assert "INERTIA" not in (tmp_path / "c" / "cal.h").read_text()
+
+
 def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tmp_path, capsys):
     out = tmp_path / "m.json"
     assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--force-constant",
