@@ -55,13 +55,16 @@ class CoggingTable:
         q15 = np.clip(np.round(exact / scale * 32768.0), -Q15_MAX, Q15_MAX).astype(np.int16)
         scale31 = peak * 2.0 ** 31 / Q31_MAX if peak > 0 else 1.0
         q31 = np.clip(np.round(exact / scale31 * 2.0 ** 31), -Q31_MAX, Q31_MAX).astype(np.int32)
-        # float: the interpolation's error plus float32 rounding of table, position and product
-        float_bound = interpolation + 4 * float(np.finfo(np.float32).eps) * peak
+        eps = float(np.finfo(np.float32).eps)
+        slope = float(np.sum(cogging.amplitude * cogging.wavenumber * np.asarray(cogging.harmonics)))
+        # float: the interpolation's error, float32 rounding of table and product, and the
+        # series' slope times the rounding of the phase (two roundings of u, up to the table's
+        # size: eps of a period each; the reduction adds none within 4096 periods)
+        float_bound = interpolation + 4 * eps * peak + 2 * eps * cogging.period * slope
         # q15: evaluated at ERROR_GRID phases per interval (the integer arithmetic exactly) plus
         # what lies between them: the series' slope times a grid step, and one LSB
         phases = (np.arange(points * ERROR_GRID, dtype=np.uint64) << np.uint64(32)) // np.uint64(points * ERROR_GRID)
         want = cogging.force(phases.astype(float) / 2.0 ** 32 * cogging.period)
-        slope = float(np.sum(cogging.amplitude * cogging.wavenumber * np.asarray(cogging.harmonics)))
         between = slope * cogging.period / (points * ERROR_GRID)
         got = q15_twin(q15, phases.astype(np.uint32)) * (scale / 32768.0)
         q15_bound = float(np.max(np.abs(got - want))) + between + scale / 32768.0
