@@ -260,6 +260,25 @@ def choice_line(fitted: DirectionsFit, log: bool = False, unit: str = "N") -> st
             f"{sym:.4g} {unit} symmetric, {asym:.4g} {unit} asymmetric")
 
 
+#: A weight of the position that leaves at most this share of the law's residual is warned of
+#: (the report's gravity line names any that leaves at most WEIGHT_SHARE).
+WEIGHT_WARNING = 0.5
+
+
+def gravity_warning(ident: Identification, units=LINEAR) -> str:
+    """One line when a joint's log (x in rad) trained without --gravity holds a weight of the
+    position that explains most of what the friction law leaves (``Identification.weight``):
+    the friction samples then carry the link's weight, a model off by about its amplitude."""
+    if ident.weight is None or units.position != "rad":
+        return ""
+    without, with_weight = ident.weight
+    if with_weight > WEIGHT_WARNING * without:
+        return ""
+    return (f"warning: a weight G_s sin x + G_c cos x of the position leaves {with_weight:.3g} "
+            f"{units.force} RMS of the force unexplained where the friction law alone leaves "
+            f"{without:.3g}: the friction samples hold a link's weight; train --gravity takes it out")
+
+
 def stribeck_warning(ident: Identification, fits, units=LINEAR) -> str:
     """One line when a log's slowest speed in a direction exceeds half of that direction's
     vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data;

@@ -25,7 +25,7 @@ from ..fit.law_choice import (STRUCTURE_POINTS, asymmetry_evident, choose_law, p
                               shows_structure, testable)
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
-from .report import FitReport, stribeck_warning
+from .report import FitReport, gravity_warning, stribeck_warning
 from .with_inputs import dependence_record, fit_inputs
 
 
@@ -367,6 +367,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     except ModelError as exc:
         raise DataError(f"{source}: the fitted model is no friction model: {exc}") from None
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
-    notes = (stribeck_warning(ident, fitted.fits, model.units),) if ident is not None else ()
+    notes = (stribeck_warning(ident, fitted.fits, model.units),
+             gravity_warning(ident, model.units)) if ident is not None else ()
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
                      warnings=tuple(n for n in notes if n), law=choice, inputs=dependence)
