@@ -1,0 +1,63 @@
+"""The cogging map's identification on calibrations written here, without a drive's loop: a
+period the travel shows twice, harmonics beyond 512, a position in counts
+(``fricgen.fit.identify_cogging``)."""
+import numpy as np
+import pytest
+
+from fricgen.errors import DataError
+from fricgen.fit.cogging import identify_cogging
+from fricgen.sim.servo_axis import TWO_PI
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_period_seen_twice_in_the_travel_is_placed_by_all_its_harmonics(seed):
+    """A linear motor whose cogging repeats every pole pitch (32 mm; harmonics 1, 2, 6, 12) over
+    a calibration of two pitches each way: one sinusoid's peak placed the period 0.1-0.5 % off
+    (the map then 3-11 % off); the series of its harmonics places it within 0.02 %."""
+    rng = np.random.default_rng(seed)
+    pitch, speed, rate = 0.032, 0.01, 4000.0
+    t = np.arange(0, 4 * 2 * pitch / speed, 1 / rate)
+    x = np.round(speed * (2 * pitch / speed - np.abs(t - 2 * pitch / speed)) / 1e-6) * 1e-6
+    h, amp, phase = np.array([1, 2, 6, 12]), np.array([4.0, 1.5, 2.0, 0.8]), rng.uniform(0, TWO_PI, 4)
+
+    def cogging(u):
+        return (amp[:, None] * np.sin(np.outer(h, TWO_PI * u / pitch) + phase[:, None])).sum(axis=0)
+    v = np.gradient(x, t)
+    f = cogging(x) + 20.0 * np.sign(v) + 300.0 * v + 0.3 * rng.standard_normal(t.size)
+    fit = identify_cogging(t, x, f, None, inertia=0.0)
+    assert fit.period == pytest.approx(pitch, rel=2e-4)
+    u = np.linspace(0, pitch, 2000)
+    assert np.sqrt(np.mean((fit.map.force(u) - cogging(u)) ** 2)) < 0.01 * np.std(cogging(u))
+
+
+def _turns(harmonics, amplitudes, bits, seed=0, counts=False):
+    """Two turns each way at 1 rad/s, 8 kHz, the position in steps of a ``bits`` encoder (in
+    counts where ``counts``), a cogging of ``harmonics`` per turn, Coulomb friction, noise."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0, 8 * np.pi, 1 / 8000.0)
+    step = TWO_PI / 2 ** bits
+    x = np.round((2 * TWO_PI - np.abs(t - 2 * TWO_PI)) / step) * step
+    phase = rng.uniform(0, TWO_PI, len(harmonics))
+
+    def cogging(u):
+        return sum(a * np.sin(h * u + p) for h, a, p in zip(harmonics, amplitudes, phase))
+    f = cogging(x) + 0.02 * np.sign(np.gradient(x, t)) + 1e-3 * rng.standard_normal(t.size)
+    return t, (np.round(x / step) if counts else x), f, cogging
+
+
+def test_harmonics_beyond_512_are_screened():
+    """A 36-slot, 32-pole motor cogs 288 times a turn: its second harmonic (576) was beyond the
+    512 screened and left out silently (a map 20-35 % off); on a 14-bit encoder it is found."""
+    t, x, f, cogging = _turns((288, 576), (0.01, 0.004), bits=14)
+    fit = identify_cogging(t, x, f, period=TWO_PI, inertia=0.0)
+    assert fit.highest_harmonic > 576 and fit.map.harmonics == (288, 576)
+    u = np.linspace(0, TWO_PI, 1 << 16)
+    assert np.sqrt(np.mean((fit.map.force(u) - cogging(u)) ** 2)) < 0.05 * np.std(cogging(u))
+
+
+def test_a_position_in_counts_is_named_not_blamed_on_the_speed():
+    """x in encoder counts read as rad: 6 steps a turn. The refusal asks whether x is in counts
+    (it said 'move slower or log faster', which no move fixes)."""
+    t, x, f, _ = _turns((24,), (0.01,), bits=12, counts=True)
+    with pytest.raises(DataError, match="is x in encoder counts or another unit"):
+        identify_cogging(t, x, f, period=TWO_PI, inertia=0.0)
