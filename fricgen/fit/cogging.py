@@ -335,8 +335,9 @@ def _travel_spectrum(x, r, speed, ts, quantum):
 
 def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
     """The map's period found in the data: the wavelength of the strongest peak of the position
-    periodogram (``_travel_spectrum``), refined (``_refined_peak``). Content at a longer period (a once-per-pole-pair or once-per-turn term)
-    needs the period given."""
+    periodogram (``_travel_spectrum``), refined (``_refined_peak``) as one sinusoid, then as the
+    series of its first PERIOD_HARMONICS harmonics. Content at a longer period (a
+    once-per-pole-pair or once-per-turn term) needs the period given."""
     r = _less_nuisance(f, nuisance)
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
     if not usable.any():

@@ -203,8 +203,9 @@ def fit_directions(sweep: Sweep, estimator, vs_max: Optional[float] = None,
     rows, ``row_folds``, for a log's samples in time order; its folds told to ``progress``),
     or, where the directions are evidently apart (``evident``), takes the two curves without it
     whenever each direction can have its own (``TEXTBOOK_ASYMMETRY``); True or False forces the
-    model. Without ``vs_max`` each curve's is chosen on the same kind of folds. ``independence`` (the share of an independent sample in a row, a smoothed log's)
-    bins each curve's training set to its effective samples (``prepare``). With data in one
+    model. Without ``vs_max`` each curve's is chosen on the same kind of folds. ``independence``
+    (the share of an independent sample in a row, a smoothed log's) bins each curve's training
+    set to its effective samples (``prepare``). With data in one
     direction only the model is symmetric (``DataError`` if the asymmetric one was asked for);
     when a sweep of both directions cannot give each its own curve, ``chosen_by`` says why.
     ``offset`` is a constant force beside the symmetric curve (a log's identified o, compensated

@@ -11,10 +11,11 @@ always fitted, for a line through two points carried a decade beyond them scores
 extrapolation, not the law. There the Stribeck laws of curves of few points (PIN_POINTS) keep
 the shape and v_s of their fit on all points and refit their levels: a fold with as many points
 as parameters fits v_s exactly through them, and its held-out error measures that instability
-instead. The simplest
-candidate whose mean held-out squared error is within one standard error of the paired fold
-differences of the best one's is kept (the one-standard-error rule), so that no richer model is
-kept for a gain within the noise and the default is never clearly worse than the textbook fit.
+instead. A Stribeck law whose drop F_s - F_c the points do not determine
+(``LawFit.drop_determined``) is no candidate. The simplest candidate whose mean held-out
+squared error is within one standard error of the paired fold differences of the best one's is
+kept (the one-standard-error rule), so that no richer model is kept for a gain within the noise
+and the default is never clearly worse than the textbook fit.
 The per-direction Coulomb + viscous law is the floor: another candidate, simpler or richer,
 replaces it only when it beats it by more than that noise.
 """

@@ -46,7 +46,7 @@ def _law(coulomb: float, viscous: float, fastest: float) -> LawFit:
                   {"coulomb": 0.0, "viscous": 0.0}, fastest, 0.0)
 
 
-def _per_direction(fit: CoggingFit, speed: np.ndarray, name: str, units,
+def _law_of_the_move(fit: CoggingFit, speed: np.ndarray, name: str, units,
                    symmetric: bool = False) -> FrictionModel:
     """Coulomb + viscous per direction from the move (its speeds ``speed``), or one curve of
     their means where ``symmetric`` (the constant force between the directions left out, as a
@@ -103,7 +103,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         model, text, warnings = report.model, report.text, list(report.warnings)
     except (DataError, ModelError, ValueError):
         speed = np.abs(np.gradient(columns["x"], columns["t"]))
-        model = _per_direction(fit, speed[speed > 0], name, units, symmetric)
+        model = _law_of_the_move(fit, speed[speed > 0], name, units, symmetric)
         text = (f"friction: Coulomb + viscous {'symmetric' if symmetric else 'per direction'} from "
                 "the move (a calibration at one speed each way holds too few speeds for the "
                 "default fit)")
