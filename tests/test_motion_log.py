@@ -228,3 +228,17 @@ def test_a_merged_files_header_units_are_read(noisy, tmp_path, capsys):
     assert "force read in kN ('Load [kN]'): scaled by 1000 to SI" in capsys.readouterr().err
     v = np.linspace(-0.3, 0.3, 13)
     np.testing.assert_allclose(trained[1].force(v), trained[0].force(v), rtol=1e-6, atol=1e-9)
+
+
+def test_a_log_out_of_time_order_counts_its_backward_steps():
+    """One swapped pair of rows names its step alone; a shuffled log says how many more there
+    are and asks for sorting (it named one of 1042 and nothing else)."""
+    from fricgen.data.motionlog import uniform_sample_time
+    t = np.arange(2000) * 1e-3
+    swapped = t.copy()
+    swapped[[100, 101]] = swapped[[101, 100]]
+    with pytest.raises(DataError, match=r"between data rows 101 and 102: time must increase"):
+        uniform_sample_time(swapped)
+    shuffled = np.random.default_rng(0).permutation(t)
+    with pytest.raises(DataError, match=r"and at \d+ other rows: sort the log by t\?"):
+        uniform_sample_time(shuffled)

@@ -141,7 +141,10 @@ def uniform_sample_time(t: np.ndarray) -> float:
         if dt[k] == 0:
             raise DataError(f"t repeats at {rows} ({t[k]:.6g} s)")
         if dt[k] < 0:
-            raise DataError(f"t goes back by {-dt[k]:.6g} s between {rows}: time must increase")
+            back = int(np.count_nonzero(dt < 0))
+            more = f" (and at {back - 1} other rows: sort the log by t?)" if back > 1 else ""
+            raise DataError(f"t goes back by {-dt[k]:.6g} s between {rows}{more}: time must "
+                            "increase")
         raise DataError(f"log is not uniformly sampled: t steps by {dt[k]:.6g} s between {rows}, "
                         f"median step is {ts:.6g} s")
     return ts
