@@ -368,7 +368,7 @@ def test_an_inertia_the_calibration_cannot_show_is_not_emitted(tmp_path, capsys)
     and holds J a): the friction fit of the same log must not report an inertia either (from
     the ripple the map holds it found one, which the header emitted as identified)."""
     axis = random_axis(21, bits=14)
-    log = calibration_move(axis, turns=2.0, speed=1.0, every=2)
+    log = calibration_move(axis, turns=2.0, speed=1.0, every=4)
     path = tmp_path / "cal.csv"
     np.savetxt(path, np.column_stack([log["t"], log["x"], log["omega"], log["i"]]), delimiter=",",
                header="t,x,v,i", comments="", fmt="%.9g")

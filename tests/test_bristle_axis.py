@@ -75,6 +75,7 @@ def test_below_the_breakaway_the_bristles_hold_and_beyond_it_the_axis_slides_on_
     assert v > 0.1 and level(v) + VISCOUS * v == pytest.approx(14.0, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_a_stiff_contact_beyond_the_steps_it_is_cut_into_stays_bounded():
     ax = axis(stiffness=1e12, damping=0.0)
     assert ax.substeps(1e-3) == 1000              # MAX_SUBSTEPS: sqrt(1e12 / 2) ms is 7e5 rad

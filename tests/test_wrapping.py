@@ -97,6 +97,7 @@ def _zeroed(x, at):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("reset", [
     lambda x: _zeroed(x, int(np.argmax(x))),                   # zeroed where it is farthest out
     lambda x: x - 0.5 * (np.arange(x.size) >= 5000),           # homed by 0.5 rad, 4 % of the range
