@@ -251,10 +251,11 @@ def warn_degrees(args, columns, warn=say) -> None:
     top = (top_speed(columns) or ("", 0.0))[1]
     if top > JOINT_SPEED_MAX:
         scale = ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
+        rpm = "" if "x" in columns else f" or in rpm (--scale v={size('rpm'):.6g})"
         warn(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
             f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: "
             f"{'are its position and speed' if ',' in scale else 'is it'} in degrees (--scale "
-            f"{scale})? A motor shaft this fast: --rotary says so")
+            f"{scale}){rpm}? A motor shaft this fast: --rotary says so")
 
 
 def check_force_held(args, columns) -> None:
