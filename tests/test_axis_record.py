@@ -210,6 +210,7 @@ def diag_files(tmp_path_factory):
     return folder
 
 
+@pytest.mark.slow
 def test_diagnose_takes_mass_and_force_constant_from_the_axis(diag_files, tmp_path, capsys):
     log = str(diag_files / "log.csv")
     assert main(["diagnose", log, "--model", str(diag_files / "axis.json"), "--json",

@@ -53,6 +53,7 @@ def test_the_bristles_of_a_precision_stage_are_found(axis, static, log):
     assert fit.rms_dynamic < 0.5 * fit.rms_static
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("presliding", [True, False])
 def test_static_train_says_when_speeding_up_and_braking_give_two_masses(axis, log, presliding):
     """The bristles' build-up after each start reads as less friction while the axis speeds up:
