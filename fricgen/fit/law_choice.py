@@ -393,13 +393,14 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{law.name}: fewer than {need} points" +
                             (" in a direction" if law.asymmetric else ""))
             continue
-        if law.stribeck and not all(curve.drop_determined for curve in law.fits(level, weight)):
+        fitted = law.fits(level, weight) if law.stribeck else None
+        if law.stribeck and not all(curve.drop_determined for curve in fitted):
             left_out.append(f"{law.name}: its drop F_s - F_c is not determined by the data "
                             f"(not {DROP_SE:g} standard errors clear of 0"
                             f"{' in a direction' if law.asymmetric else ''})")
             continue
         mse = (known or {}).get(law.name) if not offset else None
-        mse = _law_mse(law, sweep, weight, folds, one_out, offset) if mse is None else mse
+        mse = _law_mse(law, sweep, weight, folds, one_out, offset, fitted) if mse is None else mse
         if mse is None:
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
             continue
@@ -442,13 +443,14 @@ def _scored(sweep: Sweep, weight: Optional[np.ndarray], blocks: int):
 
 
 def _law_mse(law: "TextbookLaw", sweep: Sweep, weight: np.ndarray, folds: np.ndarray,
-             one_out: bool, offset: float = 0.0) -> Optional[np.ndarray]:
+             one_out: bool, offset: float = 0.0,
+             fitted: Optional[Tuple[LawFit, ...]] = None) -> Optional[np.ndarray]:
     """A textbook law's held-out errors per fold (``_fold_mse``); left out one point at a time
     from a curve of fewer than PIN_POINTS points, a Stribeck law keeps the shape and v_s of its
-    fit on all points (see the module)."""
+    fit on all points (see the module; ``fitted``: that fit where it is made already)."""
     level = Sweep(sweep.v, sweep.f - offset)
     few = min(speed.size for speed, _, _ in curve_points(level, weight, law.asymmetric)) < PIN_POINTS
-    pinned = law.fits(level, weight) if one_out and law.stribeck and few else None
+    pinned = (fitted or law.fits(level, weight)) if one_out and law.stribeck and few else None
     return _fold_mse(lambda train, w: law.predictor(train, w, offset, pinned), sweep, weight, folds)
 
 
