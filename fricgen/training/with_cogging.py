@@ -108,10 +108,18 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                 "the move (a calibration at one speed each way holds too few speeds for the "
                 "default fit)")
         warnings = []
-    if fit.inertia_source == "identified":
-        model, text = _recording_inertia_source(model, text)
+    if fit.inertia_source == "identified":      # the friction was fitted with the map's J
+        model, text = _inertia_recorded(model, text, "option", {"mass_from": "cogging"},
+                                        lambda row: row.replace(" as given", " from the cogging map's "
+                                                                "ripple (below)"))
     elif fit.inertia_source == "undetermined" and fit.map is not None:
-        model, text = _inertia_not_determined(model, text, units)
+        # the map took out no J (its J a is in the map): the friction fit's J from the same log,
+        # found in the ripple the map holds, is no measurement of the axis's (a new user's 14-bit
+        # calibration emitted one 27 times too small, with a standard error of 4 %)
+        model, text = _inertia_recorded(
+            model, text, "data", {"mass": None, "mass_se": None, "mass_from": None},
+            lambda row: f"{units.inertia_name:9s} not determined: the calibration accelerates only "
+                        "by the ripple the cogging map holds (give --mass)")
     model = replace(recording_force_constant(model, columns, force_constant), cogging_map=fit.map,
                     cogging_friction=fit.friction)
     j = {"given": "given", "identified": "identified from the two directions' ripple",
@@ -229,32 +237,16 @@ def less_position_force(columns: Mapping[str, np.ndarray], report: FitReport,
     return replace(again, model=replace(model, cogging_map=fit.map))
 
 
-def _recording_inertia_source(model: FrictionModel, text: str) -> Tuple[FrictionModel, str]:
-    """``model`` and its report ``text`` saying that the inertia the friction was fitted with is
-    the one the cogging map identified (train was given it, as by --mass)."""
-    axis = model.training.get("axis")
-    if axis is None or axis.get("mass_from") != "option":
+def _inertia_recorded(model: FrictionModel, text: str, was: str, axis: dict,
+                      line: Callable[[str], str]) -> Tuple[FrictionModel, str]:
+    """``model`` with ``axis`` written into its axis record and its report ``text`` with the
+    inertia line rewritten by ``line``, where the friction fit recorded its inertia as ``was``
+    (``mass_from``); both as they are otherwise."""
+    record = model.training.get("axis")
+    if record is None or record.get("mass_from") != was:
         return model, text
-    lines = [line.replace(" as given", " from the cogging map's ripple (below)")
-             if line.startswith(("inertia ", "mass ")) else line for line in text.splitlines()]
-    return (replace(model, training={**model.training, "axis": {**axis, "mass_from": "cogging"}}),
-            "\n".join(lines))
-
-
-def _inertia_not_determined(model: FrictionModel, text: str, units) -> Tuple[FrictionModel, str]:
-    """``model`` without the inertia its friction fit identified from a calibration whose only
-    acceleration is the ripple the map already holds (the map took out no inertia: its J a is
-    in the map), and its report ``text`` saying so: that inertia is no measurement of the
-    axis's (a new user's 14-bit calibration emitted one 27 times too small, with a standard
-    error of 4 %)."""
-    axis = model.training.get("axis")
-    if axis is None or axis.get("mass_from") != "data":
-        return model, text
-    lines = [f"{units.inertia_name:9s} not determined: the calibration accelerates only by the "
-             "ripple the cogging map holds (give --mass)"
-             if line.startswith(("inertia ", "mass ")) else line for line in text.splitlines()]
-    return (replace(model, training={**model.training, "axis": {**axis, "mass": None, "mass_se": None,
-                                                                "mass_from": None}}),
+    lines = [line(row) if row.startswith(("inertia ", "mass ")) else row for row in text.splitlines()]
+    return (replace(model, training={**model.training, "axis": {**record, **axis}}),
             "\n".join(lines))
 
 
