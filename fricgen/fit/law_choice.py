@@ -95,19 +95,20 @@ class TextbookLaw:
         law = "Coulomb + viscous + Stribeck" if self.stribeck else "Coulomb + viscous"
         return f"{law}, {'per direction' if self.asymmetric else 'symmetric'}"
 
-    def fits(self, sweep: Sweep, weight: np.ndarray,
-             pinned: Optional[Tuple[LawFit, ...]] = None) -> Tuple[LawFit, ...]:
+    def fits(self, sweep: Sweep, weight: np.ndarray, pinned: Optional[Tuple[LawFit, ...]] = None,
+             errors: bool = True) -> Tuple[LawFit, ...]:
         """The law's curves fitted to ``sweep`` (``ValueError`` where a curve has too few points);
-        ``pinned``: earlier fits of the curves whose Stribeck shape and v_s are kept."""
+        ``pinned``: earlier fits of the curves whose Stribeck shape and v_s are kept; ``errors``
+        False: without standard errors (``fit_law``)."""
         points = curve_points(sweep, weight, self.asymmetric)
         keep = [None] * len(points) if pinned is None else [(law.shape, law.v_s) for law in pinned]
-        return tuple(fit_law(speed, magnitude, w, self.stribeck, k)
+        return tuple(fit_law(speed, magnitude, w, self.stribeck, k, errors)
                      for (speed, magnitude, w), k in zip(points, keep))
 
     def predictor(self, sweep: Sweep, weight: np.ndarray, offset: float = 0.0,
                   pinned: Optional[Tuple[LawFit, ...]] = None) -> Callable:
         """The signed force of the law fitted to ``sweep`` less ``offset``, plus ``offset``."""
-        laws = self.fits(Sweep(sweep.v, sweep.f - offset), weight, pinned)
+        laws = self.fits(Sweep(sweep.v, sweep.f - offset), weight, pinned, errors=False)
         return lambda v: _signed(v, laws[0].magnitude, laws[-1].magnitude if self.asymmetric
                                  else None) + offset
 
@@ -142,7 +143,7 @@ def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
         return None if n is None else np.asarray(n, dtype=float)
     variance = np.asarray(f_std, float) ** 2 / (1.0 if n is None else np.asarray(n, float))
     speed, magnitude, moving_variance = curve_points(sweep, variance, asymmetric=False)[0]
-    law = fit_law(speed, magnitude)
+    law = fit_law(speed, magnitude, errors=False)
     residual = law.rms ** 2 * speed.size / max(speed.size - 2, 1)
     return 1.0 / (variance + max(residual - float(np.mean(moving_variance)), 0.0))
 
@@ -168,7 +169,7 @@ def textbook_outliers(sweep: Sweep) -> np.ndarray:
             suspects[np.argmax(speed)] = True
         kept = int((~suspects).sum())
         if suspects.any() and kept >= MIN_POINTS[False]:
-            laws = [fit_law(speed[~suspects], magnitude[~suspects], stribeck=s)
+            laws = [fit_law(speed[~suspects], magnitude[~suspects], stribeck=s, errors=False)
                     for s in (False, True) if kept >= MIN_POINTS[s]]
             others = ~suspects if few else None
             confirmed = unexplained(magnitude, suspects, [law.magnitude(speed) for law in laws]
@@ -256,7 +257,8 @@ def shows_structure(sweep: Sweep, weight: Optional[np.ndarray] = None) -> bool:
         if speed.size < STRUCTURE_POINTS:
             continue
         order = np.argsort(speed, kind="stable")
-        law = fit_law(speed, magnitude, w, stribeck=speed.size >= MIN_POINTS[True]).magnitude(speed)
+        law = fit_law(speed, magnitude, w, stribeck=speed.size >= MIN_POINTS[True],
+                      errors=False).magnitude(speed)
         if runs_z((magnitude - law)[order]) < -STRUCTURE_Z:
             return True
         if rmse(law, magnitude) > NEIGHBOURS_BEAT * rmse(from_neighbours(speed, magnitude), magnitude):
@@ -345,16 +347,26 @@ class LawChoice:
         return text + "".join(f"\nleft out  {why}" for why in self.left_out)
 
 
+@dataclass(frozen=True)
+class Scored:
+    """What ``asymmetry_evident`` found that ``choose_law`` would find again on the same sweep:
+    the gross outliers of its moving points (``_scored``) and textbook laws' held-out errors
+    per fold, by law name."""
+
+    outliers: np.ndarray
+    errors: Dict[str, np.ndarray]
+
+
 def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional[DirectionsFit] = None,
                rich_reason: str = "", independence: float = 1.0, offset: float = 0.0,
                seed=0, blocks: int = 0, asymmetric: Optional[bool] = None,
-               known: Optional[Dict[str, np.ndarray]] = None) -> LawChoice:
+               known: Optional[Scored] = None) -> LawChoice:
     """The simplest candidate within the noise of the best (see the module). ``rich``: the
     multi-source fit on all rows (None, with ``rich_reason``, where the data could not give
     one); ``offset``: the constant force the textbook curves and the symmetric multi-source
     curve leave out (a log's, compensated apart);
-    ``asymmetric`` True or False: only the candidates of that symmetry; ``known``: textbook
-    laws' held-out errors on these points and folds already found (``asymmetry_evident``)."""
+    ``asymmetric`` True or False: only the candidates of that symmetry; ``known``: what
+    ``asymmetry_evident`` found on this sweep."""
     moving = sweep.v != 0
     if not np.any(moving):
         raise DataError("no row with v != 0: a friction sweep needs motion")
@@ -366,7 +378,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     if np.ptp(np.abs(sweep.v[moving])) <= 0:
         raise DataError("the points are all at one speed: a friction law needs two speeds or more")
     check_friction_sign(sweep.folded())
-    sweep, weight, outliers = _scored(sweep, weight, blocks)
+    sweep, weight, outliers = _scored(sweep, weight, blocks, known and known.outliers)
     level = Sweep(sweep.v, sweep.f - offset)
     folds = folds_for(sweep.v, seed, blocks)
     one_out = not blocks and len(sweep) <= LOO_POINTS
@@ -399,7 +411,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                             f"(not {DROP_SE:g} standard errors clear of 0"
                             f"{' in a direction' if law.asymmetric else ''})")
             continue
-        mse = (known or {}).get(law.name) if not offset else None
+        mse = known.errors.get(law.name) if known and not offset else None
         mse = _law_mse(law, sweep, weight, folds, one_out, offset, fitted) if mse is None else mse
         if mse is None:
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
@@ -432,13 +444,16 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                      _why_kept([(n, m) for n, m, _ in candidates], chosen, floor))
 
 
-def _scored(sweep: Sweep, weight: Optional[np.ndarray], blocks: int):
+def _scored(sweep: Sweep, weight: Optional[np.ndarray], blocks: int,
+            outliers: Optional[np.ndarray] = None):
     """The points ``choose_law`` scores, their weights and the gross outliers left out of them
-    (``textbook_outliers``; none in a log's samples): the moving ones less those outliers."""
+    (``textbook_outliers``, or ``outliers`` where they are found already; none in a log's
+    samples): the moving ones less those outliers."""
     moving = sweep.v != 0
     weight = np.ones(len(sweep)) if weight is None else np.asarray(weight, float)
     sweep, weight = Sweep(sweep.v[moving], sweep.f[moving]), weight[moving]
-    outliers = textbook_outliers(sweep) if not blocks else np.zeros(len(sweep), dtype=bool)
+    if outliers is None:
+        outliers = textbook_outliers(sweep) if not blocks else np.zeros(len(sweep), dtype=bool)
     return Sweep(sweep.v[~outliers], sweep.f[~outliers]), weight[~outliers], outliers
 
 
@@ -450,21 +465,21 @@ def _law_mse(law: "TextbookLaw", sweep: Sweep, weight: np.ndarray, folds: np.nda
     fit on all points (see the module; ``fitted``: that fit where it is made already)."""
     level = Sweep(sweep.v, sweep.f - offset)
     few = min(speed.size for speed, _, _ in curve_points(level, weight, law.asymmetric)) < PIN_POINTS
-    pinned = (fitted or law.fits(level, weight)) if one_out and law.stribeck and few else None
+    pinned = (fitted or law.fits(level, weight, errors=False)) if one_out and law.stribeck and few else None
     return _fold_mse(lambda train, w: law.predictor(train, w, offset, pinned), sweep, weight, folds)
 
 
 def asymmetry_evident(sweep: Sweep, weight: Optional[np.ndarray] = None,
-                      seed=0) -> Tuple[bool, Dict[str, np.ndarray]]:
+                      seed=0) -> Tuple[bool, Scored]:
     """Whether a sweep's directions differ beyond the noise already for the textbook laws: the
     per-direction law (with the Stribeck term where both directions allow it, else Coulomb +
     viscous) beats its symmetric twin (``_beats``) on the folds ``choose_law`` scores. A
     multi-source fit then need not be cross-validated for its symmetry: no curve shared by the
-    two directions holds what the simplest curves already tell apart. Also the held-out errors
-    found, by law name (``choose_law``'s ``known``)."""
-    sweep, weight, _ = _scored(sweep, weight, 0)
+    two directions holds what the simplest curves already tell apart. Also what was found on
+    the way (``Scored``: ``choose_law``'s ``known``)."""
+    sweep, weight, outliers = _scored(sweep, weight, 0)
     if not (np.any(sweep.v > 0) and np.any(sweep.v < 0)):
-        return False, {}
+        return False, Scored(outliers, {})
     folds = folds_for(sweep.v, seed, 0)
     one_out = len(sweep) <= LOO_POINTS
     for stribeck in (True, False):
@@ -472,9 +487,9 @@ def asymmetry_evident(sweep: Sweep, weight: Optional[np.ndarray] = None,
         if all(law.feasible(sweep) for law in pair):
             symmetric, per_direction = (_law_mse(law, sweep, weight, folds, one_out) for law in pair)
             if symmetric is not None and per_direction is not None:
-                return _beats(per_direction, symmetric), {pair[0].name: symmetric,
-                                                          pair[1].name: per_direction}
-    return False, {}
+                return _beats(per_direction, symmetric), Scored(outliers, {
+                    pair[0].name: symmetric, pair[1].name: per_direction})
+    return False, Scored(outliers, {})
 
 
 def _why_kept(candidates: List[Tuple[str, np.ndarray]], chosen: int, floor: int) -> str:

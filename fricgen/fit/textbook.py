@@ -141,14 +141,13 @@ def _design(speed, v_s=None, shape=None) -> np.ndarray:
     return np.column_stack([1.0 - g, g, speed])
 
 
-def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float) -> Dict[str, float]:
-    """Standard errors of ``params`` from the weighted Jacobian (central differences), the
-    residual variance rss / (n - p); infinite where the data do not determine one. A "drop"
-    F_s - F_c may stand for "static"."""
+def _covariance(speed, weight, params: Dict[str, float], shape, rss: float) -> np.ndarray:
+    """The covariance of ``params`` from the weighted Jacobian (central differences) and the
+    residual variance rss / (n - p); None where the data do not determine it (no residual
+    degree of freedom, a singular normal matrix)."""
     names = list(params)
     def magnitude(p):
-        static = p["coulomb"] + p["drop"] if "drop" in p else p.get("static")
-        return LawFit(p["coulomb"], p["viscous"], static, p.get("v_s"), shape, {}, 0.0,
+        return LawFit(p["coulomb"], p["viscous"], p.get("static"), p.get("v_s"), shape, {}, 0.0,
                       0.0).magnitude(speed)
     jac = np.empty((speed.size, len(names)))
     for j, k in enumerate(names):
@@ -156,22 +155,41 @@ def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float)
         up, down = {**params, k: params[k] + h}, {**params, k: params[k] - h}
         jac[:, j] = (magnitude(up) - magnitude(down)) / (2 * h)
     dof = speed.size - len(names)
-    se = np.full(len(names), np.inf)
-    if dof > 0:
-        jw = jac * np.sqrt(weight)[:, None]
-        try:
-            variance = np.diag(rss / dof * np.linalg.inv(jw.T @ jw))
-            se = np.where(variance >= 0, np.sqrt(np.abs(variance)), np.inf)  # < 0: ill-posed
-        except np.linalg.LinAlgError:
-            pass
-    return {k: float(s) if np.isfinite(s) else float("inf") for k, s in zip(names, se)}
+    if dof <= 0:
+        return None
+    jw = jac * np.sqrt(weight)[:, None]
+    try:
+        return rss / dof * np.linalg.inv(jw.T @ jw)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def _error(variance: float) -> float:
+    """A standard error from a variance: infinite where it is not finite or < 0 (ill-posed)."""
+    return float(np.sqrt(variance)) if np.isfinite(variance) and variance >= 0 else float("inf")
+
+
+def _standard_errors(speed, weight, params: Dict[str, float], shape, rss: float):
+    """Standard errors of ``params`` (``_covariance``; infinite where the data do not determine
+    one) and, where ``params`` hold "static", the standard error of the drop F_s - F_c
+    (var F_s + var F_c - 2 cov)."""
+    names = list(params)
+    cov = _covariance(speed, weight, params, shape, rss)
+    if cov is None:
+        return {k: float("inf") for k in names}, float("inf")
+    se = {k: _error(cov[j, j]) for j, k in enumerate(names)}
+    if "static" not in params:
+        return se, float("inf")
+    c, s = names.index("coulomb"), names.index("static")
+    return se, _error(cov[s, s] + cov[c, c] - 2.0 * cov[s, c])
 
 
 def fit_law(speed, force, weight=None, stribeck: bool = False,
-            pinned: Optional[Tuple[str, float]] = None) -> LawFit:
+            pinned: Optional[Tuple[str, float]] = None, errors: bool = True) -> LawFit:
     """The textbook curve fitted to (|v|, F) points (``weight``: relative weights, default 1).
     ``pinned``: the Stribeck term's (shape, v_s) kept from an earlier fit, only F_c, F_s and
-    F_v refitted.
+    F_v refitted. ``errors`` False: no standard errors (a cross-validation fold's, which only
+    predicts).
 
     ``ValueError`` with fewer points than parameters (``PARAMETERS``)."""
     speed = np.abs(np.asarray(speed, dtype=float))
@@ -184,7 +202,8 @@ def fit_law(speed, force, weight=None, stribeck: bool = False,
     fastest = float(speed.max())
     if not stribeck:
         (fc, fv), rss = _solve(_design(speed), force, root_w)
-        se = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv}, None, rss)
+        se = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv}, None, rss)[0] \
+            if errors else {}
         return LawFit(float(fc), float(fv), None, None, None, se, fastest,
                       float(np.sqrt(rss / speed.size)))
     slowest = float(speed[speed > 0].min()) if np.any(speed > 0) else fastest
@@ -205,10 +224,8 @@ def fit_law(speed, force, weight=None, stribeck: bool = False,
         if best is None or rss < best[0]:
             best = (rss, shape, vs, coef)
     rss, shape, vs, (fc, fs, fv) = best
-    se = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv, "static": fs, "v_s": vs},
-                          shape, rss)
-    drop = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv, "drop": fs - fc, "v_s": vs},
-                            shape, rss)["drop"]
+    se, drop = _standard_errors(speed, weight, {"coulomb": fc, "viscous": fv, "static": fs,
+                                                "v_s": vs}, shape, rss) if errors else ({}, np.inf)
     return LawFit(float(fc), float(fv), float(fs), vs, shape, se, fastest,
                   float(np.sqrt(rss / speed.size)), drop)
 

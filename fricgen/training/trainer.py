@@ -132,7 +132,7 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
     multi-source fit, the simplest within the noise of the best kept. Returns the fit, the
     identification (its offset made a load where the multi-source curves would push the
     axis) and the choice."""
-    rich, reason, evident, known = None, "", False, {}
+    rich, reason, evident, known = None, "", False, None
     weight = point_weights(sweep, *spread)
     if ident is None and not shows_structure(sweep, weight):
         reason = ("multi-source fit: not tried, the textbook law's residuals run along the speed "
