@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import difflib
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Iterator, Mapping, Optional, Sequence, Tuple, Union
@@ -226,15 +225,10 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
     return columns
 
 
-#: A header cell that writes a rotary unit: Nm, rad, rad/s, rpm, deg/s.
-ROTARY_UNIT = re.compile(r"(?<![\w/])(nm|rad|rad/s|rpm|deg/s)(?![\w/])", re.IGNORECASE)
-
-
 def names_rotary_axis(cells) -> bool:
     """Whether a header's names are a robot joint's (q, dq, qd, tau, effort, torque:
-    ``ROTARY_NAMES``) or write a rotary unit (``ROTARY_UNIT``: "torque [Nm]", "rpm")."""
-    return any(c.strip().lower() in ROTARY_NAMES or ROTARY_UNIT.search(c) or is_rotary_unit(c)
-               for c in cells)
+    ``ROTARY_NAMES``) or write a rotary unit ("torque [Nm]", "rpm": ``is_rotary_unit``)."""
+    return any(c.strip().lower() in ROTARY_NAMES or is_rotary_unit(c, bare=True) for c in cells)
 
 
 def _increasing_time(columns: Dict[str, np.ndarray], path, option: str) -> np.ndarray:

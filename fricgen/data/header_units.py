@@ -56,10 +56,12 @@ def _key(unit: str) -> str:
     return re.sub(r"[\s.·*-](?!1)", "", key.replace("°", "deg"))
 
 
-def is_rotary_unit(cell: str) -> bool:
-    """Whether a cell writes a rotary unit (rad, deg, rpm, Nm, ...)."""
+def is_rotary_unit(cell: str, bare: bool = False) -> bool:
+    """Whether a cell writes a rotary unit (rad, deg, rpm, Nm, ...) as "Name [unit]"; ``bare``:
+    or as a word of its own ("rpm", "torque Nm")."""
     found = named_unit(cell)
-    return bool(found and UNITS.get(_key(found[1]), ("", 0.0, False))[2])
+    words = [found[1]] if found else cell.split() if bare else []
+    return any(UNITS.get(_key(w), ("", 0.0, False))[2] for w in words)
 
 
 def header_units(cells: Sequence[str], mapped: Mapping[str, str], known: Mapping[str, str],

@@ -197,13 +197,20 @@ def _bin_index(x, period, bins):
     return np.floor((x % period) / period * bins).astype(int) % bins
 
 
-def _filled_bins(x, sign, period, most) -> int:
-    """The most position bins per period (a power of two from MIN_BINS up to ``most``) that each
-    direction visits all but MAX_EMPTY of (the encoder's steps and the sample rate leave finer
-    bins empty); DataError if the move does not cover the period each way."""
+def _bin_cap(most) -> int:
+    """The largest power of two from MIN_BINS up to ``most``: the finest position bins a pass
+    can fill (``most`` half its samples or counts per period)."""
     bins = MIN_BINS
     while 2 * bins <= most:
         bins *= 2
+    return bins
+
+
+def _filled_bins(x, sign, period, most) -> int:
+    """The most position bins per period (``_bin_cap`` of ``most`` down) that each direction
+    visits all but MAX_EMPTY of (the encoder's steps and the sample rate leave finer bins
+    empty); DataError if the move does not cover the period each way."""
+    bins = _bin_cap(most)
     while True:
         empty = [(label, np.bincount(_bin_index(x[sign == d], period, bins), minlength=bins) == 0)
                  for d, label in ((1, "+"), (-1, "-"))]
@@ -306,7 +313,7 @@ def _screen_limit(highest, bins, samples, cells) -> str:
     by the encoder's counts per period, or by bins a direction left unvisited."""
     if highest >= MAX_HARMONIC:
         return f"fricgen's limit of {MAX_HARMONIC}"
-    if 2 * bins <= min(samples, cells) / 2:
+    if bins < _bin_cap(min(samples, cells) / 2):
         return f"{bins} position bins, finer ones left unvisited in a direction"
     if samples <= cells:
         return (f"{SAMPLE_RATE_LIMIT}: {samples:.0f} samples per period at this speed; a slower move "
