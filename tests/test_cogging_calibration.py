@@ -61,3 +61,19 @@ def test_a_position_in_counts_is_named_not_blamed_on_the_speed():
     t, x, f, _ = _turns((24,), (0.01,), bits=12, counts=True)
     with pytest.raises(DataError, match="is x in encoder counts or another unit"):
         identify_cogging(t, x, f, period=TWO_PI, inertia=0.0)
+
+
+def test_a_nan_or_a_pause_in_the_calibration_is_named():
+    """A NaN force is named by its column and row (it read as a move covering 0 % of the
+    period); a pause in the time stamps names its first gap and says a map needs none."""
+    t = np.arange(0, 8, 1e-3)
+    x = 2 * TWO_PI * (1 - np.abs(1 - t / 4))
+    f = 0.05 * np.sin(24 * x) + 0.02 * np.sign(np.gradient(x, t))
+    bad = f.copy()
+    bad[4000] = np.nan
+    with pytest.raises(DataError, match="column 'force' holds NaN .* data row 4001"):
+        identify_cogging(t, x, bad, TWO_PI)
+    paused = t + 0.5 * (t >= 2) + 0.5 * (t >= 6)
+    with pytest.raises(DataError, match=r"between data rows 2000 and 2001 \(the first of 2 such "
+                                        r"steps\).*without pauses"):
+        identify_cogging(paused, x, f, TWO_PI)

@@ -113,8 +113,10 @@ def run(args) -> int:
             f"{name}, and used by no model in the folder now")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
-    note = offset_note(model, name)
-    if note:
+    notes = [offset_note(model, name)]
+    if model.cogging_map is not None:
+        notes.append(CoggingTable.of(model.cogging_map).shortfall(name, model.units.force))
+    for note in filter(None, notes):
         say(note)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})"
         + "".join(f"; the cogging map's blob to {path}" for path in blob))

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..c_literal import c_float
-from ..effects.cogging_map import ERROR_GRID, CoggingMap
+from ..effects.cogging_map import ERROR_GRID, MAX_TABLE, CoggingMap
 
 #: The table's interpolation error allowed, as a fraction of the map's RMS.
 TABLE_TOLERANCE = 0.01
@@ -72,6 +72,16 @@ class CoggingTable:
         q31_bound = float(np.max(np.abs(got - want))) + between + scale31 / 2.0 ** 31
         return cls(cogging, points, values, float_bound, q15, scale, q15_bound, q31, scale31,
                    q31_bound)
+
+    def shortfall(self, name: str, unit: str) -> str:
+        """One line where the largest table (MAX_TABLE points) leaves the float map further from
+        the series than TABLE_TOLERANCE of its RMS (harmonics too fine for it), else ""."""
+        if self.points < MAX_TABLE or self.float_bound <= TABLE_TOLERANCE * self.map.rms:
+            return ""
+        return (f"fricgen: warning: the cogging table's {self.points} points hold the map within "
+                f"{self.float_bound:.3g} {unit}, {self.float_bound / self.map.rms:.1%} of its RMS "
+                f"(not {TABLE_TOLERANCE:.0%}): harmonic {max(self.map.harmonics)} of the period is too "
+                f"fine for them; {name.upper()}_COGGING_ERROR_BOUND states it")
 
     @property
     def shift(self) -> int:

@@ -145,8 +145,11 @@ def uniform_sample_time(t: np.ndarray) -> float:
             more = f" (and at {back - 1} other rows: sort the log by t?)" if back > 1 else ""
             raise DataError(f"t goes back by {-dt[k]:.6g} s between {rows}{more}: time must "
                             "increase")
-        raise DataError(f"log is not uniformly sampled: t steps by {dt[k]:.6g} s between {rows}, "
-                        f"median step is {ts:.6g} s")
+        off = np.flatnonzero(np.abs(dt - ts) > UNIFORM_TOLERANCE * ts)
+        k = int(off[0])                             # the first, where the user looks first
+        more = f" (the first of {off.size} such steps)" if off.size > 1 else ""
+        raise DataError(f"log is not uniformly sampled: t steps by {dt[k]:.6g} s between data rows "
+                        f"{k + 1} and {k + 2}{more}, median step is {ts:.6g} s")
     return ts
 
 

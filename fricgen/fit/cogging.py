@@ -40,7 +40,7 @@ from scipy.ndimage import median_filter, minimum_filter1d, uniform_filter1d
 
 from .._blas import blas_threads, wanted_threads
 from ..data.inverse_dynamics import position_quantum
-from ..data.motionlog import uniform_time
+from ..data.motionlog import check_finite, uniform_time
 from ..data.smoothing import MIN_WINDOW, between_edges, smooth, steady_rows
 from ..effects.fitting import FIT_FOLDS, block_grams, lstsq, nested_cross_validation, refine
 from ..errors import DataError
@@ -436,7 +436,13 @@ def identify_cogging(t, x, force, period: Optional[float] = None,
 
 def _identify(t, x, force, period, inertia) -> CoggingFit:
     t, x, f = (np.asarray(c, dtype=float) for c in (t, x, force))
-    _, ts = uniform_time(t)
+    for name, values in (("t", t), ("x", x), ("force", f)):
+        check_finite(name, values)
+    try:
+        _, ts = uniform_time(t)
+    except DataError as exc:
+        raise DataError(f"{exc}: a cogging map needs one log sampled without pauses (train the "
+                        "longest part between gaps)") from None
     if period is not None and not (np.isfinite(period) and period > 0):
         raise DataError(f"the cogging period must be a finite number > 0, got {period!r}")
     if period is not None and np.ptp(x) < period:

@@ -11,6 +11,7 @@ from typing import Callable, Mapping, Optional, Tuple
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
+from ..data.motionlog import check_finite
 from ..effects.cogging_map import CoggingMap
 from ..fit.cogging import SAMPLE_RATE_LIMIT, CoggingFit, identify_cogging
 from ..errors import DataError, ModelError, UsageError
@@ -32,13 +33,15 @@ class CoggingReport:
 
 
 def log_force(columns: Mapping[str, np.ndarray], force_constant: Optional[float]) -> np.ndarray:
-    """The drive force of a log: ``force``, or the current ``i`` times the force constant."""
-    if "force" in columns:
-        return np.asarray(columns["force"], dtype=float)
-    if force_constant is None:
+    """The drive force of a log: ``force``, or the current ``i`` times the force constant
+    (``DataError`` naming the column and its first row that is not finite)."""
+    name = "force" if "force" in columns else "i"
+    if name == "i" and force_constant is None:
         raise UsageError("--cogging on a log of current i needs --force-constant (N/A, Nm/A): the map "
                          "is a force")
-    return force_constant * np.asarray(columns["i"], dtype=float)
+    values = np.asarray(columns[name], dtype=float)
+    check_finite(name, values)
+    return values if name == "force" else force_constant * values
 
 
 def _law(coulomb: float, viscous: float, fastest: float) -> LawFit:
