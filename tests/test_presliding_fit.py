@@ -123,6 +123,17 @@ def test_the_velocity_resolution_of_a_log(axis, log):
     assert velocity_resolution(noisy, 2e-4, axis.dt) == pytest.approx(RESOLUTION_SIGMAS * 2e-4)
 
 
+def test_a_logged_velocity_sets_the_band_not_the_positions_counts(axis, log):
+    """A drive's own velocity column is what its firmware reads: the band comes from its noise
+    and its own steps, not from the position's counts per sample (a 12-bit joint's clean dq
+    had been given a band above its fastest speed)."""
+    v = np.gradient(log["x"] + np.random.default_rng(0).normal(0.0, 1e-9, log["x"].size), axis.dt)
+    assert velocity_resolution(log["x"], 2e-6, axis.dt, v) == pytest.approx(RESOLUTION_SIGMAS * 2e-6)
+    stepped = np.round(v / 1e-4) * 1e-4
+    assert velocity_resolution(log["x"], 0.0, axis.dt, stepped) == pytest.approx(RESOLUTION_COUNTS * 1e-4)
+    assert velocity_resolution(log["x"], 0.0, axis.dt) > 5 * RESOLUTION_COUNTS * 1e-4   # counts: coarser
+
+
 def test_a_band_given_to_train_is_kept_and_said(static, axis):
     speeds = np.geomspace(0.05 * axis.stribeck, 50 * axis.stribeck, 60)
     sweep = Sweep(np.concatenate([-speeds[::-1], speeds]), axis.steady_friction(np.concatenate([-speeds[::-1], speeds])))

@@ -89,12 +89,18 @@ RESOLUTION_SIGMAS = 4.0
 RESOLUTION_COUNTS = 3.0
 
 
-def velocity_resolution(x: Optional[np.ndarray], noise: float, sample_time: float) -> float:
-    """The smallest speed a log tells from rest: RESOLUTION_COUNTS position steps per sample
-    for a position in encoder counts, and RESOLUTION_SIGMAS standard deviations of the velocity
-    noise."""
-    quantum = 0.0 if x is None else position_quantum(x)
-    return max(RESOLUTION_COUNTS * quantum / sample_time, RESOLUTION_SIGMAS * noise)
+def velocity_resolution(x: Optional[np.ndarray], noise: float, sample_time: float,
+                        v: Optional[np.ndarray] = None) -> float:
+    """The smallest speed a log tells from rest: RESOLUTION_SIGMAS standard deviations of the
+    velocity noise, and RESOLUTION_COUNTS steps: of the velocity ``v`` where the log gives one
+    (the drive's own estimate, which its firmware reads: a 12-bit joint's clean dq had been
+    given the band of its position's counts per sample, above its fastest speed), else of
+    the position's counts per sample."""
+    if v is not None:
+        steps = RESOLUTION_COUNTS * position_quantum(v)
+    else:
+        steps = 0.0 if x is None else RESOLUTION_COUNTS * position_quantum(x) / sample_time
+    return max(steps, RESOLUTION_SIGMAS * noise)
 
 
 def velocity_noise(v: np.ndarray) -> float:

@@ -286,10 +286,12 @@ def with_velocity_band(report: FitReport, data, given: Optional[float]) -> FitRe
             raise ValueError(f"velocity_resolution must be a number > 0, got {given!r}")
         band, source = float(given), "given to train"
     elif ident is not None:
-        x = data.get("x") if isinstance(data, Mapping) else None
-        band = velocity_resolution(None if x is None else np.asarray(x, dtype=float),
-                                   ident.velocity_noise, ident.sample_time)
+        x, v = (None if c is None else np.asarray(c, dtype=float) for c in
+                ((data.get(k) if isinstance(data, Mapping) else None) for k in ("x", "v")))
+        band = velocity_resolution(x, ident.velocity_noise, ident.sample_time, v)
         source = "the training log's velocity resolution"
+        if not band > 0:                    # a noise-free velocity: nothing to tell from rest
+            return report
     else:
         return report
     training = {**report.model.training, "velocity_band_from": source}
