@@ -408,7 +408,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
         fitted = law.fits(level, weight) if law.stribeck else None
         if law.stribeck and not all(curve.drop_determined for curve in fitted):
             left_out.append(f"{law.name}: its drop F_s - F_c is not determined by the data "
-                            f"(not {DROP_SE:g} standard errors above 0"
+                            f"(not {DROP_SE:g} standard errors clear of 0"
                             f"{' in a direction' if law.asymmetric else ''})")
             continue
         mse = known.errors.get(law.name) if known and not offset else None
