@@ -351,16 +351,32 @@ def test_columns_that_map_a_joints_names_make_the_axis_rotary(tmp_path):
     assert json.loads(out.read_text())["training"]["units"] == "rotary"
 
 
-@pytest.mark.parametrize("extra, warned", [([], True), (["--rotary"], False),
-                                           (["--scale", "x=0.0174533,v=0.0174533"], False)])
-def test_a_joint_logged_in_degrees_gets_one_warning(tmp_path, capsys, extra, warned):
+@pytest.mark.parametrize("extra, code, told", [([], 2, True), (["--accept-unusual"], 0, True),
+                                               (["--rotary"], 0, False),
+                                               (["--scale", "x=0.0174533,v=0.0174533"], 0, False)])
+def test_a_joint_logged_in_degrees_is_refused_in_one_line(tmp_path, capsys, extra, code, told):
+    """Read as rad, a joint's q and dq in degrees train a model whose every number is wrong:
+    refused (with --accept-unusual warned) unless --rotary says the axis is a fast shaft."""
     t = np.arange(0.0, 10.0, 0.002)
     path = _joint_file(tmp_path / "j.csv", "t,q,dq,tau", t, *_sine_joint(t, np.degrees(1.0)))
-    assert main(["train", path, *extra, "-o", str(tmp_path / "m.json")]) == 0
+    out = tmp_path / "m.json"
+    assert main(["train", path, *extra, "-o", str(out)]) == code
+    assert out.exists() == (code == 0)
     lines = [line for line in capsys.readouterr().err.splitlines() if "in degrees (--scale" in line]
-    assert len(lines) == int(warned)
+    assert len(lines) == int(told)
     assert all("are its position and speed in degrees (--scale x=0.0174533,v=0.0174533)?" in line
                for line in lines)
+
+
+def test_a_joints_position_in_encoder_counts_is_asked_about_counts(tmp_path, capsys):
+    t = np.arange(0.0, 10.0, 0.002)
+    q, dq, tau = _sine_joint(t)
+    counts = np.round(q * 4096 / (2 * np.pi))
+    path = _joint_file(tmp_path / "j.csv", "t,q,tau", t, counts, tau)
+    assert main(["train", path, "-o", str(tmp_path / "m.json")]) == 2
+    err = capsys.readouterr().err
+    assert "is q in encoder counts" in err and "degrees" not in err
+    assert not (tmp_path / "m.json").exists()
 
 
 def test_a_joints_sweep_in_degrees_is_told_the_scale_of_its_speed_alone(tmp_path, capsys):
@@ -369,7 +385,7 @@ def test_a_joints_sweep_in_degrees_is_told_the_scale_of_its_speed_alone(tmp_path
     speeds = np.geomspace(0.5, 2.0, 6)
     v = np.degrees(np.concatenate([speeds, -speeds]))
     path = _joint_file(tmp_path / "s.csv", "speed,torque", v, np.sign(v) * (0.8 + 0.002 * np.abs(v)))
-    assert main(["train", path, "-o", str(tmp_path / "m.json")]) == 0
+    assert main(["train", path, "-o", str(tmp_path / "m.json")]) == 2
     lines = [line for line in capsys.readouterr().err.splitlines() if "in degrees (--scale" in line]
     assert len(lines) == 1
     assert "is it in degrees (--scale v=0.0174533) or in rpm (--scale v=0.10472)?" in lines[0]

@@ -11,7 +11,7 @@ from ..data.sweep import MIN_SWEEP_POINTS
 from ..data.export import assignments, names_rotary_axis
 from ..data.header_units import is_rotary_unit
 from ..data.matfile import is_matfile
-from ..data.plausibility import top_speed
+from ..data.plausibility import refuse_or_warn, top_speed, whole_numbers
 from ..data.table import header_cells
 from .._validate import MAX_HIDDEN, rotary_axis
 from ..errors import DataError, UsageError
@@ -155,7 +155,7 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
         if args.force_held:
             check_force_held(args, columns)
         if rotary and not args.rotary and not writes_rotary_unit(args):
-            warn_degrees(args, columns, warn)
+            check_joint_speed(args, columns, warn)
         if given and (args.dynamic or args.cogging):
             raise UsageError(f"--{'dynamic' if args.dynamic else 'cogging'} models the friction of v "
                              f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
@@ -245,17 +245,24 @@ JOINT_SPEED_MAX = 20.0
 DEGREE = size("deg")
 
 
-def warn_degrees(args, columns, warn=say) -> None:
-    """One warning line (to ``warn``) where a log named as a joint's moves faster than
-    JOINT_SPEED_MAX (``data.plausibility.top_speed``): q and dq in degrees read as rad."""
+def check_joint_speed(args, columns, warn=say) -> None:
+    """A log named as a joint's that moves faster than JOINT_SPEED_MAX (``data.plausibility.
+    top_speed``) is refused in one line, or with --accept-unusual warned: q and dq in degrees,
+    dq in rpm, or q in encoder counts (whole numbers), read as rad, would train a model whose
+    every number is wrong (a joint's q in degrees had trained F_v 57 times too small)."""
     top = (top_speed(columns) or ("", 0.0))[1]
-    if top > JOINT_SPEED_MAX:
+    if top <= JOINT_SPEED_MAX:
+        return
+    if "x" in columns and whole_numbers(columns["x"]):
+        unit = "is q in encoder counts (--scale x= 2 pi over the counts per turn)"
+    else:
         scale = ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
         rpm = "" if "x" in columns else f" or in rpm (--scale v={size('rpm'):.6g})"
-        warn(f"fricgen: warning: {source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
-            f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: "
-            f"{'are its position and speed' if ',' in scale else 'is it'} in degrees (--scale "
-            f"{scale}){rpm}? A motor shaft this fast: --rotary says so")
+        unit = (f"{'are its position and speed' if ',' in scale else 'is it'} in degrees (--scale "
+                f"{scale}){rpm}")
+    refuse_or_warn(f"{source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
+                   f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: {unit}? "
+                   "A motor shaft this fast: --rotary says so", args.accept_unusual, warn)
 
 
 def check_force_held(args, columns) -> None:

@@ -57,7 +57,7 @@ def _thin(n: int) -> slice:
     return slice(None, None, max(1, math.ceil(n / CHECK_ROWS)))
 
 
-def _refuse_or_warn(message: str, accept_unusual: bool, warn: Callable[[str], None]) -> None:
+def refuse_or_warn(message: str, accept_unusual: bool, warn: Callable[[str], None]) -> None:
     if not accept_unusual:
         raise DataError(f"{message} ({ACCEPT_UNUSUAL} to use the data as they are)")
     warn(f"fricgen: warning: {message}; used as it is ({ACCEPT_UNUSUAL})")
@@ -98,7 +98,7 @@ COUNTS_HINT = ("; x holds whole numbers: encoder counts? --scale x=M converts th
                "(2 pi over the counts per turn) or the metres of one count")
 
 
-def _whole_numbers(values: np.ndarray) -> bool:
+def whole_numbers(values: np.ndarray) -> bool:
     """Whether every value is a whole number (and not all 0): a position in encoder counts."""
     return bool(np.any(values) and np.all(values == np.round(values)))
 
@@ -146,16 +146,17 @@ def check_bounds(columns: Dict[str, np.ndarray], source: str, accept_unusual: bo
         if value == 0:
             continue                # no motion or no force: the readers name that
         given = _given_scale(column, scaled)
+        counts = column == "x" and whole_numbers(columns["x"])
         problem = physical_problem(quantity, what, value)
         if problem:
-            counts = column == "x" and _whole_numbers(columns["x"])
             hint = given or (COUNTS_HINT if counts else
                              _unit_hint(column, quantity, value))
-            _refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
+            refuse_or_warn(f"{source}: {problem}{hint}", accept_unusual, warn)
         elif usual_max(quantity) is not None and unusual(quantity, what, value, column):
-            note = f"{source}: {unusual(quantity, what, value, column, given)}"
+            said = given or (COUNTS_HINT if counts else "")
+            note = f"{source}: {unusual(quantity, what, value, column, said)}"
             if quantity == "speed" and "t" not in columns:    # a sweep: its speeds are the law's
-                _refuse_or_warn(note, accept_unusual, warn)
+                refuse_or_warn(note, accept_unusual, warn)
             else:
                 warn(f"fricgen: warning: {note}")
         elif quantity in USUAL_MIN and unusually_small(quantity, what, value, column):
@@ -207,12 +208,12 @@ def check_sweep_shape(v: np.ndarray, f: np.ndarray, source: str, accept_unusual:
         [(speed, force_all)]
     why = [_looks_swapped(*curve) for curve in curves] if SLOWEST_SHARE < slowest < 1 else [""]
     if all(why):
-        _refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of its "
+        refuse_or_warn(f"{source}: v never comes near 0 (its slowest speed is {slowest:.0%} of its "
                         f"fastest) and {why[0]}: are the columns v and f swapped?", accept_unusual, warn)
         return
     scatter = min(_scatter(*curve) for curve in curves) if speed.size >= 20 else 0.0
     if scatter > NOTHING_EXPLAINED:
-        _refuse_or_warn(f"{source}: f scatters about any curve of v by {scatter:.0%} of its median "
+        refuse_or_warn(f"{source}: f scatters about any curve of v by {scatter:.0%} of its median "
                         "level: no friction curve is in it (is f the force of this axis, the sensor "
                         "connected?)", accept_unusual, warn)
 
@@ -301,7 +302,7 @@ def check_merge_shift(first: Dict[str, np.ndarray], second: Dict[str, np.ndarray
         return
     if abs(best - given) >= SHIFT_STEPS * step and at_given > SHIFT_GAIN * at_best:
         suggested = sign * best
-        _refuse_or_warn(f"--merge-shift {shift:g} s looks off: the force of {names[1 if sign > 0 else 0]} "
+        refuse_or_warn(f"--merge-shift {shift:g} s looks off: the force of {names[1 if sign > 0 else 0]} "
                         f"fits the motion of {names[0 if sign > 0 else 1]} best at a shift of about "
                         f"{suggested:.4g} s (RMS residual {math.sqrt(at_best):.3g} against "
                         f"{math.sqrt(at_given):.3g} {'A' if name == 'i' else 'N'} at {shift:g} s); "
@@ -330,7 +331,7 @@ def check_temperature(values: np.ndarray, source: str, accept_unusual: bool = Fa
         hint = "; in K? subtract 273.15" if 200 < low and high < 600 else "; in degF or K?"
         raise DataError(f"{what} beyond any axis in service{hint}")
     if low < TEMPERATURE_USUAL[0] or high > TEMPERATURE_USUAL[1]:
-        _refuse_or_warn(f"{what}: beyond {TEMPERATURE_USUAL[0]:g} to {TEMPERATURE_USUAL[1]:g} degC "
+        refuse_or_warn(f"{what}: beyond {TEMPERATURE_USUAL[0]:g} to {TEMPERATURE_USUAL[1]:g} degC "
                         "(in degF? (T - 32) / 1.8 converts it)", accept_unusual, warn)
     elif low > WARM_START:
         warn(f"fricgen: warning: {what}: its coolest reading is warmer than most machines' "
