@@ -546,3 +546,16 @@ def test_a_curve_the_textbook_laws_miss_in_few_points_is_given_the_multi_source_
     assert not shows_structure(fricgen.Sweep(np.concatenate([speeds, -speeds]),
                                              np.concatenate([straight[0], -straight[1]])))
 
+
+
+def test_points_at_rest_are_said_to_be_left_out():
+    """A sweep with its breakaway forces at v = 0 (+-7.2 N) was fitted without them and said
+    nothing of them."""
+    speeds = np.geomspace(0.001, 0.5, 8)
+    f = 4.0 + 10.0 * speeds
+    sweep = fricgen.Sweep(np.concatenate([[0.0, 0.0], speeds, -speeds]),
+                          np.concatenate([[7.2, -7.1], f, -f]))
+    choice = choose_law(sweep)
+    assert any(line.startswith("2 points at v = 0") for line in choice.left_out)
+    assert not any("v = 0" in line for line in choose_law(
+        fricgen.Sweep(np.concatenate([speeds, -speeds]), np.concatenate([f, -f]))).left_out)

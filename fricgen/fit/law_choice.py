@@ -384,6 +384,10 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     one_out = not blocks and len(sweep) <= LOO_POINTS
     candidates: List[tuple] = []
     left_out = [rich_reason] if rich is None and rich_reason else []
+    resting = int(np.count_nonzero(~moving))
+    if resting:
+        left_out.append(f"{resting} point{'s' * (resting > 1)} at v = 0: the law is the friction "
+                        "of sliding, a force at rest (a breakaway) is none of its points")
     if outliers.any():
         count = int(outliers.sum())
         left_out.append(f"{count} point{'s' * (count > 1)}: gross outliers (off a running median, "
