@@ -77,3 +77,39 @@ def test_a_nan_or_a_pause_in_the_calibration_is_named():
     with pytest.raises(DataError, match=r"between data rows 2000 and 2001 \(the first of 2 such "
                                         r"steps\).*without pauses"):
         identify_cogging(paused, x, f, TWO_PI)
+
+
+def _linear_move(rng, cogging, ripple=0.0):
+    """Two pole pitches (32 mm) each way at 10 mm/s, 4 kHz, a 1 um encoder; the force: the
+    cogging of x, friction, noise, and ``ripple``: a loop's ripple 6 samples long."""
+    pitch, speed, rate = 0.032, 0.01, 4000.0
+    t = np.arange(0, 4 * 2 * pitch / speed, 1 / rate)
+    x = np.round(speed * (2 * pitch / speed - np.abs(t - 2 * pitch / speed)) / 1e-6) * 1e-6
+    v = np.gradient(x, t)
+    f = cogging(x) + 5.0 * np.sign(v) + 20.0 * v + ripple * np.sin(2 * np.pi * rate / 6 * t) \
+        + 0.05 * rng.standard_normal(t.size)
+    return t, x, f
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_strong_harmonic_of_the_pitch_is_placed_as_a_harmonic(seed):
+    """The 6th harmonic of the pole pitch stronger than the 1st: the period found was a sixth of
+    the pitch, the map 37 % off; the strongest peak's sub-multiples find the pitch."""
+    rng = np.random.default_rng(seed)
+    phase = rng.uniform(0, TWO_PI, 2)
+
+    def cogging(u):
+        return 0.8 * np.sin(TWO_PI * u / 0.032 + phase[0]) + 2.0 * np.sin(6 * TWO_PI * u / 0.032 + phase[1])
+    fit = identify_cogging(*_linear_move(rng, cogging), None, inertia=0.0)
+    assert fit.period == pytest.approx(0.032, rel=1e-3)
+    u = np.linspace(0, 0.032, 2000)
+    assert np.sqrt(np.mean((fit.map.force(u) - cogging(u)) ** 2)) < 0.03 * np.std(cogging(u))
+
+
+def test_a_linear_log_without_cogging_gets_no_map_not_a_refusal():
+    """Without --pitch, a loop's ripple 6 samples long was taken for the period and the log
+    refused ("resolves the period too coarsely"); a period the map cannot be built on is no
+    candidate, and no harmonic stands above the noise."""
+    fit = identify_cogging(*_linear_move(np.random.default_rng(3), lambda u: 0.0 * u, 0.3), None,
+                           inertia=0.0)
+    assert fit.map is None

@@ -340,22 +340,60 @@ def _travel_spectrum(x, r, speed, ts, quantum):
     return k, spectrum, usable, 2 * np.pi / (4 * n * step)
 
 
-def _fundamental(x, f, nuisance, speed, ts, quantum) -> float:
+def _peak_z(spectrum: np.ndarray, usable: np.ndarray) -> Tuple[np.ndarray, float]:
+    """Each wavenumber's periodogram amplitude over the noise around it (a drive's noise is not
+    white: the running median over NOISE_SPAN Rayleigh resolutions, 4 FFT points each, on each
+    side), 0 where not ``usable``; and the level noise alone reaches with probability ALPHA over
+    the usable ones (Rayleigh)."""
+    local = median_filter(spectrum, size=8 * NOISE_SPAN + 1, mode="nearest") / np.sqrt(2 * np.log(2))
+    z = np.where(usable, spectrum / np.maximum(local, 1e-300), 0.0)
+    return z, float(np.sqrt(2 * np.log(max(usable.sum() / 4, 1.0) / ALPHA)))
+
+
+def _fundamental(x, f, nuisance, speed, ts, quantum) -> Optional[float]:
     """The map's period found in the data: the wavelength of the strongest peak of the position
     periodogram (``_travel_spectrum``), refined (``_refined_peak``) as one sinusoid, then as the
-    series of its first PERIOD_HARMONICS harmonics. Content at a longer period (a
-    once-per-pole-pair or once-per-turn term) needs the period given."""
+    series of its first PERIOD_HARMONICS harmonics; None where no peak stands above the noise
+    (``_peak_z``). Only periods the map can be built on are candidates: 2 MIN_BINS samples and
+    counts each (a linear log without cogging had its loop's 16 um ripple, 6 samples long, taken
+    for the period, and was refused). Content at a longer period (a once-per-pole-pair or
+    once-per-turn term) needs the period given."""
     r = _less_nuisance(f, nuisance)
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
+    usable &= k <= 2 * np.pi / (2 * MIN_BINS * max(quantum, speed * ts))
     if not usable.any():
         raise DataError(f"the log travels {np.ptp(x):.6g}: too short to find the cogging's period; "
                         "give --pitch")
-    peak = _refined_peak(x, r, float(k[usable][np.argmax(spectrum[usable])]), grid)
+    z, level = _peak_z(spectrum, usable)
+    if z.max() <= level:
+        return None
+    j = int(np.argmax(z))
+    peak = _refined_peak(x, r, float(k[j]), grid) / _subharmonic(k, spectrum, z, j, grid)
     # the harmonics of the period: a travel of a few periods places one sinusoid's peak only
     # roughly (its neighbours' leakage, a drift of the friction), the whole series sharply
     harmonics = max(1, min(PERIOD_HARMONICS, int(k[usable].max() / peak)))
     thin = slice(None, None, max(1, x.size // PERIOD_ROWS))
     return float(2 * np.pi / _refined_peak(x[thin], r[thin], peak, grid, harmonics))
+
+
+def _subharmonic(k: np.ndarray, spectrum: np.ndarray, z: np.ndarray, j: int, grid: float) -> int:
+    """Which harmonic of the fundamental the strongest peak ``k[j]`` is: the largest n (up to
+    PERIOD_HARMONICS) whose k[j] / n holds a local peak of the periodogram (within 2 FFT
+    spacings) above the noise (``_peak_z``'s z; the level noise reaches with probability ALPHA
+    over the n tried) and at least UNEXPLAINED_SHARE of the strongest (the friction's drifts
+    along the travel and the strong peaks' side lobes stand above the noise too), else 1: the
+    strongest harmonic need not be the first (a linear motor's 6th of its pole pitch had given
+    a map of a sixth of the pitch, 37 % off)."""
+    level = np.sqrt(2 * np.log((PERIOD_HARMONICS - 1) / ALPHA))
+    for n in range(PERIOD_HARMONICS, 1, -1):
+        near = np.flatnonzero(np.abs(k - k[j] / n) <= 2 * grid)
+        if near.size == 0:
+            continue
+        i = int(near[np.argmax(spectrum[near])])
+        local = 0 < i < k.size - 1 and spectrum[i] >= max(spectrum[i - 1], spectrum[i + 1])
+        if local and z[i] > level and spectrum[i] >= UNEXPLAINED_SHARE * spectrum[j]:
+            return n
+    return 1
 
 
 def _refined_peak(x, r, peak, grid, harmonics: int = 1) -> float:
@@ -382,12 +420,9 @@ def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Option
     usable &= (k <= 2 * np.pi * highest / period) & (k >= 2 * np.pi * UNEXPLAINED_PERIODS / np.ptp(x))
     if usable.sum() < 2:
         return None
-    # the noise level around each wavenumber (a drive's noise is not white): the running median
-    # of the periodogram over NOISE_SPAN Rayleigh resolutions (4 FFT points each) on each side
-    local = median_filter(spectrum, size=8 * NOISE_SPAN + 1, mode="nearest") / np.sqrt(2 * np.log(2))
-    z = np.where(usable, spectrum / np.maximum(local, 1e-300), 0.0)
+    z, level = _peak_z(spectrum, usable)
     j = int(np.argmax(z))
-    if z[j] <= np.sqrt(2 * np.log(usable.sum() / 4 / ALPHA)):
+    if z[j] <= level:
         return None
     peak = _refined_peak(x, r, k[j], grid)
     h = peak * period / (2 * np.pi)
@@ -462,6 +497,13 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     if period is None:      # in the force less a given inertia's m a (a log of normal operation accelerates)
         less = f - inertia * a_smooth if inertia is not None else f
         period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum)
+        if period is None:                  # no position-periodic force: no map, the friction
+            coef, rss = lstsq(_nuisance(v[rows]), less[rows])
+            return CoggingFit(map=None, friction=None, inertia=float(inertia or 0.0),
+                              inertia_source="given" if inertia is not None else "undetermined",
+                              coulomb_viscous=tuple(float(c) for c in coef), highest_harmonic=0,
+                              residual_rms=float(np.sqrt(rss / rows.sum())), rows=int(rows.sum()),
+                              screened_by="the travel's periodogram: no peak above the noise")
     # the viscous columns take the speed averaged over one period's travel: the velocity ripple
     # that the cogging itself causes would otherwise take part of it
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
