@@ -452,9 +452,12 @@ class FrictionModel:
             raise ModelError(f"unknown format_version {d.get('format_version')!r}; this fricgen "
                              f"reads versions {SYMMETRIC_FORMAT_VERSION} to {FORMAT_VERSION}"[:200])
         inputs = None if d.get("inputs") is None else LoadTemperature.from_dict(d["inputs"])
-        if (inputs is not None) != (version == FORMAT_VERSION):
-            raise ModelError(f"field 'inputs' needs format_version {FORMAT_VERSION}, and version "
-                             f"{FORMAT_VERSION} holds models with inputs only")
+        if inputs is not None and version != FORMAT_VERSION:
+            raise ModelError(f"field 'inputs' needs format_version {FORMAT_VERSION}, got {version}")
+        if inputs is None and version == FORMAT_VERSION:
+            raise ModelError(f"format_version {FORMAT_VERSION} holds models with inputs (load, "
+                             "temperature) only, and this one has no field 'inputs': an edited "
+                             "format_version?")
         name = check_c_identifier(d.get("name"))
         positive = Direction.from_dict(d)
         negative = None

@@ -78,7 +78,7 @@ def _mutations():
     yield "negative in a symmetric model", lambda d: d.__setitem__("symmetric", True), \
         "says symmetric: true, yet holds a curve .negative. of v < 0"
     yield "negative in version 1", lambda d: d.__setitem__("format_version", 1), "symmetric must be true"
-    yield "version 3 without inputs", lambda d: d.__setitem__("format_version", 3), "needs format_version 3"
+    yield "version 3 without inputs", lambda d: d.__setitem__("format_version", 3), "no field 'inputs': an edited format_version"
 
 
 @pytest.mark.parametrize("label, mutate, message", list(_mutations()), ids=[m[0] for m in _mutations()])
