@@ -81,26 +81,20 @@ def position_quantum(x: np.ndarray) -> float:
 #: The key under which ``identify_log`` carries its row mask through the resampling.
 USE_COLUMN = "_use"
 #: The velocity a log resolves: RESOLUTION_SIGMAS standard deviations of its velocity noise,
-#: and for a position in encoder counts RESOLUTION_COUNTS steps per sample (a velocity from
-#: counts jitters by a step per sample, a filtered one by a share of it; a banded compensation
-#: switched on at one step per sample still hunted at rest on 3 of 8 simulated precision stages,
-#: at three on 1 of 8: benchmarks/slow_speeds.py --measured, seeds 0-7, which set the value).
+#: and RESOLUTION_COUNTS steps (a velocity from counts jitters by a step per sample; a banded
+#: compensation switched on at one step per sample hunted at rest on 3 of 8 simulated precision
+#: stages, at three on 1 of 8: benchmarks/slow_speeds.py --measured, seeds 0-7, set the value).
 RESOLUTION_SIGMAS = 4.0
 RESOLUTION_COUNTS = 3.0
 
 
-def velocity_resolution(x: Optional[np.ndarray], noise: float, sample_time: float,
-                        v: Optional[np.ndarray] = None) -> float:
+def velocity_resolution(x: Optional[np.ndarray], noise: float, sample_time: float, v=None) -> float:
     """The smallest speed a log tells from rest: RESOLUTION_SIGMAS standard deviations of the
-    velocity noise, and RESOLUTION_COUNTS steps: of the velocity ``v`` where the log gives one
-    (the drive's own estimate, which its firmware reads: a 12-bit joint's clean dq had been
-    given the band of its position's counts per sample, above its fastest speed), else of
-    the position's counts per sample."""
-    if v is not None:
-        steps = RESOLUTION_COUNTS * position_quantum(v)
-    else:
-        steps = 0.0 if x is None else RESOLUTION_COUNTS * position_quantum(x) / sample_time
-    return max(steps, RESOLUTION_SIGMAS * noise)
+    velocity noise, and RESOLUTION_COUNTS steps of the velocity ``v`` where the log gives one
+    (the drive's own estimate, which its firmware reads), else of the position's counts per
+    sample."""
+    step = position_quantum(v) if v is not None else position_quantum(x) / sample_time if x is not None else 0.0
+    return max(RESOLUTION_COUNTS * step, RESOLUTION_SIGMAS * noise)
 
 
 def velocity_noise(v: np.ndarray) -> float:
