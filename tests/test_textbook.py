@@ -9,7 +9,7 @@ import pytest
 
 import fricgen
 from fricgen.cli import main
-from fricgen.fit.law_choice import choose_law, point_weights
+from fricgen.fit.law_choice import choose_law, point_weights, textbook_outliers
 from fricgen.fit.textbook import _design, _grid_rss, _solve, fit_law
 from fricgen.model import FrictionModel
 
@@ -559,3 +559,21 @@ def test_points_at_rest_are_said_to_be_left_out():
     assert any(line.startswith("2 points at v = 0") for line in choice.left_out)
     assert not any("v = 0" in line for line in choose_law(
         fricgen.Sweep(np.concatenate([speeds, -speeds]), np.concatenate([f, -f]))).left_out)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 3])
+def test_a_spike_in_a_few_points_of_a_stribeck_curve_is_left_out(seed):
+    """12 log-spaced points a side of a Stribeck curve with 0.1 N of noise and one point 5 N
+    high: the Theil-Sen line's spread over the drop and the viscous rise hid it, and the
+    Coulomb + viscous law, far off the curve, explained it; the law flipped to Coulomb +
+    viscous in both directions. The point off its neighbours' line that the Stribeck law fitted
+    to every point leaves out too is a spike."""
+    speeds = np.geomspace(0.001, 0.5, 12)
+    law = 4.6 + 2.4 * np.exp(-speeds / 0.003) + 14.0 * speeds
+    noise = 0.1 * np.random.default_rng(seed).standard_normal((2, 12))
+    f = law + noise[0]
+    f[6] += 5.0
+    sweep = fricgen.Sweep(np.concatenate([speeds, -speeds]), np.concatenate([f, -(law + noise[1])]))
+    assert np.flatnonzero(textbook_outliers(sweep)).tolist() == [6]
+    choice = choose_law(sweep)
+    assert "Stribeck" in choice.name and any("1 point: gross outliers" in line for line in choice.left_out)
