@@ -2,6 +2,8 @@
 with the folder's build files (CMake, Zephyr, PlatformIO: fricgen.codegen.package)."""
 from __future__ import annotations
 
+from typing import Optional
+
 from .._io import check_destination, check_folder, write_files
 from .._validate import PHYSICAL
 from ..c_names import check_model_name
@@ -71,13 +73,14 @@ def offset_note(model, name: str) -> str:
         f"{name}_force, the friction alone; {name}_force_with_offset adds it")
 
 
-def cogging_blob(args, model: FrictionModel) -> dict:
-    """``--cogging-blob``'s destination, checked, and the bytes of the model's map."""
-    if model.cogging_map is None:
+def cogging_blob(args, model: FrictionModel, table: Optional[CoggingTable]) -> dict:
+    """``--cogging-blob``'s destination, checked, and the bytes of the model's map (``table``:
+    its ``CoggingTable``, None without a map)."""
+    if table is None:
         raise UsageError(f"--cogging-blob: {args.model} holds no cogging map (train --cogging "
                          "identifies one)")
     path = check_destination(args.cogging_blob, [args.model], args.force, option="--cogging-blob")
-    return {path: CoggingTable.of(model.cogging_map).blob(model.model_hash)}
+    return {path: table.blob(model.model_hash)}
 
 
 def run(args) -> int:
@@ -105,7 +108,8 @@ def run(args) -> int:
     files.update(package_files(args.output, files, name))     # CMake, Zephyr, PlatformIO
     targets = check_targets(args, files, [args.model])
     check_overwrite(targets.values(), args.force)
-    blob = {} if args.cogging_blob is None else cogging_blob(args, model)
+    table = None if model.cogging_map is None else CoggingTable.of(model.cogging_map)
+    blob = {} if args.cogging_blob is None else cogging_blob(args, model, table)
     write_files({**{targets[n]: text for n, text in files.items()}, **blob})
     removed = remove_stale(args.output, name, files)
     if removed:
@@ -113,9 +117,7 @@ def run(args) -> int:
             f"{name}, and used by no model in the folder now")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
-    notes = [offset_note(model, name)]
-    if model.cogging_map is not None:
-        notes.append(CoggingTable.of(model.cogging_map).shortfall(name, model.units.force))
+    notes = [offset_note(model, name), table and table.shortfall(name, model.units.force)]
     for note in filter(None, notes):
         say(note)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})"

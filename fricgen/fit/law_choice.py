@@ -405,7 +405,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     if np.ptp(np.abs(sweep.v[moving])) <= 0:
         raise DataError("the points are all at one speed: a friction law needs two speeds or more")
     check_friction_sign(sweep.folded())
-    sweep, weight, outliers = _scored(sweep, weight, blocks, known and known.outliers)
+    sweep, weight, outliers = _scored(sweep, weight, blocks, None if known is None else known.outliers)
     level = Sweep(sweep.v, sweep.f - offset)
     folds = folds_for(sweep.v, seed, blocks)
     one_out = not blocks and len(sweep) <= LOO_POINTS
@@ -442,7 +442,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                             f"(not {DROP_SE:g} standard errors clear of 0"
                             f"{' in a direction' if law.asymmetric else ''})")
             continue
-        mse = known.errors.get(law.name) if known and not offset else None
+        mse = known.errors.get(law.name) if known is not None and not offset else None
         mse = _law_mse(law, sweep, weight, folds, one_out, offset, fitted) if mse is None else mse
         if mse is None:
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")

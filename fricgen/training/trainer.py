@@ -286,8 +286,9 @@ def with_velocity_band(report: FitReport, data, given: Optional[float]) -> FitRe
             raise ValueError(f"velocity_resolution must be a number > 0, got {given!r}")
         band, source = float(given), "given to train"
     elif ident is not None:
-        x, v = (None if c is None else np.asarray(c, dtype=float) for c in
-                ((data.get(k) if isinstance(data, Mapping) else None) for k in ("x", "v")))
+        columns = data if isinstance(data, Mapping) else {}
+        x, v = (None if columns.get(k) is None else np.asarray(columns[k], dtype=float)
+                for k in ("x", "v"))
         band = velocity_resolution(x, ident.velocity_noise, ident.sample_time, v)
         source = "the training log's velocity resolution"
         if not band > 0:                    # a noise-free velocity: nothing to tell from rest
