@@ -1,6 +1,7 @@
 """The grey-box [F1]: variable projection, the honest oracle, the estimator, the default's
 choice, gross outliers, and the emitted C against its float32 twin."""
 import shutil
+from dataclasses import replace
 import subprocess
 
 import numpy as np
@@ -107,6 +108,24 @@ def test_the_average_of_close_fits_is_matched_by_one_curve_of_eq1():
     np.testing.assert_allclose(match.residuals, t - match.curve(X))
     est.weights_ = {est.best_: 1.0}                    # a single contender is the fit itself
     assert est._average(X, t, ("gauss",), (1, 2)) is est.fits_[est.best_]
+
+
+def test_the_average_is_stood_for_by_the_nearest_curve_not_by_one_source_fewer():
+    """Table 1's three gaussian sources, on a sweep where two and three sources are within the
+    noise (their AICc 0.8 apart): the fits are averaged, and the curve kept is the one nearest
+    the average, of three sources, as close to the truth as the oracle's. A match of two
+    sources also lies within a tenth of the noise of the average, but is twice as far off."""
+    law, rng = preset("paper3", "gauss"), np.random.default_rng(5)
+    v = np.concatenate([rng.uniform(0.0, 0.06, 200), rng.uniform(0.06, 0.2, 100)])
+    data = prepare(Sweep(v, law(v) + rng.uniform(-0.5, 0.5, v.size)), vs_max=0.02)
+    grid = np.linspace(0.0, 0.06, 601)[1:]
+    grey = StribeckRegressor()
+    model = FrictionModel.fit(data, grey)
+    assert {k[1] for k in grey.weights_} == {2, 3}
+    oracle = FrictionModel.fit(replace(data, x=data.x[data.x > 0], t=data.t[data.x > 0]),
+                               OracleRegressor("gauss"))
+    errors = [np.sqrt(np.mean((m.force(grid) - law(grid)) ** 2)) for m in (model, oracle)]
+    assert grey.n_sources_ == 3 and errors[0] < 1.1 * errors[1]
 
 
 def test_sources_that_cancel_with_huge_amplitudes_are_not_chosen(xt):

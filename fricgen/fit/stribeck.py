@@ -52,9 +52,6 @@ SOURCES = (1, 2, 3, 4)
 AVERAGING_SCALE = 4.0
 #: Points of the dense grid over [0, 1] on which the average is matched by one curve.
 AVERAGING_GRID = 201
-#: A match within this fraction of the best fit's residual RMS (1 % of the noise's variance)
-#: is as good as exact: of those, the one with the fewest sources is taken.
-MATCH_TOLERANCE = 0.1
 #: ``bounded_least_squares`` stops at a step that lowers the cost by less than this fraction
 #: ... or moves theta by less than this (relative): scipy's least_squares tests its defaults of
 #: 1e-8 the same way; these are looser, far below what moves the AICc or the curve.
@@ -525,18 +522,25 @@ class StribeckRegressor(Estimator):
         return self
 
     def _average(self, x, t, shapes, sources) -> SourcesFit:
-        """The contenders' average (``weights_``) as one curve of [F1], fitted on the points
-        and a dense grid with one shape and S from the smallest contender's to the largest
-        contender's, started from the fits of that shape and S: of the fits within
-        MATCH_TOLERANCE, the one with the fewest sources, else the closest; the best contender
-        alone when it is the only one (or no such curve keeps sum |a_k| <= AMPLITUDE_MAX)."""
-        best = self.best_
+        """The contenders' average (``weights_``) as one curve of [F1]: the curve nearest the
+        average on the points and a dense grid, of the contenders themselves and of the closest
+        match (one shape and S from the smallest contender's to the largest contender's, fitted
+        to the average from the fits of that shape and S), its undetermined sources dropped.
+        The best contender alone when it is the only one.
+
+        The nearest curve, not the one with the fewest sources close to it: the fits averaged
+        are those the noise cannot tell apart, so a curve with a source fewer lies as close to
+        the average as the noise allows and yet may be twice as far from the truth (Table 1's
+        three gaussian sources matched by two). Where the match's sources are too close for
+        the points to determine them, dropping one moves it off the average, and a contender
+        is nearer."""
         if len(self.weights_) == 1:
-            return self.fits_[best]
+            return self.fits_[self.best_]
         grid = np.union1d(x, np.linspace(x.min(), x.max(), AVERAGING_GRID))
         target = sum(w * self.fits_[k].curve(grid) for k, w in self.weights_.items())
         bound = max(k[2] for k in self.weights_)
         smallest, largest = (f(k[1] for k in self.weights_) for f in (min, max))
+        nearest = [self.fits_[k] for k in self.weights_]
         matches = []
         for shape in shapes:
             for s in (s for s in sources if smallest <= s <= largest):
@@ -545,14 +549,13 @@ class StribeckRegressor(Estimator):
                     match = fit_sources(grid, target, shape, starts, self.xs_min_, bound)
                     if match.admissible:
                         matches.append(match)
-        if not matches:
-            return self.fits_[best]
-        close = [m for m in matches if m.rmse <= MATCH_TOLERANCE * self.fits_[best].rmse]
-        curve = (min(close, key=lambda m: (m.curve.n_sources, m.rmse)) if close else
-                 min(matches, key=lambda m: m.rmse)).curve
-        match = drop_undetermined(as_fit(curve, x, t, len(matches)), lambda theta: as_fit(
-            fit_sources(grid, target, curve.shape, [theta], self.xs_min_, bound).curve, x, t))
-        return self.fits_[best] if match is None else match
+        if matches:
+            curve = min(matches, key=lambda m: m.rmse).curve
+            match = drop_undetermined(as_fit(curve, x, t, len(matches)), lambda theta: as_fit(
+                fit_sources(grid, target, curve.shape, [theta], self.xs_min_, bound).curve, x, t))
+            if match is not None:
+                nearest.insert(0, match)
+        return min(nearest, key=lambda f: rmse(f.curve(grid), target))
 
     def held_out_residuals(self, x, t, folds) -> np.ndarray:
         """The whole procedure validated on ``folds`` of the points it was fitted to: without
