@@ -7,6 +7,7 @@ import re
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import fricgen
@@ -126,3 +127,25 @@ def test_the_api_checks_the_data_as_the_command_line_does(tmp_path, capsys):
         fricgen.train(columns, force_constant=20.0, estimator=fricgen.StribeckRegressor(),
                       checks=False)
     assert not [w for w in caught if "mA" in str(w.message)]
+
+
+def test_the_api_reads_a_mappings_names_as_a_files_header_is_read():
+    """A joint's q, dq, tau (a rotary axis, as the header names it) and a sweep's upper-case F
+    train as t, x, v, force and v, f do; two names equal in lower case are refused."""
+    rng = np.random.default_rng(0)
+    t = np.arange(0.0, 4.0, 4e-3)
+    q = 0.5 * np.sin(2.0 * np.pi * 0.5 * t)
+    dq = np.gradient(q, t)
+    tau = 0.05 * np.gradient(dq, t) + 0.3 * np.tanh(dq / 1e-3) + 0.2 * dq + 0.002 * rng.standard_normal(t.size)
+    as_joint = fricgen.train({"t": t, "q": q, "dq": dq, "tau": tau}, warn=lambda line: None)
+    as_quantities = fricgen.train({"t": t, "x": q, "v": dq, "force": tau}, rotary=True,
+                                  warn=lambda line: None)
+    assert as_joint.training["units"] == as_quantities.training["units"] == "rotary"
+    grid = np.linspace(-2.0, 2.0, 41)
+    np.testing.assert_array_equal(as_joint.model.force(grid), as_quantities.model.force(grid))
+    v = np.concatenate([np.geomspace(0.01, 1.0, 8), -np.geomspace(0.01, 1.0, 8)])
+    f = np.sign(v) * 2.0 + 3.0 * v
+    np.testing.assert_array_equal(fricgen.train({"V": v, "F": f}).model.force(grid),
+                                  fricgen.train({"v": v, "f": f}).model.force(grid))
+    with pytest.raises(fricgen.DataError, match="two columns are named 'f'"):
+        fricgen.train({"v": v, "f": f, "F": f})

@@ -213,15 +213,24 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
             raise DataError(f"{path}: column {name!r} appears twice once the columns are named "
                             f"({header!r} is mapped to it)")
         columns[name] = values
-    for alias, name in ALIASES.items():
-        if alias in columns and name not in columns and name not in layout.columns:
-            columns[name] = columns.pop(alias)
-    if "f" not in columns and "v" in columns and "force" in columns and not {"t", "x", "i"} & set(columns):
-        columns["f"] = columns.pop("force")         # a sweep: a velocity and a force, no time
+    columns = by_quantity(columns, mapped=layout.columns)
     for name, factor in scales.items():
         column = scaled_column(name, columns)
         if column in columns:
             columns[column] = columns[column] * _factor(name, factor, path, mat)
+    return columns
+
+
+def by_quantity(columns: Mapping[str, np.ndarray], mapped=()) -> Dict[str, np.ndarray]:
+    """``columns`` (named in lower case) with the ``ALIASES`` read as fricgen's quantities,
+    where no column of the quantity's own name is there and none is ``mapped`` to it; a
+    sweep's force (a velocity and a force, no time, position or current) is its ``f``."""
+    columns = dict(columns)
+    for alias, name in ALIASES.items():
+        if alias in columns and name not in columns and name not in mapped:
+            columns[name] = columns.pop(alias)
+    if "f" not in columns and "v" in columns and "force" in columns and not {"t", "x", "i"} & set(columns):
+        columns["f"] = columns.pop("force")
     return columns
 
 

@@ -14,6 +14,7 @@ from ..units import units_of
 from .._blas import blas_threads, wanted_threads
 from .._io import named_data
 from ..c_names import check_model_name
+from ..data.export import by_quantity, names_rotary_axis
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log, velocity_resolution
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
@@ -268,13 +269,27 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     """
     warn = warn or (lambda line: warnings.warn(line, stacklevel=4))
     if isinstance(data, Mapping):
-        data = unwrapped(data, warn)
+        rotary = rotary or names_rotary_axis([str(k) for k in data])
+        data = unwrapped(quantities(data, source), warn)
     with rotary_axis(rotary), blas_threads(wanted_threads()):
         if checks:
             _check_data(data, source, accept_unusual, warn)
         report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
                         source, file, accept_unusual, progress, warn, rotary, use, gravity, force_held)
         return with_velocity_band(report, data, velocity_resolution)
+
+
+def quantities(columns: Mapping, source: str) -> dict:
+    """A mapping's columns by fricgen's quantities, as a file's header is read: the names in
+    lower case, a joint's and a drive's (q, dq, tau, current, ...) read as x, v, force, i
+    (``data.export.by_quantity``)."""
+    named = {}
+    for key, values in columns.items():
+        name = str(key).strip().lower()
+        if name in named:
+            raise DataError(f"{source}: two columns are named {name!r} once read in lower case")
+        named[name] = values
+    return by_quantity(named)
 
 
 def with_velocity_band(report: FitReport, data, given: Optional[float]) -> FitReport:
