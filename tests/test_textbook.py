@@ -577,3 +577,12 @@ def test_a_spike_in_a_few_points_of_a_stribeck_curve_is_left_out(seed):
     assert np.flatnonzero(textbook_outliers(sweep)).tolist() == [6]
     choice = choose_law(sweep)
     assert "Stribeck" in choice.name and any("1 point: gross outliers" in line for line in choice.left_out)
+
+
+def test_a_per_direction_law_asked_for_names_the_direction_too_short():
+    """Eight points at v > 0 and two at v < 0, one law per direction asked for: the refusal
+    names what is short (a direction's points), not the sweep's count."""
+    v = np.concatenate([np.geomspace(0.001, 0.3, 8), [-0.001, -0.002]])
+    f = np.sign(v) * 2.0 + 10.0 * v
+    with pytest.raises(fricgen.DataError, match="per direction: fewer than 3 points in a direction"):
+        fricgen.train({"v": v, "f": f}, asymmetric=True)

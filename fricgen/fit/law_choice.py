@@ -457,8 +457,9 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
         else:
             candidates.append((name, mse, lambda: rich))
     if not candidates:
-        raise DataError("too few moving points for any friction law: "
+        simplest = next((line for line in left_out if not line.startswith("multi-source")),
                         f"{len(sweep)}, need {MIN_POINTS[False]} (Coulomb + viscous)")
+        raise DataError(f"too few moving points for any friction law: {simplest}")
     textbook_best = min((m.mean() for n, m, _ in candidates if not n.startswith("multi-source")),
                         default=np.inf)
     scored = candidates
