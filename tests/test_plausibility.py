@@ -384,3 +384,27 @@ def test_a_shaft_too_fast_for_its_units_is_asked_about_degrees_rpm_or_rotary(rot
     with rotary_axis(rotary), pytest.raises(DataError) as refused:
         check_bounds({"t": t, name: wave, "force": np.ones_like(t)}, "log.csv")
     assert hint in str(refused.value) and "mrad" not in str(refused.value)
+
+
+def test_a_hand_edit_of_the_laws_record_is_said_not_silently_ignored(tmp_path, capsys):
+    """training.coulomb is a record of the fitted law, outside the model_hash: edited, it
+    changes nothing eval and emit compute, and one warning line says so; the unedited file and
+    one whose record still gives its force warn of nothing."""
+    v = np.concatenate([np.geomspace(0.002, 0.5, 8), -np.geomspace(0.002, 0.5, 8)])
+    (tmp_path / "sweep.csv").write_text("v,f\n" + "".join(
+        f"{a!r},{float(np.sign(a) * 2.0 + 10.0 * a)!r}\n" for a in v.tolist()))
+    assert main(["train", str(tmp_path / "sweep.csv"), "-o", str(tmp_path / "m.json")]) == 0
+    model = json.loads((tmp_path / "m.json").read_text())
+    assert model["training"]["coulomb"] == pytest.approx(2.0)
+    model["training"]["coulomb"] = 3.0
+    (tmp_path / "edited.json").write_text(json.dumps(model))
+    capsys.readouterr()
+    answers = []
+    for name in ("m.json", "edited.json"):
+        assert main(["emit", str(tmp_path / name), "-o", str(tmp_path / name.replace(".json", "_c"))]) == 0
+        answers.append(capsys.readouterr().err)
+    warned = [[line for line in err.splitlines() if "warning" in line] for err in answers]
+    assert warned[0] == [] and len(warned[1]) == 1
+    assert warned[1][0].startswith(f"fricgen: warning: {tmp_path / 'edited.json'}: training's law")
+    assert (tmp_path / "m_c" / "friction_model.c").read_text() == \
+        (tmp_path / "edited_c" / "friction_model.c").read_text()

@@ -17,6 +17,7 @@ from ..data.wrapping import unwrapped
 from ..data.plausibility import check_columns, check_merge_shift
 from ..errors import DataError, FricgenError, UsageError
 from ..model import FrictionModel
+from ..training.record import law_record_edits
 from .common import number, say
 
 
@@ -33,6 +34,11 @@ def load_model(path, of_v_alone: str = ""):
     warning = model.hash_warning(path)
     if warning:
         say(warning)
+    edited = [] if warning else law_record_edits(model)      # the force fields' edit said first
+    if edited:
+        say(f"fricgen: warning: {path}: {' and '.join(edited)}'s law (coulomb, viscous, static, "
+            "v_s) no longer gives the model's force (edited by hand?): eval and emit run the "
+            "model's aim, scaling and viscous, which the record only describes")
     return model
 
 

@@ -16,7 +16,7 @@ from ..data.sweep import Sweep
 from ..fit import DEFAULT_ELM, AutoELMRegressor, DefaultRegressor, ELMRegressor, StribeckRegressor
 from ..fit.elm import EnlargedScheme
 from ..fit.stribeck import measured
-from ..fit.textbook import TextbookRegressor
+from ..fit.textbook import LawFit, TextbookRegressor
 from ..metrics import rmse
 
 
@@ -171,3 +171,34 @@ def axis_record(sweep: Sweep, ident: Optional[Identification], asymmetric: bool)
         if ident.force_constant is not None:
             record["force_constant"] = ident.force_constant[0]
     return record
+
+
+def law_record_edits(model) -> list:
+    """Where a textbook law's record (``training``'s coulomb, viscous, static, v_s, shape, and
+    ``training.negative``'s of a per-direction law) no longer gives the model's force over the
+    trained speeds (``training.axis``): the records' names ("training", "training.negative").
+    The record is read, never used: eval and emit run the model's own fields, which the
+    model_hash covers, so a record edited by hand changes nothing and is said to."""
+    training = model.training
+    axis = training.get("axis") or {}
+    slowest, fastest = axis.get("speed_min"), axis.get("speed_max")
+    if "coulomb" not in training or model.inputs is not None or not (
+            isinstance(slowest, (int, float)) and isinstance(fastest, (int, float))
+            and 0 < slowest <= fastest < np.inf):
+        return []
+    speed = np.geomspace(slowest, fastest, 9)
+    edited = []
+    for name, record, sign in (("training", training, 1.0),
+                               ("training.negative", training.get("negative") or training, -1.0)):
+        if "coulomb" not in record:
+            continue
+        force = sign * model.force(sign * speed)
+        try:
+            law = LawFit(record["coulomb"], record["viscous"], record.get("static"),
+                         record.get("v_s"), record.get("shape"), {}, fastest, 0.0).magnitude(speed)
+            kept = np.allclose(law, force, rtol=1e-6, atol=1e-9 * float(np.max(np.abs(force))))
+        except (KeyError, TypeError, ValueError):
+            kept = False
+        if not kept:
+            edited.append(name)
+    return edited
