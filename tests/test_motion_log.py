@@ -4,6 +4,8 @@ import json
 import numpy as np
 import pytest
 
+import fricgen
+
 from fricgen.cli import main
 from fricgen.data.export import ExportLayout, merge_on_time, read_export
 from fricgen.data.inverse_dynamics import identify_friction, is_log
@@ -242,3 +244,35 @@ def test_a_log_out_of_time_order_counts_its_backward_steps():
     shuffled = np.random.default_rng(0).permutation(t)
     with pytest.raises(DataError, match=r"and at \d+ other rows: sort the log by t\?"):
         uniform_sample_time(shuffled)
+
+
+def joint_log_with_filtered_velocity(cutoff, seed=0):
+    """A joint's log at 1 kHz: J = 0.05 kg m^2, Coulomb + viscous friction (0.8 Nm, 0.5 Nm s/rad),
+    q to 2^20 counts a turn, dq a drive's first-order filtered estimate at ``cutoff`` Hz (None:
+    the exact velocity), tau with 0.01 Nm of noise."""
+    from scipy.integrate import cumulative_trapezoid
+    from scipy.signal import lfilter
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 6.0, 1e-3)
+    dq = 1.5 * np.sin(2 * np.pi * 0.4 * t) + 0.6 * np.sin(2 * np.pi * 1.1 * t)
+    q = cumulative_trapezoid(dq, t, initial=0.0)
+    tau = 0.05 * np.gradient(dq, t) + 0.8 * np.tanh(dq / 1e-3) + 0.5 * dq + 0.01 * rng.standard_normal(t.size)
+    count = 2 * np.pi / 2 ** 20
+    if cutoff is not None:
+        alpha = 1.0 - np.exp(-2 * np.pi * cutoff * 1e-3)
+        dq = lfilter([alpha], [1.0, alpha - 1.0], dq)
+    return {"t": t, "q": np.round(q / count) * count, "dq": dq, "tau": tau}
+
+
+def test_a_lagging_velocity_column_is_set_aside_for_the_positions_derivative():
+    """dq filtered at 20 Hz (8 ms behind q's derivative) took the inertia 13 % high (0.0566
+    +- 0.0023 kg m^2): the lag is found, said in one line, and the velocity taken from q. The
+    exact dq is kept without a word."""
+    said = []
+    report = fricgen.train(joint_log_with_filtered_velocity(20.0), warn=said.append)
+    inertia = report.identification.body
+    assert [line for line in said if "lags dx/dt by" in line and "taken from x" in line]
+    assert abs(inertia.inertia - 0.05) < 0.02 * 0.05
+    said = []
+    fricgen.train(joint_log_with_filtered_velocity(None), warn=said.append)
+    assert not [line for line in said if "dx/dt" in line]

@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
+from scipy.signal import savgol_filter
 
 from .._io import named_data
 from ..errors import DataError
@@ -231,6 +232,70 @@ def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
         guess = next((hint for factor, hint in degrees.items() if abs(ratio / factor - 1) < 0.05),
                      "t in ms, x in mm, or v in other units?")
         raise DataError(f"t, x and v disagree: dx/dt is {ratio:.3g} times v (is {guess})")
+
+
+#: A logged velocity that lags (or leads) dx/dt by more than this many samples ...
+LAG_SAMPLES = 0.25
+#: ... and this many standard errors (``velocity_lag``) is set aside for dx/dt.
+LAG_SIGMAS = 4.0
+#: Samples of the Savitzky-Golay filter that smooths x's derivatives and v alike there.
+LAG_WINDOW = 31
+
+
+def velocity_lag(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> Optional[Tuple[float, float, float]]:
+    """How far the logged velocity v lags dx/dt (s; < 0: leads), its standard error and the
+    sampling interval: v(t) = dx/dt(t - tau) ~ dx/dt - tau d2x/dt2, fitted by least squares
+    over each run (``run_starts``), v and x's derivatives smoothed by one Savitzky-Golay filter
+    of LAG_WINDOW samples (a filter common to both leaves the lag as it is). The standard error
+    counts one independent sample per window. None where x and v are not one motion in one
+    unit (``check_units`` and the other checks name that) or no run holds three windows."""
+    try:
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            return None
+        bounds = np.concatenate([[0], run_starts(t, 1), [t.size]])
+    except DataError:
+        return None
+    cut, parts, ts = LAG_WINDOW // 2, [], None
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b - a < 3 * LAG_WINDOW:
+            continue
+        step = float(np.median(np.diff(t[a:b])))
+        if not step > 0:
+            return None
+        ts = ts or step
+        parts.append([savgol_filter(x[a:b], LAG_WINDOW, 3, deriv=1, delta=step)[cut:-cut],
+                      savgol_filter(x[a:b], LAG_WINDOW, 3, deriv=2, delta=step)[cut:-cut],
+                      savgol_filter(v[a:b], LAG_WINDOW, 3)[cut:-cut]])
+    if ts is None:
+        return None
+    dxdt, curvature, smoothed = (np.concatenate(p) for p in zip(*parts))
+    speed, moving = float(np.dot(smoothed, smoothed)), float(np.dot(curvature, curvature))
+    low, high = UNITS_TOLERANCE
+    if not (speed > 0 and moving > 0 and low <= np.dot(dxdt, smoothed) / speed <= high):
+        return None
+    residual = smoothed - dxdt
+    tau = -float(np.dot(residual, curvature)) / moving
+    spread = float(np.sum((residual + tau * curvature) ** 2)) / max(residual.size - 1, 1)
+    return tau, float(np.sqrt(spread / moving * LAG_WINDOW)), ts
+
+
+def without_lagging_velocity(columns: Dict[str, np.ndarray], warn) -> Dict[str, np.ndarray]:
+    """``columns`` without the velocity v where it lags (or leads) dx/dt beyond LAG_SAMPLES and
+    LAG_SIGMAS standard errors (``velocity_lag``), with one line through ``warn`` saying so: the
+    velocity is then dx/dt. A lag tau biases the inertia by the viscous slope times tau and
+    makes the force lead the motion as pre-sliding would."""
+    if "x" not in columns or "v" not in columns or "t" not in columns:
+        return columns
+    found = velocity_lag(*(np.asarray(columns[k], dtype=float) for k in ("t", "x", "v")))
+    if found is None:
+        return columns
+    tau, se, ts = found
+    if not (abs(tau) > LAG_SAMPLES * ts and abs(tau) > LAG_SIGMAS * se):
+        return columns
+    warn(f"fricgen: v {'lags' if tau > 0 else 'leads'} dx/dt by {abs(tau) * 1e3:.3g} ms "
+         f"({abs(tau) / ts:.2g} samples, +- {se / ts:.2g}; a drive's filtered velocity?): the "
+         "velocity is taken from x (a lagging v biases the inertia by the viscous slope times the lag)")
+    return {k: c for k, c in columns.items() if k != "v"}
 
 
 @dataclass(frozen=True)

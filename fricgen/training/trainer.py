@@ -16,6 +16,7 @@ from .._io import named_data
 from ..c_names import check_model_name
 from ..data.export import by_quantity, names_rotary_axis
 from ..data.inverse_dynamics import describe_missing, identify_log, is_log, velocity_resolution
+from ..data.motionlog import without_lagging_velocity
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
 from ..data.wrapping import unwrapped
@@ -274,6 +275,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
     with rotary_axis(rotary), blas_threads(wanted_threads()):
         if checks:
             _check_data(data, source, accept_unusual, warn)
+        if isinstance(data, Mapping):
+            data = without_lagging_velocity(data, warn)
         report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
                         source, file, accept_unusual, progress, warn, rotary, use, gravity, force_held)
         return with_velocity_band(report, data, velocity_resolution)
