@@ -128,6 +128,26 @@ def test_the_average_is_stood_for_by_the_nearest_curve_not_by_one_source_fewer()
     assert grey.n_sources_ == 3 and errors[0] < 1.1 * errors[1]
 
 
+def test_the_average_is_stood_for_by_no_source_fewer_than_three_points_see():
+    """A four-source contender with a narrow negative source at the two slowest points (their
+    noise) weighs a third of the average: the curve that stands for the average has no source
+    narrower than half the third slowest point's x, and it is the three-source fit."""
+    three = StribeckCurve("gauss", 0.4, np.array([0.25, 0.12, 0.3]), np.array([0.08, 0.19, 0.32]))
+    four = StribeckCurve("gauss", 0.4, np.array([-0.49, 0.25, 0.12, 0.3]),
+                         np.array([0.0035, 0.08, 0.19, 0.32]))
+    x = X[1:]
+    t = three(x)
+    est = StribeckRegressor(shapes=("gauss",), sources=(3, 4))
+    est.xs_min_ = 1e-3
+    est.fits_ = {("gauss", 3, 1.0): as_fit(three, x, t), ("gauss", 4, 1.0): as_fit(four, x, t)}
+    est.candidates_ = {("gauss", 3, 1.0): 0.0, ("gauss", 4, 1.0): 1.4}
+    est.weights_ = {("gauss", 3, 1.0): 2 / 3, ("gauss", 4, 1.0): 1 / 3}
+    est.best_ = ("gauss", 3, 1.0)
+    kept = est._average(x, t, ("gauss",), (3, 4))
+    assert kept.curve.n_sources == 3 and kept.curve.stribeck.min() >= 0.5 * np.sort(x)[2]
+    np.testing.assert_allclose(kept.curve(x), three(x), atol=1e-9)
+
+
 def test_sources_that_cancel_with_huge_amplitudes_are_not_chosen(xt):
     x, t = xt
     est = StribeckRegressor(shapes=("gauss",)).fit(x, t)

@@ -50,6 +50,10 @@ SOURCES = (1, 2, 3, 4)
 #: weights at twice their usual scale of 2, because the AICc of fits that differ in shape or S
 #: by a source the noise hides differ by noise of a few units (set on sweeps of seeds 200-229).
 AVERAGING_SCALE = 4.0
+#: The curve that stands for the average has no source narrower than SEEN_BY times the
+#: SEEN_POINTS-th slowest point's x: a source no more than two points see follows their noise.
+SEEN_BY = 0.5
+SEEN_POINTS = 3
 #: Points of the dense grid over [0, 1] on which the average is matched by one curve.
 AVERAGING_GRID = 201
 #: ``bounded_least_squares`` stops at a step that lowers the cost by less than this fraction
@@ -525,8 +529,11 @@ class StribeckRegressor(Estimator):
         """The contenders' average (``weights_``) as one curve of [F1]: the curve nearest the
         average on the points and a dense grid, of the contenders themselves and of the closest
         match (one shape and S from the smallest contender's to the largest contender's, fitted
-        to the average from the fits of that shape and S), its undetermined sources dropped.
-        The best contender alone when it is the only one.
+        to the average from the fits of that shape and S), its undetermined sources dropped;
+        of those, only curves each of whose sources more than two points see (SEEN_BY): a narrow
+        source at the two slowest points follows their noise, and a contender that holds one
+        passes it on to the average. The best contender alone when it is the only one (or no
+        curve is left).
 
         The nearest curve, not the one with the fewest sources close to it: the fits averaged
         are those the noise cannot tell apart, so a curve with a source fewer lies as close to
@@ -555,7 +562,9 @@ class StribeckRegressor(Estimator):
                 fit_sources(grid, target, curve.shape, [theta], self.xs_min_, bound).curve, x, t))
             if match is not None:
                 nearest.insert(0, match)
-        return min(nearest, key=lambda f: rmse(f.curve(grid), target))
+        seen = [f for f in nearest if np.all(f.curve.stribeck >= SEEN_BY * np.sort(x)[
+            min(SEEN_POINTS, x.size) - 1])]
+        return min(seen or [self.fits_[self.best_]], key=lambda f: rmse(f.curve(grid), target))
 
     def held_out_residuals(self, x, t, folds) -> np.ndarray:
         """The whole procedure validated on ``folds`` of the points it was fitted to: without
