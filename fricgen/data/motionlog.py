@@ -12,12 +12,12 @@ from pathlib import Path
 from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from .._io import named_data
 from ..errors import DataError
 from ..units import axis_units
 from .matfile import is_matfile, read_matfile
+from .smoothing import smooth
 from .table import header_hint, read_table_csv, table_csv_text
 
 #: The columns every log must have.
@@ -246,9 +246,10 @@ def velocity_lag(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> Optional[Tuple[
     """How far the logged velocity v lags dx/dt (s; < 0: leads), its standard error and the
     sampling interval: v(t) = dx/dt(t - tau) ~ dx/dt - tau d2x/dt2, fitted by least squares
     over each run (``run_starts``), v and x's derivatives smoothed by one Savitzky-Golay filter
-    of LAG_WINDOW samples (a filter common to both leaves the lag as it is). The standard error
-    counts one independent sample per window. None where x and v are not one motion in one
-    unit (``check_units`` and the other checks name that) or no run holds three windows."""
+    (``smoothing.smooth``) of LAG_WINDOW samples (a filter common to both leaves the lag as it
+    is). The standard error counts one independent sample per window. None where x and v are
+    not one motion in one unit (``check_units`` and the other checks name that) or no run
+    holds three windows."""
     try:
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
             return None
@@ -263,9 +264,9 @@ def velocity_lag(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> Optional[Tuple[
         if not step > 0:
             return None
         ts = ts or step
-        parts.append([savgol_filter(x[a:b], LAG_WINDOW, 3, deriv=1, delta=step)[cut:-cut],
-                      savgol_filter(x[a:b], LAG_WINDOW, 3, deriv=2, delta=step)[cut:-cut],
-                      savgol_filter(v[a:b], LAG_WINDOW, 3)[cut:-cut]])
+        parts.append([smooth(x[a:b], LAG_WINDOW, 1, step)[cut:-cut],
+                      smooth(x[a:b], LAG_WINDOW, 2, step)[cut:-cut],
+                      smooth(v[a:b], LAG_WINDOW)[cut:-cut]])
     if ts is None:
         return None
     dxdt, curvature, smoothed = (np.concatenate(p) for p in zip(*parts))

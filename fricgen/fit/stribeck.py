@@ -562,8 +562,8 @@ class StribeckRegressor(Estimator):
                 fit_sources(grid, target, curve.shape, [theta], self.xs_min_, bound).curve, x, t))
             if match is not None:
                 nearest.insert(0, match)
-        seen = [f for f in nearest if np.all(f.curve.stribeck >= SEEN_BY * np.sort(x)[
-            min(SEEN_POINTS, x.size) - 1])]
+        narrowest = SEEN_BY * np.sort(x)[min(SEEN_POINTS, x.size) - 1]
+        seen = [f for f in nearest if np.all(f.curve.stribeck >= narrowest)]
         return min(seen or [self.fits_[self.best_]], key=lambda f: rmse(f.curve(grid), target))
 
     def held_out_residuals(self, x, t, folds) -> np.ndarray:
