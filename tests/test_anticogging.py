@@ -448,13 +448,44 @@ def test_train_cogging_refuses_what_it_cannot_do(calibration_csv, tmp_path, caps
     assert message in capsys.readouterr().err and not out.exists()
 
 
-def test_a_wrong_pitch_is_named(calibration_csv, axis, tmp_path, capsys):
+def test_a_wrong_pitch_is_refused_not_written(calibration_csv, axis, tmp_path, capsys):
+    """A --pitch whose harmonics miss a force the log holds gave a map that misses it, with a
+    warning beside the written model; it is now refused, in one line."""
+    out = tmp_path / "m.json"
     assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--pitch", "1.0",
-                 "--force-constant", str(axis.kt), "-o", str(tmp_path / "m.json")]) == 0
+                 "--force-constant", str(axis.kt), "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "that no harmonic of the period 1 holds: a wrong --pitch" in err
-    assert "x in other units than rad" in err and "fricgen: fricgen:" not in err
-    assert "Is x in deg?" not in err
+    assert "that no harmonic of the period 1 holds: check --pitch" in err
+    assert err.count("\n") == 1 and "Is x in deg?" not in err and not out.exists()
+
+
+def _pole_pitches(pitches, seed=0):
+    """A linear motor cogging every pole pitch (32 mm: harmonics 1, 2, 6, 12, the 1st the
+    strongest of the odd ones), ``pitches`` of travel each way at 10 mm/s, 4 kHz, 1 um counts:
+    the path of its CSV (t, x, force)."""
+    rng = np.random.default_rng(seed)
+    pitch, speed, rate = 0.032, 0.01, 4000.0
+    turn = pitches * pitch / speed
+    t = np.arange(0, 2 * turn, 1 / rate)
+    x = np.round(speed * (turn - np.abs(t - turn)) / 1e-6) * 1e-6
+    h, amp = np.array([1, 2, 6, 12]), np.array([1.0, 0.4, 1.5, 0.6])
+    cogging = (amp[:, None] * np.sin(np.outer(h, TWO_PI * x / pitch) + rng.uniform(0, 6, (4, 1)))).sum(0)
+    v = np.gradient(x, t)
+    return np.column_stack([t, x, cogging + 20 * np.sign(v) + 300 * v + 0.3 * rng.standard_normal(t.size)])
+
+
+@pytest.mark.parametrize("pitches, pitch, refused", [(2, "0.016", True), (4, "0.032", False)])
+def test_half_the_pole_pitch_is_refused_the_pitch_itself_not(tmp_path, capsys, pitches, pitch, refused):
+    """--pitch half the pole pitch: its even harmonics hold all but the pitch's odd ones, and
+    the map (56 % off on a new user's motor) was written without a word. The map of twice the
+    pitch holds them; the pole pitch itself, over a travel that shows twice as long a period
+    twice, passes that check."""
+    path, out = tmp_path / "lin.csv", tmp_path / "m.json"
+    np.savetxt(path, _pole_pitches(pitches), delimiter=",", header="t,x,force", comments="", fmt="%.10g")
+    code = main(["train", str(path), "--cogging", "--pitch", pitch, "-o", str(out)])
+    err = capsys.readouterr().err
+    assert (code, out.exists()) == ((2, False) if refused else (0, True))
+    assert ("repeats every 0.032 m, 2 times --pitch 0.016: its harmonic 1 (" in err) == refused
 
 
 def test_a_calibration_too_fast_for_its_log_rate_is_warned_of(axis, tmp_path, capsys):

@@ -13,7 +13,8 @@ from scipy.integrate import cumulative_trapezoid
 
 from ..data.motionlog import check_finite
 from ..effects.cogging_map import CoggingMap
-from ..fit.cogging import SAMPLE_RATE_LIMIT, CoggingFit, identify_cogging
+from ..fit.cogging import (FUNDAMENTAL_PERIODS, SAMPLE_RATE_LIMIT, UNEXPLAINED_SHARE, CoggingFit,
+                           identify_cogging)
 from ..errors import DataError, ModelError, UsageError
 from ..fit.textbook import LawFit
 from ..model import FrictionModel
@@ -94,10 +95,13 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         raise UsageError("--cogging needs a motion log with time t and position x (the map is a "
                          "function of the position)")
     units = units_of(rotary)
+    given = pitch is not None
     if pitch is None and rotary:
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
     fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia)
+    if given or (pitch is not None and fit.map is not None):
+        check_period(fit, columns["t"], columns["x"], force, inertia, units)
     cleaned = {k: c for k, c in columns.items() if k != "i"}
     cleaned["force"] = force - (fit.map.force(columns["x"]) if fit.map is not None else 0.0)
     lines = []
@@ -138,7 +142,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
     if fit.unexplained_wavelength is not None:
-        warnings.append(_unexplained_warning(fit.unexplained_wavelength, fit.period, units))
+        warnings.append("warning: " + _unexplained(
+            fit.unexplained_wavelength, fit.period, units, "a period longer than the one found, x in "
+            f"other units than {units.position}, or a ripple aliased by a log slower than the drive's loop?"))
     if rotary and fit.period < 2 * np.pi * (1 - TURN_TOLERANCE):
         dropped = turn_harmonics_dropped(columns["t"], columns["x"], force, fit.period, inertia)
         if dropped:
@@ -179,22 +185,55 @@ OTHER_POSITION_UNITS = {"rotary": "deg", "linear": "mm"}
 UNIT_TOLERANCE = 0.01
 
 
-def _unexplained_warning(wavelength: float, period: float, units) -> str:
-    """The warning for a position-periodic force that no harmonic of the period holds; where the
+def _unexplained(wavelength: float, period: float, units, why: str) -> str:
+    """What a position-periodic force that no harmonic of the period holds says: where the
     wavelength, read in the unit a log is often written in (degrees, mm), is a harmonic of the
-    period, it names that unit and the --scale that converts it."""
+    period, that unit and the --scale that converts it; else the wavelength and ``why``."""
     name = OTHER_POSITION_UNITS[units.kind]
     size = unit_size(name)
-    scale = f"{size:.6g}"
     h = period / (wavelength * size)
     if round(h) >= 1 and abs(h - round(h)) <= UNIT_TOLERANCE:
-        return (f"warning: the log's position force repeats every {wavelength:.6g} {units.position}: "
+        return (f"the log's position force repeats every {wavelength:.6g} {units.position}: "
                 f"harmonic {round(h)} of the period {period:.6g} if x is in {name}. Is x in {name}? "
-                f"--scale x={scale} converts it")
-    return (f"warning: the log holds a position-periodic force of wavelength {wavelength:.6g} "
-            f"{units.position} that no harmonic of the period {period:.6g} holds: a wrong --pitch, a "
-            f"period longer than the one found, x in other units than {units.position}, or a ripple "
-            "aliased by a log slower than the drive's loop?")
+                f"--scale x={size:.6g} converts it")
+    return (f"the log holds a position-periodic force of wavelength {wavelength:.6g} "
+            f"{units.position} that no harmonic of the period {period:.6g} holds: {why}")
+
+
+#: The multiples of a linear axis's --pitch whose maps are checked for a force it cannot hold.
+LONGER_PERIODS = (2, 3)
+
+
+def check_period(fit: CoggingFit, t, x, force, inertia: Optional[float], units) -> None:
+    """``DataError`` where the map of a period given (--pitch; a rotary axis's turn where it
+    holds a map) misses a position force the log holds, at least UNEXPLAINED_SHARE of the map's
+    strongest harmonic (any, without a map): a wavelength no harmonic of the period holds
+    (``CoggingFit.unexplained_wavelength``: a wrong pitch, x in other units), or, on a linear
+    axis, harmonics of a multiple of the pitch that none of the pitch's are (half the pole pitch
+    given), where the travel holds two of that multiple. A map that leaves out such a force is
+    wrong by about its size (a new user's half pole pitch gave a map 56 % off, with no warning),
+    and the force it leaves out can hide the rest ("none found" on a synthetic motor)."""
+    if fit.unexplained_wavelength is not None:
+        raise DataError(_unexplained(fit.unexplained_wavelength, fit.period, units,
+                                     "check --pitch (or leave it out for the period the data show)"))
+    if units.kind == "rotary":
+        return
+    strongest = max(fit.map.amplitude) if fit.map is not None else 0.0
+    for m in LONGER_PERIODS:
+        longer = m * fit.period
+        if np.ptp(x) < FUNDAMENTAL_PERIODS * longer:
+            return
+        wider = identify_cogging(t, x, force, longer, inertia=inertia).map
+        missed = [] if wider is None else [
+            (h, amp) for h, amp in zip(wider.harmonics, wider.amplitude)
+            if h % m and amp >= UNEXPLAINED_SHARE * strongest]
+        if missed:
+            named = ", ".join(f"{h} ({amp:.3g} {units.force})" for h, amp in missed)
+            raise DataError(f"the log's position force repeats every {longer:.6g} {units.position}, "
+                            f"{m} times --pitch {fit.period:.6g}: its harmonic{'s' * (len(missed) > 1)} "
+                            f"{named} of that period {'are' if len(missed) > 1 else 'is'} no harmonic "
+                            f"of --pitch; give --pitch {longer:.6g} (or leave it out for the period "
+                            "the data show)")
 
 
 def log_position(columns: Mapping[str, np.ndarray]) -> np.ndarray:
