@@ -579,10 +579,18 @@ def test_a_spike_in_a_few_points_of_a_stribeck_curve_is_left_out(seed):
     assert "Stribeck" in choice.name and any("1 point: gross outliers" in line for line in choice.left_out)
 
 
-def test_a_per_direction_law_asked_for_names_the_direction_too_short():
-    """Eight points at v > 0 and two at v < 0, one law per direction asked for: the refusal
-    names what is short (a direction's points), not the sweep's count."""
-    v = np.concatenate([np.geomspace(0.001, 0.3, 8), [-0.001, -0.002]])
-    f = np.sign(v) * 2.0 + 10.0 * v
-    with pytest.raises(fricgen.DataError, match="per direction: fewer than 3 points in a direction"):
-        fricgen.train({"v": v, "f": f}, asymmetric=True)
+def test_a_direction_of_two_points_gets_its_own_coulomb_level_and_the_shared_slope():
+    """Eight points at v > 0 and two at v < 0, where the directions' Coulomb levels differ: the
+    two points are too few for a line of their own, and were pooled into one symmetric curve,
+    0.5 N off on each side. Each direction's F_c with one F_v from all points fits both."""
+    rng = np.random.default_rng(3)
+    v = np.concatenate([np.geomspace(0.001, 0.3, 8), [-0.001, -0.0023]])
+    f = np.where(v > 0, 2.0, -3.0) + 15.0 * v + 0.02 * rng.standard_normal(v.size)
+    report = fricgen.train({"v": v, "f": f})
+    assert report.law.name == "Coulomb per direction + one viscous"
+    assert any("per direction: fewer than 3 points in a direction" in line for line in report.law.left_out)
+    model = report.model
+    assert model.force(np.array([-0.01]))[0] == pytest.approx(-3.15, abs=0.05)
+    assert model.force(np.array([0.01]))[0] == pytest.approx(2.15, abs=0.05)
+    negative = report.training["negative"]
+    assert negative["viscous"] == report.training["viscous"] and negative["standard_errors"]["coulomb"] < 0.05

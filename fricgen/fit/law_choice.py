@@ -34,7 +34,8 @@ from ..errors import DataError
 from ..metrics import rmse
 from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
                          warm_copy)
-from .textbook import DROP_SE, MIN_POINTS, PARAMETERS, LawFit, TextbookRegressor, fit_law
+from .textbook import (DROP_SE, MIN_POINTS, PARAMETERS, LawFit, TextbookRegressor, fit_law,
+                       fit_shared_viscous)
 
 #: Sweeps of up to this many points are cross-validated leaving one point out.
 LOO_POINTS = 30
@@ -90,9 +91,13 @@ class TextbookLaw:
 
     stribeck: bool
     asymmetric: bool
+    #: F_c per direction, one F_v (``fit_shared_viscous``; ``asymmetric`` and not ``stribeck``).
+    shared_viscous: bool = False
 
     @property
     def name(self) -> str:
+        if self.shared_viscous:
+            return "Coulomb per direction + one viscous"
         law = "Coulomb + viscous + Stribeck" if self.stribeck else "Coulomb + viscous"
         return f"{law}, {'per direction' if self.asymmetric else 'symmetric'}"
 
@@ -102,6 +107,8 @@ class TextbookLaw:
         ``pinned``: earlier fits of the curves whose Stribeck shape and v_s are kept; ``errors``
         False: without standard errors (``fit_law``)."""
         points = curve_points(sweep, weight, self.asymmetric)
+        if self.shared_viscous:
+            return fit_shared_viscous(points, errors)
         keep = [None] * len(points) if pinned is None else [(law.shape, law.v_s) for law in pinned]
         return tuple(fit_law(speed, magnitude, w, self.stribeck, k, errors)
                      for (speed, magnitude, w), k in zip(points, keep))
@@ -114,8 +121,10 @@ class TextbookLaw:
                                  else None) + offset
 
     def feasible(self, sweep: Sweep) -> bool:
-        return all(speed.size >= MIN_POINTS[self.stribeck] for speed, _, _ in
-                   curve_points(sweep, np.ones(len(sweep)), self.asymmetric))
+        sizes = [speed.size for speed, _, _ in curve_points(sweep, np.ones(len(sweep)), self.asymmetric)]
+        if self.shared_viscous:                   # its 3 parameters, and one point to judge them
+            return min(sizes) >= 1 and sum(sizes) > 3
+        return min(sizes) >= MIN_POINTS[self.stribeck]
 
 
 def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,
@@ -425,16 +434,20 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
         left_out.append("per direction: the log moves one way only; its curve is mirrored to the "
                         "other direction, which the data do not show" if blocks else
                         "per direction: the data move one way only")
-    for law in (TextbookLaw(False, False), TextbookLaw(False, True), TextbookLaw(True, False),
+    short = not one_way and not TextbookLaw(False, True).feasible(sweep)   # a direction of 1-2 points
+    for law in (TextbookLaw(False, False), TextbookLaw(False, True, short), TextbookLaw(True, False),
                 TextbookLaw(True, True)):
         if asymmetric is not None and law.asymmetric != asymmetric:
             continue
         if law.asymmetric and one_way:
             continue
+        if law.shared_viscous:
+            left_out.append(f"{TextbookLaw(False, True).name}: fewer than {MIN_POINTS[False]} points "
+                            "in a direction; its F_c alone per direction, F_v from all points")
         if not law.feasible(sweep):
             need = MIN_POINTS[law.stribeck]
-            left_out.append(f"{law.name}: fewer than {need} points" +
-                            (" in a direction" if law.asymmetric else ""))
+            left_out.append(f"{law.name}: " + ("4 points in all needed" if law.shared_viscous else
+                            f"fewer than {need} points" + (" in a direction" if law.asymmetric else "")))
             continue
         fitted = law.fits(level, weight) if law.stribeck else None
         if law.stribeck and not all(curve.drop_determined for curve in fitted):

@@ -232,6 +232,36 @@ def fit_law(speed, force, weight=None, stribeck: bool = False,
                   float(np.sqrt(rss / speed.size)), drop)
 
 
+def fit_shared_viscous(curves, errors: bool = True) -> Tuple[LawFit, LawFit]:
+    """Coulomb + viscous with F_c per direction and one F_v: ``curves`` the (|v|, F, weight)
+    points of v > 0 and of v < 0; the two ``LawFit``s, F_v and its standard error shared. The
+    law of a sweep with a direction of one or two points, too few for its own F_v: a Coulomb
+    level of each direction, the slope from all points.
+
+    ``ValueError`` with fewer than 3 points or a direction without one."""
+    (sp, fp, wp), (sn, fn, wn) = curves
+    if sp.size < 1 or sn.size < 1 or sp.size + sn.size < 3:
+        raise ValueError(f"{sp.size} and {sn.size} points, the law needs one a side and 3 in all")
+    speed = np.abs(np.concatenate([sp, sn]))
+    weight = np.concatenate([wp, wn]).astype(float)
+    weight = weight / np.mean(weight)
+    side = np.arange(speed.size) < sp.size
+    design = np.column_stack([side * 1.0, ~side * 1.0, speed])
+    coef, rss = _solve(design, np.concatenate([fp, fn]), np.sqrt(weight))
+    se = [float("inf")] * 3
+    dof = speed.size - 3
+    if errors and dof > 0:
+        aw = design * np.sqrt(weight)[:, None]
+        try:
+            se = [_error(c) for c in np.diag(rss / dof * np.linalg.inv(aw.T @ aw))]
+        except np.linalg.LinAlgError:
+            pass
+    return tuple(LawFit(float(coef[k]), float(coef[2]), None, None, None,
+                        {"coulomb": se[k], "viscous": se[2]} if errors else {},
+                        float(np.abs(points).max()), float(np.sqrt(rss / speed.size)))
+                 for k, points in ((0, sp), (1, sn)))
+
+
 class TextbookRegressor(Estimator):
     """A fitted textbook curve as an estimator of [F9] (``law``: its ``LawFit``), so that the
     report and the training record treat it as any other curve. ``fit`` is not how it is made:
