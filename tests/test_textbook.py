@@ -419,6 +419,7 @@ def test_a_log_of_friction_differing_by_direction_says_the_offset_may_be_that():
     report = fricgen.train({"t": t, "v": v, "force": force}, rotary=True, warn=lambda line: None)
     line = next(line for line in report.text.splitlines() if line.startswith("offset"))
     assert "Motion does not tell it from a friction that differs by direction" in line
+    assert "half the difference of the directions' Coulomb levels" in line and "no load of its own" in line
     o = report.training["axis"]["offset"]
     assert abs(o) > 0.003
     for speed in (5.0, 20.0):

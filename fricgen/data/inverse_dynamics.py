@@ -236,9 +236,10 @@ class Identification:
                     f"{units.effort} is one with the friction")
         o = f"offset    {self.body.offset:.4g} +- {self.body.offset_se:.2g} {units.force}"
         if self.load == "textbook":     # motion alone does not tell o from friction differing by direction
-            return (f"{o}: a constant {units.effort} beside the friction (the even part of the {units.effort}, which the textbook law's "
-                    f"curves leave out, per direction as symmetric; {COMPENSATED}). Motion does not tell it from a friction that differs "
-                    "by direction: on an axis without a constant load, each direction's F_c is its curve's plus (v > 0) or less (v < 0) o")
+            return (f"{o}: the even part of the {units.effort}, a constant {units.effort} (a load) and half the difference of the "
+                    "directions' Coulomb levels together, which the textbook law's curves leave out, per direction as symmetric "
+                    f"({COMPENSATED}). Motion does not tell it from a friction that differs by direction, so no load of its own is "
+                    "measured: on an axis without a constant load, each direction's F_c is its curve's plus (v > 0) or less (v < 0) o")
         if self.load:
             return (f"{o}: a load beside the friction (held in the two curves, it would make one "
                     f"of them push the axis; {COMPENSATED})")
