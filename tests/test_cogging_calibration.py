@@ -113,3 +113,23 @@ def test_a_linear_log_without_cogging_gets_no_map_not_a_refusal():
     fit = identify_cogging(*_linear_move(np.random.default_rng(3), lambda u: 0.0 * u, 0.3), None,
                            inertia=0.0)
     assert fit.map is None
+
+
+def test_a_ripple_at_an_alias_of_the_encoder_is_no_cogging():
+    """A drive at 8 kHz reading a 12-bit encoder per 32 mm at 32 mm/s sees its count's error at
+    twice the count rate folded by the sample rate, 2 x 4096 - 8000 = 192 Hz (and 384): at a
+    steady speed a ripple there repeats along the travel like harmonic 192 (and 384) of the
+    pitch, and was a map of them on a motor without cogging. The real harmonic stays."""
+    rng = np.random.default_rng(5)
+    pitch, speed, rate = 0.032, 0.032, 8000.0
+    quantum = pitch / 4096
+    t = np.arange(0, 4 * pitch / speed, 1 / rate)
+    x = np.round(speed * (2 * pitch / speed - np.abs(t - 2 * pitch / speed)) / quantum) * quantum
+    v = np.gradient(x, t)
+    f = (8.0 * np.sign(v) + 20.0 * v + 1.2 * np.sin(TWO_PI * 192 * t) + 0.8 * np.sin(TWO_PI * 384 * t + 1)
+         + 0.3 * rng.standard_normal(t.size))
+    assert identify_cogging(t, x, f, pitch, inertia=0.0).map is None
+    assert identify_cogging(t, x, f, None, inertia=0.0).map is None
+    cogging = 1.5 * np.sin(TWO_PI * 6 * x / pitch + 0.4)
+    fit = identify_cogging(t, x, f + cogging, pitch, inertia=0.0)
+    assert fit.map.harmonics == (6,) and fit.map.amplitude[0] == pytest.approx(1.5, rel=0.05)

@@ -14,7 +14,8 @@ directions see R with opposite signs.
    highest harmonic the bins, the encoder and the sample rate resolve; C's are the mean of the
    two directions', R's half their difference. A harmonic is a candidate when its amplitude
    exceeds the level that noise alone reaches with probability ALPHA over all harmonics tried
-   (Rayleigh, the noise level the median amplitude of the harmonics around it).
+   (Rayleigh, the noise level the median amplitude of the harmonics around it), and not at an
+   alias of the encoder at the move's steady speed (``_aliased``: the drive's own ripple).
 2. J (``--mass`` fixes it) from how the two directions differ at the candidates of C: the
    velocity ripple the loop leaves turns its phase with the direction (``_inertia``). Where it
    does not differ beyond its noise, J is undetermined and taken as 0, and the report says so.
@@ -82,6 +83,12 @@ SAMPLE_RATE_LIMIT = "the sample rate"
 TRANSIENT_SIGMAS = 10.0
 #: Fewest position bins per period.
 MIN_BINS = 32
+#: The multiples of the encoder's count rate whose aliases by the sample rate are no position
+#: force (``_aliased``), the relative precision of the mean speed that places them, and the
+#: robust relative spread of the speed beyond which they form no line (no constant speed).
+ENCODER_ALIASES = 8
+SPEED_PRECISION = 1e-4
+STEADY_SPREAD = 0.05
 #: The share of the bins a direction may leave unvisited (an axis that stalls for a moment at a
 #: cogging peak): their means are interpolated from the bins beside them.
 MAX_EMPTY = 0.01
@@ -275,11 +282,31 @@ def _jackknife_se(design, target, folds=FIT_FOLDS):
     return np.sqrt((folds - 1) / folds * np.sum((coefs - coefs.mean(axis=0)) ** 2, axis=0))
 
 
-def _screen(x, r, sign, period, speed, ts, quantum):
+def _aliased(wavenumber, quantum: float, pace: Optional[float], ts: float, spacing: float) -> np.ndarray:
+    """Which ``wavenumber``s (rad per unit of x) lie within ``spacing`` (and the speed's
+    precision) of an alias of the encoder at the steady speed ``pace`` (None: no steady speed,
+    none): a drive sampling its position every ts sees the count's sawtooth error at k pace /
+    quantum per s, folded by the sample rate to |k f_c - n f_s|; at a constant speed its loop's
+    response is a ripple periodic in position, of wavenumber 2 pi |k / quantum - n / (pace ts)|
+    (a 12-bit linear motor without cogging, its loop at 8 kHz, had a map of harmonics 192 and 384
+    of 32 mm at 32 mm/s: 2 and 4 counts a sample less 1 and 2 samples)."""
+    w = np.asarray(wavenumber, dtype=float)
+    if quantum <= 0 or pace is None:
+        return np.zeros(w.shape, dtype=bool)
+    count = 2 * np.pi * np.arange(1, ENCODER_ALIASES + 1) / quantum
+    sample = 2 * np.pi / (pace * ts)
+    n = np.round(count / sample)
+    alias = np.abs(count - n * sample)
+    tolerance = spacing + SPEED_PRECISION * (count + n * sample)
+    return np.any(np.abs(w[..., None] - alias) <= tolerance, axis=-1)
+
+
+def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
     """The candidate terms (h, signed), strongest first, the highest harmonic screened, what
     set it (``_screen_limit``) and the position bins per period (``_filled_bins``): the
     harmonics of the bin means of r (the force less the friction columns) per direction whose
-    amplitude noise alone reaches with probability below ALPHA (``_candidates``)."""
+    amplitude noise alone reaches with probability below ALPHA (``_candidates``), less those at
+    an alias of the encoder (``_aliased``, at the steady speed ``pace``)."""
     samples = period / (speed * ts)                 # samples per period in each pass
     cells = period / quantum if quantum > 0 else np.inf
     if samples < 2 * MIN_BINS and samples <= cells:
@@ -303,6 +330,8 @@ def _screen(x, r, sign, period, speed, ts, quantum):
         chosen, z = _candidates(sa, sb, span)
         ranked += [(float(z[j]), int(harmonics[j]), signed) for j in chosen]
     ranked.sort(reverse=True)
+    aliased = _aliased(2 * np.pi * harmonics / period, quantum, pace, ts, 2 * np.pi / period)
+    ranked = [term for term in ranked if not aliased[term[1] - 1]]
     limit = _screen_limit(highest, bins, samples, cells)
     return [(h, s) for _, h, s in ranked[:MAX_TERMS]], int(harmonics[-1]), limit, bins
 
@@ -321,11 +350,11 @@ def _screen_limit(highest, bins, samples, cells) -> str:
     return f"the encoder: {cells:.0f} counts per period"
 
 
-def _travel_spectrum(x, r, speed, ts, quantum):
+def _travel_spectrum(x, r, speed, ts, quantum, pace=None):
     """The position periodogram of r: its bin means over the whole travel (both directions
     together), zero-padded FFT; the wavenumbers, the amplitudes, the usable ones (at least
-    FUNDAMENTAL_PERIODS periods in the travel, resolved by the encoder and the sample rate) and
-    the FFT's wavenumber spacing."""
+    FUNDAMENTAL_PERIODS periods in the travel, resolved by the encoder and the sample rate, at
+    no alias of the encoder: ``_aliased``) and the FFT's wavenumber spacing."""
     travel = float(np.ptp(x))
     step = max(quantum, travel / FUNDAMENTAL_BINS)
     n = int(travel / step) + 1
@@ -337,6 +366,7 @@ def _travel_spectrum(x, r, speed, ts, quantum):
     k = 2 * np.pi * np.fft.rfftfreq(4 * n, step)
     finest = min(2 * np.pi / (QUANTA_PER_WAVE * max(quantum, step)), 2 * np.pi / (SAMPLES_PER_WAVE * speed * ts))
     usable = (k >= 2 * np.pi * FUNDAMENTAL_PERIODS / travel) & (k <= finest)
+    usable &= ~_aliased(k, quantum, pace, ts, 2 * np.pi / travel)
     return k, spectrum, usable, 2 * np.pi / (4 * n * step)
 
 
@@ -350,7 +380,7 @@ def _peak_z(spectrum: np.ndarray, usable: np.ndarray) -> Tuple[np.ndarray, float
     return z, float(np.sqrt(2 * np.log(max(usable.sum() / 4, 1.0) / ALPHA)))
 
 
-def _fundamental(x, f, nuisance, speed, ts, quantum) -> Optional[float]:
+def _fundamental(x, f, nuisance, speed, ts, quantum, pace=None) -> Optional[float]:
     """The map's period found in the data: the wavelength of the strongest peak of the position
     periodogram (``_travel_spectrum``), refined (``_refined_peak``) as one sinusoid, then as the
     series of its first PERIOD_HARMONICS harmonics; None where no peak stands above the noise
@@ -359,7 +389,7 @@ def _fundamental(x, f, nuisance, speed, ts, quantum) -> Optional[float]:
     for the period, and was refused). Content at a longer period (a once-per-pole-pair or
     once-per-turn term) needs the period given."""
     r = _less_nuisance(f, nuisance)
-    k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
+    k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum, pace)
     usable &= k <= 2 * np.pi / (2 * MIN_BINS * max(quantum, speed * ts))
     if not usable.any():
         raise DataError(f"the log travels {np.ptp(x):.6g}: too short to find the cogging's period; "
@@ -407,7 +437,7 @@ def _refined_peak(x, r, peak, grid, harmonics: int = 1) -> float:
     return refine(rss, peak - grid, peak + grid)
 
 
-def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Optional[float]:
+def _unexplained(x, r, period, highest, speed, ts, quantum, strongest, pace=None) -> Optional[float]:
     """The wavelength of a position-periodic force left in the residual r that no harmonic of
     ``period`` holds (a wrong period given): of the wavelengths from a UNEXPLAINED_PERIODS-th of
     the travel down to the shortest harmonic screened (``highest``), the periodogram's peak that
@@ -416,7 +446,7 @@ def _unexplained(x, r, period, highest, speed, ts, quantum, strongest) -> Option
     within one FFT spacing of a multiple of 2 pi / period, and its amplitude is at least
     UNEXPLAINED_SHARE of ``strongest`` (the map's strongest harmonic's; 0 without a map); else
     None."""
-    k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum)
+    k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum, pace)
     usable &= (k <= 2 * np.pi * highest / period) & (k >= 2 * np.pi * UNEXPLAINED_PERIODS / np.ptp(x))
     if usable.sum() < 2:
         return None
@@ -494,9 +524,14 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
         raise DataError("the log has too few rows in motion for a cogging map")
     sign = np.sign(v)
     speed = float(np.median(np.abs(v[rows])))
+    spread = 1.4826 * float(np.median(np.abs(np.abs(v[rows]) - speed))) / speed
+    pace = None                     # a steady speed: from the position's steps where it holds
+    if spread <= STEADY_SPREAD:
+        steady = (rows & (np.abs(np.abs(v) - speed) <= 3 * max(spread, SPEED_PRECISION) * speed))[:-1]
+        pace = float(np.mean(np.abs(np.diff(x))[steady])) / ts
     if period is None:      # in the force less a given inertia's m a (a log of normal operation accelerates)
         less = f - inertia * a_smooth if inertia is not None else f
-        period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum)
+        period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum, pace)
         if period is None:                  # no position-periodic force: no map, the friction
             coef, rss = lstsq(_nuisance(v[rows]), less[rows])
             return CoggingFit(map=None, friction=None, inertia=float(inertia or 0.0),
@@ -513,7 +548,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     xs, ss = x[rows], sign[rows]
     nuisance = _nuisance(v_mean[rows])
     r = _less_nuisance(f[rows], nuisance)
-    terms, highest, screened_by, bins = _screen(xs, r, ss, period, speed, ts, quantum)
+    terms, highest, screened_by, bins = _screen(xs, r, ss, period, speed, ts, quantum, pace)
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
     # for the coefficients (smoothing would attenuate J a; the count edges keep the encoder's
@@ -553,7 +588,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
 
     found = series(False)
     strongest = max(found.amplitude) if found is not None else 0.0
-    left = _unexplained(xs, target - design @ coef, period, highest, speed, ts, quantum, strongest)
+    left = _unexplained(xs, target - design @ coef, period, highest, speed, ts, quantum, strongest, pace)
     return CoggingFit(map=found, friction=series(True), inertia=float(inertia),
                       inertia_source="given" if given else ("identified" if determined else "undetermined"),
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,

@@ -100,8 +100,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
     fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia)
-    if given or (pitch is not None and fit.map is not None):
-        check_period(fit, columns["t"], columns["x"], force, inertia, units)
+    if given or fit.map is not None:
+        check_period(fit, columns["t"], columns["x"], force, inertia, units, given)
     cleaned = {k: c for k, c in columns.items() if k != "i"}
     cleaned["force"] = force - (fit.map.force(columns["x"]) if fit.map is not None else 0.0)
     lines = []
@@ -141,7 +141,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
-    if fit.unexplained_wavelength is not None:
+    if fit.unexplained_wavelength is not None:      # check_period refused the rest
         warnings.append("warning: " + _unexplained(
             fit.unexplained_wavelength, fit.period, units, "a period longer than the one found, x in "
             f"other units than {units.position}, or a ripple aliased by a log slower than the drive's loop?"))
@@ -185,14 +185,21 @@ OTHER_POSITION_UNITS = {"rotary": "deg", "linear": "mm"}
 UNIT_TOLERANCE = 0.01
 
 
+def _in_other_units(wavelength: float, period: float, units) -> bool:
+    """Whether ``wavelength``, read in the unit a log is often written in (degrees, mm), is a
+    harmonic of the period."""
+    h = period / (wavelength * unit_size(OTHER_POSITION_UNITS[units.kind]))
+    return round(h) >= 1 and abs(h - round(h)) <= UNIT_TOLERANCE
+
+
 def _unexplained(wavelength: float, period: float, units, why: str) -> str:
-    """What a position-periodic force that no harmonic of the period holds says: where the
-    wavelength, read in the unit a log is often written in (degrees, mm), is a harmonic of the
-    period, that unit and the --scale that converts it; else the wavelength and ``why``."""
+    """What a position-periodic force that no harmonic of the period holds says: where it is a
+    harmonic in other units (``_in_other_units``), that unit and the --scale that converts it;
+    else the wavelength and ``why``."""
     name = OTHER_POSITION_UNITS[units.kind]
     size = unit_size(name)
     h = period / (wavelength * size)
-    if round(h) >= 1 and abs(h - round(h)) <= UNIT_TOLERANCE:
+    if _in_other_units(wavelength, period, units):
         return (f"the log's position force repeats every {wavelength:.6g} {units.position}: "
                 f"harmonic {round(h)} of the period {period:.6g} if x is in {name}. Is x in {name}? "
                 f"--scale x={size:.6g} converts it")
@@ -204,19 +211,23 @@ def _unexplained(wavelength: float, period: float, units, why: str) -> str:
 LONGER_PERIODS = (2, 3)
 
 
-def check_period(fit: CoggingFit, t, x, force, inertia: Optional[float], units) -> None:
-    """``DataError`` where the map of a period given (--pitch; a rotary axis's turn where it
-    holds a map) misses a position force the log holds, at least UNEXPLAINED_SHARE of the map's
-    strongest harmonic (any, without a map): a wavelength no harmonic of the period holds
-    (``CoggingFit.unexplained_wavelength``: a wrong pitch, x in other units), or, on a linear
-    axis, harmonics of a multiple of the pitch that none of the pitch's are (half the pole pitch
-    given), where the travel holds two of that multiple. A map that leaves out such a force is
-    wrong by about its size (a new user's half pole pitch gave a map 56 % off, with no warning),
-    and the force it leaves out can hide the rest ("none found" on a synthetic motor)."""
-    if fit.unexplained_wavelength is not None:
-        raise DataError(_unexplained(fit.unexplained_wavelength, fit.period, units,
+def check_period(fit: CoggingFit, t, x, force, inertia: Optional[float], units,
+                 given: bool) -> None:
+    """``DataError`` where the map of the period misses a position force the log holds, at
+    least UNEXPLAINED_SHARE of the map's strongest harmonic (any, without a map): a wavelength no
+    harmonic of the period holds (``CoggingFit.unexplained_wavelength``) that is one in other
+    units (x in degrees or mm), or any such wavelength where the period was ``given`` (--pitch);
+    and, on a linear axis with --pitch, harmonics of a multiple of it that none of its own are
+    (half the pole pitch given), where the travel holds two of that multiple. A map that
+    leaves out such a force is wrong by about its size (a new user's half pole pitch gave a map
+    56 % off, with no warning), and the force left out can hide the rest ("none found" on a
+    synthetic motor). A period not given (a turn, or found) keeps a map beside the other
+    wavelengths with a warning: a drive's loop leaves ripples of its own at a steady speed."""
+    left = fit.unexplained_wavelength
+    if left is not None and (given or _in_other_units(left, fit.period, units)):
+        raise DataError(_unexplained(left, fit.period, units,
                                      "check --pitch (or leave it out for the period the data show)"))
-    if units.kind == "rotary":
+    if units.kind == "rotary" or not given:
         return
     strongest = max(fit.map.amplitude) if fit.map is not None else 0.0
     for m in LONGER_PERIODS:
