@@ -440,7 +440,8 @@ def test_a_calibration_logged_too_coarsely_for_its_speed_says_the_compensation_i
 @pytest.mark.parametrize("argv, message", [
     (["--pitch", "0.01"], "--pitch is the period of --cogging"),
     (["--cogging", "--rotary"], "needs --force-constant"),
-    (["--cogging", "--force-constant", "0.08", "--rotary", "--pitch", "100"], "less than one period"),
+    (["--cogging", "--force-constant", "0.08", "--rotary", "--pitch", "100"], "longer than a turn"),
+    (["--cogging", "--force-constant", "0.08", "--rotary", "--pitch", "7.8"], "longer than a turn"),
 ])
 def test_train_cogging_refuses_what_it_cannot_do(calibration_csv, tmp_path, capsys, argv, message):
     out = tmp_path / "m.json"

@@ -84,9 +84,10 @@ TRANSIENT_SIGMAS = 10.0
 #: Fewest position bins per period.
 MIN_BINS = 32
 #: The multiples of the encoder's count rate whose aliases by the sample rate are no position
-#: force (``_aliased``), the relative precision of the mean speed that places them, and the
-#: robust relative spread of the speed beyond which they form no line (no constant speed).
-ENCODER_ALIASES = 8
+#: force (``_aliased``: the count's sawtooth error is strongest at its first few), the relative
+#: precision of the mean speed that places them, and the robust relative spread of the speed
+#: beyond which they form no line (no constant speed).
+ENCODER_ALIASES = 4
 SPEED_PRECISION = 1e-4
 STEADY_SPREAD = 0.05
 #: The share of the bins a direction may leave unvisited (an axis that stalls for a moment at a
@@ -297,8 +298,12 @@ def _aliased(wavenumber, quantum: float, pace: Optional[float], ts: float, spaci
     sample = 2 * np.pi / (pace * ts)
     n = np.round(count / sample)
     alias = np.abs(count - n * sample)
-    tolerance = spacing + SPEED_PRECISION * (count + n * sample)
-    return np.any(np.abs(w[..., None] - alias) <= tolerance, axis=-1)
+    tolerance = spacing + SPEED_PRECISION * n * sample         # the count's wavenumber is exact
+    # an alias whose band reaches the slowest wavenumbers is the error sampled at nearly one
+    # phase: no ripple, and the cogging's own first harmonics are there (a 1 um encoder at 20 mm/s
+    # and 8 kHz, 2 counts in 5 samples, had lost them all)
+    line = alias > 2 * tolerance
+    return np.any((np.abs(w[..., None] - alias) <= tolerance) & line, axis=-1)
 
 
 def _screen(x, r, sign, period, speed, ts, quantum, pace=None):

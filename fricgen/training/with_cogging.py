@@ -96,6 +96,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                          "function of the position)")
     units = units_of(rotary)
     given = pitch is not None
+    if rotary and given and pitch > 2 * np.pi * (1 + TURN_TOLERANCE):
+        raise DataError(f"--pitch {pitch:.6g} rad is longer than a turn (6.28319 rad), after which a "
+                        "rotary axis's position force repeats: give a turn or a part of one")
     if pitch is None and rotary:
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
@@ -141,7 +144,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
-    if fit.unexplained_wavelength is not None:      # check_period refused the rest
+    if fit.unexplained_wavelength is not None and (fit.map is not None or _in_other_units(
+            fit.unexplained_wavelength, fit.period, units)):   # check_period refused the rest
         warnings.append("warning: " + _unexplained(
             fit.unexplained_wavelength, fit.period, units, "a period longer than the one found, x in "
             f"other units than {units.position}, or a ripple aliased by a log slower than the drive's loop?"))
