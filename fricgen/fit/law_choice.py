@@ -396,13 +396,14 @@ class Scored:
 def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional[DirectionsFit] = None,
                rich_reason: str = "", independence: float = 1.0, offset: float = 0.0,
                seed=0, blocks: int = 0, asymmetric: Optional[bool] = None,
-               known: Optional[Scored] = None) -> LawChoice:
+               known: Optional[Scored] = None, reversals: Optional[Sweep] = None) -> LawChoice:
     """The simplest candidate within the noise of the best (see the module). ``rich``: the
     multi-source fit on all rows (None, with ``rich_reason``, where the data could not give
     one); ``offset``: the constant force the textbook curves and the symmetric multi-source
     curve leave out (a log's, compensated apart);
     ``asymmetric`` True or False: only the candidates of that symmetry; ``known``: what
-    ``asymmetry_evident`` found on this sweep."""
+    ``asymmetry_evident`` found on this sweep; ``reversals``: a log's samples near its reversals
+    (``Identification.reversals``), which the kept textbook law's final fit adds."""
     moving = sweep.v != 0
     if not np.any(moving):
         raise DataError("no row with v != 0: a friction sweep needs motion")
@@ -461,7 +462,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
             continue
         candidates.append((law.name, mse, lambda law=law, mse=mse: textbook_fit(
-            law, level, weight, float(np.sqrt(mse.mean())))))
+            law, *_with_reversals(level, weight, reversals, offset), float(np.sqrt(mse.mean())))))
     if rich is not None:
         mse = _fold_mse(rich_predictor(rich, independence, offset), sweep, weight, folds)
         name = "multi-source " + ("per direction" if rich.asymmetric else "symmetric")
@@ -487,6 +488,15 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     return LawChoice(make(), name, tuple((n, float(np.sqrt(m.mean()))) for n, m, _ in scored),
                      tuple(left_out), int(folds.max()) + 1, sweep, one_out,
                      _why_kept([(n, m) for n, m, _ in candidates], chosen, floor))
+
+
+def _with_reversals(level: Sweep, weight: np.ndarray, reversals: Optional[Sweep], offset: float):
+    """The points and weights of a textbook law's final fit: ``level`` and a log's ``reversals``
+    (less ``offset``, as ``level``), each of those of weight 1, as a row of the log is."""
+    if reversals is None or len(reversals) == 0:
+        return level, weight
+    return (Sweep(np.concatenate([level.v, reversals.v]), np.concatenate([level.f, reversals.f - offset])),
+            np.concatenate([weight, np.ones(len(reversals))]))
 
 
 def _scored(sweep: Sweep, weight: Optional[np.ndarray], blocks: int,

@@ -162,7 +162,8 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
                                         offset=ident.offset_in_friction,
                                         blocks=BLOCK_WINDOWS * ident.window)
     choice = choose_law(sweep, weight, rich, reason, seed=seed,
-                        asymmetric=asymmetric, known=known, **log)
+                        asymmetric=asymmetric, known=known,
+                        reversals=None if ident is None else ident.reversal_friction, **log)
     if choice.fit.chosen_by == "textbook" and choice.fit.asymmetric and ident is not None \
             and ident.offset_in_friction:
         ident = ident.as_load("textbook")   # the textbook curves leave the offset out
