@@ -616,3 +616,18 @@ def test_a_logs_textbook_law_is_fitted_to_every_moving_row():
         for s in (1, -1):
             truth = 0.8 + 2.0 * speed if s > 0 else -(1.1 + 2.5 * speed)
             assert report.model.force(s * speed) + o == pytest.approx(truth, abs=0.01)
+
+
+def test_a_direction_of_two_points_whose_slope_differs_gets_its_own_line():
+    """Two points at v < 0 far apart in speed, whose slope (5) is not the other direction's (8):
+    one viscous for both printed the v < 0 slope 7.74 +- 0.21. The two points reject the shared
+    slope beyond their noise; their own line is kept, and said to be checked by no held-out point."""
+    rng = np.random.default_rng(1003)
+    speeds = np.geomspace(0.005, 0.5, 15)
+    v = np.concatenate([speeds, [-0.015, -0.25]])
+    f = np.where(v > 0, 2.0 + 8.0 * v, -3.0 + 5.0 * v) + 0.03 * rng.standard_normal(v.size)
+    report = fricgen.train({"v": v, "f": f})
+    assert report.law.name == "Coulomb + viscous, per direction"
+    assert any("reject the other's slope" in line for line in report.law.left_out)
+    assert report.training["negative"]["viscous"] == pytest.approx(5.0, abs=0.5)
+    assert report.training["viscous"] == pytest.approx(8.0, abs=0.3)
