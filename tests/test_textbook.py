@@ -631,3 +631,17 @@ def test_a_direction_of_two_points_whose_slope_differs_gets_its_own_line():
     assert any("reject the other's slope" in line for line in report.law.left_out)
     assert report.training["negative"]["viscous"] == pytest.approx(5.0, abs=0.5)
     assert report.training["viscous"] == pytest.approx(8.0, abs=0.3)
+
+
+def test_the_scatter_between_points_is_not_the_directions_difference():
+    """F_std weights a sweep's points less the scatter tau^2 no point's spread explains. tau^2
+    came from one Coulomb + viscous curve for both directions, which took an asymmetric sweep's
+    difference between them for scatter and flattened its weights (0.92-1 for 1/var's 0.03-1);
+    from a curve per direction, the points' own spread is what weights them."""
+    rng = np.random.default_rng(1004)
+    speeds = np.geomspace(0.005, 0.5, 8)
+    v = np.concatenate([speeds, -speeds])
+    f_std = np.tile(np.geomspace(0.02, 0.2, 8), 2)
+    f = np.where(v > 0, 2.0 + 8.0 * v, -3.0 + 5.0 * v) + f_std * rng.standard_normal(v.size)
+    w = point_weights(fricgen.Sweep(v, f), f_std)
+    assert w.max() / w.min() > 20

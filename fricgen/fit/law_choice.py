@@ -178,13 +178,19 @@ def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
     """Weights of a sweep's points from their spread: 1 / (f_std^2 / n + tau^2), the variance of
     each point's mean plus the scatter tau^2 between points that no point's own spread explains
     (position-dependent friction, drift), estimated from the residual variance of Coulomb +
-    viscous fitted unweighted; n alone weights as n; None without either."""
+    viscous fitted unweighted, per direction where each has the points for it (one curve for
+    both took the directions' difference for scatter: a new user's asymmetric sweep had its
+    weights flattened to 0.92-1 instead of 0.03-1); n alone weights as n; None without either."""
     if f_std is None:
         return None if n is None else np.asarray(n, dtype=float)
     variance = np.asarray(f_std, float) ** 2 / (1.0 if n is None else np.asarray(n, float))
-    speed, magnitude, moving_variance = curve_points(sweep, variance, asymmetric=False)[0]
-    law = fit_law(speed, magnitude, errors=False)
-    residual = law.rms ** 2 * speed.size / max(speed.size - 2, 1)
+    per_direction = TextbookLaw(False, True).feasible(sweep)
+    curves = curve_points(sweep, variance, asymmetric=per_direction)
+    squares = sum(fit_law(speed, magnitude, errors=False).rms ** 2 * speed.size
+                  for speed, magnitude, _ in curves)
+    points = sum(speed.size for speed, _, _ in curves)
+    residual = squares / max(points - PARAMETERS[False] * len(curves), 1)
+    moving_variance = np.concatenate([v for _, _, v in curves])
     return 1.0 / (variance + max(residual - float(np.mean(moving_variance)), 0.0))
 
 
