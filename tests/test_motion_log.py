@@ -276,3 +276,14 @@ def test_a_lagging_velocity_column_is_set_aside_for_the_positions_derivative():
     said = []
     fricgen.train(joint_log_with_filtered_velocity(None), warn=said.append)
     assert not [line for line in said if "dx/dt" in line]
+
+
+def test_a_joint_log_whose_dq_and_tau_are_swapped_is_refused_with_q_beside_them():
+    """dq and tau swapped in a joint log with q: the torque read as a velocity leading dx/dt by
+    50 ms was set aside for q's derivative, and the force, the velocity itself, trained to a
+    viscous slope of 1 +- 1e-5. A lagging dx/dt must explain the velocity column to be one; the
+    swap is then named."""
+    log = joint_log_with_filtered_velocity(None, seed=3)
+    swapped = {"t": log["t"], "q": log["q"], "dq": log["tau"], "tau": log["dq"]}
+    with pytest.raises(DataError, match="swapped"):
+        fricgen.train(swapped, warn=lambda line: None)
