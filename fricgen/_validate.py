@@ -115,8 +115,8 @@ def unusual(quantity: str, what: str, value: float, column: str = "v", given: st
     """'' if ``value`` lies within ``usual_max(quantity)``, else the clause saying it is unusual,
     with the units of ``column`` that would explain it: "WHAT is 15 m/s, above the 5 m/s of
     most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001)?" (for a speed
-    taken from the position x: "is x in mm (--scale x=0.001)?"; for a joint's torque: "is tau
-    in mNm (--scale tau=0.001)?"). ``given``: what the user's own --scale of ``column`` was,
+    taken from the position x: "is x in mm (--scale x=0.001), or ... (--rotary)?"; for a
+    joint's torque: "is tau in mNm (--scale tau=0.001)?"). ``given``: what the user's own --scale of ``column`` was,
     said instead of asking about units."""
     physical, usual = _tables()
     high, unit = usual[quantity], physical[quantity][2]
@@ -133,7 +133,7 @@ def unusual(quantity: str, what: str, value: float, column: str = "v", given: st
     elif _ROTARY.get():
         units = rotary_units(column, "x" if column == "x" else "v")
     elif column == "x":
-        units = "mm (--scale x=0.001)"
+        units = "mm (--scale x=0.001), or the axis a joint or shaft in rad (--rotary)"
     else:
         units = (f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001), or the axis a "
                  "joint or shaft in rad/s (--rotary)")

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any, Optional
 
-from ._validate import ACCEPT_UNUSUAL, PHYSICAL, json_number, physical_problem
+from ._validate import ACCEPT_UNUSUAL, PHYSICAL, in_rotary_axis, json_number, physical_problem
 from .errors import ModelError
 
 #: Where the mass came from: identified from the data, or given by ``--mass``.
@@ -108,6 +108,8 @@ class Axis:
                         offset is not None and abs(offset) > PHYSICAL["force"][1]
                         and physical_problem("force", f"{_WHERE}.offset", offset)]
             problem = next(filter(None, problems), "")
+            if problem and problems[0] and mass < PHYSICAL["mass"][0] and not in_rotary_axis():
+                problem += " (a joint's or a shaft's inertia in kg m^2? train it with --rotary)"
             if problem:
                 raise ModelError(f"{problem} (an edited record? a model trained with "
                                  f"{ACCEPT_UNUSUAL} may hold it)")

@@ -11,7 +11,8 @@ import pytest
 from conftest import copy_of
 from fricgen.cli import INTERRUPTED, main
 from fricgen.data.plausibility import check_bounds, check_merge_shift, check_sweep_shape
-from fricgen.errors import DataError
+from fricgen.axis import Axis
+from fricgen.errors import DataError, ModelError
 from fricgen.model import FrictionModel
 
 
@@ -207,7 +208,7 @@ def test_a_position_in_mm_is_named_as_the_position_s_unit():
     x_mm = 1e3 * 0.0016 * np.sin(2 * np.pi * t)             # 1.6 mm at 10 mm/s, written in mm
     warned = []
     check_bounds({"t": t, "x": x_mm, "force": np.ones_like(t)}, "log.csv", warn=warned.append)
-    assert len(warned) == 1 and "is x in mm (--scale x=0.001)?" in warned[0]
+    assert len(warned) == 1 and "is x in mm (--scale x=0.001), or the axis a joint or shaft in rad (--rotary)?" in warned[0]
     with pytest.raises(DataError, match=r"above the 20 m/s of any real axis; is x in mm\? "
                                         r"--scale x=0\.001 converts it"):
         check_bounds({"t": t, "x": 1e3 * x_mm, "force": np.ones_like(t)}, "log.csv")
@@ -408,3 +409,13 @@ def test_a_hand_edit_of_the_laws_record_is_said_not_silently_ignored(tmp_path, c
     assert warned[1][0].startswith(f"fricgen: warning: {tmp_path / 'edited.json'}: training's law")
     assert (tmp_path / "m_c" / "friction_model.c").read_text() == \
         (tmp_path / "edited_c" / "friction_model.c").read_text()
+
+
+def test_a_tiny_mass_of_a_linear_model_asks_whether_the_axis_is_rotary():
+    """A rotary calibration trained as linear gave a mass of 0.0002 kg that the model's own
+    check refused as 'an edited record?'; it now asks whether that is a joint's or a shaft's
+    inertia, trained with --rotary."""
+    record = {"speed_min": 0.01, "speed_max": 1.0, "mass": 2e-4, "mass_se": None,
+              "mass_from": "data", "force_constant": None, "offset": None, "offset_se": None}
+    with pytest.raises(ModelError, match="inertia in kg m\\^2\\? train it with --rotary"):
+        Axis.from_dict(record)
