@@ -135,7 +135,7 @@ class Identification:
     weight: Optional[Tuple[float, float]] = None
     #: (v, F) at the moving rows within half a window of a reversal or a stop, which ``sweep``
     #: leaves out: F from the raw force less m dv/dt (smoothed, the force there would mix the two
-    #: directions' friction). The textbook laws' final fit adds them (``fit.law_choice``), as the
+    #: directions' friction). A Coulomb + viscous law's final fit adds them (``fit.law_choice``), as the
     #: spreadsheet's least squares takes every moving row: without them a UR10e joint's law,
     #: the same as that fit's, was 1.13 times its error on the joint's held-out sweep
     reversals: Optional[Sweep] = None

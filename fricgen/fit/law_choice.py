@@ -439,7 +439,9 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
     curve leave out (a log's, compensated apart);
     ``asymmetric`` True or False: only the candidates of that symmetry; ``known``: what
     ``asymmetry_evident`` found on this sweep; ``reversals``: a log's samples near its reversals
-    (``Identification.reversals``), which the kept textbook law's final fit adds."""
+    (``Identification.reversals``), which the final fit of a kept Coulomb + viscous law adds (a
+    Stribeck term would take their transient friction, pre-sliding after each reversal, for the
+    steady friction of slow speeds: a UR10e joint's held-out sweep error doubled)."""
     moving = sweep.v != 0
     if not np.any(moving):
         raise DataError("no row with v != 0: a friction sweep needs motion")
@@ -505,7 +507,8 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{law.name}: a fold leaves too few points to fit it")
             continue
         candidates.append((law.name, mse, lambda law=law, mse=mse: textbook_fit(
-            law, *_with_reversals(level, weight, reversals, offset), float(np.sqrt(mse.mean())))))
+            law, *_with_reversals(level, weight, None if law.stribeck else reversals, offset),
+            float(np.sqrt(mse.mean())))))
     if rich is not None:
         mse = _fold_mse(rich_predictor(rich, independence, offset), sweep, weight, folds)
         name = "multi-source " + ("per direction" if rich.asymmetric else "symmetric")
