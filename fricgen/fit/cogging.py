@@ -299,9 +299,8 @@ def _aliased(wavenumber, quantum: float, pace: Optional[float], ts: float, spaci
     n = np.round(count / sample)
     alias = np.abs(count - n * sample)
     tolerance = spacing + SPEED_PRECISION * n * sample         # the count's wavenumber is exact
-    # an alias whose band reaches the slowest wavenumbers is the error sampled at nearly one
-    # phase: no ripple, and the cogging's own first harmonics are there (a 1 um encoder at 20 mm/s
-    # and 8 kHz, 2 counts in 5 samples, had lost them all)
+    # an alias whose band reaches 0 is the error sampled at nearly one phase: no ripple, and the
+    # cogging's first harmonics are there (1 um at 20 mm/s and 8 kHz had lost them all)
     line = alias > 2 * tolerance
     return np.any((np.abs(w[..., None] - alias) <= tolerance) & line, axis=-1)
 
@@ -533,7 +532,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     pace = None                     # a steady speed: from the position's steps where it holds
     if spread <= STEADY_SPREAD:
         steady = (rows & (np.abs(np.abs(v) - speed) <= 3 * max(spread, SPEED_PRECISION) * speed))[:-1]
-        pace = float(np.mean(np.abs(np.diff(x))[steady])) / ts
+        pace = float(np.mean(np.abs(np.diff(x))[steady])) / ts if steady.any() else None
     if period is None:      # in the force less a given inertia's m a (a log of normal operation accelerates)
         less = f - inertia * a_smooth if inertia is not None else f
         period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum, pace)
