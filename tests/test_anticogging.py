@@ -475,6 +475,13 @@ def _pole_pitches(pitches, seed=0):
     return np.column_stack([t, x, cogging + 20 * np.sign(v) + 300 * v + 0.3 * rng.standard_normal(t.size)])
 
 
+def test_a_pitch_in_mm_is_named(tmp_path, capsys):
+    path, out = tmp_path / "lin.csv", tmp_path / "m.json"
+    np.savetxt(path, _pole_pitches(2), delimiter=",", header="t,x,force", comments="", fmt="%.10g")
+    assert main(["train", str(path), "--cogging", "--pitch", "32", "-o", str(out)]) == 2
+    assert "(--pitch is in m: 0.032 for 32 mm)" in capsys.readouterr().err and not out.exists()
+
+
 @pytest.mark.parametrize("pitches, pitch, refused", [(2, "0.016", True), (4, "0.032", False)])
 def test_half_the_pole_pitch_is_refused_the_pitch_itself_not(tmp_path, capsys, pitches, pitch, refused):
     """--pitch half the pole pitch: its even harmonics hold all but the pitch's odd ones, and

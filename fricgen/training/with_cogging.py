@@ -99,6 +99,10 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if rotary and given and pitch > 2 * np.pi * (1 + TURN_TOLERANCE):
         raise DataError(f"--pitch {pitch:.6g} rad is longer than a turn (6.28319 rad), after which a "
                         "rotary axis's position force repeats: give a turn or a part of one")
+    travel = float(np.ptp(np.asarray(columns["x"], dtype=float)))
+    if given and not rotary and pitch > travel:
+        raise DataError(f"--pitch {pitch:.6g} m is longer than the log's travel ({travel:.6g} m): a "
+                        "cogging map needs the whole period each way (--pitch is in m: 0.032 for 32 mm)")
     if pitch is None and rotary:
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
