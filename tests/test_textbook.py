@@ -9,7 +9,8 @@ import pytest
 
 import fricgen
 from fricgen.cli import main
-from fricgen.fit.law_choice import choose_law, point_weights, textbook_outliers
+from fricgen.fit.law_choice import choose_law, textbook_outliers
+from fricgen.fit.textbook_laws import point_weights
 from fricgen.fit.textbook import _design, _grid_rss, _solve, fit_law
 from fricgen.model import FrictionModel
 

@@ -29,13 +29,14 @@ import numpy as np
 from ..data.sweep import Sweep
 from ..data.outliers import (MEDIAN_WINDOW, OUTLIER_SIGMAS, gross_outliers, inner_points,
                               line_outliers, robust_scale, unexplained)
-from ..data.training_set import Dataset, check_friction_sign
+from ..data.training_set import check_friction_sign
 from ..errors import DataError
 from ..metrics import rmse
 from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
                          warm_copy)
-from .textbook import (DROP_SE, MIN_POINTS, PARAMETERS, LawFit, TextbookRegressor, fit_law,
-                       fit_shared_viscous)
+from .textbook import DROP_SE, MIN_POINTS, PARAMETERS, LawFit, fit_law
+from .textbook_laws import (SLOPE_CHI2, TextbookLaw, curve_points, signed_force, slope_rejected,
+                            textbook_fit)
 
 #: Sweeps of up to this many points are cross-validated leaving one point out.
 LOO_POINTS = 30
@@ -66,132 +67,6 @@ MIN_PAIRED = 3
 #: The textbook floor: kept unless another candidate beats it clearly (the law of the
 #: engineer's spreadsheet; symmetric Coulomb + viscous where the data move one way).
 ANCHOR = "Coulomb + viscous, per direction"
-
-
-def _signed(v: np.ndarray, magnitude: Callable, negative: Optional[Callable] = None) -> np.ndarray:
-    """The signed force of curves of |v|: one for both directions, or one per direction."""
-    speed, sign = np.abs(v), np.sign(v)
-    if negative is None:
-        return sign * magnitude(speed)
-    return np.where(sign > 0, magnitude(speed), -negative(speed))
-
-
-def curve_points(sweep: Sweep, weight: np.ndarray, asymmetric: bool):
-    """Each curve's points as (|v|, the force's magnitude sgn(v) f, weight): the moving rows
-    folded for one curve, or those of v > 0 and of v < 0 for two (``Sweep.folded``,
-    ``Sweep.direction``)."""
-    signs = np.sign(sweep.v)
-    masks = (signs == 1, signs == -1) if asymmetric else (signs != 0,)
-    return [(np.abs(sweep.v[m]), (signs * sweep.f)[m], weight[m]) for m in masks]
-
-
-@dataclass(frozen=True)
-class TextbookLaw:
-    """A textbook candidate: with or without the Stribeck term, one curve or one per direction."""
-
-    stribeck: bool
-    asymmetric: bool
-    #: F_c per direction, one F_v (``fit_shared_viscous``; ``asymmetric`` and not ``stribeck``).
-    shared_viscous: bool = False
-    #: A curve of 2 points is fitted (its line through them), not refused (``asymmetric``).
-    lines_of_two: bool = False
-
-    @property
-    def name(self) -> str:
-        if self.shared_viscous:
-            return "Coulomb per direction + one viscous"
-        law = "Coulomb + viscous + Stribeck" if self.stribeck else "Coulomb + viscous"
-        return f"{law}, {'per direction' if self.asymmetric else 'symmetric'}"
-
-    def fits(self, sweep: Sweep, weight: np.ndarray, pinned: Optional[Tuple[LawFit, ...]] = None,
-             errors: bool = True) -> Tuple[LawFit, ...]:
-        """The law's curves fitted to ``sweep`` (``ValueError`` where a curve has too few points);
-        ``pinned``: earlier fits of the curves whose Stribeck shape and v_s are kept; ``errors``
-        False: without standard errors (``fit_law``)."""
-        points = curve_points(sweep, weight, self.asymmetric)
-        if self.shared_viscous:
-            return fit_shared_viscous(points, errors)
-        keep = [None] * len(points) if pinned is None else [(law.shape, law.v_s) for law in pinned]
-        return tuple(fit_law(speed, magnitude, w, self.stribeck, k, errors)
-                     for (speed, magnitude, w), k in zip(points, keep))
-
-    def predictor(self, sweep: Sweep, weight: np.ndarray, offset: float = 0.0,
-                  pinned: Optional[Tuple[LawFit, ...]] = None) -> Callable:
-        """The signed force of the law fitted to ``sweep`` less ``offset``, plus ``offset``."""
-        laws = self.fits(Sweep(sweep.v, sweep.f - offset), weight, pinned, errors=False)
-        return lambda v: _signed(v, laws[0].magnitude, laws[-1].magnitude if self.asymmetric
-                                 else None) + offset
-
-    def feasible(self, sweep: Sweep) -> bool:
-        sizes = [speed.size for speed, _, _ in curve_points(sweep, np.ones(len(sweep)), self.asymmetric)]
-        if self.shared_viscous:                   # its 3 parameters, and one point to judge them
-            return min(sizes) >= 1 and sum(sizes) > 3
-        if self.lines_of_two:
-            return min(sizes) >= 2 and sum(sizes) > 4
-        return min(sizes) >= MIN_POINTS[self.stribeck]
-
-
-#: The chi-square (1 degree of freedom, 1 %) beyond which a direction of 2 points rejects the
-#: other direction's viscous slope (``slope_rejected``).
-SLOPE_CHI2 = 6.63
-
-
-def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
-    """Where one direction has 2 points (at two speeds) and the other 3 or more: the chi-square
-    of the 2 points' residuals under the one viscous slope of ``fit_shared_viscous``, in the
-    noise of the other direction's own Coulomb + viscous fit, where it exceeds SLOPE_CHI2 (the
-    directions' slopes differ: a new user's sweep of 0.015 and 0.25 m/s at v < 0 had its F_v
-    printed 7.74 +- 0.21 for a true 5); else None."""
-    points = curve_points(sweep, weight, True)
-    sizes = [p[0].size for p in points]
-    short = int(np.argmin(sizes))
-    speed, magnitude, w = points[short]
-    if speed.size != 2 or np.ptp(speed) <= 0 or sizes[1 - short] < MIN_POINTS[False]:
-        return None
-    scale = np.mean(np.concatenate([p[2] for p in points]))
-    own = fit_law(*points[1 - short], errors=False)
-    dof = sizes[1 - short] - PARAMETERS[False]
-    noise = own.rms ** 2 * sizes[1 - short] / dof * np.mean(points[1 - short][2]) / scale
-    shared = fit_shared_viscous(points, errors=False)[short]
-    chi2 = float(np.sum(w / scale * (magnitude - shared.magnitude(speed)) ** 2)) / max(noise, 1e-300)
-    return chi2 if chi2 > SLOPE_CHI2 else None
-
-
-def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,
-                 cv_rmse: float = float("nan")) -> DirectionsFit:
-    """The law's fit as the curves of a model (``DirectionsFit``), each with its points in the
-    coordinates of [F9] for the report (``cv_rmse``: the law's held-out RMS error, N)."""
-    fitted = []
-    for curve_law, (speed, magnitude, _) in zip(law.fits(sweep, weight),
-                                                curve_points(sweep, weight, law.asymmetric)):
-        curve = curve_law.direction()
-        x, t = curve.network_input(speed), curve.scaling.k_out * (magnitude - curve.viscous * speed)
-        dataset = Dataset(x=x, t=t, scaling=curve.scaling, viscous=curve.viscous,
-                          v_sat=curve.v_sat, n_rows=int(speed.size))
-        estimator = TextbookRegressor.from_law(curve_law, curve)
-        estimator.cv_rmse_ = cv_rmse * curve.scaling.k_out
-        fitted.append(FittedDirection(curve, dataset, estimator))
-    return DirectionsFit(tuple(fitted), "textbook")
-
-
-def point_weights(sweep: Sweep, f_std=None, n=None) -> Optional[np.ndarray]:
-    """Weights of a sweep's points from their spread: 1 / (f_std^2 / n + tau^2), the variance of
-    each point's mean plus the scatter tau^2 between points that no point's own spread explains
-    (position-dependent friction, drift), estimated from the residual variance of Coulomb +
-    viscous fitted unweighted, per direction where each has the points for it (one curve for
-    both took the directions' difference for scatter: a new user's asymmetric sweep had its
-    weights flattened to 0.92-1 instead of 0.03-1); n alone weights as n; None without either."""
-    if f_std is None:
-        return None if n is None else np.asarray(n, dtype=float)
-    variance = np.asarray(f_std, float) ** 2 / (1.0 if n is None else np.asarray(n, float))
-    per_direction = TextbookLaw(False, True).feasible(sweep)
-    curves = curve_points(sweep, variance, asymmetric=per_direction)
-    squares = sum(fit_law(speed, magnitude, errors=False).rms ** 2 * speed.size
-                  for speed, magnitude, _ in curves)
-    points = sum(speed.size for speed, _, _ in curves)
-    residual = squares / max(points - PARAMETERS[False] * len(curves), 1)
-    moving_variance = np.concatenate([v for _, _, v in curves])
-    return 1.0 / (variance + max(residual - float(np.mean(moving_variance)), 0.0))
 
 
 def textbook_outliers(sweep: Sweep) -> np.ndarray:
@@ -385,11 +260,11 @@ def rich_predictor(rich: DirectionsFit, independence: float, offset: float) -> C
         if rich.asymmetric:
             curves = [_fit(train.direction(s), f.estimator, _vs(f), CV_POINTS, independence,
                            warm_copy).curve for s, f in zip((1, -1), rich.fits)]
-            return lambda v: _signed(v, curves[0].magnitude, curves[1].magnitude)
+            return lambda v: signed_force(v, curves[0].magnitude, curves[1].magnitude)
         f = rich.fits[0]
         curve = _fit(Sweep(train.v, train.f - offset), f.estimator, _vs(f), CV_POINTS,
                      independence, warm_copy).curve
-        return lambda v: _signed(v, curve.magnitude) + offset
+        return lambda v: signed_force(v, curve.magnitude) + offset
     return predict_fold
 
 

@@ -11,7 +11,7 @@ from typing import Optional
 
 import numpy as np
 
-from ..data.inverse_dynamics import Identification
+from ..data.identification import Identification
 from ..data.sweep import Sweep
 from ..fit import DEFAULT_ELM, AutoELMRegressor, DefaultRegressor, ELMRegressor, StribeckRegressor
 from ..fit.elm import EnlargedScheme

@@ -14,7 +14,7 @@ from typing import Optional, Tuple
 from ..codegen.cost import ADAPT_MAX_PARAMS as MAX_PARAMS
 from ..codegen.cost import adapt_instructions, cortex_m4f_instructions, host_ns
 from ..codegen.parity import float32_problem
-from ..data.inverse_dynamics import Identification
+from ..data.identification import Identification
 from ..data.outliers import OUTLIER_SIGMAS
 from ..data.sweep import Sweep
 from ..data.training_set import SAT_FACTOR

@@ -23,8 +23,8 @@ from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import (STRUCTURE_POINTS, asymmetry_evident, choose_law, point_weights,
-                              shows_structure, testable)
+from ..fit.law_choice import STRUCTURE_POINTS, asymmetry_evident, choose_law, shows_structure, testable
+from ..fit.textbook_laws import point_weights
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, gravity_warning, stribeck_warning
