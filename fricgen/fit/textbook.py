@@ -156,7 +156,14 @@ def _covariance(speed, weight, params: Dict[str, float], shape, rss: float) -> n
         h = 1e-6 * max(abs(params[k]), 1e-9)
         up, down = {**params, k: params[k] + h}, {**params, k: params[k] - h}
         jac[:, j] = (magnitude(up) - magnitude(down)) / (2 * h)
-    dof = speed.size - len(names)
+    return _least_squares_covariance(jac, weight, rss)
+
+
+def _least_squares_covariance(jac: np.ndarray, weight: np.ndarray, rss: float) -> Optional[np.ndarray]:
+    """rss / (n - p) (J' W J)^-1 of a weighted least squares with Jacobian ``jac`` (n x p);
+    None where the data do not determine it (no residual degree of freedom, a singular normal
+    matrix)."""
+    dof = jac.shape[0] - jac.shape[1]
     if dof <= 0:
         return None
     jw = jac * np.sqrt(weight)[:, None]
@@ -248,14 +255,8 @@ def fit_shared_viscous(curves, errors: bool = True) -> Tuple[LawFit, LawFit]:
     side = np.arange(speed.size) < sp.size
     design = np.column_stack([side * 1.0, ~side * 1.0, speed])
     coef, rss = _solve(design, np.concatenate([fp, fn]), np.sqrt(weight))
-    se = [float("inf")] * 3
-    dof = speed.size - 3
-    if errors and dof > 0:
-        aw = design * np.sqrt(weight)[:, None]
-        try:
-            se = [_error(c) for c in np.diag(rss / dof * np.linalg.inv(aw.T @ aw))]
-        except np.linalg.LinAlgError:
-            pass
+    cov = _least_squares_covariance(design, weight, rss) if errors else None
+    se = [float("inf")] * 3 if cov is None else [_error(c) for c in np.diag(cov)]
     return tuple(LawFit(float(coef[k]), float(coef[2]), None, None, None,
                         {"coulomb": se[k], "viscous": se[2]} if errors else {},
                         float(np.abs(points).max()), float(np.sqrt(rss / speed.size)))
