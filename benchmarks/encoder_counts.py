@@ -77,7 +77,8 @@ def main(argv=None):
     for (step, rate), count in good.items():
         r = np.array(ratios[step, rate])
         print(f"{step * 1e6:4.0f} um, {rate / 1e3:.0f} kHz: mass ok on {count}/{args.seeds} seeds; "
-              f"friction RMS quantized / exact median {np.median(r):.2f}x, worst {r.max():.2f}x")
+              f"friction RMS quantized / exact median {np.median(r):.2f}x, worst {r.max():.2f}x, "
+              f"within 1.2x on {int(np.sum(r <= 1.2))}/{r.size}")
 
 
 if __name__ == "__main__":

@@ -361,14 +361,17 @@ def test_a_position_in_encoder_counts_is_recognised_and_only_then():
 def test_a_log_in_10_um_encoder_counts_keeps_its_stribeck_region():
     """x in 10 um steps at 4 kHz, no velocity column: the slow rows where the Stribeck curve
     falls are kept (the smoothed velocity resolves them), so the friction there is right; a
-    threshold on the raw differentiated velocity's noise dropped them (2.5 N off at 8 mm/s)."""
+    threshold on the raw differentiated velocity's noise dropped them (2.5 N off at 8 mm/s).
+    The velocity is the derivative of the position read between its count edges: differentiated
+    from the staircase, the rows below 7.5 mm/s were lost (benchmarks/encoder_counts.py: 3.67x
+    the exact position's friction error at 5 mm/s)."""
     from independent_axis import COUNTS_MASS as mass, counts_friction as law, counts_log
     exact = counts_log(1001, 4000.0, 8.0, substeps=10)
     log = {**exact, "x": np.round(exact["x"] / 1e-5) * 1e-5}
     ident = identify_friction(log["t"], log["force"], None, x=log["x"])
     assert abs(ident.body.mass - mass) < 0.02 * mass
     slow = np.array([0.006, 0.01, 0.02])
-    assert ident.sweep.v.min() < 0.006                              # the slow rows are kept
+    assert np.abs(ident.sweep.v).min() < 0.0065                     # the slow rows are kept
     report = fricgen.train(log, estimator=fricgen.StribeckRegressor())
     assert np.max(np.abs(report.model.force(slow) - law(slow))) < 0.2
 

@@ -27,8 +27,8 @@ from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_bas
 from .log_columns import check_log_columns
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
-from .smoothing import (MIN_WINDOW, POLYORDER, candidate_windows, centre_weight, choose_window,
-                        derivative_noise, smooth, steady_rows)
+from .smoothing import (MIN_WINDOW, POLYORDER, between_edges, candidate_windows, centre_weight,
+                        choose_window, derivative_noise, smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -154,8 +154,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     junction = np.zeros(t.size, dtype=bool)
     if runs is not None:
         junction[1:] = np.diff(runs) != 0               # the first row of each later run
+    quantum = 0.0 if given else position_quantum(x)
     if not given:                                       # run by run: x jumps between runs
-        v = np.concatenate([np.gradient(part, ts) for part in np.split(x, np.flatnonzero(junction))])
+        parts = zip(np.split(t, np.flatnonzero(junction)), np.split(x, np.flatnonzero(junction)))
+        v = np.concatenate([np.gradient(between_edges(tp, xp) if quantum > 0 else xp, ts)
+                            for tp, xp in parts])
     check_moves(v, x, given)
     weight = None
     if runs is None:                # what the columns hold (x jumps between runs: one run only)
@@ -164,7 +167,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         check_units(x, v, ts)
     noise = velocity_noise(v)
     if not given:                           # encoder counts: the central difference's rounding
-        noise = max(noise, position_quantum(x) / (ts * np.sqrt(24.0)))
+        noise = max(noise, quantum / (ts * np.sqrt(24.0)))
     if gravity and x is None:
         raise DataError("--gravity needs the position (a column x or q): the gravity force is a "
                         "function of the joint's angle")
