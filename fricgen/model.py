@@ -369,8 +369,10 @@ class FrictionModel:
 
     @property
     def model_hash(self) -> str:
-        """SHA-256 (first 16 hex digits) of everything that determines the force."""
-        return _digest(self._force_fields())
+        """SHA-256 (first 16 hex digits) of everything that determines the force, and of a
+        rotary axis's units (``training.units``: an edit to linear would read its Nm as N)."""
+        rotary = self.training.get("units") == "rotary"
+        return _digest({**self._force_fields(), **({"units": "rotary"} if rotary else {})})
 
     @property
     def axis_hash(self) -> Optional[str]:

@@ -51,6 +51,21 @@ def test_model_json_records_its_hash_and_a_hand_edit_gets_one_warning(work):
     assert FrictionModel.load(work / "foreign.json").hash_warning(work / "foreign.json") == ""
 
 
+def test_a_hand_edit_of_the_units_is_an_edit(work):
+    """training.units says whether the force is in N or Nm: flipping it either way is told."""
+    model = json.loads((work / "model.json").read_text())
+    model["training"]["units"] = "rotary"
+    rotary = FrictionModel.from_dict(model)
+    assert rotary.edited_after_training                         # linear -> rotary
+    rotary.save(work / "rotary.json")
+    saved = json.loads((work / "rotary.json").read_text())
+    assert not FrictionModel.load(work / "rotary.json").edited_after_training
+    assert saved["model_hash"] != json.loads((work / "model.json").read_text())["model_hash"]
+    saved["training"]["units"] = "linear"
+    (work / "flipped.json").write_text(json.dumps(saved))
+    assert FrictionModel.load(work / "flipped.json").edited_after_training    # rotary -> linear
+
+
 def test_eval_of_an_edited_model_warns_once_on_stderr(work):
     import subprocess
     import sys

@@ -563,6 +563,14 @@ def test_points_at_rest_are_said_to_be_left_out():
         fricgen.Sweep(np.concatenate([speeds, -speeds]), np.concatenate([f, -f]))).left_out)
 
 
+def test_a_sweep_that_moves_one_way_says_its_curve_is_mirrored():
+    """A sweep of v > 0 alone trains a curve the model mirrors to v < 0: said, as for a log."""
+    speeds = np.geomspace(0.001, 0.5, 8)
+    choice = choose_law(fricgen.Sweep(speeds, 4.0 + 10.0 * speeds))
+    assert any(line.startswith("per direction: the sweep moves one way only") and "mirrored" in line
+               for line in choice.left_out)
+
+
 @pytest.mark.parametrize("seed", [0, 1, 3])
 def test_a_spike_in_a_few_points_of_a_stribeck_curve_is_left_out(seed):
     """12 log-spaced points a side of a Stribeck curve with 0.1 N of noise and one point 5 N
@@ -632,6 +640,8 @@ def test_a_direction_of_two_points_whose_slope_differs_gets_its_own_line():
     assert any("reject the other's slope" in line for line in report.law.left_out)
     assert report.training["negative"]["viscous"] == pytest.approx(5.0, abs=0.5)
     assert report.training["viscous"] == pytest.approx(8.0, abs=0.3)
+    symmetric = choose_law(fricgen.Sweep(v, f), asymmetric=False)        # --symmetric: no such law
+    assert not any("reject the other's slope" in line for line in symmetric.left_out)
 
 
 def test_the_scatter_between_points_is_not_the_directions_difference():

@@ -345,11 +345,10 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                         "and off the textbook laws)")
     one_way = not (np.any(sweep.v > 0) and np.any(sweep.v < 0))
     if one_way and asymmetric is not False:
-        left_out.append("per direction: the log moves one way only; its curve is mirrored to the "
-                        "other direction, which the data do not show" if blocks else
-                        "per direction: the data move one way only")
+        left_out.append(f"per direction: the {'log moves' if blocks else 'sweep moves'} one way "
+                        "only; its curve is mirrored to the other direction, which the data do not show")
     per_direction = TextbookLaw(False, True)
-    if not one_way and not per_direction.feasible(sweep):       # a direction of 1-2 points
+    if not one_way and asymmetric is not False and not per_direction.feasible(sweep):  # 1-2 points
         chi2 = slope_rejected(sweep, weight)
         per_direction = TextbookLaw(False, True, chi2 is None, chi2 is not None)
         if chi2 is not None:
