@@ -638,6 +638,8 @@ def test_a_direction_of_two_points_whose_slope_differs_gets_its_own_line():
     report = fricgen.train({"v": v, "f": f})
     assert report.law.name == "Coulomb + viscous, per direction"
     assert any("reject the other's slope" in line for line in report.law.left_out)
+    # the pooled held-out error is not said to check the 2 points' own line
+    assert report.text.count("none of these was held out") == 1
     assert report.training["negative"]["viscous"] == pytest.approx(5.0, abs=0.5)
     assert report.training["viscous"] == pytest.approx(8.0, abs=0.3)
     symmetric = choose_law(fricgen.Sweep(v, f), asymmetric=False)        # --symmetric: no such law

@@ -91,8 +91,12 @@ def _(estimator: StribeckRegressor) -> dict:
 
 @validation_error.register
 def _(estimator: TextbookRegressor) -> tuple:
-    """The law's held-out error, over both directions' points (its ``law`` line's)."""
-    return "the law's held-out", estimator.cv_rmse_
+    """The law's held-out error, over both directions' points (its ``law`` line's); a curve
+    its points do not determine (a direction of 2 points on its own line) had none held out."""
+    determined = all(np.isfinite(se) for se in estimator.law_.standard_errors.values())
+    return ("the law's held-out" if determined else
+            "the law's held-out (the other direction's points: none of these was held out)",
+            estimator.cv_rmse_)
 
 
 @chosen_record.register
