@@ -66,7 +66,7 @@ def test_the_window_chosen_is_the_direct_filters_choice(force_noise):
     noise = idm.velocity_noise(v)
     rows = np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > idm.MOVING_SIGMAS * noise
     expected, scores = _direct_choice(force, rows, 4.0, noise, 1e-3)
-    assert choose_window(force, rows, 4.0, noise, 1e-3) == expected
+    assert choose_window(force, rows, 4.0, smoothing.VelocityNoise(noise, 0.0, 1e-3)) == expected
     fast = [smoothing.gcv_score(force, w, rows) + (4.0 * noise * smoothing.derivative_noise(w, 1e-3)) ** 2
             for w in candidate_windows(rows.size)]
     np.testing.assert_allclose(fast, scores, rtol=EQUAL)
@@ -122,3 +122,21 @@ def test_a_position_that_changes_at_every_row_is_read_as_it_is_but_for_a_light_s
     x = np.cumsum(np.random.default_rng(0).uniform(0.5, 1.5, t.size))
     assert np.allclose(between_edges(t, x)[1:-1], (x[:-2] + 2 * x[1:-1] + x[2:]) / 4)
     assert np.array_equal(between_edges(t, np.full(t.size, 3.0)), np.full(t.size, 3.0))
+
+
+def test_a_counts_rounding_weighs_less_in_a_long_window_than_white_noise_of_its_size():
+    """The rounding of a position in counts (q / sqrt 12 on x) and white noise on v of the same
+    per-sample size (q / (ts sqrt 24)) leave the same noise in one sample of v; smoothed over a
+    long window, the differenced rounding leaves a fraction of it, in v and in dv/dt."""
+    q, ts = 1e-5, 2.5e-4
+    counts = smoothing.VelocityNoise(0.0, q / np.sqrt(12.0), ts)
+    white = smoothing.VelocityNoise(q / (ts * np.sqrt(24.0)), 0.0, ts)
+    assert counts.per_sample() == pytest.approx(white.per_sample())
+    rng = np.random.default_rng(1000)
+    rounding = rng.uniform(-q / 2, q / 2, 200_000)
+    v = np.gradient(rounding, ts)
+    for window in (31, 485):
+        assert np.std(smooth(v, window)[window:-window]) == pytest.approx(counts.smoothed(window), rel=0.05)
+        assert np.std(smooth(v, window, 1, ts)[window:-window]) == pytest.approx(counts.derivative(window), rel=0.05)
+    assert counts.smoothed(485) < 0.1 * white.smoothed(485)
+    assert counts.derivative(485) < 0.2 * white.derivative(485)

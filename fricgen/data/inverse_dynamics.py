@@ -27,8 +27,8 @@ from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_bas
 from .log_columns import check_log_columns
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
-from .smoothing import (MIN_WINDOW, POLYORDER, between_edges, candidate_windows, centre_weight,
-                        choose_window, derivative_noise, smooth, steady_rows)
+from .smoothing import (MIN_WINDOW, POLYORDER, VelocityNoise, between_edges, candidate_windows,
+                        centre_weight, choose_window, smooth, steady_rows)
 from .sweep import MIN_ROWS, Sweep
 from .table import header_hint
 
@@ -165,9 +165,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         weight = check_log_columns(force, ts, v if given else None, x, weight=not gravity)
     if given and x is not None:     # after the columns' check: a swapped v also disagrees with x
         check_units(x, v, ts)
-    noise = velocity_noise(v)
-    if not given:                           # encoder counts: the central difference's rounding
-        noise = max(noise, quantum / (ts * np.sqrt(24.0)))
+    measured = velocity_noise(v)
+    # encoder counts: the position between the count edges is off by up to a count's rounding,
+    # q / sqrt(12), a noise on x that the central difference and the smoothing filter
+    noise = VelocityNoise(measured, quantum / np.sqrt(12.0), ts)
     if gravity and x is None:
         raise DataError("--gravity needs the position (a column x or q): the gravity force is a "
                         "function of the joint's angle")
@@ -176,7 +177,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     use = use & ~junction                  # whole windows of use never span two runs
     span = t.size if runs is None else int(np.median(np.bincount(runs)))  # a typical run's rows
     body = None
-    rows = (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER)) > MOVING_SIGMAS * noise) & use
+    # rows that move beyond the noise the shortest window leaves in v (a count's rounding taken
+    # per sample, 5 x 0.63 rad/s of a 12-bit encoder at 2 kHz, left a 1.5 rad/s move no rows)
+    rows = use & (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
+                  > MOVING_SIGMAS * noise.smoothed(MIN_WINDOW))
     logged, force = force, at_sample_times(force, junction) if held else force
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
@@ -191,7 +195,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
             body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs, noise)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
-        window = choose_window(logged, rows, guess, noise, ts, progress, span)
+        window = choose_window(logged, rows, guess, noise, progress, span)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
         window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs)
     body = at_window if body is None else body
@@ -209,7 +213,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                         f"need {MIN_ROWS} rows and {MIN_INDEPENDENT} independent samples: log "
                         "longer or more varied motion")
     return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
-                          window=int(window), sample_time=ts, velocity_noise=noise,
+                          window=int(window), sample_time=ts, velocity_noise=noise.per_sample(),
                           independent=kept, body=body, body_window=body_window,
                           conditions={k: c[steady] for k, c in at_rows.items()},
                           n_runs=1 if runs is None else int(runs[-1]) + 1, weight=weight,
@@ -240,7 +244,7 @@ def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray
                         f"where f = m dv/dt + load + friction gives 1: {cause}")
 
 
-def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
+def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: VelocityNoise,
                use: np.ndarray, conditions: Dict[str, np.ndarray], mass: Optional[float],
                identify: bool = True, angle: Optional[np.ndarray] = None,
                runs: Optional[np.ndarray] = None):
@@ -268,7 +272,7 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
 
 def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.ndarray,
              conditions: Dict[str, np.ndarray], angle: Optional[np.ndarray] = None,
-             runs: Optional[np.ndarray] = None, noise: Optional[float] = None) -> RigidBody:
+             runs: Optional[np.ndarray] = None, noise: Optional[VelocityNoise] = None) -> RigidBody:
     """The rigid body (``data.idim``) from the raw ``force`` (the load taken out) at ``rows``,
     with v, dv/dt and the operating point smoothed by ``window`` (``explaining_window``). The
     residual is the raw force's, so the rows count as independent but for its correlation from
@@ -287,22 +291,21 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
     r = force[at] - basis @ coef
     lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
     lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / at.size)
-    accel_noise = None if noise is None else noise * derivative_noise(window, ts)
+    accel_noise = None if noise is None else noise.derivative(window)
     return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra,
                                x_s, runs, accel_noise)
 
 
-def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: float,
+def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: VelocityNoise,
               use: np.ndarray):
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
     (whole windows) where the axis moves: |v| above MOVING_SIGMAS of the noise the smoothing
-    leaves (the raw noise times the root of the centre weight) and MOVING_FRACTION of
+    leaves (``VelocityNoise.smoothed``) and MOVING_FRACTION of
     the top speed; ``DataError`` when there are none."""
     v_s = smooth(v, window)
     a_s = smooth(v, window, deriv=1, delta=ts)
     f_s = smooth(force, window)
-    smoothed_noise = noise * np.sqrt(centre_weight(window))   # the noise left in v_s
-    threshold = max(MOVING_SIGMAS * smoothed_noise, MOVING_FRACTION * float(np.max(np.abs(v_s))))
+    threshold = max(MOVING_SIGMAS * noise.smoothed(window), MOVING_FRACTION * float(np.max(np.abs(v_s))))
     whole = minimum_filter1d(use.astype(np.int8), window).astype(bool)    # whole windows of use
     moving = (np.abs(v_s) > threshold) & whole
     if not moving.any():

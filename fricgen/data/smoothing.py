@@ -4,11 +4,13 @@ and the force between which inverse dynamics [C1] holds, and the choice of its w
 ``smooth`` is ``scipy.signal.savgol_filter`` in time linear in the log (by FFT from
 FFT_WINDOW samples on); ``choose_window`` takes the window that minimizes the generalized
 cross-validation score of the smoothed force plus the variance the velocity noise leaves in
-m dv/dt; ``steady_rows`` the rows whose whole window moves one way; ``between_edges`` a
-position logged in encoder counts as the line through its count edges, for its derivatives.
+m dv/dt (``VelocityNoise``: white on v, or on the position v was differentiated from);
+``steady_rows`` the rows whose whole window moves one way; ``between_edges`` a position logged
+in encoder counts as the line through its count edges, for its derivatives.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Callable, List, Optional
 
@@ -102,6 +104,40 @@ def derivative_noise(window: int, sample_time: float) -> float:
     return float(np.linalg.norm(_coeffs(window, 1, sample_time)))
 
 
+@lru_cache(maxsize=256)
+def _differenced_norm(window: int, deriv: int, sample_time: float) -> float:
+    """The standard deviation that unit white noise on a position leaves in the Savitzky-Golay
+    smoothing (``deriv`` 1: derivative) of its central difference (``np.gradient``)."""
+    difference = np.array([1.0, 0.0, -1.0]) / (2.0 * sample_time)
+    return float(np.linalg.norm(np.convolve(_coeffs(window, deriv, sample_time), difference)))
+
+
+@dataclass(frozen=True)
+class VelocityNoise:
+    """The noise on a log's velocity: white noise on v of standard deviation ``white``, and
+    white noise of standard deviation ``position`` on the position v was differentiated from
+    (an encoder count's rounding, q / sqrt(12)). The central difference makes the second blue:
+    most of it lies at high frequencies, which the smoothing removes, so it weighs far less in
+    a long window's v and dv/dt than white noise of its per-sample size would."""
+    white: float
+    position: float = 0.0
+    sample_time: float = 1.0
+
+    def per_sample(self) -> float:
+        """The standard deviation of the noise on each sample of v."""
+        return float(np.hypot(self.white, self.position / (np.sqrt(2.0) * self.sample_time)))
+
+    def smoothed(self, window: int) -> float:
+        """... left in v smoothed by ``window``."""
+        return float(np.hypot(self.white * np.sqrt(centre_weight(window)),
+                              self.position * _differenced_norm(window, 0, self.sample_time)))
+
+    def derivative(self, window: int) -> float:
+        """... left in dv/dt, the Savitzky-Golay derivative of ``window``."""
+        return float(np.hypot(self.white * derivative_noise(window, self.sample_time),
+                              self.position * _differenced_norm(window, 1, self.sample_time)))
+
+
 def candidate_windows(n_rows: int) -> List[int]:
     """The odd windows ``choose_window`` scores for a log of ``n_rows``: from MIN_WINDOW up to
     MAX_WINDOW_FRACTION of the log, each about WINDOW_RATIO times the last."""
@@ -114,13 +150,13 @@ def candidate_windows(n_rows: int) -> List[int]:
     return windows
 
 
-def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: float,
-                  sample_time: float, progress: Optional[Callable[[str], None]] = None,
+def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, noise: VelocityNoise,
+                  progress: Optional[Callable[[str], None]] = None,
                   span: Optional[int] = None) -> int:
     """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
     the generalized cross-validation score of smoothing the force (its noise, and the bias where
     the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
-    velocity noise leaves in the derivative; from the smallest window up, until one scores
+    velocity ``noise`` leaves in the derivative; from the smallest window up, until one scores
     STOP_FACTOR times the best. ``progress`` (a callable taking one line) hears
     how far the search is when it takes long (``fricgen._progress.Progress``). ``span``: the
     rows of a typical (the median) run of a log concatenated from runs (default: all rows),
@@ -129,8 +165,7 @@ def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, v_noise: flo
     report = Progress(progress)
     scores = []
     for window in windows:
-        scores.append(gcv_score(force, window, rows)
-                      + (mass * v_noise * derivative_noise(window, sample_time)) ** 2)
+        scores.append(gcv_score(force, window, rows) + (mass * noise.derivative(window)) ** 2)
         report(f"smoothing window: scored {len(scores)} of {len(windows)} windows, up to {window} samples")
         if scores[-1] > STOP_FACTOR * min(scores):
             break
