@@ -156,7 +156,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         junction[1:] = np.diff(runs) != 0               # the first row of each later run
     quantum = 0.0 if given else position_quantum(x)
     if not given:                                       # run by run: x jumps between runs
-        parts = zip(np.split(t, np.flatnonzero(junction)), np.split(x, np.flatnonzero(junction)))
+        cuts = np.flatnonzero(junction)
+        parts = zip(np.split(t, cuts), np.split(x, cuts))
         v = np.concatenate([np.gradient(between_edges(tp, xp) if quantum > 0 else xp, ts)
                             for tp, xp in parts])
     check_moves(v, x, given)
@@ -167,7 +168,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         check_units(x, v, ts)
     measured = velocity_noise(v)
     # encoder counts: the position between the count edges is off by up to a count's rounding,
-    # q / sqrt(12), a noise on x that the central difference and the smoothing filter
+    # q / sqrt(12), a noise on x that the central difference and the smoothing then filter
     noise = VelocityNoise(measured, quantum / np.sqrt(12.0), ts)
     if gravity and x is None:
         raise DataError("--gravity needs the position (a column x or q): the gravity force is a "
@@ -305,7 +306,8 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: V
     v_s = smooth(v, window)
     a_s = smooth(v, window, deriv=1, delta=ts)
     f_s = smooth(force, window)
-    threshold = max(MOVING_SIGMAS * noise.smoothed(window), MOVING_FRACTION * float(np.max(np.abs(v_s))))
+    threshold = max(MOVING_SIGMAS * noise.smoothed(window),
+                    MOVING_FRACTION * float(np.max(np.abs(v_s))))
     whole = minimum_filter1d(use.astype(np.int8), window).astype(bool)    # whole windows of use
     moving = (np.abs(v_s) > threshold) & whole
     if not moving.any():

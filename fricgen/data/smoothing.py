@@ -120,8 +120,8 @@ class VelocityNoise:
     most of it lies at high frequencies, which the smoothing removes, so it weighs far less in
     a long window's v and dv/dt than white noise of its per-sample size would."""
     white: float
-    position: float = 0.0
-    sample_time: float = 1.0
+    position: float
+    sample_time: float
 
     def per_sample(self) -> float:
         """The standard deviation of the noise on each sample of v."""
