@@ -178,10 +178,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     use = use & ~junction                  # whole windows of use never span two runs
     span = t.size if runs is None else int(np.median(np.bincount(runs)))  # a typical run's rows
     body = None
-    # rows that move beyond the noise the shortest window leaves in v (a count's rounding taken
-    # per sample, 5 x 0.63 rad/s of a 12-bit encoder at 2 kHz, left a 1.5 rad/s move no rows)
+    # rows that move beyond v's white noise and what a count's rounding leaves in the shortest
+    # window (taken per sample, 5 x 0.63 rad/s of a 12-bit encoder at 2 kHz left a 1.5 rad/s
+    # move no rows)
     rows = use & (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
-                  > MOVING_SIGMAS * noise.smoothed(MIN_WINDOW))
+                  > MOVING_SIGMAS * max(noise.white, noise.smoothed(MIN_WINDOW)))
     logged, force = force, at_sample_times(force, junction) if held else force
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
