@@ -171,3 +171,27 @@ def test_a_skip_that_lands_on_the_units_row_says_so(export, capsys):
     assert main(["train", str(path), "--skip", "1", "-o", str(export.parent / "m.json")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "reads as a row of units: are the names on the line above it" in err[0]
+
+
+@pytest.mark.parametrize("position, velocity, torque, factor, torque_factor", [
+    ("Pos [deg]", "Vel [deg/s]", "Trq [Nm]", np.pi / 180, 1.0),
+    ("Angle [rad]", "Speed [rad/s]", "Torque [Nm]", 1.0, 1.0),
+    ("Pos [mrad]", "Vel [mrad/s]", "Trq [mNm]", 1e-3, 1e-3)])
+def test_a_drives_short_names_with_units_are_read(tmp_path, capsys, position, velocity, torque,
+                                                  factor, torque_factor):
+    """Pos, Angle, Vel and Trq are read as x, v and the force, each scaled by its header's unit
+    (``factor``: the angle's, ``torque_factor``: the torque's)."""
+    rng = np.random.default_rng(1001)
+    t = np.arange(0.0, 8.0, 1e-3)
+    x = 1.5 * np.sin(2 * np.pi * 0.5 * t)
+    v = np.gradient(x, t)
+    f = 0.01 * np.gradient(v, t) + np.tanh(v / 0.01) * COULOMB + VISCOUS * v
+    f = f + 0.002 * rng.standard_normal(t.size)
+    path = tmp_path / "drive.csv"
+    rows = "\n".join(f"{a:.4f},{b / factor:.7f},{c / factor:.7f},{d / torque_factor:.6f}"
+                     for a, b, c, d in zip(t, x, v, f))
+    path.write_text(f"t [s],{position},{velocity},{torque}\n{rows}\n")
+    model, err = _trained(path, capsys)
+    assert model.training["units"] == "rotary", err
+    speeds = np.array([-2.0, -0.5, 0.5, 2.0])
+    assert np.allclose(model.force(speeds), np.sign(speeds) * COULOMB + VISCOUS * speeds, atol=0.02)

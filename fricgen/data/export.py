@@ -35,12 +35,13 @@ QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A", 
 #: count. The joint's names name a rotary axis (``names_rotary_axis``).
 ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "torque": "force",
            "current": "i", "iq": "i", "temp": "temperature", "time": "t", "position": "x",
-           "velocity": "v", "speed": "v", "std": "f_std", "sd": "f_std", "stdev": "f_std",
-           "sigma": "f_std", "f_sd": "f_std", "count": "n"}
+           "pos": "x", "angle": "x", "velocity": "v", "vel": "v", "speed": "v", "trq": "force",
+           "std": "f_std", "sd": "f_std", "stdev": "f_std", "sigma": "f_std", "f_sd": "f_std",
+           "count": "n"}
 #: Every plain name read as a quantity: the quantities' own and the aliases.
 KNOWN_NAMES = {**{q: q for q in QUANTITIES}, **ALIASES}
 #: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
-ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort", "torque")
+ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort", "torque", "angle", "trq")
 
 #: Two files whose time spans differ by this factor or more are not timed in one unit.
 SPAN_RATIO = 100.0
