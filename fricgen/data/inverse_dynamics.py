@@ -178,11 +178,14 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     use = use & ~junction                  # whole windows of use never span two runs
     span = t.size if runs is None else int(np.median(np.bincount(runs)))  # a typical run's rows
     body = None
-    # rows that move beyond v's white noise and what a count's rounding leaves in the shortest
-    # window (taken per sample, 5 x 0.63 rad/s of a 12-bit encoder at 2 kHz left a 1.5 rad/s
-    # move no rows)
-    rows = use & (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
-                  > MOVING_SIGMAS * max(noise.white, noise.smoothed(MIN_WINDOW)))
+    # the rows that choose the window move beyond v's white noise and what a count's rounding
+    # leaves in the shortest window (taken per sample, 5 x 0.63 rad/s of a 12-bit encoder at
+    # 2 kHz left a 1.5 rad/s move no rows); the body's rows beyond the noise of each sample:
+    # the slower ones, near reversals, hold the bristles' build-up after each start, which
+    # hid the disagreement of speeding up and braking (``RigidBody.phases_disagree``)
+    speed = np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
+    rows = use & (speed > MOVING_SIGMAS * max(noise.white, noise.smoothed(MIN_WINDOW)))
+    sliding = use & (speed > MOVING_SIGMAS * noise.per_sample())
     logged, force = force, at_sample_times(force, junction) if held else force
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
@@ -192,9 +195,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool) & use
         if body_window is None:             # the body where dv/dt explains the force best
-            body_window = explaining_window(v, raw, rows & whole, ts, span, angle, runs)
+            body_window = explaining_window(v, raw, sliding & whole, ts, span, angle, runs)
         if body_window is not None:
-            body = _body_at(body_window, ts, v, raw, rows & whole, conditions, angle, runs, noise)
+            body = _body_at(body_window, ts, v, raw, sliding & whole, conditions, angle, runs,
+                            noise)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
         window = choose_window(logged, rows, guess, noise, progress, span)
