@@ -4,16 +4,18 @@ fricgen's static ``train`` identifies the mass beside a friction curve of v alon
 memory (the bristles' build-up after each start, a frictional lag) makes the force differ
 between speeding up and braking at the same speed, and the mass of both together comes out off
 with a small standard error. ``RigidBody.phases_disagree`` fits the mass apart on the two
-phases and warns when they differ (``PHASE_SIGMAS``, ``PHASE_SHARE`` of fricgen/data/idim.py).
+phases and warns when they differ (``PHASE_SIGMAS``, ``PHASE_SHARE`` of fricgen/data/idim.py);
+``RigidBody.windows_disagree`` warns when smoothing windows whose dv/dt explains the force
+about equally well give masses apart (the fast part of the force carried by the bristles).
 
 Per seed (from 1000 up; none tuned anything, though the two constants were set after a look
 at seeds 1000-1002 and at the real rigs below), the precision stage of
 fricgen/sim/precision_axis.py (its own LuGre law, a quantized encoder, a closed loop):
 its identification log with pre-sliding, and the same motion with the steady-state friction
 alone. Printed: the true mass, the static train's with its standard error and its error in
-standard errors, the two phases' masses, and whether a warning was given. Then, where
-../shared/data is present, the same on the training logs of its robot joints (no truth there:
-what is flagged).
+standard errors, the two phases' masses, the windows' least and largest, and which warning
+was given. Then, where ../shared/data is present, the same on the training logs of its robot
+joints (no truth there: what is flagged).
 
     python benchmarks/mass_phases.py [--seeds 10] [--data ../shared/data]
 """
@@ -33,16 +35,24 @@ DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 
 
 def trained_body(columns):
+    """The body fricgen.train identifies, and what it warned of the mass: "WARNED (phases)",
+    "(windows)", both, or "no warning"."""
     lines = []
     body = fricgen.train(columns, warn=lines.append).identification.body
-    return body, any("speeding up gives" in line for line in lines)
+    said = [name for name, words in (("phases", "speeding up gives"),
+                                     ("windows", "smoothing windows that explain"))
+            if any(words in line for line in lines)]
+    return body, f"WARNED ({', '.join(said)})" if said else ""
 
 
 def phases(body) -> str:
-    if body.phase_masses is None:
-        return "phases -"
-    (up, s_up), (down, s_down) = body.phase_masses
-    return f"speeding up {up:.4g} +- {s_up:.2g}, braking {down:.4g} +- {s_down:.2g}"
+    def pair(masses, first, second):
+        if masses is None:
+            return f"{first}/{second} -"
+        (m1, s1), (m2, s2) = masses
+        return f"{first} {m1:.4g} +- {s1:.2g}, {second} {m2:.4g} +- {s2:.2g}"
+    return (pair(body.phase_masses, "speeding up", "braking") + "; windows: "
+            + pair(body.window_masses, "least", "largest"))
 
 
 def main():
@@ -59,8 +69,8 @@ def main():
             off = (body.mass - axis.mass) / body.mass_se if body.mass_se else float("nan")
             print(f"seed {seed} {'LuGre ' if presliding else 'static'} true {axis.mass:.4g} kg, "
                   f"train {body.mass:.4g} +- {body.mass_se:.2g} ({100 * (body.mass / axis.mass - 1):+.1f} %, "
-                  f"{off:+.1f} SE); {phases(body)}; {'WARNED' if warned else 'no warning'}", flush=True)
-            tally[presliding][0] += warned
+                  f"{off:+.1f} SE); {phases(body)}; {warned or 'no warning'}", flush=True)
+            tally[presliding][0] += bool(warned)
             tally[presliding][1] += 1
     for presliding, (warned, n) in tally.items():
         print(f"{'with pre-sliding' if presliding else 'without':17s}: warned on {warned}/{n} logs")
@@ -76,7 +86,7 @@ def main():
                 continue
             body, warned = trained_body(real_data.log_columns(real_data.csv(path)))
             print(f"{rig} J{j + 1}: train {body.mass:.4g} +- {body.mass_se:.2g}; {phases(body)}; "
-                  f"{'WARNED' if warned else 'no warning'}", flush=True)
+                  f"{warned or 'no warning'}", flush=True)
 
 
 if __name__ == "__main__":

@@ -59,7 +59,8 @@ def test_static_train_says_when_speeding_up_and_braking_give_two_masses(axis, lo
     """The bristles' build-up after each start reads as less friction while the axis speeds up:
     the static train's mass comes out low, and the masses of the two phases apart say so in
     one warning line (with the truth within them); on the same motion without pre-sliding the
-    two agree and nothing is said."""
+    two agree, as do the smoothing windows (``RigidBody.windows_disagree``), and nothing is
+    said."""
     data = log if presliding else static_friction_log(axis, SEED)
     lines = []
     body = train({k: data[k] for k in ("t", "x", "force")}, warn=lines.append).identification.body
@@ -72,6 +73,7 @@ def test_static_train_says_when_speeding_up_and_braking_give_two_masses(axis, lo
         assert f"{up:.4g} +- " in said[0] and f"braking {braking:.4g} +- " in said[0]
     else:
         assert abs(body.mass / axis.mass - 1) < 0.01
+        assert not body.windows_disagree() and not [l for l in lines if "the identified mass" in l]
 
 
 def test_a_log_without_presliding_leaves_the_bristles_out(axis, static):

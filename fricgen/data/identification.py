@@ -99,8 +99,7 @@ class Identification:
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
         lines = [f"{units.inertia_name:10s}{mass}"]
-        if b.phases_disagree():
-            lines.append(f"          {b.phase_note(units.mass)}")
+        lines += [f"          {doubt}" for doubt in b.doubts(units.mass)]
         if self.weight is not None and units.position == "rad":    # --gravity is a joint's
             without, with_weight = self.weight
             lines.append(f"gravity   not identified, yet a weight G_s sin x + G_c cos x of the position "

@@ -14,7 +14,7 @@ apart from it on moving rows (1 = [v > 0] + [v < 0]), which the report says.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -37,14 +37,21 @@ PHASE_SIGMAS = 3.0
 PHASE_SHARE = 0.1
 
 
-def _apart(pair) -> bool:
+def _apart(pair, mass: float) -> bool:
     """Whether the two (mass, standard error) of ``pair`` differ by more than PHASE_SIGMAS
-    standard errors of the difference and PHASE_SHARE of the larger (False for None)."""
+    standard errors of the difference and PHASE_SHARE of the larger, each a mass (MASS_SIGMAS
+    standard errors above 0) with ``mass``, the one of all rows, between them (within
+    PHASE_SIGMAS standard errors): fits that part the rows so that their dv/dt is nearly a
+    function of v (a speed ramp's phase) leave the mass to the friction curve's misfit, a
+    negative mass or two on one side of the whole's (False for None)."""
     if pair is None:
         return False
-    (m1, s1), (m2, s2) = pair
-    gap = abs(m1 - m2)
-    return gap > PHASE_SIGMAS * float(np.hypot(s1, s2)) and gap > PHASE_SHARE * max(m1, m2)
+    (m1, s1), (m2, s2) = sorted(pair)
+    gap = m2 - m1
+    masses = min(m1 - MASS_SIGMAS * s1, m2 - MASS_SIGMAS * s2) > 0
+    between = m1 - PHASE_SIGMAS * s1 <= mass <= m2 + PHASE_SIGMAS * s2
+    return (masses and between and gap > PHASE_SIGMAS * float(np.hypot(s1, s2))
+            and gap > PHASE_SHARE * m2)
 
 
 def friction_basis(v: np.ndarray, odd: bool) -> np.ndarray:
@@ -89,6 +96,10 @@ class RigidBody:
     phase_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
     #: ... and with the rows that do neither clearly in both (``phase_masses(pinned=True)``)
     pinned_phase_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
+    #: The least and the largest mass (and its standard error) of the smoothing windows whose
+    #: dv/dt explains the force about as well as the best one's (``explaining_window``); None
+    #: where the window was given or the mass not determined
+    window_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
 
     def phases_disagree(self) -> bool:
         """Whether speeding up and braking give masses apart beyond their noise (PHASE_SIGMAS,
@@ -99,15 +110,35 @@ class RigidBody:
         fit alone misleads on a motion of its own: a trapezoidal move's phase rows hold
         a = A sgn v, which the first cannot tell from Coulomb friction, and a sweep's short
         speed steps leave the second the friction curve's misfit at the steps."""
-        return all(_apart(pair) for pair in (self.phase_masses, self.pinned_phase_masses))
+        return all(_apart(pair, self.mass) for pair in (self.phase_masses, self.pinned_phase_masses))
 
-    def phase_note(self, unit: str) -> str:
-        """What ``phases_disagree`` found, in one sentence (``unit``: the mass's)."""
-        (m1, s1), (m2, s2) = self.phase_masses
-        return (f"speeding up gives {m1:.4g} +- {s1:.2g} {unit} and braking {m2:.4g} +- {s2:.2g} "
-                f"{unit}: the force differs between the two at the same speed (friction with "
-                "memory: pre-sliding after each start, a frictional lag), so the mass is uncertain "
-                "by about the difference; train --dynamic models pre-sliding")
+    def windows_disagree(self) -> bool:
+        """Whether smoothing windows that explain the force about equally well give masses
+        apart beyond their noise (``window_masses``, PHASE_SIGMAS, PHASE_SHARE): the fast part
+        of the force follows dv/dt with another mass than its slow part, as where bristles
+        carry the force after each start; which window fits best is then chance, and its mass
+        of small standard error wrong."""
+        return _apart(self.window_masses, self.mass)
+
+    def doubts(self, unit: str) -> List[str]:
+        """One sentence for each reason the identified mass is uncertain beyond its standard
+        error (``phases_disagree``, ``windows_disagree``; ``unit``: the mass's)."""
+        memory = ("friction with memory (pre-sliding after each start, a frictional lag) or "
+                  "forces a curve of v leaves out, so the mass is uncertain by about the "
+                  "difference; train --dynamic models pre-sliding, --mass sets the mass")
+        out = []
+        if self.phases_disagree():
+            (m1, s1), (m2, s2) = self.phase_masses
+            out.append(f"speeding up gives {m1:.4g} +- {s1:.2g} {unit} and braking {m2:.4g} +- "
+                       f"{s2:.2g} {unit}: the force differs between the two at the same speed: "
+                       + memory)
+        if self.windows_disagree():
+            (m1, s1), (m2, s2) = self.window_masses
+            out.append(f"smoothing windows that explain the force about equally well give "
+                       f"{m1:.4g} +- {s1:.2g} {unit} and {m2:.4g} +- {s2:.2g} {unit}: the force "
+                       "follows dv/dt with another mass at short time scales than at long "
+                       "ones: " + memory)
+        return out
 
     def run_force(self, runs: Optional[np.ndarray]) -> np.ndarray:
         """The constant force of each row's run less the reference run's (0 without run

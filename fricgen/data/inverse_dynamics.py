@@ -12,7 +12,7 @@ direction of motion over the whole window (no reversal or sticking smeared in).
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Callable, Dict, List, Optional
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -22,8 +22,8 @@ from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import axis_units
 from .identification import Identification
-from .idim import (BASIS_COLUMNS, SAMPLES_PER_PARAMETER, RigidBody, friction_basis,
-                   identify_rigid_body, known_columns, operating_basis)
+from .idim import (BASIS_COLUMNS, PHASE_SHARE, SAMPLES_PER_PARAMETER, RigidBody,
+                   friction_basis, identify_rigid_body, known_columns, operating_basis)
 from .log_columns import check_log_columns
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
@@ -194,11 +194,15 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         # settled ones need not hold whole windows, or only long cruises without ramps are left)
         whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool) & use
+        alike = None
         if body_window is None:             # the body where dv/dt explains the force best
-            body_window = explaining_window(v, raw, sliding & whole, ts, span, angle, runs)
+            body_window, alike = explaining_window(v, raw, sliding & whole, ts, span, angle,
+                                                   runs) or (None, None)
         if body_window is not None:
             body = _body_at(body_window, ts, v, raw, sliding & whole, conditions, angle, runs,
                             noise)
+            if body.mass_identified and body.mass_determined:
+                body = replace(body, window_masses=alike)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
         window = choose_window(logged, rows, guess, noise, progress, span)
@@ -294,12 +298,17 @@ def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.
                             + ([] if extra is None else [extra])
                             + known_columns(v_s, x_s, runs)[0])
     coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
-    r = force[at] - basis @ coef
-    lag = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if np.ptp(r) > 0 else 0.0
-    lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / at.size)
     accel_noise = None if noise is None else noise.derivative(window)
-    return identify_rigid_body(a_s, v_s, force[at], at.size * (1 - lag) / (1 + lag), None, extra,
-                               x_s, runs, accel_noise)
+    return identify_rigid_body(a_s, v_s, force[at], independent_rows(force[at] - basis @ coef),
+                               None, extra, x_s, runs, accel_noise)
+
+
+def independent_rows(residual: np.ndarray) -> float:
+    """The independent samples a residual holds: its n rows but for their correlation from
+    one row to the next, n (1 - r) / (1 + r) with r the lag-one autocorrelation."""
+    lag = float(np.corrcoef(residual[:-1], residual[1:])[0, 1]) if np.ptp(residual) > 0 else 0.0
+    lag = min(max(lag if np.isfinite(lag) else 0.0, 0.0), 1.0 - 1.0 / residual.size)
+    return residual.size * (1 - lag) / (1 + lag)
 
 
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: VelocityNoise,
@@ -323,7 +332,8 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: V
 def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
                       sample_time: float, span: Optional[int] = None,
                       angle: Optional[np.ndarray] = None,
-                      runs: Optional[np.ndarray] = None) -> Optional[int]:
+                      runs: Optional[np.ndarray] = None
+                      ) -> Optional[Tuple[int, Tuple[Tuple[float, float], ...]]]:
     """The window at which the mass is identified: the candidate whose smoothed v and dv/dt
     explain the raw force best over ``rows`` (least residual of f = m dv/dt + F(v) + o by least
     squares, F by ``friction_basis`` per direction, with the forces of known shape that the body
@@ -332,6 +342,8 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
     window, so the least residual marks the smoothing that leaves dv/dt least noisy without
     smearing the motion: a short window's noisy derivative pulls m towards 0 (errors in the
     variables), and the short window ``choose_window`` gives a small mass would keep it there.
+    Returned with the least and the largest mass (with its standard error) of the windows whose
+    sum of squares is within PHASE_SHARE of the least (``RigidBody.windows_disagree``).
     None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column).
     ``span`` as ``choose_window``."""
     at = np.flatnonzero(rows)
@@ -344,9 +356,13 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
         known = known_columns(v_s, None if angle is None else smooth(angle, window)[at],
                               None if runs is None else runs[at])[0]
         basis = np.column_stack([a, friction_basis(v_s, odd=False)] + known)
-        coef, *_ = np.linalg.lstsq(basis, force[at], rcond=None)
-        scores.append((float(np.sum((force[at] - basis @ coef) ** 2)), window))
-    return min(scores)[1]
+        coef, se = least_squares_errors(basis, force[at], at.size)
+        residual = force[at] - basis @ coef
+        mass = (float(coef[0]), float(se[0] * np.sqrt(at.size / independent_rows(residual))))
+        scores.append((float(residual @ residual), window, mass))
+    best, window, _ = min(scores)
+    masses = sorted(mass for score, _, mass in scores if score <= (1.0 + PHASE_SHARE) * best)
+    return window, (masses[0], masses[-1])
 
 
 def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, independent: float) -> None:
