@@ -48,7 +48,7 @@ def test_a_speed_ramp_without_memory_is_not_said_to_have_memory():
     b = train(counts_log(SEED, 1000.0, 16.0), force_held=True,
               warn=lines.append).identification.body
     assert abs(b.mass / COUNTS_MASS - 1) < 0.02
-    assert min(m for m, _ in b.phase_masses) < 0 and not b.phases_disagree()
+    assert not b.phases_disagree()
     assert not [line for line in lines if "the identified mass" in line]
 
 
@@ -64,3 +64,25 @@ def test_the_short_windows_of_a_stage_with_bristles_give_another_mass():
     (low, _), (high, _) = b.window_masses
     assert b.windows_disagree() and len(said) == 1 and low <= b.mass <= high
     assert f"{low:.4g} +- " in said[0] and f"and {high:.4g} +- " in said[0]
+
+
+def sine_log(rate=2000.0, mass=4.0, seconds=8.0, seed=6):
+    """A sine of 0.1 m/s peaks at 0.8 Hz, a memoryless friction of a Gaussian Stribeck dip
+    (no shape of fricgen's basis), 0.05 N of force noise, 1 um counts: t, x (m), force (N)."""
+    t = np.arange(int(seconds * rate)) / rate
+    w = 2 * np.pi * 0.8
+    v, a = 0.1 * np.sin(w * t), 0.1 * w * np.cos(w * t)
+    friction = (2.0 + np.exp(-(v / 0.02) ** 2)) * np.tanh(v / 1e-3) + 8.0 * v
+    force = mass * a + friction + np.random.default_rng(seed).normal(0.0, 0.05, t.size)
+    return {"t": t, "x": np.round(0.1 / w * (1 - np.cos(w * t)) / 1e-6) * 1e-6, "force": force}
+
+
+def test_a_sine_without_memory_is_not_said_to_have_memory():
+    """On a sine dv/dt is a function of |v| within each phase: the phase's mass follows the
+    friction curve's shape (with twice the Stribeck terms it moves by more than 3 standard
+    errors), so the phases give no verdict (a new user's trial: 3.27 and 4.09 kg said for a
+    4 kg axis whose mass of all rows was 4.001)."""
+    lines = []
+    b = train(sine_log(), warn=lines.append).identification.body
+    assert abs(b.mass / 4.0 - 1) < 0.01 and not b.phases_disagree()
+    assert not [line for line in lines if "the identified mass" in line]

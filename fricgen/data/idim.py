@@ -54,13 +54,13 @@ def _apart(pair, mass: float) -> bool:
             and gap > PHASE_SHARE * m2)
 
 
-def friction_basis(v: np.ndarray, odd: bool) -> np.ndarray:
+def friction_basis(v: np.ndarray, odd: bool, terms: int = STRIBECK_TERMS) -> np.ndarray:
     """Columns spanning a friction law of v: [1, |v|, exp(-|v| / v_k)] per direction (``odd``
-    False), or those of one odd law, times sgn v (``odd`` True). The v_k are log-spaced between
-    twice the 2 % and half the 98 % quantile of |v|."""
+    False), or those of one odd law, times sgn v (``odd`` True). The ``terms`` v_k are
+    log-spaced between twice the 2 % and half the 98 % quantile of |v|."""
     speed = np.abs(v)
     lo, hi = np.quantile(speed, [0.02, 0.98])
-    grid = np.geomspace(max(2.0 * lo, 1e-12), max(0.5 * hi, 2.0 * lo, 1e-12), STRIBECK_TERMS)
+    grid = np.geomspace(max(2.0 * lo, 1e-12), max(0.5 * hi, 2.0 * lo, 1e-12), terms)
     terms = [np.ones_like(speed), speed] + [np.exp(-speed / g) for g in grid]
     if odd:
         return np.column_stack([np.sign(v) * c for c in terms])
@@ -225,10 +225,11 @@ def _with(basis: np.ndarray, extra: Optional[np.ndarray]) -> np.ndarray:
     return basis if extra is None else np.column_stack([basis, extra])
 
 
-def mass_basis(a: np.ndarray, v: np.ndarray, extra: Optional[np.ndarray] = None) -> np.ndarray:
+def mass_basis(a: np.ndarray, v: np.ndarray, extra: Optional[np.ndarray] = None,
+               terms: int = STRIBECK_TERMS) -> np.ndarray:
     """The columns f = m a + F(v) + o is fitted on: dv/dt, then ``friction_basis`` per
-    direction (which also absorbs o), then ``extra``."""
-    return _with(np.column_stack([a, friction_basis(v, odd=False)]), extra)
+    direction (which also absorbs o; ``terms`` Stribeck terms), then ``extra``."""
+    return _with(np.column_stack([a, friction_basis(v, odd=False, terms=terms)]), extra)
 
 
 def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: float,
@@ -262,15 +263,22 @@ def phase_masses(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: f
     PHASE_SIGMAS times ``accel_noise`` (the SD of dv/dt's noise) count as a phase's: a phase
     chosen by the noise of a would bias the mass of each (an encoder's counts). ``pinned``:
     the rows of smaller |a| count in both phases, pinning the friction. None where either
-    phase has fewer independent samples than SAMPLES_PER_PARAMETER per column."""
-    basis = mass_basis(a, v, extra)
+    phase has fewer independent samples than SAMPLES_PER_PARAMETER per column, or where a
+    phase's mass moves by more than PHASE_SIGMAS standard errors with twice the Stribeck terms:
+    its dv/dt is then nearly a function of v (a sine's, a speed ramp's), and the mass follows
+    the friction curve's shape, whatever the friction's memory."""
+    bases = [mass_basis(a, v, extra, terms) for terms in (STRIBECK_TERMS, 2 * STRIBECK_TERMS)]
     clear = np.abs(a) > PHASE_SIGMAS * accel_noise
     out = []
     for phase in (clear & (a * v > 0), clear & (a * v < 0)):
-        if independent * phase.mean() < SAMPLES_PER_PARAMETER * basis.shape[1]:
+        if independent * phase.mean() < SAMPLES_PER_PARAMETER * bases[-1].shape[1]:
             return None
         rows = phase | ~clear if pinned else phase
-        coef, se = least_squares_errors(basis[rows], force[rows], independent * rows.mean())
+        (coef, se), (richer, _) = (least_squares_errors(basis[rows], force[rows],
+                                                        independent * rows.mean())
+                                   for basis in bases)
+        if abs(richer[0] - coef[0]) > PHASE_SIGMAS * se[0]:
+            return None
         out.append((float(coef[0]), float(se[0])))
     return tuple(out)
 
