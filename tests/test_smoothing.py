@@ -140,25 +140,3 @@ def test_a_counts_rounding_weighs_less_in_a_long_window_than_white_noise_of_its_
         assert np.std(smooth(v, window, 1, ts)[window:-window]) == pytest.approx(counts.derivative(window), rel=0.05)
     assert counts.smoothed(485) < 0.1 * white.smoothed(485)
     assert counts.derivative(485) < 0.2 * white.derivative(485)
-
-
-def test_fast_small_moves_of_a_coarse_encoder_move_beyond_a_longer_windows_noise():
-    """A 12-bit encoder at 4 kHz on a 2 rad/s, 2.5 Hz swing (83 counts): the shortest window
-    leaves 0.58 rad/s of the counts' rounding, 5 times of which no row exceeds, and the log was
-    refused ("never moves beyond the velocity noise"). The rows move beyond the noise of the
-    first window that leaves some, no window shorter is chosen, and the friction samples of the
-    fast rows are within a tenth of the Coulomb level (0.012 Nm RMS of 0.3 measured)."""
-    rate, count = 4000.0, 2 * np.pi / 4096
-    t = np.arange(int(8 * rate)) / rate
-    w = 2 * np.pi * 2.5
-    v, a = 2.0 * np.sin(w * t), 2.0 * w * np.cos(w * t)
-    torque = 0.01 * a + 0.3 * np.tanh(v / 0.01) + 0.01 * v \
-        + np.random.default_rng(3).normal(0.0, 0.006, t.size)
-    q = np.round(2.0 / w * (1 - np.cos(w * t)) / count) * count
-    ident = identify_friction(t, torque, x=q)
-    noise = smoothing.VelocityNoise(0.0, count / np.sqrt(12.0), 1 / rate)
-    assert idm.MOVING_SIGMAS * noise.smoothed(MIN_WINDOW) > 2.0 and ident.window > MIN_WINDOW
-    fitted = ident.sweep
-    fast = np.abs(fitted.v) > 1.0
-    truth = 0.3 * np.tanh(fitted.v / 0.01) + 0.01 * fitted.v
-    assert np.sqrt(np.mean((fitted.f - truth)[fast] ** 2)) < 0.1 * 0.3

@@ -178,13 +178,14 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     use = use & ~junction                  # whole windows of use never span two runs
     span = t.size if runs is None else int(np.median(np.bincount(runs)))  # a typical run's rows
     body = None
-    # the body's rows move beyond the noise of each sample: the slower ones, near reversals,
-    # hold the bristles' build-up after each start, which hid the disagreement of speeding up
-    # and braking (``RigidBody.phases_disagree``); those of the window where they are too few
-    rows, shortest = moving_rows(v, use, noise, span)
-    sliding = use & (np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
-                     > MOVING_SIGMAS * noise.per_sample())
-    sliding = sliding if sliding.sum() >= MIN_ROWS else rows
+    # the rows that choose the window move beyond v's white noise and what a count's rounding
+    # leaves in the shortest window (taken per sample, 5 x 0.63 rad/s of a 12-bit encoder at
+    # 2 kHz left a 1.5 rad/s move no rows); the body's rows beyond the noise of each sample:
+    # the slower ones, near reversals, hold the bristles' build-up after each start, which
+    # hid the disagreement of speeding up and braking (``RigidBody.phases_disagree``)
+    speed = np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
+    rows = use & (speed > MOVING_SIGMAS * max(noise.white, noise.smoothed(MIN_WINDOW)))
+    sliding = use & (speed > MOVING_SIGMAS * noise.per_sample())
     logged, force = force, at_sample_times(force, junction) if held else force
     if mass is None and (window is None or body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
@@ -204,7 +205,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                 body = replace(body, window_masses=alike)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
-        window = choose_window(logged, rows, guess, noise, progress, span, shortest)
+        window = choose_window(logged, rows, guess, noise, progress, span)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
         window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs)
     body = at_window if body is None else body
@@ -232,20 +233,6 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
 #: The force must follow the load column with a slope within this factor of 1 (f = m a + L + F):
 #: a load of the other sign convention gives -1, one in other units 1000 or 0.001.
 LOAD_SLOPE_OFF = 2.0
-
-
-def moving_rows(v: np.ndarray, use: np.ndarray, noise: VelocityNoise, span: int):
-    """The rows of ``use`` that choose the window, and the shortest window that may: where v,
-    smoothed by the shortest candidate window that leaves MIN_ROWS of them, moves beyond
-    MOVING_SIGMAS times v's white noise and what a count's rounding leaves in that window
-    (taken per sample, 5 x 0.63 rad/s of a 12-bit encoder at 2 kHz left a 1.5 rad/s move no
-    rows; at 4 kHz the shortest window's 0.58 rad/s left a 2 rad/s move none)."""
-    for window in candidate_windows(span):
-        speed = np.abs(savgol_filter(v, window, POLYORDER))
-        rows = use & (speed > MOVING_SIGMAS * max(noise.white, noise.smoothed(window)))
-        if rows.sum() >= MIN_ROWS:
-            break
-    return rows, window
 
 
 def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray,

@@ -152,7 +152,7 @@ def candidate_windows(n_rows: int) -> List[int]:
 
 def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, noise: VelocityNoise,
                   progress: Optional[Callable[[str], None]] = None,
-                  span: Optional[int] = None, shortest: int = MIN_WINDOW) -> int:
+                  span: Optional[int] = None) -> int:
     """The odd window that minimizes the expected squared error of F = f - m a over ``rows``:
     the generalized cross-validation score of smoothing the force (its noise, and the bias where
     the Stribeck curve bends faster than the window) plus the variance m^2 var(a) that the
@@ -160,9 +160,8 @@ def choose_window(force: np.ndarray, rows: np.ndarray, mass: float, noise: Veloc
     STOP_FACTOR times the best. ``progress`` (a callable taking one line) hears
     how far the search is when it takes long (``fricgen._progress.Progress``). ``span``: the
     rows of a typical (the median) run of a log concatenated from runs (default: all rows),
-    which bounds the windows (``candidate_windows``); none shorter than ``shortest`` (the first
-    whose smoothed v moves beyond its noise, ``inverse_dynamics.moving_rows``)."""
-    windows = [w for w in candidate_windows(rows.size if span is None else span) if w >= shortest]
+    which bounds the windows (``candidate_windows``)."""
+    windows = candidate_windows(rows.size if span is None else span)
     report = Progress(progress)
     scores = []
     for window in windows:
