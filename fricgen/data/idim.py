@@ -266,8 +266,8 @@ def phase_masses(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: f
     phase has fewer independent samples than SAMPLES_PER_PARAMETER per column (of a friction
     curve of twice the Stribeck terms), or where a phase's mass moves by more than PHASE_SIGMAS
     standard errors with those terms: its dv/dt is then nearly a function of v (a sine's, a
-    speed ramp's), and the mass follows
-    the friction curve's shape, whatever the friction's memory."""
+    speed ramp's), and the mass follows the friction curve's shape, whatever the friction's
+    memory."""
     bases = [mass_basis(a, v, extra, terms) for terms in (STRIBECK_TERMS, 2 * STRIBECK_TERMS)]
     clear = np.abs(a) > PHASE_SIGMAS * accel_noise
     out = []
