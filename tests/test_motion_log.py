@@ -287,3 +287,29 @@ def test_a_joint_log_whose_dq_and_tau_are_swapped_is_refused_with_q_beside_them(
     swapped = {"t": log["t"], "q": log["q"], "dq": log["tau"], "tau": log["dq"]}
     with pytest.raises(DataError, match="swapped"):
         fricgen.train(swapped, warn=lambda line: None)
+
+
+def viscous_joint_log(seed=0):
+    """A joint's log at 100 Hz whose torque is mostly viscous (J = 3.3 kg m^2, F_c = 5.4 Nm, F_v =
+    8.5 Nm s/rad, a 10 s sine of 0.98 rad/s, 0.7 Nm of noise): its torque is nearly a line of its
+    speed, so the force's law reads alike with v and the force swapped."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 30.0, 0.01)
+    w = 2 * np.pi / 10.0
+    q, dq = 0.98 / w * (1 - np.cos(w * t)), 0.98 * np.sin(w * t)
+    tau = 3.3 * 0.98 * w * np.cos(w * t) + 5.4 * np.sign(dq) + 8.5 * dq + 0.7 * rng.standard_normal(t.size)
+    return {"t": t, "q": q, "dq": dq + 0.001 * rng.standard_normal(t.size), "tau": tau}
+
+
+@pytest.mark.parametrize("swap, named", [(("dq", "tau"), "v and the force look swapped"),
+                                         (("q", "tau"), "x and the force look swapped")])
+def test_a_mostly_viscous_joint_logs_swapped_columns_are_named_not_called_units(swap, named):
+    """A joint log whose torque is mostly viscous, with dq and tau (or q and tau) swapped, was
+    refused as a matter of units ("dx/dt is 0.0593 times v: t in ms, x in mm?") or named the
+    wrong pair (v and the force, for q and tau). The column that x's derivative follows, or
+    whose derivative follows v, names the swap. The log as written trains."""
+    log = viscous_joint_log()
+    a, b = swap
+    with pytest.raises(DataError, match=named):
+        fricgen.train({**log, a: log[b], b: log[a]}, warn=lambda line: None)
+    assert fricgen.train(log, warn=lambda line: None).model is not None

@@ -161,11 +161,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         v = np.concatenate([np.gradient(between_edges(tp, xp) if quantum > 0 else xp, ts)
                             for tp, xp in parts])
     check_moves(v, x, given)
+    if given and x is not None:     # x, v and t, or a column swapped with the force
+        check_units(x, v, ts, force)
     weight = None
     if runs is None:                # what the columns hold (x jumps between runs: one run only)
         weight = check_log_columns(force, ts, v if given else None, x, weight=not gravity)
-    if given and x is not None:     # after the columns' check: a swapped v also disagrees with x
-        check_units(x, v, ts)
     measured = velocity_noise(v)
     # encoder counts: the position between the count edges is off by up to a count's rounding,
     # q / sqrt(12), a noise on x that the central difference and the smoothing then filter

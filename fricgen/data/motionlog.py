@@ -207,14 +207,46 @@ def check_varies(values: np.ndarray, what: str, unit: str) -> None:
                         f"log; a log needs the measured {what}")
 
 
-def check_units(x: np.ndarray, v: np.ndarray, ts: float) -> None:
+def _follows(derivative: np.ndarray, column: np.ndarray) -> Tuple[float, float]:
+    """The least-squares ratio of ``derivative`` to ``column`` and their correlation."""
+    if not (np.ptp(derivative) > 0 and np.ptp(column) > 0):
+        return 0.0, 0.0
+    return (float(np.dot(derivative, column) / np.dot(column, column)),
+            float(np.corrcoef(derivative, column)[0, 1]))
+
+
+def _check_swapped_force(v: np.ndarray, force: np.ndarray, ts: float, dxdt: np.ndarray,
+                         ratio: float) -> None:
+    """``DataError`` naming a swap (``check_units``) where dx/dt follows the force column, or
+    the force's derivative follows v, within UNITS_TOLERANCE and more closely than dx/dt follows
+    v (``ratio`` times it)."""
+    low, high = UNITS_TOLERANCE
+    own = abs(_follows(dxdt, v)[1])
+    for pair, (scale, follow), what in (
+            ("v and force", _follows(dxdt, force), "dx/dt follows the force column"),
+            ("x and force", _follows(np.gradient(force, ts), v), "the force column's derivative follows v")):
+        if low <= scale <= high and follow > own:
+            raise DataError(f"{pair.replace(' and ', ' and the ')} look swapped: {what} ({scale:.3g} "
+                            f"times it, correlation {follow:.3f}) closer than dx/dt follows v "
+                            f"({ratio:.3g} times it, correlation {own:.3f}): are the {pair} (or "
+                            "current) columns swapped?")
+
+
+def check_units(x: np.ndarray, v: np.ndarray, ts: float, force: Optional[np.ndarray] = None) -> None:
     """x, v and the sampling interval ``ts`` must agree: the least-squares ratio of dx/dt to v
-    lies within UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000)."""
+    lies within UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000). Where
+    they do not and a ``force`` is given, a force column that x or v would agree with names a
+    swap: dx/dt following the force (v and the force swapped), or the force's derivative
+    following v (x and the force swapped), within UNITS_TOLERANCE and more closely than dx/dt
+    follows v (a joint's torque that is mostly viscous correlates with its speed at 0.9 or more,
+    and a swapped log had been told its units were off)."""
     dxdt = np.gradient(x, ts)
     ratio = float(np.dot(dxdt, v) / np.dot(v, v))
     low, high = UNITS_TOLERANCE
     if not low <= ratio <= high:
         check_varies(x, "position x", "m")          # x not logged: not a matter of units
+        if force is not None:
+            _check_swapped_force(v, force, ts, dxdt, ratio)
         follow = float(np.corrcoef(dxdt, v)[0, 1]) if np.ptp(dxdt) > 0 else 1.0
         if not abs(follow) >= UNRELATED_BELOW:
             raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "
