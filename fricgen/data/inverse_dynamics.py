@@ -183,7 +183,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     # 2 kHz left a 1.5 rad/s move no rows); the body's rows beyond the noise of each sample:
     # the slower ones, near reversals, hold the bristles' build-up after each start, which
     # hid the disagreement of speeding up and braking (``RigidBody.phases_disagree``)
-    speed = np.abs(savgol_filter(v, MIN_WINDOW, POLYORDER))
+    instant = savgol_filter(v, MIN_WINDOW, POLYORDER)
+    speed = np.abs(instant)
     rows = use & (speed > MOVING_SIGMAS * max(noise.white, noise.smoothed(MIN_WINDOW)))
     sliding = use & (speed > MOVING_SIGMAS * noise.per_sample())
     logged, force = force, at_sample_times(force, junction) if held else force
@@ -213,7 +214,10 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     if angle is not None:
         friction = friction - body.gravity_force(smooth(angle, window))
     steady = steady_rows(v_s, moving, window)
-    reversing = moving & ~steady                    # near a reversal: the raw force (``reversals``)
+    # near a reversal: the raw force (``reversals``), where the axis slides at that instant in
+    # the direction of the window's v (a long window smears a stop: a joint's rebound of 0.01
+    # rad/s after each run, its friction still the other way, was read as sliding backwards)
+    reversing = moving & ~steady & sliding & (np.sign(instant) == np.sign(v_s))
     reversing[:window // 2] = reversing[-(window // 2):] = False
     raw = friction + (force - f_s)
     kept = float(steady.sum()) * centre_weight(window)
