@@ -313,3 +313,21 @@ def test_a_mostly_viscous_joint_logs_swapped_columns_are_named_not_called_units(
     with pytest.raises(DataError, match=named):
         fricgen.train({**log, a: log[b], b: log[a]}, warn=lambda line: None)
     assert fricgen.train(log, warn=lambda line: None).model is not None
+
+
+def test_a_load_larger_than_the_friction_trains_in_either_direction():
+    """A vertical axis whose weight (35 N) exceeds its Coulomb friction (20 N): where it moved
+    down more often than up, the force had the sign of the motion in fewer than half the rows
+    before the offset was taken out, and the log was refused ("the force has the opposite sign
+    of v in most rows"); its mirror image trained. The sign is judged beside the offset."""
+    t = np.arange(0.0, 8.0, 2e-3)
+    w = 2 * np.pi * 0.5
+    v = 0.2 * np.sin(w * t) - 0.06                    # down more often than up
+    x = -0.2 / w * np.cos(w * t) - 0.06 * t
+    a = 0.2 * w * np.cos(w * t)
+    noise = 0.3 * np.random.default_rng(1000).standard_normal(t.size)
+    for load in (35.0, -35.0):
+        force = 10.0 * a + np.sign(v) * (20.0 + 10.0 * np.exp(-(v / 0.01) ** 2)) + 50.0 * v + load + noise
+        report = fricgen.train({"t": t, "x": x, "v": v, "force": force}, warn=lambda line: None)
+        assert abs(report.training["axis"]["offset"] - load) < 0.5
+        assert abs(report.model.force(0.1) - (20.0 + 5.0)) < 0.5

@@ -342,7 +342,7 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
                         "way only")
     if np.ptp(np.abs(sweep.v[moving])) <= 0:
         raise DataError("the points are all at one speed: a friction law needs two speeds or more")
-    check_friction_sign(sweep.folded())
+    check_friction_sign(Sweep(sweep.v, sweep.f - offset).folded())   # a load beside it apart
     sweep, weight, outliers = _scored(sweep, weight, blocks, None if known is None else known.outliers)
     level = Sweep(sweep.v, sweep.f - offset)
     folds = folds_for(sweep.v, seed, blocks)
