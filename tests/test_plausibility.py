@@ -10,7 +10,7 @@ import pytest
 
 from conftest import copy_of
 from fricgen.cli import INTERRUPTED, main
-from fricgen.data.plausibility import check_bounds, check_merge_shift, check_sweep_shape
+from fricgen.data.plausibility import check_bounds, check_columns, check_merge_shift, check_sweep_shape
 from fricgen.axis import Axis
 from fricgen.errors import DataError, ModelError
 from fricgen.model import FrictionModel
@@ -434,3 +434,30 @@ def test_a_tiny_mass_of_a_linear_model_asks_whether_the_axis_is_rotary():
               "mass_from": "data", "force_constant": None, "offset": None, "offset_se": None}
     with pytest.raises(ModelError, match="inertia in kg m\\^2\\? train it with --rotary"):
         Axis.from_dict(record)
+
+
+def linear_axis_log(seed=1000):
+    """A 10 kg linear axis at 1 kHz, a sum of sines to 0.23 m/s, Coulomb 20 N, Stribeck peak
+    30 N at 0.01 m/s, viscous 50 N s/m, 0.5 N of noise: columns t, x, v, force."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 8.0, 1e-3)
+    parts = ((0.15, 0.5), (0.08, 1.3))
+    v = sum(a * np.sin(2 * np.pi * f * t) for a, f in parts)
+    x = sum(-a / (2 * np.pi * f) * np.cos(2 * np.pi * f * t) for a, f in parts)
+    accel = sum(a * 2 * np.pi * f * np.cos(2 * np.pi * f * t) for a, f in parts)
+    friction = np.sign(v) * (20.0 + 10.0 * np.exp(-(v / 0.01) ** 2)) + 50.0 * v
+    return {"t": t, "x": x, "v": v, "force": 10.0 * accel + friction + 0.5 * rng.standard_normal(t.size)}
+
+
+@pytest.mark.parametrize("with_x", [True, False])
+def test_a_logs_v_swapped_with_the_force_is_named_before_the_bounds(with_x):
+    """v and the force swapped in a linear axis's log: the bounds read the force, 40 'm/s', as a
+    velocity in mm/s and said so ("is v in mm/s? --scale v=0.001"), whose scale would have
+    given a plausible axis. The swap is named first, with x beside them or without."""
+    log = linear_axis_log()
+    swapped = {**log, "v": log["force"], "force": log["v"]}
+    if not with_x:
+        del swapped["x"]
+    with pytest.raises(DataError, match="v and the force look swapped"):
+        check_columns(swapped, "log.csv", True, warn=lambda line: None)
+    check_columns(log, "log.csv", True, warn=lambda line: None)

@@ -98,6 +98,16 @@ def check_force_column(named, other, weight: Tuple[np.ndarray, ...] = ()) -> Non
                         "current) columns swapped?")
 
 
+def check_force_swap(force: np.ndarray, ts: float, v: np.ndarray, x: Optional[np.ndarray] = None) -> None:
+    """``check_force_column`` on a log's columns (v's and the force's ``_derivatives``, the
+    weight of ``x`` where it is given); a short log is not checked."""
+    of_v = _derivatives(v, force, ts)
+    if of_v is not None:
+        inner = _inner(v.size)
+        weight_columns = () if x is None else (np.sin(x[inner]), np.cos(x[inner]))
+        check_force_column(of_v, _derivatives(force, v, ts, orders=2), weight_columns)
+
+
 def weight_residuals(signals) -> Optional[Tuple[float, float]]:
     """The RMS residual of the force's textbook law (``_residual``) without and with a weight
     G_s sin x + G_c cos x of the position (``train --gravity``'s), where the weight leaves at
@@ -122,7 +132,5 @@ def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = No
     if v is None or x is None:
         check_motion_column("v" if x is None else "x", of_v if x is None else of_x)
     if v is not None:
-        inner = _inner(v.size)
-        weight_columns = () if x is None else (np.sin(x[inner]), np.cos(x[inner]))
-        check_force_column(of_v, _derivatives(force, v, ts, orders=2), weight_columns)
+        check_force_swap(force, ts, v, x)
     return weight_residuals(of_x) if weight and of_x is not None else None

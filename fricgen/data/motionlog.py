@@ -215,13 +215,18 @@ def _follows(derivative: np.ndarray, column: np.ndarray) -> Tuple[float, float]:
             float(np.corrcoef(derivative, column)[0, 1]))
 
 
-def _check_swapped_force(v: np.ndarray, force: np.ndarray, ts: float, dxdt: np.ndarray,
-                         ratio: float) -> None:
-    """``DataError`` naming a swap (``check_units``) where dx/dt follows the force column, or
-    the force's derivative follows v, within UNITS_TOLERANCE and more closely than dx/dt follows
-    v (``ratio`` times it)."""
+def check_swapped_force(x: np.ndarray, v: np.ndarray, force: np.ndarray, ts: float) -> None:
+    """``DataError`` naming a swap where x and v disagree (dx/dt off v by more than
+    UNITS_TOLERANCE) and dx/dt follows the force column, or the force's derivative follows v,
+    within UNITS_TOLERANCE and more closely than dx/dt follows v (a joint's torque that is
+    mostly viscous correlates with its speed at 0.9 or more, and a swapped log had been told
+    its units were off)."""
+    dxdt = np.gradient(x, ts)
+    ratio, own = _follows(dxdt, v)
+    own = abs(own)
     low, high = UNITS_TOLERANCE
-    own = abs(_follows(dxdt, v)[1])
+    if low <= ratio <= high:
+        return
     for pair, (scale, follow), what in (
             ("v and force", _follows(dxdt, force), "dx/dt follows the force column"),
             ("x and force", _follows(np.gradient(force, ts), v), "the force column's derivative follows v")):
@@ -236,17 +241,14 @@ def check_units(x: np.ndarray, v: np.ndarray, ts: float, force: Optional[np.ndar
     """x, v and the sampling interval ``ts`` must agree: the least-squares ratio of dx/dt to v
     lies within UNITS_TOLERANCE of 1 (a time column in ms, or x in mm, is off by 1000). Where
     they do not and a ``force`` is given, a force column that x or v would agree with names a
-    swap: dx/dt following the force (v and the force swapped), or the force's derivative
-    following v (x and the force swapped), within UNITS_TOLERANCE and more closely than dx/dt
-    follows v (a joint's torque that is mostly viscous correlates with its speed at 0.9 or more,
-    and a swapped log had been told its units were off)."""
+    swap (``check_swapped_force``)."""
     dxdt = np.gradient(x, ts)
     ratio = float(np.dot(dxdt, v) / np.dot(v, v))
     low, high = UNITS_TOLERANCE
     if not low <= ratio <= high:
         check_varies(x, "position x", "m")          # x not logged: not a matter of units
         if force is not None:
-            _check_swapped_force(v, force, ts, dxdt, ratio)
+            check_swapped_force(x, v, force, ts)
         follow = float(np.corrcoef(dxdt, v)[0, 1]) if np.ptp(dxdt) > 0 else 1.0
         if not abs(follow) >= UNRELATED_BELOW:
             raise DataError(f"x does not follow v: dx/dt and v correlate by {follow:.2f} (does the "

@@ -25,6 +25,8 @@ from .._validate import (ACCEPT_UNUSUAL, PHYSICAL_ROTARY, USUAL_MIN, in_rotary_a
                          physical_range, physical_unit, rotary_units, unusual, unusually_small, usual_max)
 from ..errors import DataError
 from ..units import axis_units
+from .log_columns import check_force_swap
+from .motionlog import check_swapped_force
 from .outliers import running_median
 
 #: A sweep whose slowest speed exceeds this share of its fastest never nears v = 0, where
@@ -342,7 +344,8 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
                   accept_unusual: bool = False, warn: Callable[[str], None] = print,
                   scaled: Mapping[str, str] = None) -> None:
     """Every data check that applies to the columns read from ``source``: for a sweep its shape
-    (``check_sweep_shape``, first: swapped columns also break the bounds), then the physical
+    (``check_sweep_shape``, first: swapped columns also break the bounds), for a log its
+    columns swapped with the force (``check_log_swaps``, first likewise), then the physical
     bounds (``scaled`` as ``check_bounds``); a log's temperature column (``check_temperature``)."""
     if "temperature" in columns:
         check_temperature(columns["temperature"], source, accept_unusual, warn)
@@ -351,9 +354,30 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
     if not is_log and {"v", "f"} <= set(columns):
         check_sweep_shape(columns["v"], columns["f"], source, accept_unusual, warn)
         check_repeats(columns["v"], columns["f"], source, warn)
+    if is_log:
+        check_log_swaps(columns, source)
     check_bounds(columns, source, accept_unusual, warn, scaled)
     if is_log and "t" in columns:
         check_rate(columns["t"], source, warn, scaled)
+
+
+def check_log_swaps(columns: Mapping[str, np.ndarray], source: str) -> None:
+    """``DataError`` where a log's v, or its x, holds the force and the force column the motion
+    (``log_columns.check_force_swap``, ``motionlog.check_swapped_force``): named before the
+    bounds, which would read the force in a velocity column as a velocity in mm/s."""
+    t, v, x = (columns.get(k) for k in ("t", "v", "x"))
+    force = columns.get("force", columns.get("i"))
+    if t is None or v is None or force is None or t.size < 3:
+        return
+    ts = float(np.median(np.diff(t)))
+    if not ts > 0:
+        return                      # the readers name the time column
+    try:
+        if x is not None:
+            check_swapped_force(x, v, force, ts)
+        check_force_swap(force, ts, v, x)
+    except DataError as exc:
+        raise DataError(f"{source}: {exc}") from None
 
 
 def check_repeats(v: np.ndarray, f: np.ndarray, source: str, warn: Callable[[str], None] = print) -> None:
