@@ -9,6 +9,7 @@ from fricgen.data.idim import RigidBody
 from fricgen.sim.precision_axis import identification_log, random_precision_axis
 from fricgen.training import train
 from independent_axis import COUNTS_MASS, counts_log
+from test_plausibility import linear_axis_log
 
 SEED = 7        # a seed below 1000: tests may look at it, the benchmarks' figures do not
 
@@ -86,3 +87,17 @@ def test_a_sine_without_memory_is_not_said_to_have_memory():
     b = train(sine_log(), warn=lines.append).identification.body
     assert abs(b.mass / 4.0 - 1) < 0.01 and not b.phases_disagree()
     assert not [line for line in lines if "the identified mass" in line]
+
+
+def test_a_mass_given_that_the_log_contradicts_is_warned_about():
+    """A mass given ten times too small (1 kg for a 10 kg axis whose log determines 10.1 +-
+    0.01 kg) was used without a word, and model.json recorded it. The log's own mass is
+    identified beside it and one warning line gives both; the right mass draws none."""
+    log = linear_axis_log(seconds=4.0)
+    said = []
+    report = train(log, mass=1.0, warn=said.append)
+    assert report.identification.body.mass == 1.0
+    assert [line for line in said if "the given mass" in line and "times the 1 kg given" in line]
+    said = []
+    train(log, mass=10.0, warn=said.append)
+    assert not [line for line in said if "given" in line]

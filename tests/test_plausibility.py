@@ -436,11 +436,11 @@ def test_a_tiny_mass_of_a_linear_model_asks_whether_the_axis_is_rotary():
         Axis.from_dict(record)
 
 
-def linear_axis_log(seed=1000):
+def linear_axis_log(seed=1000, seconds=8.0):
     """A 10 kg linear axis at 1 kHz, a sum of sines to 0.23 m/s, Coulomb 20 N, Stribeck peak
     30 N at 0.01 m/s, viscous 50 N s/m, 0.5 N of noise: columns t, x, v, force."""
     rng = np.random.default_rng(seed)
-    t = np.arange(0.0, 8.0, 1e-3)
+    t = np.arange(0.0, seconds, 1e-3)
     parts = ((0.15, 0.5), (0.08, 1.3))
     v = sum(a * np.sin(2 * np.pi * f * t) for a, f in parts)
     x = sum(-a / (2 * np.pi * f) * np.cos(2 * np.pi * f * t) for a, f in parts)

@@ -100,6 +100,19 @@ class RigidBody:
     #: dv/dt explains the force about as well as the best one's (``explaining_window``); None
     #: where the window was given or the mass not determined
     window_masses: Optional[Tuple[Tuple[float, float], Tuple[float, float]]] = None
+    #: Where the mass was given: the mass (and its standard error) the log's accelerations
+    #: determine (``inverse_dynamics.identify_friction``), else None
+    log_mass: Optional[Tuple[float, float]] = None
+
+    def given_mass_disagrees(self) -> bool:
+        """Whether the mass given and the one the log's accelerations determine (``log_mass``)
+        differ by more than PHASE_SIGMAS standard errors of the latter and PHASE_SHARE of the
+        larger: a mass given in other units (g, or a gearbox's ratio squared left out)."""
+        if self.log_mass is None:
+            return False
+        found, se = self.log_mass
+        gap = abs(found - self.mass)
+        return gap > PHASE_SIGMAS * se and gap > PHASE_SHARE * max(found, self.mass)
 
     def phases_disagree(self) -> bool:
         """Whether speeding up and braking give masses apart beyond their noise (PHASE_SIGMAS,
@@ -127,6 +140,11 @@ class RigidBody:
                   "forces a curve of v leaves out, so the mass is uncertain by about the "
                   "difference; train --dynamic models pre-sliding, --mass sets the mass")
         out = []
+        if self.given_mass_disagrees():
+            found, se = self.log_mass
+            out.append(f"the log's accelerations give {found:.4g} +- {se:.2g} {unit}, "
+                       f"{found / self.mass:.3g} times the {self.mass:.4g} {unit} given, which "
+                       "is used: is the mass given in other units, or the log of another axis?")
         if self.phases_disagree():
             (m1, s1), (m2, s2) = self.phase_masses
             out.append(f"speeding up gives {m1:.4g} +- {s1:.2g} {unit} and braking {m2:.4g} +- "

@@ -188,28 +188,35 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     rows = use & (speed > MOVING_SIGMAS * max(noise.white, noise.smoothed(MIN_WINDOW)))
     sliding = use & (speed > MOVING_SIGMAS * noise.per_sample())
     logged, force = force, at_sample_times(force, junction) if held else force
-    if mass is None and (window is None or body_window is not None):
+    log_mass = None
+    if window is None or (mass is None and body_window is not None):
         raw = force - conditions["load"] if "load" in conditions else force
         # the mass's rows: dv/dt smoothed within one run, away from the log's ends, at rows of
         # use (the raw force is not smoothed there: a mask of rows such as train --dynamic's
         # settled ones need not hold whole windows, or only long cruises without ramps are left)
         whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool) & use
-        alike = None
-        if body_window is None:             # the body where dv/dt explains the force best
-            body_window, alike = explaining_window(v, raw, sliding & whole, ts, span, angle,
-                                                   runs) or (None, None)
-        if body_window is not None:
-            body = _body_at(body_window, ts, v, raw, sliding & whole, conditions, angle, runs,
-                            noise)
-            if body.mass_identified and body.mass_determined:
+        alike, at = None, body_window
+        if at is None:                      # the body where dv/dt explains the force best
+            at, alike = explaining_window(v, raw, sliding & whole, ts, span, angle,
+                                          runs) or (None, None)
+        found = None if at is None else _body_at(at, ts, v, raw, sliding & whole, conditions,
+                                                 angle, runs, noise)
+        determined = found is not None and found.mass_identified and found.mass_determined
+        if mass is None:
+            body, body_window = found, at
+            if determined:
                 body = replace(body, window_masses=alike)
+        elif determined:                    # a mass given: what the log's accelerations say
+            log_mass = (found.mass, found.mass_se)
     if window is None:
         guess = (mass or 0.0) if body is None else body.inertia
         window = choose_window(logged, rows, guess, noise, progress, span)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
         window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs)
     body = at_window if body is None else body
+    if log_mass is not None:
+        body = replace(body, log_mass=log_mass)
     friction = f_s - body.inertia * a_s - body.run_force(runs)
     if angle is not None:
         friction = friction - body.gravity_force(smooth(angle, window))

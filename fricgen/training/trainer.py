@@ -38,8 +38,9 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
     one warning line each; a v_sat beyond ``USUAL_MAX`` and beyond the data's fastest speed
     ``fastest`` is one warning line (one within the data's speeds is as usual as they are, which
     ``data.plausibility`` judged: a textbook law's v_sat is the fastest speed). A mass that
-    speeding up and braking give apart, or smoothing windows that explain the force equally well
-    (``RigidBody.doubts``), is one warning line each."""
+    speeding up and braking give apart, or smoothing windows that explain the force equally well,
+    or a mass given that the log's accelerations contradict (``RigidBody.doubts``), is one
+    warning line each."""
     problems = []
     for curve in model.directions:
         try:
@@ -55,7 +56,8 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
             warn(f"fricgen: warning: {source}: {note}")
             break
     for doubt in [] if ident is None else ident.body.doubts(model.units.mass):
-        warn(f"fricgen: warning: {source}: the identified {model.units.inertia_name}: {doubt}")
+        which = "identified" if ident.body.mass_identified else "given"
+        warn(f"fricgen: warning: {source}: the {which} {model.units.inertia_name}: {doubt}")
     if ident is not None and ident.body.mass_identified and ident.body.mass_determined:
         problems.append(physical_problem("mass", f"the identified {model.units.inertia_name}",
                                          ident.body.mass))
