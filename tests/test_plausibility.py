@@ -461,3 +461,15 @@ def test_a_logs_v_swapped_with_the_force_is_named_before_the_bounds(with_x):
     with pytest.raises(DataError, match="v and the force look swapped"):
         check_columns(swapped, "log.csv", True, warn=lambda line: None)
     check_columns(log, "log.csv", True, warn=lambda line: None)
+
+
+def test_a_logs_x_swapped_with_the_force_is_named_without_v():
+    """x and the force swapped in a log of t, x and force: the bounds read the force's rate, 1800
+    'm/s', as a position in mm ("is x in mm?"). Friction and inertia explain dx/dt from the
+    force's derivative far better than the force from dx/dt: the swap is named; the log as
+    written passes."""
+    log = linear_axis_log()
+    del log["v"]
+    with pytest.raises(DataError, match="x and the force look swapped"):
+        check_columns({**log, "x": log["force"], "force": log["x"]}, "log.csv", True, warn=lambda line: None)
+    check_columns(log, "log.csv", True, warn=lambda line: None)

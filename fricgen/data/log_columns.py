@@ -81,26 +81,38 @@ def check_motion_column(name: str, signals) -> None:
                         f"{named:.3g} with {name} as the {other_name}): is it the {other_column} column?")
 
 
-def check_force_column(named, other, weight: Tuple[np.ndarray, ...] = ()) -> None:
+def check_force_column(named, other, weight: Tuple[np.ndarray, ...] = (), column: str = "v") -> None:
     """``DataError`` where a log's v and force are swapped: the force's textbook law
     (``_residual``) read the other way round, the force as the velocity and v as the force,
     leaves at most SWAPPED_SHARE of the share of the variance it leaves read as named. (A
     viscous law reads alike both ways and passes; the robot joints of benchmarks/real_data.py
     leave 0.68 or more.) ``named``, ``other``: the ``_derivatives`` of v beside the force and
     of the force beside v; ``weight``: columns of the position both readings take (sin x and
-    cos x: a link's weight would otherwise leave the force unexplained, read as named)."""
+    cos x: a link's weight would otherwise leave the force unexplained, read as named);
+    ``column``: the motion's column named in the message ("x" where v is dx/dt)."""
     share = [_residual(f, d1, d0, *weight) ** 2 / max(float(np.var(f)), 1e-300)
              for d0, d1, _, f in (named, other)]
     if share[1] <= SWAPPED_SHARE * share[0]:
-        raise DataError(f"v and the force look swapped: friction and inertia explain v from the "
-                        f"force ({100 * share[1]:.2g} % of its variance left) far better than the "
-                        f"force from v ({100 * share[0]:.2g} % left): are the v and force (or "
+        motion = "v" if column == "v" else "dx/dt"
+        raise DataError(f"{column} and the force look swapped: friction and inertia explain "
+                        f"{motion} from the force{'' if column == 'v' else chr(39) + 's derivative'} "
+                        f"({100 * share[1]:.2g} % of its variance left) far better than the force "
+                        f"from {motion} ({100 * share[0]:.2g} % left): are the {column} and force (or "
                         "current) columns swapped?")
 
 
-def check_force_swap(force: np.ndarray, ts: float, v: np.ndarray, x: Optional[np.ndarray] = None) -> None:
+def check_force_swap(force: np.ndarray, ts: float, v: Optional[np.ndarray],
+                     x: Optional[np.ndarray] = None) -> None:
     """``check_force_column`` on a log's columns (v's and the force's ``_derivatives``, the
-    weight of ``x`` where it is given); a short log is not checked."""
+    weight of ``x`` where it is given); without v, on dx/dt and the force's derivative beside
+    x (x swapped with the force). A short log is not checked."""
+    if v is None:
+        if x is not None and x.size > 2:
+            named = _derivatives(np.gradient(x, ts), force, ts)
+            if named is not None:
+                check_force_column(named, _derivatives(np.gradient(force, ts), x, ts, orders=2),
+                                   column="x")
+        return
     of_v = _derivatives(v, force, ts)
     if of_v is not None:
         inner = _inner(v.size)

@@ -367,13 +367,13 @@ def check_log_swaps(columns: Mapping[str, np.ndarray], source: str) -> None:
     bounds, which would read the force in a velocity column as a velocity in mm/s."""
     t, v, x = (columns.get(k) for k in ("t", "v", "x"))
     force = columns.get("force", columns.get("i"))
-    if t is None or v is None or force is None or t.size < 3:
+    if t is None or (v is None and x is None) or force is None or t.size < 3:
         return
     ts = float(np.median(np.diff(t)))
     if not ts > 0:
         return                      # the readers name the time column
     try:
-        if x is not None:
+        if x is not None and v is not None:
             check_swapped_force(x, v, force, ts)
         check_force_swap(force, ts, v, x)
     except DataError as exc:
