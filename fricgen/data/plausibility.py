@@ -364,11 +364,15 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
 def check_log_swaps(columns: Mapping[str, np.ndarray], source: str) -> None:
     """``DataError`` where a log's v, or its x, holds the force and the force column the motion
     (``log_columns.check_force_swap``, ``motionlog.check_swapped_force``): named before the
-    bounds, which would read the force in a velocity column as a velocity in mm/s."""
+    bounds, which would read the force in a velocity column as a velocity in mm/s. Not judged
+    where the force or the motion holds one value over 98 % of the log (not logged, or no
+    motion: the readers' checks name that)."""
     t, v, x = (columns.get(k) for k in ("t", "v", "x"))
     force = columns.get("force", columns.get("i"))
     if t is None or (v is None and x is None) or force is None or t.size < 3:
         return
+    if not all(np.ptp(np.quantile(c, [0.01, 0.99])) > 0 for c in (force, x if v is None else v)):
+        return                      # no motion, or a force not logged: the readers name it
     ts = float(np.median(np.diff(t)))
     if not ts > 0:
         return                      # the readers name the time column
