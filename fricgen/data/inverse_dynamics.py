@@ -200,8 +200,13 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         if at is None:                      # the body where dv/dt explains the force best
             at, alike = explaining_window(v, raw, sliding & whole, ts, span, angle,
                                           runs) or (None, None)
-        found = None if at is None else _body_at(at, ts, v, raw, sliding & whole, conditions,
-                                                 angle, runs, noise)
+        try:
+            found = None if at is None else _body_at(at, ts, v, raw, sliding & whole, conditions,
+                                                     angle, runs, noise)
+        except DataError:
+            if mass is None:
+                raise
+            found = None                    # a mass given: the checks below name the log's fault
         determined = found is not None and found.mass_identified and found.mass_determined
         if mass is None:
             body, body_window = found, at
