@@ -93,9 +93,9 @@ def check_force_column(named, other, weight: Tuple[np.ndarray, ...] = (), column
     share = [_residual(f, d1, d0, *weight) ** 2 / max(float(np.var(f)), 1e-300)
              for d0, d1, _, f in (named, other)]
     if share[1] <= SWAPPED_SHARE * share[0]:
-        motion = "v" if column == "v" else "dx/dt"
+        motion, force = ("v", "the force") if column == "v" else ("dx/dt", "the force's derivative")
         raise DataError(f"{column} and the force look swapped: friction and inertia explain "
-                        f"{motion} from the force{'' if column == 'v' else chr(39) + 's derivative'} "
+                        f"{motion} from {force} "
                         f"({100 * share[1]:.2g} % of its variance left) far better than the force "
                         f"from {motion} ({100 * share[0]:.2g} % left): are the {column} and force (or "
                         "current) columns swapped?")

@@ -195,14 +195,18 @@ def check_finite(name: str, values: np.ndarray, where: str = "") -> None:
                         f"value at data row {int(bad[0]) + 1}")
 
 
+def varies(values: np.ndarray) -> bool:
+    """Whether the finite ``values`` of a logged signal hold more than one value over 98 % of
+    the log (their 1 % and 99 % quantiles differ); True where none is finite."""
+    values = values[np.isfinite(values)]
+    return values.size == 0 or bool(np.ptp(np.quantile(values, [0.01, 0.99])) > 0)
+
+
 def check_varies(values: np.ndarray, what: str, unit: str) -> None:
     """``DataError`` when the finite ``values`` of a logged signal hold one value over 98 % of
-    the log (their 1 % and 99 % quantiles coincide): the signal was not really logged."""
-    values = values[np.isfinite(values)]
-    if values.size == 0:
-        return
-    lo, hi = np.quantile(values, [0.01, 0.99])
-    if not hi > lo:
+    the log (``varies``): the signal was not really logged."""
+    if not varies(values):
+        values = values[np.isfinite(values)]
         raise DataError(f"the {what} is constant ({np.median(values):g} {unit}) over 98 % of the "
                         f"log; a log needs the measured {what}")
 

@@ -26,7 +26,7 @@ from .._validate import (ACCEPT_UNUSUAL, PHYSICAL_ROTARY, USUAL_MIN, in_rotary_a
 from ..errors import DataError
 from ..units import axis_units
 from .log_columns import check_force_swap
-from .motionlog import check_swapped_force
+from .motionlog import check_swapped_force, varies
 from .outliers import running_median
 
 #: A sweep whose slowest speed exceeds this share of its fastest never nears v = 0, where
@@ -371,7 +371,7 @@ def check_log_swaps(columns: Mapping[str, np.ndarray], source: str) -> None:
     force = columns.get("force", columns.get("i"))
     if t is None or (v is None and x is None) or force is None or t.size < 3:
         return
-    if not all(np.ptp(np.quantile(c, [0.01, 0.99])) > 0 for c in (force, x if v is None else v)):
+    if not (varies(force) and varies(x if v is None else v)):
         return                      # no motion, or a force not logged: the readers name it
     ts = float(np.median(np.diff(t)))
     if not ts > 0:
