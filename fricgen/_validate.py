@@ -136,7 +136,7 @@ def unusual(quantity: str, what: str, value: float, column: str = "v", given: st
         units = "mm (--scale x=0.001), or the axis a joint or shaft in rad (--rotary)"
     else:
         units = (f"m/min (--scale {column}=0.0166667) or mm/s (--scale {column}=0.001), or the axis a "
-                 "joint or shaft in rad/s (--rotary)")
+                 f"joint or shaft (--rotary) in rad/s, or in {rotary_units(column, 'v')}")
     return f"{clause}: is {column} in {units}?"
 
 

@@ -201,6 +201,8 @@ def _plausibility_files(d, log):
     slow = np.abs(v) < 0.015
     (d / "sweep_slow_mm.csv").write_text("v,f\n" + "".join(f"{1000 * a!r},{b!r}\n"
                                                            for a, b in zip(v[slow].tolist(), f[slow].tolist())))
+    (d / "sweep_current.csv").write_text("v,i\n" + "".join(f"{a!r},{2 * b!r}\n"
+                                                           for a, b in zip(v.tolist(), f.tolist())))
     (d / "notes").mkdir()
     (d / "notes" / "report.md").write_text("# my own notes\n")
 
@@ -273,6 +275,9 @@ TRIAL_ROWS = [
      "missing column 'f' (header is velocity,friction)"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
+    ("a sweep of the current", ["train", "sweep_current.csv", "--force-constant", "0.5", "-o", OUT],
+     "missing t (header is v,i); a sweep of the current? --columns f=i --scale f=K reads it, K the "
+     "force constant"),
     ("train, constant current", ["train", "log_constant_i.csv", *LOG, "-o", OUT],
      "the current i is constant (1.5 A) over 98 % of the log"),
     ("--merge with a short common time", ["train", *DRIVE, *MERGE, "--merge-shift", "2.9", "-o", OUT],
@@ -320,7 +325,8 @@ PLAUSIBILITY_ROWS = [
      "are its numbers written with ',' between thousands (1,740.65)?"),
     ("a slow sweep in mm/s", ["train", "sweep_slow_mm.csv", "-o", OUT],
      "above the 5 m/s of most axes: is v in m/min (--scale v=0.0166667) or mm/s (--scale v=0.001), "
-     "or the axis a joint or shaft in rad/s (--rotary)? (--accept-unusual"),
+     "or the axis a joint or shaft (--rotary) in rad/s, or in rpm (--scale v=0.10472) or deg/s "
+     "(--scale v=0.0174533)? (--accept-unusual"),
     ("--merge-scale without --merge", ["train", *DRIVE, "--merge-scale", "t=0.001", "-o", OUT],
      "need --merge FILE"),
     ("--merge-scale of a quantity the merge file lacks", ["train", *DRIVE, *MERGE, "--merge-scale", "v=2",

@@ -387,12 +387,16 @@ def test_a_small_sweep_with_v_and_f_swapped_is_refused_and_a_real_one_is_not():
 @pytest.mark.parametrize("rotary, columns, hint", [
     (True, {"x": 100.0 * 57.29578}, "; is x in deg (--scale x=0.0174533)?"),
     (True, {"v": 1500.0 * 30 / np.pi ** 2}, "; is v in rpm (--scale v=0.10472) or deg/s (--scale v=0.0174533)?"),
-    (False, {"x": 40.0}, "--scale x=0.001 converts it; or is the axis a joint or shaft in rad (--rotary)?"),
+    (False, {"x": 40.0}, "--scale x=0.001 converts it; or is the axis a joint or shaft (--rotary), x in rad, "
+                         "or in deg (--scale x=0.0174533)?"),
+    (False, {"v": 114.6}, "; or is the axis a joint or shaft (--rotary), v in rad/s, or in rpm (--scale "
+                          "v=0.10472) or deg/s (--scale v=0.0174533)?"),
 ])
 def test_a_shaft_too_fast_for_its_units_is_asked_about_degrees_rpm_or_rotary(rotary, columns, hint):
     """A new user's trial: a shaft's x in degrees was asked 'is x in mrad?', rpm 'is v in
     mrad/s?', a shaft in rad without --rotary 'is x in mm?': each hint, followed, trained a
-    silently wrong model."""
+    silently wrong model. A joint's sweep in deg/s, asked only of mm/s and rad/s, trained with
+    --rotary at 114.6 rad/s, its viscous friction 57 times too small."""
     from fricgen._validate import rotary_axis
     t = np.arange(5000) / 1000.0
     (name, amplitude), = columns.items()

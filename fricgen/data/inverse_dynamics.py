@@ -165,7 +165,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         check_units(x, v, ts, force)
     weight = None
     if runs is None:                # what the columns hold (x jumps between runs: one run only)
-        weight = check_log_columns(force, ts, v if given else None, x, weight=not gravity)
+        weight = check_log_columns(force, ts, v if given else None, x, gravity=gravity)
     measured = velocity_noise(v)
     # encoder counts: the position between the count edges is off by up to a count's rounding,
     # q / sqrt(12), a noise on x that the central difference and the smoothing then filter
@@ -433,6 +433,9 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
                    if not any(c in columns for c in group)]
         sweep = ("" if any(c in columns for c in (LOG_TIME, "x", "i")) else
                  "; a sweep? --columns v=COLUMN,f=COLUMN names its columns")
+        if "v" in columns and "i" in columns and not any(c in columns for c in (LOG_TIME, "x")):
+            sweep = ("; a sweep of the current? --columns f=i --scale f=K reads it, K the force "
+                     "constant (N/A, Nm/A on a rotary axis; divided by 1000 for a current in mA)")
         return (f"a motion log needs t, v or x, and force or i: missing {' and '.join(missing)} "
                 f"(header is {header}){header_hint(cells)}{sweep}")
     missing = ", ".join(repr(c) for c in ("v", "f") if c not in columns)

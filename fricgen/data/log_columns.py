@@ -1,10 +1,10 @@
 """What the columns of a motion log hold, told from how its force follows them: the textbook
 law of the force (inertia, Coulomb + viscous per direction, a constant; [C1]) fitted with each
 column read as named and read otherwise. A position column that holds the velocity, a velocity
-that holds the position, a velocity swapped with the force are refused in one line
-(``check_motion_column``, ``check_force_column``); a weight of the position that the force
-holds is told (``weight_residuals``, for ``train --gravity``). ``check_log_columns`` runs them,
-each column smoothed once.
+that holds the position, a velocity swapped with the force, a joint's position in degrees are
+refused in one line (``check_motion_column``, ``check_force_column``, ``check_degrees``); a
+weight of the position that the force holds is told (``weight_residuals``, for ``train
+--gravity``). ``check_log_columns`` runs them, each column smoothed once.
 """
 from __future__ import annotations
 
@@ -130,19 +130,52 @@ def weight_residuals(signals) -> Optional[Tuple[float, float]]:
     return (without, with_weight) if with_weight <= WEIGHT_SHARE * without else None
 
 
+#: With ``--gravity``, a joint's position is read as degrees where it spans more than a turn
+#: read in rad, and a weight of x pi / 180 leaves at most this share of the residual that a
+#: weight of x (rad) leaves.
+DEGREES_SHARE = 0.7
+
+
+def check_degrees(signals) -> None:
+    """``DataError`` where a joint's position, whose log holds a link's weight (``train
+    --gravity``), reads as degrees: read in rad it spans more than a turn, and a weight
+    G_s sin x + G_c cos x of x pi / 180 leaves at most DEGREES_SHARE of the residual of the
+    force's textbook law with a weight of x itself (sin x of an x in degrees turns over every
+    6.3 degrees: a 6 Nm link's weight was found as 0.04 Nm, and the joint's speeds 57 times
+    too fast). Without ``--gravity`` a weight of a small arc in degrees is a spring's force in
+    rad, and nothing is said. ``signals``: the position's ``_derivatives``."""
+    d0, d1, d2, f = signals
+    span = float(np.ptp(d0))
+    if span <= 2.0 * np.pi:
+        return
+    angle = np.radians(d0)
+    as_rad = _residual(f, d2, d1, np.sin(d0), np.cos(d0))
+    as_deg = _residual(f, d2, d1, np.sin(angle), np.cos(angle))
+    if as_deg <= DEGREES_SHARE * as_rad:
+        raise DataError(f"x looks in degrees: it spans {span:.4g} rad ({span / (2 * np.pi):.3g} "
+                        f"turns), and the link's weight G_s sin x + G_c cos x leaves an RMS "
+                        f"residual of {as_deg:.3g} of x in degrees against {as_rad:.3g} in rad: "
+                        "--scale x=0.0174533 (and v=0.0174533 where the log has v) converts it")
+
+
 def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = None,
                       x: Optional[np.ndarray] = None,
-                      weight: bool = True) -> Optional[Tuple[float, float]]:
+                      gravity: bool = False) -> Optional[Tuple[float, float]]:
     """Every check of what a log's columns hold, each column smoothed once: a position or a
     velocity alone read as the other (``check_motion_column``), v swapped with the force
-    (``check_force_column``); and, with ``weight``, the position's ``weight_residuals`` (None
+    (``check_force_column``); with ``gravity`` (``train --gravity``), a joint's position in
+    degrees (``check_degrees``), and without it the position's ``weight_residuals`` (None
     without x, or where the weight explains little). A short log is not checked."""
     of_v = None if v is None else _derivatives(v, force, ts)
-    of_x = None if x is None or (v is not None and not weight) else _derivatives(x, force, ts)
+    of_x = None if x is None else _derivatives(x, force, ts)
     if of_v is None and of_x is None:
         return None                                     # too short to tell
     if v is None or x is None:
         check_motion_column("v" if x is None else "x", of_v if x is None else of_x)
     if v is not None:
         check_force_swap(force, ts, v, x)
-    return weight_residuals(of_x) if weight and of_x is not None else None
+    if gravity:
+        if of_x is not None:
+            check_degrees(of_x)
+        return None
+    return weight_residuals(of_x) if of_x is not None else None

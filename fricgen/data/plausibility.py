@@ -76,7 +76,9 @@ def _unit_factor(quantity: str, value: float) -> Optional[float]:
 def _unit_hint(column: str, quantity: str, value: float) -> str:
     """'; is v in mm/s? --scale v=0.001 converts it': the smallest power of 1000 that brings
     ``value`` into ``physical_range(quantity)``, or ''. A rotary axis's speed too fast asks for
-    degrees or rpm first (``_validate.rotary_units``); a linear axis's, whether it is a rotary one in rad."""
+    degrees or rpm first (``_validate.rotary_units``); a linear axis's, whether it is a rotary one
+    in rad/s, rpm or deg/s (a joint's sweep in deg/s taken as rad/s on the first hint alone gave
+    a viscous friction 57 times too small)."""
     low, high, _ = physical_range(quantity)
     if quantity == "speed" and value > high and in_rotary_axis():
         named = rotary_units(column, column, lambda size: low <= value * size <= high)
@@ -88,8 +90,14 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
     unit = axis_units().position if column == "x" else physical_unit(quantity)   # x: its own unit
     prefix = {1e-3: "m", 1e-6: "u", 1e3: "k"}.get(factor)
     named = f"is {column} in {prefix}{unit}? " if prefix else ""
-    rotary = ("; or is the axis a joint or shaft in rad (--rotary)?" if quantity == "speed" and
-              value > high and not in_rotary_axis() and value <= PHYSICAL_ROTARY["speed"][1] else "")
+    rotary = ""
+    if quantity == "speed" and value > high and not in_rotary_axis():
+        low_r, high_r = PHYSICAL_ROTARY["speed"][:2]
+        units = rotary_units(column, column if column == "x" else "v",
+                             lambda size: low_r <= value * size <= high_r)
+        own = f"{column} in rad{'' if column == 'x' else '/s'}"
+        readings = [own] * (value <= high_r) + [f"in {units}"] * bool(units)
+        rotary = f"; or is the axis a joint or shaft (--rotary), {', or '.join(readings)}?" if readings else ""
     return f"; {named}--scale {column}={factor:g} converts it{rotary}"
 
 
