@@ -13,6 +13,7 @@ from fricgen.cli import INTERRUPTED, main
 from fricgen.data.plausibility import check_bounds, check_columns, check_merge_shift, check_sweep_shape
 from fricgen.axis import Axis
 from fricgen.errors import DataError, ModelError
+from fricgen.training import train
 from fricgen.model import FrictionModel
 
 
@@ -477,3 +478,19 @@ def test_a_logs_x_swapped_with_the_force_is_named_without_v():
     with pytest.raises(DataError, match="x and the force look swapped"):
         check_columns({**log, "x": log["force"], "force": log["x"]}, "log.csv", True, warn=lambda line: None)
     check_columns(log, "log.csv", True, warn=lambda line: None)
+
+
+@pytest.mark.parametrize("mass", [None, 10.0])
+def test_a_log_whose_velocity_is_another_axis_holds_no_friction(mass):
+    """A new user's trial: the velocity of another axis beside this one's force. Given the
+    mass, a model of F_c 0 and B 0.39 +- 0.35 was written that explained nothing; without it,
+    the refusal spoke of units (here: of the force's sign). Now one line says the force follows
+    neither sgn(v) nor v; this axis's own velocity trains."""
+    log = linear_axis_log(seconds=20.0)
+    t = log["t"]
+    other = {"t": t, "v": 0.18 * np.sin(2 * np.pi * 0.37 * t + 0.3) * np.cos(2 * np.pi * 0.05 * t),
+             "force": log["force"]}
+    with pytest.raises(DataError, match=r"the log holds no friction: .*neither 3 standard errors "
+                                        r"from 0\): are v \(or x\) and the force columns of the same axis"):
+        train(other, mass=mass, warn=lambda line: None)
+    assert train(log, mass=mass, warn=lambda line: None).model is not None

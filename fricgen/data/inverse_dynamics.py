@@ -238,12 +238,39 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                         f"{kept:.0f} independent samples; no reversal within {window} samples), "
                         f"need {MIN_ROWS} rows and {MIN_INDEPENDENT} independent samples: log "
                         "longer or more varied motion")
+    check_friction_found(v_s[steady], friction[steady], kept, axis_units())
     return Identification(sweep=Sweep(v_s[steady], friction[steady]), n_rows=int(t.size),
                           window=int(window), sample_time=ts, velocity_noise=noise.per_sample(),
                           independent=kept, body=body, body_window=body_window,
                           conditions={k: c[steady] for k, c in at_rows.items()},
                           n_runs=1 if runs is None else int(runs[-1]) + 1, weight=weight,
                           reversals=Sweep(v_s[reversing], raw[reversing]))
+
+
+#: A log's friction samples hold friction where its Coulomb level or its viscous slope stands
+#: this many standard errors from 0.
+FRICTION_Z = 3.0
+
+
+def check_friction_found(v: np.ndarray, friction: np.ndarray, independent: float, units) -> None:
+    """``DataError`` where the friction samples of a log hold no friction: neither the Coulomb
+    level F_c sgn(v) nor the viscous slope B v (fitted with a constant) stands FRICTION_Z
+    standard errors from 0. A velocity of another axis, or a force column of another drive,
+    leaves the force unrelated to the motion; given a mass, such a log trained a model of
+    F_c 0 and B 0.39 +- 0.35 that explained nothing, and without one it was told of units. The
+    samples count as independent but for the smoothing alone: another axis's force, smooth,
+    leaves a residual correlated from row to row, and counted by that correlation the friction
+    of a joint whose link's weight is left in the samples (``train`` without ``--gravity``) was
+    no longer 3 standard errors clear. A force that follows another axis's motion by chance
+    passes (the fit that follows speaks of it)."""
+    coef, se = least_squares_errors(np.column_stack([np.sign(v), v, np.ones(v.size)]), friction,
+                                    independent)
+    if np.all(np.abs(coef[:2]) <= FRICTION_Z * se[:2]):
+        raise DataError(f"the log holds no friction: the force less the inertia's follows neither "
+                        f"sgn(v) nor v (F_c = {coef[0]:.3g} +- {se[0]:.2g} {units.force}, B = "
+                        f"{coef[1]:.3g} +- {se[1]:.2g} {units.force} s/{units.position}, neither "
+                        f"{FRICTION_Z:g} standard errors from 0): are v (or x) and the force "
+                        "columns of the same axis, and in time with each other?")
 
 
 #: The force must follow the load column with a slope within this factor of 1 (f = m a + L + F):
