@@ -28,6 +28,7 @@ from ..units import axis_units
 from .log_columns import check_force_swap
 from .motionlog import check_swapped_force, varies
 from .outliers import running_median
+from .smoothing import smooth
 
 #: A sweep whose slowest speed exceeds this share of its fastest never nears v = 0, where
 #: friction has its Coulomb level and Stribeck drop (a speed column that holds forces).
@@ -354,7 +355,8 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
     """Every data check that applies to the columns read from ``source``: for a sweep its shape
     (``check_sweep_shape``, first: swapped columns also break the bounds), for a log its
     columns swapped with the force (``check_log_swaps``, first likewise), then the physical
-    bounds (``scaled`` as ``check_bounds``); a log's temperature column (``check_temperature``)."""
+    bounds (``scaled`` as ``check_bounds``); a log's temperature column (``check_temperature``)
+    and the timing of its force against its motion (``check_timing``)."""
     if "temperature" in columns:
         check_temperature(columns["temperature"], source, accept_unusual, warn)
     if not all(np.all(np.isfinite(values)) for k, values in columns.items() if k != "temperature"):
@@ -367,6 +369,51 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
     check_bounds(columns, source, accept_unusual, warn, scaled)
     if is_log and "t" in columns:
         check_rate(columns["t"], source, warn, scaled)
+        check_timing(columns, source, warn)
+
+
+#: A log's force is said to lag or lead its motion where [C1] fits it SHIFT_GAIN times better
+#: (residual variance) shifted by at least this many samples, of at most TIMING_SHIFTS.
+TIMING_STEPS, TIMING_SHIFTS = 2, 50
+
+
+def check_timing(columns: Mapping[str, np.ndarray], source: str,
+                 warn: Callable[[str], None] = print) -> None:
+    """One warning line where a log's force fits its motion (least squares of [C1] with
+    Coulomb and viscous friction per direction, v and dv/dt of a 7-sample Savitzky-Golay) far
+    better a few samples off than in time: SHIFT_GAIN times less residual variance at a shift
+    of TIMING_STEPS to TIMING_SHIFTS samples. A force column a few samples off its motion
+    trains silently wrong numbers (10 ms at 1 kHz: a 3 kg axis's mass 3.28 kg, its viscous
+    friction 0.86 of 4 N s/m; 2 samples at 100 Hz: 1.28 of 4); the robot joints of
+    ``../shared/data`` fit best in time or at most 0.72 of it."""
+    t, v, x = (columns.get(k) for k in ("t", "v", "x"))
+    force = columns.get("force", columns.get("i"))
+    if t is None or force is None or (v is None and x is None) or t.size < 8 * TIMING_SHIFTS:
+        return
+    ts = float(np.median(np.diff(t)))
+    if not ts > 0:
+        return
+    v = smooth(v if v is not None else np.gradient(x, ts), 7)
+    a = np.gradient(v, ts)
+    shifts = range(-TIMING_SHIFTS, TIMING_SHIFTS + 1)
+    inner = np.arange(TIMING_SHIFTS, t.size - TIMING_SHIFTS)[_thin(t.size - 2 * TIMING_SHIFTS)]
+    up, down = v[inner] > 0, v[inner] < 0
+    design = np.column_stack([a[inner], up, -1.0 * down, up * v[inner], down * v[inner],
+                              np.ones(inner.size)])
+    pinv = np.linalg.pinv(design)
+
+    def variance(d: int) -> float:
+        y = force[inner + d]
+        return float(np.mean((y - design @ (pinv @ y)) ** 2))
+
+    scores = {d: variance(d) for d in shifts}
+    best = min(scores, key=scores.get)
+    if abs(best) >= TIMING_STEPS and scores[best] * SHIFT_GAIN <= scores[0]:
+        which = "lags" if best > 0 else "leads"
+        warn(f"fricgen: warning: {source}: the force column {which} the motion by {abs(best)} "
+             f"samples ({abs(best) * ts * 1e3:.3g} ms): friction and inertia fit it so with "
+             f"{scores[best] / scores[0]:.2g} of the residual variance they leave in time; a "
+             "delay between the columns biases the mass and the friction (shift one column)")
 
 
 def check_log_swaps(columns: Mapping[str, np.ndarray], source: str) -> None:
