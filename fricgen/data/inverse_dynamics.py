@@ -254,21 +254,23 @@ FRICTION_Z = 3.0
 
 def check_friction_found(v: np.ndarray, friction: np.ndarray, independent: float, units) -> None:
     """``DataError`` where the friction samples of a log hold no friction: neither the Coulomb
-    level F_c sgn(v) nor the viscous slope B v (fitted with a constant) stands FRICTION_Z
-    standard errors from 0. A velocity of another axis, or a force column of another drive,
-    leaves the force unrelated to the motion; given a mass, such a log trained a model of
-    F_c 0 and B 0.39 +- 0.35 that explained nothing, and without one it was told of units. The
-    samples count as independent but for the smoothing alone: another axis's force, smooth,
-    leaves a residual correlated from row to row, and counted by that correlation the friction
-    of a joint whose link's weight is left in the samples (``train`` without ``--gravity``) was
-    no longer 3 standard errors clear. A force that follows another axis's motion by chance
-    passes (the fit that follows speaks of it)."""
-    coef, se = least_squares_errors(np.column_stack([np.sign(v), v, np.ones(v.size)]), friction,
-                                    independent)
-    if np.all(np.abs(coef[:2]) <= FRICTION_Z * se[:2]):
+    level F_c sgn(v) nor the viscous slope B v, each fitted alone with a constant, stands
+    FRICTION_Z standard errors from 0 (fitted together, a move at one speed each way makes
+    them one column, and neither stood clear). An axis without friction, or a velocity of
+    another axis beside a force that follows it by no chance (a new user's log: given the mass
+    it trained a model of F_c 0 and B 0.39 +- 0.35 that explained nothing, and without it was
+    told of units). The samples count as independent but for the smoothing alone: counted by
+    the residual's correlation from row to row as well, the friction of a joint whose link's
+    weight is left in the samples (``train`` without ``--gravity``) no longer stood clear; so a
+    smooth force of another axis that follows this one's motion by chance passes."""
+    (coulomb, coulomb_se), (viscous, viscous_se) = (
+        (float(c[0]), float(e[0])) for c, e in (
+            least_squares_errors(np.column_stack([column, np.ones(v.size)]), friction, independent)
+            for column in (np.sign(v), v)))
+    if abs(coulomb) <= FRICTION_Z * coulomb_se and abs(viscous) <= FRICTION_Z * viscous_se:
         raise DataError(f"the log holds no friction: the force less the inertia's follows neither "
-                        f"sgn(v) nor v (F_c = {coef[0]:.3g} +- {se[0]:.2g} {units.force}, B = "
-                        f"{coef[1]:.3g} +- {se[1]:.2g} {units.force} s/{units.position}, neither "
+                        f"sgn(v) nor v (F_c = {coulomb:.3g} +- {coulomb_se:.2g} {units.force}, B = "
+                        f"{viscous:.3g} +- {viscous_se:.2g} {units.force} s/{units.position}, neither "
                         f"{FRICTION_Z:g} standard errors from 0): are v (or x) and the force "
                         "columns of the same axis, and in time with each other?")
 

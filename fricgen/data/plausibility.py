@@ -408,7 +408,7 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
 
     scores = {d: variance(d) for d in shifts}
     best = min(scores, key=scores.get)
-    if abs(best) >= TIMING_STEPS and scores[best] * SHIFT_GAIN <= scores[0]:
+    if abs(best) >= TIMING_STEPS and scores[best] * SHIFT_GAIN < scores[0]:
         which = "lags" if best > 0 else "leads"
         warn(f"fricgen: warning: {source}: the force column {which} the motion by {abs(best)} "
              f"samples ({abs(best) * ts * 1e3:.3g} ms): friction and inertia fit it so with "
