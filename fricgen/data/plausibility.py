@@ -383,7 +383,7 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
     Coulomb and viscous friction per direction, v and dv/dt of a 7-sample Savitzky-Golay) far
     better a few samples off than in time: SHIFT_GAIN times less residual variance at a shift
     of TIMING_STEPS to TIMING_SHIFTS samples. A force column a few samples off its motion
-    trains silently wrong numbers (10 ms at 1 kHz: a 3 kg axis's mass 3.28 kg, its viscous
+    trains silently wrong numbers (20 ms at 1 kHz: a 3 kg axis's mass 3.28 kg, its viscous
     friction 0.86 of 4 N s/m; 2 samples at 100 Hz: 1.28 of 4); the robot joints of
     ``../shared/data`` fit best in time or at most 0.72 of it."""
     t, v, x = (columns.get(k) for k in ("t", "v", "x"))
