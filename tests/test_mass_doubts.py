@@ -103,7 +103,6 @@ def test_a_mass_given_that_the_log_contradicts_is_warned_about():
     assert not [line for line in said if "given" in line]
 
 
-
 def two_band_log(slow_mass=2.0, fast_mass=-1.0, rate=1000.0, seconds=40.0, seed=SEED):
     """A 0.5 Hz sine of 0.2 m/s with a 30 Hz one of 2 mm/s on it, the force following the slow
     motion's dv/dt with ``slow_mass`` and the fast one's with ``fast_mass`` (a mode the rigid

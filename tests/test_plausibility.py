@@ -10,7 +10,8 @@ import pytest
 
 from conftest import copy_of
 from fricgen.cli import INTERRUPTED, main
-from fricgen.data.plausibility import check_bounds, check_columns, check_merge_shift, check_sweep_shape, check_timing
+from fricgen.data.plausibility import (check_bounds, check_columns, check_merge_shift, check_sweep_shape,
+                                      check_timing)
 from fricgen.axis import Axis
 from fricgen.errors import DataError, ModelError
 from fricgen.training import train

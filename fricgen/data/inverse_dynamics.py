@@ -263,10 +263,12 @@ def check_friction_found(v: np.ndarray, friction: np.ndarray, independent: float
     the residual's correlation from row to row as well, the friction of a joint whose link's
     weight is left in the samples (``train`` without ``--gravity``) no longer stood clear; so a
     smooth force of another axis that follows this one's motion by chance passes."""
-    (coulomb, coulomb_se), (viscous, viscous_se) = (
-        (float(c[0]), float(e[0])) for c, e in (
-            least_squares_errors(np.column_stack([column, np.ones(v.size)]), friction, independent)
-            for column in (np.sign(v), v)))
+    def alone(column: np.ndarray) -> Tuple[float, float]:
+        coef, se = least_squares_errors(np.column_stack([column, np.ones(v.size)]), friction,
+                                        independent)
+        return float(coef[0]), float(se[0])
+
+    (coulomb, coulomb_se), (viscous, viscous_se) = alone(np.sign(v)), alone(v)
     if abs(coulomb) <= FRICTION_Z * coulomb_se and abs(viscous) <= FRICTION_Z * viscous_se:
         raise DataError(f"the log holds no friction: the force less the inertia's follows neither "
                         f"sgn(v) nor v (F_c = {coulomb:.3g} +- {coulomb_se:.2g} {units.force}, B = "

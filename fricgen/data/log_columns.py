@@ -28,11 +28,17 @@ SWAPPED_SHARE = 0.25
 WEIGHT_SHARE = 0.7
 
 
-def _residual(force: np.ndarray, a: np.ndarray, v: np.ndarray, *extra: np.ndarray) -> float:
-    """The RMS residual of the textbook law of a log's force: m a, Coulomb + viscous per
-    direction of v, a constant, and ``extra`` columns, by least squares."""
+def textbook_columns(a: np.ndarray, v: np.ndarray, *extra: np.ndarray) -> np.ndarray:
+    """The columns of the textbook law of a log's force ([C1]): m a, Coulomb + viscous per
+    direction of v, a constant, and ``extra`` columns."""
     up, down = v > 0, v < 0
-    columns = np.column_stack([a, up, up * v, -1.0 * down, down * v, np.ones_like(v), *extra])
+    return np.column_stack([a, up, up * v, -1.0 * down, down * v, np.ones_like(v), *extra])
+
+
+def _residual(force: np.ndarray, a: np.ndarray, v: np.ndarray, *extra: np.ndarray) -> float:
+    """The RMS residual of the textbook law of a log's force (``textbook_columns``) by least
+    squares."""
+    columns = textbook_columns(a, v, *extra)
     theta, *_ = np.linalg.lstsq(columns, force, rcond=None)
     return float(np.sqrt(np.mean((force - columns @ theta) ** 2)))
 

@@ -25,7 +25,7 @@ from .._validate import (ACCEPT_UNUSUAL, PHYSICAL_ROTARY, USUAL_MIN, in_rotary_a
                          physical_range, physical_unit, rotary_units, unusual, unusually_small, usual_max)
 from ..errors import DataError
 from ..units import axis_units
-from .log_columns import check_force_swap
+from .log_columns import check_force_swap, textbook_columns
 from .motionlog import check_swapped_force, varies
 from .outliers import running_median
 from .smoothing import smooth
@@ -96,9 +96,13 @@ def _unit_hint(column: str, quantity: str, value: float) -> str:
         low_r, high_r = PHYSICAL_ROTARY["speed"][:2]
         units = rotary_units(column, column if column == "x" else "v",
                              lambda size: low_r <= value * size <= high_r)
-        own = f"{column} in rad{'' if column == 'x' else '/s'}"
-        readings = [own] * (value <= high_r) + [f"in {units}"] * bool(units)
-        rotary = f"; or is the axis a joint or shaft (--rotary), {', or '.join(readings)}?" if readings else ""
+        readings = []
+        if value <= high_r:                 # rad/s itself, where the speed is a shaft's
+            readings.append(f"{column} in rad{'' if column == 'x' else '/s'}")
+        if units:
+            readings.append(f"in {units}")
+        if readings:
+            rotary = f"; or is the axis a joint or shaft (--rotary), {', or '.join(readings)}?"
     return f"; {named}--scale {column}={factor:g} converts it{rotary}"
 
 
@@ -397,10 +401,8 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
     a = np.gradient(v, ts)
     shifts = range(-TIMING_SHIFTS, TIMING_SHIFTS + 1)
     inner = np.arange(TIMING_SHIFTS, t.size - TIMING_SHIFTS)[_thin(t.size - 2 * TIMING_SHIFTS)]
-    up, down = v[inner] > 0, v[inner] < 0
-    design = np.column_stack([a[inner], up, -1.0 * down, up * v[inner], down * v[inner],
-                              np.ones(inner.size)])
-    pinv = np.linalg.pinv(design)
+    design = textbook_columns(a[inner], v[inner])
+    pinv = np.linalg.pinv(design)           # one design for every shift: only the force moves
 
     def variance(d: int) -> float:
         y = force[inner + d]
