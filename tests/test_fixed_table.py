@@ -8,7 +8,7 @@ import pytest
 from fricgen import codegen
 from fricgen.codegen import cbuild, fixed_table as ft
 from fricgen.errors import ModelError
-from fricgen.model import FrictionModel, Scaling
+from fricgen.model import Direction, FrictionModel, Scaling
 from fricgen.networks.stribeck import StribeckCurve
 
 from conftest import assert_builds_strictly
@@ -93,14 +93,74 @@ def test_interpolation_error_of_a_parabola_is_h_squared_over_eight():
     assert ft.interpolation_error(lambda x: x ** 2, ft.knots(2, 1)) == pytest.approx(0.25 / 16, rel=1e-12)
 
 
-def test_an_asymmetric_grey_box_model_is_refused_in_fixed_point(tmp_path):
-    from fricgen.model import Direction
+def asymmetric(shape):
+    """``greybox(shape)`` for v > 0; for v < 0 a curve of its own: other sources, v_sat,
+    K_out and B (a drive's two directions)."""
+    k_out = 1.0 / 30.0
+    negative = Direction(StribeckCurve(shape, k_out * 8.0, np.array([k_out * 6.0, k_out * 11.0]),
+                                       np.array([0.003, 0.03]) / 0.08, 0.01),
+                         Scaling(1.0 / 0.08, k_out), 40.0, 0.08)
+    return FrictionModel.from_directions(greybox(shape).positive, negative, name="gb")
+
+
+@pytest.fixture(scope="module", params=[("q15", "gauss"), ("q31", "exponential")])
+def asymmetric_lib(request, tmp_path_factory):
+    dtype, shape = request.param
+    model = asymmetric(shape)
+    folder = tmp_path_factory.mktemp(f"asym_{dtype}_{shape}")
+    codegen.emit(model, folder, "gb", dtype=dtype)
+    lib = cbuild.build(folder, "gb.h", f"{CTYPE[dtype]} gb_force_{dtype}({CTYPE[dtype]} v_q);",
+                       build_dir=folder / "build")
+    return dtype, model, folder, getattr(lib, f"gb_force_{dtype}")
+
+
+def test_an_asymmetric_models_tables_are_lsb_exact_and_within_their_bound(asymmetric_lib):
+    """Each direction's table: the C equals the integer twin on every probed input, and the
+    error against the float64 model (its own curve in each direction) is within the bound."""
+    dtype, model, folder, fn = asymmetric_lib
+    specs = ft.table_specs(model, dtype)
+    assert len(specs) == 2 and specs[0].f_v == specs[1].f_v and specs[0].f_f == specs[1].f_f
+    v_q = probe(dtype)
+    c = np.array([fn(int(v)) for v in v_q], dtype=np.int64)
+    assert np.array_equal(c, ft.force_tables_q(specs, v_q))
+    err = np.abs(c * 2.0 ** -specs[0].f_f - model.force(v_q * 2.0 ** -specs[0].f_v))
+    bound = ft.tables_error_bound(specs, model)
+    assert err.max() <= bound and err.max() >= bound / 20, (err.max(), bound)
+    assert f"<= {bound:.3g} N" in (folder / "gb.h").read_text()
+    for side in (v_q > 0, v_q < 0):                 # each direction is held to the bound
+        assert err[side].max() <= bound
+
+
+def test_an_asymmetric_models_c_follows_each_directions_curve(asymmetric_lib):
+    """At the same speed the two directions give their own forces (not -F(v)), each within the
+    bound of its curve's; 0 at rest."""
+    dtype, model, _, fn = asymmetric_lib
+    spec = ft.table_specs(model, dtype)[0]
+    bound = ft.tables_error_bound(ft.table_specs(model, dtype), model)
+    assert fn(0) == 0
+    for speed in (0.002, 0.02, 0.05):
+        q = int(round(speed * 2.0 ** spec.f_v))
+        up, down = fn(q) * 2.0 ** -spec.f_f, fn(-q) * 2.0 ** -spec.f_f
+        true_up, true_down = model.force(np.array([q, -q]) * 2.0 ** -spec.f_v)
+        assert abs(up - true_up) <= bound and abs(down - true_down) <= bound
+        assert abs(up + down) > 10 * bound            # the curves differ: not an odd model
+
+
+def test_a_symmetric_models_table_spec_refuses_an_asymmetric_model():
+    with pytest.raises(ModelError, match="table_specs"):
+        ft.TableSpec.of(asymmetric("gauss"), "q15")
+
+
+def test_an_asymmetric_model_with_an_elm_curve_is_refused_in_fixed_point(tmp_path):
+    """q15 emits an asymmetric model's two tables only where both curves are grey-box."""
+    from fricgen.networks import ElmNetwork
     model = greybox("gauss")
-    two = FrictionModel(model.aim, model.scaling, model.viscous, model.v_sat, name="gb",
-                        negative=Direction(greybox("exponential").aim, model.scaling, 50.0, V_SAT))
-    with pytest.raises(ModelError, match="symmetric"):
-        codegen.render(two, "gb", dtype="q15")
-    assert not any(tmp_path.iterdir())
+    elm = ElmNetwork("sigmoid", np.array([1.0, -2.0]), np.array([0.5, 1.0]), np.array([0.2, 0.1]))
+    two = FrictionModel.from_directions(model.positive, Direction(elm, model.scaling, 50.0, V_SAT),
+                                        name="gb")
+    with pytest.raises(ModelError, match="both grey-box"):
+        codegen.emit(two, tmp_path / "c", "gb", dtype="q15")
+    assert not (tmp_path / "c").exists() or not any((tmp_path / "c").iterdir())
 
 
 @pytest.mark.parametrize("cc", ["gcc", "clang"])
@@ -109,6 +169,12 @@ def test_table_c_builds_without_a_warning_under_the_strict_flags(table_lib, cc):
         pytest.skip(f"{cc} not installed")
     _, _, folder, _ = table_lib
     assert_builds_strictly(folder, "gb.c", cc)
+
+
+def test_asymmetric_table_c_builds_without_a_warning_under_the_strict_flags(asymmetric_lib):
+    if shutil.which("gcc") is None:
+        pytest.skip("gcc not installed")
+    assert_builds_strictly(asymmetric_lib[2], "gb.c", "gcc")
 
 
 def _layouts(bits):

@@ -18,8 +18,8 @@ intervals: ``interpolation_error``), the table's rounding (1/2 LSB) and the inte
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Dict, Optional
+from dataclasses import dataclass, replace
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -70,18 +70,41 @@ class TableSpec:
         return self.bits - 1 - self.octaves - self.log2_m
 
     @classmethod
-    def of(cls, model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> "TableSpec":
-        """The scales and table for the grey-box ``model`` in ``dtype`` (``input_range``)."""
+    def of(cls, model: FrictionModel, dtype: str, v_max: Optional[float] = None,
+           f_v: Optional[int] = None, f_f: Optional[int] = None) -> "TableSpec":
+        """The scales and table for the symmetric grey-box ``model`` in ``dtype``
+        (``input_range``; ``f_v``, ``f_f`` as ``io_scales``); ``table_specs`` for any model."""
         check_dtype(dtype)
         if not isinstance(model.aim, StribeckCurve):
             raise ModelError("the fixed-point table covers grey-box models of [F1]")
-        scales = io_scales(model, dtype, v_max)
+        if model.negative is not None:
+            raise ModelError("an asymmetric model has a table per direction: table_specs")
+        scales = io_scales(model, dtype, v_max, f_v, f_f)
         bits, f_aim = scales["bits"], scales["f_aim"]
         tolerance = TABLE_TOLERANCE * 2.0 ** (bits - 1 - scales["f_f"]) * model.scaling.k_out
         octaves, log2_m, error = _layout(model.aim, bits, tolerance)
         exact = model.aim(knots(octaves, log2_m))
         return cls(**scales, octaves=octaves, log2_m=log2_m,
                    table=_quantize(exact, f_aim, bits, "the AIM table"), interpolation_error=error)
+
+
+def curve_models(model: FrictionModel) -> Tuple[FrictionModel, ...]:
+    """Each curve of ``model`` (``FrictionModel.directions``: v >= 0, then v < 0 where it is
+    asymmetric) as a symmetric model of its own."""
+    return tuple(replace(model, aim=c.aim, scaling=c.scaling, viscous=c.viscous, v_sat=c.v_sat,
+                         negative=None) for c in model.directions)
+
+
+def table_specs(model: FrictionModel, dtype: str,
+                v_max: Optional[float] = None) -> Tuple[TableSpec, ...]:
+    """The ``TableSpec`` of each curve of ``model`` (``curve_models``), all on the input and
+    output scales of the curve that needs the coarser ones: one input and one output for the
+    whole model."""
+    check_dtype(dtype)
+    curves = curve_models(model)
+    scales = [io_scales(c, dtype, v_max) for c in curves]
+    f_v, f_f = min(s["f_v"] for s in scales), min(s["f_f"] for s in scales)
+    return tuple(TableSpec.of(c, dtype, v_max, f_v, f_f) for c in curves)
 
 
 def knots(octaves: int, log2_m: int) -> np.ndarray:
@@ -153,6 +176,18 @@ def force_table_q(spec: TableSpec, v_q) -> np.ndarray:
     return signed_force(spec, aim, v_q)
 
 
+def force_tables_q(specs: Sequence[TableSpec], v_q) -> np.ndarray:
+    """Integer twin of NAME_force_q15 / NAME_force_q31 of a grey-box model of any symmetry
+    (``table_specs``): the first table for v >= 0, the last for v < 0."""
+    v_q = np.asarray(v_q, dtype=np.int64)
+    return np.where(v_q < 0, force_table_q(specs[-1], v_q), force_table_q(specs[0], v_q))
+
+
+def tables_error_bound(specs: Sequence[TableSpec], model: FrictionModel) -> float:
+    """``table_error_bound`` of the worse of ``model``'s curves (``table_specs``)."""
+    return max(table_error_bound(s, c) for s, c in zip(specs, curve_models(model)))
+
+
 def table_error_bound(spec: TableSpec, model: FrictionModel) -> float:
     """Bound (N) on |force_table_q(v_q) 2^-f_f - F(v_q 2^-f_v)| for every representable v_q (see
     the module)."""
@@ -164,11 +199,15 @@ def table_error_bound(spec: TableSpec, model: FrictionModel) -> float:
 
 def render_fixed_table(model: FrictionModel, name: str, dtype: str, max_rel_error: float = 0.025,
                        v_max: Optional[float] = None) -> Dict[str, str]:
-    """NAME.h and NAME.c of the fixed-point grey-box model (integers only, no runtime files),
-    its input covering ``v_max`` m/s (default: the model's training speeds)."""
-    spec = TableSpec.of(model, dtype, v_max)
-    ctx = fixed_context(model, name, spec, v_max, table_error_bound(spec, model), max_rel_error)
-    ctx.update({"table_size": spec.table.size, "table": _c_int_array(spec.table),
-                "octaves": spec.octaves, "log2_m": spec.log2_m, "base_shift": spec.base_shift,
-                "f_aim": spec.f_aim, "source_count": model.aim.n_sources, "shape": model.aim.shape})
+    """NAME.h and NAME.c of the fixed-point grey-box model (integers only, no runtime files; a
+    table per curve), its input covering ``v_max`` m/s (default: the model's training speeds)."""
+    specs = table_specs(model, dtype, v_max)
+    ctx = fixed_context(model, name, specs[0], v_max, tables_error_bound(specs, model), max_rel_error)
+    suffixes = ("",) if len(specs) == 1 else ("_positive", "_negative")
+    ctx.update({"table_size": sum(s.table.size for s in specs), "curves": [
+        {"suffix": suffix, "table_size": s.table.size, "table": _c_int_array(s.table),
+         "octaves": s.octaves, "log2_m": s.log2_m, "base_shift": s.base_shift, "f_aim": s.f_aim,
+         "v_sat_q": s.v_sat_q, "k_in": s.k_in, "inv_k_out": s.inv_k_out, "viscous": s.viscous,
+         "source_count": c.aim.n_sources, "shape": c.aim.shape}
+        for suffix, s, c in zip(suffixes, specs, curve_models(model))]})
     return render_source_and_header(ctx, name, "model_fixed")

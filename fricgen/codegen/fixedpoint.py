@@ -91,11 +91,12 @@ def covered_speed(model: FrictionModel, v_max: Optional[float] = None) -> Option
 
 
 def input_range(model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> float:
-    """V_RANGE (m/s): the smallest power of two >= 2 v_sat in which ``covered_speed`` is
-    representable; the emitted C takes |v| < V_RANGE (a caller clamps faster speeds there)."""
+    """V_RANGE (m/s): the smallest power of two >= 2 v_sat (the larger of an asymmetric
+    model's two) in which ``covered_speed`` is representable; the emitted C takes |v| < V_RANGE (a caller clamps faster speeds there)."""
     bits = DTYPE_PARAMS[dtype]["bits"]
     cover = covered_speed(model, v_max)
-    need = 2 * model.v_sat if cover is None else max(2 * model.v_sat, cover * (1 + 2.0 ** -(bits - 2)))
+    v_sat = max(curve.v_sat for curve in model.directions)
+    need = 2 * v_sat if cover is None else max(2 * v_sat, cover * (1 + 2.0 ** -(bits - 2)))
     return 2.0 ** _ceil_log2(need)
 
 
@@ -105,16 +106,19 @@ def check_dtype(dtype: str) -> None:
         raise ModelError(f"dtype must be one of {sorted(DTYPE_PARAMS)}, got {dtype!r}")
 
 
-def io_scales(model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> dict:
+def io_scales(model: FrictionModel, dtype: str, v_max: Optional[float] = None,
+              f_v: Optional[int] = None, f_f: Optional[int] = None) -> dict:
     """The scales every fixed-point model shares (``FixedSpec``, ``TableSpec``): ``dtype`` and
     ``bits``; F_v of the input (``input_range``); F_f of the output (1.1 max |F| over it); F_aim
     of the AIM (1.1 max |AIM| over [0, 1]); v_sat in the input's scale; and the constant
-    multipliers K_in, 1 / K_out and B."""
+    multipliers K_in, 1 / K_out and B. ``f_v`` and ``f_f``, where given, replace the first two
+    (the scales two curves of one model share)."""
     bits = DTYPE_PARAMS[dtype]["bits"]
-    v_range = input_range(model, dtype, v_max)
-    f_v = (bits - 1) - _ceil_log2(v_range)
-    f_max = float(np.max(np.abs(model.force(np.linspace(0.0, v_range, 4001)))))
-    f_f = (bits - 1) - _ceil_log2(1.1 * f_max)
+    if f_v is None:
+        f_v = (bits - 1) - _ceil_log2(input_range(model, dtype, v_max))
+    if f_f is None:
+        f_max = float(np.max(np.abs(model.force(np.linspace(0.0, 2.0 ** (bits - 1 - f_v), 4001)))))
+        f_f = (bits - 1) - _ceil_log2(1.1 * f_max)
     aim_max = float(np.max(np.abs(model.aim(np.linspace(0.0, 1.0, 4001)))))
     f_aim = (bits - 1) - _ceil_log2(1.1 * aim_max + 1e-12)
     return dict(dtype=dtype, bits=bits, f_v=f_v, f_f=f_f, f_aim=f_aim,

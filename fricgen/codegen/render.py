@@ -374,9 +374,10 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
                          f"{' and the '.join(model.inputs.names)} (emit it with --dtype float: "
                          "NAME_force_lt)")
     if dtype != "float":
-        if model.negative is not None:
-            raise ModelError(f"--dtype {dtype} emits symmetric models; this one is asymmetric "
-                             "(emit it with --dtype float)")
+        grey_box = all(isinstance(c.aim, StribeckCurve) for c in model.directions)
+        if model.negative is not None and not grey_box:
+            raise ModelError(f"--dtype {dtype} emits an asymmetric model whose curves are both "
+                             "grey-box [F1]; this one has an ELM curve (emit it with --dtype float)")
         if model.cogging_map is not None:
             raise ModelError(f"--dtype {dtype} does not emit the cogging map; --dtype float "
                              "emits it in float, q15 and q31 (NAME_cogging, NAME_cogging_q15, "
@@ -387,7 +388,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
-        if isinstance(model.aim, StribeckCurve):
+        if grey_box:
             check_determined(model)
             return render_fixed_table(model, name, dtype, v_max=v_max)
         return render_fixed(model, name, dtype, v_max=v_max)
