@@ -7,8 +7,10 @@ with 12- and 14-bit encoders and a linear motor (12 bits per pole pitch), and th
 axes again with the measured loop at ODrive's default gains (``ODRIVE_DEFAULTS``; calibrated at
 the axis's own). ``--case PREFIX`` runs only the cases whose name starts with it. Per axis:
 
-1. fricgen's map: ``identify_cogging`` on a calibration of 2 turns each way at 1 rad/s logged
-   at the drive's rate (force = kt i).
+1. fricgen's map: ``identify_cogging`` on calibrations of 2 turns each way in all at 1 rad/s
+   logged at the drive's rate (force = kt i): by default two of one turn each way, the second
+   with the first one's map fed forward (``anticogging_map.two_pass_fit``; ``--passes 1``: one
+   of two turns).
 2. The integrator map, as ODrive's anticogging calibration builds it: the drive creeps 5 turns
    each way under position control and the velocity integrator (A) is averaged in each of 3600
    bins of the measured theta (the encoder's counts if fewer), per direction, the two
@@ -71,6 +73,7 @@ import numpy as np                                      # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fricgen.errors import DataError                    # noqa: E402
+from anticogging_map import two_pass_fit                 # noqa: E402
 from fricgen.fit.cogging import identify_cogging        # noqa: E402
 from fricgen.sim.servo_axis import TWO_PI, Drive, calibration_move, random_axis, run  # noqa: E402
 
@@ -143,10 +146,14 @@ def integrator_map(axis) -> np.ndarray:
     return (directions[0] + directions[1]) / 2
 
 
-def fricgen_map(axis):
-    """fricgen's map from the calibration (None when it finds none or refuses the log)."""
-    log = calibration_move(axis, CALIBRATION_TURNS, CALIBRATION_SPEED, every=1)
+def fricgen_map(axis, passes: int = 2):
+    """fricgen's map from CALIBRATION_TURNS each way: one calibration, or two of half as many
+    turns, the second with the first map fed forward (``anticogging_map.two_pass_fit``); None
+    when it finds none or refuses the log."""
     try:
+        if passes == 2:
+            return two_pass_fit(axis, CALIBRATION_TURNS, CALIBRATION_SPEED, axis.pitch).map
+        log = calibration_move(axis, CALIBRATION_TURNS, CALIBRATION_SPEED, every=1)
         return identify_cogging(log["t"], log["x"], axis.kt * log["i"], axis.pitch).map
     except DataError:
         return None
@@ -215,10 +222,10 @@ def integrator_error(axis, integrator: np.ndarray) -> float:
 
 def one(job) -> dict:
     """The measurements of one (case, bits, linear, seed)."""
-    case, bits, linear, tuning, seed = job
+    case, bits, linear, tuning, seed, passes = job
     start = time.perf_counter()
     axis = random_axis(seed, bits=bits, linear=linear)
-    cogging_map = fricgen_map(axis)
+    cogging_map = fricgen_map(axis, passes)
     integrator = integrator_map(axis)
     lookup = feedforwards(axis, cogging_map, integrator)
     if tuning is not None:
@@ -283,10 +290,12 @@ def main(argv=None) -> int:
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--quick", action="store_true", help="3 seeds")
     ap.add_argument("--case", help="only the cases whose name starts with this")
+    ap.add_argument("--passes", type=int, choices=(1, 2), default=2,
+                    help="fricgen's calibration: one of 2 turns each way, or two of one (default)")
     args = ap.parse_args(argv)
     seeds = range(1000, 1000 + (3 if args.quick else args.seeds))
     cases = [c for c in CASES if args.case is None or c[0].startswith(args.case)]
-    jobs = [(*case, seed) for seed in seeds for case in cases]
+    jobs = [(*case, seed, args.passes) for seed in seeds for case in cases]
     start = time.perf_counter()
     results = []
     with multiprocessing.Pool(2) as pool:
@@ -295,7 +304,7 @@ def main(argv=None) -> int:
             print(f"  {k}/{len(jobs)} axes ({r['case']}, seed {r['seed']}: {r['seconds']:.0f} s), "
                   f"{time.perf_counter() - start:.0f} s", file=sys.stderr, flush=True)
     print(f"seeds {seeds.start}-{seeds.stop - 1}; fricgen's map: {CALIBRATION_TURNS:g} turns each "
-          f"way at {CALIBRATION_SPEED:g} rad/s; integrator map: {CREEP_TURNS} turns each way at "
+          f"way at {CALIBRATION_SPEED:g} rad/s in {args.passes} calibration(s); integrator map: {CREEP_TURNS} turns each way at "
           f"min({MAX_CREEP:g}, {CREEP_WAVE:g} / L) rad/s, {MAP_BINS} bins (the counts if fewer); "
           f"ripple over one turn each way; error at rest over the last {HOLD - SKIP:g} s of "
           f"{TARGETS} holds")

@@ -6,6 +6,7 @@ For every dataset folder of ../shared/data that is present (a missing one is ski
     trajectory jointJ_heldout_ptp.csv and on its cruise points jointJ_sweep_ptp.csv (F(v) + o:
     the rigid body removed there already);
   - panda: per joint, trained on jointJ_train.csv, scored on jointJ_test.csv (M a + F(v) + o);
+    then again with both logs on a uniform time grid (``panda_on_a_uniform_grid``);
   - kinova_gen3: the sweep, trained on sweep_train.csv (weighted by its F_std and n), scored on
     sweep_test.csv; and the runs: the five run_v*_train.csv logs joined end to end (t restarts at
     0 in each) trained as one log, scored on the five test runs (M a + F(v) + o) over all their
@@ -162,6 +163,34 @@ def panda(folder, ratios):
     per_joint("panda", 7, score)
 
 
+def uniform_grid(d):
+    """A jointJ_*.csv on the uniform grid of its median time step (every column linearly
+    interpolated: as ``fricgen.train`` reads a log whose time stamps jitter)."""
+    t = d["t"]
+    grid = np.arange(t[0], t[-1], float(np.median(np.diff(t))))
+    return {"t": grid, "dq": np.interp(grid, t, d["dq"]), "tau": np.interp(grid, t, d["tau"])}
+
+
+def panda_on_a_uniform_grid(folder):
+    """The panda scores again with train and test logs on a uniform time grid (``uniform_grid``),
+    the folder's filter then applied there, the textbook refitted there: the folder's own
+    scores filter v over the sample index of jittering time stamps and differentiate it over
+    the stamps, an acceleration other than that of the logs' uniform resampling."""
+    b = load_baseline(folder)
+    print("\npanda again on a uniform time grid (default / textbook):")
+    for j in range(7):
+        tr = uniform_grid(csv(folder / f"joint{j + 1}_train.csv"))
+        predict, *_ = trained(log_columns(tr))
+        v, a = b.va(tr["t"], tr["dq"])
+        m = np.abs(v) > b.VMIN
+        tb = textbook(v[m], a[m], tr["tau"][m])
+        te = uniform_grid(csv(folder / f"joint{j + 1}_test.csv"))
+        v, a = b.va(te["t"], te["dq"])
+        m = np.abs(v) > b.VMIN
+        y, v, a = te["tau"][m], v[m], a[m]
+        print(f"panda J{j + 1} (uniform grid) {rms(y - predict(v, a)) / rms(y - tb(v, a)):6.3f}")
+
+
 def kinova(folder, ratios):
     tr, te = csv(folder / "sweep_train.csv"), csv(folder / "sweep_test.csv")
     start = time.process_time()
@@ -237,6 +266,8 @@ def main():
     print(f"\n{len(tb)} scores: default / textbook worst {tb.max():.3f}, median {np.median(tb):.3f} "
           f"({len(above)} with its 90 % interval above 1)"
           + (f"; default / published worst {pub.max():.3f}, median {np.median(pub):.3f}" if pub.size else ""))
+    if (args.data / "panda").is_dir():
+        panda_on_a_uniform_grid(args.data / "panda")
 
 
 if __name__ == "__main__":

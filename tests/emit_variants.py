@@ -47,8 +47,8 @@ def emit_every_variant(root, bench, model10, axis2_model):
                                 for m in (grey, grey_exp, grey_rat)],
         "grey_q15": lambda d: codegen.emit(grey, d, "gb", dtype="q15"),
         "grey_q31": lambda d: codegen.emit(grey_exp, d, "gx", dtype="q31"),
-        "asym_q15": lambda d: codegen.emit(FrictionModel.from_directions(
-            grey.positive, grey_exp.positive, name="ga"), d, "ga", dtype="q15"),
+        "asym_q15": lambda d: codegen.emit(replace(FrictionModel.from_directions(
+            grey.positive, grey_exp.positive, name="ga"), velocity_band=1e-3), d, "ga", dtype="q15"),
         "asym_libm": lambda d: codegen.emit(asym, d, "fa", activation_impl="libm"),
         "asym_fast": lambda d: codegen.emit(asym, d, "fa", activation_impl="fast"),
         "effects": lambda d: [codegen.emit(with_effects(model10, XV_EFFECTS + OTHER_EFFECTS), d, "fx"),

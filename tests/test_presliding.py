@@ -199,7 +199,9 @@ def test_emit_needs_a_sample_time_and_refuses_one_without_bristles(model):
     with pytest.raises(ModelError, match="has none"):
         codegen.render(replace(model, presliding=None), sample_time=DT)
     with pytest.raises(ModelError, match="pre-sliding"):
-        codegen.render(replace(model, presliding=None), dtype="q15")
+        codegen.render(model, dtype="q15")
+    banded = codegen.render(replace(model, presliding=None), dtype="q15")     # the band alone
+    assert "_compensation_q15(int16_t v_q)" in "".join(banded.values())
 
 
 def test_emit_names_a_sample_time_far_from_the_logs(model, tmp_path, capsys):

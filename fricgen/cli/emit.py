@@ -55,22 +55,27 @@ def input_range_note(model: FrictionModel, dtype: str, v_max) -> str:
     """One line on the speeds the fixed-point input covers, and where that range came from."""
     v_range = input_range(model, dtype, v_max)
     cover = covered_speed(model, v_max)
+    speed = model.units.speed
     if cover is None:
-        return (f"fricgen: warning: the {dtype} C takes |v| < {v_range:g} m/s (2 v_sat): faster "
+        return (f"fricgen: warning: the {dtype} C takes |v| < {v_range:g} {speed} (2 v_sat): faster "
                 "speeds clamp there; the model records no speed range (--v-max sets one)")
     source = "--v-max" if v_max is not None else "the model's axis: its training speeds"
-    return f"fricgen: the {dtype} C takes |v| < {v_range:g} m/s, covering {cover:.4g} m/s ({source})"
+    return f"fricgen: the {dtype} C takes |v| < {v_range:g} {speed}, covering {cover:.4g} {speed} ({source})"
 
 
-def offset_note(model, name: str) -> str:
+def offset_note(model, name: str, dtype: str = "float") -> str:
     """One line when the model's axis records an offset that its curves leave out (a symmetric
     model's constant force, or a load) and no constant_load effect carries it: NAME_force is
-    the friction alone, NAME_force_with_offset adds it."""
+    the friction alone, NAME_force_with_offset adds it (fixed point: the caller adds it)."""
     offset = offset_left_out(model)
     unit = model.units.force
-    return "" if offset is None else (
-        f"fricgen: note: the axis's offset o = {offset:.4g} {unit} (training.axis.offset) is not in "
-        f"{name}_force, the friction alone; {name}_force_with_offset adds it")
+    if offset is None:
+        return ""
+    head = f"fricgen: note: the axis's offset o = {offset:.4g} {unit} (training.axis.offset) is not in "
+    if dtype != "float":
+        return head + (f"{name}_force_{dtype}, the friction alone; add o * 2^{name.upper()}_F_FRAC_BITS "
+                       "to its result where the drive needs it")
+    return head + f"{name}_force, the friction alone; {name}_force_with_offset adds it"
 
 
 def cogging_blob(args, model: FrictionModel, table: Optional[CoggingTable]) -> dict:
@@ -117,7 +122,7 @@ def run(args) -> int:
             f"{name}, and used by no model in the folder now")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
-    notes = [offset_note(model, name), table and table.shortfall(name, model.units.force)]
+    notes = [offset_note(model, name, args.dtype), table and table.shortfall(name, model.units.force)]
     for note in filter(None, notes):
         say(note)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})"

@@ -299,6 +299,57 @@ def sigmoid_table_error(spec: FixedSpec) -> float:
     return float(np.max(np.abs(sigmoid_q(spec, z_q) * 2.0 ** -(spec.bits - 1) - exact)))
 
 
+@dataclass(frozen=True)
+class BandSpec:
+    """NAME_compensation_q15/q31's band ([the float NAME_compensation]'s ``velocity_band``) in
+    the input's scale: 0 while |v_q| <= ``band_q`` (at least 1 LSB), a ramp to the force at
+    2 band_q, the force beyond; the ramp's weight (|v_q| - band_q) / band_q in Q(bits-1) is
+    ``weight``, a product and a shift."""
+
+    band_q: int
+    weight: ConstMul
+
+    @classmethod
+    def of(cls, model: FrictionModel, spec) -> Optional["BandSpec"]:
+        """The band of ``model`` on ``spec``'s input scale, or None for a model without one."""
+        if model.velocity_band is None:
+            return None
+        band_q = max(int(round(model.velocity_band * 2.0 ** spec.f_v)), 1)
+        if 2 * band_q >= spec.one:
+            raise ModelError(f"the velocity band {model.velocity_band:.4g} fills the {spec.dtype} "
+                             "input's range")
+        shift = 2 * spec.bits - 2 - _ceil_log2(band_q)          # (|v_q| - band_q) mant < 2^shift
+        return cls(band_q, ConstMul(int(round(2.0 ** shift / band_q)), shift - (spec.bits - 1)))
+
+
+def compensation_q(force, band: BandSpec, bits: int, v_q) -> np.ndarray:
+    """Integer twin of NAME_compensation_q15 / q31: ``force`` (the twin of NAME_force_q15/q31, a
+    function of v_q) within the band's ramp (``BandSpec``)."""
+    v_q = np.asarray(v_q, dtype=np.int64)
+    u = np.abs(v_q)
+    edge = force(np.where(v_q < 0, -2 * band.band_q, 2 * band.band_q))
+    ramp = _rshift(edge * band.weight.apply(np.clip(u - band.band_q, 0, band.band_q)), bits - 1)
+    return np.where(u <= band.band_q, 0, np.where(u >= 2 * band.band_q, force(v_q), ramp))
+
+
+def compensation_error_bound(force_bound: float, spec, model: FrictionModel) -> float:
+    """Bound (N) on |compensation_q 2^-f_f - model.compensation(v_q 2^-f_v)|: the force's
+    bound; the band rounded to whole LSBs of v (by delta), which tilts the ramp by up to
+    2 delta / band of its end F(+-2 band) (but never by more than the largest |F| within the
+    ramp: a band under an LSB), and moves its end by 2 delta, over which F changes (sampled);
+    the weight's and the product's rounding; an output LSB."""
+    lsb = 2.0 ** -spec.f_v
+    band = model.velocity_band
+    band_q = BandSpec.of(model, spec).band_q
+    delta = abs(band - band_q * lsb)
+    edge = float(np.max(np.abs(model.force(np.array([-2.0, 2.0]) * band))))
+    peak = float(np.max(np.abs(model.force(np.linspace(-2.0, 2.0, 801) * (band_q + 1) * lsb))))
+    between = np.linspace(2.0 * band, 2.0 * band_q * lsb, 65)     # the ramp's two ends
+    step = max(float(np.ptp(model.force(side * between))) for side in (-1.0, 1.0))
+    return force_bound + min(edge * (2.0 * delta / band + 2.0 ** -(spec.bits - 2)), peak) + step \
+        + 2.0 ** -spec.f_f
+
+
 def _c_int_array(values, per_line: int = 8) -> str:
     return c_list((str(int(v)) for v in np.asarray(values).ravel()), per_line)
 
@@ -313,22 +364,35 @@ def fixed_context(model: FrictionModel, name: str, spec, v_max: Optional[float],
     if cover is None:
         covers = "2 v_sat only: the model records no training speeds"
     else:
-        covers = (f"{cover:.4g} m/s" + (" (--v-max)" if v_max is not None else
+        covers = (f"{cover:.4g} {model.units.speed}" + (" (--v-max)" if v_max is not None else
                                          ", the fastest speed of the model's training data"))
     f_range = 2.0 ** (spec.bits - 1 - spec.f_f)
     if not bound <= max_rel_error * f_range:
-        raise ModelError(f"{spec.dtype} cannot meet its error bound for this model: {bound:.4g} N > "
-                         f"{max_rel_error:g} x force range {f_range:g} N")
+        unit = model.units.force
+        raise ModelError(f"{spec.dtype} cannot meet its error bound for this model: {bound:.4g} {unit} > "
+                         f"{max_rel_error:g} x force range {f_range:g} {unit}")
     st, wt = ("int16_t", "int32_t") if spec.bits == 16 else ("int32_t", "int64_t")
     return {
-        **identity_context(model, name), "dtype": spec.dtype, "bits": spec.bits,
+        **identity_context(model, name), "units": model.units, "dtype": spec.dtype, "bits": spec.bits,
         "stype": st, "wtype": wt, "f_v": spec.f_v, "f_f": spec.f_f, "error_bound": f"{bound:.3g}",
         "covers": covers, "v_range": f"{2.0 ** (spec.bits - 1 - spec.f_v):g}", "f_range": f"{f_range:g}",
         "one": spec.one, "v_sat_q": spec.v_sat_q, "k_in": spec.k_in, "inv_k_out": spec.inv_k_out,
         "viscous": spec.viscous, "smin": -(spec.one - 1), "smax": spec.one - 1,   # F(-v) = -F(v)
         "table_size": 0,                                   # the ELM path; a table sets it
         "emit_options": emit_options(dtype=spec.dtype, v_max=v_max),
+        "band": band_context(model, spec, bound),
     }
+
+
+def band_context(model: FrictionModel, spec, force_bound: float) -> Optional[dict]:
+    """NAME_compensation_q15/q31's constants and bound (``BandSpec``), None without a band."""
+    band = BandSpec.of(model, spec)
+    if band is None:
+        return None
+    return {"band_q": band.band_q, "twice_q": 2 * band.band_q, "weight": band.weight,
+            "value": f"{model.velocity_band:.4g}",
+            "source": model.training.get("velocity_band_from", "model.json velocity_band"),
+            "bound": f"{compensation_error_bound(force_bound, spec, model):.3g}"}
 
 
 def render_fixed(model: FrictionModel, name: str, dtype: str, max_rel_error: float = 0.025,

@@ -382,9 +382,9 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
             raise ModelError(f"--dtype {dtype} does not emit the cogging map; --dtype float "
                              "emits it in float, q15 and q31 (NAME_cogging, NAME_cogging_q15, "
                              "NAME_cogging_q31)")
-        if model.presliding is not None or model.velocity_band is not None:
-            raise ModelError(f"--dtype {dtype} does not emit pre-sliding nor the compensation band; "
-                             "--dtype float does (NAME_step, NAME_compensation)")
+        if model.presliding is not None:
+            raise ModelError(f"--dtype {dtype} does not emit pre-sliding; --dtype float does "
+                             "(NAME_step)")
         if model.effects:
             raise ModelError(f"--dtype {dtype} does not emit effects; this model has "
                              f"{len(model.effects)} (emit it with --dtype float)")
