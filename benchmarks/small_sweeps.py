@@ -10,7 +10,8 @@ least squares (scipy), started as a user would start it (not at the truth). Both
 true curve over 200 speeds spanning the sweep. Seeds 1000-1019 (they tuned nothing); printed:
 the median and the worst ratio default / oracle per point count.
 
-Then the CPU time of ``fricgen.train`` (median of 5 runs, after one to import): a 40-point and
+At 3 points per direction the oracle is underdetermined (4 parameters, 3 points): its error
+from other starts of v_s is printed beside the default's. Then the CPU time of ``fricgen.train`` (median of 5 runs, after one to import): a 40-point and
 a 300-point sweep of the "drag" law, and a 300-point sweep of the paper's Table 1 (3 sources).
 
 Run: python benchmarks/small_sweeps.py [--seeds 20]
@@ -56,10 +57,10 @@ def truth(law, v):
     return np.where(v > 0, form(pos, np.abs(v)), -form(neg, np.abs(v)))
 
 
-def oracle(law, v, f):
+def oracle(law, v, f, v_s=None):
     """The true structure fitted per direction by bounded least squares (all parameters >= 0),
     started where a user would start it: levels from the slowest and the fastest points, v_s at
-    the speeds' geometric mean, no drag."""
+    the speeds' geometric mean (or at ``v_s``), no drag."""
     form, params = LAWS[law]
     fitted = []
     for sign in (1, -1):
@@ -68,10 +69,26 @@ def oracle(law, v, f):
         order = np.argsort(speed)
         slope = max((force[order[-1]] - force[order[0]]) / (speed[order[-1]] - speed[order[0]]), 0.0)
         start = [max(force[order[-1]] - slope * speed[order[-1]], 0.0), max(force[order[0]], 0.0),
-                 float(np.sqrt(speed.min() * speed.max())), slope, 0.0][:len(params[0])]
+                 float(np.sqrt(speed.min() * speed.max())) if v_s is None else v_s, slope,
+                 0.0][:len(params[0])]
         res = least_squares(lambda p: form(p, speed) - force, start, bounds=(0.0, np.inf))
         fitted.append(res.x)
     return lambda u: np.where(u > 0, form(fitted[0], np.abs(u)), -form(fitted[1], np.abs(u)))
+
+
+def underdetermined(seeds, starts=(0.003, 0.01, 0.1, 0.3)):
+    """At 3 points per direction the textbook law's 4 parameters fit every point exactly along
+    a line of solutions: the oracle's error then depends on where its v_s starts. Printed: the
+    median RMS errors of the default and of the oracle from each start."""
+    grid = np.concatenate([np.geomspace(0.002, 0.5, 100), -np.geomspace(0.002, 0.5, 100)])
+    runs = [sweep("textbook", 3, np.random.default_rng(seed)) for seed in range(1000, 1000 + seeds)]
+    default = [rms(fricgen.train({"v": v, "f": f}, warn=lambda line: None).model.force(grid)
+                   - truth("textbook", grid)) for v, f in runs]
+    line = f"3 points, 'textbook' law, median RMS error (N): default {np.median(default):.3f}; oracle from v_s ="
+    for v_s in (None,) + tuple(starts):
+        error = [rms(oracle("textbook", v, f, v_s)(grid) - truth("textbook", grid)) for v, f in runs]
+        line += f" {'geometric mean' if v_s is None else f'{v_s:g}'}: {np.median(error):.3f}"
+    print(line + " (0.0316; the truth's v_s: 0.02 and 0.03)")
 
 
 def rms(e):
@@ -119,6 +136,7 @@ def main():
     p.add_argument("--seeds", type=int, default=20)
     args = p.parse_args()
     accuracy(args.seeds)
+    underdetermined(args.seeds)
     speed()
 
 

@@ -30,8 +30,11 @@ def greybox(shape, stribeck=(0.005, 0.02), name="gb"):
                                         ("q15", "rational")])
 def table_lib(request, tmp_path_factory):
     dtype, shape = request.param
-    model = greybox(shape)
-    folder = tmp_path_factory.mktemp(f"{dtype}_{shape}")
+    return built(greybox(shape), dtype, tmp_path_factory.mktemp(f"{dtype}_{shape}"))
+
+
+def built(model, dtype, folder):
+    """(dtype, model, folder, gb_force_DTYPE) of ``model`` emitted as gb in ``dtype`` and built."""
     codegen.emit(model, folder, "gb", dtype=dtype)
     lib = cbuild.build(folder, "gb.h", f"{CTYPE[dtype]} gb_force_{dtype}({CTYPE[dtype]} v_q);",
                        build_dir=folder / "build")
@@ -106,12 +109,7 @@ def asymmetric(shape):
 @pytest.fixture(scope="module", params=[("q15", "gauss"), ("q31", "exponential")])
 def asymmetric_lib(request, tmp_path_factory):
     dtype, shape = request.param
-    model = asymmetric(shape)
-    folder = tmp_path_factory.mktemp(f"asym_{dtype}_{shape}")
-    codegen.emit(model, folder, "gb", dtype=dtype)
-    lib = cbuild.build(folder, "gb.h", f"{CTYPE[dtype]} gb_force_{dtype}({CTYPE[dtype]} v_q);",
-                       build_dir=folder / "build")
-    return dtype, model, folder, getattr(lib, f"gb_force_{dtype}")
+    return built(asymmetric(shape), dtype, tmp_path_factory.mktemp(f"asym_{dtype}_{shape}"))
 
 
 def test_an_asymmetric_models_tables_are_lsb_exact_and_within_their_bound(asymmetric_lib):

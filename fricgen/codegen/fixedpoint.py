@@ -92,7 +92,8 @@ def covered_speed(model: FrictionModel, v_max: Optional[float] = None) -> Option
 
 def input_range(model: FrictionModel, dtype: str, v_max: Optional[float] = None) -> float:
     """V_RANGE (m/s): the smallest power of two >= 2 v_sat (the larger of an asymmetric
-    model's two) in which ``covered_speed`` is representable; the emitted C takes |v| < V_RANGE (a caller clamps faster speeds there)."""
+    model's two) in which ``covered_speed`` is representable; the emitted C takes |v| < V_RANGE
+    (a caller clamps faster speeds there)."""
     bits = DTYPE_PARAMS[dtype]["bits"]
     cover = covered_speed(model, v_max)
     v_sat = max(curve.v_sat for curve in model.directions)

@@ -377,7 +377,7 @@ def render(model: FrictionModel, name: Optional[str] = None, activation_impl: st
         grey_box = all(isinstance(c.aim, StribeckCurve) for c in model.directions)
         if model.negative is not None and not grey_box:
             raise ModelError(f"--dtype {dtype} emits an asymmetric model whose curves are both "
-                             "grey-box [F1]; this one has an ELM curve (emit it with --dtype float)")
+                             "grey-box [F1]; one of this one's is not (emit it with --dtype float)")
         if model.cogging_map is not None:
             raise ModelError(f"--dtype {dtype} does not emit the cogging map; --dtype float "
                              "emits it in float, q15 and q31 (NAME_cogging, NAME_cogging_q15, "
