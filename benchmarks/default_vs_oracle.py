@@ -100,8 +100,8 @@ def main():
         med = np.median(rows, axis=0)
         clean[shape] = med[0]
         ratios = [d / o for d, o, _ in rows]
-        print(f"{shape:14s} {med[0]:10.4f} {med[1]:9.4f} {med[2]:10.4f} {med[0] / med[1]:14.2f} "
-              f"{np.median(ratios):7.2f} {max(ratios):8.2f} {med[0] / med[2]:16.2f} "
+        print(f"{shape:14s} {med[0]:10.4f} {med[1]:9.4f} {med[2]:10.4f} {med[0] / med[1]:14.3f} "
+              f"{np.median(ratios):7.3f} {max(ratios):8.3f} {med[0] / med[2]:16.2f} "
               f"{choices.count('stribeck'):>3d} stribeck/{len(choices)}", flush=True)
     for name, curve in (("sqrt viscous", sqrt_viscous), ("measured-like", measured_like)):
         rows, choices = [], []
