@@ -75,7 +75,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from fricgen.errors import DataError                    # noqa: E402
 from anticogging_map import two_pass_fit                 # noqa: E402
 from fricgen.fit.cogging import identify_cogging        # noqa: E402
-from fricgen.sim.servo_axis import TWO_PI, Drive, calibration_move, random_axis, run  # noqa: E402
+from fricgen.sim.servo_axis import (TWO_PI, Drive, calibration_move, count_lookup, map_feedforward,  # noqa: E402
+                                     random_axis, run)
 
 #: ODrive's default tuning (firmware 0.5: pos_gain 20 (turn/s)/turn, vel_gain 1/6 Nm/(turn/s),
 #: vel_integrator_gain 1/3 Nm/turn, encoder bandwidth 1000 rad/s) in the axis's units
@@ -108,13 +109,6 @@ BETTER_THAN_NONE, NEAR_EXACT, BETTER_THAN_INTEGRATOR = 4.0, 1.2, 1.0
 def map_bins(counts: int) -> int:
     """The integrator map's bins per turn: ODrive's 3600, or the encoder's counts if fewer."""
     return min(MAP_BINS, counts)
-
-
-def count_lookup(values, counts: int):
-    """The feedforward (A) of the measured theta (whole counts) from one value per count."""
-    table = [float(v) for v in values]
-    quantum = TWO_PI / counts
-    return lambda theta: table[round(theta / quantum) % counts]
 
 
 def creep_speed(axis) -> float:
@@ -162,15 +156,9 @@ def fricgen_map(axis, passes: int = 2):
 def feedforwards(axis, cogging_map, integrator) -> dict:
     """Each compensation as a function of the measured theta (A), None for none."""
     counts = axis.counts
-    theta = np.arange(counts) * TWO_PI / counts
-    lookup = {"exact": count_lookup(axis.cogging_per_count() / axis.kt, counts),
-              "integrator": count_lookup(integrator[np.arange(counts) * map_bins(counts) // counts],
-                                         counts),
-              "none": None, "fricgen": None}
-    if cogging_map is not None:
-        force = cogging_map.force(theta * axis.pitch / TWO_PI)
-        lookup["fricgen"] = count_lookup(force / axis.kt, counts)
-    return lookup
+    return {"exact": count_lookup(axis.cogging_per_count() / axis.kt, counts),
+            "integrator": count_lookup(integrator[np.arange(counts) * map_bins(counts) // counts], counts),
+            "none": None, "fricgen": map_feedforward(axis, cogging_map)}
 
 
 def orders(axis) -> list:

@@ -34,7 +34,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fricgen.fit.cogging import identify_cogging  # noqa: E402
-from fricgen.sim.servo_axis import TWO_PI, Drive, calibration_move, random_axis, run  # noqa: E402
+from fricgen.sim.servo_axis import TWO_PI, Drive, calibration_move, map_feedforward, random_axis, run  # noqa: E402
 
 TURNS, SPEED = 2.0, 1.0
 #: The null seeds below this one were looked at when fit.cogging.UNEXPLAINED_PERIODS was set.
@@ -54,28 +54,20 @@ def normal_operation(axis):
     return run(Drive(axis), theta, omega, position_loop=True, every=1)
 
 
-def map_feedforward(axis, cogging_map):
-    """The current (A) a drive feeds forward at the measured theta: the map / kt at the
-    measured count (None for no map)."""
-    if cogging_map is None:
-        return None
-    counts = axis.counts
-    theta = np.arange(counts) * TWO_PI / counts
-    table = [float(f) / axis.kt for f in cogging_map.force(theta * axis.pitch / TWO_PI)]
-    return lambda measured: table[round(measured * counts / TWO_PI) % counts]
-
-
 def two_pass_fit(axis, turns: float = TURNS, speed: float = SPEED, period=None):
     """``identify_cogging`` after two calibrations of ``turns`` / 2 each way (``turns`` in all):
     the first one's map fed forward in the second (``map_feedforward``), whose force kt i holds
     the feedforward, so that the second map is the whole cogging again, now identified from a
     move whose velocity barely ripples: what the inertia and the friction's slope make of that
-    ripple (one calibration cannot tell them from the cogging's phase) is then second order."""
+    ripple (one calibration cannot tell them from the cogging's phase) is then second order.
+    The second keeps the first's harmonics (``fed_forward``: the feedforward, read at the
+    counts, adds lines of its own) and takes J a as second order."""
     first = calibration_move(axis, turns=turns / 2, speed=speed, every=1)
     fit = identify_cogging(first["t"], first["x"], axis.kt * first["i"], period)
     second = calibration_move(axis, turns=turns / 2, speed=speed, every=1,
                               feedforward=map_feedforward(axis, fit.map))
-    return identify_cogging(second["t"], second["x"], axis.kt * second["i"], period)
+    return identify_cogging(second["t"], second["x"], axis.kt * second["i"], fed_forward=fit.map,
+                            fed_forward_friction=fit.friction)
 
 
 def one(job):

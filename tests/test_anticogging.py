@@ -438,7 +438,7 @@ def test_a_calibration_logged_too_coarsely_for_its_speed_says_the_compensation_i
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--pitch", "0.01"], "--pitch is the period of --cogging"),
+    (["--pitch", "0.01"], "--pitch is for --cogging's map"),
     (["--cogging", "--rotary"], "needs --force-constant"),
     (["--cogging", "--force-constant", "0.08", "--rotary", "--pitch", "100"], "longer than a turn"),
     (["--cogging", "--force-constant", "0.08", "--rotary", "--pitch", "7.8"], "longer than a turn"),

@@ -25,7 +25,7 @@ from ..training.with_cogging import less_position_force, train_with_cogging
 from ..unit_sizes import size
 from ..training.with_dynamic import train_dynamic
 from .._io import check_destination
-from .inputs import add_export_options, data_warnings, read_data, say_data_warnings
+from .inputs import add_export_options, data_warnings, load_model, read_data, say_data_warnings
 from .inputs import source_name as common_source_name
 from .common import (ArgumentParser, add_output, add_seed, number, out, positive_float, say,
                      write_file)
@@ -131,6 +131,17 @@ def _header(args) -> list:
     return [] if is_matfile(args.sweep) else header_cells(args.sweep, args.skip)
 
 
+def fed_forward(args):
+    """The cogging map and friction ripple of ``--fed-forward MODEL`` (None, None without it)."""
+    if args.fed_forward is None:
+        return None, None
+    model = load_model(args.fed_forward)
+    if model.cogging_map is None:
+        raise UsageError(f"--fed-forward {args.fed_forward}: the model has no cogging map to have fed "
+                         "forward (train the first calibration with --cogging)")
+    return model.cogging_map, model.cogging_friction
+
+
 def run(args) -> int:
     with data_warnings(args):
         return _run(args)
@@ -142,8 +153,9 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
     made again without the position force the log holds (``less_position_force``)."""
     name = check_model_name(args.name, "--name")
     rotary = is_rotary(args)
-    if args.pitch is not None and not args.cogging:
-        raise UsageError("--pitch is the period of --cogging's map; give --cogging too")
+    for option, value in (("--pitch", args.pitch), ("--fed-forward", args.fed_forward)):
+        if value is not None and not args.cogging:
+            raise UsageError(f"{option} is for --cogging's map; give --cogging too")
     if args.cogging and args.dynamic:
         raise UsageError("--cogging and --dynamic are trained from different logs (a slow move over "
                          "the travel; small reversals): train one, then the other")
@@ -177,7 +189,7 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
             return (less_position_force(columns, report, lambda data: fit_friction(data, force_constant=None))
                     if position_force else report)
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
-                                  force_constant=args.force_constant,
+                                  force_constant=args.force_constant, fed_forward=fed_forward(args),
                                   train_friction=lambda data, mass: fit_friction(data, mass=mass,
                                                                                  force_constant=None),
                                   name=name, symmetric=args.asymmetric is False)
@@ -333,6 +345,10 @@ def register(p) -> None:
                          help="also identify the cogging map (the position force: cogging, unbalance) "
                          "and the position-dependent friction; emit writes NAME_cogging(x), "
                          "NAME_cogging_q15(phase) and NAME_cogging_q31(phase)")
+    cogging.add_argument("--fed-forward", metavar="MODEL",
+                         help="the log is a second calibration, made with MODEL's cogging map fed "
+                         "forward (its current holds the whole cogging): the map keeps MODEL's "
+                         "harmonics and is identified again")
     cogging.add_argument("--pitch", type=positive_float,
                          help="the map's period: a pole pitch or screw lead, m (default: one "
                          "revolution, 2 pi rad, on a rotary axis; on a linear axis the wavelength of "

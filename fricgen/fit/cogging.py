@@ -46,6 +46,7 @@ from ..data.smoothing import MIN_WINDOW, between_edges, smooth, steady_rows
 from ..effects.fitting import FIT_FOLDS, block_grams, lstsq, nested_cross_validation, refine
 from ..errors import DataError
 from ..effects.cogging_map import MAX_TERMS, CoggingMap
+from .position_bins import MIN_BINS, bin_cap, bin_coefficients, filled_bins
 
 #: Family-wise probability that noise alone puts a harmonic among the candidates.
 ALPHA = 0.01
@@ -81,8 +82,6 @@ SAMPLE_RATE_LIMIT = "the sample rate"
 #: Rows whose force less the friction strays farther than this many robust standard deviations
 #: are left out (``_not_transient``).
 TRANSIENT_SIGMAS = 10.0
-#: Fewest position bins per period.
-MIN_BINS = 32
 #: The multiples of the encoder's count rate whose aliases by the sample rate are no position
 #: force (``_aliased``: the count's sawtooth error is strongest at its first few), the relative
 #: precision of the mean speed that places them, and the robust relative spread of the speed
@@ -90,9 +89,6 @@ MIN_BINS = 32
 ENCODER_ALIASES = 4
 SPEED_PRECISION = 1e-4
 STEADY_SPREAD = 0.05
-#: The share of the bins a direction may leave unvisited (an axis that stalls for a moment at a
-#: cogging peak): their means are interpolated from the bins beside them.
-MAX_EMPTY = 0.01
 
 
 @dataclass(frozen=True)
@@ -188,8 +184,8 @@ def _inertia(x, r, a, sign, period, bins, harmonics) -> Optional[float]:
     h = np.asarray(sorted(harmonics), dtype=float)
     if h.size == 0:
         return None
-    (fpa, fpb), (fna, fnb) = _bin_coefficients(x, r, sign, period, bins, h)
-    (apa, apb), (ana, anb) = _bin_coefficients(x, a - a.mean(), sign, period, bins, h)
+    (fpa, fpb), (fna, fnb) = bin_coefficients(x, r, sign, period, bins, h)
+    (apa, apb), (ana, anb) = bin_coefficients(x, a - a.mean(), sign, period, bins, h)
     dF = np.concatenate([fpa - fna, fpb - fnb])
     dA = np.concatenate([apa - ana, apb - anb])
     norm = float(dA @ dA)
@@ -199,54 +195,6 @@ def _inertia(x, r, a, sign, period, bins, harmonics) -> Optional[float]:
     residual = dF - inertia * dA
     se = np.sqrt(float(residual @ residual) / max(dF.size - 1, 1) / norm)
     return inertia if inertia > 0 and inertia > INERTIA_Z * se else None
-
-
-def _bin_index(x, period, bins):
-    return np.floor((x % period) / period * bins).astype(int) % bins
-
-
-def _bin_cap(most) -> int:
-    """The largest power of two from MIN_BINS up to ``most``: the finest position bins a pass
-    can fill (``most`` half its samples or counts per period)."""
-    bins = MIN_BINS
-    while 2 * bins <= most:
-        bins *= 2
-    return bins
-
-
-def _filled_bins(x, sign, period, most) -> int:
-    """The most position bins per period (``_bin_cap`` of ``most`` down) that each direction
-    visits all but MAX_EMPTY of (the encoder's steps and the sample rate leave finer bins
-    empty); DataError if the move does not cover the period each way."""
-    bins = _bin_cap(most)
-    while True:
-        empty = [(label, np.bincount(_bin_index(x[sign == d], period, bins), minlength=bins) == 0)
-                 for d, label in ((1, "+"), (-1, "-"))]
-        if all(e.mean() <= MAX_EMPTY for _, e in empty):
-            return bins
-        if bins == MIN_BINS:
-            label, e = next((label, e) for label, e in empty if e.mean() > MAX_EMPTY)
-            raise DataError(f"the move covers {1 - e.mean():.0%} of one period ({period:.6g}) in the "
-                            f"{label} direction; a cogging map needs the whole period each way")
-        bins //= 2
-
-
-def _bin_coefficients(x, r, sign, period, bins, harmonics):
-    """Per direction (+, -), the sine and cosine coefficients of the bin means of r over one
-    period (each divided by the bin's sinc attenuation); ``bins`` as ``_filled_bins`` gives them,
-    a bin a direction left unvisited interpolated from its neighbours."""
-    idx = _bin_index(x, period, bins)
-    arg = np.outer(harmonics, (np.arange(bins) + 0.5) / bins * 2 * np.pi)
-    sine, cosine = (2 / bins * w(arg) / np.sinc(harmonics / bins)[:, None] for w in (np.sin, np.cos))
-    centre, out = np.arange(bins), []
-    for d in (1, -1):
-        rows = sign == d
-        counts = np.bincount(idx[rows], minlength=bins)
-        seen = counts > 0
-        means = np.bincount(idx[rows], weights=r[rows], minlength=bins)[seen] / counts[seen]
-        means = np.interp(centre, centre[seen], means, period=bins)
-        out.append((sine @ means, cosine @ means))
-    return out
 
 
 def _candidates(a, b, span):
@@ -307,7 +255,7 @@ def _aliased(wavenumber, quantum: float, pace: Optional[float], ts: float, spaci
 
 def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
     """The candidate terms (h, signed), strongest first, the highest harmonic screened, what
-    set it (``_screen_limit``) and the position bins per period (``_filled_bins``): the
+    set it (``_screen_limit``) and the position bins per period (``filled_bins``): the
     harmonics of the bin means of r (the force less the friction columns) per direction whose
     amplitude noise alone reaches with probability below ALPHA (``_candidates``), less those at
     an alias of the encoder (``_aliased``, at the steady speed ``pace``)."""
@@ -323,11 +271,11 @@ def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
                         "encoder counts or another unit (--scale x= the size of its unit)? With x "
                         "as fine as the encoder, give a longer --pitch (a whole turn) and the "
                         "period's harmonics come from it")
-    bins = _filled_bins(x, sign, period, min(samples, cells) / 2)
+    bins = filled_bins(x, sign, period, min(samples, cells) / 2)
     # harmonics up to a quarter of the bins (their averaging attenuates those by at most 10 %)
     highest = int(min(MAX_HARMONIC, bins // 4, samples / SAMPLES_PER_WAVE, cells / QUANTA_PER_WAVE))
     harmonics = np.arange(1, max(highest, 1) + 1)
-    (ap, bp), (an, bn) = _bin_coefficients(x, r, sign, period, bins, harmonics)
+    (ap, bp), (an, bn) = bin_coefficients(x, r, sign, period, bins, harmonics)
     span = min(NOISE_SPAN, max(highest // 2, 1))
     ranked = []
     for signed, (sa, sb) in ((False, ((ap + an) / 2, (bp + bn) / 2)), (True, ((ap - an) / 2, (bp - bn) / 2))):
@@ -346,7 +294,7 @@ def _screen_limit(highest, bins, samples, cells) -> str:
     by the encoder's counts per period, or by bins a direction left unvisited."""
     if highest >= MAX_HARMONIC:
         return f"fricgen's limit of {MAX_HARMONIC}"
-    if bins < _bin_cap(min(samples, cells) / 2):
+    if bins < bin_cap(min(samples, cells) / 2):
         return f"{bins} position bins, finer ones left unvisited in a direction"
     if samples <= cells:
         return (f"{SAMPLE_RATE_LIMIT}: {samples:.0f} samples per period at this speed; a slower move "
@@ -466,8 +414,9 @@ def _unexplained(x, r, period, highest, speed, ts, quantum, strongest, pace=None
     return float(2 * np.pi / peak) if np.hypot(sine, cosine) >= UNEXPLAINED_SHARE * strongest else None
 
 
-def identify_cogging(t, x, force, period: Optional[float] = None,
-                     inertia: Optional[float] = None) -> CoggingFit:
+def identify_cogging(t, x, force, period: Optional[float] = None, inertia: Optional[float] = None,
+                     fed_forward: Optional[CoggingMap] = None,
+                     fed_forward_friction: Optional[CoggingMap] = None) -> CoggingFit:
     """The cogging map of a log (see the module docstring).
 
     Parameters
@@ -481,6 +430,13 @@ def identify_cogging(t, x, force, period: Optional[float] = None,
         a travel of at least two of them).
     inertia : float, optional
         The moving mass or inertia; identified from the log if not given.
+    fed_forward, fed_forward_friction : CoggingMap, optional
+        The map of a first calibration that the drive fed forward in this move (a second
+        calibration: the force holds the whole cogging again, now with little velocity ripple),
+        and the friction's ripple found beside it: the map's candidates are the first map's
+        harmonics, the ripple's the first ripple's (the feedforward, read at the counts, adds
+        lines at the encoder's aliases less the map's harmonics); the period is the first
+        map's; J is not told from a ripple this small (give ``inertia``).
 
     Returns
     -------
@@ -500,10 +456,10 @@ def identify_cogging(t, x, force, period: Optional[float] = None,
     ((24,), 0.05, None)
     """
     with blas_threads(wanted_threads()):
-        return _identify(t, x, force, period, inertia)
+        return _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction)
 
 
-def _identify(t, x, force, period, inertia) -> CoggingFit:
+def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -> CoggingFit:
     t, x, f = (np.asarray(c, dtype=float) for c in (t, x, force))
     for name, values in (("t", t), ("x", x), ("force", f)):
         check_finite(name, values)
@@ -512,6 +468,10 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     except DataError as exc:
         raise DataError(f"{exc}: a cogging map needs one log sampled without pauses (train the "
                         "longest part between gaps)") from None
+    if fed_forward is not None:
+        if period is not None and not np.isclose(period, fed_forward.period, rtol=1e-9, atol=0):
+            raise DataError(f"the period {period:.6g} is not the fed-forward map's ({fed_forward.period:.6g}): leave the period out")
+        period = fed_forward.period
     if period is not None and not (np.isfinite(period) and period > 0):
         raise DataError(f"the cogging period must be a finite number > 0, got {period!r}")
     if period is not None and np.ptp(x) < period:
@@ -553,6 +513,9 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     nuisance = _nuisance(v_mean[rows])
     r = _less_nuisance(f[rows], nuisance)
     terms, highest, screened_by, bins = _screen(xs, r, ss, period, speed, ts, quantum, pace)
+    if fed_forward is not None:
+        ripple = () if fed_forward_friction is None else fed_forward_friction.harmonics
+        terms = [(h, signed) for h, signed in terms if h in (ripple if signed else fed_forward.harmonics)]
 
     # J a: the heavily smoothed acceleration for the choice (low noise), the lightly smoothed one
     # for the coefficients (smoothing would attenuate J a; the count edges keep the encoder's
@@ -560,7 +523,7 @@ def _identify(t, x, force, period, inertia) -> CoggingFit:
     fastest = max([h for h, _ in terms], default=1) * speed / period
     a = smooth(moved, min(window, _odd(1.0 / (A_WINDOW_WAVES * fastest * ts))), 2, ts)
     given = inertia is not None
-    if not given:
+    if not given and fed_forward is None:
         inertia = _inertia(xs, r, a[rows], ss, period, bins,
                            [h for h, signed in terms if not signed and h > 1])
     determined = inertia is not None

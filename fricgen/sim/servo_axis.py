@@ -224,3 +224,19 @@ def calibration_move(axis: ServoAxis, turns: float = 2.0, speed: float = 3.0,
     theta = np.concatenate([rest, ramp, rest + top, top - ramp, rest])
     omega = np.concatenate([rest, np.full(ramp.size, speed), rest, np.full(ramp.size, -speed), rest])
     return run(Drive(axis, feedforward), theta, omega, position_loop=True, every=every)
+
+
+def count_lookup(values, counts: int) -> Callable[[float], float]:
+    """A drive's feedforward (A) of the measured theta (whole counts) from one value per count."""
+    table = [float(v) for v in values]
+    quantum = TWO_PI / counts
+    return lambda theta: table[round(theta / quantum) % counts]
+
+
+def map_feedforward(axis: ServoAxis, cogging_map) -> Optional[Callable[[float], float]]:
+    """The current (A) a drive feeds forward at the measured theta: a cogging map (of x = theta
+    pitch / 2 pi) over kt at each count; None for no map."""
+    if cogging_map is None:
+        return None
+    theta = np.arange(axis.counts) * TWO_PI / axis.counts
+    return count_lookup(cogging_map.force(theta * axis.pitch / TWO_PI) / axis.kt, axis.counts)

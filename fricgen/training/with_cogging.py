@@ -84,13 +84,16 @@ def describe(m: CoggingMap, what: str, units) -> list:
 def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[float], rotary: bool,
                        inertia: Optional[float], force_constant: Optional[float],
                        train_friction: Callable[[Mapping[str, np.ndarray], Optional[float]], FitReport],
-                       name: str, symmetric: bool = False) -> CoggingReport:
+                       name: str, symmetric: bool = False,
+                       fed_forward: Tuple[Optional[CoggingMap], Optional[CoggingMap]] = (None, None)
+                       ) -> CoggingReport:
     """The map and the friction model (see the module docstring); ``train_friction(columns,
     mass)`` fits the default model to columns (the map's force removed) and may refuse them;
     ``mass`` is the inertia the map took out where it was given or identified (a slow move
     at one speed accelerates too little to tell it again), else None. ``symmetric``: the
     friction of a move the default fit refuses is one curve (--symmetric), not one per
-    direction."""
+    direction. ``fed_forward``: the map and the friction's ripple of a first calibration whose
+    map the drive fed forward in this move (``identify_cogging``'s)."""
     if "x" not in columns or "t" not in columns:
         raise UsageError("--cogging needs a motion log with time t and position x (the map is a "
                          "function of the position)")
@@ -103,10 +106,11 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if given and not rotary and pitch > travel:
         raise DataError(f"--pitch {pitch:.6g} m is longer than the log's travel ({travel:.6g} m): a "
                         "cogging map needs the whole period each way (--pitch is in m: 0.032 for 32 mm)")
-    if pitch is None and rotary:
+    if pitch is None and rotary and fed_forward[0] is None:
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
-    fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia)
+    fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia,
+                           fed_forward=fed_forward[0], fed_forward_friction=fed_forward[1])
     if given or fit.map is not None:
         check_period(fit, columns["t"], columns["x"], force, inertia, units, given)
     cleaned = {k: c for k, c in columns.items() if k != "i"}
@@ -136,11 +140,16 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                         "by the ripple the cogging map holds (give --mass)")
     model = replace(recording_force_constant(model, columns, force_constant), cogging_map=fit.map,
                     cogging_friction=fit.friction)
+    second = fed_forward[0] is not None
     j = {"given": "given", "identified": "identified from the two directions' ripple",
          "undetermined": "not determined by this log, taken as 0" + (
+             ": the ripple the fed-forward map leaves is too small to matter" if second else
              ": the map holds the inertia's ripple; move slower or give --mass" if fit.map is not None
              else "")}[fit.inertia_source]
-    if pitch is None and fit.map is not None:
+    if second:
+        lines.append(f"cogging: a second calibration, the first map fed forward: its harmonics "
+                     f"({', '.join(map(str, fed_forward[0].harmonics))}) identified again")
+    elif pitch is None and fit.map is not None:
         lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "

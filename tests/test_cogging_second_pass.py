@@ -1,0 +1,94 @@
+"""A second calibration with the first map fed forward (``identify_cogging(fed_forward=...)``,
+``fricgen train --cogging --fed-forward MODEL``): the drive's current holds the whole cogging
+again while the velocity barely ripples; the feedforward, read at the encoder's counts, adds
+lines of its own (the count's aliases less the map's harmonics), which the second map must not
+take for cogging."""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from fricgen.cli import main
+from fricgen.errors import DataError
+from fricgen.fit.cogging import identify_cogging
+from fricgen.model import FrictionModel
+from fricgen.sim.servo_axis import TWO_PI, calibration_move, map_feedforward, random_axis
+
+
+@pytest.fixture(scope="module")
+def axis():
+    """A 14-bit axis whose second calibration shows a feedforward line (harmonic 970)."""
+    return random_axis(2, bits=14)
+
+
+@pytest.fixture(scope="module")
+def passes(axis):
+    """The first calibration's fit (one turn each way at 1 rad/s) and the second's log, that
+    map fed forward."""
+    first = calibration_move(axis, turns=1.0, speed=1.0, every=1)
+    fit = identify_cogging(first["t"], first["x"], axis.kt * first["i"], TWO_PI)
+    second = calibration_move(axis, turns=1.0, speed=1.0, every=1,
+                              feedforward=map_feedforward(axis, fit.map))
+    return fit, second
+
+
+def test_the_second_map_keeps_the_first_maps_harmonics(axis, passes):
+    first, log = passes
+    force = axis.kt * log["i"]
+    anew = identify_cogging(log["t"], log["x"], force, TWO_PI)
+    again = identify_cogging(log["t"], log["x"], force, fed_forward=first.map,
+                             fed_forward_friction=first.friction)
+    assert not set(anew.map.harmonics) <= set(first.map.harmonics)      # the feedforward's lines
+    assert set(again.map.harmonics) <= set(first.map.harmonics)
+    assert set(again.friction.harmonics) <= set(first.friction.harmonics)
+    assert again.period == TWO_PI and again.inertia_source == "undetermined"
+    assert axis.map_error(again.map) < min(axis.map_error(anew.map), axis.map_error(first.map)) / 2
+
+
+def test_a_period_other_than_the_fed_forward_maps_is_refused(axis, passes):
+    first, log = passes
+    with pytest.raises(DataError, match="not the fed-forward map's"):
+        identify_cogging(log["t"], log["x"], axis.kt * log["i"], TWO_PI / 2, fed_forward=first.map)
+
+
+@pytest.fixture(scope="module")
+def first_model(axis, passes, tmp_path_factory):
+    """The first calibration trained by the CLI, and the second's log as a CSV."""
+    folder = tmp_path_factory.mktemp("second_pass")
+    first = calibration_move(axis, turns=1.0, speed=1.0, every=1)
+    _, second = passes
+    for name, log in (("first.csv", first), ("second.csv", second)):
+        np.savetxt(folder / name, np.column_stack([log["t"], log["x"], log["i"]]), delimiter=",",
+                   header="t,x,i", comments="", fmt="%.10g")
+    assert main(["train", str(folder / "first.csv"), "--cogging", "--rotary", "--force-constant",
+                 str(axis.kt), "-o", str(folder / "first.json")]) == 0
+    return folder
+
+
+def test_train_fed_forward_keeps_the_models_harmonics(axis, first_model, capsys):
+    folder = first_model
+    assert main(["train", str(folder / "second.csv"), "--cogging", "--rotary", "--force-constant",
+                 str(axis.kt), "--fed-forward", str(folder / "first.json"),
+                 "-o", str(folder / "second.json")]) == 0
+    first, second = (FrictionModel.load(folder / f) for f in ("first.json", "second.json"))
+    assert set(second.cogging_map.harmonics) <= set(first.cogging_map.harmonics)
+    assert axis.map_error(second.cogging_map) < axis.map_error(first.cogging_map)
+    assert "the first map fed forward" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--fed-forward", "first.json"], "--fed-forward is for --cogging's map; give --cogging too"),
+    (["--cogging", "--fed-forward", "plain.json"], "the model has no cogging map to have fed forward"),
+    (["--cogging", "--fed-forward", "absent.json"], "absent.json"),
+    (["--cogging", "--fed-forward", "first.json", "--pitch", "1.0"], "not the fed-forward map's"),
+])
+def test_fed_forward_refuses_what_it_cannot_use(axis, first_model, tmp_path, capsys, argv, message):
+    folder = first_model
+    plain = FrictionModel.load(folder / "first.json")
+    replace(plain, cogging_map=None, cogging_friction=None).save(folder / "plain.json")
+    out = tmp_path / "m.json"
+    argv = [str(folder / a) if a.endswith(".json") else a for a in argv]
+    assert main(["train", str(folder / "second.csv"), "--rotary", "--force-constant", str(axis.kt),
+                 "-o", str(out), *argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and not out.exists()
