@@ -432,6 +432,23 @@ def test_a_hand_edit_of_the_laws_record_is_said_not_silently_ignored(tmp_path, c
         (tmp_path / "edited_c" / "friction_model.c").read_text()
 
 
+def test_a_freshly_trained_record_is_not_taken_for_an_edit_where_one_direction_is_slower(tmp_path, capsys):
+    """A per-direction Stribeck law whose v < 0 sweep stops short of the v > 0 one: its record
+    was checked up to the faster direction's speed, beyond that curve's v_sat, where the model
+    runs on along its slope and the law along its curve, and a file fresh from train was called
+    'edited by hand?'."""
+    def law(speed, coulomb):
+        return coulomb + 1.5 * np.exp(-(speed / 0.2) ** 2) + 10.0 * speed
+    up, down = np.geomspace(0.005, 0.5, 12), np.geomspace(0.005, 0.1, 12)
+    rows = [(a, float(law(a, 2.0))) for a in up.tolist()] + [(-a, -float(law(a, 1.0))) for a in down.tolist()]
+    (tmp_path / "sweep.csv").write_text("v,f\n" + "".join(f"{a!r},{b!r}\n" for a, b in rows))
+    assert main(["train", str(tmp_path / "sweep.csv"), "--asymmetric", "-o", str(tmp_path / "m.json")]) == 0
+    assert "static" in json.loads((tmp_path / "m.json").read_text())["training"]["negative"]
+    capsys.readouterr()
+    assert main(["emit", str(tmp_path / "m.json"), "-o", str(tmp_path / "c")]) == 0
+    assert "edited by hand" not in capsys.readouterr().err
+
+
 def test_a_tiny_mass_of_a_linear_model_asks_whether_the_axis_is_rotary():
     """A rotary calibration trained as linear gave a mass of 0.0002 kg that the model's own
     check refused as 'an edited record?'; it now asks whether that is a joint's or a shaft's

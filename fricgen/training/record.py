@@ -190,12 +190,15 @@ def law_record_edits(model) -> list:
             isinstance(slowest, (int, float)) and isinstance(fastest, (int, float))
             and 0 < slowest <= fastest < np.inf):
         return []
-    speed = np.geomspace(slowest, fastest, 9)
     edited = []
     for name, record, sign in (("training", training, 1.0),
                                ("training.negative", training.get("negative") or training, -1.0)):
         if "coulomb" not in record:
             continue
+        # up to the direction's own v_sat (the other's may be faster), beyond which the model
+        # runs on with its slope and the law with its curve
+        curve = (model.negative if sign < 0 else model.positive) or model
+        speed = np.geomspace(slowest, max(slowest, min(fastest, curve.v_sat)), 9)
         force = sign * model.force(sign * speed)
         try:
             law = LawFit(record["coulomb"], record["viscous"], record.get("static"),
