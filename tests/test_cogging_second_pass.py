@@ -76,19 +76,41 @@ def test_train_fed_forward_keeps_the_models_harmonics(axis, first_model, capsys)
     assert "the first map fed forward" in capsys.readouterr().out
 
 
+def test_a_pitch_typed_to_seven_digits_is_the_fed_forward_maps(axis, first_model, tmp_path):
+    folder = first_model
+    assert main(["train", str(folder / "second.csv"), "--cogging", "--rotary", "--force-constant",
+                 str(axis.kt), "--fed-forward", str(folder / "first.json"), "--pitch", "6.283185",
+                 "-o", str(tmp_path / "m.json")]) == 0
+    assert FrictionModel.load(tmp_path / "m.json").cogging_map.period == TWO_PI
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--fed-forward", "first.json"], "--fed-forward is for --cogging's map; give --cogging too"),
     (["--cogging", "--fed-forward", "plain.json"], "the model has no cogging map to have fed forward"),
+    (["--cogging", "--fed-forward", "linear.json"], "a linear axis's map (period 6.28319 m); this log is a rotary axis's"),
     (["--cogging", "--fed-forward", "absent.json"], "absent.json"),
     (["--cogging", "--fed-forward", "first.json", "--pitch", "1.0"], "not the fed-forward map's"),
+    (["--cogging", "--fed-forward", "first.json", "-o", "first.json"], "first.json"),
+    (["--cogging", "--fed-forward", "first.json", "--log", "feedback.csv"], "logged without the feedforward?"),
 ])
-def test_fed_forward_refuses_what_it_cannot_use(axis, first_model, tmp_path, capsys, argv, message):
+def test_fed_forward_refuses_what_it_cannot_use(axis, passes, first_model, tmp_path, capsys, argv, message):
+    """... and a second calibration whose current is the loop's feedback alone (the drive's
+    feedforward left out of the log), which has no cogging left to map."""
     folder = first_model
-    plain = FrictionModel.load(folder / "first.json")
-    replace(plain, cogging_map=None, cogging_friction=None).save(folder / "plain.json")
-    out = tmp_path / "m.json"
-    argv = [str(folder / a) if a.endswith(".json") else a for a in argv]
-    assert main(["train", str(folder / "second.csv"), "--rotary", "--force-constant", str(axis.kt),
+    first = FrictionModel.load(folder / "first.json")
+    replace(first, cogging_map=None, cogging_friction=None).save(folder / "plain.json")
+    replace(first, training={**first.training, "units": "linear", "accept_unusual": True}).save(folder / "linear.json")
+    _, log = passes
+    feedforward = map_feedforward(axis, first.cogging_map)
+    feedback = log["i"] - np.array([feedforward(x) for x in log["x"]])
+    np.savetxt(folder / "feedback.csv", np.column_stack([log["t"], log["x"], feedback]), delimiter=",",
+               header="t,x,i", comments="", fmt="%.10g")
+    out = folder / argv.pop(argv.index("-o") + 1) if "-o" in argv else tmp_path / "m.json"
+    log_file = folder / argv.pop(argv.index("--log") + 1) if "--log" in argv else folder / "second.csv"
+    argv = [str(folder / a) if a.endswith(".json") else a for a in argv if a not in ("-o", "--log")]
+    before = out.read_bytes() if out.exists() else None
+    assert main(["train", str(log_file), "--rotary", "--force-constant", str(axis.kt),
                  "-o", str(out), *argv]) == 2
     err = capsys.readouterr().err
-    assert message in err and err.count("\n") == 1 and not out.exists()
+    assert message in err and err.count("\n") == 1
+    assert (out.read_bytes() == before) if before is not None else not out.exists()

@@ -131,14 +131,19 @@ def _header(args) -> list:
     return [] if is_matfile(args.sweep) else header_cells(args.sweep, args.skip)
 
 
-def fed_forward(args):
-    """The cogging map and friction ripple of ``--fed-forward MODEL`` (None, None without it)."""
+def fed_forward(args, rotary: bool):
+    """The cogging map and friction ripple of ``--fed-forward MODEL`` (None, None without it),
+    of a model of the same kind of axis (rotary or linear) as the log's."""
     if args.fed_forward is None:
         return None, None
     model = load_model(args.fed_forward)
     if model.cogging_map is None:
         raise UsageError(f"--fed-forward {args.fed_forward}: the model has no cogging map to have fed "
                          "forward (train the first calibration with --cogging)")
+    if (model.units.kind == "rotary") != rotary:
+        raise UsageError(f"--fed-forward {args.fed_forward}: a {model.units.kind} axis's map (period "
+                         f"{model.cogging_map.period:.6g} {model.units.position}); this log is a "
+                         f"{'rotary' if rotary else 'linear'} axis's" + ("" if rotary else " (--rotary?)"))
     return model.cogging_map, model.cogging_friction
 
 
@@ -189,7 +194,7 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
             return (less_position_force(columns, report, lambda data: fit_friction(data, force_constant=None))
                     if position_force else report)
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
-                                  force_constant=args.force_constant, fed_forward=fed_forward(args),
+                                  force_constant=args.force_constant, fed_forward=fed_forward(args, rotary),
                                   train_friction=lambda data, mass: fit_friction(data, mass=mass,
                                                                                  force_constant=None),
                                   name=name, symmetric=args.asymmetric is False)
@@ -204,7 +209,7 @@ def train_argv(argv) -> FitReport:
 
 
 def _run(args) -> int:
-    inputs = [args.sweep] + ([args.merge] if args.merge else [])
+    inputs = [args.sweep] + [extra for extra in (args.merge, args.fed_forward) if extra]
     check_destination(args.output, inputs, args.force)
     report = fit(args)
     payload = report.model.checked_json()       # never one that load refuses, nor its report

@@ -469,8 +469,9 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
         raise DataError(f"{exc}: a cogging map needs one log sampled without pauses (train the "
                         "longest part between gaps)") from None
     if fed_forward is not None:
-        if period is not None and not np.isclose(period, fed_forward.period, rtol=1e-9, atol=0):
-            raise DataError(f"the period {period:.6g} is not the fed-forward map's ({fed_forward.period:.6g}): leave the period out")
+        if period is not None and not np.isclose(period, fed_forward.period, rtol=1e-6, atol=0):
+            raise DataError(f"the period {period:.9g} is not the fed-forward map's "
+                            f"({fed_forward.period:.9g}): leave the period out")
         period = fed_forward.period
     if period is not None and not (np.isfinite(period) and period > 0):
         raise DataError(f"the cogging period must be a finite number > 0, got {period!r}")

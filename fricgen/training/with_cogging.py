@@ -111,6 +111,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     force = log_force(columns, force_constant)
     fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia,
                            fed_forward=fed_forward[0], fed_forward_friction=fed_forward[1])
+    if fed_forward[0] is not None and fit.map is None:
+        raise DataError("the second calibration's force holds none of the fed-forward map's harmonics: "
+                        "was its current logged without the feedforward? (log the whole current command)")
     if given or fit.map is not None:
         check_period(fit, columns["t"], columns["x"], force, inertia, units, given)
     cleaned = {k: c for k, c in columns.items() if k != "i"}
@@ -148,7 +151,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
              else "")}[fit.inertia_source]
     if second:
         lines.append(f"cogging: a second calibration, the first map fed forward: its harmonics "
-                     f"({', '.join(map(str, fed_forward[0].harmonics))}) identified again")
+                     f"({', '.join(map(str, fed_forward[0].harmonics))}) the candidates")
     elif pitch is None and fit.map is not None:
         lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
