@@ -57,10 +57,14 @@ def test_harmonics_beyond_512_are_screened():
 
 def test_a_position_in_counts_is_named_not_blamed_on_the_speed():
     """x in encoder counts read as rad: 6 steps a turn. The refusal asks whether x is in counts
-    (it said 'move slower or log faster', which no move fixes)."""
+    (it said 'move slower or log faster', which no move fixes) and says the size of a count (a
+    --pitch of a whole turn in counts, which its advice on a short period read as, is refused
+    as longer than a turn)."""
     t, x, f, _ = _turns((24,), (0.01,), bits=12, counts=True)
-    with pytest.raises(DataError, match="is x in encoder counts or another unit"):
+    with pytest.raises(DataError, match="is x in encoder counts or another unit") as refused:
         identify_cogging(t, x, f, period=TWO_PI, inertia=0.0)
+    assert "2 pi over the counts per turn" in str(refused.value)
+    assert "a period shorter than a turn" in str(refused.value)
 
 
 def test_a_nan_or_a_pause_in_the_calibration_is_named():

@@ -268,9 +268,9 @@ def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
     if cells < 2 * MIN_BINS:
         raise DataError(f"the position's step {quantum:.3g} resolves the cogging's period "
                         f"{period:.6g} too coarsely ({cells:.0f} steps, need {2 * MIN_BINS}): is x in "
-                        "encoder counts or another unit (--scale x= the size of its unit)? With x "
-                        "as fine as the encoder, give a longer --pitch (a whole turn) and the "
-                        "period's harmonics come from it")
+                        "encoder counts or another unit (--scale x= the size of its unit: 2 pi over "
+                        "the counts per turn)? With x as fine as the encoder and a period shorter "
+                        "than a turn, give a whole turn as --pitch: the period's harmonics come from it")
     bins = filled_bins(x, sign, period, min(samples, cells) / 2)
     # harmonics up to a quarter of the bins (their averaging attenuates those by at most 10 %)
     highest = int(min(MAX_HARMONIC, bins // 4, samples / SAMPLES_PER_WAVE, cells / QUANTA_PER_WAVE))
