@@ -519,16 +519,18 @@ def test_a_pitch_below_a_turn_names_the_harmonics_of_the_turn_it_drops(calibrati
 
 def test_a_calibration_logged_in_degrees_is_named(axis, tmp_path, capsys):
     """A rotary log of x in degrees found no map, among other warnings a generic 'wrong --pitch,
-    ... (degrees?)'; its force repeats every 360 / L units, which says degrees outright."""
+    ... (degrees?)'; its force repeats every 360 / L units, which says degrees outright. It
+    then wrote a model without a map, its friction at 57 times the speeds, beside a warning; it
+    is refused in one line, as a map of the wrong period is."""
     t, x, f = calibration(axis)
-    path = tmp_path / "deg.csv"
+    path, out = tmp_path / "deg.csv", tmp_path / "m.json"
     np.savetxt(path, np.column_stack([t, np.degrees(x), f / axis.kt])[::2], delimiter=",",
                header="t,x,i", comments="", fmt="%.9g")
-    main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
-          "-o", str(tmp_path / "m.json")])
-    lines = [line for line in capsys.readouterr().err.splitlines() if "Is x in deg?" in line]
-    assert len(lines) == 1 and f"harmonic {axis.period_count} of the period 6.28319" in lines[0]
-    assert "--scale x=0.0174533" in lines[0]
+    assert main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+                 "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Is x in deg?" in err and not out.exists()
+    assert f"harmonic {axis.period_count} of the period 6.28319" in err and "--scale x=0.0174533" in err
 
 
 def test_a_linear_motor_without_its_pitch_gets_the_period_from_the_data(tmp_path, capsys):

@@ -114,8 +114,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fed_forward[0] is not None and fit.map is None:
         raise DataError("the second calibration's force holds none of the fed-forward map's harmonics: "
                         "was its current logged without the feedforward? (log the whole current command)")
-    if given or fit.map is not None:
-        check_period(fit, columns["t"], columns["x"], force, inertia, units, given)
+    check_period(fit, columns["t"], columns["x"], force, inertia, units, given)
     cleaned = {k: c for k, c in columns.items() if k != "i"}
     cleaned["force"] = force - (fit.map.force(columns["x"]) if fit.map is not None else 0.0)
     lines = []
@@ -160,8 +159,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
-    if fit.unexplained_wavelength is not None and (fit.map is not None or _in_other_units(
-            fit.unexplained_wavelength, fit.period, units)):   # check_period refused the rest
+    if fit.unexplained_wavelength is not None and fit.map is not None:    # check_period refused the rest
         warnings.append("warning: " + _unexplained(
             fit.unexplained_wavelength, fit.period, units, "a period longer than the one found, x in "
             f"other units than {units.position}, or a ripple aliased by a log slower than the drive's loop?"))
