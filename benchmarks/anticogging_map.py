@@ -9,7 +9,8 @@ minus the truth (averaged over the count), over the truth's RMS. Also: a linear 
 pitches each way, the period found from the data), the same at a quarter of the drive's rate (a log decimated without
 filtering), a log of normal operation instead of the calibration (two turns out and back along
 a cosine, up to pi rad/s), the same 2 turns each way as two calibrations of one turn each way,
-the second with the first one's map fed forward (``two_pass_fit``), the share of axes without
+the second with the first one's map fed forward and identified as ``train --fed-forward`` does
+(``two_pass_fit``), the share of axes without
 cogging that get no map, and the emitted table's
 size and error bounds; with ``--cost``, the instructions of one NAME_cogging, NAME_cogging_q15 and
 NAME_cogging_q31 call on Cortex-M0+ and M4F (QEMU, as benchmarks/instructions_per_call.py).
