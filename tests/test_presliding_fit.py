@@ -183,7 +183,7 @@ def test_train_dynamic_writes_bristles_that_emit_and_the_commands_say_what_they_
 
 @pytest.mark.parametrize("argv, message", [
     (["--dynamic", "--cogging"], "different logs"),
-    (["--pitch", "0.01", "--dynamic"], "--pitch is the period"),
+    (["--pitch", "0.01", "--dynamic"], "--pitch is for --cogging's map"),
 ])
 def test_train_dynamic_refuses_what_it_cannot_do(log_csv, tmp_path, capsys, argv, message):
     out = tmp_path / "m.json"
