@@ -28,7 +28,7 @@ from .axis import Axis
 from ._validate import json_number, rotary_axis
 from .c_names import check_c_identifier
 from .direction import Direction, Scaling, _negative_from_dict  # noqa: F401  (Scaling: fricgen.model's API)
-from .effects.cogging_map import CoggingMap
+from .effects.cogging_map import CoggingMap, check_rotary_period
 from .effects.load_temperature import LoadTemperature
 from .effects.presliding import Bristles, BristleStepper, bristle_force
 from .effects import validate_effects
@@ -496,6 +496,8 @@ class FrictionModel:
         if recorded["model_hash"] is None and "fricgen_version" in d:
             recorded["model_hash"] = HASH_REMOVED     # every fricgen that names itself writes it
         cogging = _cogging_from_dict(d.get("cogging"))
+        for key, m in cogging.items() if training.get("units") == "rotary" else ():
+            check_rotary_period(m.period, f"cogging.{key}.period")
         presliding = None if d.get("presliding") is None else Bristles.from_dict(d["presliding"])
         band = None if d.get("velocity_band") is None else json_number(d, "velocity_band", "model", positive=True)
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,

@@ -125,6 +125,7 @@ def test_a_model_without_a_map_has_zero_cogging(model):
     (lambda c: c["map"].update(sine=[0.1]), "sine must list"),
     (lambda c: c["map"].update(period=-1), "period"),
     (lambda c: c.update(other={}), "cogging must be"),
+    (lambda c: c["map"].update(period=4 * np.pi), r"cogging.map.period 12.5664 rad is longer than a turn"),
 ])
 def test_a_hand_edited_cogging_object_is_refused(model, edit, message):
     d = json.loads(model.to_json())

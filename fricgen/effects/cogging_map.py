@@ -20,6 +20,9 @@ from ..errors import ModelError
 #: Most harmonics a map holds; highest harmonic number model.json accepts.
 MAX_TERMS = 64
 MAX_HARMONIC = 4096
+#: How far (relative) a rotary axis's period may exceed a turn (a turn typed to a few digits):
+#: beyond a turn its position force repeats.
+TURN_EXCESS = 1e-3
 #: Sizes of the firmware table: powers of two from MIN_TABLE to MAX_TABLE points per period.
 MIN_TABLE, MAX_TABLE = 64, 4096
 #: Points per table interval at which ``table_error`` evaluates the series.
@@ -141,3 +144,10 @@ class CoggingMap:
         if any(s < 0 for key in ("sine_se", "cosine_se") for s in lists[key]):
             raise ModelError(f"{where}: a standard error must be >= 0")
         return cls(period=float(period), harmonics=tuple(harmonics), **lists)
+
+
+def check_rotary_period(period: float, where: str, error=ModelError) -> None:
+    """``error`` for a rotary axis's period longer than a turn (TURN_EXCESS)."""
+    if period > 2 * np.pi * (1 + TURN_EXCESS):
+        raise error(f"{where} {period:.6g} rad is longer than a turn (6.28319 rad), after which a "
+                         "rotary axis's position force repeats: give a turn or a part of one")

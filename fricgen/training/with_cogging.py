@@ -12,7 +12,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
 from ..data.motionlog import check_finite
-from ..effects.cogging_map import CoggingMap
+from ..effects.cogging_map import CoggingMap, check_rotary_period
 from ..fit.cogging import (FUNDAMENTAL_PERIODS, SAMPLE_RATE_LIMIT, UNEXPLAINED_SHARE, CoggingFit,
                            identify_cogging)
 from ..errors import DataError, ModelError, UsageError
@@ -99,9 +99,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                          "function of the position)")
     units = units_of(rotary)
     given = pitch is not None
-    if rotary and given and pitch > 2 * np.pi * (1 + TURN_TOLERANCE):
-        raise DataError(f"--pitch {pitch:.6g} rad is longer than a turn (6.28319 rad), after which a "
-                        "rotary axis's position force repeats: give a turn or a part of one")
+    if rotary and given:
+        check_rotary_period(pitch, "--pitch", DataError)
     travel = float(np.ptp(np.asarray(columns["x"], dtype=float)))
     if given and not rotary and pitch > travel:
         raise DataError(f"--pitch {pitch:.6g} m is longer than the log's travel ({travel:.6g} m): a "
