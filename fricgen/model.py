@@ -495,9 +495,7 @@ class FrictionModel:
                 raise ModelError(f"{key} must be a string, got {type(value).__name__}")
         if recorded["model_hash"] is None and "fricgen_version" in d:
             recorded["model_hash"] = HASH_REMOVED     # every fricgen that names itself writes it
-        cogging = _cogging_from_dict(d.get("cogging"))
-        for key, m in cogging.items() if training.get("units") == "rotary" else ():
-            check_rotary_period(m.period, f"cogging.{key}.period")
+        cogging = _cogging_from_dict(d.get("cogging"), training.get("units") == "rotary")
         presliding = None if d.get("presliding") is None else Bristles.from_dict(d["presliding"])
         band = None if d.get("velocity_band") is None else json_number(d, "velocity_band", "model", positive=True)
         return cls(aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
@@ -569,13 +567,17 @@ def _training_axis(training: dict) -> Optional[Axis]:
         return Axis.from_dict(record, physical=training.get("accept_unusual") is not True)
 
 
-def _cogging_from_dict(d) -> Dict[str, CoggingMap]:
-    """The maps of model.json's optional ``cogging`` object: ``map``, ``friction``."""
+def _cogging_from_dict(d, rotary: bool) -> Dict[str, CoggingMap]:
+    """The maps of model.json's optional ``cogging`` object: ``map``, ``friction`` (a rotary
+    axis's of at most a turn)."""
     if d is None:
         return {}
     if not isinstance(d, dict) or not d or not set(d) <= {"map", "friction"}:
         raise ModelError(f"cogging must be an object with 'map' and/or 'friction', got {d!r}"[:200])
-    return {key: CoggingMap.from_dict(value, f"cogging.{key}") for key, value in d.items()}
+    maps = {key: CoggingMap.from_dict(value, f"cogging.{key}") for key, value in d.items()}
+    for key, m in maps.items() if rotary else ():
+        check_rotary_period(m.period, f"cogging.{key}.period")
+    return maps
 
 
 def _digest(fields) -> str:

@@ -23,17 +23,17 @@ def axis():
 
 @pytest.fixture(scope="module")
 def passes(axis):
-    """The first calibration's fit (one turn each way at 1 rad/s) and the second's log, that
-    map fed forward."""
+    """The first calibration's log (one turn each way at 1 rad/s), its fit, and the second's
+    log, that map fed forward."""
     first = calibration_move(axis, turns=1.0, speed=1.0, every=1)
     fit = identify_cogging(first["t"], first["x"], axis.kt * first["i"], TWO_PI)
     second = calibration_move(axis, turns=1.0, speed=1.0, every=1,
                               feedforward=map_feedforward(axis, fit.map))
-    return fit, second
+    return first, fit, second
 
 
 def test_the_second_map_keeps_the_first_maps_harmonics(axis, passes):
-    first, log = passes
+    _, first, log = passes
     force = axis.kt * log["i"]
     anew = identify_cogging(log["t"], log["x"], force, TWO_PI)
     again = identify_cogging(log["t"], log["x"], force, fed_forward=first.map,
@@ -46,22 +46,30 @@ def test_the_second_map_keeps_the_first_maps_harmonics(axis, passes):
 
 
 def test_a_period_other_than_the_fed_forward_maps_is_refused(axis, passes):
-    first, log = passes
+    _, first, log = passes
     with pytest.raises(DataError, match="not the fed-forward map's"):
         identify_cogging(log["t"], log["x"], axis.kt * log["i"], TWO_PI / 2, fed_forward=first.map)
 
 
 @pytest.fixture(scope="module")
 def first_model(axis, passes, tmp_path_factory):
-    """The first calibration trained by the CLI, and the second's log as a CSV."""
+    """The first calibration trained by the CLI (first.json), the second's log as a CSV, and
+    what the refusals below are given: first.json without its map (plain.json) and as a linear
+    axis's (linear.json), and the second log's current less the feedforward (feedback.csv)."""
     folder = tmp_path_factory.mktemp("second_pass")
-    first = calibration_move(axis, turns=1.0, speed=1.0, every=1)
-    _, second = passes
-    for name, log in (("first.csv", first), ("second.csv", second)):
-        np.savetxt(folder / name, np.column_stack([log["t"], log["x"], log["i"]]), delimiter=",",
+    first, fit, second = passes
+    feedforward = map_feedforward(axis, fit.map)
+    feedback = second["i"] - np.array([feedforward(x) for x in second["x"]])
+    for name, log, current in (("first.csv", first, first["i"]), ("second.csv", second, second["i"]),
+                               ("feedback.csv", second, feedback)):
+        np.savetxt(folder / name, np.column_stack([log["t"], log["x"], current]), delimiter=",",
                    header="t,x,i", comments="", fmt="%.10g")
     assert main(["train", str(folder / "first.csv"), "--cogging", "--rotary", "--force-constant",
                  str(axis.kt), "-o", str(folder / "first.json")]) == 0
+    model = FrictionModel.load(folder / "first.json")
+    replace(model, cogging_map=None, cogging_friction=None).save(folder / "plain.json")
+    replace(model, training={**model.training, "units": "linear", "accept_unusual": True}).save(
+        folder / "linear.json")
     return folder
 
 
@@ -93,18 +101,10 @@ def test_a_pitch_typed_to_seven_digits_is_the_fed_forward_maps(axis, first_model
     (["--cogging", "--fed-forward", "first.json", "-o", "first.json"], "first.json"),
     (["--cogging", "--fed-forward", "first.json", "--log", "feedback.csv"], "logged without the feedforward?"),
 ])
-def test_fed_forward_refuses_what_it_cannot_use(axis, passes, first_model, tmp_path, capsys, argv, message):
+def test_fed_forward_refuses_what_it_cannot_use(axis, first_model, tmp_path, capsys, argv, message):
     """... and a second calibration whose current is the loop's feedback alone (the drive's
     feedforward left out of the log), which has no cogging left to map."""
-    folder = first_model
-    first = FrictionModel.load(folder / "first.json")
-    replace(first, cogging_map=None, cogging_friction=None).save(folder / "plain.json")
-    replace(first, training={**first.training, "units": "linear", "accept_unusual": True}).save(folder / "linear.json")
-    _, log = passes
-    feedforward = map_feedforward(axis, first.cogging_map)
-    feedback = log["i"] - np.array([feedforward(x) for x in log["x"]])
-    np.savetxt(folder / "feedback.csv", np.column_stack([log["t"], log["x"], feedback]), delimiter=",",
-               header="t,x,i", comments="", fmt="%.10g")
+    folder, argv = first_model, list(argv)
     out = folder / argv.pop(argv.index("-o") + 1) if "-o" in argv else tmp_path / "m.json"
     log_file = folder / argv.pop(argv.index("--log") + 1) if "--log" in argv else folder / "second.csv"
     argv = [str(folder / a) if a.endswith(".json") else a for a in argv if a not in ("-o", "--log")]

@@ -352,8 +352,8 @@ def register(p) -> None:
                          "NAME_cogging_q15(phase) and NAME_cogging_q31(phase)")
     cogging.add_argument("--fed-forward", metavar="MODEL",
                          help="the log is a second calibration, made with MODEL's cogging map fed "
-                         "forward (its current holds the whole cogging): the map keeps MODEL's "
-                         "harmonics and is identified again")
+                         "forward (its current holds the whole cogging): the map is identified "
+                         "again, its harmonics chosen among MODEL's")
     cogging.add_argument("--pitch", type=positive_float,
                          help="the map's period: a pole pitch or screw lead, m (default: one "
                          "revolution, 2 pi rad, on a rotary axis; on a linear axis the wavelength of "

@@ -150,4 +150,4 @@ def check_rotary_period(period: float, where: str, error=ModelError) -> None:
     """``error`` for a rotary axis's period longer than a turn (TURN_EXCESS)."""
     if period > 2 * np.pi * (1 + TURN_EXCESS):
         raise error(f"{where} {period:.6g} rad is longer than a turn (6.28319 rad), after which a "
-                         "rotary axis's position force repeats: give a turn or a part of one")
+                    "rotary axis's position force repeats: give a turn or a part of one")

@@ -105,12 +105,14 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if given and not rotary and pitch > travel:
         raise DataError(f"--pitch {pitch:.6g} m is longer than the log's travel ({travel:.6g} m): a "
                         "cogging map needs the whole period each way (--pitch is in m: 0.032 for 32 mm)")
-    if pitch is None and rotary and fed_forward[0] is None:
+    first_map, first_ripple = fed_forward
+    second = first_map is not None
+    if pitch is None and rotary and not second:
         pitch = 2 * np.pi
     force = log_force(columns, force_constant)
     fit = identify_cogging(columns["t"], columns["x"], force, pitch, inertia=inertia,
-                           fed_forward=fed_forward[0], fed_forward_friction=fed_forward[1])
-    if fed_forward[0] is not None and fit.map is None:
+                           fed_forward=first_map, fed_forward_friction=first_ripple)
+    if second and fit.map is None:
         raise DataError("the second calibration's force holds none of the fed-forward map's harmonics: "
                         "was its current logged without the feedforward? (log the whole current command)")
     check_period(fit, columns["t"], columns["x"], force, inertia, units, given)
@@ -141,7 +143,6 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                         "by the ripple the cogging map holds (give --mass)")
     model = replace(recording_force_constant(model, columns, force_constant), cogging_map=fit.map,
                     cogging_friction=fit.friction)
-    second = fed_forward[0] is not None
     j = {"given": "given", "identified": "identified from the two directions' ripple",
          "undetermined": "not determined by this log, taken as 0" + (
              ": the ripple the fed-forward map leaves is too small to matter" if second else
@@ -149,7 +150,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
              else "")}[fit.inertia_source]
     if second:
         lines.append(f"cogging: a second calibration, the first map fed forward: its harmonics "
-                     f"({', '.join(map(str, fed_forward[0].harmonics))}) the candidates")
+                     f"({', '.join(map(str, first_map.harmonics))}) the candidates")
     elif pitch is None and fit.map is not None:
         lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
                      "strongest position harmonic's wavelength; --pitch gives a longer one)")
