@@ -1,7 +1,9 @@
 """Small sweeps: the default against the true-structure least-squares fit, and its CPU time.
 
-Sweeps are drawn from two laws written here, per direction, with 3 to 20 log-spaced speeds
+Sweeps are drawn from three laws written here, per direction, with 3 to 20 log-spaced speeds
 from 2 mm/s to 0.5 m/s a side and Gaussian force noise of 0.05 N:
+  - "linear": Coulomb + viscous, different in each direction (the law every point count
+    determines: its oracle is exact from 2 points a side);
   - "textbook": Coulomb + viscous + an exponential Stribeck term, different in each direction
     (a law of fricgen's candidate family);
   - "drag": a squared-rational Stribeck drop and a quadratic drag, v |v| (a law outside it).
@@ -28,6 +30,11 @@ NOISE = 0.05
 POINTS = (3, 5, 8, 12, 20)
 
 
+def linear_law(p, speed):
+    coulomb, viscous = p
+    return coulomb + viscous * speed
+
+
 def textbook_law(p, speed):
     coulomb, static, v_s, viscous = p
     return coulomb + (static - coulomb) * np.exp(-speed / v_s) + viscous * speed
@@ -39,6 +46,7 @@ def drag_law(p, speed):
 
 
 LAWS = {
+    "linear": (linear_law, ([2.0, 10.0], [1.6, 8.0])),
     "textbook": (textbook_law, ([2.0, 3.0, 0.02, 10.0], [1.6, 2.2, 0.03, 8.0])),
     "drag": (drag_law, ([2.0, 3.0, 0.02, 6.0, 8.0], [1.6, 2.2, 0.03, 5.0, 6.0])),
 }
@@ -68,9 +76,11 @@ def oracle(law, v, f, v_s=None):
         speed, force = np.abs(v[m]), sign * f[m]
         order = np.argsort(speed)
         slope = max((force[order[-1]] - force[order[0]]) / (speed[order[-1]] - speed[order[0]]), 0.0)
-        start = [max(force[order[-1]] - slope * speed[order[-1]], 0.0), max(force[order[0]], 0.0),
-                 float(np.sqrt(speed.min() * speed.max())) if v_s is None else v_s, slope,
-                 0.0][:len(params[0])]
+        coulomb = max(force[order[-1]] - slope * speed[order[-1]], 0.0)
+        start = ([coulomb, slope] if len(params[0]) == 2 else
+                 [coulomb, max(force[order[0]], 0.0),
+                  float(np.sqrt(speed.min() * speed.max())) if v_s is None else v_s, slope,
+                  0.0][:len(params[0])])
         res = least_squares(lambda p: form(p, speed) - force, start, bounds=(0.0, np.inf))
         fitted.append(res.x)
     return lambda u: np.where(u > 0, form(fitted[0], np.abs(u)), -form(fitted[1], np.abs(u)))

@@ -1,9 +1,12 @@
 """The cogging map's identification on calibrations written here, without a drive's loop: a
 period the travel shows twice, harmonics beyond 512, a position in counts
 (``fricgen.fit.identify_cogging``)."""
+import re
+
 import numpy as np
 import pytest
 
+from fricgen.cli import main
 from fricgen.errors import DataError
 from fricgen.fit.cogging import identify_cogging
 from fricgen.sim.servo_axis import TWO_PI
@@ -137,3 +140,22 @@ def test_a_ripple_at_an_alias_of_the_encoder_is_no_cogging():
     cogging = 1.5 * np.sin(TWO_PI * 6 * x / pitch + 0.4)
     fit = identify_cogging(t, x, f + cogging, pitch, inertia=0.0)
     assert fit.map.harmonics == (6,) and fit.map.amplitude[0] == pytest.approx(1.5, rel=0.05)
+
+
+def test_a_move_that_turns_back_between_its_ends_is_warned_of(tmp_path, capsys):
+    """A velocity loop too soft for the cogging lets the axis stall and turn back within the
+    move (a trial's soft drive: speeds of 0.2 to 5.7 rad/s at 1 rad/s, its map 99 % off, with no
+    word): the map is fitted on the steady rows alone, and train says how much of the travel
+    they cover. The steady calibration of the same axis gets no such warning."""
+    t, x, f, _ = _turns((12, 24), (0.01, 0.004), bits=16)
+    wobble = 0.05 * np.sin(TWO_PI * 5.0 * t)            # 1.57 rad/s at 5 Hz on the 1 rad/s move
+    for name, position in (("steady", x), ("wobbling", x + wobble)):
+        accel = np.gradient(np.gradient(position, t), t)
+        np.savetxt(tmp_path / f"{name}.csv", np.column_stack([t, position, f + 1e-4 * accel]),
+                   delimiter=",", header="t,x,force", comments="", fmt="%.10g")
+    for name, warned in (("steady", False), ("wobbling", True)):
+        assert main(["train", str(tmp_path / f"{name}.csv"), "--cogging", "--rotary",
+                     "-o", str(tmp_path / f"{name}.json")]) == 0
+        said = re.search(r"the move covers (\d+)% of its travel at a steady speed", capsys.readouterr().err)
+        assert (said is not None) == warned
+        assert not warned or int(said.group(1)) < 90

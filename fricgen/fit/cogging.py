@@ -122,6 +122,9 @@ class CoggingFit:
     screened_by : str, optional
         What set ``highest_harmonic`` (the sample rate at the move's speed, the encoder, the
         position bins a direction visited, or fricgen's limit).
+    steady_travel : float, optional
+        The share of the log's travel covered by the rows in motion at a steady direction and
+        speed (``_moving``), the rows the map is fitted on; the rest stalls or turns back.
 
     Examples
     --------
@@ -141,6 +144,7 @@ class CoggingFit:
     period: Optional[float] = None
     unexplained_wavelength: Optional[float] = None
     screened_by: str = ""
+    steady_travel: float = 1.0
 
 
 def _odd(n: float) -> int:
@@ -162,6 +166,13 @@ def _moving(v: np.ndarray, window: int) -> np.ndarray:
     """Rows where the axis moves in one direction over the whole window, faster than a fifth of
     its typical speed (``steady_rows``)."""
     return steady_rows(v, np.abs(v) > 0.2 * np.percentile(np.abs(v), 90), window)
+
+
+def _travel_share(x: np.ndarray, rows: np.ndarray) -> float:
+    """The share of the travel (the sum of |dx|) covered from the given rows."""
+    step = np.abs(np.diff(x))
+    total = float(step.sum())
+    return float(step[rows[:-1]].sum()) / total if total > 0 else 1.0
 
 
 def _not_transient(r: np.ndarray) -> np.ndarray:
@@ -487,6 +498,7 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
     rows = _moving(v, window)
     if rows.sum() < 10 * MIN_BINS:
         raise DataError("the log has too few rows in motion for a cogging map")
+    steady_travel = _travel_share(moved, rows)
     sign = np.sign(v)
     speed = float(np.median(np.abs(v[rows])))
     spread = 1.4826 * float(np.median(np.abs(np.abs(v[rows]) - speed))) / speed
@@ -503,7 +515,8 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
                               inertia_source="given" if inertia is not None else "undetermined",
                               coulomb_viscous=tuple(float(c) for c in coef), highest_harmonic=0,
                               residual_rms=float(np.sqrt(rss / rows.sum())), rows=int(rows.sum()),
-                              screened_by="the travel's periodogram: no peak above the noise")
+                              screened_by="the travel's periodogram: no peak above the noise",
+                              steady_travel=steady_travel)
     # the viscous columns take the speed averaged over one period's travel: the velocity ripple
     # that the cogging itself causes would otherwise take part of it
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
@@ -561,4 +574,5 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
                       inertia_source="given" if given else ("identified" if determined else "undetermined"),
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
                       residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),
-                      period=float(period), unexplained_wavelength=left, screened_by=screened_by)
+                      period=float(period), unexplained_wavelength=left, screened_by=screened_by,
+                      steady_travel=steady_travel)

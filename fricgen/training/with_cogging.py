@@ -159,6 +159,11 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
+    if fit.steady_travel < STEADY_TRAVEL:
+        warnings.append(f"warning: the move covers {fit.steady_travel:.0%} of its travel at a steady "
+                        "speed; the rest stalls or turns back (a velocity loop that lets the cogging "
+                        "through, or oscillates): the map, fitted on the steady rows alone, misses the "
+                        "cogging held in the rest (stiffen the velocity loop and calibrate again)")
     if fit.unexplained_wavelength is not None and fit.map is not None:    # check_period refused the rest
         warnings.append("warning: " + _unexplained(
             fit.unexplained_wavelength, fit.period, units, "a period longer than the one found, x in "
@@ -181,6 +186,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     return CoggingReport(model=model, text=text + "\n" + "\n".join(lines), warnings=tuple(warnings))
 
 
+#: The least share of a calibration's travel covered at a steady speed without a warning.
+STEADY_TRAVEL = 0.9
 #: How close (relative) a harmonic of the turn must fall to a harmonic of a shorter pitch to be one.
 TURN_TOLERANCE = 1e-3
 
