@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from fricgen import codegen
+from fricgen.cli import main
 from fricgen.codegen import cbuild, fixed_table as ft, fixedpoint as fx
 
 from conftest import assert_builds_strictly
@@ -72,3 +73,15 @@ def test_the_compensation_builds_without_a_warning_under_the_strict_flags(band_l
     if shutil.which("gcc") is None:
         pytest.skip("gcc not installed")
     assert_builds_strictly(band_lib[5], "gb.c", "gcc")
+
+
+@pytest.mark.parametrize("band, noted", [(1e-7, True), (1e-3, False)])
+def test_emit_says_when_the_band_is_under_the_inputs_lsb(band, noted, tmp_path, capsys):
+    """A band under one LSB of the q15 input is one LSB in the C: emit says so, with the LSB."""
+    model = replace(greybox("exponential"), velocity_band=band, name="gb")
+    model.save(tmp_path / "m.json")
+    assert main(["emit", str(tmp_path / "m.json"), "--dtype", "q15", "-o", str(tmp_path / "c")]) == 0
+    lsb = fx.input_range(model, "q15") / 2 ** 15
+    said = capsys.readouterr().err
+    assert (f"is under the q15 input's LSB ({lsb:.4g} m/s)" in said) == noted
+    assert band > lsb or noted

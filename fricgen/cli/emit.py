@@ -11,7 +11,7 @@ from ..codegen import (ACTIVATION_IMPLS, DTYPES, check_name_in_folder, check_ove
                        package_files, render)
 from ..codegen.cogging_table import CoggingTable
 from ..codegen.package import remove_stale
-from ..codegen.fixedpoint import covered_speed, input_range
+from ..codegen.fixedpoint import DTYPE_PARAMS, covered_speed, input_range
 from ..control.c_adapted import render_adapt
 from ..effects import offset_left_out
 from ..errors import UsageError
@@ -61,6 +61,19 @@ def input_range_note(model: FrictionModel, dtype: str, v_max) -> str:
                 "speeds clamp there; the model records no speed range (--v-max sets one)")
     source = "--v-max" if v_max is not None else "the model's axis: its training speeds"
     return f"fricgen: the {dtype} C takes |v| < {v_range:g} {speed}, covering {cover:.4g} {speed} ({source})"
+
+
+def band_note(model: FrictionModel, name: str, dtype: str, v_max) -> str:
+    """One line when the model's velocity band is under the fixed-point input's LSB: the C's
+    band is then one LSB (``fixedpoint.BandSpec``), wider than the model's."""
+    band = model.velocity_band
+    lsb = input_range(model, dtype, v_max) / 2.0 ** (DTYPE_PARAMS[dtype]["bits"] - 1)
+    if band is None or band >= lsb:
+        return ""
+    speed = model.units.speed
+    return (f"fricgen: note: the velocity band {band:.4g} {speed} is under the {dtype} input's LSB "
+            f"({lsb:.4g} {speed}): {name}_compensation_{dtype} is 0 up to one LSB, {lsb:.4g} {speed}, "
+            "and ramps to the force at two")
 
 
 def offset_note(model, name: str, dtype: str = "float") -> str:
@@ -122,7 +135,8 @@ def run(args) -> int:
             f"{name}, and used by no model in the folder now")
     if args.dtype != "float":
         say(input_range_note(model, args.dtype, args.v_max))
-    notes = [offset_note(model, name, args.dtype), table and table.shortfall(name, model.units.force)]
+    notes = [offset_note(model, name, args.dtype), table and table.shortfall(name, model.units.force),
+             args.dtype != "float" and band_note(model, name, args.dtype, args.v_max)]
     for note in filter(None, notes):
         say(note)
     say(f"wrote {', '.join(sorted(files))} to {args.output} (model {model.model_hash})"
