@@ -84,6 +84,9 @@ class TextbookLaw:
 #: The chi-square (1 degree of freedom, 1 %) beyond which a direction of 2 points rejects the
 #: other direction's viscous slope (``slope_rejected``).
 SLOPE_CHI2 = 6.63
+#: How many standard errors below 0 a direction's force must reach at v = 0 for a sweep to hold
+#: a constant force beside its friction (``pushing_offset``).
+PUSH_SE = 3.0
 
 
 def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
@@ -105,6 +108,33 @@ def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
     shared = fit_shared_viscous(points, errors=False)[short]
     chi2 = float(np.sum(w / scale * (magnitude - shared.magnitude(speed)) ** 2)) / max(noise, 1e-300)
     return chi2 if chi2 > SLOPE_CHI2 else None
+
+
+def pushing_offset(sweep: Sweep, weight: np.ndarray) -> Optional[Tuple[float, float]]:
+    """(o, its standard error) where a sweep's force, extrapolated to v = 0 per direction, has
+    one direction's below 0 by more than PUSH_SE standard errors, the other's above: a constant
+    force beside the friction (a sensor's zero, an incline, a cable), which curves that oppose
+    the motion cannot hold (a new user's sweep of sgn(v) 0.2 + 8 v less 0.3 N had its forward
+    F_c clamped at 0 and its F_v 4 % low, 8 times the textbook fit's error at its points). o is
+    the mean of the two directions' values at v = 0, as a symmetric curve leaves it out. Each
+    value from unconstrained weighted least squares of 1, |v| (and v^2 from 7 points) on the
+    direction's points; None where a direction has fewer than 4 points or none pushes."""
+    ends = []
+    for speed, magnitude, w in curve_points(sweep, weight, asymmetric=True):
+        if speed.size < 4:
+            return None
+        design = np.column_stack([np.ones_like(speed), speed] + ([speed ** 2] if speed.size >= 7 else []))
+        root = np.sqrt(w / np.mean(w))
+        a, b = design * root[:, None], magnitude * root
+        coef, *_ = np.linalg.lstsq(a, b, rcond=None)
+        residual = b - a @ coef
+        covariance = np.linalg.pinv(a.T @ a) * float(residual @ residual) / (speed.size - design.shape[1])
+        ends.append((float(coef[0]), float(np.sqrt(max(covariance[0, 0], 0.0)))))
+    (forward, se_f), (backward, se_b) = ends          # the force's magnitude at v -> 0+ and 0-
+    pushes = min(forward + PUSH_SE * se_f, backward + PUSH_SE * se_b) < 0
+    if not pushes or forward + backward <= 0:
+        return None
+    return (forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2
 
 
 def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,

@@ -14,7 +14,7 @@ from typing import Optional, Tuple
 from ..codegen.cost import ADAPT_MAX_PARAMS as MAX_PARAMS
 from ..codegen.cost import adapt_instructions, cortex_m4f_instructions, host_ns
 from ..codegen.parity import float32_problem
-from ..data.identification import Identification
+from ..data.identification import COMPENSATED, Identification
 from ..data.outliers import OUTLIER_SIGMAS
 from ..data.sweep import Sweep
 from ..data.training_set import SAT_FACTOR
@@ -92,6 +92,12 @@ class FitReport:
         ident, fitted = self.identification, self.fit
         units = self.model.units
         reports = [] if ident is None else [ident.summary(units), ident.offset_line(fitted.asymmetric, units)]
+        axis = self.training.get("axis") or {}
+        if ident is None and axis.get("offset") is not None:
+            reports.append(f"offset    {axis['offset']:.4g} +- {axis['offset_se']:.2g} {units.force}: a constant "
+                           f"{units.effort} beside the friction (a sensor's zero, an incline, a cable): "
+                           "one direction's points reach v = 0 below 0, where no friction pushes the "
+                           f"axis; the curves are fitted to the {units.effort} less it ({COMPENSATED})")
         if (self.training.get("log") or {}).get("force_held"):
             reports.insert(1, f"{units.effort:10s}held over each sample (a set-point): taken as the mean of "
                               "each row and the row before, at the motion's sample times")

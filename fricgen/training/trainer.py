@@ -24,7 +24,7 @@ from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
 from ..fit.law_choice import STRUCTURE_POINTS, asymmetry_evident, choose_law, shows_structure, testable
-from ..fit.textbook_laws import point_weights
+from ..fit.textbook_laws import point_weights, pushing_offset
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, gravity_warning, stribeck_warning
@@ -341,6 +341,12 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
+    # a sweep's constant force beside the friction, which no curve that opposes the motion holds
+    offset = None if ident is not None else pushing_offset(sweep, point_weights(sweep, *spread)
+                                                           if any(c is not None for c in spread)
+                                                           else np.ones(len(sweep)))
+    if offset is not None:
+        sweep = Sweep(sweep.v, sweep.f - offset[0])
 
     def fit_curves(sweep, ident):
         with named_data(source):
@@ -371,6 +377,8 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
                            "left_out": list(choice.left_out)}
     # the speed range of the points fitted: a gross outlier's speed is not the axis'
     training["axis"] = axis_record(sweep if choice is None else choice.kept, ident, fitted.asymmetric)
+    if offset is not None:
+        training["axis"].update(offset=offset[0], offset_se=offset[1])
     training["units"] = units_of(rotary).kind
     if accept_unusual:
         training["accept_unusual"] = True

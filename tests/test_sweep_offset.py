@@ -1,0 +1,56 @@
+"""A sweep whose force holds a constant beside the friction (a sensor's zero, an incline, a
+cable): one direction's points reach v = 0 below 0, which no curve that opposes the motion
+holds (``fit.textbook_laws.pushing_offset``); the curves are fitted to the force less it and
+``training.axis.offset`` carries it."""
+import numpy as np
+import pytest
+
+import fricgen
+from fricgen.cli import main
+from fricgen.model import FrictionModel
+
+
+def offset_sweep(seed, offset=-0.3, points=12, coulomb=0.2, viscous=8.0, noise=0.01):
+    rng = np.random.default_rng(seed)
+    speed = np.geomspace(0.01, 0.5, points)
+    v = np.concatenate([speed, -speed])
+    return {"v": v, "f": np.sign(v) * coulomb + viscous * v + offset + noise * rng.standard_normal(v.size)}
+
+
+def textbook_rms(columns):
+    """The RMS residual of per-direction Coulomb + viscous by ordinary least squares."""
+    v, f = columns["v"], columns["f"]
+    basis = np.column_stack([v > 0, (v > 0) * v, v < 0, (v < 0) * v]).astype(float)
+    coef, *_ = np.linalg.lstsq(basis, f, rcond=None)
+    return float(np.sqrt(np.mean((f - basis @ coef) ** 2)))
+
+
+@pytest.mark.parametrize("seed", [1000, 1001, 1002])
+def test_a_constant_force_beside_the_friction_is_carried_not_clamped(seed):
+    """It was clamped: the forward F_c at 0, F_v 4 % low, 8 times the textbook fit's error."""
+    columns = offset_sweep(seed)
+    report = fricgen.train(columns, warn=lambda line: None)
+    axis = report.training["axis"]
+    assert abs(axis["offset"] + 0.3) < 3 * axis["offset_se"] + 0.005
+    model = report.model
+    assert model.force(np.array([1e-4, -1e-4])) == pytest.approx([0.2, -0.2], abs=0.02)
+    residual = model.force_with_offset(columns["v"]) - columns["f"]
+    assert np.sqrt(np.mean(residual ** 2)) <= 1.05 * textbook_rms(columns)
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.1])
+def test_a_sweep_whose_directions_both_oppose_the_motion_keeps_no_offset(offset):
+    """An offset smaller than the Coulomb level is held in the per-direction curves, as ever."""
+    report = fricgen.train(offset_sweep(1003, offset=offset), warn=lambda line: None)
+    assert report.training["axis"]["offset"] is None
+
+
+def test_train_reports_the_offset_and_eval_adds_it(tmp_path, capsys):
+    columns = offset_sweep(1004)
+    np.savetxt(tmp_path / "s.csv", np.column_stack([columns["v"], columns["f"]]), delimiter=",",
+               header="v,f", comments="")
+    assert main(["train", str(tmp_path / "s.csv"), "-o", str(tmp_path / "m.json")]) == 0
+    assert "where no friction pushes the axis" in capsys.readouterr().out
+    model = FrictionModel.load(tmp_path / "m.json")
+    assert model.axis_offset == pytest.approx(-0.3, abs=0.01)
+    assert model.force_with_offset(0.25) == pytest.approx(0.2 + 8.0 * 0.25 - 0.3, abs=0.02)
