@@ -54,3 +54,16 @@ def test_train_reports_the_offset_and_eval_adds_it(tmp_path, capsys):
     model = FrictionModel.load(tmp_path / "m.json")
     assert model.axis_offset == pytest.approx(-0.3, abs=0.01)
     assert model.force_with_offset(0.25) == pytest.approx(0.2 + 8.0 * 0.25 - 0.3, abs=0.02)
+
+
+def test_a_one_way_sweep_whose_force_pushes_at_rest_is_refused_in_one_line(tmp_path, capsys):
+    """One direction cannot tell a constant force from friction: it had trained a 2-source
+    curve of -0.146 N below its slowest point (pushing the axis), and emit took it."""
+    columns = offset_sweep(1005)
+    forward = columns["v"] > 0
+    np.savetxt(tmp_path / "s.csv", np.column_stack([columns["v"][forward], columns["f"][forward]]),
+               delimiter=",", header="v,f", comments="")
+    assert main(["train", str(tmp_path / "s.csv"), "-o", str(tmp_path / "m.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "pushing the axis" in err[0] and "sweep both directions" in err[0]
+    assert not (tmp_path / "m.json").exists()

@@ -36,8 +36,8 @@ from ..metrics import rmse
 from .directions import (CV_FOLDS, CV_POINTS, DirectionsFit, FittedDirection, _fit, row_folds,
                          warm_copy)
 from .textbook import DROP_SE, MIN_POINTS, PARAMETERS, LawFit, fit_law
-from .textbook_laws import (SLOPE_CHI2, TextbookLaw, curve_points, signed_force, slope_rejected,
-                            textbook_fit)
+from .textbook_laws import (SLOPE_CHI2, TextbookLaw, curve_points, short_direction_differs,
+                            signed_force, slope_rejected, textbook_fit)
 
 #: Sweeps of up to this many points are cross-validated leaving one point out.
 LOO_POINTS = 30
@@ -370,11 +370,18 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
             left_out.append(f"{TextbookLaw(False, True, True).name}: the 2 points of a direction reject "
                             f"the other's slope (chi-square {chi2:.3g} > {SLOPE_CHI2:g}); their own line, "
                             "which no held-out point checks")
+    sizes = [np.count_nonzero(sweep.v > 0), np.count_nonzero(sweep.v < 0)]
+    differs = None if one_way or asymmetric is False else short_direction_differs(level, weight)
     for law in (TextbookLaw(False, False), per_direction, TextbookLaw(True, False),
                 TextbookLaw(True, True)):
         if asymmetric is not None and law.asymmetric != asymmetric:
             continue
         if law.asymmetric and one_way:
+            continue
+        if differs is not None and not law.asymmetric:
+            left_out.append(f"{law.name}: the {'point' if min(sizes) == 1 else 'points'} of the "
+                            f"direction with fewer reject one curve for both (chi-square {differs:.3g} "
+                            "against the other direction's curve)")
             continue
         if law.shared_viscous:
             left_out.append(f"{TextbookLaw(False, True).name}: fewer than {MIN_POINTS[False]} points "
@@ -398,6 +405,9 @@ def choose_law(sweep: Sweep, weight: Optional[np.ndarray] = None, rich: Optional
         candidates.append((law.name, mse, lambda law=law, mse=mse: textbook_fit(
             law, *_with_reversals(level, weight, None if law.stribeck else reversals, offset),
             float(np.sqrt(mse.mean())))))
+    if rich is not None and differs is not None and not rich.asymmetric:
+        left_out.append("multi-source symmetric: the direction with fewer points rejects one curve for both")
+        rich = None
     if rich is not None:
         mse = _fold_mse(rich_predictor(rich, independence, offset), sweep, weight, folds)
         name = "multi-source " + ("per direction" if rich.asymmetric else "symmetric")

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Callable, Optional, Tuple
 
 import numpy as np
+from scipy import stats
 
 from ..data.sweep import Sweep
 from ..data.training_set import Dataset
@@ -84,17 +85,26 @@ class TextbookLaw:
 #: The chi-square (1 degree of freedom, 1 %) beyond which a direction of 2 points rejects the
 #: other direction's viscous slope (``slope_rejected``).
 SLOPE_CHI2 = 6.63
-#: How many standard errors below 0 a direction's force must reach at v = 0 for a sweep to hold
-#: a constant force beside its friction (``pushing_offset``).
+#: How many standard errors below 0 a direction's force must reach at v = 0 to push the axis
+#: (``rest_levels``).
 PUSH_SE = 3.0
+
+
+def _noise(speed: np.ndarray, magnitude: np.ndarray, w: np.ndarray) -> float:
+    """A direction's noise variance: the least residual variance (per degree of freedom) of its
+    own Coulomb + viscous and, from 2 points more than its parameters, Stribeck fits (a curving
+    direction's straight line took its curvature for noise)."""
+    fits = [(fit_law(speed, magnitude, w, stribeck, errors=False), PARAMETERS[stribeck])
+            for stribeck in (False, True) if speed.size >= PARAMETERS[stribeck] + 2]
+    return min(law.rms ** 2 * speed.size / (speed.size - p) for law, p in fits)
 
 
 def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
     """Where one direction has 2 points (at two speeds) and the other 3 or more: the chi-square
     of the 2 points' residuals under the one viscous slope of ``fit_shared_viscous``, in the
-    noise of the other direction's own Coulomb + viscous fit, where it exceeds SLOPE_CHI2 (the
-    directions' slopes differ: a new user's sweep of 0.015 and 0.25 m/s at v < 0 had its F_v
-    printed 7.74 +- 0.21 for a true 5); else None."""
+    noise of the other direction (``_noise``), where it exceeds SLOPE_CHI2 (the directions'
+    slopes differ: a new user's sweep of 0.015 and 0.25 m/s at v < 0 had its F_v printed
+    7.74 +- 0.21 for a true 5); else None."""
     points = curve_points(sweep, weight, True)
     sizes = [p[0].size for p in points]
     short = int(np.argmin(sizes))
@@ -102,39 +112,60 @@ def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
     if speed.size != 2 or np.ptp(speed) <= 0 or sizes[1 - short] < MIN_POINTS[False]:
         return None
     scale = np.mean(np.concatenate([p[2] for p in points]))
-    own = fit_law(*points[1 - short], errors=False)
-    dof = sizes[1 - short] - PARAMETERS[False]
-    noise = own.rms ** 2 * sizes[1 - short] / dof * np.mean(points[1 - short][2]) / scale
+    noise = _noise(*points[1 - short]) * np.mean(points[1 - short][2]) / scale
     shared = fit_shared_viscous(points, errors=False)[short]
     chi2 = float(np.sum(w / scale * (magnitude - shared.magnitude(speed)) ** 2)) / max(noise, 1e-300)
     return chi2 if chi2 > SLOPE_CHI2 else None
 
 
-def pushing_offset(sweep: Sweep, weight: np.ndarray) -> Optional[Tuple[float, float]]:
-    """(o, its standard error) where a sweep's force, extrapolated to v = 0 per direction, has
-    one direction's below 0 by more than PUSH_SE standard errors, the other's above: a constant
-    force beside the friction (a sensor's zero, an incline, a cable), which curves that oppose
-    the motion cannot hold (a new user's sweep of sgn(v) 0.2 + 8 v less 0.3 N had its forward
-    F_c clamped at 0 and its F_v 4 % low, 8 times the textbook fit's error at its points). o is
-    the mean of the two directions' values at v = 0, as a symmetric curve leaves it out. Each
-    value from unconstrained weighted least squares of 1, |v| (and v^2 from 7 points) on the
-    direction's points; None where a direction has fewer than 4 points or none pushes."""
-    ends = []
-    for speed, magnitude, w in curve_points(sweep, weight, asymmetric=True):
-        if speed.size < 4:
-            return None
-        design = np.column_stack([np.ones_like(speed), speed] + ([speed ** 2] if speed.size >= 7 else []))
-        root = np.sqrt(w / np.mean(w))
-        a, b = design * root[:, None], magnitude * root
-        coef, *_ = np.linalg.lstsq(a, b, rcond=None)
-        residual = b - a @ coef
-        covariance = np.linalg.pinv(a.T @ a) * float(residual @ residual) / (speed.size - design.shape[1])
-        ends.append((float(coef[0]), float(np.sqrt(max(covariance[0, 0], 0.0)))))
-    (forward, se_f), (backward, se_b) = ends          # the force's magnitude at v -> 0+ and 0-
-    pushes = min(forward + PUSH_SE * se_f, backward + PUSH_SE * se_b) < 0
-    if not pushes or forward + backward <= 0:
+def short_direction_differs(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
+    """Where one direction has 1 or 2 points and the other 2 more than Coulomb + viscous needs:
+    the chi-square of the short direction's magnitudes against the long direction's own curve
+    at their speeds (its best textbook fit, ``_noise``'s), in that curve's noise and
+    uncertainty, where it exceeds the 1 % level of as many degrees of freedom as points; else
+    None. Held-out scoring never leaves out a direction's end points, so it never judged such a
+    direction against one curve for both (a new user's sweep of 15 Stribeck points forward and
+    2 flat ones backward kept one curve, 38 noise levels off the 2)."""
+    points = curve_points(sweep, weight, True)
+    sizes = [p[0].size for p in points]
+    short = int(np.argmin(sizes))
+    long_speed, long_magnitude, long_w = points[1 - short]
+    if not 1 <= sizes[short] <= 2 or sizes[1 - short] < PARAMETERS[False] + 2:
         return None
-    return (forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2
+    fits = [(fit_law(long_speed, long_magnitude, long_w, stribeck, errors=False), PARAMETERS[stribeck])
+            for stribeck in (False, True) if long_speed.size >= PARAMETERS[stribeck] + 2]
+    own, p = min(fits, key=lambda fit: fit[0].rms ** 2 / (long_speed.size - fit[1]))
+    scale = np.mean(np.concatenate([pt[2] for pt in points]))
+    noise = (own.rms ** 2 * long_speed.size / (long_speed.size - p) * (1 + p / long_speed.size)
+             * np.mean(long_w) / scale)
+    speed, magnitude, w = points[short]
+    chi2 = float(np.sum(w / scale * (magnitude - own.magnitude(speed)) ** 2)) / max(noise, 1e-300)
+    return chi2 if chi2 > stats.chi2.ppf(0.99, sizes[short]) else None
+
+
+def _rest_level(speed: np.ndarray, magnitude: np.ndarray, w: np.ndarray) -> Tuple[float, float]:
+    """A direction's force magnitude extrapolated to v = 0 and its standard error: unconstrained
+    weighted least squares of 1, |v| (and v^2 from 7 points) on its points (4 or more)."""
+    design = np.column_stack([np.ones_like(speed), speed] + ([speed ** 2] if speed.size >= 7 else []))
+    root = np.sqrt(w / np.mean(w))
+    a, b = design * root[:, None], magnitude * root
+    coef, *_ = np.linalg.lstsq(a, b, rcond=None)
+    residual = b - a @ coef
+    covariance = np.linalg.pinv(a.T @ a) * float(residual @ residual) / (speed.size - design.shape[1])
+    return float(coef[0]), float(np.sqrt(max(covariance[0, 0], 0.0)))
+
+
+def rest_levels(sweep: Sweep, weight: np.ndarray) -> Optional[list]:
+    """Each direction's (v > 0, then v < 0; those with points) force magnitude extrapolated to
+    v = 0 with its standard error (``_rest_level``), where one of them is below 0 by more than
+    PUSH_SE standard errors: a force that pushes the axis at rest, which no friction does (a
+    constant force beside it, or columns swapped). None where none is, or a direction has
+    fewer than 4 points."""
+    points = [p for p in curve_points(sweep, weight, asymmetric=True) if p[0].size]
+    if any(p[0].size < 4 for p in points):
+        return None
+    levels = [_rest_level(*p) for p in points]
+    return levels if any(level + PUSH_SE * se < 0 for level, se in levels) else None
 
 
 def textbook_fit(law: TextbookLaw, sweep: Sweep, weight: np.ndarray,

@@ -24,7 +24,7 @@ from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
 from ..fit.law_choice import STRUCTURE_POINTS, asymmetry_evident, choose_law, shows_structure, testable
-from ..fit.textbook_laws import point_weights, pushing_offset
+from ..fit.textbook_laws import point_weights, rest_levels
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
 from .report import FitReport, gravity_warning, stribeck_warning
@@ -332,6 +332,33 @@ def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
         check_columns(columns, source, is_log(columns), accept_unusual, warn)
 
 
+def sweep_offset(sweep: Sweep, spread, source: str, units) -> Optional[Tuple[float, float]]:
+    """(o, its standard error) of a sweep whose force pushes the axis at rest in one direction
+    (``fit.textbook_laws.rest_levels``) while the two directions' together oppose it: a
+    constant force beside the friction (a sensor's zero, an incline, a cable), the mean of the
+    directions' values at v = 0 (a new user's sweep of sgn(v) 0.2 + 8 v less 0.3 N had its
+    forward F_c clamped at 0, F_v 4 % low, 8 times the textbook fit's error at its points).
+    ``DataError`` where no constant explains it: a sweep of one direction (which cannot tell
+    one from friction), or both directions pushing (a force that vanishes at a speed > 0: v and
+    f swapped had trained a curve that pushes below 0.2 "m/s"). None where none pushes."""
+    weight = point_weights(sweep, *spread) if any(c is not None for c in spread) else np.ones(len(sweep))
+    levels = rest_levels(sweep, weight)
+    if levels is None:
+        return None
+    said = " and ".join(f"{level:.3g} +- {se:.2g}" for level, se in levels)
+    if len(levels) == 1:
+        raise DataError(f"{source}: the force extrapolated to v = 0 is {said} {units.force}, pushing "
+                        "the axis: a constant force beside the friction (a sensor's zero, an incline), "
+                        "which a sweep of one direction cannot tell from friction (sweep both "
+                        "directions, or take it out of f)")
+    (forward, se_f), (backward, se_b) = levels
+    if forward + backward <= 0:
+        raise DataError(f"{source}: the force's magnitude extrapolated to v = 0 is {said} {units.force} "
+                        "(v > 0, v < 0): it vanishes at a speed above 0 in both directions, as no "
+                        "friction does (are the columns v and f swapped?)")
+    return (forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2
+
+
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
            accept_unusual, progress, warn, rotary, use=None, gravity=False,
            held=False) -> FitReport:
@@ -341,10 +368,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
-    # a sweep's constant force beside the friction, which no curve that opposes the motion holds
-    offset = None if ident is not None else pushing_offset(sweep, point_weights(sweep, *spread)
-                                                           if any(c is not None for c in spread)
-                                                           else np.ones(len(sweep)))
+    offset = None if ident is not None else sweep_offset(sweep, spread, source, units_of(rotary))
     if offset is not None:
         sweep = Sweep(sweep.v, sweep.f - offset[0])
 
