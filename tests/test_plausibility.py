@@ -527,3 +527,27 @@ def test_a_force_column_off_its_motion_by_a_few_samples_is_warned_about(shift, s
     warned = []
     check_timing({"t": log["t"], "v": log["v"], "force": force}, "log.csv", warned.append)
     assert warned == [] if said is None else (len(warned) == 1 and said in warned[0])
+
+
+def test_a_filtered_velocity_columns_lag_is_not_taken_for_the_forces():
+    """A log of x, a drive's velocity filtered 3 samples late and the force in time: the
+    velocity's lag had been warned of as the force leading the motion by 3 samples ("shift one
+    column", which would have made the log wrong). The motion is x's where the log has x."""
+    log = linear_axis_log(seconds=8.0)
+    x = np.cumsum(log["v"]) * float(np.median(np.diff(log["t"])))
+    late = np.concatenate([np.full(3, log["v"][0]), log["v"][:-3]])
+    warned = []
+    check_timing({"t": log["t"], "x": x, "v": late, "force": log["force"]}, "log.csv", warned.append)
+    assert warned == []
+    check_timing({"t": log["t"], "v": late, "force": log["force"]}, "log.csv", warned.append)
+    assert len(warned) == 1 and "leads the motion by 3 samples" in warned[0]
+
+
+def test_a_delay_beyond_the_first_search_is_located_not_told_as_its_edge():
+    """A force 120 samples behind its motion had been told as 50 samples off (the first
+    search's edge): the search goes on where its best lies at the edge."""
+    log = linear_axis_log(seconds=8.0)
+    warned = []
+    check_timing({"t": log["t"], "v": log["v"], "force": np.roll(log["force"], -120)}, "log.csv",
+                 warned.append)
+    assert len(warned) == 1 and "leads the motion by 120 samples" in warned[0]

@@ -379,6 +379,8 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
 #: A log's force is said to lag or lead its motion where [C1] fits it SHIFT_GAIN times better
 #: (residual variance) shifted by at least this many samples, of at most TIMING_SHIFTS.
 TIMING_STEPS, TIMING_SHIFTS = 2, 50
+#: The farthest ``check_timing`` searches where the best shift lies at its first search's edge.
+TIMING_REACH = 200
 
 
 def check_timing(columns: Mapping[str, np.ndarray], source: str,
@@ -386,7 +388,10 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
     """One warning line where a log's force fits its motion (least squares of [C1] with
     Coulomb and viscous friction per direction, v and dv/dt of a 7-sample Savitzky-Golay) far
     better a few samples off than in time: SHIFT_GAIN times less residual variance at a shift
-    of TIMING_STEPS to TIMING_SHIFTS samples. A force column a few samples off its motion
+    of TIMING_STEPS to TIMING_SHIFTS samples, or up to TIMING_REACH where the best lies at the
+    edge (a delay of 120 samples had been told as 50; a best shift still at the edge, where
+    the residual falls on past any delay, locates none). The motion is x's where the log has x (a filtered velocity
+    column's lag had been taken for the force's). A force column a few samples off its motion
     trains silently wrong numbers (20 ms at 1 kHz: a 3 kg axis's mass 3.28 kg, its viscous
     friction 0.86 of 4 N s/m; 2 samples at 100 Hz: 1.28 of 4); the robot joints of
     ``../shared/data`` fit best in time or at most 0.72 of it."""
@@ -397,20 +402,23 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
     ts = float(np.median(np.diff(t)))
     if not ts > 0:
         return
-    v = smooth(v if v is not None else np.gradient(x, ts), 7)
+    # the motion from x where the log has it: a drive's velocity column may be filtered, and
+    # its lag (``motionlog.without_lagging_velocity`` takes v from x then) is not the force's
+    v = smooth(np.gradient(x, t) if x is not None else v, 7)
     a = np.gradient(v, ts)
-    shifts = range(-TIMING_SHIFTS, TIMING_SHIFTS + 1)
-    inner = np.arange(TIMING_SHIFTS, t.size - TIMING_SHIFTS)[_thin(t.size - 2 * TIMING_SHIFTS)]
-    design = textbook_columns(a[inner], v[inner])
-    pinv = np.linalg.pinv(design)           # one design for every shift: only the force moves
-
-    def variance(d: int) -> float:
-        y = force[inner + d]
-        return float(np.mean((y - design @ (pinv @ y)) ** 2))
-
-    scores = {d: variance(d) for d in shifts}
-    best = min(scores, key=scores.get)
-    if abs(best) >= TIMING_STEPS and scores[best] * SHIFT_GAIN < scores[0]:
+    reach = TIMING_SHIFTS
+    while True:             # a best shift at the search's edge: searched twice as far
+        inner = np.arange(reach, t.size - reach)[_thin(t.size - 2 * reach)]
+        design = textbook_columns(a[inner], v[inner])
+        pinv = np.linalg.pinv(design)       # one design for every shift: only the force moves
+        scores = {d: float(np.mean((force[inner + d] - design @ (pinv @ force[inner + d])) ** 2))
+                  for d in range(-reach, reach + 1)}
+        best = min(scores, key=scores.get)
+        if abs(best) < reach or 2 * reach > TIMING_REACH or t.size < 16 * reach:
+            break
+        reach *= 2
+    # a best shift still at the edge locates no delay (uniform stamps on jittering samples)
+    if TIMING_STEPS <= abs(best) < reach and scores[best] * SHIFT_GAIN < scores[0]:
         which = "lags" if best > 0 else "leads"
         warn(f"fricgen: warning: {source}: the force column {which} the motion by {abs(best)} "
              f"samples ({abs(best) * ts * 1e3:.3g} ms): friction and inertia fit it so with "
