@@ -90,19 +90,20 @@ SLOPE_CHI2 = 6.63
 PUSH_SE = 3.0
 
 
-def _noise(speed: np.ndarray, magnitude: np.ndarray, w: np.ndarray) -> float:
-    """A direction's noise variance: the least residual variance (per degree of freedom) of its
-    own Coulomb + viscous and, from 2 points more than its parameters, Stribeck fits (a curving
-    direction's straight line took its curvature for noise)."""
-    fits = [(fit_law(speed, magnitude, w, stribeck, errors=False), PARAMETERS[stribeck])
-            for stribeck in (False, True) if speed.size >= PARAMETERS[stribeck] + 2]
-    return min(law.rms ** 2 * speed.size / (speed.size - p) for law, p in fits)
+def _best_fit(speed: np.ndarray, magnitude: np.ndarray, w: np.ndarray) -> Tuple[LawFit, float]:
+    """A direction's own curve and noise variance: of its Coulomb + viscous and, from 2 points
+    more than its parameters, Stribeck fits, the one of least residual variance per degree of
+    freedom (a curving direction's straight line took its curvature for noise)."""
+    fits = [(law, law.rms ** 2 * speed.size / (speed.size - PARAMETERS[stribeck]))
+            for stribeck in (False, True) if speed.size >= PARAMETERS[stribeck] + 2
+            for law in (fit_law(speed, magnitude, w, stribeck, errors=False),)]
+    return min(fits, key=lambda fit: fit[1])
 
 
 def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
     """Where one direction has 2 points (at two speeds) and the other 3 or more: the chi-square
     of the 2 points' residuals under the one viscous slope of ``fit_shared_viscous``, in the
-    noise of the other direction (``_noise``), where it exceeds SLOPE_CHI2 (the directions'
+    noise of the other direction (``_best_fit``), where it exceeds SLOPE_CHI2 (the directions'
     slopes differ: a new user's sweep of 0.015 and 0.25 m/s at v < 0 had its F_v printed
     7.74 +- 0.21 for a true 5); else None."""
     points = curve_points(sweep, weight, True)
@@ -112,7 +113,7 @@ def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
     if speed.size != 2 or np.ptp(speed) <= 0 or sizes[1 - short] < MIN_POINTS[False]:
         return None
     scale = np.mean(np.concatenate([p[2] for p in points]))
-    noise = _noise(*points[1 - short]) * np.mean(points[1 - short][2]) / scale
+    noise = _best_fit(*points[1 - short])[1] * np.mean(points[1 - short][2]) / scale
     shared = fit_shared_viscous(points, errors=False)[short]
     chi2 = float(np.sum(w / scale * (magnitude - shared.magnitude(speed)) ** 2)) / max(noise, 1e-300)
     return chi2 if chi2 > SLOPE_CHI2 else None
@@ -121,7 +122,7 @@ def slope_rejected(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
 def short_direction_differs(sweep: Sweep, weight: np.ndarray) -> Optional[float]:
     """Where one direction has 1 or 2 points and the other 2 more than Coulomb + viscous needs:
     the chi-square of the short direction's magnitudes against the long direction's own curve
-    at their speeds (its best textbook fit, ``_noise``'s), in that curve's noise and
+    at their speeds (``_best_fit``), in that curve's noise and
     uncertainty, where it exceeds the 1 % level of as many degrees of freedom as points; else
     None. Held-out scoring never leaves out a direction's end points, so it never judged such a
     direction against one curve for both (a new user's sweep of 15 Stribeck points forward and
@@ -132,12 +133,10 @@ def short_direction_differs(sweep: Sweep, weight: np.ndarray) -> Optional[float]
     long_speed, long_magnitude, long_w = points[1 - short]
     if not 1 <= sizes[short] <= 2 or sizes[1 - short] < PARAMETERS[False] + 2:
         return None
-    fits = [(fit_law(long_speed, long_magnitude, long_w, stribeck, errors=False), PARAMETERS[stribeck])
-            for stribeck in (False, True) if long_speed.size >= PARAMETERS[stribeck] + 2]
-    own, p = min(fits, key=lambda fit: fit[0].rms ** 2 / (long_speed.size - fit[1]))
+    own, variance = _best_fit(long_speed, long_magnitude, long_w)
+    p = PARAMETERS[own.stribeck]
     scale = np.mean(np.concatenate([pt[2] for pt in points]))
-    noise = (own.rms ** 2 * long_speed.size / (long_speed.size - p) * (1 + p / long_speed.size)
-             * np.mean(long_w) / scale)
+    noise = variance * (1 + p / long_speed.size) * np.mean(long_w) / scale
     speed, magnitude, w = points[short]
     chi2 = float(np.sum(w / scale * (magnitude - own.magnitude(speed)) ** 2)) / max(noise, 1e-300)
     return chi2 if chi2 > stats.chi2.ppf(0.99, sizes[short]) else None
