@@ -387,3 +387,18 @@ def test_a_model_the_loader_refuses_is_refused_before_its_report(tmp_path, capsy
     out, err = capsys.readouterr()
     assert out == "" and len(err.strip().splitlines()) == 1 and "below the 0.001 kg" in err
     assert not (tmp_path / "m.json").exists()
+
+
+@pytest.mark.parametrize("velocities, warned", [("0.002\n0.05\n0.001\n", True), ("0\n0.05\n-0.2\n", False)])
+def test_eval_warns_once_of_speeds_within_the_models_velocity_band(model_json, tmp_path, monkeypatch,
+                                                                   capsys, velocities, warned):
+    """A 16-bit joint's log resolved no speed below 0.29 rad/s: eval of 0.05 rad/s gave the law
+    extrapolated there without a word. Within the band (v = 0 aside), one warning line."""
+    import io
+    from dataclasses import replace
+    banded = tmp_path / "banded.json"
+    replace(FrictionModel.load(model_json), velocity_band=0.01).save(banded)
+    monkeypatch.setattr(sys, "stdin", io.StringIO(velocities))
+    assert main(["eval", str(banded)]) == 0
+    err = capsys.readouterr().err
+    assert err.count("within the model's velocity band") == (1 if warned else 0)

@@ -84,7 +84,8 @@ def run(args) -> int:
     names = ["velocity", *inputs] + (["position"] if args.position else [])
     rows = _rows(stdin, names)
     trained = None if model.axis is None else model.axis.speed_max
-    beyond = 0
+    band = model.velocity_band
+    beyond = within = 0
     read = 0
     while chunk := list(itertools.islice(rows, CHUNK)):
         if not read:                # a bad first line is its one error line, without the notes
@@ -99,6 +100,14 @@ def run(args) -> int:
                 f"trained on (up to {trained:.4g} {speed}): it extrapolates there (are the "
                 f"velocities in {speed}?)")
             beyond = 1
+        moving = np.abs(chunk[:, 0])[chunk[:, 0] != 0]
+        if band is not None and moving.size and float(moving.min()) < band and not within:
+            speed = model.units.speed
+            say(f"fricgen: warning: |v| = {float(moving.min()):.6g} {speed} is within the model's velocity "
+                f"band ({band:.4g} {speed}, {model.training.get('velocity_band_from', 'velocity_band')}): "
+                "no speed there was resolved in training, and F(v) is the law extrapolated "
+                "(NAME_compensation gives 0 there)")
+            within = 1
         f = model.force(chunk[:, 0], **{n: chunk[:, 1 + k] for k, n in enumerate(inputs)}) + offset
         if args.position:
             f = f + model.cogging(chunk[:, -1])
