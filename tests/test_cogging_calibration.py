@@ -29,6 +29,7 @@ def test_a_period_seen_twice_in_the_travel_is_placed_by_all_its_harmonics(seed):
     f = cogging(x) + 20.0 * np.sign(v) + 300.0 * v + 0.3 * rng.standard_normal(t.size)
     fit = identify_cogging(t, x, f, None, inertia=0.0)
     assert fit.period == pytest.approx(pitch, rel=2e-4)
+    assert 0 < fit.period_se < 2e-4 * pitch and abs(fit.period - pitch) < 4 * fit.period_se
     u = np.linspace(0, pitch, 2000)
     assert np.sqrt(np.mean((fit.map.force(u) - cogging(u)) ** 2)) < 0.01 * np.std(cogging(u))
 

@@ -116,6 +116,8 @@ class CoggingFit:
         The rows in motion that were fitted.
     period : float, optional
         The period fitted (given, or found in the data).
+    period_se : float, optional
+        The standard error of a period found in the data; None for a period given.
     unexplained_wavelength : float, optional
         The wavelength of a position-periodic force the residual still holds that no harmonic
         of the period can (a wrong period given); None when there is none.
@@ -142,6 +144,7 @@ class CoggingFit:
     residual_rms: float
     rows: int
     period: Optional[float] = None
+    period_se: Optional[float] = None
     unexplained_wavelength: Optional[float] = None
     screened_by: str = ""
     steady_travel: float = 1.0
@@ -343,14 +346,15 @@ def _peak_z(spectrum: np.ndarray, usable: np.ndarray) -> Tuple[np.ndarray, float
     return z, float(np.sqrt(2 * np.log(max(usable.sum() / 4, 1.0) / ALPHA)))
 
 
-def _fundamental(x, f, nuisance, speed, ts, quantum, pace=None) -> Optional[float]:
+def _fundamental(x, f, nuisance, speed, ts, quantum, pace=None) -> Optional[Tuple[float, float]]:
     """The map's period found in the data: the wavelength of the strongest peak of the position
     periodogram (``_travel_spectrum``), refined (``_refined_peak``) as one sinusoid, then as the
     series of its first PERIOD_HARMONICS harmonics; None where no peak stands above the noise
     (``_peak_z``). Only periods the map can be built on are candidates: 2 MIN_BINS samples and
     counts each (a linear log without cogging had its loop's 16 um ripple, 6 samples long, taken
     for the period, and was refused). Content at a longer period (a once-per-pole-pair or
-    once-per-turn term) needs the period given."""
+    once-per-turn term) needs the period given. Returned with its standard error (the blocked
+    jackknife of the last refinement over FIT_FOLDS blocks of the travel)."""
     r = _less_nuisance(f, nuisance)
     k, spectrum, usable, grid = _travel_spectrum(x, r, speed, ts, quantum, pace)
     usable &= k <= 2 * np.pi / (2 * MIN_BINS * max(quantum, speed * ts))
@@ -366,7 +370,12 @@ def _fundamental(x, f, nuisance, speed, ts, quantum, pace=None) -> Optional[floa
     # roughly (its neighbours' leakage, a drift of the friction), the whole series sharply
     harmonics = max(1, min(PERIOD_HARMONICS, int(k[usable].max() / peak)))
     thin = slice(None, None, max(1, x.size // PERIOD_ROWS))
-    return float(2 * np.pi / _refined_peak(x[thin], r[thin], peak, grid, harmonics))
+    xs, rs = x[thin], r[thin]
+    k = _refined_peak(xs, rs, peak, grid, harmonics)
+    blocks = np.array_split(np.arange(xs.size), FIT_FOLDS)
+    ks = np.array([_refined_peak(np.delete(xs, b), np.delete(rs, b), k, grid, harmonics) for b in blocks])
+    se = np.sqrt((FIT_FOLDS - 1) / FIT_FOLDS * np.sum((ks - ks.mean()) ** 2))
+    return float(2 * np.pi / k), float(2 * np.pi / k ** 2 * se)
 
 
 def _subharmonic(k: np.ndarray, spectrum: np.ndarray, z: np.ndarray, j: int, grid: float) -> int:
@@ -506,9 +515,11 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
     if spread <= STEADY_SPREAD:
         steady = (rows & (np.abs(np.abs(v) - speed) <= 3 * max(spread, SPEED_PRECISION) * speed))[:-1]
         pace = float(np.mean(np.abs(np.diff(x))[steady])) / ts if steady.any() else None
+    period_se = None
     if period is None:      # in the force less a given inertia's m a (a log of normal operation accelerates)
         less = f - inertia * a_smooth if inertia is not None else f
-        period = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum, pace)
+        found = _fundamental(x[rows], less[rows], _nuisance(v[rows]), speed, ts, quantum, pace)
+        period, period_se = found if found is not None else (None, None)
         if period is None:                  # no position-periodic force: no map, the friction
             coef, rss = lstsq(_nuisance(v[rows]), less[rows])
             return CoggingFit(map=None, friction=None, inertia=float(inertia or 0.0),
@@ -574,5 +585,6 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
                       inertia_source="given" if given else ("identified" if determined else "undetermined"),
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
                       residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),
-                      period=float(period), unexplained_wavelength=left, screened_by=screened_by,
+                      period=float(period), period_se=period_se, unexplained_wavelength=left,
+                      screened_by=screened_by,
                       steady_travel=steady_travel)

@@ -152,8 +152,9 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
         lines.append(f"cogging: a second calibration, the first map fed forward: its harmonics "
                      f"({', '.join(map(str, first_map.harmonics))}) the candidates")
     elif pitch is None and fit.map is not None:
-        lines.append(f"cogging: period {fit.map.period:.6g} {units.position} found from the data (the "
-                     "strongest position harmonic's wavelength; --pitch gives a longer one)")
+        lines.append(f"cogging: period {fit.map.period:.6g} +- {fit.period_se:.2g} {units.position} found "
+                     "from the data (the strongest position harmonic's wavelength, or its fundamental; "
+                     "--pitch gives a longer one)")
     lines.append(f"cogging: inertia {fit.inertia:.4g} {units.mass} ({j}); harmonics screened "
                  f"up to {fit.highest_harmonic} (set by {fit.screened_by}); {fit.rows} rows in motion")
     if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
