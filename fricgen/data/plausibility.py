@@ -404,7 +404,9 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
         return
     # the motion from x where the log has it: a drive's velocity column may be filtered, and
     # its lag (``motionlog.without_lagging_velocity`` takes v from x then) is not the force's
-    v = smooth(np.gradient(x, t) if x is not None else v, 7)
+    v = smooth(np.gradient(x, t if np.all(np.diff(t) > 0) else ts) if x is not None else v, 7)
+    if not np.all(np.isfinite(v)):
+        return                      # the readers name a column that is not finite
     a = np.gradient(v, ts)
     reach = TIMING_SHIFTS
     while True:             # a best shift at the search's edge: searched twice as far

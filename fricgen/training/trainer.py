@@ -19,11 +19,13 @@ from ..data.inverse_dynamics import FRICTION_Z, describe_missing, identify_log, 
 from ..data.motionlog import without_lagging_velocity
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
+from ..data.training_set import check_friction_sign
 from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import STRUCTURE_POINTS, asymmetry_evident, choose_law, shows_structure, testable
+from ..fit.law_choice import (STRUCTURE_POINTS, asymmetry_evident, choose_law, shows_structure, testable,
+                              textbook_outliers)
 from ..fit.textbook_laws import point_weights, rest_levels
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
@@ -332,7 +334,7 @@ def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
         check_columns(columns, source, is_log(columns), accept_unusual, warn)
 
 
-def sweep_offset(sweep: Sweep, spread, source: str, units) -> Optional[Tuple[float, float]]:
+def sweep_offset(sweep: Sweep, spread, units) -> Optional[Tuple[float, float]]:
     """(o, its standard error) of a sweep whose force pushes the axis at rest in one direction
     (``fit.textbook_laws.rest_levels``) while the two directions' together oppose it: a
     constant force beside the friction (a sensor's zero, an incline, a cable), the mean of the
@@ -341,19 +343,21 @@ def sweep_offset(sweep: Sweep, spread, source: str, units) -> Optional[Tuple[flo
     ``DataError`` where no constant explains it: a sweep of one direction (which cannot tell
     one from friction), or both directions pushing (a force that vanishes at a speed > 0: v and
     f swapped had trained a curve that pushes below 0.2 "m/s"). None where none pushes."""
+    check_friction_sign(sweep.folded())       # a sign flipped is named as such, not as a push
     weight = point_weights(sweep, *spread) if any(c is not None for c in spread) else np.ones(len(sweep))
-    levels = rest_levels(sweep, weight)
+    kept = ~textbook_outliers(sweep)          # a gross outlier row is no level at rest
+    levels = rest_levels(Sweep(sweep.v[kept], sweep.f[kept]), weight[kept])
     if levels is None:
         return None
     said = " and ".join(f"{level:.3g} +- {se:.2g}" for level, se in levels)
     if len(levels) == 1:
-        raise DataError(f"{source}: the force extrapolated to v = 0 is {said} {units.force}, pushing "
+        raise DataError(f"the force extrapolated to v = 0 is {said} {units.force}, pushing "
                         "the axis: a constant force beside the friction (a sensor's zero, an incline), "
                         "which a sweep of one direction cannot tell from friction (sweep both "
                         "directions, or take it out of f)")
     (forward, se_f), (backward, se_b) = levels
     if forward + backward <= 0:
-        raise DataError(f"{source}: the force's magnitude extrapolated to v = 0 is {said} {units.force} "
+        raise DataError(f"the force's magnitude extrapolated to v = 0 is {said} {units.force} "
                         "(v > 0, v < 0): it vanishes at a speed above 0 in both directions, as no "
                         "friction does (are the columns v and f swapped?)")
     return (forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2
@@ -386,7 +390,11 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
-    offset = None if ident is not None else sweep_offset(sweep, spread, source, units_of(rotary))
+    if ident is None:
+        with named_data(source):
+            offset = sweep_offset(sweep, spread, units_of(rotary))
+    else:
+        offset = None
     if offset is not None:
         sweep = Sweep(sweep.v, sweep.f - offset[0])
 
