@@ -100,8 +100,8 @@ def run(args) -> int:
                 f"trained on (up to {trained:.4g} {speed}): it extrapolates there (are the "
                 f"velocities in {speed}?)")
             beyond = 1
-        moving = np.abs(chunk[:, 0])[chunk[:, 0] != 0]
-        if band is not None and moving.size and float(moving.min()) < band and not within:
+        moving = [] if band is None or within else np.abs(chunk[:, 0])[chunk[:, 0] != 0]
+        if len(moving) and float(moving.min()) < band:
             speed = model.units.speed
             say(f"fricgen: warning: |v| = {float(moving.min()):.6g} {speed} is within the model's velocity "
                 f"band ({band:.4g} {speed}, {model.training.get('velocity_band_from', 'velocity_band')}): "

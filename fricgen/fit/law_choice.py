@@ -473,15 +473,16 @@ def _law_mse(law: "TextbookLaw", sweep: Sweep, weight: np.ndarray, folds: np.nda
     return _fold_mse(predict_fold, sweep, weight, folds)
 
 
-def asymmetry_evident(sweep: Sweep, weight: Optional[np.ndarray] = None,
-                      seed=0) -> Tuple[bool, Scored]:
+def asymmetry_evident(sweep: Sweep, weight: Optional[np.ndarray] = None, seed=0,
+                      outliers: Optional[np.ndarray] = None) -> Tuple[bool, Scored]:
     """Whether a sweep's directions differ beyond the noise already for the textbook laws: the
     per-direction law (with the Stribeck term where both directions allow it, else Coulomb +
     viscous) beats its symmetric twin (``_beats``) on the folds ``choose_law`` scores. A
     multi-source fit then need not be cross-validated for its symmetry: no curve shared by the
     two directions holds what the simplest curves already tell apart. Also what was found on
-    the way (``Scored``: ``choose_law``'s ``known``)."""
-    sweep, weight, outliers = _scored(sweep, weight, 0)
+    the way (``Scored``: ``choose_law``'s ``known``). ``outliers``: the sweep's gross outliers
+    where found already (``textbook_outliers``)."""
+    sweep, weight, outliers = _scored(sweep, weight, 0, outliers)
     if not (np.any(sweep.v > 0) and np.any(sweep.v < 0)):
         return False, Scored(outliers, {})
     folds = folds_for(sweep.v, seed, 0)

@@ -24,8 +24,8 @@ from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
 from ..fit.directions import BLOCK_WINDOWS, fit_friction
-from ..fit.law_choice import (STRUCTURE_POINTS, asymmetry_evident, choose_law, shows_structure, testable,
-                              textbook_outliers)
+from ..fit.law_choice import (STRUCTURE_POINTS, Scored, asymmetry_evident, choose_law, shows_structure,
+                              testable, textbook_outliers)
 from ..fit.textbook_laws import point_weights, rest_levels
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
@@ -133,12 +133,13 @@ def _friction_data(data, mass, force_constant, source, progress, use=None, gravi
     return sweep_from_columns(columns, source), None
 
 
-def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, progress):
+def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, progress, outliers=None):
     """The default's fit (``fit.law_choice``): the textbook laws and, where the data allow, the
     multi-source fit, the simplest within the noise of the best kept. Returns the fit, the
     identification (its offset made a load where the multi-source curves would push the
-    axis) and the choice."""
-    rich, reason, evident, known = None, "", False, None
+    axis) and the choice. ``outliers``: a sweep's gross outliers where found already."""
+    rich, reason, evident = None, "", False
+    known = None if outliers is None else Scored(outliers, {})
     weight = point_weights(sweep, *spread)
     if ident is None and not shows_structure(sweep, weight):
         reason = ("multi-source fit: not tried, the textbook law's residuals run along the speed "
@@ -150,7 +151,7 @@ def _fit_default(sweep, estimator, ident, spread, vs_max, asymmetric, seed, prog
         # a sweep whose textbook laws already tell the directions apart: the multi-source
         # curves per direction, without cross-validating their symmetry
         if asymmetric is None and ident is None:
-            evident, known = asymmetry_evident(sweep, weight, seed)
+            evident, known = asymmetry_evident(sweep, weight, seed, outliers)
         try:
             rich, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
                                                    asymmetric=asymmetric, seed=seed,
@@ -334,7 +335,7 @@ def _check_data(data, source: str, accept_unusual: bool, warn) -> None:
         check_columns(columns, source, is_log(columns), accept_unusual, warn)
 
 
-def sweep_offset(sweep: Sweep, spread, units) -> Optional[Tuple[float, float]]:
+def sweep_offset(sweep: Sweep, spread, units) -> Tuple[Optional[Tuple[float, float]], np.ndarray]:
     """(o, its standard error) of a sweep whose force pushes the axis at rest in one direction
     (``fit.textbook_laws.rest_levels``) while the two directions' together oppose it: a
     constant force beside the friction (a sensor's zero, an incline, a cable), the mean of the
@@ -342,13 +343,16 @@ def sweep_offset(sweep: Sweep, spread, units) -> Optional[Tuple[float, float]]:
     forward F_c clamped at 0, F_v 4 % low, 8 times the textbook fit's error at its points).
     ``DataError`` where no constant explains it: a sweep of one direction (which cannot tell
     one from friction), or both directions pushing (a force that vanishes at a speed > 0: v and
-    f swapped had trained a curve that pushes below 0.2 "m/s"). None where none pushes."""
+    f swapped had trained a curve that pushes below 0.2 "m/s"). None where none pushes. Beside
+    it, the sweep's gross outliers (``textbook_outliers``, left out of the levels), which the
+    law choice reuses where no offset changes the sweep: on a sweep of 1M points they take
+    6 s."""
     check_friction_sign(sweep.folded())       # a sign flipped is named as such, not as a push
     weight = point_weights(sweep, *spread) if any(c is not None for c in spread) else np.ones(len(sweep))
     kept = ~textbook_outliers(sweep)          # a gross outlier row is no level at rest
     levels = rest_levels(Sweep(sweep.v[kept], sweep.f[kept]), weight[kept])
     if levels is None:
-        return None
+        return None, ~kept
     said = " and ".join(f"{level:.3g} +- {se:.2g}" for level, se in levels)
     if len(levels) == 1:
         raise DataError(f"the force extrapolated to v = 0 is {said} {units.force}, pushing "
@@ -360,7 +364,7 @@ def sweep_offset(sweep: Sweep, spread, units) -> Optional[Tuple[float, float]]:
         raise DataError(f"the force's magnitude extrapolated to v = 0 is {said} {units.force} "
                         "(v > 0, v < 0): it vanishes at a speed above 0 in both directions, as no "
                         "friction does (are the columns v and f swapped?)")
-    return (forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2
+    return ((forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2), ~kept
 
 
 def check_sweep_friction(curves: list, source: str, units) -> None:
@@ -390,26 +394,25 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
+    offset = outliers = None
     if ident is None:
         with named_data(source):
-            offset = sweep_offset(sweep, spread, units_of(rotary))
-    else:
-        offset = None
+            offset, outliers = sweep_offset(sweep, spread, units_of(rotary))
     if offset is not None:
-        sweep = Sweep(sweep.v, sweep.f - offset[0])
+        sweep, outliers = Sweep(sweep.v, sweep.f - offset[0]), None     # found again on it
 
-    def fit_curves(sweep, ident):
+    def fit_curves(sweep, ident, outliers=None):
         with named_data(source):
             if isinstance(estimator, DefaultRegressor):
                 fitted, ident, choice = _fit_default(sweep, estimator, ident, spread, vs_max,
-                                                     asymmetric, seed, progress)
+                                                     asymmetric, seed, progress, outliers)
                 return fitted, ident, (sweep if ident is None else ident.friction), choice
             fitted, ident, sweep = _fit_multi_source(sweep, estimator, ident, vs_max=vs_max,
                                                      asymmetric=asymmetric, seed=seed,
                                                      progress=progress)
             return fitted, ident, sweep, None
 
-    fitted, ident, sweep, choice = fit_curves(sweep, ident)
+    fitted, ident, sweep, choice = fit_curves(sweep, ident, outliers)
     shapes, dependence = [f.curve for f in fitted.fits], None
     if ident is not None and ident.conditions:
         fitted, ident, sweep, choice, shapes, dependence = fit_inputs(
