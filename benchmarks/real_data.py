@@ -5,8 +5,10 @@ For every dataset folder of ../shared/data that is present (a missing one is ski
     user's file through --columns); scored on jointJ_test.csv (M a + F(v) + o), on the other
     trajectory jointJ_heldout_ptp.csv and on its cruise points jointJ_sweep_ptp.csv (F(v) + o:
     the rigid body removed there already);
-  - panda: per joint, trained on jointJ_train.csv, scored on jointJ_test.csv (M a + F(v) + o);
-    then again with both logs on a uniform time grid (``panda_on_a_uniform_grid``);
+  - panda: per joint, trained on jointJ_train.csv with its ddq_est as the log's acceleration
+    (``--columns a=ddq_est``: the file's torque is the measured one less the published rigid-body
+    model evaluated at it), scored on jointJ_test.csv (M a + F(v) + o); then again without that
+    column, and with both logs on a uniform time grid (``panda_on_a_uniform_grid``);
   - kinova_gen3: the sweep, trained on sweep_train.csv (weighted by its F_std and n), scored on
     sweep_test.csv; and the runs: the five run_v*_train.csv logs joined end to end (t restarts at
     0 in each) trained as one log, scored on the five test runs (M a + F(v) + o) over all their
@@ -73,8 +75,10 @@ def csv(path):
     return read_table_csv(path, (), keep_extra=True)
 
 
-def log_columns(d):
-    return {"t": d["t"], "v": d["dq"], "force": d["tau"]}
+def log_columns(d, acceleration=None):
+    """A joint log's t, v and force, and its ``acceleration`` column as a, where named."""
+    return {"t": d["t"], "v": d["dq"], "force": d["tau"],
+            **({} if acceleration is None else {"a": d[acceleration]})}
 
 
 def ratio_interval(fit_res, tb_res, resamples=2000, blocks=50):
@@ -108,12 +112,13 @@ def load_baseline(folder):
     return module
 
 
-def joint_log(b, folder, j, test_name):
-    """Joint j's default and textbook fit, both trained on jointJ_train.csv, and the moving
-    samples of ``test_name`` through the folder's own filter ``b.va``: (predict, textbook, what
-    the default chose, a note, v, a, tau) of those samples."""
+def joint_log(b, folder, j, test_name, acceleration=None):
+    """Joint j's default and textbook fit, both trained on jointJ_train.csv (the default with
+    its ``acceleration`` column, where named), and the moving samples of ``test_name`` through
+    the folder's own filter ``b.va``: (predict, textbook, what the default chose, a note, v, a,
+    tau) of those samples."""
     tr = csv(folder / f"joint{j + 1}_train.csv")
-    predict, chose, sec, mass = trained(log_columns(tr))
+    predict, chose, sec, mass = trained(log_columns(tr, acceleration))
     v, a = b.va(tr["t"], tr["dq"])
     m = np.abs(v) > b.VMIN
     tb = textbook(v[m], a[m], tr["tau"][m])
@@ -157,10 +162,20 @@ def panda(folder, ratios):
     b = load_baseline(folder)
 
     def score(j):
-        predict, tb, chose, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv")
+        predict, tb, chose, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv", "ddq_est")
         pub = min(rms(y - b.sigmoid(j, v)), rms(y - b.linear(j, v)))
         ratios.append(row(f"panda J{j + 1}", y - predict(v, a), y - tb(v, a), pub, chose, note))
     per_joint("panda", 7, score)
+
+
+def panda_without_acceleration(folder):
+    """The panda scores again with the default trained on t, dq and tau alone: the inertia
+    against the derivative of its own smoothed v."""
+    b = load_baseline(folder)
+    print("\npanda without its acceleration column (default / textbook):")
+    for j in range(7):
+        predict, tb, _, note, v, a, y = joint_log(b, folder, j, "joint{}_test.csv")
+        print(f"panda J{j + 1} (t, dq, tau)   {rms(y - predict(v, a)) / rms(y - tb(v, a)):6.3f}{note}")
 
 
 def uniform_grid(d):
@@ -267,6 +282,7 @@ def main():
           f"({len(above)} with its 90 % interval above 1)"
           + (f"; default / published worst {pub.max():.3f}, median {np.median(pub):.3f}" if pub.size else ""))
     if (args.data / "panda").is_dir():
+        panda_without_acceleration(args.data / "panda")
         panda_on_a_uniform_grid(args.data / "panda")
 
 

@@ -35,6 +35,10 @@ UNITS: Dict[str, Tuple[str, float, bool]] = {
     "nmm": ("force", 1e-3, True), "knm": ("force", 1e3, True),
     "a": ("current", 1.0, False), "ma": ("current", 1e-3, False),
     "degc": ("temperature", 1.0, False), "c": ("temperature", 1.0, False),
+    "m/s^2": ("acceleration", 1.0, False), "m/s2": ("acceleration", 1.0, False),
+    "mm/s^2": ("acceleration", 1e-3, False), "mm/s2": ("acceleration", 1e-3, False),
+    "rad/s^2": ("acceleration", 1.0, True), "rad/s2": ("acceleration", 1.0, True),
+    "deg/s^2": ("acceleration", _DEG, True), "deg/s2": ("acceleration", _DEG, True),
 }
 
 

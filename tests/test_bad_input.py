@@ -183,6 +183,12 @@ def _plausibility_files(d, log):
     (d / "sweep_mm.csv").write_text("v,f\n" + "".join(f"{1000 * a!r},{b!r}\n" for a, b in zip(v.tolist(), f.tolist())))
     (d / "thousands.csv").write_text("v,f\n" + "".join(f"{1000 * a:,.3f},{100 * b:,.2f}\n"
                                                         for a, b in zip(v.tolist(), f.tolist())))
+    t_log, _, v_log = np.array([line.split(",")[:3] for line in log[1:]], dtype=float).T
+    a_log = np.gradient(v_log, t_log)
+    for name, header, a in (("log_accel_v.csv", "a", v_log), ("log_accel_deg.csv", "a", np.degrees(a_log)),
+                            ("log_accel_unit.csv", "a [rad/s]", a_log)):
+        (d / name).write_text("\n".join([f"{log[0]},{header}"] + [f"{line},{value!r}" for line, value
+                                                                  in zip(log[1:], a.tolist())]) + "\n")
     model = json.loads((d / "model.json").read_text())
     for name, key, value in (("dropped_decimal.json", "viscous", float(str(model["viscous"]).replace(".", ""))),
                              ("v_sat_edited.json", "v_sat", 45.6375)):
@@ -297,6 +303,12 @@ TRIAL_ROWS = [
 DRIVE_MS = ["drive_ms.csv", "--skip", "1", "--columns", "t=Time [ms],x=Pos,v=Speed", "--scale", "t=0.001",
             "--merge", "current.csv", "--merge-columns", "t=Stamp,i=Current"]
 PLAUSIBILITY_ROWS = [
+    ("a log's acceleration column holding v", ["train", "log_accel_v.csv", *LOG, "-o", OUT],
+     "column a is not the log's acceleration: dv/dt follows it with slope"),
+    ("a log's acceleration in deg/s^2", ["train", "log_accel_deg.csv", *LOG, "-o", OUT],
+     "in deg/s^2? --scale a=0.0174533 converts it"),
+    ("a log's acceleration column in rad/s", ["train", "log_accel_unit.csv", *LOG, "-o", OUT],
+     "column 'a [rad/s]' is read as a, an acceleration, but its unit rad/s is a velocity's"),
     *[(f"swapped sweep columns, {' '.join(m) or 'default'}", ["train", "sweep_swapped.csv", *m, "-o", OUT],
        "are the columns v and f swapped? (--accept-unusual to use the data as they are)")
       for m in ([], ["--method", "elm_auto"], ["--method", "stribeck"], ["--symmetric"])],

@@ -25,23 +25,24 @@ from .motionlog import check_finite
 from .table import DETECT, header_cells, read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
-QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "f": "N", "force": "N", "i": "A", "load": "N",
-              "temperature": "degC"}
+QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "a": "m/s^2", "f": "N", "force": "N", "i": "A",
+              "load": "N", "temperature": "degC"}
 
 #: Column names of robot and drive logs, read as fricgen's quantities where the file has no
 #: column of fricgen's own name for it and ``--columns`` maps none: a joint's position q,
-#: velocity dq (qd), torque tau (effort, torque), motor current (current, a drive's iq), the
+#: velocity dq (qd), acceleration ddq (qdd), torque tau (effort, torque), motor current
+#: (current, a drive's iq), the
 #: plain English names, and a sweep's standard deviation per point (std, sd, stdev, sigma) and
 #: count. The joint's names name a rotary axis (``names_rotary_axis``).
 ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "torque": "force",
            "current": "i", "iq": "i", "temp": "temperature", "time": "t", "position": "x",
            "pos": "x", "angle": "x", "velocity": "v", "vel": "v", "speed": "v", "trq": "force",
            "std": "f_std", "sd": "f_std", "stdev": "f_std", "sigma": "f_std", "f_sd": "f_std",
-           "count": "n"}
+           "count": "n", "ddq": "a", "qdd": "a", "acc": "a", "accel": "a", "acceleration": "a"}
 #: Every plain name read as a quantity: the quantities' own and the aliases.
 KNOWN_NAMES = {**{q: q for q in QUANTITIES}, **ALIASES}
 #: The aliases that name a joint: a file that uses them speaks rad, rad/s and Nm.
-ROTARY_NAMES = ("q", "dq", "qd", "tau", "effort", "torque", "angle", "trq")
+ROTARY_NAMES = ("q", "dq", "qd", "ddq", "qdd", "tau", "effort", "torque", "angle", "trq")
 
 #: Two files whose time spans differ by this factor or more are not timed in one unit.
 SPAN_RATIO = 100.0

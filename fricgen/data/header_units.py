@@ -23,7 +23,7 @@ _NAMED_UNIT = re.compile(r"\s*(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]\s*")
 SIZELESS = ("%", "‰", "inc", "incr", "increments", "counts", "count", "cnt", "cts", "ticks",
             "digits", "lsb", "pu")
 #: The kind of each quantity a column can be read as.
-KIND = {"t": "time", "x": "position", "v": "velocity", "f": "force", "force": "force",
+KIND = {"t": "time", "x": "position", "v": "velocity", "a": "acceleration", "f": "force", "force": "force",
         "load": "force", "i": "current", "temperature": "temperature"}
 
 
@@ -51,8 +51,9 @@ def row_unit(cell: str) -> Optional[str]:
 
 def _key(unit: str) -> str:
     """The unit as ``UNITS`` writes it: lower case, 'µ' as 'u', '°' as 'deg', no spaces, dots,
-    hyphens or multiplication signs (N.m, N·m, N*m as nm; oz-in as ozin; min-1 kept)."""
+    hyphens or multiplication signs (N.m, N·m, N*m as nm; oz-in as ozin; min-1 kept; s² as s^2)."""
     key = unit.strip().lower().replace("µ", "u").replace("μ", "u").replace("°c", "degc")
+    key = key.replace("²", "^2")
     return re.sub(r"[\s.·*-](?!1)", "", key.replace("°", "deg"))
 
 
@@ -99,8 +100,9 @@ def header_units(cells: Sequence[str], mapped: Mapping[str, str], known: Mapping
                             f"{quantity}=FACTOR brings it to SI")
         kind, factor, _ = UNITS[key]
         if kind != KIND[quantity]:
-            raise DataError(f"column {cell.strip()!r} is read as {quantity}, a {KIND[quantity]}, but "
-                            f"its unit {unit} is a {kind}'s: are the columns swapped? (--columns "
+            article = "an" if KIND[quantity][0] in "aeiou" else "a"
+            raise DataError(f"column {cell.strip()!r} is read as {quantity}, {article} {KIND[quantity]}, "
+                            f"but its unit {unit} is a {kind}'s: are the columns swapped? (--columns "
                             "maps them)")
         units[quantity] = HeaderUnit(cell.strip(), unit, factor)
     _check_one_axis(units, scaled)
@@ -111,7 +113,7 @@ def _check_one_axis(units: Mapping[str, HeaderUnit], scaled: Sequence[str]) -> N
     """``DataError`` where the units of position, velocity and force that --scale leaves mix a
     linear axis's and a rotary one's (a table's speed in mm/s beside a motor's torque in Nm)."""
     rotary = {q: UNITS[_key(u.unit)][2] for q, u in units.items()
-              if q not in scaled and KIND[q] in ("position", "velocity", "force")}
+              if q not in scaled and KIND[q] in ("position", "velocity", "acceleration", "force")}
     if len(set(rotary.values())) > 1:
         linear = next(units[q] for q, r in rotary.items() if not r)
         turning = next(units[q] for q, r in rotary.items() if r)

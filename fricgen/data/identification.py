@@ -53,6 +53,8 @@ class Identification:
     #: spreadsheet's least squares takes every moving row: without them a UR10e joint's law,
     #: the same as that fit's, was 1.13 times its error on the joint's held-out sweep
     reversals: Optional[Sweep] = None
+    #: dv/dt was the log's own acceleration column (a, ddq), not the derivative of v
+    acceleration_given: bool = False
 
     @property
     def n_kept(self) -> int:
@@ -87,6 +89,7 @@ class Identification:
         """The mass and the constant force, each with its standard error or its source."""
         b = self.body
         mass = (f"{b.mass:.5g} +- {b.mass_se:.2g} {units.mass} identified by inverse dynamics"
+                + (" against the log's acceleration column" if self.acceleration_given else "")
                 if b.mass_identified else f"{b.mass:.5g} {units.mass} as given")
         if b.mass_estimate is not None:
             mass = (f"0 {units.mass}: the log's accelerations give {b.mass_estimate:.3g} +- "

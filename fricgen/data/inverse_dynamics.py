@@ -24,7 +24,7 @@ from ..units import axis_units
 from .identification import Identification
 from .idim import (BASIS_COLUMNS, PHASE_SHARE, SAMPLES_PER_PARAMETER, RigidBody,
                    friction_basis, identify_rigid_body, known_columns, operating_basis)
-from .log_columns import check_log_columns
+from .log_columns import check_acceleration_column, check_log_columns
 from .motionlog import (check_finite, check_moves, check_units, check_varies, resampled_runs,
                         uniform_time)
 from .smoothing import (MIN_WINDOW, POLYORDER, VelocityNoise, between_edges, candidate_windows,
@@ -117,7 +117,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                       progress: Optional[Callable[[str], None]] = None,
                       conditions: Optional[Dict[str, np.ndarray]] = None,
                       gravity: bool = False, runs: Optional[np.ndarray] = None,
-                      held: bool = False) -> Identification:
+                      held: bool = False, a: Optional[np.ndarray] = None) -> Identification:
     """Friction samples F = f - m dv/dt of a log [C1] at the rows where the axis moves, m
     identified by inverse dynamics (``data.idim``; ``mass`` pins m) with a constant force o, the
     even part of the force: a symmetric model leaves it out by folding, an asymmetric one holds
@@ -139,9 +139,11 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     runs (the windows bounded by a typical run's length: a run shorter than a window is left
     out), and of the runs that move both ways each one's constant force less the first such
     run's is identified beside the mass (``RigidBody.run_offsets``) and taken out of the
-    friction samples."""
+    friction samples. ``a``: the log's own acceleration (a column a, ddq): dv/dt wherever the
+    mass is identified or taken out (``check_acceleration_column``), so that a force from which
+    a rigid-body model was removed with it leaves its residual inertia against the same signal."""
     conditions = dict(conditions or {})
-    columns = {"t": t, "force": force, "v": v, "x": x, **conditions}
+    columns = {"t": t, "force": force, "v": v, "x": x, "a": a, **conditions}
     for name, values in columns.items():
         if values is not None:
             check_finite(name, values)
@@ -161,6 +163,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         v = np.concatenate([np.gradient(between_edges(tp, xp) if quantum > 0 else xp, ts)
                             for tp, xp in parts])
     check_moves(v, x, given)
+    if a is not None:
+        check_acceleration_column(v, a, ts)
     if given and x is not None:     # x, v and t, or a column swapped with the force
         check_units(x, v, ts, force)
     weight = None
@@ -196,13 +200,13 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         # settled ones need not hold whole windows, or only long cruises without ramps are left)
         whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool) & use
-        alike, at = None, body_window
+        alike, at = None, body_window if a is None else body_window or MIN_WINDOW
         if at is None:                      # the body where dv/dt explains the force best
             at, alike = explaining_window(v, raw, sliding & whole, ts, span, angle,
-                                          runs) or (None, None)
+                                          runs, a) or (None, None)
         try:
             found = None if at is None else _body_at(at, ts, v, raw, sliding & whole, conditions,
-                                                     angle, runs, noise)
+                                                     angle, runs, noise, a)
         except DataError:
             if mass is None:
                 raise
@@ -218,7 +222,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         guess = (mass or 0.0) if body is None else body.inertia
         window = choose_window(logged, rows, guess, noise, progress, span)
     v_s, a_s, f_s, moving, at_rows, independent, at_window = _at_window(
-        window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs)
+        window, ts, v, force, noise, use, conditions, mass, body is None, angle, runs, a)
     body = at_window if body is None else body
     if log_mass is not None:
         body = replace(body, log_mass=log_mass)
@@ -244,7 +248,8 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                           independent=kept, body=body, body_window=body_window,
                           conditions={k: c[steady] for k, c in at_rows.items()},
                           n_runs=1 if runs is None else int(runs[-1]) + 1, weight=weight,
-                          reversals=Sweep(v_s[reversing], raw[reversing]))
+                          reversals=Sweep(v_s[reversing], raw[reversing]),
+                          acceleration_given=a is not None)
 
 
 #: A log's friction samples hold friction where its Coulomb level or its viscous slope stands
@@ -304,12 +309,12 @@ def check_load(force: np.ndarray, load: np.ndarray, a: np.ndarray, v: np.ndarray
 def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: VelocityNoise,
                use: np.ndarray, conditions: Dict[str, np.ndarray], mass: Optional[float],
                identify: bool = True, angle: Optional[np.ndarray] = None,
-               runs: Optional[np.ndarray] = None):
+               runs: Optional[np.ndarray] = None, a: Optional[np.ndarray] = None):
     """The log smoothed by ``window`` (``_smoothed``) with its operating point, the load taken
     out of the force (``check_load``), and the rigid body identified there (``mass`` given:
     checked, ``_check_inertia``; None where not ``identify``): (v, dv/dt, force, the moving
     rows, the conditions, the independent samples, the body)."""
-    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use)
+    v_s, a_s, f_s, moving = _smoothed(window, ts, v, force, noise, use, a)
     independent = moving.sum() * centre_weight(window)
     at_rows = {name: smooth(values, window) for name, values in conditions.items()}
     if "load" in at_rows:
@@ -329,14 +334,16 @@ def _at_window(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: 
 
 def _body_at(window: int, ts: float, v: np.ndarray, force: np.ndarray, rows: np.ndarray,
              conditions: Dict[str, np.ndarray], angle: Optional[np.ndarray] = None,
-             runs: Optional[np.ndarray] = None, noise: Optional[VelocityNoise] = None) -> RigidBody:
+             runs: Optional[np.ndarray] = None, noise: Optional[VelocityNoise] = None,
+             a: Optional[np.ndarray] = None) -> RigidBody:
     """The rigid body (``data.idim``) from the raw ``force`` (the load taken out) at ``rows``,
     with v, dv/dt and the operating point smoothed by ``window`` (``explaining_window``). The
     residual is the raw force's, so the rows count as independent but for its correlation from
     one row to the next (n (1 - r) / (1 + r), r its lag-one autocorrelation). ``noise``: the
-    velocity's, which sets that of dv/dt for the phases' masses (``RigidBody.phase_masses``)."""
+    velocity's, which sets that of dv/dt for the phases' masses (``RigidBody.phase_masses``).
+    ``a``: the log's acceleration (``acceleration``)."""
     at = np.flatnonzero(rows)
-    v_s, a_s = smooth(v, window)[at], smooth(v, window, deriv=1, delta=ts)[at]
+    v_s, a_s = smooth(v, window)[at], acceleration(v, a, window, ts)[at]
     at_rows = {k: smooth(c, window)[at] for k, c in conditions.items()}
     extra = operating_basis(v_s, *(at_rows.get(k) for k in CONDITIONS))
     x_s = None if angle is None else smooth(angle, window)[at]
@@ -358,14 +365,20 @@ def independent_rows(residual: np.ndarray) -> float:
     return residual.size * (1 - lag) / (1 + lag)
 
 
+def acceleration(v: np.ndarray, a: Optional[np.ndarray], window: int, ts: float) -> np.ndarray:
+    """dv/dt at one Savitzky-Golay ``window``: the log's own acceleration column ``a`` smoothed
+    as v is, where it has one; else the filter's derivative of v."""
+    return smooth(v, window, deriv=1, delta=ts) if a is None else smooth(a, window)
+
+
 def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: VelocityNoise,
-              use: np.ndarray):
+              use: np.ndarray, a: Optional[np.ndarray] = None):
     """v, dv/dt and the force smoothed by one Savitzky-Golay ``window``, and the rows of ``use``
     (whole windows) where the axis moves: |v| above MOVING_SIGMAS of the noise the smoothing
     leaves (``VelocityNoise.smoothed``) and MOVING_FRACTION of
-    the top speed; ``DataError`` when there are none."""
+    the top speed; ``DataError`` when there are none. ``a``: the log's acceleration."""
     v_s = smooth(v, window)
-    a_s = smooth(v, window, deriv=1, delta=ts)
+    a_s = acceleration(v, a, window, ts)
     f_s = smooth(force, window)
     threshold = max(MOVING_SIGMAS * noise.smoothed(window),
                     MOVING_FRACTION * float(np.max(np.abs(v_s))))
@@ -379,7 +392,7 @@ def _smoothed(window: int, ts: float, v: np.ndarray, force: np.ndarray, noise: V
 def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
                       sample_time: float, span: Optional[int] = None,
                       angle: Optional[np.ndarray] = None,
-                      runs: Optional[np.ndarray] = None
+                      runs: Optional[np.ndarray] = None, a: Optional[np.ndarray] = None
                       ) -> Optional[Tuple[int, Tuple[Tuple[float, float], ...]]]:
     """The window at which the mass is identified: the candidate whose smoothed v and dv/dt
     explain the raw force best over ``rows`` (least residual of f = m dv/dt + F(v) + o by least
@@ -392,17 +405,17 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
     Returned with the least and the largest mass (with its standard error) of the windows whose
     sum of squares is within PHASE_SHARE of the least (``RigidBody.windows_disagree``).
     None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column).
-    ``span`` as ``choose_window``."""
+    ``span`` as ``choose_window``; ``a``: the log's acceleration (``acceleration``)."""
     at = np.flatnonzero(rows)
     if at.size < SAMPLES_PER_PARAMETER * (2 + BASIS_COLUMNS):     # dv/dt, the basis, one more
         return None
     at = at[::max(1, at.size // EXPLAINING_ROWS)]
     scores = []
     for window in candidate_windows(rows.size if span is None else span):
-        a, v_s = smooth(v, window, deriv=1, delta=sample_time)[at], smooth(v, window)[at]
+        a_s, v_s = acceleration(v, a, window, sample_time)[at], smooth(v, window)[at]
         known = known_columns(v_s, None if angle is None else smooth(angle, window)[at],
                               None if runs is None else runs[at])[0]
-        basis = np.column_stack([a, friction_basis(v_s, odd=False)] + known)
+        basis = np.column_stack([a_s, friction_basis(v_s, odd=False)] + known)
         coef, se = least_squares_errors(basis, force[at], at.size)
         residual = force[at] - basis @ coef
         mass = (float(coef[0]), float(se[0] * np.sqrt(at.size / independent_rows(residual))))
@@ -500,7 +513,7 @@ def _identify_log(columns, mass, force_constant, progress, use=None,
     conditions = {k: columns[k] for k in CONDITIONS if k in columns}
     t, motion = columns["t"], {"v": columns.get("v"), "x": columns.get("x"), "progress": progress,
                                "use": use, "conditions": conditions, "gravity": gravity,
-                               "runs": runs, "held": held}
+                               "runs": runs, "held": held, "a": columns.get("a")}
     if "load" in conditions and "force" not in columns and force_constant is None:
         raise DataError("the log has a load column and a current i but no force: the load is a "
                         f"force, the current not: pass --force-constant ({axis_units().force_constant})")
