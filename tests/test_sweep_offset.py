@@ -67,3 +67,14 @@ def test_a_one_way_sweep_whose_force_pushes_at_rest_is_refused_in_one_line(tmp_p
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "pushing the axis" in err[0] and "sweep both directions" in err[0]
     assert not (tmp_path / "m.json").exists()
+
+
+@pytest.mark.parametrize("offset", [0.0, -0.3])
+def test_a_sweep_with_a_row_at_rest_trains(offset):
+    """A row at v = 0 beside the moving points: the gross outliers found on the whole sweep
+    had been handed to the law choice, which scores the moving points alone (IndexError)."""
+    columns = offset_sweep(1003, offset=offset, points=5)
+    columns = {"v": np.append(columns["v"], 0.0), "f": np.append(columns["f"], 0.0)}
+    model = fricgen.train(columns, warn=lambda line: None).model
+    v = np.array([0.02, 0.2, -0.02, -0.2])
+    assert model.force(v) == pytest.approx(np.sign(v) * 0.2 + 8.0 * v, abs=0.05)

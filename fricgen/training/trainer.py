@@ -399,7 +399,9 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
         with named_data(source):
             offset, outliers = sweep_offset(sweep, spread, units_of(rotary))
     if offset is not None:
-        sweep, outliers = Sweep(sweep.v, sweep.f - offset[0]), None     # found again on it
+        sweep = Sweep(sweep.v, sweep.f - offset[0])
+    if offset is not None or np.any(sweep.v == 0):
+        outliers = None     # found again on what the law choice scores: the moving points less o
 
     def fit_curves(sweep, ident, outliers=None):
         with named_data(source):
