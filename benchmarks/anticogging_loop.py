@@ -177,7 +177,10 @@ def order_part(error: np.ndarray, theta: np.ndarray, ks: list) -> np.ndarray:
 
 def ripple(axis, feedforward, speed: float) -> tuple:
     """Over one turn forward and one back, each after SETTLE: the RMS of the true omega - speed,
-    and the RMS of its part at the position torque's orders (``order_part``, per direction)."""
+    the RMS of its part at the position torque's orders (``order_part``, per direction), and
+    the floor of the second: the RMS of its part at as many orders 2 above them (orthogonal to
+    them over a turn), where no position torque acts: what the encoder's broadband ripple alone
+    leaves in such a fit."""
     settle, turn = int(SETTLE * axis.rate), int(TWO_PI / speed * axis.rate)
     t = np.arange(settle + turn) / axis.rate
     theta = np.concatenate([speed * t, speed * (t[-1] - t)])
@@ -187,7 +190,9 @@ def ripple(axis, feedforward, speed: float) -> tuple:
     passes = (slice(settle, t.size), slice(t.size + settle, None))
     total = np.concatenate([error[p] for p in passes])
     synchronous = np.concatenate([order_part(error[p], log["theta"][p], orders(axis)) for p in passes])
-    return float(np.sqrt(np.mean(total ** 2))), float(np.sqrt(np.mean(synchronous ** 2)))
+    off = [k + 2 for k in orders(axis)]
+    floor = np.concatenate([order_part(error[p], log["theta"][p], off) for p in passes])
+    return tuple(float(np.sqrt(np.mean(e ** 2))) for e in (total, synchronous, floor))
 
 
 def hold_error(axis, feedforward, targets: np.ndarray) -> np.ndarray:
@@ -239,6 +244,14 @@ def ratios(r: dict, speed: float, measure: int = 0) -> tuple:
             rip["fricgen"] / rip["integrator"], rip["none"] / rip["exact"])
 
 
+def floor_ratio(r: dict, speed: float) -> float:
+    """The exact compensation's ripple at the orders over its floor (``ripple``) at ``speed``:
+    near 1, what is left at the orders is the encoder's broadband ripple, and a ratio of two
+    compensations there is a ratio of noise."""
+    _, at_orders, floor = r["ripple"]["exact", speed]
+    return at_orders / floor
+
+
 def report(case: str, rows: list) -> None:
     """The case's table of medians, the per-seed ratios and the share meeting each target, for
     each measure of the ripple."""
@@ -256,11 +269,13 @@ def report(case: str, rows: list) -> None:
     for m, measure in enumerate(MEASURES):
         print(f"  {measure}, per seed (ratios at {speeds} rad/s; ceiling = none / exact):")
         print(f"  {'seed':>5s} {'L':>4s} {'map err':>8s} {'intgr err':>9s}  {'none/fricgen':>18s}  "
-              f"{'fricgen/exact':>18s}  {'fricgen/intgr':>18s}  {'ceiling':>18s}  harmonics")
+              f"{'fricgen/exact':>18s}  {'fricgen/intgr':>18s}  {'ceiling':>18s}  "
+              + (f"{'exact/floor':>18s}  " if m else "") + "harmonics")
         for r in sorted(rows, key=lambda r: r["seed"]):
             cols = list(zip(*(ratios(r, s, m) for s in SPEEDS)))
             print(f"  {r['seed']:5d} {r['periods']:4d} {r['map error']:8.3f} {r['integrator error']:9.3f}  "
                   + "  ".join(" ".join(f"{v:5.2f}" for v in col).rjust(18) for col in cols)
+                  + ("  " + " ".join(f"{floor_ratio(r, s):5.2f}" for s in SPEEDS).rjust(18) if m else "")
                   + f"  {','.join(map(str, r['harmonics'])) or 'no map'}")
         for label, k, met in (("none/fricgen >= 4", 0, lambda v: v >= BETTER_THAN_NONE),
                               ("fricgen/exact <= 1.2", 1, lambda v: v <= NEAR_EXACT),

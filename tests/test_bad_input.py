@@ -304,7 +304,7 @@ DRIVE_MS = ["drive_ms.csv", "--skip", "1", "--columns", "t=Time [ms],x=Pos,v=Spe
             "--merge", "current.csv", "--merge-columns", "t=Stamp,i=Current"]
 PLAUSIBILITY_ROWS = [
     ("a log's acceleration column holding v", ["train", "log_accel_v.csv", *LOG, "-o", OUT],
-     "column a is not the log's acceleration: dv/dt follows it with slope"),
+     "the log's acceleration column (a) is not its dv/dt: it follows dv/dt with slope"),
     ("a log's acceleration in deg/s^2", ["train", "log_accel_deg.csv", *LOG, "-o", OUT],
      "in deg/s^2? --scale a=0.0174533 converts it"),
     ("a log's acceleration column in rad/s", ["train", "log_accel_unit.csv", *LOG, "-o", OUT],

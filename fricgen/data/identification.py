@@ -55,6 +55,9 @@ class Identification:
     reversals: Optional[Sweep] = None
     #: dv/dt was the log's own acceleration column (a, ddq), not the derivative of v
     acceleration_given: bool = False
+    #: The RMS residuals of the force with the log's acceleration column and with dv/dt of v,
+    #: where the column explained it clearly less well and was not used
+    acceleration_unused: Optional[Tuple[float, float]] = None
 
     @property
     def n_kept(self) -> int:
@@ -102,6 +105,8 @@ class Identification:
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
         lines = [f"{units.inertia_name:10s}{mass}"]
+        if self.acceleration_doubt(units) is not None:
+            lines.append(f"          {self.acceleration_doubt(units)}")
         lines += [f"          {doubt}" for doubt in b.doubts(units.mass)]
         if self.weight is not None and units.position == "rad":    # --gravity is a joint's
             without, with_weight = self.weight
@@ -131,6 +136,15 @@ class Identification:
             lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} {units.force_constant} from "
                          f"the {units.inertia_name} given (the current determines M/K)")
         return lines
+
+    def acceleration_doubt(self, units=LINEAR) -> Optional[str]:
+        """Why the log's acceleration column was not used, or None."""
+        if self.acceleration_unused is None:
+            return None
+        given, own = self.acceleration_unused
+        return (f"the log's acceleration column leaves {given:.3g} {units.force} RMS of the {units.effort} "
+                f"unexplained where dv/dt of v leaves {own:.3g}: not used (a drive's estimate that "
+                "lags, or another signal?)")
 
     def as_load(self, why: str = "push") -> "Identification":
         """This identification with the offset o a load (gravity, a cable's pull) beside the

@@ -46,6 +46,12 @@ MIN_INDEPENDENT = 4 * SAMPLES_PER_PARAMETER
 INERTIA_OFF = 10.0
 
 
+#: A log's own acceleration is used unless the force's RMS residual with it is more than this
+#: factor above that with dv/dt of v (``explaining_window``): it then leaves unexplained a part
+#: of the force about a third (sqrt(1.05^2 - 1)) of the whole residual's size; a causal filter of
+#: 5 ms on a 0.2-2.9 Hz move left 1.40 times the residual, one of 20 ms 3.98 times.
+ACCELERATION_EXCESS = 1.05
+
 #: Rows (evenly spaced among the moving ones) at which ``explaining_window`` scores a window:
 #: a bound on its cost for long logs, well above the independent samples a mass needs.
 EXPLAINING_ROWS = 50_000
@@ -141,9 +147,12 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
     run's is identified beside the mass (``RigidBody.run_offsets``) and taken out of the
     friction samples. ``a``: the log's own acceleration (a column a, ddq): dv/dt wherever the
     mass is identified or taken out (``check_acceleration_column``), so that a force from which
-    a rigid-body model was removed with it leaves its residual inertia against the same signal."""
+    a rigid-body model was removed with it leaves its residual inertia against the same signal;
+    not used where dv/dt of v explains the force clearly better (ACCELERATION_EXCESS: a drive's
+    estimate that lags), which ``Identification.acceleration_unused`` records."""
     conditions = dict(conditions or {})
     columns = {"t": t, "force": force, "v": v, "x": x, "a": a, **conditions}
+    unused = None
     for name, values in columns.items():
         if values is not None:
             check_finite(name, values)
@@ -200,10 +209,15 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
         # settled ones need not hold whole windows, or only long cruises without ramps are left)
         whole = minimum_filter1d((~junction).astype(np.int8), candidate_windows(span)[-1],
                                  mode="constant").astype(bool) & use
-        alike, at = None, body_window if a is None else body_window or MIN_WINDOW
+        alike, at = None, body_window
         if at is None:                      # the body where dv/dt explains the force best
-            at, alike = explaining_window(v, raw, sliding & whole, ts, span, angle,
-                                          runs, a) or (None, None)
+            explained = explaining_window(v, raw, sliding & whole, ts, span, angle, runs, a)
+            if explained is not None:
+                at, alike, versus = explained
+                if versus is not None and versus[0] <= ACCELERATION_EXCESS * versus[1]:
+                    at, alike = versus[2], None         # the log's own a, at its best window
+                elif versus is not None:
+                    a, unused = None, versus[:2]
         try:
             found = None if at is None else _body_at(at, ts, v, raw, sliding & whole, conditions,
                                                      angle, runs, noise, a)
@@ -249,7 +263,7 @@ def identify_friction(t: np.ndarray, force: np.ndarray, mass: Optional[float] = 
                           conditions={k: c[steady] for k, c in at_rows.items()},
                           n_runs=1 if runs is None else int(runs[-1]) + 1, weight=weight,
                           reversals=Sweep(v_s[reversing], raw[reversing]),
-                          acceleration_given=a is not None)
+                          acceleration_given=a is not None, acceleration_unused=unused)
 
 
 #: A log's friction samples hold friction where its Coulomb level or its viscous slope stands
@@ -393,7 +407,8 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
                       sample_time: float, span: Optional[int] = None,
                       angle: Optional[np.ndarray] = None,
                       runs: Optional[np.ndarray] = None, a: Optional[np.ndarray] = None
-                      ) -> Optional[Tuple[int, Tuple[Tuple[float, float], ...]]]:
+                      ) -> Optional[Tuple[int, Tuple[Tuple[float, float], ...],
+                                          Optional[Tuple[float, float, int]]]]:
     """The window at which the mass is identified: the candidate whose smoothed v and dv/dt
     explain the raw force best over ``rows`` (least residual of f = m dv/dt + F(v) + o by least
     squares, F by ``friction_basis`` per direction, with the forces of known shape that the body
@@ -403,26 +418,39 @@ def explaining_window(v: np.ndarray, force: np.ndarray, rows: np.ndarray,
     smearing the motion: a short window's noisy derivative pulls m towards 0 (errors in the
     variables), and the short window ``choose_window`` gives a small mass would keep it there.
     Returned with the least and the largest mass (with its standard error) of the windows whose
-    sum of squares is within PHASE_SHARE of the least (``RigidBody.windows_disagree``).
-    None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per column).
-    ``span`` as ``choose_window``; ``a``: the log's acceleration (``acceleration``)."""
+    sum of squares is within PHASE_SHARE of the least (``RigidBody.windows_disagree``), and,
+    for a log's own acceleration ``a``, the RMS residual with it (smoothed alike, at its best
+    window), that with the best window's dv/dt of v, and that window of ``a`` (None without
+    ``a``). None where ``rows`` are too few for the basis (SAMPLES_PER_PARAMETER rows per
+    column). ``span`` as ``choose_window``."""
     at = np.flatnonzero(rows)
     if at.size < SAMPLES_PER_PARAMETER * (2 + BASIS_COLUMNS):     # dv/dt, the basis, one more
         return None
     at = at[::max(1, at.size // EXPLAINING_ROWS)]
-    scores = []
-    for window in candidate_windows(rows.size if span is None else span):
-        a_s, v_s = acceleration(v, a, window, sample_time)[at], smooth(v, window)[at]
-        known = known_columns(v_s, None if angle is None else smooth(angle, window)[at],
-                              None if runs is None else runs[at])[0]
-        basis = np.column_stack([a_s, friction_basis(v_s, odd=False)] + known)
-        coef, se = least_squares_errors(basis, force[at], at.size)
-        residual = force[at] - basis @ coef
-        mass = (float(coef[0]), float(se[0] * np.sqrt(at.size / independent_rows(residual))))
-        scores.append((float(residual @ residual), window, mass))
+    windows = candidate_windows(rows.size if span is None else span)
+    scores = [_explained(v, None, force, at, window, sample_time, angle, runs) for window in windows]
     best, window, _ = min(scores)
     masses = sorted(mass for score, _, mass in scores if score <= (1.0 + PHASE_SHARE) * best)
-    return window, (masses[0], masses[-1])
+    versus = None
+    if a is not None:
+        given, at_window, _ = min(_explained(v, a, force, at, w, sample_time, angle, runs) for w in windows)
+        versus = (float(np.sqrt(given / at.size)), float(np.sqrt(best / at.size)), at_window)
+    return window, (masses[0], masses[-1]), versus
+
+
+def _explained(v: np.ndarray, a: Optional[np.ndarray], force: np.ndarray, at: np.ndarray,
+               window: int, ts: float, angle: Optional[np.ndarray], runs: Optional[np.ndarray]):
+    """(sum of squares, ``window``, (m, its standard error)) of f = m dv/dt + F(v) + o and the
+    body's known forces at the rows ``at``, smoothed by ``window`` (dv/dt: ``acceleration``;
+    ``explaining_window``)."""
+    a_s, v_s = acceleration(v, a, window, ts)[at], smooth(v, window)[at]
+    known = known_columns(v_s, None if angle is None else smooth(angle, window)[at],
+                          None if runs is None else runs[at])[0]
+    basis = np.column_stack([a_s, friction_basis(v_s, odd=False)] + known)
+    coef, se = least_squares_errors(basis, force[at], at.size)
+    residual = force[at] - basis @ coef
+    mass = (float(coef[0]), float(se[0] * np.sqrt(at.size / independent_rows(residual))))
+    return float(residual @ residual), window, mass
 
 
 def _check_inertia(force: np.ndarray, inertia: np.ndarray, v: np.ndarray, independent: float) -> None:

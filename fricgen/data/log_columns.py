@@ -164,36 +164,38 @@ def check_degrees(signals) -> None:
                         "--scale x=0.0174533 (and v=0.0174533 where the log has v) converts it")
 
 
-#: A log's acceleration column is dv/dt where dv/dt follows it with a slope within this factor
-#: of 1 and it explains at least ACCELERATION_SHARE of dv/dt's variance
+#: A log's acceleration column is dv/dt where it follows dv/dt with a slope within this factor
+#: of 1 and dv/dt explains at least ACCELERATION_SHARE of its variance
 #: (``check_acceleration_column``).
-ACCELERATION_SLOPE = 1.5
+ACCELERATION_SLOPE = 1.2
 ACCELERATION_SHARE = 0.5
-#: A degree in rad: an acceleration in deg/s^2 beside a v in rad/s has this slope.
+#: A degree in rad: an acceleration in deg/s^2 beside a v in rad/s follows dv/dt with slope 1 / DEGREE.
 DEGREE = np.pi / 180.0
 
 
 def check_acceleration_column(v: np.ndarray, a: np.ndarray, ts: float) -> None:
     """``DataError`` where a log's acceleration column ``a`` is not its dv/dt: smoothed alike
-    (``_derivatives``' window), dv/dt regressed on it (with a constant) has a slope beyond
-    ACCELERATION_SLOPE of 1, or it explains less than ACCELERATION_SHARE of dv/dt's variance
-    (an acceleration in other units, another axis's, a velocity). A short log is not checked."""
+    (``_derivatives``' window), regressed on dv/dt (with a constant; the noise of a
+    double-differenced position biases no slope so) it has a slope beyond ACCELERATION_SLOPE
+    of 1, or dv/dt explains less than ACCELERATION_SHARE of its variance: an acceleration in
+    other units, another axis's, a velocity, a lagging estimate. A short log is not checked."""
     window, inner = _window(v.size), _inner(v.size)
     if v.size < 4 * window:
         return
     dv_dt, given = smooth(v, window, 1, ts)[inner], smooth(a, window)[inner]
     if np.ptp(given) == 0:
-        raise DataError("column a (the acceleration) is constant: it holds no dv/dt")
-    columns = np.column_stack([given, np.ones_like(given)])
-    coef, *_ = np.linalg.lstsq(columns, dv_dt, rcond=None)
+        raise DataError("the log's acceleration column is constant: it holds no dv/dt")
+    columns = np.column_stack([dv_dt, np.ones_like(dv_dt)])
+    coef, *_ = np.linalg.lstsq(columns, given, rcond=None)
     slope = float(coef[0])
-    share = 1.0 - float(np.var(dv_dt - columns @ coef)) / max(float(np.var(dv_dt)), 1e-300)
+    share = 1.0 - float(np.var(given - columns @ coef)) / max(float(np.var(given)), 1e-300)
     if not (1 / ACCELERATION_SLOPE <= slope <= ACCELERATION_SLOPE and share >= ACCELERATION_SHARE):
-        units = ("in deg/s^2? --scale a=0.0174533 converts it" if abs(slope / DEGREE - 1) < 0.3
-                 else "in other units (--scale a=FACTOR), another axis's, or another quantity?")
-        raise DataError(f"column a is not the log's acceleration: dv/dt follows it with slope "
-                        f"{slope:.3g} (1 for an acceleration) and it explains {100 * max(share, 0):.0f} "
-                        f"% of dv/dt's variance: {units}")
+        units = ("in deg/s^2? --scale a=0.0174533 converts it" if abs(slope * DEGREE - 1) < 0.3
+                 else "in other units (--scale a=FACTOR), another axis's, an estimate that lags, "
+                 "or another quantity?")
+        raise DataError(f"the log's acceleration column (a) is not its dv/dt: it follows dv/dt with "
+                        f"slope {slope:.3g} (1 for an acceleration) and dv/dt explains "
+                        f"{100 * max(share, 0):.0f} % of its variance: {units}")
 
 
 def check_log_columns(force: np.ndarray, ts: float, v: Optional[np.ndarray] = None,
