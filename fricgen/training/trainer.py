@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import warnings
 from dataclasses import replace
 from typing import Callable, Mapping, Optional, Tuple, Union
@@ -455,8 +456,11 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     try:
         for curve in model.directions:
             curve.check()
-    except ModelError as exc:
-        raise DataError(f"{source}: the fitted model is no friction model: {exc}") from None
+    except ModelError as exc:           # a fit is no hand-edited file: the loader's hint is not said
+        said = re.sub(r" \((an edited|was one of them edited)[^)]*\)", "", str(exc))
+        advice = ("" if isinstance(estimator, DefaultRegressor) else
+                  "; the default method (without --method) keeps only laws that oppose the motion")
+        raise DataError(f"{source}: the fitted model is no friction model: {said}{advice}") from None
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
     notes = (stribeck_warning(ident, fitted.fits, model.units),
              gravity_warning(ident, model.units)) if ident is not None else ()
