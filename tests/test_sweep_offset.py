@@ -78,3 +78,14 @@ def test_a_sweep_with_a_row_at_rest_trains(offset):
     model = fricgen.train(columns, warn=lambda line: None).model
     v = np.array([0.02, 0.2, -0.02, -0.2])
     assert model.force(v) == pytest.approx(np.sign(v) * 0.2 + 8.0 * v, abs=0.05)
+
+
+@pytest.mark.parametrize("seed", [1004, 1005])
+def test_a_load_beside_the_friction_is_found_from_three_speeds_each_way(seed):
+    """A vertical axis's sweep of 3 speeds each way: rest levels were asked of 4 points a
+    direction, and the downward curve, clamped at 0, was refused as a model in other units."""
+    columns = offset_sweep(seed, offset=-0.8, points=3)
+    report = fricgen.train(columns, warn=lambda line: None)
+    axis = report.training["axis"]
+    assert abs(axis["offset"] + 0.8) < 3 * axis["offset_se"] + 0.005
+    assert report.model.force(np.array([1e-4, -1e-4])) == pytest.approx([0.2, -0.2], abs=0.03)

@@ -144,7 +144,7 @@ def short_direction_differs(sweep: Sweep, weight: np.ndarray) -> Optional[float]
 
 def _rest_level(speed: np.ndarray, magnitude: np.ndarray, w: np.ndarray) -> Tuple[float, float]:
     """A direction's force magnitude extrapolated to v = 0 and its standard error: unconstrained
-    weighted least squares of 1, |v| (and v^2 from 7 points) on its points (4 or more)."""
+    weighted least squares of 1, |v| (and v^2 from 7 points) on its points (3 or more)."""
     design = np.column_stack([np.ones_like(speed), speed] + ([speed ** 2] if speed.size >= 7 else []))
     root = np.sqrt(w / np.mean(w))
     a, b = design * root[:, None], magnitude * root
@@ -159,9 +159,10 @@ def rest_levels(sweep: Sweep, weight: np.ndarray) -> Optional[list]:
     v = 0 with its standard error (``_rest_level``), where one of them is below 0 by more than
     PUSH_SE standard errors: a force that pushes the axis at rest, which no friction does (a
     constant force beside it, or columns swapped). None where none is, or a direction has
-    fewer than 4 points."""
+    fewer than 3 points (a vertical axis's sweep of 3 speeds each way, its load 4 times its
+    Coulomb level, had trained a downward curve of 0 and been refused as in other units)."""
     points = [p for p in curve_points(sweep, weight, asymmetric=True) if p[0].size]
-    if any(p[0].size < 4 for p in points):
+    if any(p[0].size < 3 for p in points):
         return None
     levels = [_rest_level(*p) for p in points]
     return levels if any(level + PUSH_SE * se < 0 for level, se in levels) else None
