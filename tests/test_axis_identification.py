@@ -63,6 +63,10 @@ def test_a_reversed_force_sign_is_named_not_taken_for_an_undetermined_mass(offse
     with pytest.raises(DataError, match="the mass comes out negative .* sign of the force or of "
                                         "the position reversed"):
         identify_friction(offset_log["t"], -offset_log["force"], None, v=offset_log["v"])
+    from fricgen._validate import rotary_axis
+    with rotary_axis(True), pytest.raises(DataError, match=r"the inertia comes out negative \(.* kg "
+                                                           r"m\^2 by inverse dynamics\): the torque"):
+        identify_friction(offset_log["t"], -offset_log["force"], None, v=offset_log["v"])
 
 
 def test_a_residual_inertia_below_zero_is_reported_and_not_taken_for_a_reversed_sign():

@@ -402,3 +402,21 @@ def test_eval_warns_once_of_speeds_within_the_models_velocity_band(model_json, t
     assert main(["eval", str(banded)]) == 0
     err = capsys.readouterr().err
     assert err.count("within the model's velocity band") == (1 if warned else 0)
+
+
+@pytest.mark.parametrize("slowest, said", [(0.05, "no speed there was resolved in training"),
+                                           (0.001, "F(v) was trained down to 0.001 m/s, but")])
+def test_eval_within_the_band_says_whether_training_held_speeds_there(model_json, tmp_path, monkeypatch,
+                                                                      capsys, slowest, said):
+    """A log that cruised at 5 mm/s, within its 5.6 mm/s band, had been told that no speed there
+    was resolved in training and that F(v) was extrapolated."""
+    import io
+    from dataclasses import replace
+    model = FrictionModel.load(model_json)
+    banded = tmp_path / "banded.json"
+    training = {**model.training, "axis": {**model.training["axis"], "speed_min": slowest}}
+    replace(model, velocity_band=0.1, training=training).save(banded)
+    monkeypatch.setattr(sys, "stdin", io.StringIO("0.02\n"))
+    assert main(["eval", str(banded)]) == 0
+    err = capsys.readouterr().err
+    assert err.count("within the model's velocity band") == 1 and said in err

@@ -103,10 +103,14 @@ def run(args) -> int:
         moving = [] if band is None or within else np.abs(chunk[:, 0])[chunk[:, 0] != 0]
         if len(moving) and float(moving.min()) < band:
             speed = model.units.speed
+            slowest = None if model.axis is None else model.axis.speed_min
+            trained_there = slowest is not None and slowest <= float(moving.min())
             say(f"fricgen: warning: |v| = {float(moving.min()):.6g} {speed} is within the model's velocity "
                 f"band ({band:.4g} {speed}, {model.training.get('velocity_band_from', 'velocity_band')}): "
-                "no speed there was resolved in training, and F(v) is the law extrapolated "
-                "(NAME_compensation gives 0 there)")
+                + (f"F(v) was trained down to {slowest:.4g} {speed}, but NAME_compensation gives 0 "
+                   "there, below the speed the controller's velocity resolves" if trained_there else
+                   "no speed there was resolved in training, and F(v) is the law extrapolated "
+                   "(NAME_compensation gives 0 there)"))
             within = 1
         f = model.force(chunk[:, 0], **{n: chunk[:, 1 + k] for k, n in enumerate(inputs)}) + offset
         if args.position:

@@ -133,7 +133,7 @@ class Identification:
                          "friction level as one sum")
         if self.force_constant is not None and self.force_constant[1] is not None:
             k, k_se = self.force_constant
-            lines.append(f"force     constant K = {k:.5g} +- {k_se:.2g} {units.force_constant} from "
+            lines.append(f"{units.effort:10s}constant K = {k:.5g} +- {k_se:.2g} {units.force_constant} from "
                          f"the {units.inertia_name} given (the current determines M/K)")
         return lines
 

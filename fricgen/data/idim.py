@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import DataError
 from ..metrics import least_squares_errors
+from ..units import axis_units
 
 #: Stribeck drops in the stand-in friction basis, per direction.
 STRIBECK_TERMS = 3
@@ -266,9 +267,10 @@ def identify_mass(a: np.ndarray, v: np.ndarray, force: np.ndarray, independent: 
     mass, mass_se = float(coef[0]), float(se[0])
     friction = basis[:, 1:] @ coef[1:]
     if -mass > MASS_SIGMAS * mass_se and np.mean(np.sign(v) * friction) <= 0:
-        raise DataError(f"the mass comes out negative (m = {mass:.3g} +- {mass_se:.2g} kg by "
-                        "inverse dynamics): the force (or current) and the motion have opposite "
-                        "signs; is the sign of the force or of the position reversed?")
+        units = axis_units()
+        raise DataError(f"the {units.inertia_name} comes out negative ({mass:.3g} +- {mass_se:.2g} "
+                        f"{units.mass} by inverse dynamics): the {units.effort} (or current) and the "
+                        "motion have opposite signs; is the sign of the force or of the position reversed?")
     return max(mass, 0.0), mass_se, mass
 
 
