@@ -195,3 +195,25 @@ def test_a_drives_short_names_with_units_are_read(tmp_path, capsys, position, ve
     assert model.training["units"] == "rotary", err
     speeds = np.array([-2.0, -0.5, 0.5, 2.0])
     assert np.allclose(model.force(speeds), np.sign(speeds) * COULOMB + VISCOUS * speeds, atol=0.02)
+
+
+def test_a_sweeps_spread_per_point_in_a_header_unit_is_read_and_scaled(tmp_path, capsys):
+    """'F_std [mNm]' beside 'Torque [mNm]' had been dropped as a column not used: the points
+    were fitted unweighted. It weights the fit as the same spread in Nm does."""
+    rng = np.random.default_rng(1000)
+    speed = np.geomspace(0.02, 2.0, 6)
+    v = np.concatenate([speed, -speed])
+    spread = np.where(np.abs(v) > 0.5, 0.05, 0.002)
+    f = np.sign(v) * COULOMB + VISCOUS * v + spread * rng.standard_normal(v.size)
+    si, milli = tmp_path / "si.csv", tmp_path / "milli.csv"
+    rows = list(zip(v.tolist(), f.tolist(), spread.tolist()))
+    si.write_text("v,f,F_std\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in rows))
+    milli.write_text("v,Torque [mNm],F_std [mNm]\n" + "".join(f"{a!r},{1e3 * b!r},{1e3 * c!r}\n"
+                                                                for a, b, c in rows))
+    for path in (si, milli):
+        assert main(["train", str(path), "--rotary", "-o", str(path.with_suffix(".json"))]) == 0
+    captured = capsys.readouterr()
+    assert "f_std read in mNm ('F_std [mNm]'): scaled by 0.001" in captured.out + captured.err
+    probe = np.linspace(-2.0, 2.0, 41)
+    assert FrictionModel.load(milli.with_suffix(".json")).force(probe) == pytest.approx(
+        FrictionModel.load(si.with_suffix(".json")).force(probe), rel=1e-6, abs=1e-9)

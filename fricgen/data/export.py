@@ -38,6 +38,7 @@ ALIASES = {"q": "x", "dq": "v", "qd": "v", "tau": "force", "effort": "force", "t
            "current": "i", "iq": "i", "temp": "temperature", "time": "t", "position": "x",
            "pos": "x", "angle": "x", "velocity": "v", "vel": "v", "speed": "v", "trq": "force",
            "std": "f_std", "sd": "f_std", "stdev": "f_std", "sigma": "f_std", "f_sd": "f_std",
+           "f_std": "f_std",
            "count": "n", "ddq": "a", "qdd": "a", "acc": "a", "accel": "a", "acceleration": "a"}
 #: Every plain name read as a quantity: the quantities' own and the aliases.
 KNOWN_NAMES = {**{q: q for q in QUANTITIES}, **ALIASES}

@@ -24,6 +24,7 @@ SIZELESS = ("%", "‰", "inc", "incr", "increments", "counts", "count", "cnt", "
             "digits", "lsb", "pu")
 #: The kind of each quantity a column can be read as.
 KIND = {"t": "time", "x": "position", "v": "velocity", "a": "acceleration", "f": "force", "force": "force",
+        "f_std": "force",
         "load": "force", "i": "current", "temperature": "temperature"}
 
 
