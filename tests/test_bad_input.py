@@ -509,7 +509,7 @@ ROWS = [
     ("--skip past the end", ["train", "sweep.csv", "--skip", "100000", "-o", OUT], "fewer than the 100000"),
     ("--columns without =", ["train", *DRIVE, "--columns", "v", "-o", OUT], "expected NAME=VALUE"),
     ("--columns unknown quantity", ["train", *DRIVE, "--columns", "spede=Speed", "-o", OUT],
-     "'spede' is not one of t, x, v, f, force, i"),
+     "'spede' is not one of t, x, v, a, f, force, i"),
     ("--columns a quantity twice", ["train", *DRIVE, "--columns", "v=Time,v=Speed", "-o", OUT],
      "v is given twice"),
     ("--columns a column twice", ["train", "drive.csv", "--skip", "2", "--columns", "t=Time,x=time",
