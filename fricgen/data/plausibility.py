@@ -25,7 +25,8 @@ from .._validate import (ACCEPT_UNUSUAL, PHYSICAL_ROTARY, USUAL_MIN, in_rotary_a
                          physical_range, physical_unit, rotary_units, unusual, unusually_small, usual_max)
 from ..errors import DataError
 from ..units import axis_units
-from .log_columns import check_force_swap, textbook_columns
+from .idim import friction_basis
+from .log_columns import check_force_swap
 from .motionlog import check_swapped_force, varies
 from .outliers import running_median
 from .smoothing import smooth
@@ -381,25 +382,17 @@ def check_columns(columns: Dict[str, np.ndarray], source: str, is_log: bool,
 TIMING_STEPS, TIMING_SHIFTS = 2, 50
 #: The farthest ``check_timing`` searches where the best shift lies at its first search's edge.
 TIMING_REACH = 200
-
-
-#: The Stribeck drops beside Coulomb + viscous in ``check_timing``'s law: sgn(v) exp(-|v| / s),
-#: s these shares of the log's top speed. Without them the misfit of a Stribeck curve swamped the
-#: shift: a drive's velocity through a causal 10 ms filter (its mass 22 % high) left 0.80 of the
-#: residual 26 samples off, and with them 0.22.
-TIMING_STRIBECK = (0.003, 0.01, 0.03, 0.1, 0.3)
-
-
-def stribeck_columns(v: np.ndarray) -> list:
-    """sgn(v) exp(-|v| / s) for s the TIMING_STRIBECK shares of the top |v|."""
-    top = float(np.max(np.abs(v)))
-    return [] if top == 0 else [np.sign(v) * np.exp(-np.abs(v) / (k * top)) for k in TIMING_STRIBECK]
+#: Stribeck drops per direction in ``check_timing``'s law (``idim.friction_basis``): with
+#: Coulomb + viscous alone a Stribeck curve's misfit hid a drive's velocity filtered 10 ms late
+#: (its mass 22 % high; 0.80 of the residual at the best shift, 0.35 with them).
+TIMING_STRIBECK = 5
 
 
 def check_timing(columns: Mapping[str, np.ndarray], source: str,
                  warn: Callable[[str], None] = print) -> None:
     """One warning line where a log's force fits its motion (least squares of [C1] with
-    Coulomb and viscous friction per direction, v and dv/dt of a 7-sample Savitzky-Golay) far
+    Coulomb, viscous and TIMING_STRIBECK Stribeck drops per direction and a constant, v and
+    dv/dt of a 7-sample Savitzky-Golay) far
     better a few samples off than in time: SHIFT_GAIN times less residual variance at a shift
     of TIMING_STEPS to TIMING_SHIFTS samples, or up to TIMING_REACH where the best lies at the
     edge (a delay of 120 samples had been told as 50; a best shift still at the edge, where
@@ -424,7 +417,8 @@ def check_timing(columns: Mapping[str, np.ndarray], source: str,
     reach = TIMING_SHIFTS
     while True:             # a best shift at the search's edge: searched twice as far
         inner = np.arange(reach, t.size - reach)[_thin(t.size - 2 * reach)]
-        design = textbook_columns(a[inner], v[inner], *stribeck_columns(v[inner]))
+        design = np.column_stack([a[inner], friction_basis(v[inner], odd=False, terms=TIMING_STRIBECK),
+                                  np.ones(inner.size)])
         pinv = np.linalg.pinv(design)       # one design for every shift: only the force moves
         scores = {d: float(np.mean((force[inner + d] - design @ (pinv @ force[inner + d])) ** 2))
                   for d in range(-reach, reach + 1)}
