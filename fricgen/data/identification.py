@@ -105,8 +105,8 @@ class Identification:
                     f"{units.mass}, the inertia force within its noise): pass --mass, or log motion that "
                     "accelerates and brakes")
         lines = [f"{units.inertia_name:10s}{mass}"]
-        if self.acceleration_doubt(units) is not None:
-            lines.append(f"          {self.acceleration_doubt(units)}")
+        if (doubt := self.acceleration_doubt(units)) is not None:
+            lines.append(f"          {doubt}")
         lines += [f"          {doubt}" for doubt in b.doubts(units.mass)]
         if self.weight is not None and units.position == "rad":    # --gravity is a joint's
             without, with_weight = self.weight

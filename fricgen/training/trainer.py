@@ -58,8 +58,8 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
         if note:
             warn(f"fricgen: warning: {source}: {note}")
             break
-    if ident is not None and ident.acceleration_doubt(model.units) is not None:
-        warn(f"fricgen: warning: {source}: {ident.acceleration_doubt(model.units)}")
+    if ident is not None and (unused := ident.acceleration_doubt(model.units)) is not None:
+        warn(f"fricgen: warning: {source}: {unused}")
     for doubt in [] if ident is None else ident.body.doubts(model.units.mass):
         which = "identified" if ident.body.mass_identified else "given"
         warn(f"fricgen: warning: {source}: the {which} {model.units.inertia_name}: {doubt}")
