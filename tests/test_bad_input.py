@@ -186,7 +186,7 @@ def _plausibility_files(d, log):
     t_log, _, v_log = np.array([line.split(",")[:3] for line in log[1:]], dtype=float).T
     a_log = np.gradient(v_log, t_log)
     for name, header, a in (("log_accel_v.csv", "a", v_log), ("log_accel_deg.csv", "a", np.degrees(a_log)),
-                            ("log_accel_unit.csv", "a [rad/s]", a_log)):
+                            ("log_accel_unit.csv", "a [rad/s]", a_log), ("log_two_v.csv", "speed", 2 * v_log)):
         (d / name).write_text("\n".join([f"{log[0]},{header}"] + [f"{line},{value!r}" for line, value
                                                                   in zip(log[1:], a.tolist())]) + "\n")
     model = json.loads((d / "model.json").read_text())
@@ -307,6 +307,8 @@ PLAUSIBILITY_ROWS = [
      "the log's acceleration column (a) is not its dv/dt: it follows dv/dt with slope"),
     ("a log's acceleration in deg/s^2", ["train", "log_accel_deg.csv", *LOG, "-o", OUT],
      "in deg/s^2? --scale a=0.0174533 converts it"),
+    ("two velocity columns that differ", ["train", "log_two_v.csv", *LOG, "-o", OUT],
+     "columns 'v' and 'speed' both read as 'v' and differ: name the one to use (--columns v=COLUMN)"),
     ("a log's acceleration column in rad/s", ["train", "log_accel_unit.csv", *LOG, "-o", OUT],
      "column 'a [rad/s]' is read as a, an acceleration, but its unit rad/s is a velocity's"),
     *[(f"swapped sweep columns, {' '.join(m) or 'default'}", ["train", "sweep_swapped.csv", *m, "-o", OUT],

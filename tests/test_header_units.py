@@ -217,3 +217,18 @@ def test_a_sweeps_spread_per_point_in_a_header_unit_is_read_and_scaled(tmp_path,
     probe = np.linspace(-2.0, 2.0, 41)
     assert FrictionModel.load(milli.with_suffix(".json")).force(probe) == pytest.approx(
         FrictionModel.load(si.with_suffix(".json")).force(probe), rel=1e-6, abs=1e-9)
+
+
+def test_two_columns_of_one_quantity_must_agree():
+    """dq beside qd (or tau beside torque) is one quantity read twice: equal, one is kept;
+    different (a motor's velocity beside the joint's), which one is meant is named, not guessed."""
+    from fricgen.data.export import by_quantity
+    t, v = np.arange(5.0), np.linspace(-1.0, 1.0, 5)
+    same = by_quantity({"t": t, "dq": v, "qd": v.copy(), "tau": v})
+    assert sorted(same) == ["force", "t", "v"] and same["v"] is v
+    with pytest.raises(DataError, match="columns 'dq' and 'qd' both read as 'v' and differ"):
+        by_quantity({"t": t, "dq": v, "qd": 2 * v, "tau": v})
+    with pytest.raises(DataError, match="columns 'force' and 'torque' both read as 'force'"):
+        by_quantity({"t": t, "v": v, "force": v, "torque": v + 1})
+    chosen = by_quantity({"t": t, "dq": v, "qd": 2 * v, "tau": v, "v": 2 * v}, mapped=("v",))
+    assert "dq" not in chosen and "qd" not in chosen and np.array_equal(chosen["v"], 2 * v)

@@ -226,15 +226,36 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
 
 def by_quantity(columns: Mapping[str, np.ndarray], mapped=()) -> Dict[str, np.ndarray]:
     """``columns`` (named in lower case) with the ``ALIASES`` read as fricgen's quantities,
-    where no column of the quantity's own name is there and none is ``mapped`` to it; a
-    sweep's force (a velocity and a force, no time, position or current) is its ``f``."""
+    where no column of the quantity's own name is there and none is ``mapped`` to it (then
+    the alias is dropped; two columns that read as one quantity differ nowhere, else
+    ``DataError``: ``_check_one_reading``); a sweep's force (a velocity and a force, no time, position or current) is its ``f``."""
     columns = dict(columns)
+    for name in dict.fromkeys(ALIASES.values()):
+        if name not in mapped:
+            _check_one_reading(columns, name)
     for alias, name in ALIASES.items():
-        if alias in columns and name not in columns and name not in mapped:
-            columns[name] = columns.pop(alias)
+        if alias == name or alias not in columns:
+            continue
+        values = columns.pop(alias)     # else equal to the quantity's column, or one not mapped
+        if name not in columns and name not in mapped:
+            columns[name] = values
     if "f" not in columns and "v" in columns and "force" in columns and not {"t", "x", "i"} & set(columns):
         columns["f"] = columns.pop("force")
     return columns
+
+
+def _check_one_reading(columns: Mapping[str, np.ndarray], name: str) -> None:
+    """``DataError`` where two columns read as the quantity ``name`` (its own name or its
+    ``ALIASES``: dq and qd, tau and torque) and hold different values: which one the file
+    means is not fricgen's guess (a motor's velocity beside the joint's, a command beside a
+    measurement)."""
+    cells = [c for c in (name, *(a for a, q in ALIASES.items() if q == name and a != name))
+             if c in columns]
+    for other in cells[1:]:
+        if not np.array_equal(np.asarray(columns[cells[0]], dtype=float),
+                              np.asarray(columns[other], dtype=float), equal_nan=True):
+            raise DataError(f"columns {cells[0]!r} and {other!r} both read as {name!r} and differ: "
+                            f"name the one to use (--columns {name}=COLUMN) or drop the other")
 
 
 def names_rotary_axis(cells) -> bool:
