@@ -57,6 +57,22 @@ def test_a_position_flickering_across_the_wrap_at_rest_is_unwrapped_to_rest():
     assert np.ptp(back) < 1e-3
 
 
+@pytest.mark.parametrize("seed", [1000, 1001, 1002])
+def test_a_noisy_position_resting_on_the_wrap_is_unwrapped(seed):
+    """At rest on +-pi, the angle's noise carries it back and forth across the wrap: the sign of
+    the motion over each jump is the noise's, yet every jump is a turn (it had been stitched
+    as resets: -1197 to 925 rad/s and a model of nothing, written)."""
+    rng = np.random.default_rng(seed)
+    moving = np.pi + np.concatenate([np.linspace(-3.0, 0.0, 1500), np.zeros(3000),
+                                     np.linspace(0.0, 3.0, 1500)])
+    x = moving + 2e-5 * rng.standard_normal(moving.size)
+    wrapped = np.mod(x + np.pi, 2 * np.pi) - np.pi
+    found = wrap_period(wrapped)
+    assert found is not None and found[:2] == (2 * np.pi, "2 pi") and found[2] > 2
+    back = unwrapped({"x": wrapped}, lambda line: None)["x"]
+    assert np.allclose(back - back[0], x - x[0], atol=1e-9)
+
+
 @pytest.mark.parametrize("x", [
     np.cumsum(np.full(2000, 1e-3)),                                      # no wrap
     np.concatenate([np.linspace(0, 3, 500), np.linspace(0.5, 2, 500),    # runs whose position

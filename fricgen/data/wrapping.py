@@ -6,7 +6,9 @@ motion. ``unwrapped`` finds the period from the jumps and adds the turns back.
 A jump is a step of x larger than half its range, the other steps (the motion) at most
 WRAP_SMOOTH of the range. The period is the jump less the motion over that
 sample, the median over the jumps; every jump must give it within WRAP_AGREE (a reset of a
-log's position, or a concatenation of runs, gives periods that disagree and is left alone).
+log's position, or a concatenation of runs, gives periods that disagree and is left alone), and
+be against the motion where that motion is more than WRAP_AGREE of the period (at rest on the
+wrap, x's noise carries it back and forth across it, and the motion's sign is the noise's).
 A period within ROUND_WITHIN of a round one (2 pi, 360, 1, a power of two) is taken as that one;
 a single jump of no round period is taken for a reset, not a wrap, and jumps of no round period
 in an x of fewer than MIN_WRAP_VALUES values for the count steps of a creep.
@@ -81,7 +83,8 @@ def wrap_period(x: np.ndarray) -> Optional[Tuple[float, str, int]]:
     motion, jumps = _motion_over(step, wrap), step[wrap]
     periods = np.abs(motion - jumps)
     period = float(np.median(periods))
-    if np.any(np.sign(jumps) == np.sign(motion)) or \
+    forward = (np.sign(jumps) == np.sign(motion)) & (np.abs(motion) > WRAP_AGREE * period)
+    if np.any(forward) or \
             np.max(np.abs(periods - period)) > WRAP_AGREE * period or span > period * (1 + WRAP_AGREE):
         return None
     rounded = next(((p, name) for p, name in ROUND_PERIODS if abs(period / p - 1) <= ROUND_WITHIN), None)
