@@ -89,3 +89,25 @@ def test_a_load_beside_the_friction_is_found_from_three_speeds_each_way(seed):
     axis = report.training["axis"]
     assert abs(axis["offset"] + 0.8) < 3 * axis["offset_se"] + 0.005
     assert report.model.force(np.array([1e-4, -1e-4])) == pytest.approx([0.2, -0.2], abs=0.03)
+
+
+@pytest.mark.parametrize("points, stribeck", [(3, 1.5), (6, 0.0), (12, 1.5)])
+def test_forces_written_as_magnitudes_are_refused_and_named(points, stribeck):
+    """A spreadsheet's habit: the forces at v < 0 written as magnitudes. The sweep is refused,
+    and the refusal asks about magnitudes (it had named only swapped columns or units)."""
+    rng = np.random.default_rng(1000 + points)
+    speed = np.geomspace(0.01, 1.0, points)
+    level = 2.0 + stribeck * np.exp(-speed / 0.05) + 0.8 * speed
+    columns = {"v": np.concatenate([speed, -speed]),
+               "f": np.concatenate([level, 1.1 * level]) + 0.02 * rng.standard_normal(2 * points)}
+    with pytest.raises(fricgen.FricgenError, match="are the forces at v < 0 magnitudes, where "
+                                                    "friction opposes the motion and is negative"):
+        fricgen.train(columns, warn=lambda line: None)
+
+
+def test_a_loaded_sweep_that_trains_gets_no_magnitudes_question():
+    """A vertical axis's sweep has one sign too, from its load: it trains, nothing asked."""
+    columns = offset_sweep(1000, offset=0.8, coulomb=0.2, viscous=0.5)
+    assert np.all(columns["f"] > 0)
+    report = fricgen.train(columns, warn=lambda line: None)
+    assert report.training["axis"]["offset"] == pytest.approx(0.8, abs=0.02)

@@ -98,6 +98,17 @@ def check_friction_sign(folded: Sweep) -> None:
                         "with the sign of v [F1]: check the sign of v, force or i (or --scale)")
 
 
+def magnitudes_hint(sweep: Sweep) -> str:
+    """Where a sweep of both directions has a force of one sign at every moving point (as a
+    spreadsheet writes magnitudes), the words a refusal adds to ask whether the forces at v < 0
+    are magnitudes; else "". A load beside the friction gives the same signs (a vertical axis),
+    so this is said only where the sweep is refused for holding no friction."""
+    moving = sweep.f[sweep.v != 0]
+    if not (np.any(sweep.v > 0) and np.any(sweep.v < 0)) or not (np.all(moving > 0) or np.all(moving < 0)):
+        return ""
+    return "; or are the forces at v < 0 magnitudes, where friction opposes the motion and is negative"
+
+
 def checked_fold(sweep: Sweep) -> Sweep:
     """The folded sweep, if it can be friction data at all; else ``DataError``: too few rows or
     moving rows, a force against the motion, or speeds or forces beyond the float32 C."""

@@ -20,7 +20,7 @@ from ..data.inverse_dynamics import FRICTION_Z, describe_missing, identify_log, 
 from ..data.motionlog import without_lagging_velocity
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
-from ..data.training_set import check_friction_sign
+from ..data.training_set import check_friction_sign, magnitudes_hint
 from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
@@ -35,7 +35,7 @@ from .with_inputs import dependence_record, fit_inputs
 
 
 def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool, fastest: float,
-                 warn: Callable[[str], None]) -> None:
+                 warn: Callable[[str], None], hint: str = "") -> None:
     """The fitted curves and the identified mass within the physical bounds of a real axis
     (``Direction.check_physical``, ``_validate.PHYSICAL``): refused, or with ``accept_unusual``
     one warning line each; a v_sat beyond ``USUAL_MAX`` and beyond the data's fastest speed
@@ -43,7 +43,7 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
     ``data.plausibility`` judged: a textbook law's v_sat is the fastest speed). A mass that
     speeding up and braking give apart, or smoothing windows that explain the force equally well,
     or a mass given that the log's accelerations contradict (``RigidBody.doubts``), is one
-    warning line each."""
+    warning line each. ``hint``: words a refusal adds (``magnitudes_hint``)."""
     problems = []
     for curve in model.directions:
         try:
@@ -68,7 +68,7 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
                                          ident.body.mass))
     for problem in filter(None, problems):
         if not accept_unusual:
-            raise DataError(f"{source}: {problem}; are the units SI ({ACCEPT_UNUSUAL} to keep it)?")
+            raise DataError(f"{source}: {problem}; are the units SI ({ACCEPT_UNUSUAL} to keep it){hint}?")
         warn(f"fricgen: warning: {source}: {problem}; kept ({ACCEPT_UNUSUAL})")
 
 
@@ -366,11 +366,11 @@ def sweep_offset(sweep: Sweep, spread, units) -> Tuple[Optional[Tuple[float, flo
     if forward + backward <= 0:
         raise DataError(f"the force's magnitude extrapolated to v = 0 is {said} {units.force} "
                         "(v > 0, v < 0): it vanishes at a speed above 0 in both directions, as no "
-                        "friction does (are the columns v and f swapped?)")
+                        f"friction does (are the columns v and f swapped{magnitudes_hint(sweep)}?)")
     return ((forward - backward) / 2, float(np.hypot(se_f, se_b)) / 2), ~kept
 
 
-def check_sweep_friction(curves: list, source: str, units) -> None:
+def check_sweep_friction(curves: list, source: str, units, hint: str = "") -> None:
     """``DataError`` where a sweep's Coulomb + viscous curves hold no friction: in every curve
     neither F_c nor F_v stands FRICTION_Z standard errors from 0 (a one-way Stribeck sweep with
     v and f swapped, its slowest "speed" 59 % of its fastest, had trained F_c 0.064 +- 0.17 N
@@ -385,7 +385,7 @@ def check_sweep_friction(curves: list, source: str, units) -> None:
                          for c in laws)
         raise DataError(f"{source}: the sweep holds no friction: its force follows neither sgn(v) nor v "
                         f"({said}, none {FRICTION_Z:g} standard errors from 0): are the columns v and f "
-                        "swapped, or of two axes?")
+                        f"swapped, or of two axes{hint}?")
 
 
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
@@ -395,6 +395,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
+    hint = magnitudes_hint(sweep) if ident is None else ""
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
     offset = outliers = None
@@ -425,7 +426,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     first = fitted.fits[0]
     curves = [curve_record(f) for f in fitted.fits]
     if ident is None:
-        check_sweep_friction(curves, source, units_of(rotary))
+        check_sweep_friction(curves, source, units_of(rotary), hint)
     training = {**method_record(estimator), "seed": seed, "source": source if file is None else file,
                 "vs_max_estimated": first.dataset.vs_max_estimated, **curves[0]}
     if fitted.asymmetric:
@@ -460,8 +461,8 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
         said = re.sub(r" \((an edited|was one of them edited)[^)]*\)", "", str(exc))
         advice = ("" if isinstance(estimator, DefaultRegressor) else
                   "; the default method (without --method) keeps only laws that oppose the motion")
-        raise DataError(f"{source}: the fitted model is no friction model: {said}{advice}") from None
-    check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn)
+        raise DataError(f"{source}: the fitted model is no friction model: {said}{advice}{hint}") from None
+    check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn, hint)
     notes = (stribeck_warning(ident, fitted.fits, model.units),
              gravity_warning(ident, model.units)) if ident is not None else ()
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
