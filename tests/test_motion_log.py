@@ -331,3 +331,13 @@ def test_a_load_larger_than_the_friction_trains_in_either_direction():
         report = fricgen.train({"t": t, "x": x, "v": v, "force": force}, warn=lambda line: None)
         assert abs(report.training["axis"]["offset"] - load) < 0.5
         assert abs(report.model.force(0.1) - (20.0 + 5.0)) < 0.5
+
+
+def test_a_log_with_a_force_and_a_current_says_which_it_trains_on(noisy, tmp_path, capsys):
+    """A robot's log often holds tau and the motor current: the force is trained on, and one
+    line says the current is not used (it had been left out without a word)."""
+    cols = {**noisy, "current": 0.05 * noisy["force"]}
+    (tmp_path / "log.csv").write_text(table_csv_text(cols))
+    assert main(["train", str(tmp_path / "log.csv"), *FAST, "-o", str(tmp_path / "m.json")]) == 0
+    said = [line for line in capsys.readouterr().err.splitlines() if "current i is not used" in line]
+    assert len(said) == 1 and "trained on the force column" in said[0]

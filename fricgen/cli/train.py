@@ -99,6 +99,9 @@ def training_columns(args) -> dict:
             if named:
                 say(f"fricgen: warning: {source_name(args)}: column {named[0]!r} is not used; "
                     f"--columns {condition}={named[0]} makes the friction depend on it")
+        if "force" in columns and "i" in columns:
+            say(f"fricgen: {source_name(args)}: trained on the force column; the current i is not "
+                "used (without a force column, --force-constant makes the current a force)")
         return columns
     if not {"v", "f"} <= set(columns):
         written = None if args.merge else header_cells(args.sweep, args.skip)
