@@ -21,9 +21,9 @@ def friction(v):
                     -1.3 - 0.7 * np.exp(-(s / 0.04) ** 1.5) + 9.5 * v)
 
 
-def run(rng, offset, both_ways=True, seconds=10.0):
+def run(rng, offset, both_ways=True, seconds=10.0, speed=1.0):
     """One run from rest: t from 0, v (noisy) and force (noisy) of the axis; ``both_ways``:
-    swinging through reversals, else moving forward at a varying speed."""
+    swinging through reversals, else moving forward at a varying speed; ``speed`` scales v."""
     t = np.arange(0.0, seconds, TS)
     ramp = np.minimum(t / 0.5, 1.0)
     if both_ways:
@@ -31,6 +31,7 @@ def run(rng, offset, both_ways=True, seconds=10.0):
                     + 0.06 * np.sin(2 * np.pi * 1.3 * t + rng.uniform(0, 6)))
     else:
         v = ramp * (0.15 + 0.1 * np.sin(2 * np.pi * rng.uniform(0.25, 0.4) * t))
+    v = speed * v
     force = MASS * np.gradient(v, TS) + friction(v) + offset
     return {"t": t, "v": v + rng.normal(0.0, 1e-3, t.size),
             "force": force + rng.normal(0.0, 0.1, t.size)}
@@ -80,6 +81,24 @@ def test_each_runs_constant_force_is_identified_and_taken_out():
     one_clock = fricgen.train(continuous, **QUIET)
     assert one_clock.identification.body.run_offsets is None
     assert friction_error(report) < 0.06 and 3 * friction_error(report) < friction_error(one_clock)
+
+
+@pytest.mark.parametrize("seed", [1000, 1001])
+def test_runs_that_share_few_speeds_are_doubted_in_one_line(seed):
+    """A run of slow swings beside one of fast swings: their constant forces are told apart
+    only by the friction curve's shape between their speeds (one more Stribeck term per
+    direction moved a new user's by 20 times the offset), which one warning says; runs of
+    the same swings (above) share their speeds, and no warning comes."""
+    rng = np.random.default_rng(seed)
+    lines = []
+    report = fricgen.train(joined([run(rng, 0.0, speed=0.2), run(rng, 0.9, speed=3.0)]),
+                           warn=lines.append)
+    said = [line for line in lines if "the runs' constant forces are told apart only" in line]
+    assert report.identification.body.run_offsets is not None and len(said) == 1
+    assert "run 2 has" in said[0] or "run 1 has" in said[0]
+    lines.clear()
+    fricgen.train(joined([run(rng, 0.0), run(rng, 0.9)]), warn=lines.append)
+    assert not any("constant forces are told apart" in line for line in lines)
 
 
 def test_runs_that_move_one_way_share_one_constant_force():

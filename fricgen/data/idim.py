@@ -36,6 +36,9 @@ SAMPLES_PER_PARAMETER = 10
 #: larger (``RigidBody.phases_disagree``).
 PHASE_SIGMAS = 3.0
 PHASE_SHARE = 0.1
+#: A run's constant force is told from the others' by the friction at the speeds they share:
+#: fewer than this share of its samples there, and its standard error understates it.
+RUN_SHARE = 0.25
 
 
 def _apart(pair, mass: float) -> bool:
@@ -104,6 +107,9 @@ class RigidBody:
     #: Where the mass was given: the mass (and its standard error) the log's accelerations
     #: determine (``inverse_dynamics.identify_friction``), else None
     log_mass: Optional[Tuple[float, float]] = None
+    #: With run offsets: each such run's share of samples at speeds the others move at too
+    #: (``shared_speeds``)
+    run_shares: Optional[Tuple[Tuple[int, float], ...]] = None
 
     def given_mass_disagrees(self) -> bool:
         """Whether the mass given and the one the log's accelerations determine (``log_mass``)
@@ -159,6 +165,22 @@ class RigidBody:
                        "ones: " + memory)
         return out
 
+    def runs_doubt(self) -> Optional[str]:
+        """Why run offsets are less sure than their standard errors say: the runs that share
+        fewer than RUN_SHARE of their samples' speeds with the others (``run_shares``: a new
+        user's run of fast speeds beside one of slow speeds had its offset 15 standard errors
+        off, and one more Stribeck term per direction moved it by 20 times the offset); None
+        where every run shares them."""
+        few = [(r, share) for r, share in self.run_shares or () if share < RUN_SHARE]
+        if not few:
+            return None
+        said = " and ".join(f"run {r + 1}{' has' if k == 0 else ''} {100 * share:.0f} %"
+                            for k, (r, share) in enumerate(few))
+        return (f"the runs' constant forces are told apart only by the shape of the friction curve "
+                f"between their speeds, less surely than their +- say: {said} of "
+                f"{'its' if len(few) == 1 else 'their'} samples at speeds another run moves at too "
+                "(log runs that share speeds)")
+
     def run_force(self, runs: Optional[np.ndarray]) -> np.ndarray:
         """The constant force of each row's run less the reference run's (0 without run
         offsets, and for the runs without one of their own)."""
@@ -206,6 +228,24 @@ def determined_runs(v: np.ndarray, runs: Optional[np.ndarray]) -> np.ndarray:
     both = np.array([r for r in np.unique(runs) if np.any(v[runs == r] > 0) and np.any(v[runs == r] < 0)],
                     dtype=int)
     return both if both.size >= 2 else np.zeros(0, dtype=int)
+
+
+def shared_speeds(v: np.ndarray, runs: np.ndarray, determined: np.ndarray) -> Tuple[Tuple[int, float], ...]:
+    """For each of the ``determined`` runs, the share of its samples at speeds the others move
+    at too (within the 2 to 98 % quantiles of their speeds, the better of the two directions):
+    where it is small, a run's constant force is told from theirs only by the shape of the
+    friction curve between their speeds (``RigidBody.runs_doubt``)."""
+    out = []
+    for r in determined:
+        mine, others = runs == r, np.isin(runs, determined) & (runs != r)
+        share = 0.0
+        for side in (v > 0, v < 0):
+            own, theirs = np.abs(v[mine & side]), np.abs(v[others & side])
+            if own.size and theirs.size:
+                lo, hi = np.quantile(theirs, [0.02, 0.98])
+                share = max(share, float(np.mean((own >= lo) & (own <= hi))))
+        out.append((int(r), share))
+    return tuple(out)
 
 
 def run_basis(runs: np.ndarray, determined: np.ndarray) -> np.ndarray:
@@ -352,4 +392,5 @@ def identify_rigid_body(a: np.ndarray, v: np.ndarray, force: np.ndarray, indepen
         phases, pinned = (phase_masses(a, v, force, independent, extra, accel_noise, pin)
                           for pin in (False, True))
     return RigidBody(float(mass), mass_se, offset, offset_se, residual, gravity, gravity_se,
-                     run_offsets, int(determined[0]) if determined.size else None, phases, pinned)
+                     run_offsets, int(determined[0]) if determined.size else None, phases, pinned,
+                     run_shares=shared_speeds(v, runs, determined) if run_offsets else None)

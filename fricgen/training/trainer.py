@@ -60,6 +60,8 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
             break
     if ident is not None and (unused := ident.acceleration_doubt(model.units)) is not None:
         warn(f"fricgen: warning: {source}: {unused}")
+    if ident is not None and (runs := ident.body.runs_doubt()) is not None:
+        warn(f"fricgen: warning: {source}: {runs}")
     for doubt in [] if ident is None else ident.body.doubts(model.units.mass):
         which = "identified" if ident.body.mass_identified else "given"
         warn(f"fricgen: warning: {source}: the {which} {model.units.inertia_name}: {doubt}")
