@@ -278,7 +278,8 @@ TRIAL_ROWS = [
     ("emit --adapt, a 20-neuron ELM", ["emit", "elm20.json", "-o", OUT, "--adapt"],
      "the model has 21 output parameters; online adaptation holds at most 18 (FRIC_ADAPT_MAX_PARAMS)"),
     ("a sweep with its own column names", ["train", "velocity_friction.csv", "-o", OUT],
-     "missing column 'f' (header is velocity,friction)"),
+     "missing column 'f' of a sweep, or t, v or x, and force or i of a motion log (header is "
+     "velocity,friction); its names read as a sweep's? --columns 'v=velocity,f=friction'"),
     ("a log without t", ["train", "log_no_t.csv", *LOG, "-o", OUT],
      "a motion log needs t, v or x, and force or i: missing t (header is x,v,i,x_d)"),
     ("a sweep of the current", ["train", "sweep_current.csv", "--force-constant", "0.5", "-o", OUT],

@@ -232,3 +232,23 @@ def test_two_columns_of_one_quantity_must_agree():
         by_quantity({"t": t, "v": v, "force": v, "torque": v + 1})
     chosen = by_quantity({"t": t, "dq": v, "qd": 2 * v, "tau": v, "v": 2 * v}, mapped=("v",))
     assert "dq" not in chosen and "qd" not in chosen and np.array_equal(chosen["v"], 2 * v)
+
+
+@pytest.mark.parametrize("header, said", [
+    ("timestamp,actual_position,actual_velocity,actual_torque",
+     "--columns 't=timestamp,x=actual_position,v=actual_velocity,force=actual_torque'"),
+    ("Time [s],Motor Current,Joint Velocity", "--columns 't=Time [s],i=Motor Current,v=Joint Velocity'"),
+    ("velocity,friction", "its names read as a sweep's? --columns 'v=velocity,f=friction'"),
+])
+def test_a_header_of_other_names_gets_the_mapping_to_type(tmp_path, capsys, header, said):
+    """A vendor's names that hold the common names as words: the refusal writes the --columns
+    mapping that reads them (it had named only the missing sweep columns)."""
+    (tmp_path / "in.csv").write_text(header + "\n" + "\n".join(
+        ",".join(str(0.1 * k + j) for j in range(header.count(",") + 1)) for k in range(30)) + "\n")
+    assert main(["train", str(tmp_path / "in.csv"), "-o", str(tmp_path / "m.json")]) == 2
+    assert said in capsys.readouterr().err and not (tmp_path / "m.json").exists()
+
+
+def test_a_header_of_no_known_words_gets_no_mapping():
+    from fricgen.data.export import suggested_columns
+    assert suggested_columns(["a", "b"]) == "" and suggested_columns(["time", "velocity"]) == ""

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Iterator, Mapping, Optional, Sequence, Tuple, Union
@@ -256,6 +257,30 @@ def _check_one_reading(columns: Mapping[str, np.ndarray], name: str) -> None:
                               np.asarray(columns[other], dtype=float), equal_nan=True):
             raise DataError(f"columns {cells[0]!r} and {other!r} both read as {name!r} and differ: "
                             f"name the one to use (--columns {name}=COLUMN) or drop the other")
+
+
+#: Words in a column's name that ``suggested_columns`` reads beside the ``ALIASES``.
+SUGGESTED_WORDS = {"t": "t", "time": "t", "timestamp": "t", "stamp": "t", "friction": "force"}
+
+
+def suggested_columns(cells: Sequence[str]) -> str:
+    """A --columns mapping of a header whose names hold the common names as words
+    ('actual_velocity', 'Joint Torque'): "; --columns t=...,v=...,force=..." where the words
+    name a log's columns (t, v or x, force or i) or a sweep's (v and the force, as f); else ""."""
+    found: Dict[str, str] = {}
+    for cell in cells:
+        for word in filter(None, re.split(r"[^a-z0-9]+", cell.strip().lower())):
+            name = SUGGESTED_WORDS.get(word, ALIASES.get(word) if len(word) > 1 else None)
+            if name in ("t", "x", "v", "force", "i") and name not in found:
+                found[name] = cell.strip()
+                break
+    log = "t" in found and ({"v", "x"} & set(found)) and ({"force", "i"} & set(found))
+    if not log and not {"v", "force"} <= set(found):
+        return ""
+    if not log:
+        found = {"v": found["v"], "f": found["force"]}
+    mapped = ",".join(f"{name}={cell}" for name, cell in found.items())
+    return f"; its names read as {'a log' if log else 'a sweep'}'s? --columns '{mapped}'"
 
 
 def names_rotary_axis(cells) -> bool:

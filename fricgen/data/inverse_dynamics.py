@@ -22,6 +22,7 @@ from ..errors import DataError
 from ..metrics import least_squares_errors
 from ..units import axis_units
 from .identification import Identification
+from .export import suggested_columns
 from .idim import (BASIS_COLUMNS, PHASE_SHARE, SAMPLES_PER_PARAMETER, RigidBody,
                    friction_basis, identify_rigid_body, known_columns, operating_basis)
 from .log_columns import check_acceleration_column, check_log_columns
@@ -509,9 +510,10 @@ def describe_missing(columns: Dict[str, np.ndarray], written: Optional[List[str]
             sweep = ("; a sweep of the current? --columns f=i --scale f=K reads it, K the force "
                      "constant (N/A, Nm/A on a rotary axis; divided by 1000 for a current in mA)")
         return (f"a motion log needs t, v or x, and force or i: missing {' and '.join(missing)} "
-                f"(header is {header}){header_hint(cells)}{sweep}")
+                f"(header is {header}){header_hint(cells)}{suggested_columns(cells) or sweep}")
     missing = ", ".join(repr(c) for c in ("v", "f") if c not in columns)
-    return f"missing column {missing} (header is {header}){header_hint(cells)}"
+    return (f"missing column {missing} of a sweep, or t, v or x, and force or i of a motion log "
+            f"(header is {header}){header_hint(cells)}{suggested_columns(cells)}")
 
 
 def identify_log(columns: Dict[str, np.ndarray], mass: Optional[float] = None,
