@@ -252,3 +252,17 @@ def test_a_header_of_other_names_gets_the_mapping_to_type(tmp_path, capsys, head
 def test_a_header_of_no_known_words_gets_no_mapping():
     from fricgen.data.export import suggested_columns
     assert suggested_columns(["a", "b"]) == "" and suggested_columns(["time", "velocity"]) == ""
+
+
+@pytest.mark.parametrize("cell", ["", "nan"])
+def test_a_dropped_sample_of_a_joint_log_is_named_with_what_to_do(tmp_path, capsys, cell):
+    """A blank or NaN velocity in a joint's log (q, dq, tau): the row is named, with the advice
+    to delete it (a NaN had been refused as "the joint's speed reaches nan rad/s ... degrees?")."""
+    t = (np.arange(400) * 1e-3).tolist()
+    rows = [f"{a!r},{np.sin(a):.9g},{np.cos(a):.9g},0.3" for a in t]
+    rows[100] = f"{t[100]!r},{np.sin(t[100]):.9g},{cell},0.3"
+    (tmp_path / "j.csv").write_text("t,q,dq,tau\n" + "\n".join(rows) + "\n")
+    assert main(["train", str(tmp_path / "j.csv"), "-o", str(tmp_path / "m.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and ("line 102" in err[0] or "data row 101" in err[0]) and "rad/s" not in err[0]
+    assert err[0].endswith("a sample dropped? delete its row: the time column spaces the others")

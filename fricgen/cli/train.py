@@ -271,7 +271,7 @@ def check_joint_speed(args, columns, warn=say) -> None:
     dq in rpm, or q in encoder counts (whole numbers), read as rad, would train a model whose
     every number is wrong (a joint's q in degrees had trained F_v 57 times too small)."""
     top = (top_speed(columns) or ("", 0.0))[1]
-    if top <= JOINT_SPEED_MAX:
+    if not top > JOINT_SPEED_MAX:               # (NaN: the readers name the row)
         return
     if "x" in columns and whole_numbers(columns["x"]):
         unit = "is q in encoder counts (--scale x= 2 pi over the counts per turn)"
@@ -282,7 +282,7 @@ def check_joint_speed(args, columns, warn=say) -> None:
                 f"{scale}){rpm}")
     refuse_or_warn(f"{source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
                    f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: {unit}? "
-                   "A motor shaft this fast: --rotary says so", args.accept_unusual, warn)
+                   "A motor shaft this fast, not a joint: --rotary says so", args.accept_unusual, warn)
 
 
 def check_force_held(args, columns) -> None:

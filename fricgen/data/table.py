@@ -39,6 +39,12 @@ def header_hint(cells: Sequence[str]) -> str:
     return ""
 
 
+#: What a refusal of a sample that is no number advises (the time column spaces the rest).
+DROPPED_SAMPLE = "; a sample dropped? delete its row: the time column spaces the others"
+#: Names of the signals a log may hold at a slower rate than its motion (blank cells between).
+SLOW_SIGNALS = ("temperature", "temp", "load")
+
+
 #: A cell that is the part of a number after a thousands separator: "1,740.65" splits into 1 and 740.65.
 _THOUSANDS_TAIL = re.compile(r"\d{3}(\.\d*)?")
 
@@ -337,7 +343,8 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
                 hint = (_thousands_hint(['', '000'], 1) if grouped else
                         "; decimal commas? fricgen reads '.' decimals" if decimal_comma else "")
                 if not hint and not row[bad[0]].strip() and header[bad[0]] not in required:
-                    hint = ("; a signal logged at a slower rate? --columns temperature=NAME reads its "
+                    hint = (DROPPED_SAMPLE if header[bad[0]] in numeric and header[bad[0]] not in SLOW_SIGNALS else
+                            "; a signal logged at a slower rate? --columns temperature=NAME reads its "
                             "blank cells as gaps")
                 raise DataError(f"{path}: line {n}: non-numeric or missing cell {row[bad[0]][:40]!r} "
                                 f"in column {written[bad[0]][:40]!r}{hint}") from None
