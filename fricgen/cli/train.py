@@ -2,8 +2,11 @@
 The fit and its report are the library's (``fricgen.train``); this command reads and writes."""
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
+
+import numpy as np
 
 from ..c_names import check_model_name
 from ..data.inverse_dynamics import CONDITIONS, MIN_LOG_ROWS, describe_missing, is_log
@@ -272,6 +275,7 @@ def check_joint_speed(args, columns, warn=say) -> None:
     every number is wrong (a joint's q in degrees had trained F_v 57 times too small)."""
     top = (top_speed(columns) or ("", 0.0))[1]
     if not top > JOINT_SPEED_MAX:               # (NaN: the readers name the row)
+        check_joint_span(args, columns, warn)
         return
     if "x" in columns and whole_numbers(columns["x"]):
         unit = "is q in encoder counts (--scale x= 2 pi over the counts per turn)"
@@ -283,6 +287,26 @@ def check_joint_speed(args, columns, warn=say) -> None:
     refuse_or_warn(f"{source_name(args)}: the joint's speed reaches {top:.4g} rad/s (99th "
                    f"percentile), beyond the {JOINT_SPEED_MAX:g} rad/s of robot joints: {unit}? "
                    "A motor shaft this fast, not a joint: --rotary says so", args.accept_unusual, warn)
+
+
+#: The span of a joint's position, rad, beyond which a log named as a joint's is likely in
+#: degrees: an arm's joint turns within a turn each way (the robot joints' logs here, of the
+#: UR10e, Panda and Kinova Gen3, span at most 6.5 rad); one that turns on says so with --rotary.
+JOINT_SPAN_MAX = 4 * math.pi
+
+
+def check_joint_span(args, columns, warn=say) -> None:
+    """One warning where a log named as a joint's, slower than JOINT_SPEED_MAX, has a position
+    spanning more than JOINT_SPAN_MAX: q and dq in degrees read as rad (a slow joint's log in
+    degrees had trained every number 57 times off without a word). A warning, not a refusal:
+    a joint may turn on."""
+    span = float(np.ptp(columns["x"])) if "x" in columns else 0.0
+    if span > JOINT_SPAN_MAX:
+        scale = ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
+        warn(f"fricgen: warning: {source_name(args)}: the joint's position spans {span:.4g} rad "
+             f"({span / (2 * math.pi):.3g} turns), more than the {JOINT_SPAN_MAX / (2 * math.pi):g} "
+             f"turns of robot joints: {'are q and dq' if ',' in scale else 'is q'} in degrees "
+             f"(--scale {scale})? A joint that turns on, or a motor shaft: --rotary says so")
 
 
 def check_force_held(args, columns) -> None:
