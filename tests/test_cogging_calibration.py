@@ -160,3 +160,19 @@ def test_a_move_that_turns_back_between_its_ends_is_warned_of(tmp_path, capsys):
         said = re.search(r"the move covers (\d+)% of its travel at a steady speed", capsys.readouterr().err)
         assert (said is not None) == warned
         assert not warned or int(said.group(1)) < 90
+
+
+@pytest.mark.parametrize("wavelength, highest, in_degrees", [
+    (TWO_PI / (18 * np.radians(1.0)), 400, True),      # harmonic 18 of a turn, x in degrees
+    (TWO_PI / (29516 * np.radians(1.0)), 400, False),  # 'harmonic 29516 in degrees': chance
+    (TWO_PI / (29516 * np.radians(1.0)), 40000, True),  # ... were the screen that wide
+])
+def test_a_wavelength_is_read_in_degrees_only_at_a_harmonic_the_map_screens(wavelength, highest,
+                                                                           in_degrees):
+    """A rotary calibration with its true inertia given had been refused as 'harmonic 29516 of
+    the period if x is in deg': among harmonics that high, any wavelength falls within 0.01 of
+    one. A map in degrees has its harmonics at the same numbers as in rad, so only those the
+    map screens are asked about."""
+    from fricgen.training.with_cogging import _in_other_units
+    from fricgen.units import units_of
+    assert bool(_in_other_units(wavelength, TWO_PI, units_of(True), highest)) == in_degrees
