@@ -162,17 +162,12 @@ def test_a_move_that_turns_back_between_its_ends_is_warned_of(tmp_path, capsys):
         assert not warned or int(said.group(1)) < 90
 
 
-@pytest.mark.parametrize("wavelength, highest, in_degrees", [
-    (TWO_PI / (18 * np.radians(1.0)), 400, True),      # harmonic 18 of a turn, x in degrees
-    (TWO_PI / (29516 * np.radians(1.0)), 400, False),  # 'harmonic 29516 in degrees': chance
-    (TWO_PI / (29516 * np.radians(1.0)), 40000, True),  # ... were the screen that wide
-])
-def test_a_wavelength_is_read_in_degrees_only_at_a_harmonic_the_map_screens(wavelength, highest,
-                                                                           in_degrees):
+@pytest.mark.parametrize("harmonic, in_degrees", [(18, True), (1680, True), (29516, False)])
+def test_a_wavelength_is_read_in_degrees_only_at_a_harmonic_a_cogging_reaches(harmonic, in_degrees):
     """A rotary calibration with its true inertia given had been refused as 'harmonic 29516 of
-    the period if x is in deg': among harmonics that high, any wavelength falls within 0.01 of
-    one. A map in degrees has its harmonics at the same numbers as in rad, so only those the
-    map screens are asked about."""
+    the period if x is in deg': any wavelength falls within 0.01 of a harmonic 2 % of the time.
+    A map in degrees has its harmonics at the cogging's numbers, so only those are asked about."""
     from fricgen.training.with_cogging import _in_other_units
     from fricgen.units import units_of
-    assert bool(_in_other_units(wavelength, TWO_PI, units_of(True), highest)) == in_degrees
+    wavelength = TWO_PI / (harmonic * np.radians(1.0))
+    assert bool(_in_other_units(wavelength, TWO_PI, units_of(True))) == in_degrees

@@ -168,8 +168,7 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fit.unexplained_wavelength is not None and fit.map is not None:    # check_period refused the rest
         warnings.append("warning: " + _unexplained(
             fit.unexplained_wavelength, fit.period, units, "a period longer than the one found, x in "
-            f"other units than {units.position}, or a ripple aliased by a log slower than the drive's loop?",
-            fit.highest_harmonic))
+            f"other units than {units.position}, or a ripple aliased by a log slower than the drive's loop?"))
     if rotary and fit.period < 2 * np.pi * (1 - TURN_TOLERANCE):
         dropped = turn_harmonics_dropped(columns["t"], columns["x"], force, fit.period, inertia)
         if dropped:
@@ -208,28 +207,30 @@ def turn_harmonics_dropped(t, x, force, pitch: float, inertia: Optional[float]) 
 
 #: The position unit a log is often written in, per kind of axis.
 OTHER_POSITION_UNITS = {"rotary": "deg", "linear": "mm"}
-#: How close (in harmonics) a wavelength read in the other unit must fall on a harmonic.
+#: How close (in harmonics) a wavelength read in the other unit must fall on a harmonic ...
 UNIT_TOLERANCE = 0.01
+#: ... of at most this number: a motor's cogging lies at multiples of the least common multiple
+#: of its slots and poles, below 2000 on servo motors' windings.
+UNIT_HARMONICS = 2048
 
 
-def _in_other_units(wavelength: float, period: float, units, highest: int) -> bool:
+def _in_other_units(wavelength: float, period: float, units) -> bool:
     """Whether ``wavelength``, read in the unit a log is often written in (degrees, mm), is a
-    harmonic of the period, at most the ``highest`` the map screens (the harmonics of a map in
-    other units are the same numbers: among the thousands above it, UNIT_TOLERANCE holds for
-    any wavelength by chance; a wavelength of 2 pi / 515 had been called harmonic 29516 in
-    degrees)."""
+    harmonic of the period, at most UNIT_HARMONICS (a map in other units has its harmonics at
+    the same numbers as the cogging's; UNIT_TOLERANCE holds for 2 % of any wavelengths by
+    chance, and a wavelength of 2 pi / 515 had been called harmonic 29516 in degrees)."""
     h = period / (wavelength * unit_size(OTHER_POSITION_UNITS[units.kind]))
-    return 1 <= round(h) <= highest and abs(h - round(h)) <= UNIT_TOLERANCE
+    return 1 <= round(h) <= UNIT_HARMONICS and abs(h - round(h)) <= UNIT_TOLERANCE
 
 
-def _unexplained(wavelength: float, period: float, units, why: str, highest: int) -> str:
+def _unexplained(wavelength: float, period: float, units, why: str) -> str:
     """What a position-periodic force that no harmonic of the period holds says: where it is a
     harmonic in other units (``_in_other_units``), that unit and the --scale that converts it;
     else the wavelength and ``why``."""
     name = OTHER_POSITION_UNITS[units.kind]
     size = unit_size(name)
     h = period / (wavelength * size)
-    if _in_other_units(wavelength, period, units, highest):
+    if _in_other_units(wavelength, period, units):
         return (f"the log's position force repeats every {wavelength:.6g} {units.position}: "
                 f"harmonic {round(h)} of the period {period:.6g} if x is in {name}. Is x in {name}? "
                 f"--scale x={size:.6g} converts it")
@@ -254,10 +255,9 @@ def check_period(fit: CoggingFit, t, x, force, inertia: Optional[float], units,
     synthetic motor). A period not given (a turn, or found) keeps a map beside the other
     wavelengths with a warning: a drive's loop leaves ripples of its own at a steady speed."""
     left = fit.unexplained_wavelength
-    if left is not None and (given or _in_other_units(left, fit.period, units, fit.highest_harmonic)):
+    if left is not None and (given or _in_other_units(left, fit.period, units)):
         raise DataError(_unexplained(left, fit.period, units,
-                                     "check --pitch (or leave it out for the period the data show)",
-                                     fit.highest_harmonic))
+                                     "check --pitch (or leave it out for the period the data show)"))
     if units.kind == "rotary" or not given:
         return
     strongest = max(fit.map.amplitude) if fit.map is not None else 0.0
