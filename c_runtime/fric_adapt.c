@@ -550,8 +550,9 @@ fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
     }
     covariance = at;
     for (k = 0u; k < (n * n); ++k) {                 /* checked first: a untouched if not */
-        if (!isfinite(fric_bits_float(fric_get_u32(at)))) {
-            return FRIC_ADAPT_ERR_RANGE;
+        float entry = fric_bits_float(fric_get_u32(at));
+        if (!isfinite(entry) || (((k % (n + 1u)) == 0u) && !(entry >= 0.0f))) {
+            return FRIC_ADAPT_ERR_RANGE;             /* a covariance's diagonal is >= 0 */
         }
         at = &at[4];
     }

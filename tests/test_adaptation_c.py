@@ -529,7 +529,11 @@ def test_a_saved_state_restores_bit_for_bit_and_a_foreign_one_is_refused(default
     import struct
     import zlib
     out_of_box[-4:] = struct.pack("<I", zlib.crc32(bytes(out_of_box[:-4])))
+    negative = bytearray(blob)              # a covariance with a diagonal entry of -1e30
+    negative[24 + 4 * n:28 + 4 * n] = np.float32(-1e30).tobytes()
+    negative[-4:] = struct.pack("<I", zlib.crc32(bytes(negative[:-4])))
     for bad, hash_, status in ((blob, b"0123456789abcdef", -4),                # another model
+                               (bytes(negative), model_hash, -6),
                                (blob[:4] + b"\x01\x00" + blob[6:], model_hash, -4),   # version 1
                                (bytes(flipped), model_hash, -5),
                                (bytes(out_of_box), model_hash, -6),
