@@ -254,10 +254,11 @@ unsigned int fric_adapt_save(const fric_adapt_t *a, const char *model_hash, unsi
  * @return FRIC_ADAPT_OK_INIT, or (a untouched) FRIC_ADAPT_ERR_NULL, _ERR_PARAM, _ERR_SIZE
  *         (not the size of this adaptation's state: another number of parameters, or cut
  *         short), _ERR_FOREIGN (another format or model), _ERR_CHECKSUM, _ERR_RANGE (theta
- *         outside [lo, hi], a value not finite). The next controller step
- *         (fric_adapt_ctrl_step) gives the controller the saved k_hat and m_o_hat, each within
- *         its interval (a state saved before any controller step, or of format 3, has none: the
- *         controller's initial values stay), and does no RLS update (no last sample).
+ *         outside [lo, hi], a value not finite, a covariance diagonal below 0). The next
+ *         controller step (fric_adapt_ctrl_step) gives the controller the saved k_hat and
+ *         m_o_hat, each within its interval (a state saved before any controller step, or of
+ *         format 3, has none: the controller's initial values stay), and does no RLS update
+ *         (no last sample).
  */
 fric_adapt_status_t fric_adapt_restore(fric_adapt_t *a, const char *model_hash,
                                        const unsigned char *buf, unsigned int size);
