@@ -268,6 +268,11 @@ JOINT_SPEED_MAX = 20.0
 DEGREE = size("deg")
 
 
+def degrees_scale(columns) -> str:
+    """The --scale value that reads the log's position and speed (those it has) from degrees."""
+    return ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
+
+
 def check_joint_speed(args, columns, warn=say) -> None:
     """A log named as a joint's that moves faster than JOINT_SPEED_MAX (``data.plausibility.
     top_speed``) is refused in one line, or with --accept-unusual warned: q and dq in degrees,
@@ -280,7 +285,7 @@ def check_joint_speed(args, columns, warn=say) -> None:
     if "x" in columns and whole_numbers(columns["x"]):
         unit = "is q in encoder counts (--scale x= 2 pi over the counts per turn)"
     else:
-        scale = ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
+        scale = degrees_scale(columns)
         rpm = "" if "x" in columns else f" or in rpm (--scale v={size('rpm'):.6g})"
         unit = (f"{'are its position and speed' if ',' in scale else 'is it'} in degrees (--scale "
                 f"{scale}){rpm}")
@@ -302,7 +307,7 @@ def check_joint_span(args, columns, warn=say) -> None:
     a joint may turn on."""
     span = float(np.ptp(columns["x"])) if "x" in columns else 0.0
     if span > JOINT_SPAN_MAX:
-        scale = ",".join(f"{name}={DEGREE:.6g}" for name in ("x", "v") if name in columns)
+        scale = degrees_scale(columns)
         warn(f"fricgen: warning: {source_name(args)}: the joint's position spans {span:.4g} rad "
              f"({span / (2 * math.pi):.3g} turns), more than the {JOINT_SPAN_MAX / (2 * math.pi):g} "
              f"turns of robot joints: {'are q and dq' if ',' in scale else 'is q'} in degrees "

@@ -23,7 +23,7 @@ from ..errors import DataError, UsageError
 from .header_units import is_rotary_unit
 from .matfile import MatFile, is_matfile, read_matfile
 from .motionlog import check_finite
-from .table import DETECT, header_cells, read_table_csv
+from .table import DETECT, SLOW_SIGNALS, header_cells, read_table_csv
 
 #: The quantities a column may be mapped to, with their SI units.
 QUANTITIES = {"t": "s", "x": "m", "v": "m/s", "a": "m/s^2", "f": "N", "force": "N", "i": "A",
@@ -206,7 +206,7 @@ def read_export(path: Union[str, Path], layout: ExportLayout = ExportLayout(),
         raw = mat.columns(rename, [q for q in QUANTITIES if q not in layout.columns])
     else:
         _check_mapped(path, layout, option)
-        sparse = [h for h, name in rename.items() if name == "temperature"] or ["temperature", "temp"]
+        sparse = [h for h, name in rename.items() if name == "temperature"] or list(SLOW_SIGNALS)
         raw = read_table_csv(path, list(rename), keep_extra=True, skip=layout.skip, drop_text=drop_text,
                              delimiter=layout.delimiter, decimal_comma=layout.decimal_comma,
                              sparse=sparse, numeric={*KNOWN_NAMES, *KNOWN_NAMES.values()})
@@ -229,7 +229,8 @@ def by_quantity(columns: Mapping[str, np.ndarray], mapped=()) -> Dict[str, np.nd
     """``columns`` (named in lower case) with the ``ALIASES`` read as fricgen's quantities,
     where no column of the quantity's own name is there and none is ``mapped`` to it (then
     the alias is dropped; two columns that read as one quantity differ nowhere, else
-    ``DataError``: ``_check_one_reading``); a sweep's force (a velocity and a force, no time, position or current) is its ``f``."""
+    ``DataError``: ``_check_one_reading``); a sweep's force (a velocity and a force, no time,
+    position or current) is its ``f``."""
     columns = dict(columns)
     for name in dict.fromkeys(ALIASES.values()):
         if name not in mapped:

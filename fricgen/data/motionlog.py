@@ -18,7 +18,7 @@ from ..errors import DataError
 from ..units import axis_units
 from .matfile import is_matfile, read_matfile
 from .smoothing import smooth
-from .table import DROPPED_SAMPLE, header_hint, read_table_csv, table_csv_text
+from .table import DROPPED_SAMPLE, SLOW_SIGNALS, header_hint, read_table_csv, table_csv_text
 
 #: The columns every log must have.
 COLUMNS = ("t", "x", "v", "i")
@@ -192,7 +192,7 @@ def check_finite(name: str, values: np.ndarray, where: str = "") -> None:
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
         raise DataError(f"{where + ': ' if where else ''}column {name!r} holds NaN or infinite "
-                        f"value at data row {int(bad[0]) + 1}{DROPPED_SAMPLE if name != 'temperature' else ''}")
+                        f"value at data row {int(bad[0]) + 1}{'' if name in SLOW_SIGNALS else DROPPED_SAMPLE}")
 
 
 def varies(values: np.ndarray) -> bool:

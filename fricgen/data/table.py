@@ -41,8 +41,9 @@ def header_hint(cells: Sequence[str]) -> str:
 
 #: What a refusal of a sample that is no number advises (the time column spaces the rest).
 DROPPED_SAMPLE = "; a sample dropped? delete its row: the time column spaces the others"
-#: Names of the signals a log may hold at a slower rate than its motion (blank cells between).
-SLOW_SIGNALS = ("temperature", "temp", "load")
+#: Names of the signal a log may hold at a slower rate than its motion (blank cells between,
+#: read as gaps and interpolated: ``inverse_dynamics.interpolated``).
+SLOW_SIGNALS = ("temperature", "temp")
 
 
 #: A cell that is the part of a number after a thousands separator: "1,740.65" splits into 1 and 740.65.
@@ -343,9 +344,9 @@ def _read_rows(path, rows, required, keep_extra, first_line=1, drop_text=False, 
                 hint = (_thousands_hint(['', '000'], 1) if grouped else
                         "; decimal commas? fricgen reads '.' decimals" if decimal_comma else "")
                 if not hint and not row[bad[0]].strip() and header[bad[0]] not in required:
-                    hint = (DROPPED_SAMPLE if header[bad[0]] in numeric and header[bad[0]] not in SLOW_SIGNALS else
-                            "; a signal logged at a slower rate? --columns temperature=NAME reads its "
-                            "blank cells as gaps")
+                    slow = header[bad[0]] in SLOW_SIGNALS or header[bad[0]] not in numeric
+                    hint = ("; a signal logged at a slower rate? --columns temperature=NAME reads its "
+                            "blank cells as gaps" if slow else DROPPED_SAMPLE)
                 raise DataError(f"{path}: line {n}: non-numeric or missing cell {row[bad[0]][:40]!r} "
                                 f"in column {written[bad[0]][:40]!r}{hint}") from None
             text.update(bad)
