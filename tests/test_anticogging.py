@@ -384,6 +384,29 @@ def test_an_inertia_the_calibration_cannot_show_is_not_emitted(tmp_path, capsys)
     assert "INERTIA" not in (tmp_path / "c" / "cal.h").read_text()
 
 
+@pytest.mark.parametrize("seed", [1001, 1002])
+def test_a_calibration_at_one_speed_gives_its_level_at_every_speed(tmp_path, capsys, seed):
+    """A calibration at 1 rad/s each way: its velocity ripple spreads the speeds over 0.75-1.27
+    rad/s, and the default fit drew a viscous line through 0 over them (a quarter of the
+    friction at 0.3 rad/s, six times it at 6 rad/s). The model is the level the move measured."""
+    axis = random_axis(seed)
+    log = calibration_move(axis, turns=2.0, speed=1.0, every=4)
+    path = tmp_path / "cal.csv"
+    np.savetxt(path, np.column_stack([log["t"], log["x"], log["i"]]), delimiter=",",
+               header="t,x,i", comments="", fmt="%.9g")
+    out = tmp_path / "m.json"
+    assert main(["train", str(path), "--cogging", "--rotary", "--force-constant", str(axis.kt),
+                 "-o", str(out)]) == 0
+    assert "the move holds one speed" in capsys.readouterr().out
+    model = FrictionModel.load(out)
+    speeds = np.array([0.3, 1.0, 3.0, 6.0])
+    truth = (axis.coulomb + (axis.static - axis.coulomb) * np.exp(-(speeds / axis.stribeck) ** 2)
+             + axis.viscous * speeds)
+    assert model.training["method"] == "level_at_one_speed"
+    assert np.all(np.abs(model.force(speeds) / truth - 1) < 0.25)
+    assert np.all(np.abs(model.force(-speeds) / truth + 1) < 0.25)
+
+
 def test_train_cogging_writes_the_map_and_eval_adds_it(calibration_csv, axis, tmp_path, capsys):
     out = tmp_path / "m.json"
     assert main(["train", str(calibration_csv), "--cogging", "--rotary", "--force-constant",

@@ -127,6 +127,8 @@ class CoggingFit:
     steady_travel : float, optional
         The share of the log's travel covered by the rows in motion at a steady direction and
         speed (``_moving``), the rows the map is fitted on; the rest stalls or turns back.
+    speeds : tuple of float, optional
+        The 5th, 50th and 95th percentiles of |v| over those rows (0 where not measured).
 
     Examples
     --------
@@ -148,6 +150,7 @@ class CoggingFit:
     unexplained_wavelength: Optional[float] = None
     screened_by: str = ""
     steady_travel: float = 1.0
+    speeds: Tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 def _odd(n: float) -> int:
@@ -509,7 +512,8 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
         raise DataError("the log has too few rows in motion for a cogging map")
     steady_travel = _travel_share(moved, rows)
     sign = np.sign(v)
-    speed = float(np.median(np.abs(v[rows])))
+    speeds = tuple(float(s) for s in np.percentile(np.abs(v[rows]), (5, 50, 95)))
+    speed = speeds[1]
     spread = 1.4826 * float(np.median(np.abs(np.abs(v[rows]) - speed))) / speed
     pace = None                     # a steady speed: from the position's steps where it holds
     if spread <= STEADY_SPREAD:
@@ -527,7 +531,7 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
                               coulomb_viscous=tuple(float(c) for c in coef), highest_harmonic=0,
                               residual_rms=float(np.sqrt(rss / rows.sum())), rows=int(rows.sum()),
                               screened_by="the travel's periodogram: no peak above the noise",
-                              steady_travel=steady_travel)
+                              steady_travel=steady_travel, speeds=speeds)
     # the viscous columns take the speed averaged over one period's travel: the velocity ripple
     # that the cogging itself causes would otherwise take part of it
     v_mean = uniform_filter1d(v, min(max(1, int(round(period / (speed * ts)))), v.size), mode="nearest")
@@ -586,5 +590,4 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
                       residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),
                       period=float(period), period_se=period_se, unexplained_wavelength=left,
-                      screened_by=screened_by,
-                      steady_travel=steady_travel)
+                      screened_by=screened_by, steady_travel=steady_travel, speeds=speeds)

@@ -1,7 +1,7 @@
 """``fricgen train LOG --cogging``: the cogging map of a slow move (``fit.cogging``) and a
 friction model of the same log with the map's force taken out: the default fit where the log
-holds the speeds it needs, else (a calibration at one speed each way) Coulomb + viscous per
-direction from the map's own fit. ``less_position_force``: the same for a log of normal
+holds the speeds it needs, else Coulomb + viscous per direction from the map's own fit; a move
+at one speed (a calibration) gets that fit's level at its speed. ``less_position_force``: the same for a log of normal
 operation already trained (a fleet's), its map found in what the friction model leaves."""
 from __future__ import annotations
 
@@ -71,6 +71,45 @@ def _law_of_the_move(fit: CoggingFit, speed: np.ndarray, name: str, units,
                                          training=training)
 
 
+#: Speeds within this factor of each other (the 95th and 5th percentiles of a move's) are one
+#: speed: a slope or a Stribeck drop fitted over them is the ripple's, no measurement.
+ONE_SPEED = 2.0
+
+
+def _level_at_one_speed(model: FrictionModel, speeds: Tuple[float, float, float], units,
+                        text: str) -> Tuple[FrictionModel, str]:
+    """``model`` made the level it has at the move's median speed, per direction (one curve for a
+    symmetric model), at every speed, and the report's line saying so. A calibration at one speed
+    each way tells the friction there alone; the default fit of the speeds its ripple spreads
+    (a new user's 0.75 to 1.27 rad/s) had drawn a viscous line through 0: a quarter of the
+    friction at 0.3 rad/s and six times it at 6 rad/s."""
+    slow, speed, fast = speeds
+    forward, back = float(model.force(speed)), float(-model.force(-speed))
+    if model.negative is not None:
+        positive, negative = _law(forward, 0.0, fast).direction(), _law(back, 0.0, fast).direction()
+    else:
+        positive, negative = _law((forward + back) / 2, 0.0, fast).direction(), None
+    training = {**model.training, "method": "level_at_one_speed"}
+    if "coulomb" in training:                 # the law's record says the level (``law_record_edits``)
+        training = _level_record(training, forward if negative is not None else (forward + back) / 2)
+        if negative is not None:
+            training["negative"] = _level_record(training.get("negative", {}), back)
+    model = replace(model, aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
+                    v_sat=positive.v_sat, negative=negative, training=training)
+    level = (f"{forward:.4g} {units.force} forward and {back:.4g} back" if negative is not None
+             else f"{(forward + back) / 2:.4g} {units.force} each way")
+    line = (f"friction  the move holds one speed ({slow:.3g} to {fast:.3g} {units.speed}, 5th to "
+            f"95th percentile): the model is the fit's level there, {level}, at every speed (the fit's slope or drop over so narrow a "
+            "range is no measurement: a move at other speeds identifies them)")
+    return model, text + "\n" + line
+
+
+def _level_record(record: dict, level: float) -> dict:
+    """A law's training record made the level ``level``: Coulomb alone."""
+    kept = {k: v for k, v in record.items() if k not in ("static", "v_s", "shape", "standard_errors")}
+    return {**kept, "coulomb": level, "viscous": 0.0}
+
+
 def describe(m: CoggingMap, what: str, units) -> list:
     """Lines of a map: each harmonic's amplitude and phase with its standard error."""
     lines = [f"{what}: {len(m.harmonics)} harmonics of the period {m.period:.6g} {units.position}, "
@@ -129,6 +168,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
                 "the move (a calibration at one speed each way holds too few speeds for the "
                 "default fit)")
         warnings = []
+    if fit.speeds[2] < ONE_SPEED * fit.speeds[0]:
+        model, text = _level_at_one_speed(model, fit.speeds, units, text)
     if fit.inertia_source == "identified":      # the friction was fitted with the map's J
         model, text = _inertia_recorded(model, text, "option", {"mass_from": "cogging"},
                                         lambda row: row.replace(" as given", " from the cogging map's "
