@@ -111,3 +111,22 @@ def test_a_loaded_sweep_that_trains_gets_no_magnitudes_question():
     assert np.all(columns["f"] > 0)
     report = fricgen.train(columns, warn=lambda line: None)
     assert report.training["axis"]["offset"] == pytest.approx(0.8, abs=0.02)
+
+
+@pytest.mark.parametrize("drift, warned", [(0.0, True), (0.02, False)])
+def test_speeds_held_twice_far_apart_are_warned_of(drift, warned):
+    """Both directions written as magnitudes, |v| too: one direction with every speed twice,
+    10 and 14 N forward, 7 and 10 N back. One curve was fitted between them without a word. A
+    second pass of the same direction, 2 % warmer, is no such sweep."""
+    rng = np.random.default_rng(1000)
+    speed = np.geomspace(0.01, 0.2, 8)
+    forward = 10.0 + 4.0 * np.exp(-(speed / 0.02) ** 2) + 40.0 * speed
+    second = (1 + drift) * forward if drift else 0.7 * forward
+    columns = {"v": np.concatenate([speed, speed]),
+               "f": np.concatenate([forward, second]) + 0.02 * rng.standard_normal(16),
+               "F_std": np.full(16, 0.5), "n": np.full(16, 1500.0)}
+    report = fricgen.train(columns, warn=lambda line: None)
+    said = [w for w in report.warnings if "8 speeds v > 0 more than once" in w]
+    assert bool(said) == warned
+    if warned:
+        assert "both directions written as magnitudes" in said[0]

@@ -109,6 +109,37 @@ def magnitudes_hint(sweep: Sweep) -> str:
     return "; or are the forces at v < 0 magnitudes, where friction opposes the motion and is negative"
 
 
+#: The median relative difference of the forces at a speed a sweep holds more than once beyond
+#: which its passes are said to disagree (a drift between passes stays within it).
+REPEAT_SPREAD = 0.1
+#: The fewest speeds held more than once in a direction for that to be said.
+REPEATED_SPEEDS = 3
+
+
+def repeated_speeds_note(sweep: Sweep, units) -> str:
+    """Where a direction of a sweep holds REPEATED_SPEEDS speeds or more more than once and
+    their forces differ by a median REPEAT_SPREAD of their level or more, the warning that says
+    so; else "". Both directions written as magnitudes read as one direction with every speed
+    twice: a new user's sweep (10 and 14 N forward, 7 and 10 N back) trained one curve
+    between the two, 100 of the points' own standard errors from each, with no word."""
+    for sign in (1, -1):
+        v, f = sweep.v[np.sign(sweep.v) == sign], np.abs(sweep.f[np.sign(sweep.v) == sign])
+        speeds, index, counts = np.unique(v, return_inverse=True, return_counts=True)
+        repeated = np.flatnonzero(counts > 1)
+        if repeated.size < REPEATED_SPEEDS:
+            continue
+        low = np.array([f[index == k].min() for k in repeated])
+        high = np.array([f[index == k].max() for k in repeated])
+        relative = float(np.median((high - low) / np.maximum(high, np.finfo(float).tiny)))
+        if relative >= REPEAT_SPREAD:
+            return (f"warning: the sweep holds {repeated.size} speeds {'v > 0' if sign > 0 else 'v < 0'} more "
+                    f"than once, their forces a median {relative:.0%} apart (up to "
+                    f"{float(np.max(high - low)):.3g} {units.force}): one curve is fitted between them. Two "
+                    "passes that disagree, or both directions written as magnitudes (then give v "
+                    "and f at v < 0 their sign)?")
+    return ""
+
+
 def checked_fold(sweep: Sweep) -> Sweep:
     """The folded sweep, if it can be friction data at all; else ``DataError``: too few rows or
     moving rows, a force against the motion, or speeds or forces beyond the float32 C."""

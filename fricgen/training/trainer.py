@@ -20,7 +20,7 @@ from ..data.inverse_dynamics import FRICTION_Z, describe_missing, identify_log, 
 from ..data.motionlog import without_lagging_velocity
 from ..data.plausibility import check_columns
 from ..data.sweep import Sweep, sweep_from_columns
-from ..data.training_set import check_friction_sign, magnitudes_hint
+from ..data.training_set import check_friction_sign, magnitudes_hint, repeated_speeds_note
 from ..data.wrapping import unwrapped
 from ..errors import DataError, ModelError
 from ..fit import DefaultRegressor, default_estimator
@@ -398,6 +398,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
     check_model_name(name, "name")
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
     hint = magnitudes_hint(sweep) if ident is None else ""
+    repeats = repeated_speeds_note(sweep, units_of(rotary)) if ident is None else ""
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)
     estimator = default_estimator(seed) if estimator is None else estimator
     offset = outliers = None
@@ -466,6 +467,6 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
         raise DataError(f"{source}: the fitted model is no friction model: {said}{advice}{hint}") from None
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn, hint)
     notes = (stribeck_warning(ident, fitted.fits, model.units),
-             gravity_warning(ident, model.units)) if ident is not None else ()
+             gravity_warning(ident, model.units)) if ident is not None else (repeats,)
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
                      warnings=tuple(n for n in notes if n), law=choice, inputs=dependence)
