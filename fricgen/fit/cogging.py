@@ -15,7 +15,7 @@ directions see R with opposite signs.
    two directions', R's half their difference. A harmonic is a candidate when its amplitude
    exceeds the level that noise alone reaches with probability ALPHA over all harmonics tried
    (Rayleigh, the noise level the median amplitude of the harmonics around it), and not at an
-   alias of the encoder at the move's steady speed (``_aliased``: the drive's own ripple).
+   alias of the encoder at the move's steady speed (``encoder_alias``: the drive's own ripple).
 2. J (``--mass`` fixes it) from how the two directions differ at the candidates of C: the
    velocity ripple the loop leaves turns its phase with the direction (``_inertia``). Where it
    does not differ beyond its noise, J is undetermined and taken as 0, and the report says so.
@@ -46,6 +46,7 @@ from ..data.smoothing import MIN_WINDOW, between_edges, smooth, steady_rows
 from ..effects.fitting import FIT_FOLDS, block_grams, lstsq, nested_cross_validation, refine
 from ..errors import DataError
 from ..effects.cogging_map import MAX_TERMS, CoggingMap
+from .encoder_alias import SPEED_PRECISION, aliased, count_alias
 from .position_bins import MIN_BINS, bin_cap, bin_coefficients, filled_bins
 
 #: Family-wise probability that noise alone puts a harmonic among the candidates.
@@ -77,18 +78,17 @@ UNEXPLAINED_PERIODS = 8
 #: ... and its amplitude at least this share of the map's strongest harmonic (the encoder's
 #: count, aliased by the log's sample rate, leaves weaker lines in a calibration).
 UNEXPLAINED_SHARE = 0.25
-#: How ``CoggingFit.screened_by`` names the sample rate as what set the highest harmonic.
+#: How ``CoggingFit.screened_by`` names the sample rate as what set the highest harmonic, and
+#: what it says of bins a direction left unvisited.
 SAMPLE_RATE_LIMIT = "the sample rate"
+UNVISITED = "finer ones left unvisited in a direction"
 #: Rows whose force less the friction strays farther than this many robust standard deviations
 #: are left out (``_not_transient``).
 TRANSIENT_SIGMAS = 10.0
-#: The multiples of the encoder's count rate whose aliases by the sample rate are no position
-#: force (``_aliased``: the count's sawtooth error is strongest at its first few), the relative
-#: precision of the mean speed that places them, and the robust relative spread of the speed
-#: beyond which they form no line (no constant speed).
-ENCODER_ALIASES = 4
-SPEED_PRECISION = 1e-4
-STEADY_SPREAD = 0.05
+#: The robust relative spread of the speed beyond which the encoder's aliases form no line (no
+#: constant speed to place them): a speed that varies with the position, as the cogging's
+#: ripple makes it (0.09 on a 12-bit axis at 3 rad/s), keeps them lines with sidebands.
+STEADY_SPREAD = 0.25
 
 
 @dataclass(frozen=True)
@@ -129,6 +129,10 @@ class CoggingFit:
         speed (``_moving``), the rows the map is fitted on; the rest stalls or turns back.
     speeds : tuple of float, optional
         The 5th, 50th and 95th percentiles of |v| over those rows (0 where not measured).
+    count_alias : int, optional
+        Where the encoder's count rate at the move's steady speed exceeds half the log's rate,
+        the harmonic of the period at which the log folds it, if the map screens that far
+        (``count_alias``); else None.
 
     Examples
     --------
@@ -151,6 +155,7 @@ class CoggingFit:
     screened_by: str = ""
     steady_travel: float = 1.0
     speeds: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    count_alias: Optional[int] = None
 
 
 def _odd(n: float) -> int:
@@ -248,34 +253,12 @@ def _jackknife_se(design, target, folds=FIT_FOLDS):
     return np.sqrt((folds - 1) / folds * np.sum((coefs - coefs.mean(axis=0)) ** 2, axis=0))
 
 
-def _aliased(wavenumber, quantum: float, pace: Optional[float], ts: float, spacing: float) -> np.ndarray:
-    """Which ``wavenumber``s (rad per unit of x) lie within ``spacing`` (and the speed's
-    precision) of an alias of the encoder at the steady speed ``pace`` (None: no steady speed,
-    none): a drive sampling its position every ts sees the count's sawtooth error at k pace /
-    quantum per s, folded by the sample rate to |k f_c - n f_s|; at a constant speed its loop's
-    response is a ripple periodic in position, of wavenumber 2 pi |k / quantum - n / (pace ts)|
-    (a 12-bit linear motor without cogging, its loop at 8 kHz, had a map of harmonics 192 and 384
-    of 32 mm at 32 mm/s: 2 and 4 counts a sample less 1 and 2 samples)."""
-    w = np.asarray(wavenumber, dtype=float)
-    if quantum <= 0 or pace is None:
-        return np.zeros(w.shape, dtype=bool)
-    count = 2 * np.pi * np.arange(1, ENCODER_ALIASES + 1) / quantum
-    sample = 2 * np.pi / (pace * ts)
-    n = np.round(count / sample)
-    alias = np.abs(count - n * sample)
-    tolerance = spacing + SPEED_PRECISION * n * sample         # the count's wavenumber is exact
-    # an alias whose band reaches 0 is the error sampled at nearly one phase: no ripple, and the
-    # cogging's first harmonics are there (1 um at 20 mm/s and 8 kHz had lost them all)
-    line = alias > 2 * tolerance
-    return np.any((np.abs(w[..., None] - alias) <= tolerance) & line, axis=-1)
-
-
 def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
     """The candidate terms (h, signed), strongest first, the highest harmonic screened, what
     set it (``_screen_limit``) and the position bins per period (``filled_bins``): the
     harmonics of the bin means of r (the force less the friction columns) per direction whose
     amplitude noise alone reaches with probability below ALPHA (``_candidates``), less those at
-    an alias of the encoder (``_aliased``, at the steady speed ``pace``)."""
+    an alias of the encoder (``encoder_alias.aliased``, at the steady speed ``pace``)."""
     samples = period / (speed * ts)                 # samples per period in each pass
     cells = period / quantum if quantum > 0 else np.inf
     if samples < 2 * MIN_BINS and samples <= cells:
@@ -299,8 +282,12 @@ def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
         chosen, z = _candidates(sa, sb, span)
         ranked += [(float(z[j]), int(harmonics[j]), signed) for j in chosen]
     ranked.sort(reverse=True)
-    aliased = _aliased(2 * np.pi * harmonics / period, quantum, pace, ts, 2 * np.pi / period)
-    ranked = [term for term in ranked if not aliased[term[1] - 1]]
+    kept = []                # strongest first: a term at a sideband of a stronger one's is none
+    for term in ranked:
+        carriers = [2 * np.pi * h / period for _, h, _ in kept]
+        if not aliased(2 * np.pi * term[1] / period, quantum, pace, ts, 2 * np.pi / period, carriers):
+            kept.append(term)
+    ranked = kept
     limit = _screen_limit(highest, bins, samples, cells)
     return [(h, s) for _, h, s in ranked[:MAX_TERMS]], int(harmonics[-1]), limit, bins
 
@@ -312,7 +299,7 @@ def _screen_limit(highest, bins, samples, cells) -> str:
     if highest >= MAX_HARMONIC:
         return f"fricgen's limit of {MAX_HARMONIC}"
     if bins < bin_cap(min(samples, cells) / 2):
-        return f"{bins} position bins, finer ones left unvisited in a direction"
+        return f"{bins} position bins, {UNVISITED}"
     if samples <= cells:
         return (f"{SAMPLE_RATE_LIMIT}: {samples:.0f} samples per period at this speed; a slower move "
                 "or a faster log screens more")
@@ -323,7 +310,7 @@ def _travel_spectrum(x, r, speed, ts, quantum, pace=None):
     """The position periodogram of r: its bin means over the whole travel (both directions
     together), zero-padded FFT; the wavenumbers, the amplitudes, the usable ones (at least
     FUNDAMENTAL_PERIODS periods in the travel, resolved by the encoder and the sample rate, at
-    no alias of the encoder: ``_aliased``) and the FFT's wavenumber spacing."""
+    no alias of the encoder: ``encoder_alias.aliased``) and the FFT's wavenumber spacing."""
     travel = float(np.ptp(x))
     step = max(quantum, travel / FUNDAMENTAL_BINS)
     n = int(travel / step) + 1
@@ -335,7 +322,7 @@ def _travel_spectrum(x, r, speed, ts, quantum, pace=None):
     k = 2 * np.pi * np.fft.rfftfreq(4 * n, step)
     finest = min(2 * np.pi / (QUANTA_PER_WAVE * max(quantum, step)), 2 * np.pi / (SAMPLES_PER_WAVE * speed * ts))
     usable = (k >= 2 * np.pi * FUNDAMENTAL_PERIODS / travel) & (k <= finest)
-    usable &= ~_aliased(k, quantum, pace, ts, 2 * np.pi / travel)
+    usable &= ~aliased(k, quantum, pace, ts, 2 * np.pi / travel)
     return k, spectrum, usable, 2 * np.pi / (4 * n * step)
 
 
@@ -590,4 +577,5 @@ def _identify(t, x, force, period, inertia, fed_forward, fed_forward_friction) -
                       coulomb_viscous=tuple(float(c) for c in coef[:4]), highest_harmonic=highest,
                       residual_rms=float(np.sqrt(rss / target.size)), rows=int(rows.sum()),
                       period=float(period), period_se=period_se, unexplained_wavelength=left,
-                      screened_by=screened_by, steady_travel=steady_travel, speeds=speeds)
+                      screened_by=screened_by, steady_travel=steady_travel, speeds=speeds,
+                      count_alias=count_alias(period, quantum, pace, ts, highest))

@@ -13,8 +13,8 @@ from scipy.integrate import cumulative_trapezoid
 
 from ..data.motionlog import check_finite
 from ..effects.cogging_map import CoggingMap, check_rotary_period
-from ..fit.cogging import (FUNDAMENTAL_PERIODS, SAMPLE_RATE_LIMIT, UNEXPLAINED_SHARE, CoggingFit,
-                           identify_cogging)
+from ..fit.cogging import (FUNDAMENTAL_PERIODS, SAMPLE_RATE_LIMIT, UNEXPLAINED_SHARE, UNVISITED,
+                           CoggingFit, identify_cogging)
 from ..errors import DataError, ModelError, UsageError
 from ..fit.textbook import LawFit
 from ..model import FrictionModel
@@ -201,6 +201,17 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     if fit.screened_by.startswith(SAMPLE_RATE_LIMIT):
         warnings.append(f"warning: the move is fast for the log's rate: harmonics above {fit.highest_harmonic} "
                         f"are not screened ({fit.screened_by})")
+    elif UNVISITED in fit.screened_by:
+        warnings.append(f"warning: harmonics above {fit.highest_harmonic} are not screened, set by "
+                        f"{fit.screened_by}: the move stalls, skips or swings in speed (a velocity "
+                        "loop that lets the cogging through), and the map misses what lies above: "
+                        "stiffen the loop or move slower, and calibrate again")
+    if fit.count_alias is not None and fit.map is not None:
+        warnings.append(f"warning: the encoder's count rate at this speed is above half the log's "
+                        f"rate, which folds it to harmonic {fit.count_alias} of the period: the drive's "
+                        "ripple there, modulated by the cogging, can pass for harmonics of the map "
+                        f"(the cogging's -+ {fit.count_alias}): log at the drive's loop rate, or move "
+                        "slower, and calibrate again")
     if fit.steady_travel < STEADY_TRAVEL:
         warnings.append(f"warning: the move covers {fit.steady_travel:.0%} of its travel at a steady "
                         "speed; the rest stalls or turns back (a velocity loop that lets the cogging "
