@@ -144,7 +144,8 @@ class RigidBody:
         """One sentence for each reason the identified mass is uncertain beyond its standard
         error (``phases_disagree``, ``windows_disagree``; ``unit``: the mass's)."""
         memory = ("friction with memory (pre-sliding after each start, a frictional lag) or "
-                  "forces a curve of v leaves out, so the mass is uncertain by about the "
+                  "forces a curve of v leaves out (a friction that varies with the position, "
+                  "which fricgen diagnose names), so the mass is uncertain by about the "
                   "difference; train --dynamic models pre-sliding, --mass sets the mass")
         out = []
         if self.given_mass_disagrees():

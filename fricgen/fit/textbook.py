@@ -96,9 +96,13 @@ class LawFit:
 
     def describe(self, units) -> str:
         """One line of the law, each parameter with its standard error, in ``units``
-        (``fricgen.units``); "not determined" where the error exceeds the value tenfold."""
+        (``fricgen.units``); "not determined" where the error exceeds the value tenfold; "at
+        its bound" where the fit holds it at 0 (the data want it below: a static friction 0 is
+        no measurement of none)."""
         def est(name, symbol, unit):
             value, se = getattr(self, name), self.standard_errors[name]
+            if value == 0:
+                return f"{symbol} = 0 {unit} (at its bound: the data want it below 0)"
             if not se <= 10 * abs(value) and not (value == 0 and se < np.inf):
                 return f"{symbol} = {value:.5g} {unit} (not determined by the data)"
             return f"{symbol} = {value:.5g} +- {se:.2g} {unit}"

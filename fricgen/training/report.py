@@ -285,6 +285,29 @@ def gravity_warning(ident: Identification, units=LINEAR) -> str:
             f"{without:.3g}: the friction samples hold a link's weight; train --gravity takes it out")
 
 
+def rising_warning(fits, units=LINEAR) -> str:
+    """One line when a log's law rises from its static level F_s to F_c (F_s below F_c by more
+    than RISE_SIGMAS standard errors of either): a force that passes a reversal through 0
+    smoothly, as the bristles of pre-sliding carry it, read by a static curve of v as a
+    friction that vanishes at rest (a new user's LuGre axis, F_s 1.6 Nm, got F_s 0 and 0.56 Nm
+    at 0.01 rad/s where it has 1.58, with no word of --dynamic)."""
+    for f in fits:
+        law = getattr(f.estimator, "law_", None)
+        if law is None or not law.stribeck:
+            continue
+        se = max(law.standard_errors.get("static", math.inf), law.standard_errors.get("coulomb", math.inf))
+        if law.coulomb - law.static > RISE_SIGMAS * se:
+            return (f"warning: the friction rises from {law.static:.3g} {units.force} at rest to "
+                    f"{law.coulomb:.3g} {units.force} by {law.v_s:.3g} {units.speed}: a force that "
+                    "passes each reversal smoothly, as pre-sliding (bristles) carries it, which a "
+                    "curve of v reads as no friction at rest; train --dynamic models it")
+    return ""
+
+
+#: Standard errors by which F_s below F_c is a rise (``rising_warning``).
+RISE_SIGMAS = 3.0
+
+
 def stribeck_warning(ident: Identification, fits, units=LINEAR) -> str:
     """One line when a log's slowest speed in a direction exceeds half of that direction's
     vs_max: the Stribeck region (velocity weakening below vs_max) is then hardly in the data;

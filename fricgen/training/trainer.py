@@ -30,7 +30,7 @@ from ..fit.law_choice import (STRUCTURE_POINTS, Scored, asymmetry_evident, choos
 from ..fit.textbook_laws import point_weights, rest_levels
 from ..model import DEFAULT_MODEL_NAME, FrictionModel
 from .record import axis_record, curve_record, method_record
-from .report import FitReport, gravity_warning, stribeck_warning
+from .report import FitReport, gravity_warning, rising_warning, stribeck_warning
 from .with_inputs import dependence_record, fit_inputs
 
 
@@ -466,7 +466,7 @@ def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name
                   "; the default method (without --method) keeps only laws that oppose the motion")
         raise DataError(f"{source}: the fitted model is no friction model: {said}{advice}{hint}") from None
     check_fitted(model, ident, source, accept_unusual, float(np.max(np.abs(sweep.v))), warn, hint)
-    notes = (stribeck_warning(ident, fitted.fits, model.units),
+    notes = (stribeck_warning(ident, fitted.fits, model.units), rising_warning(fitted.fits, model.units),
              gravity_warning(ident, model.units)) if ident is not None else (repeats,)
     return FitReport(model=model, fit=fitted, identification=ident, sweep=sweep,
                      warnings=tuple(n for n in notes if n), law=choice, inputs=dependence)
