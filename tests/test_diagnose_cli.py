@@ -233,21 +233,26 @@ def test_a_log_beyond_a_tables_range_gets_a_note(files, tmp_path, capsys):
     assert 45 <= int(notes[0].split("fricgen: note: ")[1].split("%")[0]) <= 55
 
 
-@pytest.mark.parametrize("rate, decimals, accepted", [(300.0, 3, True), (700.0, 4, True),
-                                                      (300.0, 2, False)])
+@pytest.mark.parametrize("rate, decimals, gap, accepted", [
+    (300.0, 3, 0, True), (700.0, 4, 0, True), (300.0, 2, 0, True), (4000.0, 3, 0, True),
+    (300.0, 2, 30, False), (4000.0, 3, 40, False)])
 def test_time_written_with_few_decimals_is_read_as_the_grid_it_was_rounded_from(
-        tmp_path, rate, decimals, accepted):
+        tmp_path, rate, decimals, gap, accepted):
     """A uniform log whose time column was written to milliseconds (steps of 3 and 4 ms at
-    300 Hz) is the uniform grid; rounded coarser than a tenth of a step, it is not."""
+    300 Hz) is the uniform grid; so is one rounded coarser than its step (300 Hz to 10 ms, 4 kHz
+    to whole ms: several rows to a stamp, which had been refused). ``gap`` rows left out of
+    it are a gap the rounding cannot hide, refused."""
     n = 1500
-    t = 1000.0 + np.arange(n) / rate
-    lines = ["t,x,v,i"] + [f"{tk:.{decimals}f},{0.3 * k / rate!r},0.3,1.0" for k, tk in enumerate(t)]
+    k = np.arange(n)
+    k = np.where(k < n // 2, k, k + gap)
+    t = 1000.0 + k / rate
+    lines = ["t,x,v,i"] + [f"{tk:.{decimals}f},{0.3 * j / rate:.9g},0.3,1.0" for j, tk in zip(k, t)]
     path = tmp_path / "rounded.csv"
     path.write_text("\n".join(lines) + "\n")
     if accepted:
-        assert read_log_csv(path).sample_time == pytest.approx(1.0 / rate, rel=1e-6)
+        assert read_log_csv(path).sample_time == pytest.approx(1.0 / rate, rel=1e-5)
     else:
-        with pytest.raises(DataError, match="not uniformly sampled|must increase"):
+        with pytest.raises(DataError, match="not uniformly sampled|must increase|gap|repeats"):
             read_log_csv(path)
 
 

@@ -158,15 +158,17 @@ def _rounded_grid(t: np.ndarray) -> Optional[np.ndarray]:
     """The uniform grid ``t`` was rounded from (written with a fixed number of
     decimals, e.g. milliseconds at 300 Hz), or None: every sample written to that unit and
     within 0.75 of a unit of the least-squares line through the samples (rounding leaves half
-    a unit), the unit at most half a step."""
+    a unit). The unit may be coarser than the step (a 67 Hz log written to 10 ms, a 4 kHz one
+    in whole ms, several rows to a stamp: both had been refused), the line's step then the
+    log's; the line holds a dropped sample within the rounding there, as the stamps do."""
     k = np.arange(t.size)
     step, start = np.polyfit(k, t - t[0], 1)
+    if not step > 0:
+        return None
     grid = t[0] + start + step * k
     rounding = 8.0 * np.finfo(float).eps * max(abs(float(t[0])), abs(float(t[-1])), 1.0)
     for decimals in range(10):
         unit = 10.0 ** -decimals
-        if unit > 0.5 * step:
-            continue
         off = np.abs(t / unit - np.round(t / unit))
         if float(np.max(off)) <= rounding / unit + 1e-9:        # t is written to this unit
             return grid if float(np.max(np.abs(t - grid))) <= 0.75 * unit + rounding else None
