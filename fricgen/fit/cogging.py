@@ -282,10 +282,12 @@ def _screen(x, r, sign, period, speed, ts, quantum, pace=None):
         chosen, z = _candidates(sa, sb, span)
         ranked += [(float(z[j]), int(harmonics[j]), signed) for j in chosen]
     ranked.sort(reverse=True)
-    kept = []                # strongest first: a term at a sideband of a stronger one's is none
-    for term in ranked:
-        carriers = [2 * np.pi * h / period for _, h, _ in kept]
-        if not aliased(2 * np.pi * term[1] / period, quantum, pace, ts, 2 * np.pi / period, carriers):
+    kept = []    # strongest first: a term at a sideband of a stronger one's is none, unless a
+    for term in ranked:          # multiple of one (the alias may fall on the cogging's harmonics)
+        h = term[1]
+        carriers = [] if any(h % k == 0 for _, k, _ in kept if k > 1) else [k for _, k, _ in kept]
+        if not aliased(2 * np.pi * h / period, quantum, pace, ts, 2 * np.pi / period,
+                       [2 * np.pi * k / period for k in carriers]):
             kept.append(term)
     ranked = kept
     limit = _screen_limit(highest, bins, samples, cells)
