@@ -125,3 +125,13 @@ def test_the_mass_is_the_motions_neither_a_fast_modes_nor_a_smeared_one():
     mass is taken where the residual is least, between them."""
     b = train(two_band_log(), warn=lambda line: None).identification.body
     assert abs(b.mass / 2.0 - 1) < 0.05 and abs(b.mass - 2.0) < 3 * b.mass_se + 0.02
+
+
+@pytest.mark.parametrize("source, asked", [("given", "is the mass given in other units"),
+                                           ("cogging", "the cogging map's ripple gave")])
+def test_a_mass_the_log_contradicts_is_named_by_where_it_came_from(source, asked):
+    """The inertia a cogging calibration's map identified, passed to the friction fit, had been
+    doubted as 'the mass given in other units?' where no --mass was given."""
+    b = RigidBody(3.1e-4, None, 0.0, 0.01, log_mass=(4.14e-4, 6e-6), mass_source=source)
+    (line,) = b.doubts("kg m^2")
+    assert asked in line and ("given" in line) == (source == "given")

@@ -184,14 +184,15 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
                              f"(and x) alone; the log has a {' and a '.join(given)} column: train the "
                              "load and temperature dependence without it")
 
-        def fit_friction(data, mass=args.mass, force_constant=args.force_constant, use=None):
+        def fit_friction(data, mass=args.mass, force_constant=args.force_constant, use=None,
+                         mass_source="given"):
             return train(data, estimator=_estimator(args), vs_max=args.vs_max, use=use,
                          asymmetric=args.asymmetric, mass=mass, force_constant=force_constant,
                          seed=args.seed, name=name, source=source_name(args),
                          file=Path(args.sweep).name, accept_unusual=args.accept_unusual,
                          progress=progress, warn=warn, rotary=rotary, checks=False,
                          velocity_resolution=args.velocity_resolution, gravity=args.gravity,
-                         force_held=args.force_held)
+                         force_held=args.force_held, mass_source=mass_source)
         if args.dynamic:
             return train_dynamic(columns, rotary=rotary, force_constant=args.force_constant,
                                  train_friction=fit_friction)
@@ -201,8 +202,8 @@ def fit(args, progress=say, warn=say, position_force: bool = False):
                     if position_force else report)
         return train_with_cogging(columns, pitch=args.pitch, rotary=rotary, inertia=args.mass,
                                   force_constant=args.force_constant, fed_forward=fed_forward(args, rotary),
-                                  train_friction=lambda data, mass: fit_friction(data, mass=mass,
-                                                                                 force_constant=None),
+                                  train_friction=lambda data, mass, source: fit_friction(
+                                      data, mass=mass, force_constant=None, mass_source=source),
                                   name=name, symmetric=args.asymmetric is False)
 
 

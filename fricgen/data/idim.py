@@ -110,6 +110,9 @@ class RigidBody:
     #: With run offsets: each such run's share of samples at speeds the others move at too
     #: (``shared_speeds``)
     run_shares: Optional[Tuple[Tuple[int, float], ...]] = None
+    #: Where a mass not identified came from: "given" (--mass), or "cogging" (the ripple of a
+    #: cogging calibration's map, ``training.with_cogging``), which the doubts name
+    mass_source: str = "given"
 
     def given_mass_disagrees(self) -> bool:
         """Whether the mass given and the one the log's accelerations determine (``log_mass``)
@@ -151,8 +154,11 @@ class RigidBody:
         if self.given_mass_disagrees():
             found, se = self.log_mass
             out.append(f"the log's accelerations give {found:.4g} +- {se:.2g} {unit}, "
-                       f"{found / self.mass:.3g} times the {self.mass:.4g} {unit} given, which "
-                       "is used: is the mass given in other units, or the log of another axis?")
+                       f"{found / self.mass:.3g} times the {self.mass:.4g} {unit} " + (
+                           "given, which is used: is the mass given in other units, or the log "
+                           "of another axis?" if self.mass_source == "given" else
+                           "the cogging map's ripple gave, which is used: the inertia is "
+                           "uncertain by about the difference (give --mass)"))
         if self.phases_disagree():
             (m1, s1), (m2, s2) = self.phase_masses
             out.append(f"speeding up gives {m1:.4g} +- {s1:.2g} {unit} and braking {m2:.4g} +- "

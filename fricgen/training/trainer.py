@@ -63,7 +63,8 @@ def check_fitted(model: FrictionModel, ident, source: str, accept_unusual: bool,
     if ident is not None and (runs := ident.body.runs_doubt()) is not None:
         warn(f"fricgen: warning: {source}: {runs}")
     for doubt in [] if ident is None else ident.body.doubts(model.units.mass):
-        which = "identified" if ident.body.mass_identified else "given"
+        which = ("identified" if ident.body.mass_identified else
+                 "given" if ident.body.mass_source == "given" else "cogging map's")
         warn(f"fricgen: warning: {source}: the {which} {model.units.inertia_name}: {doubt}")
     if ident is not None and ident.body.mass_identified and ident.body.mass_determined:
         problems.append(physical_problem("mass", f"the identified {model.units.inertia_name}",
@@ -188,7 +189,7 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
           warn: Optional[Callable[[str], None]] = None, rotary: bool = False,
           checks: bool = True, velocity_resolution: Optional[float] = None,
           use: Optional[np.ndarray] = None, gravity: bool = False,
-          force_held: bool = False) -> FitReport:
+          force_held: bool = False, mass_source: str = "given") -> FitReport:
     """Fit a friction model to a sweep or a motion log, as ``fricgen train`` does.
 
     Parameters
@@ -246,6 +247,9 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         A log whose force (or current) is the drive's set-point, held over the sample after the
         one it is logged at: brought to the motion's sample times first
         (``identify_friction``'s ``held``), recorded as ``training.log.force_held``.
+    mass_source : str, default "given"
+        Where ``mass`` came from, which the doubts of it name: "given", or "cogging" (the
+        inertia a cogging calibration's map identified).
 
     Returns
     -------
@@ -289,7 +293,8 @@ def train(data: Union[Sweep, Mapping], *, estimator=None, vs_max: Optional[float
         if isinstance(data, Mapping):
             data = without_lagging_velocity(data, warn)
         report = _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name,
-                        source, file, accept_unusual, progress, warn, rotary, use, gravity, force_held)
+                        source, file, accept_unusual, progress, warn, rotary, use, gravity, force_held,
+                        mass_source)
         return with_velocity_band(report, data, velocity_resolution)
 
 
@@ -392,11 +397,13 @@ def check_sweep_friction(curves: list, source: str, units, hint: str = "") -> No
 
 def _train(data, estimator, vs_max, asymmetric, mass, force_constant, seed, name, source, file,
            accept_unusual, progress, warn, rotary, use=None, gravity=False,
-           held=False) -> FitReport:
+           held=False, mass_source="given") -> FitReport:
     if vs_max is not None and not (isinstance(vs_max, (int, float)) and 0 < vs_max < math.inf):
         raise ValueError(f"vs_max must be a number > 0, got {vs_max!r}")
     check_model_name(name, "name")
     sweep, ident = _friction_data(data, mass, force_constant, source, progress, use, gravity, held)
+    if ident is not None and mass is not None:
+        ident = replace(ident, body=replace(ident.body, mass_source=mass_source))
     hint = magnitudes_hint(sweep) if ident is None else ""
     repeats = repeated_speeds_note(sweep, units_of(rotary)) if ident is None else ""
     spread = sweep_spread(data) if ident is None and isinstance(data, Mapping) else (None, None)

@@ -122,14 +122,15 @@ def describe(m: CoggingMap, what: str, units) -> list:
 
 def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[float], rotary: bool,
                        inertia: Optional[float], force_constant: Optional[float],
-                       train_friction: Callable[[Mapping[str, np.ndarray], Optional[float]], FitReport],
+                       train_friction: Callable[[Mapping[str, np.ndarray], Optional[float], str], FitReport],
                        name: str, symmetric: bool = False,
                        fed_forward: Tuple[Optional[CoggingMap], Optional[CoggingMap]] = (None, None)
                        ) -> CoggingReport:
     """The map and the friction model (see the module docstring); ``train_friction(columns,
-    mass)`` fits the default model to columns (the map's force removed) and may refuse them;
+    mass, mass_source)`` fits the default model to columns (the map's force removed) and may refuse them;
     ``mass`` is the inertia the map took out where it was given or identified (a slow move
-    at one speed accelerates too little to tell it again), else None. ``symmetric``: the
+    at one speed accelerates too little to tell it again), else None, and ``mass_source``
+    "cogging" where the map identified it, else "given". ``symmetric``: the
     friction of a move the default fit refuses is one curve (--symmetric), not one per
     direction. ``fed_forward``: the map and the friction's ripple of a first calibration whose
     map the drive fed forward in this move (``identify_cogging``'s)."""
@@ -159,7 +160,8 @@ def train_with_cogging(columns: Mapping[str, np.ndarray], *, pitch: Optional[flo
     cleaned["force"] = force - (fit.map.force(columns["x"]) if fit.map is not None else 0.0)
     lines = []
     try:
-        report = train_friction(cleaned, None if fit.inertia_source == "undetermined" else fit.inertia)
+        report = train_friction(cleaned, None if fit.inertia_source == "undetermined" else fit.inertia,
+                                "cogging" if fit.inertia_source == "identified" else "given")
         model, text, warnings = report.model, report.text, list(report.warnings)
     except (DataError, ModelError, ValueError):
         speed = np.abs(np.gradient(columns["x"], columns["t"]))
