@@ -1,8 +1,9 @@
 """``fricgen train LOG --cogging``: the cogging map of a slow move (``fit.cogging``) and a
 friction model of the same log with the map's force taken out: the default fit where the log
 holds the speeds it needs, else Coulomb + viscous per direction from the map's own fit; a move
-at one speed (a calibration) gets that fit's level at its speed. ``less_position_force``: the same for a log of normal
-operation already trained (a fleet's), its map found in what the friction model leaves."""
+at one speed (a calibration) gets that fit's level at its speed. ``less_position_force``: the
+same for a log of normal operation already trained (a fleet's), its map found in what the
+friction model leaves."""
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -85,22 +86,24 @@ def _level_at_one_speed(model: FrictionModel, speeds: Tuple[float, float, float]
     friction at 0.3 rad/s and six times it at 6 rad/s."""
     slow, speed, fast = speeds
     forward, back = float(model.force(speed)), float(-model.force(-speed))
-    if model.negative is not None:
-        positive, negative = _law(forward, 0.0, fast).direction(), _law(back, 0.0, fast).direction()
-    else:
-        positive, negative = _law((forward + back) / 2, 0.0, fast).direction(), None
+    per_direction = model.negative is not None
+    if not per_direction:
+        forward = back = (forward + back) / 2
+    positive = _law(forward, 0.0, fast).direction()
+    negative = _law(back, 0.0, fast).direction() if per_direction else None
     training = {**model.training, "method": "level_at_one_speed"}
     if "coulomb" in training:                 # the law's record says the level (``law_record_edits``)
-        training = _level_record(training, forward if negative is not None else (forward + back) / 2)
-        if negative is not None:
+        training = _level_record(training, forward)
+        if per_direction:
             training["negative"] = _level_record(training.get("negative", {}), back)
     model = replace(model, aim=positive.aim, scaling=positive.scaling, viscous=positive.viscous,
                     v_sat=positive.v_sat, negative=negative, training=training)
-    level = (f"{forward:.4g} {units.force} forward and {back:.4g} back" if negative is not None
-             else f"{(forward + back) / 2:.4g} {units.force} each way")
+    level = (f"{forward:.4g} {units.force} forward and {back:.4g} back" if per_direction
+             else f"{forward:.4g} {units.force} each way")
     line = (f"friction  the move holds one speed ({slow:.3g} to {fast:.3g} {units.speed}, 5th to "
-            f"95th percentile): the model is the fit's level there, {level}, at every speed (the fit's slope or drop over so narrow a "
-            "range is no measurement: a move at other speeds identifies them)")
+            f"95th percentile): the model is the fit's level there, {level}, at every speed "
+            "(the fit's slope or drop over so narrow a range is no measurement: a move at other "
+            "speeds identifies them)")
     return model, text + "\n" + line
 
 
